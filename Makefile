@@ -1,0 +1,95 @@
+# strata — build, test, bench, demo. `make demo` and `make test` are the two
+# set-up commands of the README; both start with `deps`, which installs the
+# Debian packages only when one is missing.
+
+DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
+                libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
+                libcairo2-dev libfftw3-dev libcmocka-dev pkg-config gcc g++ make
+
+PKGS     := OpenCL stb cairo fftw3
+CC       ?= cc
+CXX      ?= c++
+OPT      ?= -O2
+WARN     := -Wall -Wextra
+CPPFLAGS += -Iinclude -Isrc -Ikernels -I/usr/include/OpenEXR
+CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(WARN)
+CXXFLAGS += -std=c++17 $(OPT) -g $(WARN) -I/usr/include/stb -I/usr/include/nlohmann
+LDLIBS   += -ltinygltf -lOpenEXRCore-3_1 -lcairo -lfftw3 -lstb -lOpenCL -lstdc++ -lm -lpthread
+
+ifeq ($(SANITIZE),1)
+  CFLAGS   += -fsanitize=address,undefined -fno-omit-frame-pointer
+  CXXFLAGS += -fsanitize=address,undefined -fno-omit-frame-pointer
+  LDFLAGS  += -fsanitize=address,undefined
+  BUILD    := build/asan
+else
+  BUILD    := build/release
+endif
+
+LIB_C    := $(filter-out src/main.c,$(wildcard src/*.c))
+LIB_CXX  := $(wildcard src/*.cpp)
+LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/%.o) \
+            $(BUILD)/embedded.o
+KERNELS  := $(wildcard kernels/*.cl) $(wildcard kernels/*.h)
+SCENES   := $(wildcard scenes/*.gltf)
+TESTS_C  := $(wildcard tests/test_*.c)
+TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
+
+.PHONY: all deps test bench demo clean check-deps
+all: strata
+
+# Installs what is missing (a no-op on a ready machine).
+deps:
+	@missing=""; for p in $(DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "deps: installing$$missing"; \
+	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
+	fi
+
+strata: $(BUILD)/strata
+	cp $< $@
+
+$(BUILD)/strata: $(BUILD)/main.o $(BUILD)/libstrata.a
+	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+
+$(BUILD)/libstrata.a: $(LIB_OBJ)
+	rm -f $@ && ar rcs $@ $^
+
+$(BUILD)/%.o: src/%.c $(wildcard include/*.h) $(wildcard src/*.h) $(wildcard kernels/*.h) | $(BUILD)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
+
+$(BUILD)/%.o: src/%.cpp $(wildcard include/*.h) | $(BUILD)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c -o $@ $<
+
+# Kernels and built-in scenes are compiled into the binary (tools/embed.c).
+$(BUILD)/embed: tools/embed.c | $(BUILD)
+	$(CC) -std=c11 -O1 $(WARN) -o $@ $<
+
+$(BUILD)/embedded.c: $(BUILD)/embed $(KERNELS) $(SCENES)
+	$(BUILD)/embed $@ $(wildcard kernels/*.cl) -- $(SCENES)
+
+$(BUILD)/embedded.o: $(BUILD)/embedded.c
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
+
+$(BUILD)/tests/%: tests/%.c $(BUILD)/libstrata.a | $(BUILD)
+	@mkdir -p $(BUILD)/tests
+	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(BUILD)/libstrata.a -lcmocka $(LDFLAGS) $(LDLIBS)
+
+$(BUILD):
+	mkdir -p $(BUILD)
+
+test: deps strata $(TEST_BIN)
+	@BUILD=$(BUILD) sh tests/run.sh $(TEST_BIN)
+
+bench: deps strata
+	./strata bench --width 512 --height 512 --spp 64 --integrator path
+	./strata bench --width 512 --height 512 --spp 64 --integrator direct
+
+demo: deps strata
+	./strata render -o strata.exr
+	./strata render -o strata.png
+
+clean:
+	rm -rf build strata

@@ -1,0 +1,73 @@
+/* st_device.h — the OpenCL layer: platform and device choice, the program
+ * built from the kernels embedded in the binary, buffers and launches.
+ *
+ * Only this module calls clRelease*. Every OpenCL failure becomes a one-line
+ * st_error naming the call and the error code (CL_OUT_OF_RESOURCES, ...).
+ * A failed program build keeps the compiler log (st_device_build_log). */
+#ifndef ST_DEVICE_H
+#define ST_DEVICE_H
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+#ifndef CL_PLATFORM_NOT_FOUND_KHR
+#define CL_PLATFORM_NOT_FOUND_KHR -1001 /* cl_khr_icd: the ICD loader found no platform */
+#endif
+#include <stddef.h>
+
+#include "st_error.h"
+
+typedef struct st_device_info {
+    unsigned platform, device; /* indices for --device P:D */
+    char platform_name[128];
+    char name[128];
+    char version[96];   /* CL_DEVICE_VERSION */
+    char c_version[96]; /* CL_DEVICE_OPENCL_C_VERSION */
+    int is_gpu, is_cpu;
+    int has_int64_atomics; /* cl_khr_int64_base_atomics */
+    unsigned compute_units;
+    unsigned long long global_mem;
+} st_device_info;
+
+typedef struct st_device st_device;
+
+/* Every device of every platform; platforms without devices are skipped.
+ * *out is malloc'ed (caller frees). No platform: ST_ERR_DEVICE whose message
+ * names `make deps`. */
+st_status st_device_list(st_device_info **out, unsigned *count, st_error *err);
+
+/* spec: NULL or "cpu" (the first CPU device, i.e. PoCL), "gpu" (the first
+ * GPU), or "P:D" (platform P, device D of `strata devices`). Creates a context
+ * and an in-order queue. The device must offer cl_khr_int64_base_atomics. */
+st_status st_device_create(const char *spec, st_device **out, st_error *err);
+void st_device_destroy(st_device *dev); /* NULL: does nothing */
+const st_device_info *st_device_get_info(const st_device *dev);
+
+/* Builds the program from the embedded kernels, or from the .cl files in
+ * $STRATA_KERNEL_DIR when set (for kernel development). Idempotent; the first
+ * call's wall time is stored in *seconds (may be NULL). */
+st_status st_device_build(st_device *dev, double *seconds, st_error *err);
+/* The compiler log of the last build (empty string if none). */
+const char *st_device_build_log(const st_device *dev);
+/* A kernel of the built program, created once and cached by name. */
+st_status st_device_kernel(st_device *dev, const char *name, cl_kernel *out, st_error *err);
+
+/* Sets the kernel's arguments from n (size_t size, const void *value) pairs;
+ * a cl_mem argument is passed as (sizeof(cl_mem), &mem). */
+st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...);
+/* Enqueues k over `items` work-items (rounded up to the work-group size
+ * `local`, 0: the driver's choice; kernels check their own bounds). */
+st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err);
+st_status st_device_finish(st_device *dev, st_error *err);
+
+st_status st_device_buffer_create(st_device *dev, size_t bytes, const void *init, cl_mem *out,
+                                  st_error *err);
+void st_device_buffer_destroy(cl_mem mem); /* NULL: does nothing */
+st_status st_device_buffer_read(st_device *dev, cl_mem mem, size_t bytes, void *dst, st_error *err);
+st_status st_device_buffer_write(st_device *dev, cl_mem mem, size_t bytes, const void *src,
+                                 st_error *err);
+st_status st_device_buffer_zero(st_device *dev, cl_mem mem, size_t bytes, st_error *err);
+
+/* "CL_OUT_OF_RESOURCES" for -5, ... */
+const char *st_device_error_name(cl_int code);
+
+#endif

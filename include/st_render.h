@@ -1,0 +1,81 @@
+/* st_render.h — the render: a scene's BVH and buffers uploaded once to a
+ * device, then waves of samples pushed through the kernels
+ * (generate_samples -> generate_camera_rays -> [trace_rays -> shade_hits ->
+ * trace_shadow_rays] per path vertex -> splat_samples), and resolve_film at the
+ * end. Nothing returns to the host inside a wave; between waves only a
+ * progress count.
+ *
+ * Determinism: a render's item space is (pixel, sample), item g = sample *
+ * width * height + pixel; every random number is a function of (seed, pixel,
+ * sample, dimension) and the film sums are 64-bit integers, so the image does
+ * not depend on the wave size, the work-group size or the order of the adds. */
+#ifndef ST_RENDER_H
+#define ST_RENDER_H
+
+#include "st_device.h"
+#include "st_error.h"
+#include "st_image.h"
+#include "st_scene.h"
+#include "st_shared.h"
+
+typedef struct st_render_options {
+    st_u32 width, height;
+    st_u32 spp;        /* samples per pixel rendered by this call */
+    st_u32 spp_offset; /* first sample index (split renders) */
+    st_u32 seed;
+    st_u32 sampler;    /* ST_SAMPLER_* */
+    st_u32 scramble;   /* 1 (default) or 0 */
+    st_u32 integrator; /* ST_INTEGRATOR_* */
+    st_u32 max_depth;
+    st_filter filter;
+    st_u32 wave;       /* items per wave; 0: automatic */
+    st_u32 local_size; /* work-group size; 0: the driver's choice */
+    int profile;       /* time every stage (slower: waits after each launch) */
+} st_render_options;
+
+/* Names on the command line, indexed by ST_SAMPLER_* / ST_FILTER_* /
+ * ST_INTEGRATOR_*; st_name_lookup returns the index or -1. */
+extern const char *const st_sampler_names[ST_SAMPLER_COUNT];
+extern const char *const st_filter_names[ST_FILTER_COUNT];
+extern const char *const st_integrator_names[2];
+int st_name_lookup(const char *const *names, int count, const char *name);
+
+/* The defaults of `strata render`. */
+st_render_options st_render_defaults(void);
+/* A filter of the given kind with its default radius and parameters. */
+st_filter st_filter_default(st_u32 kind);
+/* Checks sizes, limits and the fixed-point headroom; ST_ERR_USAGE naming the
+ * offending option. */
+st_status st_render_check(const st_render_options *o, st_error *err);
+
+enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
+       ST_STAGE_SPLAT, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
+extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
+
+typedef struct st_render_stats {
+    double seconds;                      /* wall time of the passes and resolve */
+    double stage_seconds[ST_STAGE_COUNT]; /* with profile only */
+    st_u64 samples, rays, closest_rays, shadow_rays, splats;
+    st_u32 clamped, nonfinite, zero_weight;
+} st_render_stats;
+
+typedef struct st_renderer st_renderer;
+
+/* Builds the BVH, the light table and the device program, and uploads the
+ * scene. The scene and device are borrowed and must outlive the renderer. */
+st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer **out,
+                             st_error *err);
+void st_renderer_destroy(st_renderer *r); /* NULL: does nothing */
+double st_renderer_bvh_seconds(const st_renderer *r);
+st_u32 st_renderer_light_count(const st_renderer *r);
+
+typedef void (*st_progress_fn)(void *ctx, double fraction);
+
+/* Renders into *out: channels R, G, B (resolved, linear) and W (Σ f); *sums,
+ * when not NULL, receives the raw fixed-point film (4 int64 per pixel:
+ * Σ f L for R, G, B, and Σ f; malloc'ed, caller frees) for merging. */
+st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
+                    st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
+                    st_error *err);
+
+#endif

@@ -1,0 +1,95 @@
+/* film.cl — reconstruction: every sample adds f(x - x_i, y - y_i) L_i and
+ * f(x - x_i, y - y_i) to each pixel whose centre lies within the filter
+ * radius, as 64-bit fixed-point integers (fixed.h) with atom_add, so the sums
+ * do not depend on the order of the adds; resolve divides. */
+#include "st_shared.h"
+#include "filters.h"
+#include "fixed.h"
+
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+
+#define ST_MAX_TAPS 17 /* 2 * ST_FILTER_MAX_RADIUS + 1 */
+
+static void count(__global uint *stats, st_u32 which)
+{
+    atomic_inc(&stats[which]);
+}
+
+/* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */
+static int2 taps(float x, float r, st_u32 n)
+{
+    int lo = (int)ceil(x - r - 0.5f), hi = (int)floor(x + r - 0.5f);
+    if ((float)lo + 0.5f - x <= -r)
+        lo++;
+    if ((float)hi + 0.5f - x >= r)
+        hi--;
+    return (int2)(max(lo, 0), min(hi, (int)n - 1));
+}
+
+/* Reads film positions and radiance (w: rays traced); adds to accum (4 longs
+ * per pixel: Σ f L for R, G, B and Σ f) and to counts (per pixel: splats
+ * received; closest and shadow rays traced by the samples in the pixel). */
+__kernel void splat_samples(const st_params p, __global const float2 *film,
+                            __global const float4 *radiance, __global long *accum,
+                            __global uint *counts, __global uint *stats)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count)
+        return;
+    float2 f = film[i];
+    float4 rad = radiance[i];
+    float3 L = rad.xyz;
+    st_u32 own = min((st_u32)f.y, p.height - 1u) * p.width + min((st_u32)f.x, p.width - 1u);
+    st_u32 rays = (st_u32)rad.w;
+    atomic_add(&counts[ST_COUNTS_PER_PIXEL * (size_t)own + 1], rays & 0xffffu);
+    atomic_add(&counts[ST_COUNTS_PER_PIXEL * (size_t)own + 2], rays >> 16);
+    if (!(isfinite(L.x) && isfinite(L.y) && isfinite(L.z))) {
+        count(stats, ST_STAT_NONFINITE);
+        L = (float3)(0.0f);
+    }
+    st_filter flt = p.filter;
+    int2 xs = taps(f.x, flt.radius, p.width), ys = taps(f.y, flt.radius, p.height);
+    float wx[ST_MAX_TAPS];
+    for (int x = xs.x; x <= xs.y; x++)
+        wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - f.x);
+    st_u32 clamped = 0u;
+    for (int y = ys.x; y <= ys.y; y++) {
+        float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - f.y);
+        for (int x = xs.x; x <= xs.y; x++) {
+            float w = wx[x - xs.x] * wy;
+            __global long *a = accum + 4 * ((size_t)y * p.width + x);
+            atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, &clamped)));
+            atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, &clamped)));
+            atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, &clamped)));
+            atom_add(a + 3, st_fixed_from_float(w));
+            atomic_inc(&counts[ST_COUNTS_PER_PIXEL * ((size_t)y * p.width + x)]);
+        }
+    }
+    if (clamped)
+        count(stats, ST_STAT_CLAMPED);
+}
+
+/* Reads accum; writes image (R, G, B, Σ f): I = Σ f L / Σ f, negative values
+ * (from negative filter lobes) clamped to 0; a pixel whose weight sum is not
+ * positive, or whose value is not finite, becomes 0 and is counted. */
+__kernel void resolve_film(const st_params p, __global const long *accum,
+                           __global float4 *image, __global uint *stats)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.width * p.height)
+        return;
+    __global const long *a = accum + 4 * (size_t)i;
+    float w = (float)a[3] * (1.0f / ST_FIXED_SCALE);
+    float3 v = (float3)(0.0f);
+    if (w > 0.0f) {
+        v = (float3)((float)a[0], (float)a[1], (float)a[2]) * (1.0f / ST_FIXED_SCALE) / w;
+        if (!(isfinite(v.x) && isfinite(v.y) && isfinite(v.z))) {
+            count(stats, ST_STAT_NONFINITE);
+            v = (float3)(0.0f);
+        }
+        v = fmax(v, (float3)(0.0f));
+    } else {
+        count(stats, ST_STAT_ZERO_WEIGHT);
+    }
+    image[i] = (float4)(v, w);
+}

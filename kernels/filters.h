@@ -1,0 +1,86 @@
+/* filters.h — reconstruction filters, evaluated in the splat kernel and by the
+ * host (strata filter, tests). Separable: f(x, y) = f(x) f(y); every filter is
+ * 0 for |x| >= r. No normalisation: the pixel value is the weighted average
+ *   I(x, y) = Σ f(x - x_i, y - y_i) L_i / Σ f(x - x_i, y - y_i)
+ * (the lecture), so constant factors cancel. Negative lobes (mitchell,
+ * catmull-rom, lanczos) stay; the resolve kernel clamps negative pixels.
+ *
+ *   box              1
+ *   triangle         r - |x|
+ *   gaussian         exp(-x^2 / 2σ^2) - exp(-r^2 / 2σ^2)
+ *   mitchell         k_{B,C}(2|x|/r), Mitchell & Netravali, "Reconstruction
+ *                    Filters in Computer Graphics", SIGGRAPH 1988:
+ *     6k(t) = (12-9B-6C)t^3 + (-18+12B+6C)t^2 + (6-2B)              t < 1
+ *     6k(t) = (-B-6C)t^3 + (6B+30C)t^2 + (-12B-48C)t + (8B+24C)     1 <= t < 2
+ *   catmull-rom      mitchell with B = 0, C = 1/2
+ *   lanczos          sinc(x) sinc(x/τ), sinc(x) = sin(πx)/(πx) (Duchon 1979)
+ *   blackman-harris  the 4-term window of Harris, "On the Use of Windows for
+ *                    Harmonic Analysis with the DFT", Proc. IEEE 1978, over
+ *                    [-r, r]: a0 - a1 cos(2πt) + a2 cos(4πt) - a3 cos(6πt),
+ *                    t = (x + r) / 2r (as LuxCore and Cycles use it)
+ * Tests: test_filters.c. */
+#ifndef ST_FILTERS_H
+#define ST_FILTERS_H
+
+#define ST_PI_F 3.14159265358979323846f
+/* Largest radius a render accepts: the splat kernel keeps the per-column
+ * weights of one sample in a private array of 2 * 8 + 1 entries. */
+#define ST_FILTER_MAX_RADIUS 8.0f
+
+ST_FN st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
+{
+    if (t < 1.0f)
+        return ((12.0f - 9.0f * b - 6.0f * c) * t * t * t +
+                (-18.0f + 12.0f * b + 6.0f * c) * t * t + (6.0f - 2.0f * b)) *
+               (1.0f / 6.0f);
+    if (t < 2.0f)
+        return ((-b - 6.0f * c) * t * t * t + (6.0f * b + 30.0f * c) * t * t +
+                (-12.0f * b - 48.0f * c) * t + (8.0f * b + 24.0f * c)) *
+               (1.0f / 6.0f);
+    return 0.0f;
+}
+
+ST_FN st_f32 st_sinc(st_f32 x)
+{
+    if (fabs(x) < 1e-5f)
+        return 1.0f;
+    return sin(ST_PI_F * x) / (ST_PI_F * x);
+}
+
+/* f(x) of filter f, one axis. */
+ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
+{
+    st_f32 ax = fabs(x), r = f->radius;
+    if (!(ax < r))
+        return 0.0f;
+    switch (f->kind) {
+    case ST_FILTER_BOX:
+        return 1.0f;
+    case ST_FILTER_TRIANGLE:
+        return r - ax;
+    case ST_FILTER_GAUSSIAN: {
+        st_f32 k = -0.5f / (f->sigma * f->sigma);
+        return exp(k * ax * ax) - exp(k * r * r);
+    }
+    case ST_FILTER_MITCHELL:
+        return st_mitchell_1d(2.0f * ax / r, f->b, f->c);
+    case ST_FILTER_CATMULL_ROM:
+        return st_mitchell_1d(2.0f * ax / r, 0.0f, 0.5f);
+    case ST_FILTER_LANCZOS:
+        return st_sinc(ax) * st_sinc(ax / f->tau);
+    case ST_FILTER_BLACKMAN_HARRIS: {
+        st_f32 t = 2.0f * ST_PI_F * (x + r) / (2.0f * r);
+        return 0.35875f - 0.48829f * cos(t) + 0.14128f * cos(2.0f * t) -
+               0.01168f * cos(3.0f * t);
+    }
+    default:
+        return 0.0f;
+    }
+}
+
+ST_FN st_f32 st_filter_eval(const st_filter *f, st_f32 x, st_f32 y)
+{
+    return st_filter_eval_1d(f, x) * st_filter_eval_1d(f, y);
+}
+
+#endif

@@ -1,0 +1,39 @@
+/* fixed.h — film sums in 64-bit fixed point, so that atomic adds commute and
+ * an image does not depend on the order in which work-items finish (floats
+ * added in arrival order would; pbrt-v4, Cycles and LuxCore add floats).
+ *
+ * A value v is stored as round(v * 2^24) (ST_FIXED_SCALE), resolution 6e-8.
+ * Each splat adds at most ST_SPLAT_MAX = 2^16 in magnitude (larger values are
+ * clamped and counted), i.e. 2^40 units, so a pixel takes 2^23 splats before
+ * a signed 64-bit sum (2^63) could overflow; the host checks
+ * spp * footprint <= ST_FIXED_MAX_SPLATS before it renders.
+ * Tests: test_fixed.c. */
+#ifndef ST_FIXED_H
+#define ST_FIXED_H
+
+/* Clamps v to [-ST_SPLAT_MAX, ST_SPLAT_MAX]; *clamped is set when it had to. */
+ST_FN st_f32 st_fixed_clamp(st_f32 v, st_u32 *clamped)
+{
+    if (v > ST_SPLAT_MAX) {
+        *clamped = 1u;
+        return ST_SPLAT_MAX;
+    }
+    if (v < -ST_SPLAT_MAX) {
+        *clamped = 1u;
+        return -ST_SPLAT_MAX;
+    }
+    return v;
+}
+
+/* round(v * 2^24), ties to even, for |v| <= ST_SPLAT_MAX. */
+ST_FN st_i64 st_fixed_from_float(st_f32 v)
+{
+#ifdef __OPENCL_VERSION__
+    return convert_long_rte(v * ST_FIXED_SCALE);
+#else
+    return (st_i64)llrintf(v * ST_FIXED_SCALE);
+#endif
+}
+
+
+#endif

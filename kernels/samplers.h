@@ -1,0 +1,329 @@
+/* samplers.h — sample positions of every sampler, as pure functions shared by
+ * the kernels (generate_samples, shade_hits) and the host (strata pattern, the
+ * tests), so that what the laboratory measures is what renders.
+ *
+ * Dimensions: 0 and 1 are the position inside the pixel; 2, 3, ... feed the
+ * integrator (light and BSDF samples; see render.cl). A sampler's values are a
+ * pure function of (params, pixel, sample index, dimension).
+ *
+ * Definitions (the lecture; pbr-book 4ed ch. 8):
+ *   radical inverse  Φ_b(n) = Σ_i d_i b^(-i), n = Σ_i d_i b^(i-1)
+ *   Halton           x_i = (Φ2(i), Φ3(i), Φ5(i), ...)
+ *   Hammersley       x_i = (i/N, Φ2(i), Φ3(i), ...)
+ *   stratified       one jittered point per cell of an nx x ny grid
+ * A float result is the largest float <= the exact value, so results stay in
+ * [0, 1) and the unscrambled sequences equal the definition to the last bit.
+ * Tests: test_samplers.c. */
+#ifndef ST_SAMPLERS_H
+#define ST_SAMPLERS_H
+
+#define ST_PRIME_COUNT 64u
+ST_CONSTANT st_u32 st_primes[ST_PRIME_COUNT] = {
+    2,   3,   5,   7,   11,  13,  17,  19,  23,  29,  31,  37,  41,  43,  47,  53,
+    59,  61,  67,  71,  73,  79,  83,  89,  97,  101, 103, 107, 109, 113, 127, 131,
+    137, 139, 149, 151, 157, 163, 167, 173, 179, 181, 191, 193, 197, 199, 211, 223,
+    227, 229, 233, 239, 241, 251, 257, 263, 269, 271, 277, 281, 283, 293, 307, 311};
+
+/* Largest float <= num/den, for 0 <= num < den < 2^62: binary long division
+ * to 24 significant bits (the float mantissa), exact in integers. */
+ST_FN st_f32 st_ratio_floor(st_u64 num, st_u64 den)
+{
+    if (num == 0)
+        return 0.0f;
+    st_i32 e = (st_i32)ST_CLZ64(num) - (st_i32)ST_CLZ64(den);
+    num <<= e;
+    if (num < den) {
+        num <<= 1;
+        e++;
+    }
+    /* den <= num < 2 den: the value is (num/den) * 2^-e with num/den in [1, 2). */
+    st_u32 q = 0;
+    for (st_u32 i = 0; i < 24u; i++) {
+        q <<= 1;
+        if (num >= den) {
+            q |= 1u;
+            num -= den;
+        }
+        num <<= 1;
+    }
+    return ST_LDEXPF((st_f32)q, -(e + 23));
+}
+
+/* Largest float <= bits * 2^-32: keep the 24 leading significant bits. */
+ST_FN st_f32 st_bits_to_unit(st_u32 bits)
+{
+    st_u32 lz = ST_CLZ32(bits);
+    if (lz < 8u)
+        bits &= ~((1u << (8u - lz)) - 1u);
+    return (st_f32)bits * 2.3283064365386963e-10f; /* 2^-32 */
+}
+
+ST_FN st_u32 st_reverse_bits(st_u32 x)
+{
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 8) & 0x00ff00ffu) | ((x & 0x00ff00ffu) << 8);
+    return (x >> 16) | (x << 16);
+}
+
+/* Φ_b(n), exact (see the file comment), for n < 2^32 and b <= 311. */
+ST_FN st_f32 st_radical_inverse(st_u32 base, st_u32 n)
+{
+    if (base == 2u)
+        return st_bits_to_unit(st_reverse_bits(n));
+    st_u64 rev = 0, den = 1;
+    while (n) {
+        st_u32 next = n / base;
+        rev = rev * base + (n - next * base);
+        den *= base;
+        n = next;
+    }
+    return st_ratio_floor(rev, den);
+}
+
+/* A pseudo-random permutation of [0, n) evaluated at i (n >= 1): a bijection
+ * on the next power of two built from invertible steps (xor with a key,
+ * multiplication by an odd constant, xor-shift within the mask), applied until
+ * the value falls below n ("cycle walking", Black & Rogaway, "Ciphers with
+ * Arbitrary Finite Domains", CT-RSA 2002; the idea of Kensler, "Correlated
+ * Multi-Jittered Sampling", Pixar TM 13-01, 2013). */
+ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
+{
+    if (n <= 1u)
+        return 0u;
+    st_u32 w = n - 1u;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    st_u32 k1 = st_hash32(key), k2 = st_hash32(k1);
+    do {
+        i ^= k1 & w;
+        i = (i * 0x2c1b3c6du) & w;
+        i ^= (i & w) >> 3;
+        i = (i + k2) & w;
+        i = (i * 0x297a2d39u) & w;
+        i ^= (i & w) >> 5;
+        i = (i * (k1 | 1u)) & w;
+        i ^= (i & w) >> 7;
+    } while (i >= n);
+    return i;
+}
+
+/* Φ_b(n) with random digit permutations: digit position k is mapped through a
+ * permutation of [0, b) drawn from (key, k) (pbrt-v4's DigitPermutation idea;
+ * Braaten & Weller 1979). Digits past n's own are zeros permuted too, taken
+ * until they cannot change a float (b^k >= 2^26 once n is used up). */
+ST_FN st_f32 st_radical_inverse_scrambled(st_u32 base, st_u32 n, st_u32 key)
+{
+    st_u64 rev = 0, den = 1;
+    for (st_u32 k = 0; n != 0u || den < (1ul << 26); k++) {
+        st_u32 next = n / base;
+        st_u32 digit = st_permute(n - next * base, base, key ^ st_hash32(k));
+        rev = rev * base + digit;
+        den *= base;
+        n = next;
+    }
+    return st_ratio_floor(rev, den);
+}
+
+/* Nested uniform (Owen) scrambling of a base-2 digit string held with its
+ * first digit in the most significant bit, by the hash of Burley, "Practical
+ * Hash-based Owen Scrambling", JCGT 9(4), 2020 (after Laine & Karras 2011):
+ * each output bit depends only on the bits above it, so every elementary
+ * interval is mapped to an elementary interval (stratification survives). */
+ST_FN st_u32 st_owen_scramble(st_u32 v, st_u32 seed)
+{
+    v = st_reverse_bits(v);
+    v += seed;
+    v ^= v * 0x6c50b47cu;
+    v ^= v * 0xb82f1e52u;
+    v ^= v * 0xc7afe638u;
+    v ^= v * 0x8d22f6e6u;
+    return st_reverse_bits(v);
+}
+
+/* Sobol' (0,2)-sequence: dimension 0 is the van der Corput sequence (bit
+ * reversal), dimension 1 uses the generator matrix of the primitive polynomial
+ * x + 1 (direction numbers v_j = v_{j-1} xor v_{j-1} >> 1; Sobol' 1967). Bits
+ * of the result: first digit in the most significant bit. */
+ST_FN st_u32 st_sobol_bits(st_u32 i, st_u32 dim)
+{
+    if (dim == 0u)
+        return st_reverse_bits(i);
+    st_u32 r = 0, v = 0x80000000u;
+    for (; i; i >>= 1, v ^= v >> 1)
+        if (i & 1u)
+            r ^= v;
+    return r;
+}
+
+/* ---- per-pixel samplers ----------------------------------------------------- */
+
+/* The most nearly square factorisation nx * ny = n with nx <= ny. */
+ST_FN void st_stratified_grid(st_u32 n, st_u32 *nx, st_u32 *ny)
+{
+    st_u32 x = (st_u32)sqrt((float)n);
+    while (x > 1u && n % x != 0u)
+        x--;
+    if (x == 0u)
+        x = 1u;
+    *nx = x;
+    *ny = n / x;
+}
+
+/* x such that x * a = 1 (mod m), for gcd(a, m) = 1 (extended Euclid). */
+ST_FN st_u32 st_mult_inverse(st_u32 a, st_u32 m)
+{
+    st_i64 t = 0, nt = 1, r = m, nr = a % m;
+    while (nr != 0) {
+        st_i64 q = r / nr, tmp = t - q * nt;
+        t = nt;
+        nt = tmp;
+        tmp = r - q * nr;
+        r = nr;
+        nr = tmp;
+    }
+    if (t < 0)
+        t += m;
+    return (st_u32)t;
+}
+
+/* Fills the sampler fields of p from width, height and spp (pbrt-v4's
+ * HaltonSampler constructor for the pixel scales). */
+ST_FN void st_sampler_prepare(st_params *p)
+{
+    st_stratified_grid(p->spp, &p->strat_nx, &p->strat_ny);
+    st_u32 s2 = 1, e2 = 0, s3 = 1, e3 = 0;
+    st_u32 rx = p->width < ST_HALTON_MAX_RESOLUTION ? p->width : ST_HALTON_MAX_RESOLUTION;
+    st_u32 ry = p->height < ST_HALTON_MAX_RESOLUTION ? p->height : ST_HALTON_MAX_RESOLUTION;
+    while (s2 < rx) { s2 *= 2u; e2++; }
+    while (s3 < ry) { s3 *= 3u; e3++; }
+    p->halton_exp2 = e2;
+    p->halton_exp3 = e3;
+    p->halton_stride = s2 * s3;
+    p->halton_inv2 = s2 > 1u ? st_mult_inverse(s3 % s2, s2) : 0u;
+    p->halton_inv3 = s3 > 1u ? st_mult_inverse(s2 % s3, s3) : 0u;
+}
+
+/* One sample's identity, computed once and passed to st_sample_dim. */
+typedef struct st_sample_id {
+    st_u32 pixel, sample, key; /* key: st_rng_key(seed, pixel, sample) */
+    st_u32 pixel_key;          /* per-pixel scramble key */
+    st_u32 index;              /* Halton: global index of this sample */
+} st_sample_id;
+
+/* Reverses the first `digits` base-b digits of x (the inverse of the radical
+ * inverse on those digits). */
+ST_FN st_u32 st_inverse_radical_inverse(st_u32 x, st_u32 base, st_u32 digits)
+{
+    st_u32 index = 0;
+    for (st_u32 i = 0; i < digits; i++) {
+        st_u32 next = x / base;
+        index = index * base + (x - next * base);
+        x = next;
+    }
+    return index;
+}
+
+/* Halton index of the pixel's sample: the first two dimensions, scaled by 2^e2
+ * and 3^e3, fall in pixel (px mod 128, py mod 128); solved by the Chinese
+ * remainder theorem as pbrt-v4's HaltonSampler::StartPixelSample does. */
+ST_FN st_u32 st_halton_index(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
+{
+    st_u32 stride = p->halton_stride;
+    if (stride <= 1u)
+        return s;
+    st_u32 s2 = 1u << p->halton_exp2, s3 = stride / s2;
+    st_u32 d2 = st_inverse_radical_inverse(px % ST_HALTON_MAX_RESOLUTION, 2u, p->halton_exp2);
+    st_u32 d3 = st_inverse_radical_inverse(py % ST_HALTON_MAX_RESOLUTION, 3u, p->halton_exp3);
+    st_u64 h = (st_u64)d2 * s3 * p->halton_inv2 + (st_u64)d3 * s2 * p->halton_inv3;
+    return (st_u32)(h % stride) + s * stride;
+}
+
+ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
+{
+    st_sample_id id;
+    id.pixel = py * p->width + px;
+    id.sample = s;
+    id.key = st_rng_key(p->seed, id.pixel, s);
+    id.pixel_key = st_hash32(st_rng_key(p->seed, id.pixel, 0xffffffffu));
+    id.index = p->sampler == ST_SAMPLER_HALTON ? st_halton_index(p, px, py, s) : s;
+    return id;
+}
+
+/* Jittered (or centred) coordinate `axis` of a 2-D stratum grid whose cell
+ * order is shuffled by key (pbrt pads dimensions the same way). */
+ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_u32 dim,
+                                 st_u32 key, st_f32 jitter)
+{
+    st_u32 s = id->sample;
+    if (key != 0u)
+        s = st_permute(s, p->spp, key);
+    st_u32 cell = (dim & 1u) ? s / p->strat_nx : s % p->strat_nx;
+    st_u32 n = (dim & 1u) ? p->strat_ny : p->strat_nx;
+    st_f32 x = ((st_f32)cell + jitter) / (st_f32)n;
+    return x < 0.99999994f ? x : 0.99999994f;
+}
+
+/* Dimension `dim` of sample id, in [0, 1). */
+ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    st_u32 pair_key = st_hash32(id->pixel_key ^ st_hash32(dim >> 1));
+    switch (p->sampler) {
+    case ST_SAMPLER_UNIFORM:
+        if (dim < 2u)
+            return st_stratified_coord(p, id, dim, 0u, 0.5f);
+        break;
+    case ST_SAMPLER_STRATIFIED:
+        return st_stratified_coord(p, id, dim, (p->scramble || dim >= 2u) ? pair_key : 0u,
+                                   st_rng_unit(id->key, dim));
+    case ST_SAMPLER_HALTON: {
+        if (dim >= ST_PRIME_COUNT)
+            break;
+        st_u32 n = id->index;
+        if (dim == 0u)
+            n >>= p->halton_exp2;
+        else if (dim == 1u)
+            n /= p->halton_stride >> p->halton_exp2;
+        if (!p->scramble)
+            return st_radical_inverse(st_primes[dim], n);
+        /* pixel dimensions scrambled per pixel, the others per render */
+        st_u32 key = dim < 2u ? pair_key ^ dim : st_hash32(p->seed ^ st_hash32(dim));
+        return st_radical_inverse_scrambled(st_primes[dim], n, key);
+    }
+    case ST_SAMPLER_HAMMERSLEY: {
+        if (dim == 0u) {
+            st_f32 x = st_ratio_floor(id->sample, p->spp);
+            if (p->scramble) { /* Cranley-Patterson rotation keeps one point per 1/N */
+                x += st_u32_to_unit(st_hash32(id->pixel_key));
+                x = x < 1.0f ? x : x - 1.0f;
+                x = x < 0.99999994f ? x : 0.99999994f;
+            }
+            return x;
+        }
+        if (dim > ST_PRIME_COUNT)
+            break;
+        if (!p->scramble)
+            return st_radical_inverse(st_primes[dim - 1u], id->sample);
+        return st_radical_inverse_scrambled(st_primes[dim - 1u], id->sample,
+                                            st_hash32(id->pixel_key ^ dim));
+    }
+    case ST_SAMPLER_SOBOL: {
+        /* pixel dimensions: the (0,2)-sequence itself; later pairs: index
+         * shuffled per pair (pbrt's PaddedSobolSampler) */
+        st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, pair_key);
+        st_u32 bits = st_sobol_bits(i, dim & 1u);
+        if (p->scramble || dim >= 2u)
+            bits = st_owen_scramble(bits, st_hash32(pair_key ^ (dim & 1u)));
+        return st_bits_to_unit(bits);
+    }
+    default:
+        break;
+    }
+    return st_rng_unit(id->key, dim);
+}
+
+#endif

@@ -1,0 +1,196 @@
+/* st_shared.h — every layout and constant that the host (C11) and the kernels
+ * (OpenCL C 1.2) must agree on. It compiles under both compilers; the host
+ * static-asserts each struct's size and offsets, and tests/test_layout.c asks the
+ * device for its own. Only fixed-size types cross: no int/long/size_t/bool, no
+ * float3 (OpenCL sizes it as four floats), no pointers. Arrays of 4 floats are
+ * read with vload4 on the device.
+ *
+ * Pure functions that both sides must compute bit-identically live in the
+ * companion headers beside it (rng.h, samplers.h, filters.h, fixed.h,
+ * trace.h), each included after this one, so host tests run the device's own
+ * code. */
+#ifndef ST_SHARED_H
+#define ST_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+typedef uint st_u32;
+typedef int st_i32;
+typedef ulong st_u64;
+typedef long st_i64;
+#define ST_GLOBAL __global
+#define ST_CONSTANT __constant
+#define ST_STATIC_ASSERT(cond, msg)
+#define ST_CLZ32(x) clz(x)
+#define ST_CLZ64(x) ((st_u32)clz(x))
+#define ST_LDEXPF(x, e) ldexp(x, e)
+#else
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+typedef uint32_t st_u32;
+typedef int32_t st_i32;
+typedef uint64_t st_u64;
+typedef int64_t st_i64;
+#define ST_GLOBAL
+#define ST_CONSTANT static const
+#define ST_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
+#define ST_CLZ32(x) ((x) ? (st_u32)__builtin_clz(x) : 32u)
+#define ST_CLZ64(x) ((x) ? (st_u32)__builtin_clzll(x) : 64u)
+#define ST_LDEXPF(x, e) ldexpf(x, e)
+#endif
+typedef float st_f32;
+#define ST_FN static inline
+
+/* ---- constants ------------------------------------------------------------ */
+
+/* Samplers (render --sampler, pattern --sampler). */
+#define ST_SAMPLER_RANDOM 0u
+#define ST_SAMPLER_UNIFORM 1u
+#define ST_SAMPLER_STRATIFIED 2u
+#define ST_SAMPLER_HALTON 3u
+#define ST_SAMPLER_HAMMERSLEY 4u
+#define ST_SAMPLER_POISSON 5u
+#define ST_SAMPLER_BEST_CANDIDATE 6u
+#define ST_SAMPLER_SOBOL 7u
+#define ST_SAMPLER_COUNT 8u
+
+/* Reconstruction filters (render --filter, strata filter). */
+#define ST_FILTER_BOX 0u
+#define ST_FILTER_TRIANGLE 1u
+#define ST_FILTER_GAUSSIAN 2u
+#define ST_FILTER_MITCHELL 3u
+#define ST_FILTER_LANCZOS 4u
+#define ST_FILTER_CATMULL_ROM 5u
+#define ST_FILTER_BLACKMAN_HARRIS 6u
+#define ST_FILTER_COUNT 7u
+
+/* depth of a path that has ended (film sample still splatted) */
+#define ST_PATH_DEAD 0xffffffffu
+
+#define ST_INTEGRATOR_DIRECT 0u
+#define ST_INTEGRATOR_PATH 1u
+
+/* Halton pixel mapping (pbrt-v4 HaltonSampler): the first two dimensions are
+ * scaled by 2^j >= min(width, 128) and 3^k >= min(height, 128), so the pixel
+ * pattern repeats every 128 x 243 pixels at most. */
+#define ST_HALTON_MAX_RESOLUTION 128u
+
+/* Film accumulation in 64-bit fixed point (see st_fixed.h for the proof of
+ * headroom): a value v is stored as round(v * 2^24). */
+#define ST_FIXED_SHIFT 24
+#define ST_FIXED_SCALE 16777216.0f
+/* Largest |f * L| one splat may add, per channel; larger values are clamped and
+ * counted. 2^16 * 2^24 = 2^40 per splat leaves 2^23 splats per pixel before the
+ * signed 64-bit sum could overflow; the host refuses renders whose
+ * spp * (pixels per filter footprint) could exceed ST_FIXED_MAX_SPLATS. */
+#define ST_SPLAT_MAX 65536.0f
+#define ST_FIXED_MAX_SPLATS 8388608.0
+
+/* Offsets of the film counters (render stats) in the stats buffer. */
+#define ST_STAT_CLAMPED 0u   /* splat values clamped to ST_SPLAT_MAX */
+#define ST_STAT_NONFINITE 1u /* samples with NaN/Inf radiance (dropped) */
+#define ST_STAT_ZERO_WEIGHT 2u /* pixels whose filter weight sum was <= 0 */
+#define ST_STAT_COUNT 4u
+
+/* A sample counts the rays it traces in radiance.w: 1 per closest-hit ray,
+ * ST_SHADOW_RAY_UNIT per shadow ray (exact in a float: at most 65 closest and
+ * 64 shadow rays). Per pixel the film keeps ST_COUNTS_PER_PIXEL counters:
+ * splats received, closest-hit rays, shadow rays. */
+#define ST_SHADOW_RAY_UNIT 65536.0f
+#define ST_COUNTS_PER_PIXEL 3u
+
+/* ---- layouts ------------------------------------------------------------- */
+
+/* BVH node, flattened depth first (pbrt's LinearBVHNode): an interior node's
+ * first child follows it in the array and `offset` is the second child's index;
+ * a leaf holds `count` triangles starting at `offset` in BVH order. `meta` =
+ * count << 2 | split axis; count == 0 marks an interior node. */
+typedef struct st_bvh_node {
+    st_f32 bmin[3];
+    st_u32 offset;
+    st_f32 bmax[3];
+    st_u32 meta;
+} st_bvh_node;
+
+/* A triangle prepared for Moller-Trumbore: v0 and the two edges e1 = v1 - v0,
+ * e2 = v2 - v0. The fourth float of each is padding (0). */
+typedef struct st_triangle {
+    st_f32 v0[4];
+    st_f32 e1[4];
+    st_f32 e2[4];
+} st_triangle;
+
+/* Per-vertex shading normals of a triangle, in the same (BVH) order. */
+typedef struct st_tri_normals {
+    st_f32 n0[4];
+    st_f32 n1[4];
+    st_f32 n2[4];
+} st_tri_normals;
+
+/* Lambertian material: linear RGB albedo and emitted radiance (one-sided, on
+ * the side the shading normals face). */
+typedef struct st_material {
+    st_f32 base_color[4];
+    st_f32 emission[4];
+} st_material;
+
+/* Pinhole perspective camera: image-plane x maps to right * tan(fov/2) * aspect,
+ * y to up * tan(fov/2). origin[3] = tan(yfov/2), right[3] = aspect (w/h). */
+typedef struct st_camera {
+    st_f32 origin[4];
+    st_f32 right[4];
+    st_f32 up[4];
+    st_f32 forward[4];
+} st_camera;
+
+/* Reconstruction filter as a value: kind, radius r, and its parameters
+ * (b, c for mitchell; sigma for gaussian; tau for lanczos). */
+typedef struct st_filter {
+    st_u32 kind;
+    st_f32 radius;
+    st_f32 b, c;
+    st_f32 sigma, tau;
+    st_f32 pad[2];
+} st_filter;
+
+/* Everything a render's kernels read besides the scene buffers; passed by
+ * value to each kernel. A wave is `item_count` consecutive items of the
+ * render's item space, item g = sample * npixels + pixel, starting at
+ * `first_item`; the same (pixel, sample) always gives the same numbers,
+ * whatever the wave size. */
+typedef struct st_params {
+    st_u64 first_item;
+    st_u32 width, height;
+    st_u32 spp;        /* samples per pixel of the whole render */
+    st_u32 seed;
+    st_u32 sampler;    /* ST_SAMPLER_* */
+    st_u32 scramble;   /* 1: randomise (digit permutations, jitter), 0: none */
+    st_u32 item_count;
+    st_u32 integrator; /* ST_INTEGRATOR_* */
+    st_u32 max_depth;  /* pbrt: vertices at which light is gathered */
+    st_u32 light_count;
+    st_u32 strat_nx, strat_ny;   /* stratified grid, nx * ny = spp */
+    st_u32 halton_exp2, halton_exp3; /* 2^exp2, 3^exp3: Halton pixel scales */
+    st_u32 halton_stride;        /* 2^exp2 * 3^exp3 */
+    st_u32 halton_inv2, halton_inv3; /* multiplicative inverses (see st_sampling.h) */
+    st_f32 light_power;          /* sum of emitted power used by the light CDF */
+    st_f32 ray_eps;              /* ray offset, scaled to the scene size */
+    st_u32 pad[3];
+    st_filter filter;
+    st_camera camera;
+} st_params;
+
+#ifndef __OPENCL_VERSION__
+ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes");
+ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
+ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
+ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 32, "st_material: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
+ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
+ST_STATIC_ASSERT(offsetof(st_params, filter) == 96, "st_params.filter moved");
+ST_STATIC_ASSERT(offsetof(st_params, camera) == 128, "st_params.camera moved");
+ST_STATIC_ASSERT(sizeof(st_params) == 192, "st_params: 192 bytes");
+#endif
+
+#endif

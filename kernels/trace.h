@@ -1,0 +1,231 @@
+/* trace.h — ray/triangle and ray/BVH intersection: the renderer's hot path.
+ *
+ * Compiled twice from this one text: as C11 on the host (tests, reference
+ * renders) and as OpenCL C 1.2 in the kernels, so the host tests run the
+ * device's own code. It is included after st_shared.h (ST_FN, ST_GLOBAL,
+ * st_u32, st_bvh_node, st_triangle). Scalar floats only, no recursion, no
+ * dynamic indexing of private arrays except the traversal stack.
+ *
+ * Contract: a hit is a triangle crossing at t in (0, tmax), t > 0 strictly,
+ * front and back faces alike. st_intersect_closest returns the smallest such t
+ * (ties: whichever triangle the traversal meets first); st_intersect_any
+ * returns whether any exists (shadow rays). The BVH is the one st_bvh_build
+ * writes (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH, boxes
+ * padded outward so that a triangle hit is never lost to rounding in the box
+ * test. Tests: tests/test_bvh.c (closest_*, any_*, triangle_*). */
+#ifndef ST_TRACE_H
+#define ST_TRACE_H
+
+#ifndef __OPENCL_VERSION__
+#include "st_shared.h"
+#endif
+
+/* Traversal stack size. The pbrt-style loop below holds at most one pending
+ * sibling per level of the current path, i.e. depth - 1 entries, and
+ * st_bvh_build guarantees depth <= ST_BVH_MAX_DEPTH. */
+#define ST_BVH_MAX_DEPTH 64
+#define ST_NO_HIT 0xffffffffu
+
+typedef struct st_ray {
+    st_f32 o[3], d[3], tmax;
+} st_ray;
+
+/* t: ray parameter; u, v: barycentrics of v1 and v2 (the point is
+ * v0 + u e1 + v e2); prim: BVH-order triangle index or ST_NO_HIT. */
+typedef struct st_hit {
+    st_f32 t, u, v;
+    st_u32 prim;
+} st_hit;
+
+#ifndef __OPENCL_VERSION__
+ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
+ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
+#endif
+
+/* min/max with OpenCL's common-function definition (OpenCL C 1.2 §6.12.4:
+ * min(x, y) = y < x ? y : x), which maps to one instruction on both sides
+ * (minss on x86, min.f32 on NVIDIA). Unlike fmin it does not promise to drop
+ * NaN; NaN only arises from a NaN ray, which then hits nothing. */
+#ifdef __OPENCL_VERSION__
+#define ST_TRACE_MIN(x, y) min(x, y)
+#define ST_TRACE_MAX(x, y) max(x, y)
+#else
+#define ST_TRACE_MIN(x, y) ((y) < (x) ? (y) : (x))
+#define ST_TRACE_MAX(x, y) ((x) < (y) ? (y) : (x))
+#endif
+
+/* Direction components smaller than this in magnitude are replaced by it
+ * (with their sign) before taking the reciprocal, so that 1/d stays finite and
+ * (b - o) * (1/d) is never 0 * inf = NaN. A component that small moves the ray
+ * by less than t * 1e-20 along its axis; the slab it bounds then spans either
+ * all t or only t beyond |b - o| * 1e20, as it would for the true ray. */
+#define ST_TRACE_TINY_DIR 1e-20f
+
+/* Far-end widening of the slab interval, 1 + 4 * 2^-23 >= 1 + 2 gamma(3):
+ * covers the rounding of (b - o) * inv in all three slabs (Ize, "Robust BVH
+ * Ray Traversal", JCGT 2(2) 2013; pbrt-v3 §3.9.2). */
+#define ST_TRACE_SLAB_WIDEN 1.00000048f
+
+/* Per-ray constants of the slab test. neg: bit a set when the (adjusted)
+ * direction is negative along axis a, so that the near plane is bmax. */
+typedef struct st_trace_ray {
+    st_f32 o[3], inv[3];
+    st_u32 neg;
+} st_trace_ray;
+
+ST_FN st_f32 st_trace_safe_dir(st_f32 d)
+{
+    st_f32 tiny = d < 0.0f ? -ST_TRACE_TINY_DIR : ST_TRACE_TINY_DIR;
+    return (d > -ST_TRACE_TINY_DIR && d < ST_TRACE_TINY_DIR) ? tiny : d;
+}
+
+ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
+{
+    st_f32 dx = st_trace_safe_dir(ray->d[0]);
+    st_f32 dy = st_trace_safe_dir(ray->d[1]);
+    st_f32 dz = st_trace_safe_dir(ray->d[2]);
+    r->o[0] = ray->o[0];
+    r->o[1] = ray->o[1];
+    r->o[2] = ray->o[2];
+    r->inv[0] = 1.0f / dx;
+    r->inv[1] = 1.0f / dy;
+    r->inv[2] = 1.0f / dz;
+    r->neg = (dx < 0.0f ? 1u : 0u) | (dy < 0.0f ? 2u : 0u) | (dz < 0.0f ? 4u : 0u);
+}
+
+/* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
+ * Williams et al.'s form ("An Efficient and Robust Ray-Box Intersection
+ * Algorithm", JGT 2005): the ray's direction signs pick the near and far plane
+ * of each axis, so no per-axis min/max swap is needed, and a box with
+ * inverted bounds (bmin > bmax, the empty scene's root) is never entered.
+ * Returns whether the ray meets the box at some t in [0, tmax]. */
+ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st_f32 tmax)
+{
+    st_u32 neg = r->neg;
+    st_f32 nx = (neg & 1u) ? n->bmax[0] : n->bmin[0];
+    st_f32 fx = (neg & 1u) ? n->bmin[0] : n->bmax[0];
+    st_f32 ny = (neg & 2u) ? n->bmax[1] : n->bmin[1];
+    st_f32 fy = (neg & 2u) ? n->bmin[1] : n->bmax[1];
+    st_f32 nz = (neg & 4u) ? n->bmax[2] : n->bmin[2];
+    st_f32 fz = (neg & 4u) ? n->bmin[2] : n->bmax[2];
+    st_f32 t0x = (nx - r->o[0]) * r->inv[0], t1x = (fx - r->o[0]) * r->inv[0];
+    st_f32 t0y = (ny - r->o[1]) * r->inv[1], t1y = (fy - r->o[1]) * r->inv[1];
+    st_f32 t0z = (nz - r->o[2]) * r->inv[2], t1z = (fz - r->o[2]) * r->inv[2];
+    st_f32 t0 = ST_TRACE_MAX(ST_TRACE_MAX(t0x, t0y), ST_TRACE_MAX(t0z, 0.0f));
+    st_f32 t1 = ST_TRACE_MIN(ST_TRACE_MIN(t1x, t1y), ST_TRACE_MIN(t1z, tmax));
+    return t0 <= t1 * ST_TRACE_SLAB_WIDEN;
+}
+
+/* Moller-Trumbore ray/triangle test (Moller & Trumbore, "Fast, Minimum Storage
+ * Ray/Triangle Intersection", JGT 2(1) 1997), without back-face culling:
+ *   p = d x e2, det = e1 . p, s = o - v0, q = s x e1,
+ *   u = (s . p) / det, v = (d . q) / det, t = (e2 . q) / det,
+ *   hit iff u >= 0, v >= 0, u + v <= 1 and 0 < t < hit->t.
+ * det = 0 (ray parallel to the plane, or a degenerate triangle) needs no test
+ * of its own: 1/det is infinite, so u and v are infinite or NaN and fail the
+ * barycentric tests. On a hit, fills hit->t, u, v and hit->prim = prim and
+ * returns 1; otherwise leaves hit unchanged and returns 0. */
+ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *ray, st_u32 prim,
+                                st_hit *hit)
+{
+    st_f32 e1x = tri->e1[0], e1y = tri->e1[1], e1z = tri->e1[2];
+    st_f32 e2x = tri->e2[0], e2y = tri->e2[1], e2z = tri->e2[2];
+    st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
+    st_f32 px = dy * e2z - dz * e2y;
+    st_f32 py = dz * e2x - dx * e2z;
+    st_f32 pz = dx * e2y - dy * e2x;
+    st_f32 inv_det = 1.0f / (e1x * px + e1y * py + e1z * pz);
+    st_f32 sx = ray->o[0] - tri->v0[0];
+    st_f32 sy = ray->o[1] - tri->v0[1];
+    st_f32 sz = ray->o[2] - tri->v0[2];
+    st_f32 u = (sx * px + sy * py + sz * pz) * inv_det;
+    st_f32 qx = sy * e1z - sz * e1y;
+    st_f32 qy = sz * e1x - sx * e1z;
+    st_f32 qz = sx * e1y - sy * e1x;
+    st_f32 v = (dx * qx + dy * qy + dz * qz) * inv_det;
+    st_f32 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
+    int ok = (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < hit->t);
+    if (ok) {
+        hit->t = t;
+        hit->u = u;
+        hit->v = v;
+        hit->prim = prim;
+    }
+    return ok;
+}
+
+/* Both queries walk the tree depth first (pbrt-v3 §4.4.3,
+ * BVHAccel::Intersect): at an interior node the child on the near side of the
+ * split plane (split axis from meta, side from the ray's sign on that axis) is
+ * visited first and the other is pushed. */
+ST_FN st_u32 st_trace_descend(const ST_GLOBAL st_bvh_node *n, st_u32 node, st_u32 neg,
+                              st_u32 *stack, st_u32 *sp)
+{
+    st_u32 far_first = (neg >> (n->meta & 3u)) & 1u;
+    stack[(*sp)++] = far_first ? node + 1u : n->offset;
+    return far_first ? n->offset : node + 1u;
+}
+
+/* Closest hit with t in (0, ray->tmax); the search interval shrinks to the
+ * best t found so far. Returns 1 on a hit; hit->prim is ST_NO_HIT and
+ * hit->t = ray->tmax otherwise. */
+ST_FN int st_intersect_closest(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL st_triangle *tris,
+                               const st_ray *ray, st_hit *hit)
+{
+    st_trace_ray r;
+    st_u32 stack[ST_BVH_MAX_DEPTH];
+    st_u32 sp = 0u, node = 0u;
+    st_trace_setup(&r, ray);
+    hit->t = ray->tmax;
+    hit->u = 0.0f;
+    hit->v = 0.0f;
+    hit->prim = ST_NO_HIT;
+    for (;;) {
+        const ST_GLOBAL st_bvh_node *n = nodes + node;
+        if (st_trace_box(n, &r, hit->t)) {
+            st_u32 count = n->meta >> 2;
+            if (count == 0u) {
+                node = st_trace_descend(n, node, r.neg, stack, &sp);
+                continue;
+            }
+            st_u32 first = n->offset;
+            for (st_u32 i = first; i < first + count; ++i)
+                st_intersect_triangle(tris + i, ray, i, hit);
+        }
+        if (sp == 0u)
+            break;
+        node = stack[--sp];
+    }
+    return hit->prim != ST_NO_HIT;
+}
+
+/* Whether any triangle is hit at t in (0, ray->tmax): stops at the first. */
+ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL st_triangle *tris,
+                           const st_ray *ray)
+{
+    st_trace_ray r;
+    st_hit hit;
+    st_u32 stack[ST_BVH_MAX_DEPTH];
+    st_u32 sp = 0u, node = 0u;
+    st_trace_setup(&r, ray);
+    hit.t = ray->tmax;
+    for (;;) {
+        const ST_GLOBAL st_bvh_node *n = nodes + node;
+        if (st_trace_box(n, &r, ray->tmax)) {
+            st_u32 count = n->meta >> 2;
+            if (count == 0u) {
+                node = st_trace_descend(n, node, r.neg, stack, &sp);
+                continue;
+            }
+            st_u32 first = n->offset;
+            for (st_u32 i = first; i < first + count; ++i)
+                if (st_intersect_triangle(tris + i, ray, i, &hit))
+                    return 1;
+        }
+        if (sp == 0u)
+            return 0;
+        node = stack[--sp];
+    }
+}
+
+#endif

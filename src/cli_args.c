@@ -1,0 +1,217 @@
+/* cli_args.c — parsing of the render options (see cli_args.h). */
+#include "cli_args.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static const char render_help[] =
+    "usage: strata %s [SCENE] [options]\n"
+    "  SCENE                  a .gltf/.glb file or a built-in scene name (default: cornell-box)\n"
+    "%s"
+    "  --width W, --height H  image size in pixels (default 512x512)\n"
+    "  --spp N                samples per pixel (default 16)\n"
+    "  --spp-offset K         first sample index, for split renders (default 0)\n"
+    "  --sampler NAME         random, uniform, stratified, halton, hammersley, sobol (default halton)\n"
+    "  --scramble on|none     randomise the sampler (digit permutations, shuffles; default on)\n"
+    "  --filter NAME          box, triangle, gaussian, mitchell, lanczos, catmull-rom,\n"
+    "                         blackman-harris (default mitchell)\n"
+    "  --filter-radius R      filter radius in pixels (default: the filter's own)\n"
+    "  --filter-b B, --filter-c C   mitchell's parameters (default 1/3, 1/3)\n"
+    "  --filter-sigma S       gaussian's standard deviation (default 0.5)\n"
+    "  --filter-tau T         lanczos' window scale (default: the radius)\n"
+    "  --seed S               random seed (default 0)\n"
+    "  --integrator direct|path   (default path)\n"
+    "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
+    "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
+    "  --wave N               work-items per wave (default 262144; the image does not change)\n"
+    "  --local-size N         OpenCL work-group size (default: the driver's; the image does not change)\n"
+    "  --scene-list           list the built-in scenes and exit\n"
+    "  --quiet                no progress bar and no summary\n"
+    "  -h, --help             this help\n";
+
+enum {
+    O_WIDTH = 256, O_HEIGHT, O_SPP, O_SPP_OFFSET, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
+    O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
+    O_SCENE_LIST, O_QUIET, O_JSON
+};
+
+static const struct option options[] = {
+    {"width", required_argument, 0, O_WIDTH},
+    {"height", required_argument, 0, O_HEIGHT},
+    {"spp", required_argument, 0, O_SPP},
+    {"spp-offset", required_argument, 0, O_SPP_OFFSET},
+    {"sampler", required_argument, 0, O_SAMPLER},
+    {"scramble", required_argument, 0, O_SCRAMBLE},
+    {"filter", required_argument, 0, O_FILTER},
+    {"filter-radius", required_argument, 0, O_RADIUS},
+    {"filter-b", required_argument, 0, O_B},
+    {"filter-c", required_argument, 0, O_C},
+    {"filter-sigma", required_argument, 0, O_SIGMA},
+    {"filter-tau", required_argument, 0, O_TAU},
+    {"seed", required_argument, 0, O_SEED},
+    {"integrator", required_argument, 0, O_INTEGRATOR},
+    {"max-depth", required_argument, 0, O_DEPTH},
+    {"device", required_argument, 0, O_DEVICE},
+    {"wave", required_argument, 0, O_WAVE},
+    {"local-size", required_argument, 0, O_LOCAL},
+    {"scene-list", no_argument, 0, O_SCENE_LIST},
+    {"quiet", no_argument, 0, O_QUIET},
+    {"json", no_argument, 0, O_JSON},
+    {"output", required_argument, 0, 'o'},
+    {"help", no_argument, 0, 'h'},
+    {0, 0, 0, 0}};
+
+int st_cli_parse_u32(const char *opt, const char *s, unsigned lo, unsigned hi, unsigned *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(s, &end, 10);
+    if (*s == '\0' || *s == '-' || *end != '\0' || errno || v < lo || v > hi)
+        return st_cli_usage_error("%s %s: expected an integer in %u..%u", opt, s, lo, hi);
+    *out = (unsigned)v;
+    return ST_CLI_OK;
+}
+
+int st_cli_parse_float(const char *opt, const char *s, float *out)
+{
+    char *end;
+    errno = 0;
+    float v = strtof(s, &end);
+    if (*s == '\0' || *end != '\0' || errno || !isfinite(v))
+        return st_cli_usage_error("%s %s: expected a finite number", opt, s);
+    *out = v;
+    return ST_CLI_OK;
+}
+
+static int parse_name(const char *opt, const char *const *names, int count, const char *s,
+                      st_u32 *out)
+{
+    int i = st_name_lookup(names, count, s);
+    if (i < 0) {
+        char list[256] = "";
+        for (int k = 0; k < count; k++)
+            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", k ? ", " : "",
+                     names[k]);
+        return st_cli_usage_error("%s %s: unknown; expected one of %s", opt, s, list);
+    }
+    *out = (st_u32)i;
+    return ST_CLI_OK;
+}
+
+/* Filter parameters given on the command line, applied after --filter. */
+typedef struct filter_args {
+    const char *radius, *b, *c, *sigma, *tau;
+} filter_args;
+
+static int apply_filter_args(const filter_args *fa, st_filter *f)
+{
+    st_u32 k = f->kind;
+    const char *name = st_filter_names[k];
+    if ((fa->b || fa->c) && k != ST_FILTER_MITCHELL)
+        return st_cli_usage_error("--filter-b/--filter-c apply to mitchell only, not %s", name);
+    if (fa->sigma && k != ST_FILTER_GAUSSIAN)
+        return st_cli_usage_error("--filter-sigma applies to gaussian only, not %s", name);
+    if (fa->tau && k != ST_FILTER_LANCZOS)
+        return st_cli_usage_error("--filter-tau applies to lanczos only, not %s", name);
+    if (fa->radius && st_cli_parse_float("--filter-radius", fa->radius, &f->radius))
+        return ST_CLI_EXIT_USAGE;
+    if (fa->radius && !fa->tau)
+        f->tau = f->radius;
+    if ((fa->b && st_cli_parse_float("--filter-b", fa->b, &f->b)) ||
+        (fa->c && st_cli_parse_float("--filter-c", fa->c, &f->c)) ||
+        (fa->sigma && st_cli_parse_float("--filter-sigma", fa->sigma, &f->sigma)) ||
+        (fa->tau && st_cli_parse_float("--filter-tau", fa->tau, &f->tau)))
+        return ST_CLI_EXIT_USAGE;
+    return ST_CLI_OK;
+}
+
+static int parse_one(int c, const char *v, int bench, st_cli_render_args *a, filter_args *fa)
+{
+    st_render_options *o = &a->opt;
+    switch (c) {
+    case O_WIDTH: return st_cli_parse_u32("--width", v, 1, 32768, &o->width);
+    case O_HEIGHT: return st_cli_parse_u32("--height", v, 1, 32768, &o->height);
+    case O_SPP: return st_cli_parse_u32("--spp", v, 1, 1u << 24, &o->spp);
+    case O_SPP_OFFSET: return st_cli_parse_u32("--spp-offset", v, 0, 1u << 30, &o->spp_offset);
+    case O_SAMPLER:
+        return parse_name("--sampler", st_sampler_names, ST_SAMPLER_COUNT, v, &o->sampler);
+    case O_SCRAMBLE:
+        if (!strcmp(v, "none") || !strcmp(v, "on")) {
+            o->scramble = !strcmp(v, "on");
+            return ST_CLI_OK;
+        }
+        return st_cli_usage_error("--scramble %s: expected on or none", v);
+    case O_FILTER: {
+        st_u32 k;
+        if (parse_name("--filter", st_filter_names, ST_FILTER_COUNT, v, &k))
+            return ST_CLI_EXIT_USAGE;
+        o->filter = st_filter_default(k);
+        return ST_CLI_OK;
+    }
+    case O_RADIUS: fa->radius = v; return ST_CLI_OK;
+    case O_B: fa->b = v; return ST_CLI_OK;
+    case O_C: fa->c = v; return ST_CLI_OK;
+    case O_SIGMA: fa->sigma = v; return ST_CLI_OK;
+    case O_TAU: fa->tau = v; return ST_CLI_OK;
+    case O_SEED: return st_cli_parse_u32("--seed", v, 0, 0xffffffffu, &o->seed);
+    case O_INTEGRATOR: return parse_name("--integrator", st_integrator_names, 2, v, &o->integrator);
+    case O_DEPTH: return st_cli_parse_u32("--max-depth", v, 0, 64, &o->max_depth);
+    case O_DEVICE: a->device = v; return ST_CLI_OK;
+    case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
+    case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
+    case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
+    case O_QUIET: a->quiet = 1; return ST_CLI_OK;
+    case O_JSON:
+        if (!bench)
+            return st_cli_usage_error("--json: only `strata bench` takes it");
+        a->json = 1;
+        return ST_CLI_OK;
+    case 'o':
+        if (bench)
+            return st_cli_usage_error("-o: `strata bench` writes no image");
+        a->output = v;
+        return ST_CLI_OK;
+    default: return ST_CLI_EXIT_USAGE;
+    }
+}
+
+int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->opt = st_render_defaults();
+    filter_args fa = {0};
+    opterr = 0;
+    optind = 1;
+    int c;
+    while ((c = getopt_long(argc, argv, ":o:h", options, NULL)) != -1) {
+        if (c == 'h') {
+            printf(render_help, argv[0],
+                   bench ? "  --json                 print one JSON object\n"
+                         : "  -o OUT.exr|OUT.png     output image (default strata.exr)\n");
+            return ST_CLI_HELP;
+        }
+        if (c == '?')
+            return st_cli_usage_error("%s: unknown option %s (see strata %s --help)", argv[0],
+                                      argv[optind - 1], argv[0]);
+        if (c == ':')
+            return st_cli_usage_error("%s: option %s needs a value", argv[0], argv[optind - 1]);
+        if (parse_one(c, optarg, bench, a, &fa))
+            return ST_CLI_EXIT_USAGE;
+    }
+    if (optind < argc)
+        a->scene = argv[optind++];
+    if (optind < argc)
+        return st_cli_usage_error("%s: unexpected argument %s", argv[0], argv[optind]);
+    if (apply_filter_args(&fa, &a->opt.filter))
+        return ST_CLI_EXIT_USAGE;
+    st_error err = {0};
+    if (st_render_check(&a->opt, &err) != ST_OK)
+        return st_cli_fail(&err);
+    return ST_CLI_OK;
+}

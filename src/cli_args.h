@@ -1,0 +1,29 @@
+/* cli_args.h — the render options shared by render, bench (and the
+ * laboratory commands that render): parsed once, validated, with usage
+ * errors printed as "strata: error: ..." (exit 2). */
+#ifndef ST_CLI_ARGS_H
+#define ST_CLI_ARGS_H
+
+#include "st_render.h"
+
+typedef struct st_cli_render_args {
+    st_render_options opt;
+    const char *scene;  /* positional SCENE, NULL: the default scene */
+    const char *output; /* -o */
+    const char *device; /* --device */
+    int json;           /* bench --json */
+    int scene_list;     /* --scene-list */
+    int quiet;          /* --quiet: no progress bar, no summary */
+} st_cli_render_args;
+
+enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };
+
+/* Parses argv (argv[0] is the subcommand). bench: accept --json and not -o.
+ * Returns ST_CLI_OK, ST_CLI_HELP (help printed) or ST_CLI_EXIT_USAGE. */
+int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_args *a);
+
+/* Strict numbers: the whole string must parse; else a usage error naming opt. */
+int st_cli_parse_u32(const char *opt, const char *s, unsigned lo, unsigned hi, unsigned *out);
+int st_cli_parse_float(const char *opt, const char *s, float *out);
+
+#endif

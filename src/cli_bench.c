@@ -1,0 +1,186 @@
+#define _XOPEN_SOURCE 700 /* nftw */
+/* cli_bench.c — `strata bench`: throughput of each kernel stage, the BVH
+ * build and the kernel build (cold: an empty PoCL cache in a child process;
+ * cached: this process), after checking that the device renders correctly. */
+#include <ftw.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "cli_check.h"
+#include "cli_run.h"
+
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+    (void)sb; (void)flag; (void)ftw;
+    return remove(path);
+}
+
+/* Seconds to build the program and run its kernels once (PoCL compiles each
+ * kernel again at its first launch), measured in a child process; cold: with
+ * an empty kernel cache. Negative when the measurement failed. */
+static double build_seconds(const st_cli_render_args *a, int cold)
+{
+    int fd[2];
+    if (pipe(fd) != 0)
+        return -1.0;
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0)
+        return -1.0;
+    if (pid == 0) {
+        close(fd[0]);
+        char dir[] = "/tmp/strata-cold-XXXXXX";
+        if (cold && mkdtemp(dir))
+            setenv("POCL_CACHE_DIR", dir, 1);
+        st_cli_render_args tiny = *a;
+        tiny.opt.width = tiny.opt.height = 8;
+        tiny.opt.spp = 1;
+        st_error err = {0};
+        st_cli_session s;
+        st_image img = {0};
+        double t0 = st_cli_now(), t = -1.0;
+        if (st_cli_session_open(&tiny, &s, &err) == ST_OK &&
+            st_render(s.renderer, &tiny.opt, &img, NULL, NULL, NULL, NULL, &err) == ST_OK)
+            t = st_cli_now() - t0 - s.load_seconds - st_renderer_bvh_seconds(s.renderer);
+        st_image_free(&img);
+        st_cli_session_close(&s);
+        if (cold)
+            nftw(dir, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+        ssize_t w = write(fd[1], &t, sizeof t);
+        _exit(w == (ssize_t)sizeof t ? 0 : 1);
+    }
+    close(fd[1]);
+    double t = -1.0;
+    if (read(fd[0], &t, sizeof t) != (ssize_t)sizeof t)
+        t = -1.0;
+    close(fd[0]);
+    waitpid(pid, NULL, 0);
+    return t;
+}
+
+typedef struct bench_result {
+    st_render_stats total, staged;
+    double cold, cached, bvh, load;
+    st_u32 triangles, lights;
+    const char *device, *scene;
+    st_cli_check check;
+} bench_result;
+
+static double stage_count(const st_render_stats *s, int k, const char **unit)
+{
+    switch (k) {
+    case ST_STAGE_GENERATE: *unit = "samples/s"; return (double)s->samples;
+    case ST_STAGE_CAMERA: *unit = "rays/s"; return (double)s->samples;
+    case ST_STAGE_TRACE: *unit = "rays/s"; return (double)s->closest_rays;
+    case ST_STAGE_SHADE: *unit = "hits/s"; return (double)s->closest_rays;
+    case ST_STAGE_SHADOW: *unit = "rays/s"; return (double)s->shadow_rays;
+    case ST_STAGE_SPLAT: *unit = "splats/s"; return (double)s->splats;
+    default: *unit = "pixels/s"; return 0.0;
+    }
+}
+
+static void print_text(const st_cli_render_args *a, const bench_result *b)
+{
+    const st_render_options *o = &a->opt;
+    printf("device     %s\nscene      %s (%u triangles, %u emissive)\n", b->device, b->scene,
+           b->triangles, b->lights);
+    printf("settings   %ux%u, %u spp, %s sampler, %s filter r=%g, %s integrator, max depth %u\n",
+           o->width, o->height, o->spp, st_sampler_names[o->sampler],
+           st_filter_names[o->filter.kind], (double)o->filter.radius,
+           st_integrator_names[o->integrator], o->max_depth);
+    printf("check      %s\n", b->check.message);
+    printf("bvh build  %.4f s (%.2f M triangles/s)\n", b->bvh,
+           b->bvh > 0 ? b->triangles / b->bvh * 1e-6 : 0.0);
+    printf("kernels    cold build %.2f s, cached %.2f s (program build + first launch)\n",
+           b->cold, b->cached);
+    double pixels = (double)o->width * o->height;
+    printf("%-22s %10s %14s %7s\n", "stage", "seconds", "throughput", "share");
+    double sum = 0;
+    for (int k = 0; k < ST_STAGE_COUNT; k++)
+        sum += b->staged.stage_seconds[k];
+    for (int k = 0; k < ST_STAGE_COUNT; k++) {
+        const char *unit;
+        double n = k == ST_STAGE_RESOLVE ? pixels : stage_count(&b->staged, k, &unit);
+        if (k == ST_STAGE_RESOLVE)
+            unit = "pixels/s";
+        double t = b->staged.stage_seconds[k];
+        printf("%-22s %10.4f %9.2f M %-9s %5.1f%%\n", st_stage_names[k], t,
+               t > 0 ? n / t * 1e-6 : 0.0, unit, sum > 0 ? 100.0 * t / sum : 0.0);
+    }
+    st_cli_print_summary("bench", o, &b->total);
+}
+
+static void print_json(const st_cli_render_args *a, const bench_result *b)
+{
+    const st_render_options *o = &a->opt;
+    printf("{\"device\": \"%s\", \"scene\": \"%s\", \"triangles\": %u, \"width\": %u, "
+           "\"height\": %u, \"spp\": %u, \"sampler\": \"%s\", \"filter\": \"%s\", "
+           "\"filter_radius\": %g, \"integrator\": \"%s\", \"max_depth\": %u, ",
+           b->device, b->scene, b->triangles, o->width, o->height, o->spp,
+           st_sampler_names[o->sampler], st_filter_names[o->filter.kind],
+           (double)o->filter.radius, st_integrator_names[o->integrator], o->max_depth);
+    printf("\"check\": {\"passed\": true, \"message\": \"%s\"}, ", b->check.message);
+    printf("\"bvh_seconds\": %.6f, \"kernel_build_cold_seconds\": %.4f, "
+           "\"kernel_build_cached_seconds\": %.4f, \"stages\": {",
+           b->bvh, b->cold, b->cached);
+    double pixels = (double)o->width * o->height;
+    for (int k = 0; k < ST_STAGE_COUNT; k++) {
+        const char *unit;
+        double n = k == ST_STAGE_RESOLVE ? pixels : stage_count(&b->staged, k, &unit);
+        if (k == ST_STAGE_RESOLVE)
+            unit = "pixels/s";
+        double t = b->staged.stage_seconds[k];
+        printf("%s\"%s\": {\"seconds\": %.6f, \"per_second\": %.1f, \"unit\": \"%s\"}",
+               k ? ", " : "", st_stage_names[k], t, t > 0 ? n / t : 0.0, unit);
+    }
+    const st_render_stats *t = &b->total;
+    printf("}, \"total\": {\"seconds\": %.6f, \"samples_per_second\": %.1f, "
+           "\"rays_per_second\": %.1f, \"rays\": %llu}}\n",
+           t->seconds, t->samples / t->seconds, t->rays / t->seconds,
+           (unsigned long long)t->rays);
+}
+
+int st_cli_bench(int argc, char **argv)
+{
+    st_cli_render_args a;
+    int rc = st_cli_parse_render_args(argc, argv, 1, &a);
+    if (rc)
+        return rc == ST_CLI_HELP ? 0 : rc;
+    bench_result b;
+    memset(&b, 0, sizeof b);
+    /* before this process touches OpenCL: fork() and OpenCL do not mix */
+    b.cold = build_seconds(&a, 1);
+    b.cached = build_seconds(&a, 0);
+    st_error err = {0};
+    st_cli_session s;
+    st_image img = {0};
+    st_render_options staged = a.opt;
+    staged.profile = 1;
+    if (st_cli_session_open(&a, &s, &err) || st_cli_check_device(s.dev, &a.opt, &b.check, &err) ||
+        st_render(s.renderer, &a.opt, &img, NULL, &b.total, NULL, NULL, &err)) {
+        rc = st_cli_session_fail(&s, &err);
+        goto done;
+    }
+    st_image_free(&img);
+    if (st_render(s.renderer, &staged, &img, NULL, &b.staged, NULL, NULL, &err)) {
+        rc = st_cli_fail(&err);
+        goto done;
+    }
+    b.bvh = st_renderer_bvh_seconds(s.renderer);
+    b.triangles = s.scene->tri_count;
+    b.lights = st_renderer_light_count(s.renderer);
+    b.device = st_device_get_info(s.dev)->name;
+    b.scene = s.scene->name;
+    if (a.json)
+        print_json(&a, &b);
+    else
+        print_text(&a, &b);
+done:
+    st_image_free(&img);
+    st_cli_session_close(&s);
+    return rc;
+}

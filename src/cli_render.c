@@ -1,0 +1,161 @@
+/* cli_render.c — `strata render`, and the session (device, scene, renderer)
+ * that render and bench open the same way. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "cli.h"
+#include "cli_run.h"
+
+double st_cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+void st_cli_print_scene_list(void)
+{
+    const char *names[64];
+    st_u32 n = st_scene_builtin_names(names, 64);
+    for (st_u32 i = 0; i < n; i++)
+        puts(names[i]);
+}
+
+st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err)
+{
+    memset(s, 0, sizeof *s);
+    double t0 = st_cli_now();
+    if (st_scene_load(a->scene, &s->scene, err) != ST_OK)
+        return err->status;
+    s->load_seconds = st_cli_now() - t0;
+    if (st_device_create(a->device, &s->dev, err) != ST_OK)
+        return err->status;
+    t0 = st_cli_now();
+    if (st_device_build(s->dev, NULL, err) != ST_OK)
+        return err->status;
+    s->build_seconds = st_cli_now() - t0;
+    return st_renderer_create(s->dev, s->scene, &s->renderer, err);
+}
+
+int st_cli_session_fail(const st_cli_session *s, const st_error *err)
+{
+    int rc = st_cli_fail(err);
+    const char *log = s->dev ? st_device_build_log(s->dev) : "";
+    if (err->status == ST_ERR_DEVICE && log[0])
+        fprintf(stderr, "%s\n", log); /* the compiler log, after the cause */
+    return rc;
+}
+
+void st_cli_session_close(st_cli_session *s)
+{
+    st_renderer_destroy(s->renderer);
+    st_scene_destroy(s->scene);
+    st_device_destroy(s->dev);
+    memset(s, 0, sizeof *s);
+}
+
+static int has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    return n > k && !strcasecmp(path + n - k, ext);
+}
+
+/* The render's settings, as EXR header attributes. */
+static int render_attrs(const st_cli_render_args *a, const st_cli_session *s,
+                        const st_render_stats *st, st_attr *attrs)
+{
+    const st_render_options *o = &a->opt;
+    const st_filter *f = &o->filter;
+    int n = 0;
+#define ATTR(key, ...)                                                                     \
+    do {                                                                                   \
+        snprintf(attrs[n].name, sizeof attrs[n].name, "strata.%s", key);                   \
+        snprintf(attrs[n].value, sizeof attrs[n].value, __VA_ARGS__);                      \
+        n++;                                                                               \
+    } while (0)
+    ATTR("scene", "%s", s->scene->name);
+    ATTR("sampler", "%s", st_sampler_names[o->sampler]);
+    ATTR("scramble", "%s", o->scramble ? "on" : "none");
+    ATTR("spp", "%u", o->spp);
+    ATTR("spp_offset", "%u", o->spp_offset);
+    ATTR("filter", "%s", st_filter_names[f->kind]);
+    ATTR("filter_radius", "%.9g", (double)f->radius);
+    if (f->kind == ST_FILTER_MITCHELL)
+        ATTR("filter_bc", "%.9g,%.9g", (double)f->b, (double)f->c);
+    if (f->kind == ST_FILTER_GAUSSIAN)
+        ATTR("filter_sigma", "%.9g", (double)f->sigma);
+    if (f->kind == ST_FILTER_LANCZOS)
+        ATTR("filter_tau", "%.9g", (double)f->tau);
+    ATTR("seed", "%u", o->seed);
+    ATTR("integrator", "%s", st_integrator_names[o->integrator]);
+    ATTR("max_depth", "%u", o->max_depth);
+    ATTR("device", "%s", st_device_get_info(s->dev)->name);
+    ATTR("render_seconds", "%.6f", st->seconds);
+#undef ATTR
+    return n;
+}
+
+/* The R, G, B channels of a render (its W channel dropped). */
+static st_status rgb_of(const st_image *in, st_image *out, st_error *err)
+{
+    const char *names[3] = {"R", "G", "B"};
+    if (st_image_create(out, in->width, in->height, 3, names, err) != ST_OK)
+        return err->status;
+    size_t n = (size_t)in->width * in->height;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++)
+            out->data[3 * i + c] = in->data[in->channels * i + c];
+    return ST_OK;
+}
+
+void st_cli_print_summary(const char *what, const st_render_options *o, const st_render_stats *st)
+{
+    double t = st->seconds > 0 ? st->seconds : 1e-9;
+    printf("strata: %s %ux%u, %u spp in %.3f s: %.2f M samples/s, %.2f M rays/s", what,
+           o->width, o->height, o->spp, st->seconds, st->samples / t * 1e-6,
+           st->rays / t * 1e-6);
+    if (st->clamped || st->nonfinite || st->zero_weight)
+        printf(" (%u splats clamped, %u non-finite, %u pixels without weight)", st->clamped,
+               st->nonfinite, st->zero_weight);
+    putchar('\n');
+}
+
+int st_cli_render(int argc, char **argv)
+{
+    st_cli_render_args a;
+    int rc = st_cli_parse_render_args(argc, argv, 0, &a);
+    if (rc)
+        return rc == ST_CLI_HELP ? 0 : rc;
+    if (a.scene_list) {
+        st_cli_print_scene_list();
+        return 0;
+    }
+    const char *out = a.output ? a.output : "strata.exr";
+    if (!has_extension(out, ".exr") && !has_extension(out, ".png"))
+        return st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
+    st_error err = {0};
+    st_cli_session s;
+    st_image img = {0}, rgb = {0};
+    st_render_stats st;
+    st_cli_progress_state prog;
+    st_cli_progress_init(&prog, "render", a.quiet);
+    if (st_cli_session_open(&a, &s, &err) ||
+        st_render(s.renderer, &a.opt, &img, NULL, &st, st_cli_progress, &prog, &err) ||
+        rgb_of(&img, &rgb, &err)) {
+        rc = st_cli_session_fail(&s, &err);
+    } else {
+        st_attr attrs[24];
+        int nattrs = render_attrs(&a, &s, &st, attrs);
+        if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK)
+            rc = st_cli_fail(&err);
+        else if (!a.quiet)
+            st_cli_print_summary("rendered", &a.opt, &st);
+    }
+    st_image_free(&img);
+    st_image_free(&rgb);
+    st_cli_session_close(&s);
+    return rc;
+}

@@ -1,0 +1,43 @@
+/* cli_run.h — what render and bench share: opening the device and scene,
+ * the progress bar, and the EXR header of a render. */
+#ifndef ST_CLI_RUN_H
+#define ST_CLI_RUN_H
+
+#include "cli_args.h"
+#include "st_device.h"
+#include "st_image.h"
+#include "st_render.h"
+#include "st_scene.h"
+
+typedef struct st_cli_progress_state {
+    const char *label;
+    int tty;
+} st_cli_progress_state;
+
+void st_cli_progress_init(st_cli_progress_state *p, const char *label, int quiet);
+void st_cli_progress(void *ctx, double fraction);
+
+/* Everything a render needs, opened in order; st_cli_session_close releases
+ * what was opened. */
+typedef struct st_cli_session {
+    st_device *dev;
+    st_scene *scene;
+    st_renderer *renderer;
+    double load_seconds, build_seconds;
+} st_cli_session;
+
+st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err);
+void st_cli_session_close(st_cli_session *s);
+/* Prints the error (and a kernel build's compiler log); returns the exit status. */
+int st_cli_session_fail(const st_cli_session *s, const st_error *err);
+
+/* Prints the built-in scene names, one per line. */
+void st_cli_print_scene_list(void);
+
+double st_cli_now(void);
+
+/* The one-line summary: time, samples/s, rays/s, clamps. */
+void st_cli_print_summary(const char *what, const st_render_options *o,
+                          const st_render_stats *st);
+
+#endif

@@ -1,0 +1,471 @@
+/* device.c — OpenCL platforms, devices, the program and its kernels (see
+ * st_device.h). Sizes are queried before buffers are filled; extensions are
+ * matched as whole tokens. */
+#include "st_device.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "embedded.h"
+
+#define MAX_KERNELS 32
+
+struct st_device {
+    st_device_info info;
+    cl_platform_id platform;
+    cl_device_id id;
+    cl_context context;
+    cl_command_queue queue;
+    cl_program program;
+    char *log;
+    struct { char name[64]; cl_kernel k; } kernels[MAX_KERNELS];
+    unsigned kernel_count;
+};
+
+const char *st_device_error_name(cl_int code)
+{
+#define E(c) case c: return #c;
+    switch (code) {
+    E(CL_SUCCESS) E(CL_DEVICE_NOT_FOUND) E(CL_DEVICE_NOT_AVAILABLE)
+    E(CL_COMPILER_NOT_AVAILABLE) E(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+    E(CL_OUT_OF_RESOURCES) E(CL_OUT_OF_HOST_MEMORY) E(CL_BUILD_PROGRAM_FAILURE)
+    E(CL_INVALID_VALUE) E(CL_INVALID_PLATFORM) E(CL_INVALID_DEVICE) E(CL_INVALID_CONTEXT)
+    E(CL_INVALID_COMMAND_QUEUE) E(CL_INVALID_MEM_OBJECT) E(CL_INVALID_BINARY)
+    E(CL_INVALID_BUILD_OPTIONS) E(CL_INVALID_PROGRAM) E(CL_INVALID_PROGRAM_EXECUTABLE)
+    E(CL_INVALID_KERNEL_NAME) E(CL_INVALID_KERNEL) E(CL_INVALID_ARG_INDEX)
+    E(CL_INVALID_ARG_VALUE) E(CL_INVALID_ARG_SIZE) E(CL_INVALID_KERNEL_ARGS)
+    E(CL_INVALID_WORK_DIMENSION) E(CL_INVALID_WORK_GROUP_SIZE) E(CL_INVALID_WORK_ITEM_SIZE)
+    E(CL_INVALID_GLOBAL_OFFSET) E(CL_INVALID_EVENT_WAIT_LIST) E(CL_INVALID_OPERATION)
+    E(CL_INVALID_BUFFER_SIZE) E(CL_INVALID_GLOBAL_WORK_SIZE) E(CL_PLATFORM_NOT_FOUND_KHR)
+    default: return "CL_UNKNOWN_ERROR";
+    }
+#undef E
+}
+
+static st_status cl_fail(st_error *err, const char *call, cl_int code)
+{
+    return st_fail(err, ST_ERR_DEVICE, "%s failed: %s (%d)", call, st_device_error_name(code),
+                   (int)code);
+}
+
+static int has_token(const char *list, const char *token)
+{
+    size_t n = strlen(token);
+    for (const char *s = list; (s = strstr(s, token)) != NULL; s += n) {
+        int starts = s == list || s[-1] == ' ';
+        int ends = s[n] == '\0' || s[n] == ' ';
+        if (starts && ends)
+            return 1;
+    }
+    return 0;
+}
+
+static void device_string(cl_device_id d, cl_device_info what, char *buf, size_t cap)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    if (clGetDeviceInfo(d, what, cap, buf, &n) != CL_SUCCESS)
+        buf[0] = '\0';
+    buf[cap - 1] = '\0';
+}
+
+static void fill_info(cl_platform_id p, cl_device_id d, unsigned pi, unsigned di,
+                      st_device_info *info)
+{
+    memset(info, 0, sizeof *info);
+    info->platform = pi;
+    info->device = di;
+    clGetPlatformInfo(p, CL_PLATFORM_NAME, sizeof info->platform_name, info->platform_name, NULL);
+    device_string(d, CL_DEVICE_NAME, info->name, sizeof info->name);
+    device_string(d, CL_DEVICE_VERSION, info->version, sizeof info->version);
+    device_string(d, CL_DEVICE_OPENCL_C_VERSION, info->c_version, sizeof info->c_version);
+    cl_device_type type = 0;
+    clGetDeviceInfo(d, CL_DEVICE_TYPE, sizeof type, &type, NULL);
+    info->is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;
+    info->is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    cl_uint cu = 0;
+    clGetDeviceInfo(d, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof cu, &cu, NULL);
+    info->compute_units = cu;
+    cl_ulong mem = 0;
+    clGetDeviceInfo(d, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof mem, &mem, NULL);
+    info->global_mem = mem;
+    size_t n = 0;
+    if (clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, 0, NULL, &n) == CL_SUCCESS && n > 0) {
+        char *ext = malloc(n + 1);
+        if (ext && clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, n, ext, NULL) == CL_SUCCESS) {
+            ext[n] = '\0';
+            info->has_int64_atomics = has_token(ext, "cl_khr_int64_base_atomics");
+        }
+        free(ext);
+    }
+}
+
+/* Calls visit(platform, device, info) for every device; stops when it
+ * returns nonzero. */
+static st_status each_device(int (*visit)(cl_platform_id, cl_device_id, const st_device_info *,
+                                          void *),
+                             void *ctx, st_error *err)
+{
+    cl_uint np = 0;
+    cl_int rc = clGetPlatformIDs(0, NULL, &np);
+    if (rc == CL_PLATFORM_NOT_FOUND_KHR || np == 0)
+        return st_fail(err, ST_ERR_DEVICE,
+                       "no OpenCL platform found: run `make deps` to install PoCL "
+                       "(pocl-opencl-icd) or install a GPU driver's OpenCL ICD");
+    if (rc != CL_SUCCESS)
+        return cl_fail(err, "clGetPlatformIDs", rc);
+    cl_platform_id *ps = calloc(np, sizeof *ps);
+    if (!ps)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory listing platforms");
+    clGetPlatformIDs(np, ps, NULL);
+    int stop = 0;
+    for (cl_uint p = 0; p < np && !stop; p++) {
+        cl_uint nd = 0;
+        if (clGetDeviceIDs(ps[p], CL_DEVICE_TYPE_ALL, 0, NULL, &nd) != CL_SUCCESS || nd == 0)
+            continue; /* a platform without devices is skipped */
+        cl_device_id *ds = calloc(nd, sizeof *ds);
+        if (!ds)
+            break;
+        clGetDeviceIDs(ps[p], CL_DEVICE_TYPE_ALL, nd, ds, NULL);
+        for (cl_uint d = 0; d < nd && !stop; d++) {
+            st_device_info info;
+            fill_info(ps[p], ds[d], p, d, &info);
+            stop = visit(ps[p], ds[d], &info, ctx);
+        }
+        free(ds);
+    }
+    free(ps);
+    return ST_OK;
+}
+
+typedef struct list_ctx { st_device_info *v; unsigned n, cap; int nomem; } list_ctx;
+
+static int collect(cl_platform_id p, cl_device_id d, const st_device_info *info, void *ctx)
+{
+    (void)p;
+    (void)d;
+    list_ctx *l = ctx;
+    if (l->n == l->cap) {
+        unsigned cap = l->cap ? 2 * l->cap : 8;
+        st_device_info *v = realloc(l->v, cap * sizeof *v);
+        if (!v) {
+            l->nomem = 1;
+            return 1;
+        }
+        l->v = v;
+        l->cap = cap;
+    }
+    l->v[l->n++] = *info;
+    return 0;
+}
+
+st_status st_device_list(st_device_info **out, unsigned *count, st_error *err)
+{
+    list_ctx l = {0};
+    *out = NULL;
+    *count = 0;
+    if (each_device(collect, &l, err) != ST_OK) {
+        free(l.v);
+        return err->status;
+    }
+    if (l.nomem) {
+        free(l.v);
+        return st_fail(err, ST_ERR_NOMEM, "out of memory listing devices");
+    }
+    *out = l.v;
+    *count = l.n;
+    return ST_OK;
+}
+
+typedef struct pick_ctx {
+    int want_cpu, want_gpu;
+    unsigned p, d;
+    int found;
+    cl_platform_id platform;
+    cl_device_id id;
+    st_device_info info;
+} pick_ctx;
+
+static int pick(cl_platform_id p, cl_device_id d, const st_device_info *info, void *ctx)
+{
+    pick_ctx *c = ctx;
+    int match = c->want_cpu   ? info->is_cpu
+                : c->want_gpu ? info->is_gpu
+                              : (info->platform == c->p && info->device == c->d);
+    if (match) {
+        c->found = 1;
+        c->platform = p;
+        c->id = d;
+        c->info = *info;
+    }
+    return match;
+}
+
+static st_status parse_spec(const char *spec, pick_ctx *c, st_error *err)
+{
+    memset(c, 0, sizeof *c);
+    if (!spec || !strcmp(spec, "cpu")) {
+        c->want_cpu = 1;
+        return ST_OK;
+    }
+    if (!strcmp(spec, "gpu")) {
+        c->want_gpu = 1;
+        return ST_OK;
+    }
+    char tail;
+    if (sscanf(spec, "%u:%u%c", &c->p, &c->d, &tail) == 2)
+        return ST_OK;
+    return st_fail(err, ST_ERR_USAGE, "--device %s: expected cpu, gpu or P:D (see `strata devices`)",
+                   spec);
+}
+
+st_status st_device_create(const char *spec, st_device **out, st_error *err)
+{
+    *out = NULL;
+    pick_ctx c;
+    if (parse_spec(spec, &c, err) != ST_OK || each_device(pick, &c, err) != ST_OK)
+        return err->status;
+    if (!c.found)
+        return st_fail(err, ST_ERR_DEVICE, "no OpenCL device matches --device %s (see `strata devices`)",
+                       spec ? spec : "cpu");
+    if (!c.info.has_int64_atomics)
+        return st_fail(err, ST_ERR_DEVICE, "%s: device lacks cl_khr_int64_base_atomics, needed for the film",
+                       c.info.name);
+    st_device *dev = calloc(1, sizeof *dev);
+    if (!dev)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory creating the device");
+    dev->info = c.info;
+    dev->platform = c.platform;
+    dev->id = c.id;
+    cl_int rc;
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)c.platform, 0};
+    dev->context = clCreateContext(props, 1, &dev->id, NULL, NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        st_device_destroy(dev);
+        return cl_fail(err, "clCreateContext", rc);
+    }
+    dev->queue = clCreateCommandQueue(dev->context, dev->id, 0, &rc);
+    if (rc != CL_SUCCESS) {
+        st_device_destroy(dev);
+        return cl_fail(err, "clCreateCommandQueue", rc);
+    }
+    *out = dev;
+    return ST_OK;
+}
+
+void st_device_destroy(st_device *dev)
+{
+    if (!dev)
+        return;
+    for (unsigned i = 0; i < dev->kernel_count; i++)
+        clReleaseKernel(dev->kernels[i].k);
+    if (dev->program)
+        clReleaseProgram(dev->program);
+    if (dev->queue)
+        clReleaseCommandQueue(dev->queue);
+    if (dev->context)
+        clReleaseContext(dev->context);
+    free(dev->log);
+    free(dev);
+}
+
+const st_device_info *st_device_get_info(const st_device *dev) { return &dev->info; }
+
+const char *st_device_build_log(const st_device *dev)
+{
+    return dev && dev->log ? dev->log : "";
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Reads every embedded kernel name from $STRATA_KERNEL_DIR instead. */
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (s && fread(s, 1, (size_t)n, f) == (size_t)n)
+        s[n] = '\0';
+    else {
+        free(s);
+        s = NULL;
+    }
+    fclose(f);
+    return s;
+}
+
+static void keep_log(st_device *dev)
+{
+    size_t n = 0;
+    free(dev->log);
+    dev->log = NULL;
+    if (clGetProgramBuildInfo(dev->program, dev->id, CL_PROGRAM_BUILD_LOG, 0, NULL, &n) != CL_SUCCESS)
+        return;
+    dev->log = malloc(n + 1);
+    if (dev->log && clGetProgramBuildInfo(dev->program, dev->id, CL_PROGRAM_BUILD_LOG, n, dev->log,
+                                          NULL) == CL_SUCCESS)
+        dev->log[n] = '\0';
+}
+
+st_status st_device_build(st_device *dev, double *seconds, st_error *err)
+{
+    if (dev->program)
+        return ST_OK;
+    const char *dir = getenv("STRATA_KERNEL_DIR");
+    unsigned n = st_embedded_kernel_count;
+    const char *src[MAX_KERNELS];
+    char *owned[MAX_KERNELS] = {0};
+    char options[1200] = "-cl-std=CL1.2";
+    st_status rc = ST_OK;
+    for (unsigned i = 0; i < n && i < MAX_KERNELS; i++) {
+        src[i] = (const char *)st_embedded_kernels[i].data;
+        if (dir && *dir) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s/%s", dir, st_embedded_kernels[i].name);
+            if (!(owned[i] = read_text(path))) {
+                rc = st_fail(err, ST_ERR_IO, "%s: cannot read kernel (STRATA_KERNEL_DIR)", path);
+                goto done;
+            }
+            src[i] = owned[i];
+        }
+    }
+    if (dir && *dir)
+        snprintf(options, sizeof options, "-cl-std=CL1.2 -I%s", dir);
+    double t0 = now_seconds();
+    cl_int code;
+    dev->program = clCreateProgramWithSource(dev->context, n, src, NULL, &code);
+    if (code != CL_SUCCESS) {
+        rc = cl_fail(err, "clCreateProgramWithSource", code);
+        goto done;
+    }
+    code = clBuildProgram(dev->program, 1, &dev->id, options, NULL, NULL);
+    keep_log(dev);
+    if (code != CL_SUCCESS) {
+        clReleaseProgram(dev->program);
+        dev->program = NULL;
+        rc = st_fail(err, ST_ERR_DEVICE, "kernel build failed on %s: %s (compiler log follows)",
+                     dev->info.name, st_device_error_name(code));
+        goto done;
+    }
+    if (seconds)
+        *seconds = now_seconds() - t0;
+done:
+    for (unsigned i = 0; i < n && i < MAX_KERNELS; i++)
+        free(owned[i]);
+    return rc;
+}
+
+st_status st_device_kernel(st_device *dev, const char *name, cl_kernel *out, st_error *err)
+{
+    for (unsigned i = 0; i < dev->kernel_count; i++)
+        if (!strcmp(dev->kernels[i].name, name)) {
+            *out = dev->kernels[i].k;
+            return ST_OK;
+        }
+    if (dev->kernel_count == MAX_KERNELS)
+        return st_fail(err, ST_ERR_DEVICE, "too many kernels (limit %d)", MAX_KERNELS);
+    cl_int code;
+    cl_kernel k = clCreateKernel(dev->program, name, &code);
+    if (code != CL_SUCCESS)
+        return st_fail(err, ST_ERR_DEVICE, "clCreateKernel(%s) failed: %s", name,
+                       st_device_error_name(code));
+    snprintf(dev->kernels[dev->kernel_count].name, sizeof dev->kernels[0].name, "%s", name);
+    dev->kernels[dev->kernel_count++].k = k;
+    *out = k;
+    return ST_OK;
+}
+
+st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...)
+{
+    va_list ap;
+    va_start(ap, n);
+    st_status rc = ST_OK;
+    for (unsigned i = 0; i < n; i++) {
+        size_t size = va_arg(ap, size_t);
+        const void *value = va_arg(ap, const void *);
+        cl_int code = clSetKernelArg(k, i, size, value);
+        if (code != CL_SUCCESS) {
+            char name[64] = "?";
+            clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
+            rc = st_fail(err, ST_ERR_DEVICE, "clSetKernelArg(%s, %u) failed: %s", name, i,
+                         st_device_error_name(code));
+            break;
+        }
+    }
+    va_end(ap);
+    return rc;
+}
+
+st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err)
+{
+    if (items == 0)
+        return ST_OK;
+    size_t global = local ? (items + local - 1) / local * local : items;
+    cl_int code = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, local ? &local : NULL, 0,
+                                         NULL, NULL);
+    if (code != CL_SUCCESS) {
+        char name[64] = "?";
+        clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
+        return st_fail(err, ST_ERR_DEVICE, "launching %s failed: %s", name,
+                       st_device_error_name(code));
+    }
+    return ST_OK;
+}
+
+st_status st_device_finish(st_device *dev, st_error *err)
+{
+    cl_int code = clFinish(dev->queue);
+    return code == CL_SUCCESS ? ST_OK : cl_fail(err, "clFinish", code);
+}
+
+st_status st_device_buffer_create(st_device *dev, size_t bytes, const void *init, cl_mem *out,
+                                  st_error *err)
+{
+    cl_int code;
+    if (bytes == 0)
+        bytes = 16; /* OpenCL forbids empty buffers; kernels never read it */
+    cl_mem_flags flags = CL_MEM_READ_WRITE | (init ? CL_MEM_COPY_HOST_PTR : 0);
+    *out = clCreateBuffer(dev->context, flags, bytes, (void *)init, &code);
+    if (code != CL_SUCCESS)
+        return st_fail(err, ST_ERR_DEVICE, "clCreateBuffer(%zu bytes) failed: %s", bytes,
+                       st_device_error_name(code));
+    return ST_OK;
+}
+
+void st_device_buffer_destroy(cl_mem mem)
+{
+    if (mem)
+        clReleaseMemObject(mem);
+}
+
+st_status st_device_buffer_read(st_device *dev, cl_mem mem, size_t bytes, void *dst, st_error *err)
+{
+    cl_int code = clEnqueueReadBuffer(dev->queue, mem, CL_TRUE, 0, bytes, dst, 0, NULL, NULL);
+    return code == CL_SUCCESS ? ST_OK : cl_fail(err, "clEnqueueReadBuffer", code);
+}
+
+st_status st_device_buffer_write(st_device *dev, cl_mem mem, size_t bytes, const void *src,
+                                 st_error *err)
+{
+    cl_int code = clEnqueueWriteBuffer(dev->queue, mem, CL_TRUE, 0, bytes, src, 0, NULL, NULL);
+    return code == CL_SUCCESS ? ST_OK : cl_fail(err, "clEnqueueWriteBuffer", code);
+}
+
+st_status st_device_buffer_zero(st_device *dev, cl_mem mem, size_t bytes, st_error *err)
+{
+    cl_uint zero = 0;
+    cl_int code = clEnqueueFillBuffer(dev->queue, mem, &zero, sizeof zero, 0, bytes, 0, NULL, NULL);
+    return code == CL_SUCCESS ? ST_OK : cl_fail(err, "clEnqueueFillBuffer", code);
+}

@@ -1,0 +1,528 @@
+/* render.c — the pass loop (see st_render.h): scene upload, wave buffers sized
+ * once per render, kernel dispatch, resolve and read-back. */
+#include "st_render.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "st_bvh.h"
+#include "rng.h"
+#include "samplers.h"
+#include "filters.h"
+
+const char *const st_stage_names[ST_STAGE_COUNT] = {
+    "generate_samples", "generate_camera_rays", "trace_rays", "shade_hits",
+    "trace_shadow_rays", "splat_samples", "resolve_film"};
+
+const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
+    "random", "uniform", "stratified", "halton", "hammersley", "poisson", "best-candidate",
+    "sobol"};
+const char *const st_filter_names[ST_FILTER_COUNT] = {
+    "box", "triangle", "gaussian", "mitchell", "lanczos", "catmull-rom", "blackman-harris"};
+const char *const st_integrator_names[2] = {"direct", "path"};
+
+int st_name_lookup(const char *const *names, int count, const char *name)
+{
+    for (int i = 0; i < count; i++)
+        if (!strcmp(names[i], name))
+            return i;
+    return -1;
+}
+
+/* Scene buffers, uploaded once. */
+enum { B_NODES, B_TRIS, B_NORMALS, B_TRI_MATERIAL, B_MATERIALS, B_LIGHT_TRI, B_LIGHT_CDF,
+       B_LIGHT_PDF, B_SCENE_COUNT };
+/* Per-wave state (one entry per item) and the film. */
+enum { W_FILM, W_RAY_O, W_RAY_D, W_HIT, W_BETA, W_RADIANCE, W_DEPTH, W_SHADOW_O, W_SHADOW_D,
+       W_SHADOW_L, W_ACCUM, W_COUNTS, W_STATS, W_IMAGE, W_COUNT };
+
+struct st_renderer {
+    st_device *dev;
+    const st_scene *scene;
+    cl_mem scene_buf[B_SCENE_COUNT];
+    cl_kernel k[ST_STAGE_COUNT];
+    st_u32 light_count;
+    float light_power;
+    float ray_eps;
+    double bvh_seconds;
+};
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+st_filter st_filter_default(st_u32 kind)
+{
+    st_filter f;
+    memset(&f, 0, sizeof f);
+    f.kind = kind;
+    f.b = f.c = 1.0f / 3.0f;
+    f.sigma = 0.5f;
+    static const float radius[ST_FILTER_COUNT] = {0.5f, 1.0f, 1.5f, 2.0f, 3.0f, 2.0f, 2.0f};
+    f.radius = kind < ST_FILTER_COUNT ? radius[kind] : 0.5f;
+    f.tau = f.radius;
+    return f;
+}
+
+st_render_options st_render_defaults(void)
+{
+    st_render_options o;
+    memset(&o, 0, sizeof o);
+    o.width = 512;
+    o.height = 512;
+    o.spp = 16;
+    o.sampler = ST_SAMPLER_HALTON;
+    o.scramble = 1;
+    o.integrator = ST_INTEGRATOR_PATH;
+    o.max_depth = 5;
+    o.filter = st_filter_default(ST_FILTER_MITCHELL);
+    return o;
+}
+
+st_status st_render_check(const st_render_options *o, st_error *err)
+{
+    if (o->width < 1 || o->height < 1 || o->width > 32768 || o->height > 32768)
+        return st_fail(err, ST_ERR_USAGE, "image size %ux%u: width and height must be 1..32768",
+                       o->width, o->height);
+    if ((st_u64)o->width * o->height > (1ull << 28))
+        return st_fail(err, ST_ERR_USAGE, "image size %ux%u: more than 2^28 pixels", o->width,
+                       o->height);
+    if (o->spp < 1)
+        return st_fail(err, ST_ERR_USAGE, "--spp must be at least 1");
+    if ((st_u64)o->spp_offset + o->spp > 0xffffffffull)
+        return st_fail(err, ST_ERR_USAGE, "sample indices past 2^32");
+    if (o->sampler >= ST_SAMPLER_COUNT || o->sampler == ST_SAMPLER_POISSON ||
+        o->sampler == ST_SAMPLER_BEST_CANDIDATE)
+        return st_fail(err, ST_ERR_USAGE, "sampler %u is not available in the renderer yet",
+                       o->sampler);
+    if (o->sampler == ST_SAMPLER_HALTON) {
+        st_params p;
+        memset(&p, 0, sizeof p);
+        p.width = o->width;
+        p.height = o->height;
+        p.spp = o->spp;
+        st_sampler_prepare(&p);
+        if ((st_u64)p.halton_stride * ((st_u64)o->spp_offset + o->spp) > 0xffffffffull)
+            return st_fail(err, ST_ERR_USAGE,
+                           "--spp %u: Halton indices would pass 2^32 at this image size",
+                           o->spp_offset + o->spp);
+    }
+    if (o->max_depth > 64)
+        return st_fail(err, ST_ERR_USAGE, "--max-depth %u: at most 64", o->max_depth);
+    const st_filter *f = &o->filter;
+    if (f->kind >= ST_FILTER_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "unknown filter %u", f->kind);
+    if (!(f->radius > 0.0f) || f->radius > ST_FILTER_MAX_RADIUS)
+        return st_fail(err, ST_ERR_USAGE, "--filter-radius %g: must be in (0, %g]",
+                       (double)f->radius, (double)ST_FILTER_MAX_RADIUS);
+    if (f->kind == ST_FILTER_GAUSSIAN && !(f->sigma > 0.0f))
+        return st_fail(err, ST_ERR_USAGE, "--filter-sigma must be positive");
+    if (f->kind == ST_FILTER_LANCZOS && !(f->tau > 0.0f))
+        return st_fail(err, ST_ERR_USAGE, "--filter-tau must be positive");
+    /* fixed-point headroom (fixed.h): splats one pixel can receive */
+    double reach = ceil(2.0 * f->radius) + 1.0;
+    if ((double)(o->spp_offset + (st_u64)o->spp) * reach * reach > ST_FIXED_MAX_SPLATS)
+        return st_fail(err, ST_ERR_USAGE,
+                       "--spp %u with filter radius %g could overflow the 64-bit film "
+                       "(limit: spp x (ceil(2r)+1)^2 <= 2^23)",
+                       o->spp_offset + o->spp, (double)f->radius);
+    return ST_OK;
+}
+
+/* Emissive triangles (in BVH order), chosen with probability proportional to
+ * area x mean emitted radiance; pdf_area[t] = P(choose t) / area(t). */
+static st_status build_lights(const st_scene *s, const st_bvh *bvh, st_u32 **tri_out,
+                              float **cdf_out, float **pdf_out, st_u32 *count, float *power,
+                              st_error *err)
+{
+    st_u32 n = bvh->tri_count;
+    st_u32 *tri = malloc(sizeof *tri * (n ? n : 1));
+    float *cdf = malloc(sizeof *cdf * (n ? n : 1));
+    float *pdf = calloc(n ? n : 1, sizeof *pdf);
+    double *acc = malloc(sizeof *acc * (n ? n : 1));
+    if (!tri || !cdf || !pdf || !acc) {
+        free(tri); free(cdf); free(pdf); free(acc);
+        return st_fail(err, ST_ERR_NOMEM, "out of memory building the light table");
+    }
+    st_u32 k = 0;
+    double total = 0.0;
+    for (st_u32 t = 0; t < n; t++) {
+        const float *e = s->materials[s->tri_material[bvh->order[t]]].emission;
+        double le = (e[0] + e[1] + e[2]) / 3.0;
+        const st_triangle *tr = &bvh->tris[t];
+        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        if (le > 0.0 && area > 0.0) {
+            total += area * le;
+            tri[k] = t;
+            acc[k++] = total;
+        }
+    }
+    for (st_u32 i = 0; i < k; i++) {
+        cdf[i] = i + 1 == k ? 1.0f : (float)(acc[i] / total);
+        const st_triangle *tr = &bvh->tris[tri[i]];
+        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        double p_select = (acc[i] - (i ? acc[i - 1] : 0.0)) / total;
+        pdf[tri[i]] = (float)(p_select / area);
+    }
+    free(acc);
+    *tri_out = tri;
+    *cdf_out = cdf;
+    *pdf_out = pdf;
+    *count = k;
+    *power = (float)total;
+    return ST_OK;
+}
+
+static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
+{
+    const st_scene *s = r->scene;
+    st_u32 n = bvh->tri_count;
+    st_tri_normals *nrm = malloc(sizeof *nrm * (n ? n : 1));
+    st_u32 *mat = malloc(sizeof *mat * (n ? n : 1));
+    st_u32 *light_tri = NULL;
+    float *light_cdf = NULL, *light_pdf = NULL;
+    st_status rc = ST_OK;
+    if (!nrm || !mat) {
+        rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
+        goto done;
+    }
+    memset(nrm, 0, sizeof *nrm * (n ? n : 1));
+    for (st_u32 t = 0; t < n; t++) {
+        const float *sn = s->normals + 9 * (size_t)bvh->order[t];
+        memcpy(nrm[t].n0, sn, 3 * sizeof(float));
+        memcpy(nrm[t].n1, sn + 3, 3 * sizeof(float));
+        memcpy(nrm[t].n2, sn + 6, 3 * sizeof(float));
+        mat[t] = s->tri_material[bvh->order[t]];
+    }
+    if (build_lights(s, bvh, &light_tri, &light_cdf, &light_pdf, &r->light_count,
+                     &r->light_power, err) != ST_OK) {
+        rc = err->status;
+        goto done;
+    }
+    struct { size_t bytes; const void *data; } up[B_SCENE_COUNT] = {
+        {sizeof(st_bvh_node) * bvh->node_count, bvh->nodes},
+        {sizeof(st_triangle) * (n ? n : 1), bvh->tris},
+        {sizeof(st_tri_normals) * (n ? n : 1), nrm},
+        {sizeof(st_u32) * (n ? n : 1), mat},
+        {sizeof(st_material) * s->material_count, s->materials},
+        {sizeof(st_u32) * (r->light_count ? r->light_count : 1), light_tri},
+        {sizeof(float) * (r->light_count ? r->light_count : 1), light_cdf},
+        {sizeof(float) * (n ? n : 1), light_pdf},
+    };
+    for (int b = 0; b < B_SCENE_COUNT && rc == ST_OK; b++)
+        rc = st_device_buffer_create(r->dev, up[b].bytes, up[b].data, &r->scene_buf[b], err);
+done:
+    free(nrm);
+    free(mat);
+    free(light_tri);
+    free(light_cdf);
+    free(light_pdf);
+    return rc;
+}
+
+st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer **out,
+                             st_error *err)
+{
+    *out = NULL;
+    st_renderer *r = calloc(1, sizeof *r);
+    if (!r)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory creating the renderer");
+    r->dev = dev;
+    r->scene = scene;
+    float extent = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        extent = fmaxf(extent, fabsf(scene->bounds_min[a]));
+        extent = fmaxf(extent, fabsf(scene->bounds_max[a]));
+    }
+    r->ray_eps = 1e-4f * fmaxf(extent, 1e-3f);
+    st_bvh *bvh = NULL;
+    double t0 = now_seconds();
+    if (st_bvh_build(scene->positions, scene->tri_count, &bvh, err) != ST_OK)
+        goto fail;
+    r->bvh_seconds = now_seconds() - t0;
+    if (upload_scene(r, bvh, err) != ST_OK || st_device_build(dev, NULL, err) != ST_OK)
+        goto fail;
+    for (int k = 0; k < ST_STAGE_COUNT; k++)
+        if (st_device_kernel(dev, st_stage_names[k], &r->k[k], err) != ST_OK)
+            goto fail;
+    st_bvh_destroy(bvh);
+    *out = r;
+    return ST_OK;
+fail:
+    st_bvh_destroy(bvh);
+    st_renderer_destroy(r);
+    return err->status;
+}
+
+void st_renderer_destroy(st_renderer *r)
+{
+    if (!r)
+        return;
+    for (int b = 0; b < B_SCENE_COUNT; b++)
+        st_device_buffer_destroy(r->scene_buf[b]);
+    free(r);
+}
+
+double st_renderer_bvh_seconds(const st_renderer *r) { return r->bvh_seconds; }
+st_u32 st_renderer_light_count(const st_renderer *r) { return r->light_count; }
+
+/* Camera basis from the scene's camera and the image aspect. */
+static st_camera make_camera(const st_scene_camera *c, st_u32 w, st_u32 h)
+{
+    st_camera cam;
+    memset(&cam, 0, sizeof cam);
+    const float *f = c->forward, *u = c->up;
+    float right[3] = {f[1] * u[2] - f[2] * u[1], f[2] * u[0] - f[0] * u[2],
+                      f[0] * u[1] - f[1] * u[0]};
+    for (int a = 0; a < 3; a++) {
+        cam.origin[a] = c->origin[a];
+        cam.right[a] = right[a];
+        cam.up[a] = u[a];
+        cam.forward[a] = f[a];
+    }
+    cam.origin[3] = tanf(0.5f * c->yfov);
+    cam.right[3] = (float)w / (float)h;
+    return cam;
+}
+
+typedef struct wave_state {
+    cl_mem b[W_COUNT];
+    size_t items;
+} wave_state;
+
+static size_t wave_item_bytes[W_COUNT] = {
+    sizeof(float) * 2, sizeof(float) * 4, sizeof(float) * 4, sizeof(float) * 4,
+    sizeof(float) * 4, sizeof(float) * 4, sizeof(st_u32), sizeof(float) * 4,
+    sizeof(float) * 4, sizeof(float) * 4};
+
+static st_status wave_alloc(st_renderer *r, wave_state *w, size_t items, size_t pixels,
+                            st_error *err)
+{
+    memset(w, 0, sizeof *w);
+    w->items = items;
+    for (int b = 0; b < W_ACCUM; b++)
+        if (st_device_buffer_create(r->dev, wave_item_bytes[b] * items, NULL, &w->b[b], err))
+            return err->status;
+    if (st_device_buffer_create(r->dev, pixels * 4 * sizeof(st_i64), NULL, &w->b[W_ACCUM], err) ||
+        st_device_buffer_create(r->dev, pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32), NULL, &w->b[W_COUNTS], err) ||
+        st_device_buffer_create(r->dev, ST_STAT_COUNT * sizeof(st_u32), NULL, &w->b[W_STATS], err) ||
+        st_device_buffer_create(r->dev, pixels * 4 * sizeof(float), NULL, &w->b[W_IMAGE], err))
+        return err->status;
+    if (st_device_buffer_zero(r->dev, w->b[W_ACCUM], pixels * 4 * sizeof(st_i64), err) ||
+        st_device_buffer_zero(r->dev, w->b[W_COUNTS], pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32), err) ||
+        st_device_buffer_zero(r->dev, w->b[W_STATS], ST_STAT_COUNT * sizeof(st_u32), err))
+        return err->status;
+    return ST_OK;
+}
+
+static void wave_free(wave_state *w)
+{
+    for (int b = 0; b < W_COUNT; b++)
+        st_device_buffer_destroy(w->b[b]);
+}
+
+#define MEM(x) sizeof(cl_mem), (const void *)&(x)
+#define PARAMS(p) sizeof(st_params), (const void *)&(p)
+
+/* Sets the arguments of stage k for this wave. */
+static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_state *w,
+                                st_error *err)
+{
+    cl_mem *s = r->scene_buf, *b = w->b;
+    cl_kernel kk = r->k[k];
+    switch (k) {
+    case ST_STAGE_GENERATE:
+        return st_device_set_args(kk, err, 2, PARAMS(*p), MEM(b[W_FILM]));
+    case ST_STAGE_CAMERA:
+        return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_RAY_O]),
+                                  MEM(b[W_RAY_D]), MEM(b[W_BETA]), MEM(b[W_RADIANCE]),
+                                  MEM(b[W_DEPTH]));
+    case ST_STAGE_TRACE:
+        return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(s[B_NODES]), MEM(s[B_TRIS]),
+                                  MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_DEPTH]),
+                                  MEM(b[W_HIT]));
+    case ST_STAGE_SHADE:
+        return st_device_set_args(
+            kk, err, 17, PARAMS(*p), MEM(s[B_TRIS]), MEM(s[B_NORMALS]), MEM(s[B_TRI_MATERIAL]),
+            MEM(s[B_MATERIALS]), MEM(s[B_LIGHT_TRI]), MEM(s[B_LIGHT_CDF]), MEM(s[B_LIGHT_PDF]),
+            MEM(b[W_HIT]), MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_BETA]),
+            MEM(b[W_RADIANCE]), MEM(b[W_DEPTH]), MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]),
+            MEM(b[W_SHADOW_L]));
+    case ST_STAGE_SHADOW:
+        return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(s[B_NODES]), MEM(s[B_TRIS]),
+                                  MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]), MEM(b[W_SHADOW_L]),
+                                  MEM(b[W_RADIANCE]));
+    case ST_STAGE_SPLAT:
+        return st_device_set_args(kk, err, 6, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_RADIANCE]),
+                                  MEM(b[W_ACCUM]), MEM(b[W_COUNTS]), MEM(b[W_STATS]));
+    case ST_STAGE_RESOLVE:
+        return st_device_set_args(kk, err, 4, PARAMS(*p), MEM(b[W_ACCUM]), MEM(b[W_IMAGE]),
+                                  MEM(b[W_STATS]));
+    }
+    return st_fail(err, ST_ERR_DEVICE, "unknown stage %d", k);
+}
+
+/* Launches stage k; with profiling, waits and adds its time to the stats. */
+static st_status run_stage(st_renderer *r, int k, const st_params *p, wave_state *w,
+                           size_t items, const st_render_options *o, st_render_stats *st,
+                           st_error *err)
+{
+    if (set_stage_args(r, k, p, w, err) != ST_OK)
+        return err->status;
+    double t0 = o->profile ? now_seconds() : 0.0;
+    if (st_device_launch(r->dev, r->k[k], items, o->local_size, err) != ST_OK)
+        return err->status;
+    if (o->profile) {
+        if (st_device_finish(r->dev, err) != ST_OK)
+            return err->status;
+        st->stage_seconds[k] += now_seconds() - t0;
+    }
+    return ST_OK;
+}
+
+static st_params make_params(const st_renderer *r, const st_render_options *o)
+{
+    st_params p;
+    memset(&p, 0, sizeof p);
+    p.width = o->width;
+    p.height = o->height;
+    p.spp = o->spp_offset + o->spp;
+    p.seed = o->seed;
+    p.sampler = o->sampler;
+    p.scramble = o->scramble;
+    p.integrator = o->integrator;
+    p.max_depth = o->integrator == ST_INTEGRATOR_DIRECT ? 1u : o->max_depth;
+    p.light_count = r->light_count;
+    p.light_power = r->light_power;
+    p.ray_eps = r->ray_eps;
+    p.filter = o->filter;
+    p.camera = make_camera(&r->scene->camera, o->width, o->height);
+    st_sampler_prepare(&p);
+    return p;
+}
+
+/* One wave: items [first, first + n) of the render's item space. */
+static st_status run_wave(st_renderer *r, st_params *p, wave_state *w, const st_render_options *o,
+                          st_render_stats *st, st_error *err)
+{
+    size_t n = p->item_count;
+    if (run_stage(r, ST_STAGE_GENERATE, p, w, n, o, st, err) ||
+        run_stage(r, ST_STAGE_CAMERA, p, w, n, o, st, err))
+        return err->status;
+    /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
+     * max_depth vertices; the last one only adds emission (MIS). */
+    st_u32 vertices = p->integrator == ST_INTEGRATOR_DIRECT ? 1u : p->max_depth + 1u;
+    for (st_u32 v = 0; v < vertices; v++) {
+        if (run_stage(r, ST_STAGE_TRACE, p, w, n, o, st, err) ||
+            run_stage(r, ST_STAGE_SHADE, p, w, n, o, st, err))
+            return err->status;
+        if (v < p->max_depth && run_stage(r, ST_STAGE_SHADOW, p, w, n, o, st, err))
+            return err->status;
+    }
+    return run_stage(r, ST_STAGE_SPLAT, p, w, n, o, st, err);
+}
+
+static st_status read_back(st_renderer *r, wave_state *w, const st_render_options *o,
+                           st_image *out, st_i64 **sums, st_render_stats *st, st_error *err)
+{
+    size_t pixels = (size_t)o->width * o->height;
+    const char *names[4] = {"R", "G", "B", "W"};
+    float *img = malloc(pixels * 4 * sizeof(float));
+    st_u32 *counts = malloc(pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32));
+    st_u32 stats[ST_STAT_COUNT];
+    st_status rc = ST_OK;
+    if (!img || !counts) {
+        rc = st_fail(err, ST_ERR_NOMEM, "out of memory reading the image back");
+        goto done;
+    }
+    if (st_device_buffer_read(r->dev, w->b[W_IMAGE], pixels * 4 * sizeof(float), img, err) ||
+        st_device_buffer_read(r->dev, w->b[W_COUNTS], pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32), counts, err) ||
+        st_device_buffer_read(r->dev, w->b[W_STATS], sizeof stats, stats, err)) {
+        rc = err->status;
+        goto done;
+    }
+    if (sums) {
+        *sums = malloc(pixels * 4 * sizeof(st_i64));
+        if (!*sums) {
+            rc = st_fail(err, ST_ERR_NOMEM, "out of memory reading the film back");
+            goto done;
+        }
+        if (st_device_buffer_read(r->dev, w->b[W_ACCUM], pixels * 4 * sizeof(st_i64), *sums,
+                                  err)) {
+            free(*sums);
+            *sums = NULL;
+            rc = err->status;
+            goto done;
+        }
+    }
+    if (st_image_create(out, o->width, o->height, 4, names, err) != ST_OK) {
+        rc = err->status;
+        goto done;
+    }
+    memcpy(out->data, img, pixels * 4 * sizeof(float));
+    for (size_t i = 0; i < pixels; i++) {
+        st->splats += counts[ST_COUNTS_PER_PIXEL * i];
+        st->closest_rays += counts[ST_COUNTS_PER_PIXEL * i + 1];
+        st->shadow_rays += counts[ST_COUNTS_PER_PIXEL * i + 2];
+    }
+    st->rays = st->closest_rays + st->shadow_rays;
+    st->clamped = stats[ST_STAT_CLAMPED];
+    st->nonfinite = stats[ST_STAT_NONFINITE];
+    st->zero_weight = stats[ST_STAT_ZERO_WEIGHT];
+done:
+    free(img);
+    free(counts);
+    return rc;
+}
+
+st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
+                    st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
+                    st_error *err)
+{
+    st_render_stats local;
+    st_render_stats *st = stats ? stats : &local;
+    memset(st, 0, sizeof *st);
+    if (sums)
+        *sums = NULL;
+    if (st_render_check(o, err) != ST_OK)
+        return err->status;
+    size_t pixels = (size_t)o->width * o->height;
+    st_u64 first = (st_u64)o->spp_offset * pixels, total = (st_u64)o->spp * pixels;
+    size_t wave = o->wave ? o->wave : (size_t)1 << 18;
+    if (wave > total)
+        wave = (size_t)total;
+    st_params p = make_params(r, o);
+    wave_state w;
+    double t0 = now_seconds();
+    st_status rc = wave_alloc(r, &w, wave, pixels, err);
+    for (st_u64 done = 0; rc == ST_OK && done < total; done += wave) {
+        p.first_item = first + done;
+        p.item_count = (st_u32)(total - done < wave ? total - done : wave);
+        rc = run_wave(r, &p, &w, o, st, err);
+        if (rc == ST_OK && progress) {
+            rc = st_device_finish(r->dev, err);
+            progress(progress_ctx, (double)(done + p.item_count) / (double)total);
+        }
+    }
+    if (rc == ST_OK)
+        rc = run_stage(r, ST_STAGE_RESOLVE, &p, &w, pixels, o, st, err);
+    if (rc == ST_OK)
+        rc = st_device_finish(r->dev, err);
+    st->seconds = now_seconds() - t0;
+    st->samples = total;
+    if (rc == ST_OK)
+        rc = read_back(r, &w, o, out, sums, st, err);
+    wave_free(&w);
+    return rc;
+}
