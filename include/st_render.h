@@ -20,8 +20,9 @@
 
 typedef struct st_render_options {
     st_u32 width, height;
-    st_u32 spp;        /* samples per pixel rendered by this call */
-    st_u32 spp_offset; /* first sample index (split renders) */
+    st_u32 spp;        /* samples per pixel of the whole image (defines the pattern) */
+    st_u32 sample_begin, sample_end; /* this call renders sample indices
+                                        [begin, end) of every pixel; end 0: spp */
     st_u32 seed;
     st_u32 sampler;    /* ST_SAMPLER_* */
     st_u32 scramble;   /* 1 (default) or 0 */

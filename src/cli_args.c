@@ -16,7 +16,7 @@ static const char render_help[] =
     "%s"
     "  --width W, --height H  image size in pixels (default 512x512)\n"
     "  --spp N                samples per pixel (default 16)\n"
-    "  --spp-offset K         first sample index, for split renders (default 0)\n"
+    "  --sample-range K:M     render only sample indices K..M-1 of the --spp (split renders)\n"
     "  --sampler NAME         random, uniform, stratified, halton, hammersley, sobol (default halton)\n"
     "  --scramble on|none     randomise the sampler (digit permutations, shuffles; default on)\n"
     "  --filter NAME          box, triangle, gaussian, mitchell, lanczos, catmull-rom,\n"
@@ -36,7 +36,7 @@ static const char render_help[] =
     "  -h, --help             this help\n";
 
 enum {
-    O_WIDTH = 256, O_HEIGHT, O_SPP, O_SPP_OFFSET, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
+    O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON
 };
@@ -45,7 +45,7 @@ static const struct option options[] = {
     {"width", required_argument, 0, O_WIDTH},
     {"height", required_argument, 0, O_HEIGHT},
     {"spp", required_argument, 0, O_SPP},
-    {"spp-offset", required_argument, 0, O_SPP_OFFSET},
+    {"sample-range", required_argument, 0, O_SAMPLE_RANGE},
     {"sampler", required_argument, 0, O_SAMPLER},
     {"scramble", required_argument, 0, O_SCRAMBLE},
     {"filter", required_argument, 0, O_FILTER},
@@ -138,7 +138,15 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a, fil
     case O_WIDTH: return st_cli_parse_u32("--width", v, 1, 32768, &o->width);
     case O_HEIGHT: return st_cli_parse_u32("--height", v, 1, 32768, &o->height);
     case O_SPP: return st_cli_parse_u32("--spp", v, 1, 1u << 24, &o->spp);
-    case O_SPP_OFFSET: return st_cli_parse_u32("--spp-offset", v, 0, 1u << 30, &o->spp_offset);
+    case O_SAMPLE_RANGE: {
+        unsigned k, m;
+        char tail;
+        if (sscanf(v, "%u:%u%c", &k, &m, &tail) != 2 || v[0] == '-' || strchr(v, '-'))
+            return st_cli_usage_error("--sample-range %s: expected K:M (sample indices K..M-1)", v);
+        o->sample_begin = k;
+        o->sample_end = m;
+        return ST_CLI_OK;
+    }
     case O_SAMPLER:
         return parse_name("--sampler", st_sampler_names, ST_SAMPLER_COUNT, v, &o->sampler);
     case O_SCRAMBLE:

@@ -16,7 +16,7 @@ st_status st_cli_check_device(st_device *dev, const st_render_options *o, st_cli
     st_render_options c = *o;
     c.width = c.height = 32;
     c.spp = 64;
-    c.spp_offset = 0;
+    c.sample_begin = c.sample_end = 0;
     c.profile = 0;
     c.wave = 0;
     st_u32 depth = c.integrator == ST_INTEGRATOR_DIRECT ? 1u : c.max_depth;

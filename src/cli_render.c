@@ -80,7 +80,7 @@ static int render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     ATTR("sampler", "%s", st_sampler_names[o->sampler]);
     ATTR("scramble", "%s", o->scramble ? "on" : "none");
     ATTR("spp", "%u", o->spp);
-    ATTR("spp_offset", "%u", o->spp_offset);
+    ATTR("sample_range", "%u:%u", o->sample_begin, o->sample_end ? o->sample_end : o->spp);
     ATTR("filter", "%s", st_filter_names[f->kind]);
     ATTR("filter_radius", "%.9g", (double)f->radius);
     if (f->kind == ST_FILTER_MITCHELL)

@@ -94,8 +94,10 @@ st_status st_render_check(const st_render_options *o, st_error *err)
                        o->height);
     if (o->spp < 1)
         return st_fail(err, ST_ERR_USAGE, "--spp must be at least 1");
-    if ((st_u64)o->spp_offset + o->spp > 0xffffffffull)
-        return st_fail(err, ST_ERR_USAGE, "sample indices past 2^32");
+    if (o->sample_begin >= (o->sample_end ? o->sample_end : o->spp) ||
+        (o->sample_end ? o->sample_end : o->spp) > o->spp)
+        return st_fail(err, ST_ERR_USAGE, "--sample-range %u:%u: must satisfy 0 <= K < M <= spp (%u)",
+                       o->sample_begin, o->sample_end, o->spp);
     if (o->sampler >= ST_SAMPLER_COUNT || o->sampler == ST_SAMPLER_POISSON ||
         o->sampler == ST_SAMPLER_BEST_CANDIDATE)
         return st_fail(err, ST_ERR_USAGE, "sampler %u is not available in the renderer yet",
@@ -107,10 +109,10 @@ st_status st_render_check(const st_render_options *o, st_error *err)
         p.height = o->height;
         p.spp = o->spp;
         st_sampler_prepare(&p);
-        if ((st_u64)p.halton_stride * ((st_u64)o->spp_offset + o->spp) > 0xffffffffull)
+        if ((st_u64)p.halton_stride * o->spp > 0xffffffffull)
             return st_fail(err, ST_ERR_USAGE,
                            "--spp %u: Halton indices would pass 2^32 at this image size",
-                           o->spp_offset + o->spp);
+                           o->spp);
     }
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "--max-depth %u: at most 64", o->max_depth);
@@ -126,11 +128,11 @@ st_status st_render_check(const st_render_options *o, st_error *err)
         return st_fail(err, ST_ERR_USAGE, "--filter-tau must be positive");
     /* fixed-point headroom (fixed.h): splats one pixel can receive */
     double reach = ceil(2.0 * f->radius) + 1.0;
-    if ((double)(o->spp_offset + (st_u64)o->spp) * reach * reach > ST_FIXED_MAX_SPLATS)
+    if ((double)o->spp * reach * reach > ST_FIXED_MAX_SPLATS)
         return st_fail(err, ST_ERR_USAGE,
                        "--spp %u with filter radius %g could overflow the 64-bit film "
                        "(limit: spp x (ceil(2r)+1)^2 <= 2^23)",
-                       o->spp_offset + o->spp, (double)f->radius);
+                       o->spp, (double)f->radius);
     return ST_OK;
 }
 
@@ -397,7 +399,7 @@ static st_params make_params(const st_renderer *r, const st_render_options *o)
     memset(&p, 0, sizeof p);
     p.width = o->width;
     p.height = o->height;
-    p.spp = o->spp_offset + o->spp;
+    p.spp = o->spp;
     p.seed = o->seed;
     p.sampler = o->sampler;
     p.scramble = o->scramble;
@@ -498,7 +500,9 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (st_render_check(o, err) != ST_OK)
         return err->status;
     size_t pixels = (size_t)o->width * o->height;
-    st_u64 first = (st_u64)o->spp_offset * pixels, total = (st_u64)o->spp * pixels;
+    st_u32 end = o->sample_end ? o->sample_end : o->spp;
+    st_u64 first = (st_u64)o->sample_begin * pixels;
+    st_u64 total = (st_u64)(end - o->sample_begin) * pixels;
     size_t wave = o->wave ? o->wave : (size_t)1 << 18;
     if (wave > total)
         wave = (size_t)total;

@@ -1,0 +1,72 @@
+#!/bin/sh
+# test_cli.sh — command-line behaviour: exit codes, one-line errors naming
+# what and where, no partial output, and the happy paths. TAP output.
+S=${STRATA:-./strata}
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+n=0
+ok() { n=$((n + 1)); echo "ok $n - $1"; }
+not_ok() { n=$((n + 1)); echo "not ok $n - $1"; }
+check() { if eval "$2"; then ok "$1"; else not_ok "$1"; fi; }
+
+# expect NAME STATUS PATTERN CMD...: exit status and a stderr line matching
+expect() {
+    name=$1 want=$2 pat=$3
+    shift 3
+    "$@" > "$T/out" 2> "$T/err"
+    got=$?
+    if [ "$got" -eq "$want" ] && grep -q -- "$pat" "$T/err"; then
+        ok "$name"
+    else
+        not_ok "$name (status $got, stderr: $(head -c 300 "$T/err"))"
+    fi
+}
+
+R="--width 16 --height 12 --spp 2 --quiet"
+expect "unknown option exits 2" 2 "^strata: error: render: unknown option --bogus" $S render --bogus
+expect "unknown command exits 2" 2 "^strata: error: unknown command 'paint'" $S paint
+expect "bad --spp exits 2" 2 "^strata: error: --spp abc: expected an integer" $S render --spp abc
+expect "zero width exits 2" 2 "^strata: error: --width 0" $S render --width 0
+expect "negative seed exits 2" 2 "^strata: error: --seed -1" $S render --seed -1
+expect "unknown sampler names the choices" 2 "--sampler fancy: unknown; expected one of random" $S render --sampler fancy
+expect "unknown filter exits 2" 2 "--filter sharp: unknown" $S render --filter sharp
+expect "filter parameter of another filter exits 2" 2 "--filter-b/--filter-c apply to mitchell only, not box" $S render --filter box --filter-b 0.5
+expect "sigma for mitchell exits 2" 2 "--filter-sigma applies to gaussian only" $S render --filter-sigma 1
+expect "radius past the limit exits 2" 2 "--filter-radius 9: must be in" $S render --filter-radius 9
+expect "overflowing spp exits 2" 2 "could overflow the 64-bit film" $S render --sampler random --filter lanczos --spp 16000000
+expect "bad output extension exits 2" 2 "the output must end in .exr or .png" $S render -o "$T/x.tif"
+check "bad output extension writes nothing" '[ ! -e "$T/x.tif" ]'
+expect "missing value exits 2" 2 "needs a value" $S render --spp
+expect "bad sample range exits 2" 2 "--sample-range 4:2" $S render --spp 8 --sample-range 4:2
+expect "bad device spec exits 2" 2 "--device xyz: expected cpu, gpu or P:D" $S render --device xyz $R -o "$T/d.exr"
+
+expect "missing scene exits 1 naming the file" 1 "^strata: error: $T/none.gltf" $S render "$T/none.gltf" $R -o "$T/m.exr"
+check "missing scene writes nothing" '[ ! -e "$T/m.exr" ]'
+printf '{"asset": {"version": "2.0"}, "meshes": [' > "$T/trunc.gltf"
+expect "truncated scene exits 1 naming the file" 1 "^strata: error: $T/trunc.gltf" $S render "$T/trunc.gltf" $R -o "$T/t.exr"
+check "truncated scene writes nothing" '[ ! -e "$T/t.exr" ]'
+expect "unknown built-in scene exits with its name" 2 "nosuchscene" $S render nosuchscene $R -o "$T/n.exr"
+expect "unwritable output exits 1 naming it" 1 "^strata: error: $T/no/such/dir/o.exr" $S render $R -o "$T/no/such/dir/o.exr"
+mkdir "$T/ro.exr"
+expect "output that is a folder exits 1" 1 "^strata: error: $T/ro.exr" $S render $R -o "$T/ro.exr"
+check "failed writes leave no temporary" '[ -z "$(ls -A "$T/ro.exr")" ] && [ -z "$(ls "$T" | grep -i tmp)" ]'
+
+$S render --width 16 --height 12 --spp 2 -o "$T/a.exr" > "$T/sum" 2>&1
+check "render writes an EXR" '[ -s "$T/a.exr" ]'
+check "render prints a summary with samples/s and rays/s" 'grep -q "samples/s.*rays/s" "$T/sum"'
+$S render $R -o "$T/a.png" > /dev/null 2>&1
+check "render writes a PNG" '[ "$(head -c 4 "$T/a.png" | od -An -c | tr -d " ")" = "211PNG" ]'
+$S render $R -o "$T/b.exr" > /dev/null 2>&1
+$S diff "$T/a.exr" "$T/b.exr" > "$T/diff" 2>&1
+check "two renders are identical (diff rmse 0)" 'grep -q "^rmse 0$" "$T/diff"'
+check "the EXR header records the settings" 'grep -a -q "strata.sampler" "$T/a.exr" && grep -a -q "halton" "$T/a.exr" && grep -a -q "strata.integrator" "$T/a.exr"'
+$S render --width 16 --height 12 --spp 2 --seed 9 --quiet -o "$T/c.exr" > /dev/null 2>&1
+expect "diff --max-rmse fails on different images" 1 "above --max-rmse" $S diff "$T/a.exr" "$T/c.exr" --max-rmse 0
+expect "diff of a missing file exits 1" 1 "^strata: error: $T/zz.exr" $S diff "$T/a.exr" "$T/zz.exr"
+$S devices > "$T/dev" 2>&1
+check "devices lists a device with its OpenCL C version and atomics" 'grep -q "OpenCL C 1\.[2-9].*64-bit atomics: yes" "$T/dev"'
+$S render --scene-list > "$T/list"
+check "scene list names the built-in scenes" 'grep -q "^cornell-box$" "$T/list"'
+$S render --help > "$T/help"
+check "render --help documents --max-depth" 'grep -q -- "--max-depth" "$T/help"'
+echo "1..$n"
