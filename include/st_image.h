@@ -1,0 +1,112 @@
+/* st_image.h — images in memory and their files: OpenEXR (float/uint channels) and PNG (8-bit sRGB).
+ *
+ * An st_image is a rectangle of width x height pixels with 1..8 named channels, stored row-major and
+ * channel-interleaved: sample (x, y, c) lives at index (y*width + x)*channels + c. Every sample takes
+ * 4 bytes; FLOAT channels are read and written through `data`, UINT channels through `udata`. In an
+ * image made by st_image_create or a load function the two pointers address the SAME buffer (one
+ * allocation, 4 bytes per sample), so a sample must always be accessed through the pointer its
+ * channel's type names. A hand-built image may instead point them at two arrays of
+ * width*height*channels entries each; the save functions and st_image_free accept both.
+ *
+ * Files are written to a temporary name in the destination folder and renamed into place, so a
+ * failed save leaves neither a partial file nor a temporary behind (an existing file of the same
+ * name survives a failed save). Errors: every failing call returns a status and fills err with one
+ * line that starts with the path: ST_ERR_IO when the file system refuses (cannot create, open,
+ * write, rename), ST_ERR_FORMAT when a file or image content is invalid, ST_ERR_USAGE for a bad
+ * argument (unknown extension, bad channel list), ST_ERR_NOMEM when memory runs out. Nothing here
+ * prints: OpenEXR's messages are captured through its error_handler_fn, stb's through
+ * stbi_failure_reason.
+ */
+#ifndef ST_IMAGE_H
+#define ST_IMAGE_H
+
+#include "st_error.h"
+
+#include <stdint.h>
+
+#define ST_IMAGE_MAX_CHANNELS 8
+#define ST_IMAGE_NAME_LEN 32 /* channel name bytes including the terminating NUL */
+
+typedef enum { ST_PIXEL_FLOAT = 0, ST_PIXEL_UINT = 1 } st_pixel_type; /* host-only */
+
+typedef struct st_image {
+    uint32_t width, height, channels;
+    char channel_names[ST_IMAGE_MAX_CHANNELS][ST_IMAGE_NAME_LEN]; /* "R", "G", "B", "sum.R.hi", ... */
+    st_pixel_type types[ST_IMAGE_MAX_CHANNELS];                   /* per channel */
+    float *data;     /* FLOAT samples: data[(y*width + x)*channels + c]                         */
+    uint32_t *udata; /* UINT samples at the same index; the same buffer as data (see above)     */
+} st_image;
+
+/* A string attribute of an EXR header ("strata.sampler" = "halton"). Longer names or values read
+ * from a file are truncated to fit (63 and 255 bytes). */
+typedef struct st_attr {
+    char name[64];
+    char value[256];
+} st_attr;
+
+/* Allocates a w x h image of `channels` (1..8) zeroed FLOAT channels. names: `channels` distinct,
+ * non-empty names of at most 31 bytes, or NULL for "R","G","B","A" (channels <= 4) or "C0".."C7".
+ * Set img->types[c] = ST_PIXEL_UINT afterwards for integer channels. On failure *img is zeroed.
+ * Errors: ST_ERR_USAGE (bad size or names), ST_ERR_NOMEM. Free with st_image_free. */
+st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channels,
+                          const char *const *names, st_error *err);
+
+/* Releases the pixels (data, and udata when it is a separate array) and zeroes *img. NULL or an
+ * already freed image: does nothing. */
+void st_image_free(st_image *img);
+
+/* Index of the channel called `name`, or -1. */
+int st_image_find_channel(const st_image *img, const char *name);
+
+/* Writes a single-part scanline EXR, ZIP-compressed, every channel as stored (FLOAT as 32-bit
+ * float, UINT as 32-bit uint, so values round-trip bit for bit), data window (0,0)-(w-1,h-1), and
+ * the nattrs attributes as string attributes (names that clash with a required attribute such as
+ * "channels" are ST_ERR_FORMAT). Written through exr_start_write with EXR_INTERMEDIATE_TEMP_FILE. */
+st_status st_image_save_exr(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
+                            st_error *err);
+
+/* Reads the first part of a scanline or tiled EXR (level 0 of a mip/rip map) whose channels are
+ * FLOAT, HALF or UINT (HALF widened to float, exactly) and not subsampled, at most 8 of them.
+ * Channels come back in file order, which OpenEXR sorts by name (R,G,B is stored as B,G,R): use
+ * st_image_find_channel. The data window becomes the image (its origin is dropped). attrs/nattrs:
+ * if attrs is not NULL, *attrs receives a malloc'ed array of the *nattrs string attributes in file
+ * order (NULL when there are none), which the caller frees with free(); the structural "type" and
+ * "name" attributes are left out. *img is zeroed on failure. */
+st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, int *nattrs,
+                            st_error *err);
+
+/* sRGB transfer functions (IEC 61966-2-1:1999, "Default RGB colour space - sRGB", section 5.2):
+ *   encode (OETF): V = 12.92 L                  for L <= 0.0031308
+ *                  V = 1.055 L^(1/2.4) - 0.055  otherwise
+ *   decode (EOTF): L = V / 12.92                for V <= 0.04045
+ *                  L = ((V + 0.055)/1.055)^2.4  otherwise
+ * Both clamp their input to [0, 1] first; NaN maps to 0. Tests: test_image.c srgb_*. */
+float st_image_srgb_encode(float linear);
+float st_image_srgb_decode(float encoded);
+
+/* 8-bit code of a linear value: round(255 * st_image_srgb_encode(linear)), halves rounded up. */
+uint8_t st_image_srgb_quantize(float linear);
+
+/* Writes an 8-bit RGB PNG: the FLOAT channels named R, G and B (any order), or else the first three
+ * channels, each quantised with st_image_srgb_quantize. Written to a temporary file in the same
+ * folder, then rename(2); on failure the temporary is removed and no file is left. Round trip
+ * through st_image_load: |decode(code) - x| <= half a code step of the EOTF, i.e. at most
+ * (2.4/1.055) * 0.5/255 < 0.00447 in linear units for x in [0, 1]. */
+st_status st_image_save_png(const char *path, const st_image *img, st_error *err);
+
+/* Reads a PNG (or anything stb_image decodes) as 8-bit RGB and decodes each value with
+ * st_image_srgb_decode(code/255) into FLOAT channels "R","G","B" in that order (grey is
+ * replicated, alpha dropped). Errors: ST_ERR_IO when it cannot be opened, ST_ERR_FORMAT when it
+ * cannot be decoded. */
+st_status st_image_load_png(const char *path, st_image *img, st_error *err);
+
+/* Picks the format by extension (.exr or .png, case-insensitive); any other extension is
+ * ST_ERR_USAGE naming it. attrs are written to EXR files and ignored for PNG. */
+st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
+                        st_error *err);
+
+/* Loads .exr (as st_image_load_exr, attributes dropped) or .png (as st_image_load_png), by
+ * extension, case-insensitive; other extensions are ST_ERR_USAGE. */
+st_status st_image_load(const char *path, st_image *img, st_error *err);
+
+#endif

@@ -1,0 +1,578 @@
+/* image_exr.c — the st_image container, its OpenEXR form, and the choice of format by extension.
+ *
+ * Invariant: an st_image owns exactly one buffer of width*height*channels 4-byte samples, reached
+ * through both img->data (FLOAT channels) and img->udata (UINT channels); channel names are
+ * distinct, non-empty and NUL-terminated. EXR files are read and written with the OpenEXR 3.1 core
+ * C API (openexr.h; file layout: "OpenEXR File Layout", openexr.com), whose messages are captured
+ * by an error_handler_fn so the library never prints; the first message of an operation is kept
+ * because later ones are consequences of it.
+ */
+#include "st_image.h"
+
+#include <openexr.h>
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* ---- the container ---------------------------------------------------------------------- */
+
+static st_status check_names(const char *const *names, uint32_t channels, st_error *err)
+{
+    for (uint32_t c = 0; c < channels; c++) {
+        if (!names[c] || !names[c][0] || strlen(names[c]) >= ST_IMAGE_NAME_LEN)
+            return st_fail(err, ST_ERR_USAGE, "image: channel %u name must have 1 to %d bytes", c,
+                           ST_IMAGE_NAME_LEN - 1);
+        for (uint32_t d = 0; d < c; d++)
+            if (strcmp(names[c], names[d]) == 0)
+                return st_fail(err, ST_ERR_USAGE, "image: channel name '%s' used twice", names[c]);
+    }
+    return ST_OK;
+}
+
+st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channels,
+                          const char *const *names, st_error *err)
+{
+    static const char *const rgba[4] = {"R", "G", "B", "A"};
+    static const char *const numbered[ST_IMAGE_MAX_CHANNELS] = {"C0", "C1", "C2", "C3",
+                                                                "C4", "C5", "C6", "C7"};
+    memset(img, 0, sizeof *img);
+    if (w == 0 || h == 0 || channels == 0 || channels > ST_IMAGE_MAX_CHANNELS)
+        return st_fail(err, ST_ERR_USAGE, "image: invalid size %ux%u with %u channels (1 to %d)", w,
+                       h, channels, ST_IMAGE_MAX_CHANNELS);
+    if (!names)
+        names = channels <= 4 ? rgba : numbered;
+    if (check_names(names, channels, err) != ST_OK)
+        return err ? err->status : ST_ERR_USAGE;
+    size_t count = (size_t)w * h; /* no overflow: both < 2^32 and size_t is 64-bit here */
+    if (count > SIZE_MAX / 4 / channels)
+        return st_fail(err, ST_ERR_NOMEM, "image: %ux%u with %u channels is too large", w, h,
+                       channels);
+    void *buf = calloc(count * channels, 4);
+    if (!buf)
+        return st_fail(err, ST_ERR_NOMEM, "image: cannot allocate %ux%u with %u channels", w, h,
+                       channels);
+    img->width = w;
+    img->height = h;
+    img->channels = channels;
+    for (uint32_t c = 0; c < channels; c++) {
+        snprintf(img->channel_names[c], ST_IMAGE_NAME_LEN, "%s", names[c]);
+        img->types[c] = ST_PIXEL_FLOAT;
+    }
+    img->data = buf;
+    img->udata = buf;
+    return ST_OK;
+}
+
+void st_image_free(st_image *img)
+{
+    if (!img)
+        return;
+    if ((void *)img->udata != (void *)img->data) /* a hand-built image with two arrays */
+        free(img->udata);
+    free(img->data);
+    memset(img, 0, sizeof *img);
+}
+
+int st_image_find_channel(const st_image *img, const char *name)
+{
+    for (uint32_t c = 0; c < img->channels && c < ST_IMAGE_MAX_CHANNELS; c++)
+        if (strcmp(img->channel_names[c], name) == 0)
+            return (int)c;
+    return -1;
+}
+
+/* An image handed to a save function: sizes, names and types as st_image_create makes them. */
+static st_status check_image(const char *path, const st_image *img, st_error *err)
+{
+    if (!img || img->width == 0 || img->height == 0 || img->width > INT32_MAX ||
+        img->height > INT32_MAX || img->channels == 0 || img->channels > ST_IMAGE_MAX_CHANNELS)
+        return st_fail(err, ST_ERR_USAGE, "%s: not a valid image (size, channels or buffer)", path);
+    const char *names[ST_IMAGE_MAX_CHANNELS];
+    for (uint32_t c = 0; c < img->channels; c++) {
+        if (memchr(img->channel_names[c], '\0', ST_IMAGE_NAME_LEN) == NULL)
+            return st_fail(err, ST_ERR_USAGE, "%s: channel %u name is not terminated", path, c);
+        if (img->types[c] != ST_PIXEL_FLOAT && img->types[c] != ST_PIXEL_UINT)
+            return st_fail(err, ST_ERR_USAGE, "%s: channel %u has an unknown pixel type", path, c);
+        if ((img->types[c] == ST_PIXEL_FLOAT && !img->data) ||
+            (img->types[c] == ST_PIXEL_UINT && !img->udata))
+            return st_fail(err, ST_ERR_USAGE, "%s: channel %u has no pixel buffer", path, c);
+        names[c] = img->channel_names[c];
+    }
+    st_error local = {ST_OK, ""};
+    if (check_names(names, img->channels, &local) != ST_OK)
+        return st_fail(err, ST_ERR_USAGE, "%s: %s", path, local.msg + strlen("image: "));
+    return ST_OK;
+}
+
+/* ---- capturing OpenEXR's messages --------------------------------------------------------- */
+
+/* OpenEXR reports through a callback without a user pointer of ours (with the default file I/O
+ * the context's user_data is its own file handle), so the message of the current operation is
+ * kept per thread. errno is sampled inside the callback, where it still names the failed call. */
+static _Thread_local struct {
+    int set;
+    int code;
+    int err_no;
+    char msg[256];
+} exr_last;
+
+static void exr_reset(void)
+{
+    exr_last.set = 0;
+    exr_last.code = 0;
+    exr_last.err_no = 0;
+    exr_last.msg[0] = '\0';
+}
+
+static void exr_record(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    (void)ctxt;
+    int saved = errno;
+    if (exr_last.set)
+        return; /* first message wins */
+    exr_last.set = 1;
+    exr_last.code = code;
+    exr_last.err_no =
+        (code == EXR_ERR_FILE_ACCESS || code == EXR_ERR_READ_IO || code == EXR_ERR_WRITE_IO)
+            ? saved
+            : 0;
+    snprintf(exr_last.msg, sizeof exr_last.msg, "%s", msg ? msg : "");
+    for (char *p = exr_last.msg; *p; p++)
+        if (*p == '\n' || *p == '\r')
+            *p = ' '; /* one line */
+}
+
+/* The reason for a failed call rc: the captured message, else OpenEXR's text for the code. */
+static const char *exr_reason(exr_result_t rc)
+{
+    if (exr_last.set && exr_last.msg[0])
+        return exr_last.msg;
+    return exr_get_default_error_message(rc);
+}
+
+static exr_context_initializer_t exr_init(void)
+{
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = exr_record;
+    return init;
+}
+
+/* ---- writing ------------------------------------------------------------------------------- */
+
+static st_status check_attrs(const char *path, const st_attr *attrs, int nattrs, int *longnames,
+                             st_error *err)
+{
+    *longnames = 0;
+    if (nattrs < 0 || (nattrs > 0 && !attrs))
+        return st_fail(err, ST_ERR_USAGE, "%s: invalid attribute list", path);
+    for (int i = 0; i < nattrs; i++) {
+        size_t n = strnlen(attrs[i].name, sizeof attrs[i].name);
+        if (n == 0 || n == sizeof attrs[i].name ||
+            !memchr(attrs[i].value, '\0', sizeof attrs[i].value))
+            return st_fail(err, ST_ERR_USAGE, "%s: attribute %d: empty or unterminated text", path,
+                           i);
+        if (n > 31) /* EXR names longer than 31 bytes need the long-names flag (version 2) */
+            *longnames = 1;
+    }
+    return ST_OK;
+}
+
+/* Declares the part: size, ZIP, channels (sorted by OpenEXR), string attributes. */
+static st_status exr_define(exr_context_t ctx, const char *path, const st_image *img,
+                            const st_attr *attrs, int nattrs, int longnames, st_error *err)
+{
+    int part = 0;
+    exr_result_t rc = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);
+    if (rc == EXR_ERR_SUCCESS)
+        rc = exr_initialize_required_attr_simple(ctx, part, (int32_t)img->width,
+                                                 (int32_t)img->height, EXR_COMPRESSION_ZIP);
+    if (rc == EXR_ERR_SUCCESS && longnames)
+        rc = exr_set_longname_support(ctx, 1);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: cannot set up the header (%s)", path,
+                       exr_reason(rc));
+    for (uint32_t c = 0; c < img->channels; c++) {
+        exr_pixel_type_t t = img->types[c] == ST_PIXEL_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+        rc = exr_add_channel(ctx, part, img->channel_names[c], t, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
+                             1);
+        if (rc != EXR_ERR_SUCCESS)
+            return st_fail(err, ST_ERR_FORMAT, "%s: channel '%s': %s", path, img->channel_names[c],
+                           exr_reason(rc));
+    }
+    for (int i = 0; i < nattrs; i++) {
+        rc = exr_attr_set_string(ctx, part, attrs[i].name, attrs[i].value);
+        if (rc != EXR_ERR_SUCCESS)
+            return st_fail(err, ST_ERR_FORMAT, "%s: attribute '%s': %s", path, attrs[i].name,
+                           exr_reason(rc));
+    }
+    rc = exr_write_header(ctx);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_IO, "%s: cannot write the header (%s)", path, exr_reason(rc));
+    return ST_OK;
+}
+
+/* Points the encoder's channels (sorted by name) at the interleaved rows starting at row y. */
+static void exr_bind_encode(exr_encode_pipeline_t *enc, const st_image *img, int32_t y)
+{
+    int32_t stride = (int32_t)(img->channels * 4);
+    for (int16_t k = 0; k < enc->channel_count; k++) {
+        exr_coding_channel_info_t *ch = &enc->channels[k];
+        int c = st_image_find_channel(img, ch->channel_name); /* present: we declared it */
+        size_t at = ((size_t)y * img->width) * img->channels + (size_t)c;
+        ch->encode_from_ptr = img->types[c] == ST_PIXEL_UINT ? (const uint8_t *)(img->udata + at)
+                                                             : (const uint8_t *)(img->data + at);
+        ch->user_pixel_stride = stride;
+        ch->user_line_stride = stride * (int32_t)img->width;
+        ch->user_bytes_per_element = 4;
+        ch->user_data_type = img->types[c] == ST_PIXEL_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+    }
+}
+
+static st_status exr_write_pixels(exr_context_t ctx, const char *path, const st_image *img,
+                                  st_error *err)
+{
+    int32_t lines = 0;
+    exr_result_t rc = exr_get_scanlines_per_chunk(ctx, 0, &lines);
+    if (rc != EXR_ERR_SUCCESS || lines <= 0)
+        return st_fail(err, ST_ERR_FORMAT, "%s: cannot size chunks (%s)", path, exr_reason(rc));
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    int started = 0;
+    for (int64_t y = 0; y < (int64_t)img->height && rc == EXR_ERR_SUCCESS; y += lines) {
+        exr_chunk_info_t cinfo;
+        rc = exr_write_scanline_chunk_info(ctx, 0, (int)y, &cinfo);
+        if (rc == EXR_ERR_SUCCESS)
+            rc = started ? exr_encoding_update(ctx, 0, &cinfo, &enc)
+                         : exr_encoding_initialize(ctx, 0, &cinfo, &enc);
+        if (rc != EXR_ERR_SUCCESS)
+            break;
+        exr_bind_encode(&enc, img, (int32_t)y);
+        if (!started)
+            rc = exr_encoding_choose_default_routines(ctx, 0, &enc);
+        started = 1;
+        if (rc == EXR_ERR_SUCCESS)
+            rc = exr_encoding_run(ctx, 0, &enc);
+    }
+    if (started)
+        exr_encoding_destroy(ctx, &enc);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_IO, "%s: cannot write pixels (%s)", path, exr_reason(rc));
+    return ST_OK;
+}
+
+/* OpenEXR 3.1 (OpenEXRCore context.c, make_temp_filename) names its temporary
+ * "<folder>/tmp.<pid><file name>" and leaves it behind when the final rename fails; remove it. */
+static void exr_remove_temporary(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    size_t dir = slash ? (size_t)(slash - path) + 1 : 0;
+    char tmp[4096];
+    int n = snprintf(tmp, sizeof tmp, "%.*stmp.%d%s", (int)dir, path, (int)getpid(), path + dir);
+    if (n > 0 && (size_t)n < sizeof tmp)
+        unlink(tmp);
+}
+
+static st_status exr_describe_open_failure(const char *path, exr_result_t rc, st_error *err)
+{
+    if (rc == EXR_ERR_FILE_ACCESS && exr_last.err_no)
+        return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, strerror(exr_last.err_no));
+    return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, exr_reason(rc));
+}
+
+st_status st_image_save_exr(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
+                            st_error *err)
+{
+    int longnames = 0;
+    if (check_image(path, img, err) != ST_OK ||
+        check_attrs(path, attrs, nattrs, &longnames, err) != ST_OK)
+        return err ? err->status : ST_ERR_USAGE;
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) /* rename(2) would fail only at the end */
+        return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, strerror(EISDIR));
+
+    exr_reset();
+    exr_context_initializer_t init = exr_init();
+    exr_context_t ctx = NULL;
+    exr_result_t rc = exr_start_write(&ctx, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+    if (rc != EXR_ERR_SUCCESS)
+        return exr_describe_open_failure(path, rc, err);
+
+    st_error local = {ST_OK, ""};
+    if (exr_define(ctx, path, img, attrs, nattrs, longnames, &local) == ST_OK)
+        exr_write_pixels(ctx, path, img, &local);
+    /* exr_finish renames the temporary when every chunk was written; after an earlier failure it
+     * deletes the temporary instead (the chunk table is incomplete). */
+    rc = exr_finish(&ctx);
+    if (local.status != ST_OK)
+        return st_fail(err, local.status, "%s", local.msg);
+    if (rc != EXR_ERR_SUCCESS) {
+        exr_remove_temporary(path);
+        if (exr_last.err_no)
+            return st_fail(err, ST_ERR_IO, "%s: cannot finish (%s)", path,
+                           strerror(exr_last.err_no));
+        return st_fail(err, ST_ERR_IO, "%s: cannot finish (%s)", path, exr_reason(rc));
+    }
+    return ST_OK;
+}
+
+/* ---- reading ------------------------------------------------------------------------------- */
+
+/* The string attributes that describe the file's structure rather than the image: OpenEXR 3.1
+ * writes "type" even for single-part files, and multi-part files carry "name". */
+static int is_structural(const char *name)
+{
+    return strcmp(name, "type") == 0 || strcmp(name, "name") == 0;
+}
+
+/* Copies the string attributes of part 0 (structural ones left out), in file order, into a
+ * malloc'ed array. */
+static st_status exr_read_attrs(exr_context_t ctx, const char *path, st_attr **out, int *count,
+                                st_error *err)
+{
+    *out = NULL;
+    *count = 0;
+    int32_t n = 0;
+    exr_result_t rc = exr_get_attribute_count(ctx, 0, &n);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: cannot list attributes (%s)", path,
+                       exr_reason(rc));
+    st_attr *list = n > 0 ? calloc((size_t)n, sizeof *list) : NULL;
+    if (n > 0 && !list)
+        return st_fail(err, ST_ERR_NOMEM, "%s: cannot allocate %d attributes", path, (int)n);
+    int used = 0;
+    for (int32_t i = 0; i < n; i++) {
+        const exr_attribute_t *a = NULL;
+        if (exr_get_attribute_by_index(ctx, 0, EXR_ATTR_LIST_FILE_ORDER, i, &a) != EXR_ERR_SUCCESS ||
+            !a || a->type != EXR_ATTR_STRING || !a->string || is_structural(a->name))
+            continue;
+        snprintf(list[used].name, sizeof list[used].name, "%s", a->name);
+        int len = a->string->length > 0 ? a->string->length : 0;
+        if ((size_t)len >= sizeof list[used].value)
+            len = (int)sizeof list[used].value - 1;
+        if (len > 0 && a->string->str)
+            memcpy(list[used].value, a->string->str, (size_t)len);
+        list[used].value[len] = '\0';
+        used++;
+    }
+    if (used == 0) {
+        free(list);
+        list = NULL;
+    }
+    *out = list;
+    *count = used;
+    return ST_OK;
+}
+
+/* Checks the part's layout and creates the matching image (channels in file order). */
+static st_status exr_prepare(exr_context_t ctx, const char *path, st_image *img,
+                             exr_attr_box2i_t *dw, st_error *err)
+{
+    exr_storage_t storage;
+    const exr_attr_chlist_t *chl = NULL;
+    exr_result_t rc = exr_get_storage(ctx, 0, &storage);
+    if (rc == EXR_ERR_SUCCESS)
+        rc = exr_get_data_window(ctx, 0, dw);
+    if (rc == EXR_ERR_SUCCESS)
+        rc = exr_get_channels(ctx, 0, &chl);
+    if (rc != EXR_ERR_SUCCESS || !chl)
+        return st_fail(err, ST_ERR_FORMAT, "%s: incomplete header (%s)", path, exr_reason(rc));
+    if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
+        return st_fail(err, ST_ERR_FORMAT, "%s: deep images are not supported", path);
+    int64_t w = (int64_t)dw->max.x - dw->min.x + 1, h = (int64_t)dw->max.y - dw->min.y + 1;
+    if (w <= 0 || h <= 0 || w > INT32_MAX || h > INT32_MAX)
+        return st_fail(err, ST_ERR_FORMAT, "%s: empty or invalid data window", path);
+    int n = chl->num_channels;
+    if (n < 1 || n > ST_IMAGE_MAX_CHANNELS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: %d channels (1 to %d supported)", path, n,
+                       ST_IMAGE_MAX_CHANNELS);
+    const char *names[ST_IMAGE_MAX_CHANNELS];
+    for (int c = 0; c < n; c++) {
+        const exr_attr_chlist_entry_t *e = &chl->entries[c];
+        if (e->x_sampling != 1 || e->y_sampling != 1)
+            return st_fail(err, ST_ERR_FORMAT, "%s: channel '%s' is subsampled (not supported)",
+                           path, e->name.str);
+        if (e->pixel_type != EXR_PIXEL_UINT && e->pixel_type != EXR_PIXEL_HALF &&
+            e->pixel_type != EXR_PIXEL_FLOAT)
+            return st_fail(err, ST_ERR_FORMAT, "%s: channel '%s' has an unknown pixel type", path,
+                           e->name.str);
+        names[c] = e->name.str;
+    }
+    st_error local = {ST_OK, ""};
+    if (st_image_create(img, (uint32_t)w, (uint32_t)h, (uint32_t)n, names, &local) != ST_OK)
+        return st_fail(err, local.status == ST_ERR_NOMEM ? ST_ERR_NOMEM : ST_ERR_FORMAT, "%s: %s",
+                       path, local.msg + strlen("image: "));
+    for (int c = 0; c < n; c++)
+        img->types[c] = chl->entries[c].pixel_type == EXR_PIXEL_UINT ? ST_PIXEL_UINT
+                                                                     : ST_PIXEL_FLOAT;
+    return ST_OK;
+}
+
+/* Points the decoder's channels (file order = image order) at pixel (x0, y0) of img; HALF is
+ * widened to FLOAT by OpenEXR's unpacker. */
+static void exr_bind_decode(exr_decode_pipeline_t *dec, st_image *img, int64_t x0, int64_t y0)
+{
+    int32_t stride = (int32_t)(img->channels * 4);
+    for (int16_t c = 0; c < dec->channel_count; c++) {
+        exr_coding_channel_info_t *ch = &dec->channels[c];
+        size_t at = ((size_t)y0 * img->width + (size_t)x0) * img->channels + (size_t)c;
+        ch->decode_to_ptr = (uint8_t *)(img->data + at);
+        ch->user_pixel_stride = stride;
+        ch->user_line_stride = stride * (int32_t)img->width;
+        ch->user_bytes_per_element = 4;
+        ch->user_data_type = img->types[c] == ST_PIXEL_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+    }
+}
+
+/* Decodes one chunk whose pixels start at (x0, y0) of img (relative to the data window). */
+static exr_result_t exr_decode_chunk(exr_context_t ctx, exr_decode_pipeline_t *dec, int *started,
+                                     const exr_chunk_info_t *cinfo, st_image *img, int64_t x0,
+                                     int64_t y0)
+{
+    if (x0 < 0 || y0 < 0 || cinfo->width <= 0 || cinfo->height <= 0 ||
+        x0 + cinfo->width > (int64_t)img->width || y0 + cinfo->height > (int64_t)img->height)
+        return EXR_ERR_CORRUPT_CHUNK;
+    exr_result_t rc = *started ? exr_decoding_update(ctx, 0, cinfo, dec)
+                               : exr_decoding_initialize(ctx, 0, cinfo, dec);
+    if (rc != EXR_ERR_SUCCESS)
+        return rc;
+    *started = 1;
+    if (dec->channel_count != (int16_t)img->channels)
+        return EXR_ERR_CORRUPT_CHUNK;
+    exr_bind_decode(dec, img, x0, y0);
+    rc = exr_decoding_choose_default_routines(ctx, 0, dec);
+    if (rc == EXR_ERR_SUCCESS)
+        rc = exr_decoding_run(ctx, 0, dec);
+    return rc;
+}
+
+static exr_result_t exr_read_scanlines(exr_context_t ctx, st_image *img,
+                                       const exr_attr_box2i_t *dw)
+{
+    int32_t lines = 0;
+    exr_result_t rc = exr_get_scanlines_per_chunk(ctx, 0, &lines);
+    if (rc == EXR_ERR_SUCCESS && lines <= 0)
+        rc = EXR_ERR_INVALID_ATTR;
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    int started = 0;
+    for (int64_t y = dw->min.y; y <= dw->max.y && rc == EXR_ERR_SUCCESS; y += lines) {
+        exr_chunk_info_t cinfo;
+        rc = exr_read_scanline_chunk_info(ctx, 0, (int)y, &cinfo);
+        if (rc == EXR_ERR_SUCCESS)
+            rc = exr_decode_chunk(ctx, &dec, &started, &cinfo, img, 0,
+                                  (int64_t)cinfo.start_y - dw->min.y);
+    }
+    if (started)
+        exr_decoding_destroy(ctx, &dec);
+    return rc;
+}
+
+static exr_result_t exr_read_tiles(exr_context_t ctx, st_image *img)
+{
+    int32_t tw = 0, th = 0;
+    exr_result_t rc = exr_get_tile_sizes(ctx, 0, 0, 0, &tw, &th);
+    if (rc == EXR_ERR_SUCCESS && (tw <= 0 || th <= 0))
+        rc = EXR_ERR_INVALID_ATTR;
+    if (rc != EXR_ERR_SUCCESS)
+        return rc;
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    int started = 0;
+    int64_t nx = ((int64_t)img->width + tw - 1) / tw, ny = ((int64_t)img->height + th - 1) / th;
+    for (int64_t ty = 0; ty < ny && rc == EXR_ERR_SUCCESS; ty++)
+        for (int64_t tx = 0; tx < nx && rc == EXR_ERR_SUCCESS; tx++) {
+            exr_chunk_info_t cinfo;
+            rc = exr_read_tile_chunk_info(ctx, 0, (int)tx, (int)ty, 0, 0, &cinfo);
+            if (rc == EXR_ERR_SUCCESS)
+                rc = exr_decode_chunk(ctx, &dec, &started, &cinfo, img, tx * tw, ty * th);
+        }
+    if (started)
+        exr_decoding_destroy(ctx, &dec);
+    return rc;
+}
+
+st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, int *nattrs,
+                            st_error *err)
+{
+    memset(img, 0, sizeof *img);
+    if (attrs)
+        *attrs = NULL;
+    if (nattrs)
+        *nattrs = 0;
+    exr_reset();
+    exr_context_initializer_t init = exr_init();
+    exr_context_t ctx = NULL;
+    exr_result_t rc = exr_start_read(&ctx, path, &init);
+    if (rc != EXR_ERR_SUCCESS) {
+        exr_finish(&ctx);
+        if (rc == EXR_ERR_FILE_ACCESS)
+            return st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path,
+                           exr_last.err_no ? strerror(exr_last.err_no) : exr_reason(rc));
+        return st_fail(err, ST_ERR_FORMAT, "%s: not a readable OpenEXR file (%s)", path,
+                       exr_reason(rc));
+    }
+    st_error local = {ST_OK, ""};
+    exr_attr_box2i_t dw;
+    exr_storage_t storage = EXR_STORAGE_SCANLINE;
+    if (exr_prepare(ctx, path, img, &dw, &local) == ST_OK) {
+        exr_get_storage(ctx, 0, &storage);
+        rc = storage == EXR_STORAGE_TILED ? exr_read_tiles(ctx, img)
+                                          : exr_read_scanlines(ctx, img, &dw);
+        if (rc != EXR_ERR_SUCCESS)
+            st_fail(&local, ST_ERR_FORMAT, "%s: cannot read pixels (%s)", path, exr_reason(rc));
+    }
+    if (local.status == ST_OK && attrs) {
+        int n = 0;
+        if (exr_read_attrs(ctx, path, attrs, &n, &local) == ST_OK && nattrs)
+            *nattrs = n;
+    }
+    exr_finish(&ctx);
+    if (local.status != ST_OK) {
+        st_image_free(img);
+        if (attrs) {
+            free(*attrs);
+            *attrs = NULL;
+        }
+        if (nattrs)
+            *nattrs = 0;
+        return st_fail(err, local.status, "%s", local.msg);
+    }
+    return ST_OK;
+}
+
+/* ---- format by extension ------------------------------------------------------------------- */
+
+/* The extension of the last path component, including the dot ("" when there is none). */
+static const char *extension_of(const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    return dot ? dot : "";
+}
+
+st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
+                        st_error *err)
+{
+    const char *ext = extension_of(path);
+    if (strcasecmp(ext, ".exr") == 0)
+        return st_image_save_exr(path, img, attrs, nattrs, err);
+    if (strcasecmp(ext, ".png") == 0)
+        return st_image_save_png(path, img, err);
+    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
+                   path, ext);
+}
+
+st_status st_image_load(const char *path, st_image *img, st_error *err)
+{
+    const char *ext = extension_of(path);
+    if (strcasecmp(ext, ".exr") == 0)
+        return st_image_load_exr(path, img, NULL, NULL, err);
+    if (strcasecmp(ext, ".png") == 0)
+        return st_image_load_png(path, img, err);
+    memset(img, 0, sizeof *img);
+    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
+                   path, ext);
+}
