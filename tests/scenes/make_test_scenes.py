@@ -1,0 +1,425 @@
+#!/usr/bin/env python3
+"""make_test_scenes.py - writes the small glTF files that tests/test_scene.c loads.
+
+Development tool, standard library only; its output is committed next to it.
+Run from the repository root: python3 tests/scenes/make_test_scenes.py
+
+layout_*      one pyramid (5 vertices, 4 triangles) stored every way the loader
+              must read: u8/u16/u32 indices, interleaved with byteStride, no
+              indices, external .bin, data: URI, .glb. test_scene.c expects the
+              same triangles from each, from its own copy of PYRAMID.
+trs_nested    a mesh under nested TRS and matrix nodes (one mirrored), in a
+              non-default scene; trs_baked holds the same triangles with the
+              transforms applied here, in Python, as plain vertices.
+camera_pick   cameras in a hierarchy: the first perspective one in depth-first
+              order must win (an orthographic one comes before it, a
+              perspective one in a later subtree and one in a later root
+              after it).
+materials_flat  no normals (flat normals expected), a zero-area and a
+              collinear triangle (dropped), an emissive material with
+              KHR_materials_emissive_strength, a primitive without material
+              (default appended), a POINTS primitive (skipped).
+bad_*         malformed files, each wrong in one way (named by the file).
+"""
+import base64
+import json
+import math
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+# The pyramid: a unit square base at z = 0 (left open), apex above its centre.
+PYRAMID_V = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (1.0, 1.0, 0.0), (0.0, 1.0, 0.0), (0.5, 0.5, 1.0)]
+PYRAMID_T = [(0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)]
+
+
+def unit(v):
+    n = math.sqrt(sum(x * x for x in v))
+    return [x / n for x in v]
+
+
+def pyramid_normal(v):
+    """Vertex normal: away from (0.5, 0.5, -0.5), below the base's centre."""
+    return unit([v[0] - 0.5, v[1] - 0.5, v[2] + 0.5])
+
+
+def f32(values):
+    return struct.pack("<%df" % len(values), *values)
+
+
+def data_uri(blob):
+    return "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode("ascii")
+
+
+def doc(meshes, accessors, views, buffers, nodes=None, scenes=None, scene=0, **extra):
+    g = {"asset": {"version": "2.0", "generator": "strata tests/scenes/make_test_scenes.py"}}
+    g["scene"] = scene
+    g["scenes"] = scenes if scenes is not None else [{"nodes": [0]}]
+    g["nodes"] = nodes if nodes is not None else [{"mesh": 0}]
+    g["meshes"] = meshes
+    g["accessors"] = accessors
+    g["bufferViews"] = views
+    g["buffers"] = buffers
+    g.update(extra)
+    return g
+
+
+def write_json(name, g):
+    with open(os.path.join(HERE, name), "w", encoding="ascii") as f:
+        json.dump(g, f, indent=1)
+        f.write("\n")
+
+
+def write_bytes(name, data):
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(data)
+
+
+def vec3_accessor(view, offset, count, values=None):
+    a = {"bufferView": view, "byteOffset": offset, "componentType": 5126, "count": count,
+         "type": "VEC3"}
+    if values is not None:
+        a["min"] = [min(v[i] for v in values) for i in range(3)]
+        a["max"] = [max(v[i] for v in values) for i in range(3)]
+    return a
+
+
+def pyramid_arrays():
+    pos = [x for v in PYRAMID_V for x in v]
+    nrm = [x for v in PYRAMID_V for x in pyramid_normal(v)]
+    idx = [i for t in PYRAMID_T for i in t]
+    return pos, nrm, idx
+
+
+def prim(pos, nrm, ind=None):
+    p = {"attributes": {"POSITION": pos, "NORMAL": nrm}}
+    if ind is not None:
+        p["indices"] = ind
+    return p
+
+
+def layout_indexed(component, fmt, size, index_offset):
+    """Separate views for positions, normals, indices; the index accessor
+    starts index_offset bytes into its view."""
+    pos, nrm, idx = pyramid_arrays()
+    blob = bytearray(f32(pos) + f32(nrm))
+    iview = len(blob)
+    blob += b"\xee" * index_offset + struct.pack("<%d%s" % (len(idx), fmt), *idx)
+    while len(blob) % 4:
+        blob += b"\0"
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": 60, "target": 34962},
+             {"buffer": 0, "byteOffset": 60, "byteLength": 60, "target": 34962},
+             {"buffer": 0, "byteOffset": iview, "byteLength": index_offset + size * len(idx),
+              "target": 34963}]
+    accessors = [vec3_accessor(0, 0, 5, PYRAMID_V), vec3_accessor(1, 0, 5),
+                 {"bufferView": 2, "byteOffset": index_offset, "componentType": component,
+                  "count": len(idx), "type": "SCALAR"}]
+    return [{"primitives": [prim(0, 1, 2)]}], accessors, views, bytes(blob)
+
+
+def write_layouts():
+    # u8 indices, external .bin
+    meshes, acc, views, blob = layout_indexed(5121, "B", 1, 0)
+    write_bytes("layout_u8.bin", blob)
+    write_json("layout_u8.gltf",
+               doc(meshes, acc, views, [{"byteLength": len(blob), "uri": "layout_u8.bin"}]))
+    # u16 indices at byte 2 of their view, data: URI
+    meshes, acc, views, blob = layout_indexed(5123, "H", 2, 2)
+    write_json("layout_u16.gltf",
+               doc(meshes, acc, views, [{"byteLength": len(blob), "uri": data_uri(blob)}]))
+    # u32 indices at byte 4 of their view, data: URI
+    meshes, acc, views, blob = layout_indexed(5125, "I", 4, 4)
+    write_json("layout_u32.gltf",
+               doc(meshes, acc, views, [{"byteLength": len(blob), "uri": data_uri(blob)}]))
+    # the same u16 layout as a .glb
+    meshes, acc, views, blob = layout_indexed(5123, "H", 2, 2)
+    write_bytes("layout.glb", glb(doc(meshes, acc, views, [{"byteLength": len(blob)}]), blob))
+
+    # interleaved: per vertex [position 12][pad 4][normal 12][pad 4], stride 32,
+    # the view 8 bytes into the buffer; u16 indices after it; external .bin
+    pos, nrm, idx = pyramid_arrays()
+    blob = bytearray(b"\xab" * 8)
+    for v in range(5):
+        blob += f32(pos[3 * v:3 * v + 3]) + b"\xcd" * 4 + f32(nrm[3 * v:3 * v + 3]) + b"\xcd" * 4
+    iview = len(blob)
+    blob += struct.pack("<%dH" % len(idx), *idx)
+    while len(blob) % 4:
+        blob += b"\0"
+    views = [{"buffer": 0, "byteOffset": 8, "byteLength": 160, "byteStride": 32, "target": 34962},
+             {"buffer": 0, "byteOffset": iview, "byteLength": 2 * len(idx), "target": 34963}]
+    acc = [vec3_accessor(0, 0, 5, PYRAMID_V), vec3_accessor(0, 16, 5),
+           {"bufferView": 1, "componentType": 5123, "count": len(idx), "type": "SCALAR"}]
+    write_bytes("layout_interleaved.bin", bytes(blob))
+    write_json("layout_interleaved.gltf",
+               doc([{"primitives": [prim(0, 1, 2)]}], acc, views,
+                   [{"byteLength": len(blob), "uri": "layout_interleaved.bin"}]))
+
+    # non-indexed: the 12 corners written out
+    corners = [PYRAMID_V[i] for t in PYRAMID_T for i in t]
+    blob = f32([x for v in corners for x in v]) + \
+        f32([x for v in corners for x in pyramid_normal(v)])
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": 144, "target": 34962},
+             {"buffer": 0, "byteOffset": 144, "byteLength": 144, "target": 34962}]
+    acc = [vec3_accessor(0, 0, 12, corners), vec3_accessor(1, 0, 12)]
+    write_json("layout_nonindexed.gltf",
+               doc([{"primitives": [prim(0, 1)]}], acc, views,
+                   [{"byteLength": len(blob), "uri": data_uri(blob)}]))
+
+
+def glb(g, blob):
+    """GLB container (glTF 2.0 §4.4): header, JSON chunk, BIN chunk."""
+    js = json.dumps(g, separators=(",", ":")).encode("ascii")
+    js += b" " * (-len(js) % 4)
+    blob = bytes(blob) + b"\0" * (-len(blob) % 4)
+    total = 12 + 8 + len(js) + 8 + len(blob)
+    return (struct.pack("<4sII", b"glTF", 2, total) + struct.pack("<II", len(js), 0x4E4F534A)
+            + js + struct.pack("<II", len(blob), 0x004E4942) + blob)
+
+
+# ---- transforms, in plain Python (row-major 4x4 lists) ---------------------
+
+def mat_mul(a, b):
+    return [[sum(a[r][k] * b[k][c] for k in range(4)) for c in range(4)] for r in range(4)]
+
+
+def trs(t=(0, 0, 0), q=(0, 0, 0, 1), s=(1, 1, 1)):
+    x, y, z, w = q
+    r = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+    return [[r[i][0] * s[0], r[i][1] * s[1], r[i][2] * s[2], t[i]] for i in range(3)] + \
+        [[0, 0, 0, 1]]
+
+
+def axis_angle(axis, degrees):
+    a = unit(axis)
+    h = math.radians(degrees) / 2
+    return (a[0] * math.sin(h), a[1] * math.sin(h), a[2] * math.sin(h), math.cos(h))
+
+
+def column_major(m):
+    return [m[r][c] for c in range(4) for r in range(4)]
+
+
+def det3(a):
+    return (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+
+
+def inverse3(a):
+    """Inverse by Gauss-Jordan elimination with partial pivoting."""
+    m = [list(a[r][:3]) + [1.0 if r == c else 0.0 for c in range(3)] for r in range(3)]
+    for c in range(3):
+        p = max(range(c, 3), key=lambda r: abs(m[r][c]))
+        m[c], m[p] = m[p], m[c]
+        piv = m[c][c]
+        m[c] = [x / piv for x in m[c]]
+        for r in range(3):
+            if r != c:
+                f = m[r][c]
+                m[r] = [m[r][k] - f * m[c][k] for k in range(6)]
+    return [row[3:] for row in m]
+
+
+def apply_point(m, p):
+    return [sum(m[r][k] * p[k] for k in range(3)) + m[r][3] for r in range(3)]
+
+
+def apply_normal(m, n):
+    inv = inverse3(m)  # normal' = (A^-1)^T n
+    return unit([sum(inv[k][r] * n[k] for k in range(3)) for r in range(3)])
+
+
+# A bent quad: two triangles with their own vertices and face normals.
+BENT_TRIS = [[(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(1, 0, 0), (1, 1, 0.5), (0, 1, 0)]]
+
+
+def face_normal(t):
+    e1 = [t[1][i] - t[0][i] for i in range(3)]
+    e2 = [t[2][i] - t[0][i] for i in range(3)]
+    return unit([e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                 e1[0] * e2[1] - e1[1] * e2[0]])
+
+
+def write_trs():
+    verts = [v for t in BENT_TRIS for v in t]
+    nrms = [face_normal(t) for t in BENT_TRIS for _ in range(3)]
+    blob = f32([x for v in verts for x in v]) + f32([x for n in nrms for x in n])
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": 72, "target": 34962},
+             {"buffer": 0, "byteOffset": 72, "byteLength": 72, "target": 34962}]
+    acc = [vec3_accessor(0, 0, 6, verts), vec3_accessor(1, 0, 6)]
+
+    root = trs((1, 2, 3), axis_angle((1, 1, 0), 30), (2, 0.5, 1.5))
+    child = trs((0.5, 0, 1), axis_angle((0, 0, 1), 90), (1, 2, 1))
+    mirror_t, mirror_q, mirror_s = (0, 0, -2), axis_angle((1, 0, 0), 45), (-1, 1, 1)
+    mirror = trs(mirror_t, mirror_q, mirror_s)
+    side = trs((0, -1, 0))
+    nodes = [
+        {"name": "root", "mesh": 0, "translation": [1, 2, 3],
+         "rotation": list(axis_angle((1, 1, 0), 30)), "scale": [2, 0.5, 1.5], "children": [1, 3]},
+        {"name": "matrix_child", "mesh": 0, "matrix": column_major(child), "children": [2]},
+        {"name": "mirrored", "mesh": 0, "translation": list(mirror_t),
+         "rotation": list(mirror_q), "scale": list(mirror_s)},
+        {"name": "side", "mesh": 0, "translation": [0, -1, 0]},
+        {"name": "other_scene_only", "mesh": 0, "translation": [100, 0, 0]},
+    ]
+    # scene 0 is a decoy; "scene": 1 must be the one loaded.
+    write_json("trs_nested.gltf",
+               doc([{"primitives": [prim(0, 1)]}], acc, views,
+                   [{"byteLength": len(blob), "uri": data_uri(blob)}],
+                   nodes=nodes, scenes=[{"nodes": [4]}, {"nodes": [0]}], scene=1))
+
+    # Depth-first order: root, matrix_child, mirrored, side.
+    worlds = [root, mat_mul(root, child), mat_mul(mat_mul(root, child), mirror),
+              mat_mul(root, side)]
+    bp, bn = [], []
+    for w in worlds:
+        flip = det3(w) < 0
+        for t in BENT_TRIS:
+            n = face_normal(t)
+            corners = [apply_point(w, p) for p in t]
+            normals = [apply_normal(w, n)] * 3
+            if flip:
+                corners = [corners[0], corners[2], corners[1]]
+            bp += corners
+            bn += normals
+    blob = f32([x for v in bp for x in v]) + f32([x for n in bn for x in n])
+    nb = 12 * len(bp)
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": nb, "target": 34962},
+             {"buffer": 0, "byteOffset": nb, "byteLength": nb, "target": 34962}]
+    acc = [vec3_accessor(0, 0, len(bp), bp), vec3_accessor(1, 0, len(bp))]
+    write_json("trs_baked.gltf",
+               doc([{"primitives": [prim(0, 1)]}], acc, views,
+                   [{"byteLength": len(blob), "uri": data_uri(blob)}]))
+
+
+def write_camera_pick():
+    pos, nrm, idx = pyramid_arrays()
+    blob = f32(pos) + f32(nrm)
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": 60, "target": 34962},
+             {"buffer": 0, "byteOffset": 60, "byteLength": 60, "target": 34962}]
+    acc = [vec3_accessor(0, 0, 5, PYRAMID_V), vec3_accessor(1, 0, 5)]
+    nodes = [
+        {"name": "rig", "translation": [1, 0, 0], "scale": [2, 2, 2], "children": [1, 2, 3]},
+        {"name": "ortho", "camera": 2},
+        {"name": "arm", "children": [4]},
+        {"name": "late", "camera": 1, "translation": [0, 0, 9]},
+        {"name": "picked", "camera": 0, "translation": [0, 1, 0],
+         "rotation": list(axis_angle((0, 1, 0), 90))},
+        {"name": "geometry", "mesh": 0},
+        {"name": "later_root", "camera": 1, "translation": [0, 0, 5]},
+    ]
+    cameras = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}},
+               {"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.1}},
+               {"type": "orthographic",
+                "orthographic": {"xmag": 1, "ymag": 1, "zfar": 10, "znear": 0.1}}]
+    write_json("camera_pick.gltf",
+               doc([{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1},
+                                     "mode": 0}, prim(0, 1)]}], acc, views,
+                   [{"byteLength": len(blob), "uri": data_uri(blob)}],
+                   nodes=nodes, scenes=[{"nodes": [5, 0, 6]}], cameras=cameras))
+
+
+def write_materials_flat():
+    # primitive 0 (material 0): a counter-clockwise and a clockwise triangle
+    # in the z = 0 plane; primitive 1 (no material): one good triangle, one
+    # with a repeated vertex and one with collinear vertices; primitive 2:
+    # POINTS.
+    p0 = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (2, 0, 0), (2, 1, 0), (3, 0, 0)]
+    p1 = [(0, 0, 1), (0, 1, 1), (0, 0, 2), (5, 5, 5), (5, 5, 5), (6, 5, 5),
+          (0, 0, 0), (1, 1, 1), (3, 3, 3)]
+    blob = f32([x for v in p0 + p1 for x in v])
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": len(blob), "target": 34962}]
+    acc = [vec3_accessor(0, 0, len(p0), p0), vec3_accessor(0, 12 * len(p0), len(p1), p1)]
+    meshes = [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0},
+                              {"attributes": {"POSITION": 1}},
+                              {"attributes": {"POSITION": 1}, "mode": 0, "material": 0}]}]
+    materials = [{"name": "glow",
+                  "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.3, 0.4, 0.5]},
+                  "emissiveFactor": [1.0, 0.5, 0.25],
+                  "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}}}]
+    write_json("materials_flat.gltf",
+               doc(meshes, acc, views, [{"byteLength": len(blob), "uri": data_uri(blob)}],
+                   materials=materials, extensionsUsed=["KHR_materials_emissive_strength"]))
+
+
+def write_bad():
+    # One valid base (u16 layout with a data: URI), then one fault per file.
+    def base():
+        meshes, acc, views, blob = layout_indexed(5123, "H", 2, 0)
+        return doc(meshes, acc, views, [{"byteLength": len(blob), "uri": data_uri(blob)}]), blob
+
+    g, _ = base()
+    text = json.dumps(g, indent=1)
+    write_bytes("bad_truncated.gltf", text[:len(text) * 3 // 5].encode("ascii"))
+    write_bytes("bad_not_gltf.gltf", b"this is not a glTF file\n")
+
+    g, blob = base()  # an index of 812 with 5 vertices
+    idx = [i for t in PYRAMID_T for i in t]
+    idx[7] = 812
+    blob = blob[:120] + struct.pack("<%dH" % len(idx), *idx)
+    g["buffers"] = [{"byteLength": len(blob), "uri": data_uri(blob)}]
+    write_json("bad_index.gltf", g)
+
+    g, blob = base()
+    g["bufferViews"][1]["byteLength"] = 64 + len(blob)  # past the buffer's end
+    write_json("bad_view_past_buffer.gltf", g)
+
+    g, blob = base()
+    g["accessors"][0]["count"] = 6  # 72 bytes in a 60-byte view
+    write_json("bad_accessor_past_view.gltf", g)
+
+    g, blob = base()
+    g["buffers"] = [{"byteLength": len(blob), "uri": "bad_missing_bin.bin"}]
+    write_json("bad_missing_bin.gltf", g)
+
+    g, blob = base()
+    blob = bytearray(blob)
+    blob[16:20] = struct.pack("<f", float("nan"))  # vertex 1, y
+    g["buffers"] = [{"byteLength": len(blob), "uri": data_uri(blob)}]
+    del g["accessors"][0]["min"], g["accessors"][0]["max"]
+    write_json("bad_nonfinite.gltf", g)
+
+    g, _ = base()
+    g["nodes"] = [{"children": [1]}, {"mesh": 0, "children": [0]}]
+    write_json("bad_node_cycle.gltf", g)
+
+    g, _ = base()
+    g["nodes"] = [{"mesh": 5}]
+    write_json("bad_mesh_index.gltf", g)
+
+    g, _ = base()
+    g["accessors"][0]["type"] = "VEC2"
+    g["accessors"][0]["min"] = g["accessors"][0]["min"][:2]
+    g["accessors"][0]["max"] = g["accessors"][0]["max"][:2]
+    write_json("bad_position_type.gltf", g)
+
+    g, _ = base()
+    g["bufferViews"][0]["byteStride"] = 8  # smaller than a float VEC3
+    write_json("bad_stride.gltf", g)
+
+    g, _ = base()
+    g["meshes"][0]["primitives"][0]["mode"] = 0  # POINTS only: nothing to render
+    write_json("bad_no_triangles.gltf", g)
+
+    # GLB whose BIN chunk claims 8 bytes more than the file holds.
+    meshes, acc, views, blob = layout_indexed(5123, "H", 2, 2)
+    data = bytearray(glb(doc(meshes, acc, views, [{"byteLength": len(blob)}]), blob))
+    json_len = struct.unpack("<I", data[12:16])[0]
+    bin_at = 20 + json_len
+    struct.pack_into("<I", data, bin_at, struct.unpack("<I", data[bin_at:bin_at + 4])[0] + 8)
+    write_bytes("bad_glb_chunk.glb", bytes(data))
+
+
+def main():
+    write_layouts()
+    write_trs()
+    write_camera_pick()
+    write_materials_flat()
+    write_bad()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,629 @@
+/* test_scene.c — tests of the scene module (st_scene.h, src/scene.c,
+ * src/gltf_shim.cpp). Run from the repository root: the test scenes are in
+ * tests/scenes/ (written by tests/scenes/make_test_scenes.py), the Khronos
+ * sample models, when present, in ../shared/scenes/khronos.
+ *
+ * Expected values come from outside the loader: the published Cornell box
+ * measurements, the pyramid table below (a copy of the generator's), Python's
+ * own transform of the nested scene (trs_baked.gltf), geometric identities
+ * (a transformed face normal stays perpendicular to the transformed face),
+ * and the triangle counts of the Khronos models' INDEX.md. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "st_scene.h"
+
+#define SCENES "tests/scenes/"
+#define KHRONOS "../shared/scenes/khronos"
+
+/* ---- helpers --------------------------------------------------------------- */
+
+static void near(double got, double want, double tol, const char *what)
+{
+    if (!(fabs(got - want) <= tol))
+        fail_msg("%s: got %.9g, want %.9g (tolerance %g)", what, got, want, tol);
+}
+
+static void near3(const float *got, double x, double y, double z, double tol, const char *what)
+{
+    near(got[0], x, tol, what);
+    near(got[1], y, tol, what);
+    near(got[2], z, tol, what);
+}
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Unit geometric normal (v1 - v0) x (v2 - v0) of triangle t, in double. */
+static void face_normal(const st_scene *s, st_u32 t, double n[3])
+{
+    const float *p = s->positions + 9 * (size_t)t;
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)p[3 + k] - p[k];
+        e2[k] = (double)p[6 + k] - p[k];
+    }
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double len = sqrt(dot3(n, n));
+    for (int k = 0; k < 3; k++)
+        n[k] /= len;
+}
+
+/* Everything st_scene.h promises of a loaded scene. */
+static void check_invariants(const st_scene *s)
+{
+    assert_true(s->tri_count >= 1);
+    assert_true(s->material_count >= 1);
+    for (st_u32 t = 0; t < s->tri_count; t++) {
+        assert_true(s->tri_material[t] < s->material_count);
+        double g[3];
+        face_normal(s, t, g);
+        assert_true(isfinite(g[0]) && isfinite(g[1]) && isfinite(g[2])); /* non-zero area */
+        for (int v = 0; v < 3; v++) {
+            const float *p = s->positions + 9 * (size_t)t + 3 * v;
+            const float *n = s->normals + 9 * (size_t)t + 3 * v;
+            for (int k = 0; k < 3; k++) {
+                assert_true(isfinite(p[k]));
+                assert_true(p[k] >= s->bounds_min[k] && p[k] <= s->bounds_max[k]);
+            }
+            near(sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]), 1.0, 1e-5,
+                 "shading normal length");
+        }
+    }
+    const st_scene_camera *c = &s->camera;
+    const double f[3] = {c->forward[0], c->forward[1], c->forward[2]};
+    const double u[3] = {c->up[0], c->up[1], c->up[2]};
+    near(sqrt(dot3(f, f)), 1.0, 1e-5, "camera forward length");
+    near(sqrt(dot3(u, u)), 1.0, 1e-5, "camera up length");
+    near(dot3(f, u), 0.0, 1e-5, "camera forward . up");
+    assert_true(c->yfov > 0.0f && c->yfov < 3.1415927f);
+}
+
+static st_scene *load_ok(const char *spec)
+{
+    st_error err = {0};
+    st_scene *s = NULL;
+    st_status st = st_scene_load(spec, &s, &err);
+    if (st != ST_OK)
+        fail_msg("loading %s: status %d: %s", spec ? spec : "(default)", st, err.msg);
+    check_invariants(s);
+    return s;
+}
+
+/* Loads spec expecting failure with `status`; the message must name `name`
+ * (when given) and contain `phrase` (when given). */
+static void load_fails(const char *spec, st_status status, const char *name, const char *phrase)
+{
+    static st_scene sentinel;
+    st_error err = {0};
+    st_scene *s = &sentinel; /* must come back NULL */
+    st_status st = st_scene_load(spec, &s, &err);
+    if (st != status || err.status != status)
+        fail_msg("%s: status %d (err %d, \"%s\"), want %d", spec, st, err.status, err.msg, status);
+    assert_null(s);
+    if (name && !strstr(err.msg, name))
+        fail_msg("%s: message \"%s\" does not name the file", spec, err.msg);
+    if (phrase && !strstr(err.msg, phrase))
+        fail_msg("%s: message \"%s\" lacks \"%s\"", spec, err.msg, phrase);
+}
+
+static unsigned char *read_all(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    assert_int_equal(fseek(f, 0, SEEK_END), 0);
+    long n = ftell(f);
+    assert_true(n > 0);
+    rewind(f);
+    unsigned char *data = malloc((size_t)n);
+    assert_non_null(data);
+    assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+    *size = (size_t)n;
+    return data;
+}
+
+static void write_all(const char *path, const unsigned char *data, size_t size)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    assert_int_equal(fclose(f), 0);
+}
+
+static int dir_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* ---- the built-in Cornell box --------------------------------------------- */
+
+/* Published data (Cornell Program of Computer Graphics, "Cornell Box Data"),
+ * in metres: room 0..0.556 x 0..0.5488 x 0..0.5592; camera at
+ * (0.278, 0.273, -0.800) looking along +Z, 35 mm lens on 25 mm film. */
+static void cornell_box_loads_as_default_builtin(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(NULL);
+    assert_string_equal(s->name, "cornell-box");
+    assert_int_equal(s->tri_count, 32); /* 5 walls + 2 x 5 block faces + light, 2 each */
+    assert_int_equal(s->dropped, 0);
+    assert_int_equal(s->material_count, 4); /* every primitive names one: no default */
+    assert_int_equal(s->camera.from_file, 1);
+    near3(s->camera.origin, 0.278, 0.273, -0.800, 1e-6, "camera origin");
+    near3(s->camera.forward, 0, 0, 1, 1e-6, "camera forward");
+    near3(s->camera.up, 0, 1, 0, 1e-6, "camera up");
+    near(s->camera.yfov, 2.0 * atan(12.5 / 35.0), 1e-6, "camera yfov");
+    near3(s->bounds_min, 0, 0, 0, 1e-6, "bounds min");
+    near3(s->bounds_max, 0.556, 0.5488, 0.5592, 1e-6, "bounds max");
+    st_scene_destroy(s);
+
+    s = load_ok("cornell-box");
+    assert_string_equal(s->name, "cornell-box");
+    assert_int_equal(s->tri_count, 32);
+    st_scene_destroy(s);
+}
+
+static void cornell_box_materials_have_specified_values(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok("cornell-box");
+    /* emission = light colour, base colour = albedo; per material, the number of
+     * triangles: white = floor, ceiling, back wall and 10 block faces. */
+    static const struct {
+        float albedo[3], emission[3];
+        int triangles;
+    } want[4] = {
+        {{0.73f, 0.73f, 0.73f}, {0, 0, 0}, 26},
+        {{0.63f, 0.065f, 0.05f}, {0, 0, 0}, 2},
+        {{0.14f, 0.45f, 0.09f}, {0, 0, 0}, 2},
+        {{0.78f, 0.78f, 0.78f}, {17, 12, 4}, 2},
+    };
+    int count[4] = {0};
+    for (st_u32 t = 0; t < s->tri_count; t++)
+        count[s->tri_material[t]]++;
+    for (int m = 0; m < 4; m++) {
+        near3(s->materials[m].base_color, want[m].albedo[0], want[m].albedo[1], want[m].albedo[2],
+              1e-6, "albedo");
+        near3(s->materials[m].emission, want[m].emission[0], want[m].emission[1],
+              want[m].emission[2], 1e-5, "emission");
+        assert_int_equal(count[m], want[m].triangles);
+    }
+    st_scene_destroy(s);
+}
+
+/* (x, z) inside the convex footprint of a block (4 corners, either order). */
+static int inside_footprint(const double fp[4][2], double x, double z)
+{
+    int pos = 0, neg = 0;
+    for (int i = 0; i < 4; i++) {
+        const double *a = fp[i], *b = fp[(i + 1) % 4];
+        double c = (b[0] - a[0]) * (z - a[1]) - (b[1] - a[1]) * (x - a[0]);
+        pos += c > 0;
+        neg += c < 0;
+    }
+    return pos == 0 || neg == 0;
+}
+
+/* A point of the room's air: inside the walls, outside both blocks. */
+static int in_air(const double q[3])
+{
+    static const double short_fp[4][2] = {
+        {0.130, 0.065}, {0.082, 0.225}, {0.240, 0.272}, {0.290, 0.114}};
+    static const double tall_fp[4][2] = {
+        {0.423, 0.247}, {0.265, 0.296}, {0.314, 0.456}, {0.472, 0.406}};
+    int in_room = q[0] > 0 && q[0] < 0.556 && q[1] > 0 && q[1] < 0.5488 && q[2] > 0 &&
+                  q[2] < 0.5592;
+    int in_short = q[1] < 0.165 && inside_footprint(short_fp, q[0], q[2]);
+    int in_tall = q[1] < 0.330 && inside_footprint(tall_fp, q[0], q[2]);
+    return in_room && !in_short && !in_tall;
+}
+
+/* Stepping 5 mm along the normal from points of a triangle must reach the air
+ * of the room. A normal facing the wrong way lands behind a wall, below the
+ * floor or inside a block from every point of the face; a right one reaches
+ * the air from at least one of the centroid and the three points near the
+ * corners (a floor triangle's centroid may lie under a block). The shading
+ * normals must also equal the face normals (flat faces). */
+static void cornell_box_normals_face_the_air(void **state)
+{
+    (void)state;
+    static const double bary[4][3] = {
+        {1 / 3.0, 1 / 3.0, 1 / 3.0}, {0.8, 0.1, 0.1}, {0.1, 0.8, 0.1}, {0.1, 0.1, 0.8}};
+    st_scene *s = load_ok(NULL);
+    for (st_u32 t = 0; t < s->tri_count; t++) {
+        double g[3];
+        face_normal(s, t, g);
+        for (int v = 0; v < 3; v++) {
+            const float *n = s->normals + 9 * (size_t)t + 3 * v;
+            const double nd[3] = {n[0], n[1], n[2]};
+            near(dot3(nd, g), 1.0, 1e-6, "shading normal . face normal");
+        }
+        int reached = 0;
+        for (int b = 0; b < 4; b++) {
+            const float *p = s->positions + 9 * (size_t)t;
+            double q[3];
+            for (int k = 0; k < 3; k++)
+                q[k] = bary[b][0] * p[k] + bary[b][1] * p[3 + k] + bary[b][2] * p[6 + k] +
+                       0.005 * g[k];
+            reached += in_air(q);
+        }
+        if (!reached)
+            fail_msg("triangle %u: normal (%g %g %g) faces away from the air", t, g[0], g[1], g[2]);
+    }
+    st_scene_destroy(s);
+}
+
+static void builtin_names_list_cornell_box(void **state)
+{
+    (void)state;
+    const char *names[16];
+    st_u32 n = st_scene_builtin_names(names, 16);
+    int found = 0;
+    for (st_u32 i = 0; i < n; i++)
+        found |= strcmp(names[i], "cornell-box") == 0;
+    assert_true(found);
+    assert_int_equal(st_scene_builtin_names(names, 0), 0);
+}
+
+static void unknown_builtin_and_missing_file_are_errors(void **state)
+{
+    (void)state;
+    load_fails("no-such-scene", ST_ERR_USAGE, "no-such-scene", "cornell-box");
+    load_fails(SCENES "no_such_file.gltf", ST_ERR_IO, SCENES "no_such_file.gltf", NULL);
+    /* a .gltf suffix makes it a path, even without '/' */
+    load_fails("cornell-box.gltf", ST_ERR_IO, "cornell-box.gltf", NULL);
+    st_scene_destroy(NULL);
+}
+
+/* ---- accessor layouts ----------------------------------------------------------- */
+
+/* The pyramid of make_test_scenes.py: vertex normals point away from
+ * (0.5, 0.5, -0.5). */
+static const double PYRAMID_V[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
+static const int PYRAMID_T[4][3] = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+
+static void check_pyramid(const char *path)
+{
+    st_scene *s = load_ok(path);
+    assert_int_equal(s->tri_count, 4);
+    assert_int_equal(s->dropped, 0);
+    assert_int_equal(s->material_count, 1); /* the default, appended */
+    near3(s->materials[0].base_color, 0.8, 0.8, 0.8, 1e-7, "default albedo");
+    for (int t = 0; t < 4; t++)
+        for (int v = 0; v < 3; v++) {
+            const double *p = PYRAMID_V[PYRAMID_T[t][v]];
+            double n[3] = {p[0] - 0.5, p[1] - 0.5, p[2] + 0.5};
+            double len = sqrt(dot3(n, n));
+            near3(s->positions + 9 * t + 3 * v, p[0], p[1], p[2], 0, path);
+            near3(s->normals + 9 * t + 3 * v, n[0] / len, n[1] / len, n[2] / len, 1e-6, path);
+        }
+    assert_int_equal(s->camera.from_file, 0);
+    st_scene_destroy(s);
+}
+
+static void layouts_u8_u16_u32_indices_give_same_triangles(void **state)
+{
+    (void)state;
+    check_pyramid(SCENES "layout_u8.gltf"); /* external .bin */
+    check_pyramid(SCENES "layout_u16.gltf");
+    check_pyramid(SCENES "layout_u32.gltf");
+}
+
+static void layouts_interleaved_stride_gives_same_triangles(void **state)
+{
+    (void)state;
+    check_pyramid(SCENES "layout_interleaved.gltf");
+}
+
+static void layouts_nonindexed_and_glb_give_same_triangles(void **state)
+{
+    (void)state;
+    check_pyramid(SCENES "layout_nonindexed.gltf");
+    check_pyramid(SCENES "layout.glb");
+}
+
+/* ---- transforms --------------------------------------------------------------- */
+
+static void nested_trs_equals_baked_vertices(void **state)
+{
+    (void)state;
+    st_scene *a = load_ok(SCENES "trs_nested.gltf");
+    st_scene *b = load_ok(SCENES "trs_baked.gltf");
+    assert_int_equal(a->tri_count, 8); /* 4 nodes x 2; the other scene's node is not loaded */
+    assert_int_equal(b->tri_count, 8);
+    for (size_t i = 0; i < 9 * 8; i++) {
+        near(a->positions[i], b->positions[i], 1e-5, "position");
+        near(a->normals[i], b->normals[i], 1e-5, "normal");
+    }
+    assert_true(a->bounds_max[0] < 50.0f); /* node "other_scene_only" sits at x = 100 */
+    st_scene_destroy(a);
+    st_scene_destroy(b);
+}
+
+/* The file's normals are the mesh's face normals; the inverse transpose keeps
+ * them perpendicular to the transformed faces, and the winding flip of the
+ * mirrored node keeps the face normal on the same side: so every shading
+ * normal must equal the world face normal, whatever the transform. */
+static void nested_trs_normals_equal_face_normals(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "trs_nested.gltf");
+    for (st_u32 t = 0; t < s->tri_count; t++) {
+        double g[3];
+        face_normal(s, t, g);
+        for (int v = 0; v < 3; v++) {
+            const float *n = s->normals + 9 * (size_t)t + 3 * v;
+            const double nd[3] = {n[0], n[1], n[2]};
+            near(dot3(nd, g), 1.0, 1e-5, "shading normal . face normal");
+        }
+    }
+    st_scene_destroy(s);
+}
+
+/* ---- cameras -------------------------------------------------------------------- */
+
+/* Scene roots: geometry, rig, later_root. rig (T (1,0,0), S 2) has children
+ * ortho (orthographic: passed over), arm -> picked (T (0,1,0), R_y 90), late.
+ * picked comes first depth-first: origin = (1,0,0) + 2 (0,1,0), and R_y(90)
+ * maps -Z to -X. */
+static void camera_first_perspective_node_depth_first_wins(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "camera_pick.gltf");
+    assert_int_equal(s->camera.from_file, 1);
+    near3(s->camera.origin, 1, 2, 0, 1e-6, "origin");
+    near3(s->camera.forward, -1, 0, 0, 1e-6, "forward");
+    near3(s->camera.up, 0, 1, 0, 1e-6, "up");
+    near(s->camera.yfov, 0.5, 1e-7, "yfov");
+    st_scene_destroy(s);
+}
+
+/* Without a camera: looking along -Z from +Z, yfov 40 degrees, and the
+ * bounding sphere (centre c, radius r) exactly fills the vertical view:
+ * |origin - c| sin(yfov / 2) = r. Then every corner of the bounds is within
+ * the cone of half-angle yfov / 2. */
+static void default_camera_frames_bounding_sphere(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "materials_flat.gltf");
+    const st_scene_camera *c = &s->camera;
+    assert_int_equal(c->from_file, 0);
+    near(c->yfov, 40.0 * 3.14159265358979 / 180.0, 1e-6, "yfov");
+    near3(c->forward, 0, 0, -1, 0, "forward");
+    near3(c->up, 0, 1, 0, 0, "up");
+    double centre[3], r2 = 0;
+    for (int k = 0; k < 3; k++) {
+        centre[k] = 0.5 * (s->bounds_min[k] + s->bounds_max[k]);
+        r2 += 0.25 * (s->bounds_max[k] - s->bounds_min[k]) * (s->bounds_max[k] - s->bounds_min[k]);
+    }
+    near(c->origin[0], centre[0], 1e-6, "origin x");
+    near(c->origin[1], centre[1], 1e-6, "origin y");
+    assert_true(c->origin[2] > s->bounds_max[2]);
+    near((c->origin[2] - centre[2]) * sin(0.5 * c->yfov), sqrt(r2), 1e-5, "sphere fit");
+    for (int i = 0; i < 8; i++) {
+        double d[3];
+        for (int k = 0; k < 3; k++)
+            d[k] = ((i >> k) & 1 ? s->bounds_max[k] : s->bounds_min[k]) - c->origin[k];
+        double cosang = -d[2] / sqrt(dot3(d, d));
+        assert_true(cosang >= cos(0.5 * c->yfov) - 1e-6);
+    }
+    st_scene_destroy(s);
+}
+
+/* ---- materials, flat normals, dropped triangles -------------------------------- */
+
+static void materials_and_flat_normals_follow_the_file(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "materials_flat.gltf");
+    assert_int_equal(s->tri_count, 3);
+    assert_int_equal(s->dropped, 2); /* a repeated vertex, three collinear points */
+    assert_int_equal(s->material_count, 2); /* the file's one + the default */
+    assert_int_equal(s->tri_material[0], 0);
+    assert_int_equal(s->tri_material[1], 0);
+    assert_int_equal(s->tri_material[2], 1);
+    /* emission = emissiveFactor (1, 0.5, 0.25) x emissiveStrength 4 */
+    near3(s->materials[0].base_color, 0.2, 0.3, 0.4, 1e-7, "base colour");
+    near(s->materials[0].base_color[3], 0.5, 1e-7, "base colour alpha");
+    near3(s->materials[0].emission, 4, 2, 1, 1e-6, "emission");
+    near3(s->materials[1].base_color, 0.8, 0.8, 0.8, 1e-7, "default base colour");
+    near3(s->materials[1].emission, 0, 0, 0, 0, "default emission");
+    /* no NORMAL: flat normals from the winding, counter-clockwise = +Z */
+    static const double want[3][3] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}};
+    for (int t = 0; t < 3; t++)
+        for (int v = 0; v < 3; v++)
+            near3(s->normals + 9 * t + 3 * v, want[t][0], want[t][1], want[t][2], 1e-7,
+                  "flat normal");
+    st_scene_destroy(s);
+}
+
+/* ---- malformed input ---------------------------------------------------------- */
+
+static void malformed_files_return_format_error_naming_file(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file, *phrase;
+    } cases[] = {
+        {"bad_truncated.gltf", NULL},
+        {"bad_not_gltf.gltf", NULL},
+        {"bad_index.gltf", "accessor 2: index 812 out of range"},
+        {"bad_view_past_buffer.gltf", "bufferView 1"},
+        {"bad_accessor_past_view.gltf", "accessor 0"},
+        {"bad_missing_bin.gltf", "bad_missing_bin.bin"},
+        {"bad_nonfinite.gltf", "non-finite"},
+        {"bad_node_cycle.gltf", "node"},
+        {"bad_mesh_index.gltf", "mesh 5 out of range"},
+        {"bad_position_type.gltf", "float VEC3"},
+        {"bad_stride.gltf", "byteStride"},
+        {"bad_no_triangles.gltf", "no triangles"},
+        {"bad_glb_chunk.glb", "chunk"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char path[256];
+        snprintf(path, sizeof path, SCENES "%s", cases[i].file);
+        load_fails(path, ST_ERR_FORMAT, path, cases[i].phrase);
+    }
+}
+
+/* A scratch directory for generated files, removed by the caller. */
+static void make_scratch(char dir[64])
+{
+    snprintf(dir, 64, "/tmp/strata-test-scene-XXXXXX");
+    assert_non_null(mkdtemp(dir));
+}
+
+/* Every proper prefix of a valid file is malformed: status ST_ERR_FORMAT,
+ * never a crash. The .gltf is cut before its closing brace (a prefix that
+ * only drops trailing white space is still the whole document). */
+static void truncated_files_return_format_error(void **state)
+{
+    (void)state;
+    static const char *files[] = {SCENES "layout.glb", SCENES "layout_u16.gltf"};
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (int f = 0; f < 2; f++) {
+        size_t size;
+        unsigned char *data = read_all(files[f], &size);
+        size_t full = size;
+        while (full > 0 && (data[full - 1] == '\n' || data[full - 1] == ' '))
+            full--;
+        snprintf(path, sizeof path, "%s/cut%s", dir, f == 0 ? ".glb" : ".gltf");
+        for (size_t n = 0; n < full; n++) {
+            write_all(path, data, n);
+            load_fails(path, ST_ERR_FORMAT, path, NULL);
+        }
+        unlink(path);
+        free(data);
+    }
+    rmdir(dir);
+}
+
+/* Each byte of a .glb overwritten with 0x00, 0xff and itself ^ 0x5a: the load
+ * either fails with ST_ERR_FORMAT or gives a scene that keeps every invariant
+ * (run under the sanitizers, `make test SANITIZE=1`, this also checks that
+ * no byte is read out of bounds). */
+static void mutated_glb_fails_cleanly_or_loads_valid_scene(void **state)
+{
+    (void)state;
+    char dir[64], path[128];
+    make_scratch(dir);
+    snprintf(path, sizeof path, "%s/mutant.glb", dir);
+    size_t size;
+    unsigned char *data = read_all(SCENES "layout.glb", &size);
+    int loaded = 0, failed = 0;
+    for (size_t i = 0; i < size; i++)
+        for (int m = 0; m < 3; m++) {
+            unsigned char keep = data[i];
+            data[i] = m == 0 ? 0x00 : m == 1 ? 0xff : (unsigned char)(keep ^ 0x5a);
+            write_all(path, data, size);
+            data[i] = keep;
+            st_error err = {0};
+            st_scene *s = NULL;
+            st_status st = st_scene_load(path, &s, &err);
+            if (st == ST_OK) {
+                check_invariants(s);
+                st_scene_destroy(s);
+                loaded++;
+            } else {
+                if (st != ST_ERR_FORMAT || !strstr(err.msg, path))
+                    fail_msg("byte %zu, mutation %d: status %d: %s", i, m, st, err.msg);
+                failed++;
+            }
+        }
+    assert_true(loaded > 0 && failed > 0); /* both outcomes were exercised */
+    unlink(path);
+    free(data);
+    rmdir(dir);
+}
+
+/* ---- Khronos sample models ---------------------------------------------------- */
+
+/* Triangle count of `file` (e.g. "Box/Box.gltf") in INDEX.md's table row
+ * "| Dir | `file` | triangles | ..."; -1 when absent. */
+static long index_triangles(const char *index, const char *file)
+{
+    char key[128];
+    snprintf(key, sizeof key, "| `%s` | ", file);
+    const char *row = strstr(index, key);
+    return row ? strtol(row + strlen(key), NULL, 10) : -1;
+}
+
+/* INDEX.md counts every TRIANGLES primitive of every node reachable from the
+ * default scene; strata keeps those with non-zero area, so kept + dropped
+ * must equal it. */
+static void khronos_models_match_index_triangle_counts(void **state)
+{
+    (void)state;
+    if (!dir_exists(KHRONOS)) {
+        print_message("note: %s not found; Khronos model checks skipped\n", KHRONOS);
+        return;
+    }
+    size_t size;
+    unsigned char *raw = read_all(KHRONOS "/INDEX.md", &size);
+    char *index = malloc(size + 1);
+    assert_non_null(index);
+    memcpy(index, raw, size);
+    index[size] = '\0';
+    free(raw);
+    static const char *files[] = {
+        "Box/Box.gltf", "BoxInterleaved/BoxInterleaved.gltf",
+        "TriangleWithoutIndices/TriangleWithoutIndices.gltf",
+        "CesiumMilkTruck/CesiumMilkTruck.gltf", "OrientationTest/OrientationTest.gltf",
+        "DamagedHelmet/DamagedHelmet.glb", "NegativeScaleTest/NegativeScaleTest.gltf",
+        "MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.gltf",
+    };
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        long want = index_triangles(index, files[i]);
+        if (want < 0)
+            fail_msg("%s is not in INDEX.md", files[i]);
+        char path[256];
+        snprintf(path, sizeof path, KHRONOS "/%s", files[i]);
+        st_scene *s = load_ok(path);
+        if ((long)s->tri_count + (long)s->dropped != want)
+            fail_msg("%s: %u kept + %u dropped, INDEX.md says %ld", files[i], s->tri_count,
+                     s->dropped, want);
+        st_scene_destroy(s);
+    }
+    free(index);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(cornell_box_loads_as_default_builtin),
+        cmocka_unit_test(cornell_box_materials_have_specified_values),
+        cmocka_unit_test(cornell_box_normals_face_the_air),
+        cmocka_unit_test(builtin_names_list_cornell_box),
+        cmocka_unit_test(unknown_builtin_and_missing_file_are_errors),
+        cmocka_unit_test(layouts_u8_u16_u32_indices_give_same_triangles),
+        cmocka_unit_test(layouts_interleaved_stride_gives_same_triangles),
+        cmocka_unit_test(layouts_nonindexed_and_glb_give_same_triangles),
+        cmocka_unit_test(nested_trs_equals_baked_vertices),
+        cmocka_unit_test(nested_trs_normals_equal_face_normals),
+        cmocka_unit_test(camera_first_perspective_node_depth_first_wins),
+        cmocka_unit_test(default_camera_frames_bounding_sphere),
+        cmocka_unit_test(materials_and_flat_normals_follow_the_file),
+        cmocka_unit_test(malformed_files_return_format_error_naming_file),
+        cmocka_unit_test(truncated_files_return_format_error),
+        cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
+        cmocka_unit_test(khronos_models_match_index_triangle_counts),
+    };
+    return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
+}
