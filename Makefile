@@ -60,7 +60,7 @@ $(BUILD)/libstrata.a: $(LIB_OBJ)
 $(BUILD)/%.o: src/%.c $(wildcard include/*.h) $(wildcard src/*.h) $(wildcard kernels/*.h) | $(BUILD)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
 
-$(BUILD)/%.o: src/%.cpp $(wildcard include/*.h) | $(BUILD)
+$(BUILD)/%.o: src/%.cpp $(wildcard include/*.h) $(wildcard src/*.h) | $(BUILD)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c -o $@ $<
 
 # Kernels and built-in scenes are compiled into the binary (tools/embed.c).
