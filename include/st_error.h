@@ -8,6 +8,10 @@
 #ifndef ST_ERROR_H
 #define ST_ERROR_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define ST_STATUS_LIST(X)                                                    \
     X(ST_OK, "ok")                                                           \
     X(ST_ERR_USAGE, "usage")                                                 \
@@ -37,5 +41,9 @@ void st_error_clear(st_error *err);
 
 /* Static text of a status code ("bad input", ...). */
 const char *st_status_text(st_status s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif
