@@ -37,6 +37,8 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
     if (i >= p.item_count)
         return;
     float2 f = film[i];
+    if (!(f.x < (float)p.width && f.y < (float)p.height))
+        return; /* a tile point outside the image (generate.cl) */
     float4 rad = radiance[i];
     float3 L = rad.xyz;
     st_u32 own = min((st_u32)f.y, p.height - 1u) * p.width + min((st_u32)f.x, p.width - 1u);

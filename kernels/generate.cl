@@ -1,27 +1,48 @@
 /* generate.cl — the first stages of a wave: sample positions on the film, then
- * camera rays. Item i of a wave is render item g = first_item + i, with
- * pixel = g mod (width * height) and sample = g / (width * height). */
+ * camera rays.
+ *
+ * Item i of a wave is render item g = first_item + i. Per-pixel samplers:
+ * pixel = g mod (width * height), sample = g / (width * height). Tiled samplers
+ * (poisson, best-candidate): the tile of tile_size^2 pixels repeats over the
+ * image; g picks repetition g / tile_count and point tile_begin + g mod
+ * tile_count of it, and the pixel is wherever that point falls (pixels get
+ * varying sample counts, as with pbrt-v2's best-candidate sampler); points
+ * falling outside the image are dropped. */
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
 
-/* Writes: film[i] = the sample's film position in pixels (x right, y down). */
-__kernel void generate_samples(const st_params p, __global float2 *film)
+/* Writes film[i] = the sample's film position in pixels (x right, y down;
+ * outside the image for a dropped tile point) and id[i] = (pixel, sample). */
+__kernel void generate_samples(const st_params p, __global const float2 *tile,
+                               __global float2 *film, __global uint2 *id)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
         return;
     st_u64 g = p.first_item + i;
+    if (ST_SAMPLER_IS_TILED(p.sampler)) {
+        st_u32 rep = (st_u32)(g / p.tile_count);
+        st_u32 j = p.tile_begin + (st_u32)(g % p.tile_count);
+        float2 f = tile[j] + (float2)((float)(rep % p.tiles_x * p.tile_size),
+                                      (float)(rep / p.tiles_x * p.tile_size));
+        st_u32 px = min((st_u32)f.x, p.width - 1u), py = min((st_u32)f.y, p.height - 1u);
+        film[i] = f;
+        id[i] = (uint2)(py * p.width + px, j);
+        return;
+    }
     st_u32 npix = p.width * p.height;
     st_u32 pixel = (st_u32)(g % npix), s = (st_u32)(g / npix);
     st_u32 px = pixel % p.width, py = pixel / p.width;
-    st_sample_id id = st_sample_begin(&p, px, py, s);
-    film[i] = (float2)((float)px + st_sample_dim(&p, &id, 0u),
-                       (float)py + st_sample_dim(&p, &id, 1u));
+    st_sample_id sid = st_sample_begin(&p, px, py, s);
+    film[i] = (float2)((float)px + st_sample_dim(&p, &sid, 0u),
+                       (float)py + st_sample_dim(&p, &sid, 1u));
+    id[i] = (uint2)(pixel, s);
 }
 
 /* Reads film; writes the camera ray (ray_o.w = tmax) and resets the path:
- * beta = (1, 1, 1, bsdf pdf 0), radiance 0, depth 0. */
+ * beta = (1, 1, 1, bsdf pdf 0), radiance 0, depth 0 (ST_PATH_DEAD for a
+ * dropped point outside the image). */
 __kernel void generate_camera_rays(const st_params p, __global const float2 *film,
                                    __global float4 *ray_o, __global float4 *ray_d,
                                    __global float4 *beta, __global float4 *radiance,
@@ -40,5 +61,5 @@ __kernel void generate_camera_rays(const st_params p, __global const float2 *fil
     ray_d[i] = (float4)(d, 0.0f);
     beta[i] = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
     radiance[i] = (float4)(0.0f);
-    depth[i] = 0u;
+    depth[i] = f.x < (float)p.width && f.y < (float)p.height ? 0u : ST_PATH_DEAD;
 }

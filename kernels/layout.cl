@@ -21,5 +21,5 @@ __kernel void probe_layout(__global uint *out)
     out[8] = ST_OFFSET(p, filter);
     out[9] = ST_OFFSET(p, camera);
     out[10] = ST_OFFSET(p, width);
-    out[11] = ST_OFFSET(p, light_power);
+    out[11] = ST_OFFSET(p, tile_size);
 }

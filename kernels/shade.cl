@@ -78,7 +78,8 @@ __kernel void shade_hits(const st_params p, __global const st_triangle *tris,
                          __global const uint *tri_material,
                          __global const st_material *materials,
                          __global const uint *light_tri, __global const float *light_cdf,
-                         __global const float *light_pdf_area, __global const float4 *hit,
+                         __global const float *light_pdf_area, __global const uint2 *sample_id,
+                         __global const float4 *hit,
                          __global float4 *ray_o, __global float4 *ray_d,
                          __global float4 *beta_buf, __global float4 *radiance,
                          __global uint *depth_buf, __global float4 *shadow_o,
@@ -133,10 +134,8 @@ __kernel void shade_hits(const st_params p, __global const st_triangle *tris,
     }
 
     /* the sample's own dimensions */
-    st_u32 npix = p.width * p.height;
-    st_u64 g = p.first_item + i;
-    st_u32 pixel = (st_u32)(g % npix);
-    st_sample_id id = st_sample_begin(&p, pixel % p.width, pixel / p.width, (st_u32)(g / npix));
+    uint2 sid = sample_id[i];
+    st_sample_id id = st_sample_begin(&p, sid.x % p.width, sid.x / p.width, sid.y);
     st_u32 dim = 2u + ST_DIMS_PER_VERTEX * depth;
     float3 origin = pos + ng * p.ray_eps;
     int path = p.integrator == ST_INTEGRATOR_PATH;

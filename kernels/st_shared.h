@@ -43,7 +43,8 @@ typedef float st_f32;
 
 /* ---- constants ------------------------------------------------------------ */
 
-/* Samplers (render --sampler, pattern --sampler). */
+/* Samplers (render --sampler, pattern --sampler). POISSON and BEST_CANDIDATE
+ * read a tile of points made on the host (ST_SAMPLER_IS_TILED). */
 #define ST_SAMPLER_RANDOM 0u
 #define ST_SAMPLER_UNIFORM 1u
 #define ST_SAMPLER_STRATIFIED 2u
@@ -53,6 +54,7 @@ typedef float st_f32;
 #define ST_SAMPLER_BEST_CANDIDATE 6u
 #define ST_SAMPLER_SOBOL 7u
 #define ST_SAMPLER_COUNT 8u
+#define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
 
 /* Reconstruction filters (render --filter, strata filter). */
 #define ST_FILTER_BOX 0u
@@ -175,6 +177,10 @@ typedef struct st_params {
     st_u32 halton_inv2, halton_inv3; /* multiplicative inverses (see st_sampling.h) */
     st_f32 light_power;          /* sum of emitted power used by the light CDF */
     st_f32 ray_eps;              /* ray offset, scaled to the scene size */
+    /* poisson and best-candidate: a toroidal tile of tile_size^2 pixels,
+     * repeated tiles_x times across; this wave reads points tile_begin ..
+     * tile_begin + tile_count - 1 of every repetition (see generate.cl) */
+    st_u32 tile_size, tile_begin, tile_count, tiles_x;
     st_u32 pad[3];
     st_filter filter;
     st_camera camera;
@@ -188,9 +194,9 @@ ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 32, "st_material: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
-ST_STATIC_ASSERT(offsetof(st_params, filter) == 96, "st_params.filter moved");
-ST_STATIC_ASSERT(offsetof(st_params, camera) == 128, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 192, "st_params: 192 bytes");
+ST_STATIC_ASSERT(offsetof(st_params, filter) == 112, "st_params.filter moved");
+ST_STATIC_ASSERT(offsetof(st_params, camera) == 144, "st_params.camera moved");
+ST_STATIC_ASSERT(sizeof(st_params) == 208, "st_params: 208 bytes");
 #endif
 
 #endif

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "st_bvh.h"
+#include "st_sampling.h"
 #include "rng.h"
 #include "samplers.h"
 #include "filters.h"
@@ -35,7 +36,7 @@ int st_name_lookup(const char *const *names, int count, const char *name)
 enum { B_NODES, B_TRIS, B_NORMALS, B_TRI_MATERIAL, B_MATERIALS, B_LIGHT_TRI, B_LIGHT_CDF,
        B_LIGHT_PDF, B_SCENE_COUNT };
 /* Per-wave state (one entry per item) and the film. */
-enum { W_FILM, W_RAY_O, W_RAY_D, W_HIT, W_BETA, W_RADIANCE, W_DEPTH, W_SHADOW_O, W_SHADOW_D,
+enum { W_FILM, W_SAMPLE_ID, W_RAY_O, W_RAY_D, W_HIT, W_BETA, W_RADIANCE, W_DEPTH, W_SHADOW_O, W_SHADOW_D,
        W_SHADOW_L, W_ACCUM, W_COUNTS, W_STATS, W_IMAGE, W_COUNT };
 
 struct st_renderer {
@@ -47,6 +48,9 @@ struct st_renderer {
     float light_power;
     float ray_eps;
     double bvh_seconds;
+    /* the tile of the tiled samplers, kept for renders with the same key */
+    cl_mem tile;
+    st_u32 tile_sampler, tile_spp, tile_seed, tile_size, tile_points;
 };
 
 static double now_seconds(void)
@@ -98,10 +102,8 @@ st_status st_render_check(const st_render_options *o, st_error *err)
         (o->sample_end ? o->sample_end : o->spp) > o->spp)
         return st_fail(err, ST_ERR_USAGE, "--sample-range %u:%u: must satisfy 0 <= K < M <= spp (%u)",
                        o->sample_begin, o->sample_end, o->spp);
-    if (o->sampler >= ST_SAMPLER_COUNT || o->sampler == ST_SAMPLER_POISSON ||
-        o->sampler == ST_SAMPLER_BEST_CANDIDATE)
-        return st_fail(err, ST_ERR_USAGE, "sampler %u is not available in the renderer yet",
-                       o->sampler);
+    if (o->sampler >= ST_SAMPLER_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "unknown sampler %u", o->sampler);
     if (o->sampler == ST_SAMPLER_HALTON) {
         st_params p;
         memset(&p, 0, sizeof p);
@@ -273,6 +275,7 @@ void st_renderer_destroy(st_renderer *r)
         return;
     for (int b = 0; b < B_SCENE_COUNT; b++)
         st_device_buffer_destroy(r->scene_buf[b]);
+    st_device_buffer_destroy(r->tile);
     free(r);
 }
 
@@ -304,7 +307,7 @@ typedef struct wave_state {
 } wave_state;
 
 static size_t wave_item_bytes[W_COUNT] = {
-    sizeof(float) * 2, sizeof(float) * 4, sizeof(float) * 4, sizeof(float) * 4,
+    sizeof(float) * 2, sizeof(st_u32) * 2, sizeof(float) * 4, sizeof(float) * 4, sizeof(float) * 4,
     sizeof(float) * 4, sizeof(float) * 4, sizeof(st_u32), sizeof(float) * 4,
     sizeof(float) * 4, sizeof(float) * 4};
 
@@ -345,7 +348,8 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
     cl_kernel kk = r->k[k];
     switch (k) {
     case ST_STAGE_GENERATE:
-        return st_device_set_args(kk, err, 2, PARAMS(*p), MEM(b[W_FILM]));
+        return st_device_set_args(kk, err, 4, PARAMS(*p), MEM(r->tile), MEM(b[W_FILM]),
+                                  MEM(b[W_SAMPLE_ID]));
     case ST_STAGE_CAMERA:
         return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_RAY_O]),
                                   MEM(b[W_RAY_D]), MEM(b[W_BETA]), MEM(b[W_RADIANCE]),
@@ -356,9 +360,9 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
                                   MEM(b[W_HIT]));
     case ST_STAGE_SHADE:
         return st_device_set_args(
-            kk, err, 17, PARAMS(*p), MEM(s[B_TRIS]), MEM(s[B_NORMALS]), MEM(s[B_TRI_MATERIAL]),
+            kk, err, 18, PARAMS(*p), MEM(s[B_TRIS]), MEM(s[B_NORMALS]), MEM(s[B_TRI_MATERIAL]),
             MEM(s[B_MATERIALS]), MEM(s[B_LIGHT_TRI]), MEM(s[B_LIGHT_CDF]), MEM(s[B_LIGHT_PDF]),
-            MEM(b[W_HIT]), MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_BETA]),
+            MEM(b[W_SAMPLE_ID]), MEM(b[W_HIT]), MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_BETA]),
             MEM(b[W_RADIANCE]), MEM(b[W_DEPTH]), MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]),
             MEM(b[W_SHADOW_L]));
     case ST_STAGE_SHADOW:
@@ -391,6 +395,46 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, wave_state
         st->stage_seconds[k] += now_seconds() - t0;
     }
     return ST_OK;
+}
+
+/* Side of the tile in pixels for the tiled samplers: about 2^14 points, at
+ * most 64 x 64 pixels (Bridson makes 2^14 points in milliseconds; the
+ * best-candidate cost grows with the count, see st_sampling.h). */
+static st_u32 tile_side(st_u32 spp)
+{
+    st_u32 t = (st_u32)sqrt(16384.0 / spp);
+    return t < 1u ? 1u : t > 64u ? 64u : t;
+}
+
+/* Makes (or reuses) the tile of a tiled sampler: points in pixels within
+ * [0, T)^2, uploaded once. */
+static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_error *err)
+{
+    int tiled = ST_SAMPLER_IS_TILED(o->sampler);
+    if (r->tile && (!tiled || (r->tile_sampler == o->sampler && r->tile_spp == o->spp &&
+                               r->tile_seed == o->seed)))
+        return ST_OK;
+    st_device_buffer_destroy(r->tile);
+    r->tile = NULL;
+    if (!tiled) /* kernels take the argument anyway */
+        return st_device_buffer_create(r->dev, 16, NULL, &r->tile, err);
+    st_u32 side = tile_side(o->spp), target = side * side * o->spp, count = target;
+    float *pts = NULL;
+    st_status rc = o->sampler == ST_SAMPLER_POISSON
+                       ? st_sampling_poisson_tile(target, o->seed, &pts, &count, NULL, err)
+                       : st_sampling_best_candidate_tile(target, o->seed, &pts, err);
+    if (rc != ST_OK)
+        return rc;
+    for (st_u32 i = 0; i < 2 * count; i++)
+        pts[i] *= (float)side;
+    rc = st_device_buffer_create(r->dev, sizeof(float) * 2 * count, pts, &r->tile, err);
+    free(pts);
+    r->tile_sampler = o->sampler;
+    r->tile_spp = o->spp;
+    r->tile_seed = o->seed;
+    r->tile_size = side;
+    r->tile_points = count;
+    return rc;
 }
 
 static st_params make_params(const st_renderer *r, const st_render_options *o)
@@ -500,13 +544,25 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (st_render_check(o, err) != ST_OK)
         return err->status;
     size_t pixels = (size_t)o->width * o->height;
+    if (prepare_tile(r, o, err) != ST_OK)
+        return err->status;
+    st_params p = make_params(r, o);
     st_u32 end = o->sample_end ? o->sample_end : o->spp;
     st_u64 first = (st_u64)o->sample_begin * pixels;
     st_u64 total = (st_u64)(end - o->sample_begin) * pixels;
+    if (ST_SAMPLER_IS_TILED(o->sampler)) {
+        /* sample range K:M of spp reads tile points [K N / spp, M N / spp) */
+        st_u32 side = r->tile_size, n = r->tile_points;
+        p.tile_size = side;
+        p.tiles_x = (o->width + side - 1) / side;
+        p.tile_begin = (st_u32)((st_u64)o->sample_begin * n / o->spp);
+        p.tile_count = (st_u32)((st_u64)end * n / o->spp) - p.tile_begin;
+        first = 0;
+        total = (st_u64)p.tiles_x * ((o->height + side - 1) / side) * p.tile_count;
+    }
     size_t wave = o->wave ? o->wave : (size_t)1 << 18;
     if (wave > total)
         wave = (size_t)total;
-    st_params p = make_params(r, o);
     wave_state w;
     double t0 = now_seconds();
     st_status rc = wave_alloc(r, &w, wave, pixels, err);

@@ -1,0 +1,129 @@
+/* st_sampling.h — the host side of the sampling laboratory: toroidal tiles of
+ * Poisson-disk and best-candidate points (uploaded once to the device by the
+ * renderer), the star and L2-star discrepancy of a point set, and its Fourier
+ * periodogram. The per-sample sampler functions that the kernels run (radical
+ * inverse, Halton, Hammersley, Sobol, ...) live in the shared kernel headers,
+ * not here.
+ *
+ * Conventions
+ *   - Points are float x,y pairs in [0,1)^2 unless a stride says otherwise.
+ *   - Tiles are toroidal: every distance is measured on the unit torus,
+ *     d(p,q)^2 = sum_k min(|p_k-q_k|, 1-|p_k-q_k|)^2, so a tile repeated on a
+ *     grid stays a valid pattern across its seams.
+ *   - Tile generators are deterministic: the same (count, seed) gives the same
+ *     points, bit for bit, on every host. Their random numbers come from
+ *     splitmix64 (Steele, Lea, Flood, "Fast Splittable Pseudorandom Number
+ *     Generators", OOPSLA 2014); no global state, thread-safe.
+ *   - Ownership: arrays returned through `float **points` are allocated here
+ *     with malloc and freed by the caller with free(). On failure *points is
+ *     NULL and nothing needs freeing. Input arrays are borrowed for the call.
+ *   - Errors: ST_ERR_USAGE (bad argument, message names it), ST_ERR_NOMEM.
+ *     Nothing here prints.
+ *
+ * Tests: tests/test_sampling.c (poisson_*, best_candidate_*, star_discrepancy_*,
+ * l2_star_*, spectrum_*). */
+#ifndef ST_SAMPLING_HOST_H /* kernels/ may hold a shared header of the same file name */
+#define ST_SAMPLING_HOST_H
+
+#include "st_error.h"
+#include "st_shared.h"
+
+/* Largest tiles accepted: 2^22 Poisson points (~0.2 GiB of work memory, a few
+ * seconds); 2^20 best-candidate points (~minutes: see the cost note below). */
+#define ST_POISSON_MAX_COUNT 4194304u
+#define ST_BEST_CANDIDATE_MAX_COUNT 1048576u
+
+/* Poisson-disk packing used to pick the first radius: a Bridson tile with
+ * k = 30 on the unit torus holds N ~= ST_POISSON_PACKING / r^2 points
+ * (measured: 0.680..0.690 for N = 1k..1M). For scale, hexagonal packing, the
+ * densest possible, holds 2/sqrt(3) / r^2 = 1.1547 / r^2. */
+#define ST_POISSON_PACKING 0.615
+#define ST_POISSON_K 30u /* candidates per active point (Bridson 2007) */
+
+/* Best-candidate: point n (0-based) is the best of
+ * m(n) = min(max(1, ST_BEST_CANDIDATE_K * n), ST_BEST_CANDIDATE_MAX_M)
+ * uniform candidates. */
+#define ST_BEST_CANDIDATE_K 1u
+#define ST_BEST_CANDIDATE_MAX_M 1024u
+
+/* Poisson-disk tile on the unit torus by Bridson's algorithm (R. Bridson, "Fast
+ * Poisson Disk Sampling in Arbitrary Dimensions", SIGGRAPH 2007 sketch): a
+ * background grid of cells no wider than r/sqrt(2) (at most one point each),
+ * an active list, and k = ST_POISSON_K candidates drawn uniformly from the
+ * annulus r <= d < 2r around a random active point; a candidate closer than r
+ * (toroidally) to any point is rejected, and an active point with k failures
+ * retires. The run ends when the active list is empty.
+ * The radius comes from target_count: r = sqrt(ST_POISSON_PACKING / target),
+ * then up to 6 further runs rescale r by sqrt(count / target) until the count
+ * is within 1% of the target (keeping the closest run). Counts land within 2%
+ * for targets >= 256; tiny targets can miss further (a handful of disks on a
+ * torus cannot match any count).
+ * Outputs: *points = 2 * *count floats (x,y pairs in [0,1)), malloc'ed, free()
+ * by the caller; *count the number of points; *radius the radius r used:
+ * every pair of points is at toroidal distance >= r. radius may be NULL.
+ * Errors: ST_ERR_USAGE for target_count 0 or > ST_POISSON_MAX_COUNT or NULL
+ * outputs, ST_ERR_NOMEM. */
+st_status st_sampling_poisson_tile(st_u32 target_count, st_u32 seed, float **points,
+                                   st_u32 *count, float *radius, st_error *err);
+
+/* Best-candidate tile on the unit torus (D. P. Mitchell, "Spectrally Optimal
+ * Sampling for Distribution Ray Tracing", SIGGRAPH 1991): point n is, among
+ * m(n) uniform candidates (see ST_BEST_CANDIDATE_K above), the one whose
+ * toroidal distance to the nearest of points 0..n-1 is largest (the first
+ * candidate wins ties). Nearest-point queries go through a uniform grid that is
+ * refined as points arrive (about 2 points per cell) and stop early once a
+ * candidate cannot beat the best so far, so the result equals the brute-force
+ * definition exactly. Every prefix of the output is itself a best-candidate
+ * pattern. Cost: about count * min(count, ST_BEST_CANDIDATE_MAX_M) candidate
+ * queries.
+ * Random stream: splitmix64 seeded with seed; each candidate draws x then y,
+ * each the top 24 bits of one output times 2^-24.
+ * Outputs: *points = 2 * count floats (x,y pairs in [0,1)), malloc'ed, free()
+ * by the caller. Errors: ST_ERR_USAGE for count 0 or > ST_BEST_CANDIDATE_MAX_COUNT or
+ * NULL points, ST_ERR_NOMEM. */
+st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **points,
+                                          st_error *err);
+
+/* Exact star discrepancy of n points (x,y pairs, in [0,1)^2), the lecture's
+ *   D*_N = sup over a,b in [0,1] of | #{x_i in [0,a)x[0,b)} / N - a*b |,
+ * with closed boxes [0,a]x[0,b] included as limits of open ones. The sup is
+ * attained at critical corners: the excess #/N - ab at closed boxes with a, b
+ * point coordinates; the deficit ab - #/N at open boxes with a in {x_i} u {1},
+ * b in {y_i} u {1}. O(N^2) time, O(N) memory. Returns NaN for n == 0,
+ * pts == NULL, or when its O(N) scratch memory cannot be allocated. */
+double st_star_discrepancy_2d(const float *pts, st_u32 n);
+
+/* L2-star discrepancy T_N of n points of `dims` floats each, in [0,1)^dims,
+ * by Warnock's formula (T. T. Warnock, "Computational investigations of
+ * low-discrepancy point sets", in Applications of Number Theory to Numerical
+ * Analysis, 1972):
+ *   T_N^2 = 3^-d - (2^(1-d)/N) sum_i prod_k (1 - x_ik^2)
+ *         + (1/N^2) sum_i sum_j prod_k (1 - max(x_ik, x_jk)),
+ * which equals the integral over t in [0,1]^d of (#{x_i in [0,t)}/N - vol)^2.
+ * O(N^2 d). Returns T_N (>= 0); NaN for n == 0, dims == 0 or pts == NULL. */
+double st_l2_star_discrepancy(const float *pts, st_u32 n, st_u32 dims);
+
+/* Largest kmax accepted by st_spectrum_periodogram. */
+#define ST_SPECTRUM_KMAX_MAX 1024u /* work memory 16 (kmax+1)(2kmax+1) bytes */
+
+/* Periodogram of n points: for integer k in [-kmax,kmax]^2,
+ *   P(k) = |sum_j exp(-2 pi i k . x_j)|^2 / N,
+ * ADDED (+=) to power[(ky + kmax) * (2kmax+1) + (kx + kmax)], so k = (0,0)
+ * is the centre and callers can average over seeds (zero it first). Point j's
+ * coordinates are pts[j*stride], pts[j*stride+1]. Exact direct sum in double:
+ * per point, exp(-2 pi i k x) for all k comes from one sin/cos and a complex
+ * recurrence (relative error ~ kmax * 1e-16); P(-k) = P(k) halves the work.
+ * Cost n * (kmax+1) * (2kmax+1) complex multiply-adds. (An FFT is not used: the
+ * points are not on a grid, and gridding them would not be exact.)
+ * Errors: ST_ERR_USAGE for NULL pointers, n == 0, stride < 2,
+ * kmax > ST_SPECTRUM_KMAX_MAX; ST_ERR_NOMEM. */
+st_status st_spectrum_periodogram(const float *pts, st_u32 n, st_u32 stride, st_u32 kmax,
+                                  double *power, st_error *err);
+
+/* Radial average of a centred (2kmax+1)^2 periodogram: bin b (0..kmax) is the
+ * mean of P(k) over the k with round(|k|) == b, counts[b] their number.
+ * Frequencies with round(|k|) > kmax (the corners) are left out. radial[] and
+ * counts[] (both required) are overwritten, kmax+1 entries each. */
+void st_spectrum_radial(const double *power, st_u32 kmax, double *radial, st_u32 *counts);
+
+#endif
