@@ -10,6 +10,7 @@ int st_cli_render(int argc, char **argv);
 int st_cli_bench(int argc, char **argv);
 int st_cli_devices(int argc, char **argv);
 int st_cli_diff(int argc, char **argv);
+int st_cli_pattern(int argc, char **argv);
 
 /* Prints "strata: error: MSG" and returns the exit status for err. */
 struct st_error;

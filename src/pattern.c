@@ -1,0 +1,81 @@
+/* pattern.c — point sets for the laboratory (see st_pattern.h). */
+#include "st_pattern.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "rng.h"
+#include "samplers.h"
+#include "st_sampling.h"
+
+int st_pattern_is_random(st_u32 sampler, st_u32 scramble)
+{
+    if (sampler == ST_SAMPLER_UNIFORM)
+        return 0;
+    if (sampler == ST_SAMPLER_HALTON || sampler == ST_SAMPLER_HAMMERSLEY ||
+        sampler == ST_SAMPLER_SOBOL)
+        return scramble != 0;
+    return 1;
+}
+
+/* Tiled samplers: the tile itself; dimensions past 2 as the renderer draws
+ * them (the counter-based hash of the point's sample id). */
+static st_status tiled(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
+                       float **points, st_u32 *n, st_error *err)
+{
+    float *tile = NULL;
+    *n = count;
+    st_status rc = sampler == ST_SAMPLER_POISSON
+                       ? st_sampling_poisson_tile(count, seed, &tile, n, NULL, err)
+                       : st_sampling_best_candidate_tile(count, seed, &tile, err);
+    if (rc != ST_OK)
+        return rc;
+    float *pts = malloc(sizeof(float) * (size_t)*n * dims);
+    if (!pts) {
+        free(tile);
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for %u points", *n);
+    }
+    for (st_u32 i = 0; i < *n; i++) {
+        st_u32 key = st_rng_key(seed, 0u, i);
+        for (st_u32 d = 0; d < dims; d++)
+            pts[(size_t)i * dims + d] = d < 2u ? tile[2 * i + d] : st_rng_unit(key, d);
+    }
+    free(tile);
+    *points = pts;
+    return ST_OK;
+}
+
+st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
+                          st_u32 scramble, float **points, st_u32 *out_count, st_error *err)
+{
+    *points = NULL;
+    *out_count = 0;
+    if (sampler >= ST_SAMPLER_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "unknown sampler %u", sampler);
+    if (count < 1 || count > ST_PATTERN_MAX_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "--count %u: must be in 1..%u", count,
+                       ST_PATTERN_MAX_COUNT);
+    if (dims < 1 || dims > ST_PATTERN_MAX_DIMS)
+        return st_fail(err, ST_ERR_USAGE, "--dims %u: must be in 1..%u", dims, ST_PATTERN_MAX_DIMS);
+    if (ST_SAMPLER_IS_TILED(sampler))
+        return tiled(sampler, count, dims, seed, points, out_count, err);
+    st_params p;
+    memset(&p, 0, sizeof p);
+    p.width = p.height = 1;
+    p.spp = count;
+    p.seed = seed;
+    p.sampler = sampler;
+    p.scramble = scramble;
+    st_sampler_prepare(&p);
+    float *pts = malloc(sizeof(float) * (size_t)count * dims);
+    if (!pts)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for %u points", count);
+    for (st_u32 i = 0; i < count; i++) {
+        st_sample_id id = st_sample_begin(&p, 0u, 0u, i);
+        for (st_u32 d = 0; d < dims; d++)
+            pts[(size_t)i * dims + d] = st_sample_dim(&p, &id, d);
+    }
+    *points = pts;
+    *out_count = count;
+    return ST_OK;
+}
