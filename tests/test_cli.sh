@@ -69,4 +69,20 @@ $S render --scene-list > "$T/list"
 check "scene list names the built-in scenes" 'grep -q "^cornell-box$" "$T/list"'
 $S render --help > "$T/help"
 check "render --help documents --max-depth" 'grep -q -- "--max-depth" "$T/help"'
+
+# strata pattern
+$S pattern --sampler halton --scramble none --count 1000 --dims 3 --csv "$T/h.csv" > /dev/null 2>&1
+check "pattern writes one line per point" '[ "$(wc -l < "$T/h.csv")" -eq 1000 ]'
+check "halton point 1 is (1/2, 1/3, 1/5) as floats" '[ "$(sed -n 2p "$T/h.csv")" = "0.5,0.333333313,0.199999988" ]'
+$S pattern --sampler hammersley --scramble none --count 256 --discrepancy > "$T/d256"
+check "unscrambled Hammersley D*_256 = 0.016052 (closed form)" 'grep -q "^star discrepancy (exact, 2-D): 0.01605" "$T/d256"'
+$S pattern --sampler hammersley --scramble none --count 1024 --discrepancy > "$T/d1024"
+check "unscrambled Hammersley D*_1024 = 0.004665 (closed form)" 'grep -q "^star discrepancy (exact, 2-D): 0.00466[45]" "$T/d1024"'
+check "discrepancy output labels the L2-star value" 'grep -q "^L2-star discrepancy (Warnock, 2-D): " "$T/d1024"'
+$S pattern --sampler poisson --count 256 --png "$T/p.png" --spectrum "$T/s.png" --radial "$T/r.csv" --seeds 2
+check "pattern writes scatter and spectrum PNGs" '[ -s "$T/p.png" ] && [ -s "$T/s.png" ]'
+check "radial power CSV has a header and kmax+1 = 33 rows" '[ "$(head -1 "$T/r.csv")" = "frequency,power,count" ] && [ "$(wc -l < "$T/r.csv")" -eq 34 ]'
+expect "pattern without --count exits 2" 2 "--sampler and --count are required" $S pattern --sampler halton --csv -
+expect "pattern with an unknown sampler exits 2" 2 "--sampler dart: unknown" $S pattern --sampler dart --count 4 --csv -
+expect "pattern into a missing folder exits 1" 1 "^strata: error: $T/nope/p.csv: cannot create" $S pattern --sampler random --count 4 --csv "$T/nope/p.csv"
 echo "1..$n"
