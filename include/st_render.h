@@ -79,4 +79,11 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err);
 
+/* Resolves raw sums (4 per pixel, as st_render returns them) on the device
+ * with the render's own resolve_film kernel, so a merged split render equals
+ * one render of all the samples bit for bit. *out: R, G, B, W as st_render;
+ * stats (may be NULL) gets the zero-weight and non-finite counts. */
+st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st_u32 height,
+                            st_image *out, st_render_stats *stats, st_error *err);
+
 #endif

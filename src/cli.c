@@ -39,6 +39,9 @@ static const char main_help[] =
     "  render [SCENE] -o OUT.exr|OUT.png   render a glTF scene (default: cornell-box)\n"
     "  bench [SCENE] [--json]              per-stage throughput of a render\n"
     "  pattern --sampler NAME --count N    sample points, scatter plot, spectrum, discrepancy\n"
+    "  filter NAME [--csv F] [--png F]     a filter's profile and frequency response\n"
+    "  signal [options]                    1-D sampling and reconstruction laboratory\n"
+    "  merge PART.exr... -o OUT.exr        add split renders (--sample-range) into one image\n"
     "  diff A B [--max-rmse X]             compare two images (RMSE, PSNR, max difference)\n"
     "  devices                             list the OpenCL devices\n";
 
@@ -50,7 +53,8 @@ int st_cli_main(int argc, char **argv)
     }
     static const struct { const char *name; int (*run)(int, char **); } cmds[] = {
         {"render", st_cli_render}, {"bench", st_cli_bench},
-        {"devices", st_cli_devices}, {"diff", st_cli_diff}, {"pattern", st_cli_pattern}};
+        {"devices", st_cli_devices}, {"diff", st_cli_diff}, {"pattern", st_cli_pattern},
+        {"filter", st_cli_filter}, {"merge", st_cli_merge}};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (!strcmp(argv[1], cmds[i].name))
             return cmds[i].run(argc - 1, argv + 1);

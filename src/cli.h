@@ -11,6 +11,9 @@ int st_cli_bench(int argc, char **argv);
 int st_cli_devices(int argc, char **argv);
 int st_cli_diff(int argc, char **argv);
 int st_cli_pattern(int argc, char **argv);
+int st_cli_signal(int argc, char **argv);
+int st_cli_filter(int argc, char **argv);
+int st_cli_merge(int argc, char **argv);
 
 /* Prints "strata: error: MSG" and returns the exit status for err. */
 struct st_error;

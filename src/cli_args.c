@@ -104,12 +104,7 @@ static int parse_name(const char *opt, const char *const *names, int count, cons
     return ST_CLI_OK;
 }
 
-/* Filter parameters given on the command line, applied after --filter. */
-typedef struct filter_args {
-    const char *radius, *b, *c, *sigma, *tau;
-} filter_args;
-
-static int apply_filter_args(const filter_args *fa, st_filter *f)
+int st_cli_apply_filter_args(const st_cli_filter_args *fa, st_filter *f)
 {
     st_u32 k = f->kind;
     const char *name = st_filter_names[k];
@@ -131,7 +126,8 @@ static int apply_filter_args(const filter_args *fa, st_filter *f)
     return ST_CLI_OK;
 }
 
-static int parse_one(int c, const char *v, int bench, st_cli_render_args *a, filter_args *fa)
+static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
+                     st_cli_filter_args *fa)
 {
     st_render_options *o = &a->opt;
     switch (c) {
@@ -193,7 +189,7 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
 {
     memset(a, 0, sizeof *a);
     a->opt = st_render_defaults();
-    filter_args fa = {0};
+    st_cli_filter_args fa = {0};
     opterr = 0;
     optind = 1;
     int c;
@@ -216,7 +212,7 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         a->scene = argv[optind++];
     if (optind < argc)
         return st_cli_usage_error("%s: unexpected argument %s", argv[0], argv[optind]);
-    if (apply_filter_args(&fa, &a->opt.filter))
+    if (st_cli_apply_filter_args(&fa, &a->opt.filter))
         return ST_CLI_EXIT_USAGE;
     st_error err = {0};
     if (st_render_check(&a->opt, &err) != ST_OK)

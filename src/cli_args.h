@@ -22,6 +22,14 @@ enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP =
  * Returns ST_CLI_OK, ST_CLI_HELP (help printed) or ST_CLI_EXIT_USAGE. */
 int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_args *a);
 
+/* Filter parameters as given on a command line (NULL: not given), checked
+ * against the filter kind already in *f (a parameter the filter does not
+ * take is a usage error) and applied over its defaults. */
+typedef struct st_cli_filter_args {
+    const char *radius, *b, *c, *sigma, *tau;
+} st_cli_filter_args;
+int st_cli_apply_filter_args(const st_cli_filter_args *fa, st_filter *f);
+
 /* Strict numbers: the whole string must parse; else a usage error naming opt. */
 int st_cli_parse_u32(const char *opt, const char *s, unsigned lo, unsigned hi, unsigned *out);
 int st_cli_parse_float(const char *opt, const char *s, float *out);

@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "cli_run.h"
+#include "st_film.h"
 
 double st_cli_now(void)
 {
@@ -57,14 +58,14 @@ void st_cli_session_close(st_cli_session *s)
     memset(s, 0, sizeof *s);
 }
 
-static int has_extension(const char *path, const char *ext)
+int st_cli_has_extension(const char *path, const char *ext)
 {
     size_t n = strlen(path), k = strlen(ext);
     return n > k && !strcasecmp(path + n - k, ext);
 }
 
-/* The render's settings, as EXR header attributes. */
-static int render_attrs(const st_cli_render_args *a, const st_cli_session *s,
+/* The render's settings, as EXR header attributes (at most ST_CLI_MAX_ATTRS). */
+int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                         const st_render_stats *st, st_attr *attrs)
 {
     const st_render_options *o = &a->opt;
@@ -98,8 +99,7 @@ static int render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     return n;
 }
 
-/* The R, G, B channels of a render (its W channel dropped). */
-static st_status rgb_of(const st_image *in, st_image *out, st_error *err)
+st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
 {
     const char *names[3] = {"R", "G", "B"};
     if (st_image_create(out, in->width, in->height, 3, names, err) != ST_OK)
@@ -134,26 +134,34 @@ int st_cli_render(int argc, char **argv)
         return 0;
     }
     const char *out = a.output ? a.output : "strata.exr";
-    if (!has_extension(out, ".exr") && !has_extension(out, ".png"))
+    int part = a.opt.sample_begin != 0 || a.opt.sample_end != 0;
+    if (!st_cli_has_extension(out, ".exr") && !st_cli_has_extension(out, ".png"))
         return st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
+    if (part && !st_cli_has_extension(out, ".exr"))
+        return st_cli_usage_error("-o %s: a split render (--sample-range) writes its raw film "
+                                  "to an EXR, for strata merge", out);
     st_error err = {0};
     st_cli_session s;
     st_image img = {0}, rgb = {0};
     st_render_stats st;
     st_cli_progress_state prog;
     st_cli_progress_init(&prog, "render", a.quiet);
+    st_i64 *sums = NULL;
     if (st_cli_session_open(&a, &s, &err) ||
-        st_render(s.renderer, &a.opt, &img, NULL, &st, st_cli_progress, &prog, &err) ||
-        rgb_of(&img, &rgb, &err)) {
+        st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st, st_cli_progress, &prog,
+                  &err) ||
+        (part ? st_film_to_image(sums, a.opt.width, a.opt.height, &rgb, &err)
+              : st_cli_rgb_of(&img, &rgb, &err))) {
         rc = st_cli_session_fail(&s, &err);
     } else {
-        st_attr attrs[24];
-        int nattrs = render_attrs(&a, &s, &st, attrs);
+        st_attr attrs[ST_CLI_MAX_ATTRS];
+        int nattrs = st_cli_render_attrs(&a, &s, &st, attrs);
         if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK)
             rc = st_cli_fail(&err);
         else if (!a.quiet)
             st_cli_print_summary("rendered", &a.opt, &st);
     }
+    free(sums);
     st_image_free(&img);
     st_image_free(&rgb);
     st_cli_session_close(&s);

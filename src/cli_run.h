@@ -31,6 +31,15 @@ void st_cli_session_close(st_cli_session *s);
 /* Prints the error (and a kernel build's compiler log); returns the exit status. */
 int st_cli_session_fail(const st_cli_session *s, const st_error *err);
 
+/* The render's settings as "strata.*" EXR attributes; returns the count. */
+#define ST_CLI_MAX_ATTRS 24
+int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
+                        const st_render_stats *st, st_attr *attrs);
+/* The R, G, B channels of a render (its W channel dropped). */
+st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err);
+/* Whether path ends in ext, ignoring case. */
+int st_cli_has_extension(const char *path, const char *ext);
+
 /* Prints the built-in scene names, one per line. */
 void st_cli_print_scene_list(void);
 

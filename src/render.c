@@ -532,6 +532,41 @@ done:
     return rc;
 }
 
+st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st_u32 height,
+                            st_image *out, st_render_stats *stats, st_error *err)
+{
+    size_t pixels = (size_t)width * height;
+    const char *names[4] = {"R", "G", "B", "W"};
+    st_params p;
+    memset(&p, 0, sizeof p);
+    p.width = width;
+    p.height = height;
+    cl_mem accum = NULL, image = NULL, st = NULL;
+    cl_kernel k;
+    st_u32 counts[ST_STAT_COUNT];
+    st_status rc = ST_OK;
+    if (st_device_build(dev, NULL, err) ||
+        st_device_kernel(dev, st_stage_names[ST_STAGE_RESOLVE], &k, err) ||
+        st_device_buffer_create(dev, pixels * 4 * sizeof(st_i64), sums, &accum, err) ||
+        st_device_buffer_create(dev, pixels * 4 * sizeof(float), NULL, &image, err) ||
+        st_device_buffer_create(dev, sizeof counts, NULL, &st, err) ||
+        st_device_buffer_zero(dev, st, sizeof counts, err) ||
+        st_device_set_args(k, err, 4, PARAMS(p), MEM(accum), MEM(image), MEM(st)) ||
+        st_device_launch(dev, k, pixels, 0, err) ||
+        st_image_create(out, width, height, 4, names, err) ||
+        st_device_buffer_read(dev, image, pixels * 4 * sizeof(float), out->data, err) ||
+        st_device_buffer_read(dev, st, sizeof counts, counts, err))
+        rc = err->status;
+    if (rc == ST_OK && stats) {
+        stats->zero_weight = counts[ST_STAT_ZERO_WEIGHT];
+        stats->nonfinite = counts[ST_STAT_NONFINITE];
+    }
+    st_device_buffer_destroy(accum);
+    st_device_buffer_destroy(image);
+    st_device_buffer_destroy(st);
+    return rc;
+}
+
 st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err)

@@ -1,0 +1,52 @@
+/* film.c — raw film sums to and from images (see st_film.h). */
+#include "st_film.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+static const char *const names[ST_FILM_CHANNELS] = {
+    "sum.R.hi", "sum.R.lo", "sum.G.hi", "sum.G.lo", "sum.B.hi", "sum.B.lo", "sum.W.hi", "sum.W.lo"};
+
+st_status st_film_to_image(const st_i64 *sums, st_u32 width, st_u32 height, st_image *out,
+                           st_error *err)
+{
+    if (st_image_create(out, width, height, ST_FILM_CHANNELS, names, err) != ST_OK)
+        return err->status;
+    for (int c = 0; c < ST_FILM_CHANNELS; c++)
+        out->types[c] = ST_PIXEL_UINT;
+    size_t n = (size_t)width * height;
+    for (size_t i = 0; i < n; i++)
+        for (int s = 0; s < 4; s++) {
+            st_u64 v = (st_u64)sums[4 * i + s];
+            out->udata[ST_FILM_CHANNELS * i + 2 * s] = (st_u32)(v >> 32);
+            out->udata[ST_FILM_CHANNELS * i + 2 * s + 1] = (st_u32)v;
+        }
+    return ST_OK;
+}
+
+st_status st_film_from_image(const st_image *img, const char *path, st_i64 **sums,
+                             st_error *err)
+{
+    int at[ST_FILM_CHANNELS];
+    *sums = NULL;
+    for (int c = 0; c < ST_FILM_CHANNELS; c++) {
+        at[c] = st_image_find_channel(img, names[c]);
+        if (at[c] < 0 || img->types[at[c]] != ST_PIXEL_UINT)
+            return st_fail(err, ST_ERR_FORMAT,
+                           "%s: no UINT channel %s: not the raw film of a split render "
+                           "(render with --sample-range)",
+                           path, names[c]);
+    }
+    size_t n = (size_t)img->width * img->height;
+    st_i64 *s = malloc(sizeof *s * 4 * (n ? n : 1));
+    if (!s)
+        return st_fail(err, ST_ERR_NOMEM, "%s: out of memory", path);
+    for (size_t i = 0; i < n; i++)
+        for (int k = 0; k < 4; k++) {
+            st_u64 hi = img->udata[img->channels * i + at[2 * k]];
+            st_u64 lo = img->udata[img->channels * i + at[2 * k + 1]];
+            s[4 * i + k] = (st_i64)(hi << 32 | lo);
+        }
+    *sums = s;
+    return ST_OK;
+}
