@@ -29,6 +29,7 @@ typedef struct st_render_options {
     st_u32 integrator; /* ST_INTEGRATOR_* */
     st_u32 max_depth;
     st_filter filter;
+    st_u32 reconstruction; /* ST_RECON_SPLAT or ST_RECON_FIS */
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
@@ -39,6 +40,7 @@ typedef struct st_render_options {
 extern const char *const st_sampler_names[ST_SAMPLER_COUNT];
 extern const char *const st_filter_names[ST_FILTER_COUNT];
 extern const char *const st_integrator_names[2];
+extern const char *const st_reconstruction_names[2];
 int st_name_lookup(const char *const *names, int count, const char *name);
 
 /* The defaults of `strata render`. */

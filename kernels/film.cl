@@ -30,18 +30,18 @@ static int2 taps(float x, float r, st_u32 n)
  * per pixel: Σ f L for R, G, B and Σ f) and to counts (per pixel: splats
  * received; closest and shadow rays traced by the samples in the pixel). */
 __kernel void splat_samples(const st_params p, __global const float2 *film,
-                            __global const float4 *radiance, __global long *accum,
-                            __global uint *counts, __global uint *stats)
+                            __global const uint2 *sample_id, __global const float4 *radiance,
+                            __global long *accum, __global uint *counts, __global uint *stats)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
         return;
     float2 f = film[i];
-    if (!(f.x < (float)p.width && f.y < (float)p.height))
+    if (ST_SAMPLER_IS_TILED(p.sampler) && !(f.x < (float)p.width && f.y < (float)p.height))
         return; /* a tile point outside the image (generate.cl) */
     float4 rad = radiance[i];
     float3 L = rad.xyz;
-    st_u32 own = min((st_u32)f.y, p.height - 1u) * p.width + min((st_u32)f.x, p.width - 1u);
+    st_u32 own = sample_id[i].x;
     st_u32 rays = (st_u32)rad.w;
     atomic_add(&counts[ST_COUNTS_PER_PIXEL * (size_t)own + 1], rays & 0xffffu);
     atomic_add(&counts[ST_COUNTS_PER_PIXEL * (size_t)own + 2], rays >> 16);
@@ -50,11 +50,28 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
         L = (float3)(0.0f);
     }
     st_filter flt = p.filter;
+    st_u32 clamped = 0u;
+    if (p.reconstruction == ST_RECON_FIS) {
+        /* the offset was drawn from |f|: weight f / pdf = sign(f) x ∫|f|, and
+         * the constant cancels in Σ w L / Σ w */
+        st_u32 px = sample_id[i].x % p.width, py = sample_id[i].x / p.width;
+        float w = st_filter_eval_1d(&flt, f.x - (float)px - 0.5f) *
+                  st_filter_eval_1d(&flt, f.y - (float)py - 0.5f);
+        w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
+        __global long *a = accum + 4 * (size_t)sample_id[i].x;
+        atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, &clamped)));
+        atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, &clamped)));
+        atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, &clamped)));
+        atom_add(a + 3, st_fixed_from_float(w));
+        atomic_inc(&counts[ST_COUNTS_PER_PIXEL * (size_t)sample_id[i].x]);
+        if (clamped)
+            count(stats, ST_STAT_CLAMPED);
+        return;
+    }
     int2 xs = taps(f.x, flt.radius, p.width), ys = taps(f.y, flt.radius, p.height);
     float wx[ST_MAX_TAPS];
     for (int x = xs.x; x <= xs.y; x++)
         wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - f.x);
-    st_u32 clamped = 0u;
     for (int y = ys.x; y <= ys.y; y++) {
         float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - f.y);
         for (int x = xs.x; x <= xs.y; x++) {

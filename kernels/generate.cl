@@ -12,10 +12,30 @@
 #include "rng.h"
 #include "samplers.h"
 
+/* Filter importance sampling: the offset x in (-r, r) whose CDF of |f|
+ * (ST_FIS_BINS piecewise-constant bins, cdf[0] = 0, cdf[bins] = 1) is u. */
+static float fis_offset(__global const float *cdf, float r, float u)
+{
+    st_u32 lo = 0, hi = ST_FIS_BINS - 1u; /* the bin i with cdf[i] <= u < cdf[i+1] */
+    while (lo < hi) {
+        st_u32 mid = (lo + hi + 1u) / 2u;
+        if (cdf[mid] <= u)
+            lo = mid;
+        else
+            hi = mid - 1u;
+    }
+    float t = (u - cdf[lo]) / (cdf[lo + 1u] - cdf[lo]);
+    return -r + ((float)lo + t) * (2.0f * r / (float)ST_FIS_BINS);
+}
+
 /* Writes film[i] = the sample's film position in pixels (x right, y down;
- * outside the image for a dropped tile point) and id[i] = (pixel, sample). */
+ * outside the image for a dropped tile point) and id[i] = (pixel, sample).
+ * With filter importance sampling the sampler's two pixel dimensions are
+ * warped through the CDF of |f| (their stratification carries over) into an
+ * offset from the pixel centre. */
 __kernel void generate_samples(const st_params p, __global const float2 *tile,
-                               __global float2 *film, __global uint2 *id)
+                               __global const float *fis_cdf, __global float2 *film,
+                               __global uint2 *id)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
@@ -35,8 +55,12 @@ __kernel void generate_samples(const st_params p, __global const float2 *tile,
     st_u32 pixel = (st_u32)(g % npix), s = (st_u32)(g / npix);
     st_u32 px = pixel % p.width, py = pixel / p.width;
     st_sample_id sid = st_sample_begin(&p, px, py, s);
-    film[i] = (float2)((float)px + st_sample_dim(&p, &sid, 0u),
-                       (float)py + st_sample_dim(&p, &sid, 1u));
+    float u = st_sample_dim(&p, &sid, 0u), v = st_sample_dim(&p, &sid, 1u);
+    if (p.reconstruction == ST_RECON_FIS) {
+        u = 0.5f + fis_offset(fis_cdf, p.filter.radius, u);
+        v = 0.5f + fis_offset(fis_cdf, p.filter.radius, v);
+    }
+    film[i] = (float2)((float)px + u, (float)py + v);
     id[i] = (uint2)(pixel, s);
 }
 
@@ -61,5 +85,6 @@ __kernel void generate_camera_rays(const st_params p, __global const float2 *fil
     ray_d[i] = (float4)(d, 0.0f);
     beta[i] = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
     radiance[i] = (float4)(0.0f);
-    depth[i] = f.x < (float)p.width && f.y < (float)p.height ? 0u : ST_PATH_DEAD;
+    int dropped = ST_SAMPLER_IS_TILED(p.sampler) && !(f.x < (float)p.width && f.y < (float)p.height);
+    depth[i] = dropped ? ST_PATH_DEAD : 0u;
 }

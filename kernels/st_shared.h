@@ -69,6 +69,15 @@ typedef float st_f32;
 /* depth of a path that has ended (film sample still splatted) */
 #define ST_PATH_DEAD 0xffffffffu
 
+/* Reconstruction (render --reconstruction): splat every sample into every
+ * pixel within the filter radius, or filter importance sampling (pbrt-v4):
+ * draw the sample's offset from the pixel centre from |f| and add it, weighted
+ * by the sign of f, to its own pixel only. */
+#define ST_RECON_SPLAT 0u
+#define ST_RECON_FIS 1u
+/* Bins of the tabulated |f| whose CDF the FIS offsets are drawn from. */
+#define ST_FIS_BINS 512u
+
 #define ST_INTEGRATOR_DIRECT 0u
 #define ST_INTEGRATOR_PATH 1u
 
@@ -181,7 +190,8 @@ typedef struct st_params {
      * repeated tiles_x times across; this wave reads points tile_begin ..
      * tile_begin + tile_count - 1 of every repetition (see generate.cl) */
     st_u32 tile_size, tile_begin, tile_count, tiles_x;
-    st_u32 pad[3];
+    st_u32 reconstruction; /* ST_RECON_* */
+    st_u32 pad[2];
     st_filter filter;
     st_camera camera;
 } st_params;

@@ -25,6 +25,9 @@ static const char render_help[] =
     "  --filter-b B, --filter-c C   mitchell's parameters (default 1/3, 1/3)\n"
     "  --filter-sigma S       gaussian's standard deviation (default 0.5)\n"
     "  --filter-tau T         lanczos' window scale (default: the radius)\n"
+    "  --reconstruction splat|fis   splat each sample into every pixel within the filter\n"
+    "                         radius (default), or filter importance sampling: offsets drawn\n"
+    "                         from |f|, each sample in one pixel weighted by the sign of f\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
@@ -38,7 +41,7 @@ static const char render_help[] =
 enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
-    O_SCENE_LIST, O_QUIET, O_JSON
+    O_SCENE_LIST, O_QUIET, O_JSON, O_RECON
 };
 
 static const struct option options[] = {
@@ -61,6 +64,7 @@ static const struct option options[] = {
     {"wave", required_argument, 0, O_WAVE},
     {"local-size", required_argument, 0, O_LOCAL},
     {"scene-list", no_argument, 0, O_SCENE_LIST},
+    {"reconstruction", required_argument, 0, O_RECON},
     {"quiet", no_argument, 0, O_QUIET},
     {"json", no_argument, 0, O_JSON},
     {"output", required_argument, 0, 'o'},
@@ -170,6 +174,8 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
     case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
+    case O_RECON:
+        return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_QUIET: a->quiet = 1; return ST_CLI_OK;
     case O_JSON:
         if (!bench)

@@ -84,6 +84,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     ATTR("sample_range", "%u:%u", o->sample_begin, o->sample_end ? o->sample_end : o->spp);
     ATTR("filter", "%s", st_filter_names[f->kind]);
     ATTR("filter_radius", "%.9g", (double)f->radius);
+    ATTR("reconstruction", "%s", st_reconstruction_names[o->reconstruction]);
     if (f->kind == ST_FILTER_MITCHELL)
         ATTR("filter_bc", "%.9g,%.9g", (double)f->b, (double)f->c);
     if (f->kind == ST_FILTER_GAUSSIAN)

@@ -23,6 +23,7 @@ const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
 const char *const st_filter_names[ST_FILTER_COUNT] = {
     "box", "triangle", "gaussian", "mitchell", "lanczos", "catmull-rom", "blackman-harris"};
 const char *const st_integrator_names[2] = {"direct", "path"};
+const char *const st_reconstruction_names[2] = {"splat", "fis"};
 
 int st_name_lookup(const char *const *names, int count, const char *name)
 {
@@ -50,6 +51,7 @@ struct st_renderer {
     double bvh_seconds;
     /* the tile of the tiled samplers, kept for renders with the same key */
     cl_mem tile;
+    cl_mem fis_cdf; /* CDF of |f| for filter importance sampling, per render */
     st_u32 tile_sampler, tile_spp, tile_seed, tile_size, tile_points;
 };
 
@@ -116,6 +118,12 @@ st_status st_render_check(const st_render_options *o, st_error *err)
                            "--spp %u: Halton indices would pass 2^32 at this image size",
                            o->spp);
     }
+    if (o->reconstruction > ST_RECON_FIS)
+        return st_fail(err, ST_ERR_USAGE, "unknown reconstruction %u", o->reconstruction);
+    if (o->reconstruction == ST_RECON_FIS && ST_SAMPLER_IS_TILED(o->sampler))
+        return st_fail(err, ST_ERR_USAGE,
+                       "--reconstruction fis needs a per-pixel sampler; %s places its points "
+                       "across pixels", st_sampler_names[o->sampler]);
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "--max-depth %u: at most 64", o->max_depth);
     const st_filter *f = &o->filter;
@@ -276,6 +284,7 @@ void st_renderer_destroy(st_renderer *r)
     for (int b = 0; b < B_SCENE_COUNT; b++)
         st_device_buffer_destroy(r->scene_buf[b]);
     st_device_buffer_destroy(r->tile);
+    st_device_buffer_destroy(r->fis_cdf);
     free(r);
 }
 
@@ -348,8 +357,8 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
     cl_kernel kk = r->k[k];
     switch (k) {
     case ST_STAGE_GENERATE:
-        return st_device_set_args(kk, err, 4, PARAMS(*p), MEM(r->tile), MEM(b[W_FILM]),
-                                  MEM(b[W_SAMPLE_ID]));
+        return st_device_set_args(kk, err, 5, PARAMS(*p), MEM(r->tile), MEM(r->fis_cdf),
+                                  MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]));
     case ST_STAGE_CAMERA:
         return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_RAY_O]),
                                   MEM(b[W_RAY_D]), MEM(b[W_BETA]), MEM(b[W_RADIANCE]),
@@ -370,8 +379,9 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
                                   MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]), MEM(b[W_SHADOW_L]),
                                   MEM(b[W_RADIANCE]));
     case ST_STAGE_SPLAT:
-        return st_device_set_args(kk, err, 6, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_RADIANCE]),
-                                  MEM(b[W_ACCUM]), MEM(b[W_COUNTS]), MEM(b[W_STATS]));
+        return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]),
+                                  MEM(b[W_RADIANCE]), MEM(b[W_ACCUM]), MEM(b[W_COUNTS]),
+                                  MEM(b[W_STATS]));
     case ST_STAGE_RESOLVE:
         return st_device_set_args(kk, err, 4, PARAMS(*p), MEM(b[W_ACCUM]), MEM(b[W_IMAGE]),
                                   MEM(b[W_STATS]));
@@ -437,6 +447,26 @@ static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_err
     return rc;
 }
 
+/* The CDF of |f| over ST_FIS_BINS equal bins of [-r, r] (midpoint rule),
+ * uploaded for filter importance sampling (pbrt-v4's FilterSampler
+ * tabulates |f| the same way). */
+static st_status prepare_fis(st_renderer *r, const st_render_options *o, st_error *err)
+{
+    float cdf[ST_FIS_BINS + 1];
+    double acc = 0.0, rad = o->filter.radius;
+    cdf[0] = 0.0f;
+    for (st_u32 i = 0; i < ST_FIS_BINS; i++) {
+        double x = -rad + (i + 0.5) * 2.0 * rad / ST_FIS_BINS;
+        acc += fabs(st_filter_eval_1d(&o->filter, (float)x));
+        cdf[i + 1] = (float)acc;
+    }
+    for (st_u32 i = 1; i <= ST_FIS_BINS; i++)
+        cdf[i] = i == ST_FIS_BINS ? 1.0f : (float)(cdf[i] / acc);
+    st_device_buffer_destroy(r->fis_cdf);
+    r->fis_cdf = NULL;
+    return st_device_buffer_create(r->dev, sizeof cdf, cdf, &r->fis_cdf, err);
+}
+
 static st_params make_params(const st_renderer *r, const st_render_options *o)
 {
     st_params p;
@@ -453,6 +483,7 @@ static st_params make_params(const st_renderer *r, const st_render_options *o)
     p.light_power = r->light_power;
     p.ray_eps = r->ray_eps;
     p.filter = o->filter;
+    p.reconstruction = o->reconstruction;
     p.camera = make_camera(&r->scene->camera, o->width, o->height);
     st_sampler_prepare(&p);
     return p;
@@ -579,7 +610,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (st_render_check(o, err) != ST_OK)
         return err->status;
     size_t pixels = (size_t)o->width * o->height;
-    if (prepare_tile(r, o, err) != ST_OK)
+    if (prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK)
         return err->status;
     st_params p = make_params(r, o);
     st_u32 end = o->sample_end ? o->sample_end : o->spp;

@@ -265,6 +265,73 @@ static void constant_radiance_reconstructs_exactly(void **state)
     }
 }
 
+/* Filter importance sampling: each sample lands in its own pixel with weight
+ * sign(f). A non-negative filter gives weight 1 everywhere, so a constant
+ * scene is reproduced exactly; with lanczos's negative lobes every pixel is
+ * either the constant (Σ w > 0) or 0 (Σ w <= 0, counted), never anything
+ * else. */
+static void fis_constant_radiance(void **state)
+{
+    (void)state;
+    st_u32 filters[] = {ST_FILTER_BOX, ST_FILTER_GAUSSIAN, ST_FILTER_LANCZOS};
+    for (int k = 0; k < 3; k++) {
+        st_render_options o = small(16, 12, 4);
+        o.reconstruction = ST_RECON_FIS;
+        o.filter = st_filter_default(filters[k]);
+        o.max_depth = 0;
+        st_scene *scene = NULL;
+        st_renderer *r = NULL;
+        st_image img = {0};
+        st_render_stats st;
+        st_error err = {0};
+        if (st_scene_load("furnace", &scene, &err) || st_renderer_create(dev, scene, &r, &err) ||
+            st_render(r, &o, &img, NULL, &st, NULL, NULL, &err))
+            fail_msg("%s", err.msg);
+        st_u32 zero = 0;
+        for (size_t i = 0; i < 16u * 12; i++) {
+            float v = img.data[4 * i];
+            assert_true(fabsf(v - 1.0f) <= 1e-6f || (v == 0.0f && filters[k] == ST_FILTER_LANCZOS));
+            zero += v == 0.0f;
+        }
+        assert_int_equal(zero, st.zero_weight);
+        st_image_free(&img);
+        st_renderer_destroy(r);
+        st_scene_destroy(scene);
+    }
+}
+
+/* The overflow guard: radiance 10^5 (tests/scenes/hot-furnace.gltf) is above
+ * ST_SPLAT_MAX = 2^16, so with a box filter every splat is clamped to 2^16
+ * and counted; at 10^4 nothing is. */
+static void splat_clamp_trips_above_limit(void **state)
+{
+    (void)state;
+    st_render_options o = small(8, 6, 2);
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    o.max_depth = 0;
+    st_scene *scene = NULL;
+    st_renderer *r = NULL;
+    st_image img = {0};
+    st_render_stats st;
+    st_error err = {0};
+    if (st_scene_load("tests/scenes/hot-furnace.gltf", &scene, &err) ||
+        st_renderer_create(dev, scene, &r, &err) ||
+        st_render(r, &o, &img, NULL, &st, NULL, NULL, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(st.clamped, 8 * 6 * 2);
+    for (size_t i = 0; i < 8u * 6; i++)
+        assert_true(img.data[4 * i] == ST_SPLAT_MAX);
+    st_image_free(&img);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+    st_render_options ok = small(8, 6, 2);
+    ok.max_depth = 0;
+    st_image one = render("furnace", &ok, NULL);
+    for (size_t i = 0; i < 8u * 6; i++)
+        assert_true(fabsf(one.data[4 * i] - 1.0f) < 1e-6f);
+    st_image_free(&one);
+}
+
 /* Furnace: emission 1 and albedo 1/2 on every wall of a closed cube, so the
  * radiance along every camera ray is Σ_{k=0..D} 2^-k. The mean of 32x32
  * pixels at 64 spp has a standard error near 0.3%; tolerance 1.5%. */
@@ -323,6 +390,8 @@ int main(void)
         cmocka_unit_test(render_split_sums_add_to_whole),
         cmocka_unit_test(constant_radiance_reconstructs_exactly),
         cmocka_unit_test(furnace_matches_closed_form),
+        cmocka_unit_test(fis_constant_radiance),
+        cmocka_unit_test(splat_clamp_trips_above_limit),
         cmocka_unit_test(golden_cornell_box),
     };
     return cmocka_run_group_tests_name("render", tests, setup, teardown);

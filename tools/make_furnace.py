@@ -11,7 +11,7 @@ import base64, json, struct, sys
 def quad(p0, p1, p2, p3, n):
     return [p0, p1, p2, p0, p2, p3], [n] * 6
 
-def main(out):
+def main(out, emission=1.0):
     faces = []
     # inward normals; winding counter-clockwise seen from inside
     for axis in range(3):
@@ -45,6 +45,7 @@ def main(out):
         "materials": [{"name": "glow", "pbrMetallicRoughness": {
             "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
             "roughnessFactor": 1.0}, "emissiveFactor": [1.0, 1.0, 1.0]}],
+        "extensionsUsed": ["KHR_materials_emissive_strength"] if emission != 1.0 else [],
         "buffers": [{"byteLength": len(blob), "uri": uri}],
         "bufferViews": [
             {"buffer": 0, "byteOffset": 0, "byteLength": 12 * count},
@@ -54,9 +55,15 @@ def main(out):
              "min": [-1.0, -1.0, -1.0], "max": [1.0, 1.0, 1.0]},
             {"bufferView": 1, "componentType": 5126, "count": count, "type": "VEC3"}],
     }
+    if emission != 1.0:
+        gltf["materials"][0]["extensions"] = {
+            "KHR_materials_emissive_strength": {"emissiveStrength": emission}}
+    else:
+        del gltf["extensionsUsed"]
     with open(out, "w") as f:
         json.dump(gltf, f, indent=1)
         f.write("\n")
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "scenes/furnace.gltf")
+    main(sys.argv[1] if len(sys.argv) > 1 else "scenes/furnace.gltf",
+         float(sys.argv[2]) if len(sys.argv) > 2 else 1.0)
