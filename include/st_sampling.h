@@ -28,21 +28,26 @@
 #include "st_error.h"
 #include "st_shared.h"
 
-/* Largest tiles accepted: 2^22 Poisson points (~0.2 GiB of work memory, a few
- * seconds); 2^20 best-candidate points (~minutes: see the cost note below). */
+/* Largest tiles accepted: 2^22 Poisson points (~6 s, ~0.2 GiB of work
+ * memory); 2^20 best-candidate points (minutes: see the cost below). */
 #define ST_POISSON_MAX_COUNT 4194304u
 #define ST_BEST_CANDIDATE_MAX_COUNT 1048576u
 
 /* Poisson-disk packing used to pick the first radius: a Bridson tile with
  * k = 30 on the unit torus holds N ~= ST_POISSON_PACKING / r^2 points
- * (measured: 0.680..0.690 for N = 1k..1M). For scale, hexagonal packing, the
- * densest possible, holds 2/sqrt(3) / r^2 = 1.1547 / r^2. */
+ * (measured N r^2 = 0.6150..0.6155 for N = 4k..4M, 0.60..0.63 below 1k). For
+ * scale, hexagonal packing, the densest possible, holds 2/sqrt(3) / r^2 =
+ * 1.1547 / r^2, so r is 0.73 of the hexagonal spacing. */
 #define ST_POISSON_PACKING 0.615
 #define ST_POISSON_K 30u /* candidates per active point (Bridson 2007) */
 
 /* Best-candidate: point n (0-based) is the best of
- * m(n) = min(max(1, ST_BEST_CANDIDATE_K * n), ST_BEST_CANDIDATE_MAX_M)
- * uniform candidates. */
+ *   m(n) = min(max(1, ST_BEST_CANDIDATE_K * n), ST_BEST_CANDIDATE_MAX_M)
+ * uniform candidates: Mitchell's "candidates proportional to the points so
+ * far", capped. Measured (nearest-neighbour distance relative to hexagonal
+ * spacing, 4096 points): uncapped m = n gives min 0.711 / mean 0.830 in 0.5 s;
+ * cap 1024: 0.694 / 0.824 in 0.2 s; cap 256: 0.646 / 0.809 in 0.07 s. With
+ * cap 1024, 65536 points take ~4.4 s (uncapped would take minutes). */
 #define ST_BEST_CANDIDATE_K 1u
 #define ST_BEST_CANDIDATE_MAX_M 1024u
 
@@ -52,12 +57,18 @@
  * an active list, and k = ST_POISSON_K candidates drawn uniformly from the
  * annulus r <= d < 2r around a random active point; a candidate closer than r
  * (toroidally) to any point is rejected, and an active point with k failures
- * retires. The run ends when the active list is empty.
+ * retires. The run ends when the active list is empty, which leaves the tile
+ * nearly maximal (measured: ~0.1% of the torus is farther than r from every
+ * point, no gap reaches 1.15 r).
  * The radius comes from target_count: r = sqrt(ST_POISSON_PACKING / target),
  * then up to 6 further runs rescale r by sqrt(count / target) until the count
- * is within 1% of the target (keeping the closest run). Counts land within 2%
- * for targets >= 256; tiny targets can miss further (a handful of disks on a
- * torus cannot match any count).
+ * is within 1% (or one point) of the target, keeping the closest run. Counts
+ * land within 1% for targets >= 256 (tested: 2%); tiny targets can miss
+ * further (a handful of disks on a torus cannot match every count).
+ * Coordinates are multiples of 2^-24 (exact floats) and distances are
+ * compared exactly on that lattice, so the guarantee below holds bit for bit.
+ * Speed: ~1.1 M points/s for 4k..262k points, 0.9 M/s at 1M (one core of this
+ * project's 2-vCPU VM, -O2; larger grids spill out of the caches).
  * Outputs: *points = 2 * *count floats (x,y pairs in [0,1)), malloc'ed, free()
  * by the caller; *count the number of points; *radius the radius r used:
  * every pair of points is at toroidal distance >= r. radius may be NULL.
@@ -70,17 +81,18 @@ st_status st_sampling_poisson_tile(st_u32 target_count, st_u32 seed, float **poi
  * Sampling for Distribution Ray Tracing", SIGGRAPH 1991): point n is, among
  * m(n) uniform candidates (see ST_BEST_CANDIDATE_K above), the one whose
  * toroidal distance to the nearest of points 0..n-1 is largest (the first
- * candidate wins ties). Nearest-point queries go through a uniform grid that is
- * refined as points arrive (about 2 points per cell) and stop early once a
+ * candidate wins ties). Nearest-point queries go through a uniform grid that
+ * is refined as points arrive (1..4 points per cell) and stop early once a
  * candidate cannot beat the best so far, so the result equals the brute-force
- * definition exactly. Every prefix of the output is itself a best-candidate
- * pattern. Cost: about count * min(count, ST_BEST_CANDIDATE_MAX_M) candidate
- * queries.
+ * definition exactly (tested). Every prefix of the output is itself a
+ * best-candidate pattern. Cost: sum over n of m(n) queries, about
+ * count * min(count, ST_BEST_CANDIDATE_MAX_M): 0.2 s for 4096 points, ~4.4 s
+ * for 65536 here.
  * Random stream: splitmix64 seeded with seed; each candidate draws x then y,
  * each the top 24 bits of one output times 2^-24.
  * Outputs: *points = 2 * count floats (x,y pairs in [0,1)), malloc'ed, free()
- * by the caller. Errors: ST_ERR_USAGE for count 0 or > ST_BEST_CANDIDATE_MAX_COUNT or
- * NULL points, ST_ERR_NOMEM. */
+ * by the caller. Errors: ST_ERR_USAGE for count 0 or
+ * > ST_BEST_CANDIDATE_MAX_COUNT or NULL points, ST_ERR_NOMEM. */
 st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **points,
                                           st_error *err);
 
@@ -89,7 +101,8 @@ st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **poi
  * with closed boxes [0,a]x[0,b] included as limits of open ones. The sup is
  * attained at critical corners: the excess #/N - ab at closed boxes with a, b
  * point coordinates; the deficit ab - #/N at open boxes with a in {x_i} u {1},
- * b in {y_i} u {1}. O(N^2) time, O(N) memory. Returns NaN for n == 0,
+ * b in {y_i} u {1}. O(N^2) time (N = 4096: 0.05 s here), O(N) memory.
+ * Points with equal coordinates are handled. Returns NaN for n == 0,
  * pts == NULL, or when its O(N) scratch memory cannot be allocated. */
 double st_star_discrepancy_2d(const float *pts, st_u32 n);
 
@@ -100,7 +113,8 @@ double st_star_discrepancy_2d(const float *pts, st_u32 n);
  *   T_N^2 = 3^-d - (2^(1-d)/N) sum_i prod_k (1 - x_ik^2)
  *         + (1/N^2) sum_i sum_j prod_k (1 - max(x_ik, x_jk)),
  * which equals the integral over t in [0,1]^d of (#{x_i in [0,t)}/N - vol)^2.
- * O(N^2 d). Returns T_N (>= 0); NaN for n == 0, dims == 0 or pts == NULL. */
+ * O(N^2 d) (N = 4096, d = 2: 0.01 s here). Returns T_N (>= 0); NaN for
+ * n == 0, dims == 0 or pts == NULL. */
 double st_l2_star_discrepancy(const float *pts, st_u32 n, st_u32 dims);
 
 /* Largest kmax accepted by st_spectrum_periodogram. */
@@ -113,8 +127,10 @@ double st_l2_star_discrepancy(const float *pts, st_u32 n, st_u32 dims);
  * coordinates are pts[j*stride], pts[j*stride+1]. Exact direct sum in double:
  * per point, exp(-2 pi i k x) for all k comes from one sin/cos and a complex
  * recurrence (relative error ~ kmax * 1e-16); P(-k) = P(k) halves the work.
- * Cost n * (kmax+1) * (2kmax+1) complex multiply-adds. (An FFT is not used: the
- * points are not on a grid, and gridding them would not be exact.)
+ * Measured against sin/cos per term: |error| < 2e-12 at kmax = 1024. Cost
+ * n * (kmax+1) * (2kmax+1) complex multiply-adds (4096 points, kmax 64:
+ * 0.04 s here). No FFT: the points are not on a grid, and gridding them (or a
+ * non-uniform FFT) would not be exact.
  * Errors: ST_ERR_USAGE for NULL pointers, n == 0, stride < 2,
  * kmax > ST_SPECTRUM_KMAX_MAX; ST_ERR_NOMEM. */
 st_status st_spectrum_periodogram(const float *pts, st_u32 n, st_u32 stride, st_u32 kmax,

@@ -424,7 +424,8 @@ static void draw_colorbar(cairo_t *cr, const st_plot_heatmap *hm, st_plot_rect r
     st_plot_rect bar = {r.x + r.w + 1.2 * fs, r.y, 1.2 * fs, r.h};
     cairo_pattern_t *grad = cairo_pattern_create_linear(0, bar.y + bar.h, 0, bar.y);
     for (int i = 0; i <= 8; ++i)
-        cairo_pattern_add_color_stop_rgb(grad, i / 8.0, VIRIDIS[i][0], VIRIDIS[i][1], VIRIDIS[i][2]);
+        cairo_pattern_add_color_stop_rgb(grad, i / 8.0, VIRIDIS[i][0], VIRIDIS[i][1],
+                                         VIRIDIS[i][2]);
     cairo_save(cr);
     cairo_rectangle(cr, bar.x, bar.y, bar.w, bar.h);
     cairo_set_source(cr, grad);

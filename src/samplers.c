@@ -2,10 +2,12 @@
  * (Bridson 2007) and best-candidate (Mitchell 1991) points on the unit torus.
  *
  * Invariant: every point returned lies in [0,1)^2 as a float, and every
- * distance the algorithms test is computed in double from those very floats,
- * so what the tests measure on the output is exactly what the generator
- * decided on. Random numbers come from one splitmix64 stream per call, so a
- * (count, seed) pair always gives the same tile. See include/st_sampling.h. */
+ * distance the algorithms test is computed exactly from those very floats
+ * (as 64-bit integers on the 2^-24 lattice for Poisson disk, in double for
+ * best-candidate), so what the tests measure on the output is exactly what
+ * the generator decided on. Random numbers come from one splitmix64 stream
+ * per call, so a (count, seed) pair always gives the same tile. See
+ * include/st_sampling.h. */
 #include "st_sampling.h"
 
 #include <math.h>
@@ -48,14 +50,6 @@ static double torus_d2(double ax, double ay, double bx, double by)
     return dx * dx + dy * dy;
 }
 
-/* Wraps a double onto [0,1) and rounds it to a float still in [0,1). */
-static float wrap_unit(double v)
-{
-    v = v < 0.0 ? v + 1.0 : (v >= 1.0 ? v - 1.0 : v); /* |offset| < 2r < 1 */
-    float f = (float)v;
-    return f >= 1.0f ? 0.0f : f;
-}
-
 static st_u32 cell_of(float v, st_u32 g)
 {
     st_u32 i = (st_u32)((double)v * g);
@@ -74,24 +68,41 @@ static st_status check_count(st_u32 count, st_u32 max, const char *what, st_erro
 
 /* ---- Poisson disk (Bridson) ------------------------------------------------ */
 
+/* Coordinates live on the lattice 2^-24 Z, stored as integers k in [0, 2^24):
+ * every such k * 2^-24 is an exact float, wrap-around is a mask, and a
+ * squared distance in units of 2^-48 is an exact 64-bit integer, the very
+ * value double arithmetic gets from the returned floats. So "no two points
+ * closer than r" is decided exactly, and tests measuring the output in double
+ * reach the same verdict. */
+#define FIX_BITS 24
+#define FIX_ONE (1 << FIX_BITS)
+#define FIX_MASK (FIX_ONE - 1)
+#define FIX_EMPTY 0x40000000 /* empty cell: ~2^30 away from any point */
+
 /* One Bridson run at a fixed radius. The grid has g x g cells of width
  * 1/g < r/sqrt(2), so a cell holds at most one point; cells store the point's
- * coordinates (NaN marks an empty cell) so a neighbour test reads one cache
- * line per grid row. Points within r of a candidate lie in the 5 x 5 cells
- * around it because r*g < sqrt(2) + r < 2 whenever g > 5 (for g <= 5 the 5 x 5
- * block covers the whole torus). */
+ * coordinates so a neighbour test reads one cache line per grid row. Points
+ * within r of a candidate lie in the 5 x 5 cells around it, because
+ * r*g < sqrt(2) + r < 2 whenever g > 5 (for g <= 5 the block covers the
+ * whole torus).
+ * The grid is stored with a border of 2 ghost cells on every side (pitch
+ * g + 4): for g >= 7 a point near an edge is also written, shifted by +-1,
+ * into the ghost cells across the seam, so every 5 x 5 block is contiguous
+ * and plain differences are toroidal ones (the block spans < 1/2). Tiny grids
+ * (g < 7) take a slow path with explicit wrapping instead. */
 typedef struct poisson_run {
-    double r, r2;
-    st_u32 g;
-    float *cells;   /* 2 * g * g: x,y or NaN,NaN */
-    st_u32 *order;  /* cell index of each point in generation order */
-    st_u32 *active; /* cell indices of active points */
+    double r;          /* a float value, so r^2 * 2^48 is exact */
+    st_i64 r2;         /* ceil(r^2 * 2^48): too close iff d2 < r2 */
+    st_u32 g, pitch;   /* cells per side; g + 4 */
+    st_i32 *cells;     /* 2 * pitch^2: x,y or FIX_EMPTY */
+    st_u32 *order;     /* (padded) cell index of each point in generation order */
+    st_u32 *active;    /* (padded) cell indices of active points */
     st_u32 count, active_n, capacity;
-    st_i64 offset[25];   /* float offsets of NEIGHBOURS[i] in an unwrapped block */
-    double dirs[256][2]; /* cos, sin of 2*pi*i/256 */
+    int failed;        /* out of memory while growing order/active */
+    double dirs[1024][2]; /* cos, sin of 2*pi*i/1024 */
 } poisson_run;
 
-/* Cell offsets of the 5 x 5 block, nearest first so rejections come early. */
+/* Cell offsets of the 5 x 5 block. */
 static const signed char NEIGHBOURS[25][2] = {
     {0, 0},   {1, 0},  {-1, 0}, {0, 1},   {0, -1}, {1, 1},  {-1, 1},  {1, -1}, {-1, -1},
     {2, 0},   {-2, 0}, {0, 2},  {0, -2},  {2, 1},  {2, -1}, {-2, 1},  {-2, -1}, {1, 2},
@@ -107,168 +118,226 @@ static st_u32 wrap_index(st_i64 i, st_u32 g)
     return (st_u32)i;
 }
 
-/* 1 when a stored cell point is closer than r to (x,y). An empty cell holds
- * NaN, whose comparisons are false: no branch on occupancy (a third of the
- * cells are full, so such a branch is a coin toss the predictor loses). */
-static int too_close(const float *c, double x, double y, double r2)
+static st_u32 fix_cell(st_i32 k, st_u32 g)
 {
-    double dx = fabs(c[0] - x), dy = fabs(c[1] - y);
-    dx = dx > 0.5 ? 1.0 - dx : dx;
-    dy = dy > 0.5 ? 1.0 - dy : dy;
-    return dx * dx + dy * dy < r2;
+    return (st_u32)(((st_u64)k * g) >> FIX_BITS); /* floor(k 2^-24 g), < g */
 }
 
-/* Plain (not toroidal) closeness: valid when the 5 x 5 block does not wrap,
- * since then every difference is under 3 cells < 1/2. */
-static int too_close_flat(const float *c, double x, double y, double r2)
+/* Plain squared distance: right inside a ghost-padded 5 x 5 block when
+ * g >= 7, since every difference is then under 3 cells < 1/2. An empty cell's
+ * FIX_EMPTY makes d2 ~ 2^60: never too close. Branch-free: a third of the
+ * cells are full, a coin toss the branch predictor would lose. */
+static st_i64 flat_d2(const st_i32 *c, st_i32 x, st_i32 y)
 {
-    double dx = c[0] - x, dy = c[1] - y;
-    return dx * dx + dy * dy < r2;
+    st_i64 dx = c[0] - x, dy = c[1] - y;
+    return dx * dx + dy * dy;
 }
 
-/* Slow path near the tile's edges: cell indices and distances wrap. */
-static int poisson_fits_wrapped(const poisson_run *run, double x, double y, st_u32 ix, st_u32 iy)
+static st_i64 torus_fix(st_i32 a, st_i32 b)
 {
-    st_u32 g = run->g, cols[5], rows[5];
-    for (int d = -2; d <= 2; ++d) {
-        cols[d + 2] = wrap_index((st_i64)ix + d, g);
-        rows[d + 2] = wrap_index((st_i64)iy + d, g);
-    }
-    int hit = 0;
+    st_i32 d = a > b ? a - b : b - a;
+    return d > FIX_ONE / 2 ? FIX_ONE - d : d;
+}
+
+/* Slow path for tiny grids (g < 7): wrapped cells, toroidal distances. */
+static int poisson_fits_wrapped(const poisson_run *run, st_i32 x, st_i32 y, st_u32 ix, st_u32 iy)
+{
+    st_u32 g = run->g;
     for (int i = 0; i < 25; ++i) {
-        const float *c = run->cells + 2 * ((size_t)rows[NEIGHBOURS[i][1] + 2] * g +
-                                          cols[NEIGHBOURS[i][0] + 2]);
-        hit |= too_close(c, x, y, run->r2);
+        st_u32 cx = wrap_index((st_i64)ix + NEIGHBOURS[i][0], g);
+        st_u32 cy = wrap_index((st_i64)iy + NEIGHBOURS[i][1], g);
+        const st_i32 *c = run->cells + 2 * ((size_t)(cy + 2) * run->pitch + cx + 2);
+        if (c[0] == FIX_EMPTY)
+            continue;
+        st_i64 dx = torus_fix(c[0], x), dy = torus_fix(c[1], y);
+        if (dx * dx + dy * dy < run->r2)
+            return 0;
     }
-    return !hit;
+    return 1;
 }
 
-/* 1 when no stored point is closer than r to (x,y) (toroidally). */
-static int poisson_fits(const poisson_run *run, float x, float y)
+/* 1 when no stored point is closer than r to (x,y) (toroidally). The 5 x 5
+ * block is tested in three straight-line groups, nearest cells first: the 5
+ * of the centre cross decide 86% of the rejections, the 3 x 3 block 97%
+ * (measured). `|` rather than `||` keeps each group free of branches. */
+#define TOO_CLOSE(row, dx) (flat_d2((row) + 2 * (dx), x, y) < r2)
+static int poisson_fits(const poisson_run *run, st_i32 x, st_i32 y)
 {
-    st_u32 g = run->g, ix = cell_of(x, g), iy = cell_of(y, g);
-    if (ix < 2 || iy < 2 || ix + 2 >= g || iy + 2 >= g)
+    st_u32 g = run->g, ix = fix_cell(x, g), iy = fix_cell(y, g);
+    if (g < 7)
         return poisson_fits_wrapped(run, x, y, ix, iy);
-    const float *base = run->cells + 2 * ((size_t)iy * g + ix);
-    int hit = 0;
-    for (int i = 0; i < 25; ++i) {
-        hit |= too_close_flat(base + run->offset[i], x, y, run->r2);
-        if ((i == 4 || i == 8) && hit) /* 86% of rejections are decided by */
-            return 0;                   /* the first 5 cells, 97% by the first 9 */
-    }
-    return !hit;
+    const st_i64 r2 = run->r2;
+    const size_t row = 2 * (size_t)run->pitch;
+    const st_i32 *c0 = run->cells + 2 * ((size_t)(iy + 2) * run->pitch + ix + 2);
+    const st_i32 *n1 = c0 - row, *p1 = c0 + row, *n2 = n1 - row, *p2 = p1 + row;
+    if (TOO_CLOSE(c0, 0) | TOO_CLOSE(c0, 1) | TOO_CLOSE(c0, -1) | TOO_CLOSE(p1, 0) |
+        TOO_CLOSE(n1, 0))
+        return 0;
+    if (TOO_CLOSE(p1, 1) | TOO_CLOSE(p1, -1) | TOO_CLOSE(n1, 1) | TOO_CLOSE(n1, -1))
+        return 0;
+    return !(TOO_CLOSE(c0, 2) | TOO_CLOSE(c0, -2) | TOO_CLOSE(p2, 0) | TOO_CLOSE(n2, 0) |
+             TOO_CLOSE(p1, 2) | TOO_CLOSE(p1, -2) | TOO_CLOSE(n1, 2) | TOO_CLOSE(n1, -2) |
+             TOO_CLOSE(p2, 1) | TOO_CLOSE(p2, -1) | TOO_CLOSE(n2, 1) | TOO_CLOSE(n2, -1) |
+             TOO_CLOSE(p2, 2) | TOO_CLOSE(p2, -2) | TOO_CLOSE(n2, 2) | TOO_CLOSE(n2, -2));
+}
+#undef TOO_CLOSE
+
+static void poisson_store(poisson_run *run, st_i64 i, st_i64 j, st_i32 x, st_i32 y)
+{
+    st_i32 *c = run->cells + 2 * ((size_t)(j + 2) * run->pitch + (size_t)(i + 2));
+    c[0] = x;
+    c[1] = y;
 }
 
-static void poisson_insert(poisson_run *run, float x, float y)
+/* Room for one more point in order[] and active[] (grown by half). */
+static int poisson_reserve(poisson_run *run)
 {
-    st_u32 cell = cell_of(y, run->g) * run->g + cell_of(x, run->g);
-    run->cells[2 * (size_t)cell] = x;
-    run->cells[2 * (size_t)cell + 1] = y;
+    if (run->count < run->capacity)
+        return 1;
+    st_u64 cap = run->capacity + run->capacity / 2 + 64;
+    if (cap > (st_u64)run->g * run->g) /* at most one point per cell */
+        cap = (st_u64)run->g * run->g;
+    st_u32 *order = realloc(run->order, cap * sizeof *order);
+    if (order)
+        run->order = order;
+    st_u32 *active = order ? realloc(run->active, cap * sizeof *active) : NULL;
+    if (!order || !active) {
+        run->failed = 1;
+        return 0;
+    }
+    run->active = active;
+    run->capacity = (st_u32)cap;
+    return 1;
+}
+
+/* Stores a point in its cell and, for g >= 7, in the ghost cells across the
+ * seams (coordinates shifted by one tile, 2^24). 0 when out of memory. */
+static int poisson_insert(poisson_run *run, st_i32 x, st_i32 y)
+{
+    if (!poisson_reserve(run))
+        return 0;
+    st_i64 g = run->g, i = fix_cell(x, run->g), j = fix_cell(y, run->g);
+    st_i64 gi = i < 2 ? i + g : (i >= g - 2 ? i - g : i); /* ghost column, or i */
+    st_i64 gj = j < 2 ? j + g : (j >= g - 2 ? j - g : j);
+    st_i32 gx = gi > i ? x + FIX_ONE : x - FIX_ONE; /* the copy's coordinates */
+    st_i32 gy = gj > j ? y + FIX_ONE : y - FIX_ONE;
+    poisson_store(run, i, j, x, y);
+    if (g >= 7) {
+        if (gi != i)
+            poisson_store(run, gi, j, gx, y);
+        if (gj != j)
+            poisson_store(run, i, gj, x, gy);
+        if (gi != i && gj != j)
+            poisson_store(run, gi, gj, gx, gy);
+    }
+    st_u32 cell = (st_u32)((j + 2) * run->pitch + i + 2);
     run->order[run->count++] = cell;
     run->active[run->active_n++] = cell;
+    return 1;
 }
 
-/* Draws an offset uniform (by area) in the annulus r <= |d| < 2r, as
- * Bridson asks: radius r*sqrt(1 + 3u) inverts the area CDF
+/* Draws an offset uniform (by area) in the annulus r <= |d| < 2r, as Bridson
+ * asks, in units of 2^-24: radius r*sqrt(1 + 3u) inverts the area CDF
  * (rho^2 - r^2) / (3 r^2); angle 2*pi*v. One splitmix64 output gives u and v,
- * 32 bits each. cos/sin of the angle come from a 256-entry table at the top 8
- * bits of v and the angle-addition formula with Taylor series for the rest
- * (d < 2*pi/256: truncation error d^5/120 < 1e-10). Measured here, this is
- * about 40% faster than rejection from the square [-2r,2r)^2, whose 41%
- * rejection branch the predictor keeps losing, and than sinf/cosf. */
-static void annulus_offset(const poisson_run *run, st_u64 *rng, double *dx, double *dy)
+ * 32 bits each. cos/sin of the angle come from a 1024-entry table at the top
+ * 10 bits of v and the angle-addition formula with cos d ~ 1 - d^2/2,
+ * sin d ~ d for the rest (d < 2*pi/1024: error < d^3/6 = 4e-8 of the radius,
+ * under one lattice step). Measured here, this is about 40% faster than
+ * rejection from the square [-2r,2r)^2, whose 41% rejection branch the
+ * predictor keeps losing, and than sinf/cosf. The offset is truncated to the
+ * lattice; the fit test decides on that position. */
+static void annulus_offset(const poisson_run *run, st_u64 *rng, st_i32 *dx, st_i32 *dy)
 {
     st_u64 z = splitmix64(rng);
     double u = (double)(z & 0xffffffffu) * 0x1p-32;
     st_u32 v = (st_u32)(z >> 32);
-    const double *cs = run->dirs[v >> 24];
-    double d = (double)(v & 0xffffffu) * (6.283185307179586 * 0x1p-32), d2 = d * d;
-    double cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0)), sd = d * (1.0 - d2 * (1.0 / 6.0));
-    double rho = run->r * sqrt(1.0 + 3.0 * u);
-    *dx = rho * (cs[0] * cd - cs[1] * sd);
-    *dy = rho * (cs[1] * cd + cs[0] * sd);
+    const double *cs = run->dirs[v >> 22];
+    double d = (double)(v & 0x3fffffu) * (6.283185307179586 * 0x1p-32);
+    double cd = 1.0 - 0.5 * d * d;
+    double rho = run->r * 0x1p24 * sqrt(1.0 + 3.0 * u);
+    *dx = (st_i32)(rho * (cs[0] * cd - cs[1] * d));
+    *dy = (st_i32)(rho * (cs[1] * cd + cs[0] * d));
 }
 
-/* Runs Bridson's loop until the active list is empty (Bridson 2007, step 2). */
-static void poisson_fill(poisson_run *run, st_u64 *rng)
+/* Runs Bridson's loop until the active list is empty (Bridson 2007, step 2).
+ * 0 when out of memory. */
+static int poisson_fill(poisson_run *run, st_u64 *rng)
 {
-    poisson_insert(run, unit_float(rng), unit_float(rng));
+    if (!poisson_insert(run, (st_i32)(splitmix64(rng) >> 40), (st_i32)(splitmix64(rng) >> 40)))
+        return 0;
     while (run->active_n > 0) {
         st_u32 a = uniform_index(rng, run->active_n);
-        const float *p = run->cells + 2 * (size_t)run->active[a];
+        const st_i32 *p = run->cells + 2 * (size_t)run->active[a];
         int placed = 0;
         for (st_u32 t = 0; t < ST_POISSON_K && !placed; ++t) {
-            double dx, dy;
+            st_i32 dx, dy;
             annulus_offset(run, rng, &dx, &dy);
-            float x = wrap_unit(p[0] + dx), y = wrap_unit(p[1] + dy);
+            st_i32 x = (p[0] + dx) & FIX_MASK, y = (p[1] + dy) & FIX_MASK; /* wrap */
             if (poisson_fits(run, x, y)) {
-                poisson_insert(run, x, y);
+                if (!poisson_insert(run, x, y))
+                    return 0;
                 placed = 1;
             }
         }
         if (!placed) /* k failures: retire the point (swap with the last) */
             run->active[a] = run->active[--run->active_n];
     }
+    return 1;
 }
 
-static void poisson_run_free(poisson_run *run)
+/* The run's points as floats in generation order (exact: k * 2^-24). */
+static float *poisson_points(const poisson_run *run)
 {
+    float *out = malloc(2 * (size_t)run->count * sizeof *out);
+    for (st_u32 i = 0; out && i < run->count; ++i) {
+        const st_i32 *c = run->cells + 2 * (size_t)run->order[i];
+        out[2 * i] = (float)c[0] * 0x1p-24f;
+        out[2 * i + 1] = (float)c[1] * 0x1p-24f;
+    }
+    return out;
+}
+
+/* One complete run at radius r (rounded to a float); on success *points holds
+ * its tile (malloc'ed) and *count, *used_r its size and exact radius. */
+static st_status poisson_run_at(double r, st_u32 seed, float **points, st_u32 *count,
+                                float *used_r, st_error *err)
+{
+    static const poisson_run zero;
+    poisson_run *run = malloc(sizeof *run); /* 16 KiB of direction table: not on the stack */
+    if (!run)
+        return st_fail(err, ST_ERR_NOMEM, "poisson tile: out of memory");
+    *run = zero;
+    run->r = (float)r;
+    run->r2 = (st_i64)ceil(run->r * run->r * 0x1p48);
+    run->g = (st_u32)floor(1.4142135623730951 / run->r) + 1u; /* 1/g < r/sqrt(2) */
+    run->pitch = run->g + 4;
+    for (int i = 0; i < 1024; ++i) {
+        run->dirs[i][0] = cos(6.283185307179586 * i / 1024.0);
+        run->dirs[i][1] = sin(6.283185307179586 * i / 1024.0);
+    }
+    size_t padded = (size_t)run->pitch * run->pitch;
+    st_status status = ST_OK;
+    run->cells = malloc(2 * padded * sizeof *run->cells);
+    if (run->cells) {
+        for (size_t i = 0; i < 2 * padded; ++i)
+            run->cells[i] = FIX_EMPTY;
+        st_u64 rng = 0x504f4953534f4e00ull ^ (st_u64)seed; /* "POISSON" domain */
+        if (poisson_fill(run, &rng) && (*points = poisson_points(run)) != NULL) {
+            *count = run->count;
+            *used_r = (float)run->r;
+        } else {
+            status = ST_ERR_NOMEM;
+        }
+    } else {
+        status = ST_ERR_NOMEM;
+    }
+    if (status != ST_OK)
+        st_fail(err, status, "poisson tile: out of memory for a %u x %u grid", run->g, run->g);
     free(run->cells);
     free(run->order);
     free(run->active);
-    memset(run, 0, sizeof *run);
-}
-
-/* One complete run at radius r; on success run holds the tile. */
-static st_status poisson_run_at(poisson_run *run, double r, st_u32 seed, st_error *err)
-{
-    memset(run, 0, sizeof *run);
-    run->r = r;
-    run->r2 = r * r;
-    run->g = (st_u32)floor(1.4142135623730951 / r) + 1u; /* cell 1/g < r/sqrt(2), strictly */
-    for (int i = 0; i < 25; ++i)
-        run->offset[i] = 2 * ((st_i64)NEIGHBOURS[i][1] * run->g + NEIGHBOURS[i][0]);
-    for (int i = 0; i < 256; ++i) {
-        run->dirs[i][0] = cos(6.283185307179586 * i / 256.0);
-        run->dirs[i][1] = sin(6.283185307179586 * i / 256.0);
-    }
-    size_t cells = (size_t)run->g * run->g;
-    run->capacity = (st_u32)cells; /* at most one point per cell */
-    run->cells = malloc(2 * cells * sizeof *run->cells);
-    run->order = malloc((size_t)run->capacity * sizeof *run->order);
-    run->active = malloc((size_t)run->capacity * sizeof *run->active);
-    if (!run->cells || !run->order || !run->active) {
-        poisson_run_free(run);
-        return st_fail(err, ST_ERR_NOMEM, "poisson tile: out of memory for a %u x %u grid",
-                       (unsigned)sqrt((double)cells), (unsigned)sqrt((double)cells));
-    }
-    for (size_t i = 0; i < 2 * cells; ++i)
-        run->cells[i] = NAN;
-    st_u64 rng = 0x504f4953534f4e00ull ^ (st_u64)seed; /* "POISSON" domain */
-    poisson_fill(run, &rng);
-    return ST_OK;
-}
-
-/* Largest float not above r, so "every pair is >= *radius" holds for the
- * reported float too. */
-static float float_floor(double r)
-{
-    float f = (float)r;
-    return (double)f > r ? nextafterf(f, 0.0f) : f;
-}
-
-static st_status poisson_output(const poisson_run *run, float **points, st_error *err)
-{
-    float *out = malloc(2 * (size_t)run->count * sizeof *out);
-    if (!out)
-        return st_fail(err, ST_ERR_NOMEM, "poisson tile: out of memory for %u points",
-                       run->count);
-    for (st_u32 i = 0; i < run->count; ++i) {
-        out[2 * i] = run->cells[2 * (size_t)run->order[i]];
-        out[2 * i + 1] = run->cells[2 * (size_t)run->order[i] + 1];
-    }
-    *points = out;
-    return ST_OK;
+    free(run);
+    return status;
 }
 
 st_status st_sampling_poisson_tile(st_u32 target_count, st_u32 seed, float **points,
@@ -282,37 +351,37 @@ st_status st_sampling_poisson_tile(st_u32 target_count, st_u32 seed, float **poi
         return err ? err->status : ST_ERR_USAGE;
 
     /* Radius from the packing density, then rescale: N ~ c / r^2, so the
-     * radius that gives the target is r * sqrt(count / target). */
+     * radius that gives the target is r * sqrt(count / target). Up to 7 runs
+     * until within 1% (or one point); the closest is kept. */
     double r = sqrt(ST_POISSON_PACKING / target_count);
-    poisson_run best = {0};
+    float *best = NULL, best_r = 0.0f;
+    st_u32 best_n = 0;
     double best_miss = INFINITY;
-    for (int it = 0; it < 7; ++it) {
-        poisson_run run;
-        if (poisson_run_at(&run, r, seed, err) != ST_OK) {
-            poisson_run_free(&best);
+    double tolerance = 0.01 * target_count > 1.0 ? 0.01 * target_count : 1.0;
+    for (int it = 0; it < 7 && best_miss > tolerance; ++it) {
+        float *pts = NULL, used_r = 0.0f;
+        st_u32 n = 0;
+        if (poisson_run_at(r, seed, &pts, &n, &used_r, err) != ST_OK) {
+            free(best);
             return err ? err->status : ST_ERR_NOMEM;
         }
-        double miss = fabs((double)run.count - target_count);
-        double ratio = (double)run.count / target_count;
+        double miss = fabs((double)n - target_count);
         if (miss < best_miss) {
-            poisson_run_free(&best);
-            best = run;
+            free(best);
+            best = pts;
+            best_n = n;
+            best_r = used_r;
             best_miss = miss;
         } else {
-            poisson_run_free(&run);
+            free(pts);
         }
-        if (best_miss <= 0.01 * target_count)
-            break;
-        r *= sqrt(ratio);
+        r *= sqrt((double)n / target_count);
     }
-    st_status s = poisson_output(&best, points, err);
-    if (s == ST_OK) {
-        *count = best.count;
-        if (radius)
-            *radius = float_floor(best.r);
-    }
-    poisson_run_free(&best);
-    return s;
+    *points = best;
+    *count = best_n;
+    if (radius)
+        *radius = best_r; /* exact: every pair is at least this far apart */
+    return ST_OK;
 }
 
 /* ---- best candidate (Mitchell) --------------------------------------------- */
