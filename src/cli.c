@@ -54,7 +54,7 @@ int st_cli_main(int argc, char **argv)
     static const struct { const char *name; int (*run)(int, char **); } cmds[] = {
         {"render", st_cli_render}, {"bench", st_cli_bench},
         {"devices", st_cli_devices}, {"diff", st_cli_diff}, {"pattern", st_cli_pattern},
-        {"filter", st_cli_filter}, {"merge", st_cli_merge}};
+        {"filter", st_cli_filter}, {"merge", st_cli_merge}, {"signal", st_cli_signal}};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (!strcmp(argv[1], cmds[i].name))
             return cmds[i].run(argc - 1, argv + 1);
