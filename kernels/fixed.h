@@ -5,7 +5,7 @@
  * A value v is stored as round(v * 2^24) (ST_FIXED_SCALE), resolution 6e-8.
  * Each splat adds at most ST_SPLAT_MAX = 2^16 in magnitude (larger values are
  * clamped and counted), i.e. 2^40 units, so a pixel takes 2^23 splats before
- * a signed 64-bit sum (2^63) could overflow; the host checks
+ * a signed 64-bit sum (2^63) could overflow (2^23 - 1 splats are safe); the host checks
  * spp * footprint <= ST_FIXED_MAX_SPLATS before it renders.
  * Tests: test_fixed.c. */
 #ifndef ST_FIXED_H

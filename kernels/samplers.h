@@ -24,9 +24,12 @@ ST_CONSTANT st_u32 st_primes[ST_PRIME_COUNT] = {
     137, 139, 149, 151, 157, 163, 167, 173, 179, 181, 191, 193, 197, 199, 211, 223,
     227, 229, 233, 239, 241, 251, 257, 263, 269, 271, 277, 281, 283, 293, 307, 311};
 
-/* Largest float <= num/den, for 0 <= num < den < 2^62: binary long division
- * to 24 significant bits (the float mantissa), exact in integers. */
-ST_FN st_f32 st_ratio_floor(st_u64 num, st_u64 den)
+/* num/den rounded to a float, down (up = 0: the largest float <= num/den) or
+ * up (up = 1: the smallest float >= num/den), for 0 <= num < den < 2^62:
+ * binary long division to 24 significant bits (the float mantissa), exact in
+ * integers; a remainder left over means num/den lies strictly between q and
+ * q + 1 units of the last place. */
+ST_FN st_f32 st_ratio_round(st_u64 num, st_u64 den, st_u32 up)
 {
     if (num == 0)
         return 0.0f;
@@ -46,7 +49,19 @@ ST_FN st_f32 st_ratio_floor(st_u64 num, st_u64 den)
         }
         num <<= 1;
     }
+    if (up && num != 0u)
+        q++; /* 2^24 at most: still exact in a float */
     return ST_LDEXPF((st_f32)q, -(e + 23));
+}
+
+ST_FN st_f32 st_ratio_floor(st_u64 num, st_u64 den)
+{
+    return st_ratio_round(num, den, 0u);
+}
+
+ST_FN st_f32 st_ratio_ceil(st_u64 num, st_u64 den)
+{
+    return st_ratio_round(num, den, 1u);
 }
 
 /* Largest float <= bits * 2^-32: keep the 24 leading significant bits. */
@@ -82,12 +97,16 @@ ST_FN st_f32 st_radical_inverse(st_u32 base, st_u32 n)
     return st_ratio_floor(rev, den);
 }
 
-/* A pseudo-random permutation of [0, n) evaluated at i (n >= 1): a bijection
- * on the next power of two built from invertible steps (xor with a key,
- * multiplication by an odd constant, xor-shift within the mask), applied until
- * the value falls below n ("cycle walking", Black & Rogaway, "Ciphers with
- * Arbitrary Finite Domains", CT-RSA 2002; the idea of Kensler, "Correlated
- * Multi-Jittered Sampling", Pixar TM 13-01, 2013). */
+/* A pseudo-random permutation of [0, n) evaluated at i (n >= 1): Kensler's
+ * hash-based permutation (A. Kensler, "Correlated Multi-Jittered Sampling",
+ * Pixar TM 13-01, 2013, §3; pbrt-v4's PermutationElement), with the key hashed
+ * first. Invertible steps on the bits below the next power of two (xor with key
+ * bits, multiplication by odd constants, xor-shifts of the masked value) are
+ * applied until the value falls below n ("cycle walking", Black & Rogaway,
+ * "Ciphers with Arbitrary Finite Domains", CT-RSA 2002), then the result is
+ * rotated by the key. Every step mixes in key bits, so different keys give
+ * different permutations (an earlier version drew each key from only a few
+ * hundred permutations at n = 16: test_samplers.c permute_*). */
 ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
 {
     if (n <= 1u)
@@ -98,18 +117,28 @@ ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
     w |= w >> 4;
     w |= w >> 8;
     w |= w >> 16;
-    st_u32 k1 = st_hash32(key), k2 = st_hash32(k1);
+    st_u32 p = st_hash32(key);
     do {
-        i ^= k1 & w;
-        i = (i * 0x2c1b3c6du) & w;
-        i ^= (i & w) >> 3;
-        i = (i + k2) & w;
-        i = (i * 0x297a2d39u) & w;
-        i ^= (i & w) >> 5;
-        i = (i * (k1 | 1u)) & w;
-        i ^= (i & w) >> 7;
+        i ^= p;
+        i *= 0xe170893du;
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i *= 0x0929eb3fu;
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i *= 1u | p >> 27;
+        i *= 0x6935fa69u;
+        i ^= (i & w) >> 11;
+        i *= 0x74dcb303u;
+        i ^= (i & w) >> 2;
+        i *= 0x9e501cc3u;
+        i ^= (i & w) >> 2;
+        i *= 0xc860a3dfu;
+        i &= w;
+        i ^= i >> 5;
     } while (i >= n);
-    return i;
+    return (i + p) % n;
 }
 
 /* Φ_b(n) with random digit permutations: digit position k is mapped through a
@@ -264,8 +293,16 @@ ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_
         s = st_permute(s, p->spp, key);
     st_u32 cell = (dim & 1u) ? s / p->strat_nx : s % p->strat_nx;
     st_u32 n = (dim & 1u) ? p->strat_ny : p->strat_nx;
+    if (cell >= n)
+        cell = n - 1u;
     st_f32 x = ((st_f32)cell + jitter) / (st_f32)n;
-    return x < 0.99999994f ? x : 0.99999994f;
+    /* The roundings of cell + jitter and of the quotient can move x a float
+     * past either edge of its cell; keep it among the floats of [cell/n,
+     * (cell+1)/n): lo the smallest float >= cell/n, hi a float below
+     * (cell+1)/n (the largest <= (cell+1)/n - 2^-32/n), both exact. */
+    st_f32 lo = st_ratio_ceil(cell, n);
+    st_f32 hi = st_ratio_floor((((st_u64)cell + 1u) << 32) - 1u, (st_u64)n << 32);
+    return x < lo ? lo : (x > hi ? hi : x);
 }
 
 /* Dimension `dim` of sample id, in [0, 1). */
@@ -296,13 +333,16 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
     }
     case ST_SAMPLER_HAMMERSLEY: {
         if (dim == 0u) {
-            st_f32 x = st_ratio_floor(id->sample, p->spp);
-            if (p->scramble) { /* Cranley-Patterson rotation keeps one point per 1/N */
-                x += st_u32_to_unit(st_hash32(id->pixel_key));
-                x = x < 1.0f ? x : x - 1.0f;
-                x = x < 0.99999994f ? x : 0.99999994f;
-            }
-            return x;
+            if (!p->scramble)
+                return st_ratio_floor(id->sample, p->spp);
+            /* Cranley-Patterson rotation by u = U 2^-24, which keeps one point
+             * per 1/N: (i/N + u) mod 1 = ((i 2^24 + U N) mod N 2^24) / N 2^24,
+             * exact in integers and then rounded down like every value here (a
+             * float sum could carry a point a float past either edge of 1/N) */
+            st_u64 den = (st_u64)p->spp << 24;
+            st_u64 num = ((st_u64)id->sample << 24) +
+                         (st_u64)(st_hash32(id->pixel_key) >> 8) * p->spp;
+            return st_ratio_floor(num % den, den);
         }
         if (dim > ST_PRIME_COUNT)
             break;

@@ -91,11 +91,12 @@ typedef float st_f32;
 #define ST_FIXED_SHIFT 24
 #define ST_FIXED_SCALE 16777216.0f
 /* Largest |f * L| one splat may add, per channel; larger values are clamped and
- * counted. 2^16 * 2^24 = 2^40 per splat leaves 2^23 splats per pixel before the
- * signed 64-bit sum could overflow; the host refuses renders whose
- * spp * (pixels per filter footprint) could exceed ST_FIXED_MAX_SPLATS. */
+ * counted. 2^16 * 2^24 = 2^40 per splat: 2^23 - 1 splats per pixel stay below
+ * the signed 64-bit limit 2^63 - 1 (2^23 would reach 2^63); the host refuses
+ * renders whose spp * (pixels per filter footprint) could exceed
+ * ST_FIXED_MAX_SPLATS. */
 #define ST_SPLAT_MAX 65536.0f
-#define ST_FIXED_MAX_SPLATS 8388608.0
+#define ST_FIXED_MAX_SPLATS 8388607.0
 
 /* Offsets of the film counters (render stats) in the stats buffer. */
 #define ST_STAT_CLAMPED 0u   /* splat values clamped to ST_SPLAT_MAX */

@@ -141,7 +141,7 @@ st_status st_render_check(const st_render_options *o, st_error *err)
     if ((double)o->spp * reach * reach > ST_FIXED_MAX_SPLATS)
         return st_fail(err, ST_ERR_USAGE,
                        "--spp %u with filter radius %g could overflow the 64-bit film "
-                       "(limit: spp x (ceil(2r)+1)^2 <= 2^23)",
+                       "(limit: spp x (ceil(2r)+1)^2 <= 2^23 - 1)",
                        o->spp, (double)f->radius);
     return ST_OK;
 }
