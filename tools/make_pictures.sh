@@ -1,0 +1,28 @@
+#!/bin/sh
+# make_pictures.sh — remakes every picture of the README with ./strata, into
+# scenes/pictures/. Run from the repository root after `make`.
+set -e
+S=./strata
+P=scenes/pictures
+mkdir -p $P/samplers $P/filters $P/renders
+$S render --width 512 --height 512 --spp 64 --quiet -o $P/cornell-box.png
+for s in random uniform stratified halton hammersley poisson best-candidate sobol; do
+    $S pattern --sampler $s --count 256 --png $P/samplers/$s.png
+    $S pattern --sampler $s --count 1024 --spectrum $P/samplers/$s-spectrum.png
+    $S render --width 128 --height 128 --spp 1 --sampler $s --filter box --quiet \
+        -o $P/renders/1spp-$s.png
+done
+for f in box triangle gaussian mitchell lanczos catmull-rom blackman-harris; do
+    $S filter $f --png $P/filters/$f.png
+    $S render --width 128 --height 128 --spp 16 --sampler halton --filter $f --quiet \
+        -o $P/renders/filter-$f.png
+done
+for r in splat fis; do
+    $S render --width 128 --height 128 --spp 16 --filter mitchell --reconstruction $r --quiet \
+        -o $P/renders/recon-$r.png
+done
+mkdir -p $P/signal
+$S signal --freq 0.3 --png $P/signal/sine-above-nyquist.png 2> /dev/null
+$S signal --freq 0.8 --png $P/signal/alias.png 2> /dev/null
+$S signal --function step --filter lanczos --png $P/signal/gibbs-lanczos.png 2> /dev/null
+$S signal --function step --filter gaussian --png $P/signal/blur-gaussian.png 2> /dev/null
