@@ -1,0 +1,44 @@
+/* st_bvh.h — bounding volume hierarchy over a triangle soup, built on the host
+ * with binned SAH and flattened depth first for the kernels.
+ *
+ * The layout (st_bvh_node, st_triangle) is kernels/st_shared.h's; the traversal
+ * that reads it is kernels/trace.h (st_intersect_closest, st_intersect_any),
+ * shared by host and device. Guarantees of a built tree:
+ *   - nodes[0] is the root; an interior node's first child is the next node,
+ *     its second child is nodes[offset]; meta = count << 2 | split axis;
+ *   - a leaf holds 1..4 triangles, tris[offset .. offset + count);
+ *   - order is a permutation of 0 .. tri_count - 1 (tris[i] is input triangle
+ *     order[i]; hits report BVH-order indices);
+ *   - every box is the exact bounds of its subtree's triangles;
+ *   - depth <= ST_BVH_MAX_DEPTH (trace.h's stack size).
+ * An empty scene (tri_count == 0) has a single leaf root with an inverted
+ * (empty) box that no ray enters; tris and order then hold one zeroed
+ * placeholder, so that device buffers made from them are never empty. */
+#ifndef ST_BVH_H
+#define ST_BVH_H
+
+#include "st_error.h"
+#include "st_shared.h"
+
+typedef struct st_bvh {
+    st_u32 node_count;
+    st_bvh_node *nodes;     /* depth first; nodes[0] is the root */
+    st_u32 tri_count;
+    st_triangle *tris;      /* triangles in BVH order, prepared for Moller-Trumbore (v0, e1, e2) */
+    st_u32 *order;          /* order[i] = index in the input of BVH triangle i */
+    st_u32 depth;           /* deepest leaf, root = 1 */
+} st_bvh;
+
+/* positions: 9 floats per triangle (v0 v1 v2). tri_count may be 0 (an empty leaf root: no hits). Returns ST_ERR_NOMEM on
+   allocation failure, ST_ERR_FORMAT if the tree would exceed ST_BVH_MAX_DEPTH. */
+/* Also: ST_ERR_USAGE when out is NULL or positions is NULL with tri_count > 0;
+ * ST_ERR_FORMAT when a coordinate is not finite (the message names the
+ * triangle) or tri_count > 2^30 - 1. The build reads positions only during the
+ * call. On success *out is owned by the caller (st_bvh_destroy); on failure
+ * *out is NULL. */
+st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err);
+
+/* Frees the tree and its arrays. NULL is a no-op. */
+void st_bvh_destroy(st_bvh *bvh);
+
+#endif

@@ -1,0 +1,989 @@
+/* bvh.c — binned-SAH bounding volume hierarchy over triangles, built on the
+ * host and flattened depth first into st_bvh_node (include/st_bvh.h lists the
+ * guarantees of a built tree; kernels/trace.h traverses it).
+ *
+ * Cost model, the surface area heuristic (MacDonald & Booth 1990; Wald,
+ * "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE
+ * Symposium on Interactive Ray Tracing 2007):
+ *   C_split = C_trav + C_isect (N_L A(L) + N_R A(R)) / A(node),
+ *   C_leaf  = C_isect N,
+ * with C_isect = 1 and C_trav = 1.5: on the 1M-triangle MetalRoughSpheres
+ * model the host traversal (the kernels' own code) traced random rays as fast
+ * as with C_trav = 1 or 2 (within 5%), with a quarter fewer nodes than 1 and
+ * so a faster build. Nodes of more than LEAF_MAX triangles are always split;
+ * smaller ones become leaves when C_leaf <= C_split.
+ *
+ * Three builders share the work, from the top down:
+ *   - scenes of GRID_MIN_TRIS triangles or more get their top levels from a
+ *     grid of clusters (HLBVH's way, see build_clustered): two passes over the
+ *     input instead of a binning and a partitioning pass per level;
+ *   - nodes of more than SMALL_MAX triangles: binned SAH in Wald's manner,
+ *     BIN_COUNT bins over the centroid bounds along their widest axis (as
+ *     pbrt does), children's bounds and centroid bounds taken from the bins,
+ *     then a branch-free in-place partition;
+ *   - subtrees of up to SMALL_MAX triangles: the full SAH sweep over the
+ *     centroid order (small_tree), cheaper and better than bins at that size.
+ * Centroids coincident on every axis fall back to an object-median split.
+ *
+ * Depth invariant: a node at depth d (root = 1) holding n triangles satisfies
+ *   d + levels(n) <= ST_BVH_MAX_DEPTH,  levels(n) = ceil(log2(ceil(n / 4))),
+ * the levels that object-median splits need to reach leaves of <= 4. It holds
+ * at the root for any n < 2^30 (levels < 29). A median split keeps it
+ * (levels(ceil(n/2)) = levels(n) - 1 for n > 4); a SAH split that would break
+ * it for a child is replaced by a median split. So the build recurses at most
+ * ST_BVH_MAX_DEPTH deep and the traversal stack never overflows.
+ *
+ * Boxes are the exact bounds of their triangles (min and max of vertex
+ * coordinates: no rounding). That a Moller-Trumbore hit which rounding places
+ * a hair outside its triangle is still found is the traversal's business:
+ * trace.h widens the slab interval relative to t. tests/test_bvh.c compares
+ * the traversal with a brute-force loop over the same triangle test, bit for
+ * bit.
+ *
+ * Memory: the triangle references (32 bytes) live in the output triangle
+ * array (48 bytes each) until it is written; the node array is allocated at
+ * its bound 2N - 1 and shrunk at the end; the grid, when used, takes a few MB.
+ * The per-triangle work runs on 4-wide float vectors (SSE2 where available,
+ * plain C otherwise, with the same results). */
+#include "st_bvh.h"
+
+#include "trace.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LEAF_MAX 4u
+#define BIN_COUNT 16u
+#define COST_TRAVERSE 1.5f
+#define COST_INTERSECT 1.0f
+#define MAX_TRIANGLES 0x3fffffffu
+#define SMALL_MAX 32u
+
+/* ---- 4-wide floats ------------------------------------------------------- */
+
+#if defined(__SSE2__) && !defined(ST_BVH_NO_SIMD)
+#include <emmintrin.h>
+typedef __m128 v4;
+static inline v4 v4_load(const float f[4]) { return _mm_load_ps(f); }
+static inline void v4_store(float f[4], v4 a) { _mm_storeu_ps(f, a); }
+static inline v4 v4_splat(float x) { return _mm_set1_ps(x); }
+static inline v4 v4_add(v4 a, v4 b) { return _mm_add_ps(a, b); }
+static inline v4 v4_sub(v4 a, v4 b) { return _mm_sub_ps(a, b); }
+/* minps/maxps: a < b ? a : b and a > b ? a : b per lane. */
+static inline v4 v4_min(v4 a, v4 b) { return _mm_min_ps(a, b); }
+static inline v4 v4_max(v4 a, v4 b) { return _mm_max_ps(a, b); }
+#else
+typedef struct v4 {
+    float f[4];
+} v4;
+static inline v4 v4_load(const float f[4]) { v4 r; memcpy(r.f, f, sizeof r.f); return r; }
+static inline void v4_store(float f[4], v4 a) { memcpy(f, a.f, sizeof a.f); }
+static inline v4 v4_splat(float x) { return (v4){{x, x, x, x}}; }
+#define V4_LANES(expr)                                                                         \
+    v4 r;                                                                                      \
+    for (int i = 0; i < 4; ++i)                                                                \
+        r.f[i] = (expr);                                                                       \
+    return r
+static inline v4 v4_add(v4 a, v4 b) { V4_LANES(a.f[i] + b.f[i]); }
+static inline v4 v4_sub(v4 a, v4 b) { V4_LANES(a.f[i] - b.f[i]); }
+static inline v4 v4_min(v4 a, v4 b) { V4_LANES(a.f[i] < b.f[i] ? a.f[i] : b.f[i]); }
+static inline v4 v4_max(v4 a, v4 b) { V4_LANES(a.f[i] > b.f[i] ? a.f[i] : b.f[i]); }
+#undef V4_LANES
+#endif
+
+static inline float v4_lane(v4 a, st_u32 i)
+{
+    float f[4];
+    v4_store(f, a);
+    return f[i];
+}
+
+/* ---- boxes and triangle references ------------------------------------------ */
+
+/* Boxes use lanes x, y, z; the fourth lane carries whatever it picks up. */
+typedef struct box {
+    v4 lo, hi;
+} box;
+
+/* A triangle's bounds. lo[3] carries its input index as float bits with bit
+ * 30 set (so MAX_TRIANGLES < 2^30): a normal float, an infinity or a NaN but
+ * never a denormal, which could slow the vector arithmetic the lane goes
+ * through unused. hi[3] is 0. The doubled centroid lo + hi stands for the
+ * centroid everywhere in the build (one add, no multiply). */
+typedef struct ref {
+    _Alignas(16) float lo[4];
+    float hi[4];
+} ref;
+
+static inline box box_empty(void) { return (box){v4_splat(FLT_MAX), v4_splat(-FLT_MAX)}; }
+
+static inline void box_grow(box *b, const box *c)
+{
+    b->lo = v4_min(b->lo, c->lo);
+    b->hi = v4_max(b->hi, c->hi);
+}
+
+static inline void box_grow_point(box *b, v4 p)
+{
+    b->lo = v4_min(b->lo, p);
+    b->hi = v4_max(b->hi, p);
+}
+
+/* Half the surface area, (dx dy + dy dz) + dz dx (only ratios matter). */
+static inline float box_area(const box *b)
+{
+#if defined(__SSE2__) && !defined(ST_BVH_NO_SIMD)
+    __m128 d = _mm_sub_ps(b->hi, b->lo);
+    __m128 p = _mm_mul_ps(d, _mm_shuffle_ps(d, d, _MM_SHUFFLE(3, 0, 2, 1)));
+    __m128 sum = _mm_add_ss(_mm_add_ss(p, _mm_shuffle_ps(p, p, 1)), _mm_movehl_ps(p, p));
+    return _mm_cvtss_f32(sum);
+#else
+    float d[4];
+    v4_store(d, v4_sub(b->hi, b->lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+#endif
+}
+
+static st_u32 box_widest_axis(const box *b)
+{
+    float d[4];
+    v4_store(d, v4_sub(b->hi, b->lo));
+    return d[0] >= d[1] && d[0] >= d[2] ? 0u : d[1] >= d[2] ? 1u : 2u;
+}
+
+static inline box ref_box(const ref *r) { return (box){v4_load(r->lo), v4_load(r->hi)}; }
+static inline float ref_key(const ref *r, st_u32 axis) { return r->lo[axis] + r->hi[axis]; }
+
+static inline void ref_set(ref *r, const float lo[3], const float hi[3], st_u32 id)
+{
+    st_u32 bits = id | 0x40000000u;
+    memcpy(r->lo, lo, 3 * sizeof *lo);
+    memcpy(&r->lo[3], &bits, sizeof bits);
+    memcpy(r->hi, hi, 3 * sizeof *hi);
+    r->hi[3] = 0.0f;
+}
+
+static inline st_u32 ref_id(const ref *r)
+{
+    st_u32 bits;
+    memcpy(&bits, &r->lo[3], sizeof bits);
+    return bits & 0x3fffffffu;
+}
+
+static inline void swap_refs(ref *refs, st_u32 i, st_u32 j)
+{
+    ref t = refs[i];
+    refs[i] = refs[j];
+    refs[j] = t;
+}
+
+/* Bounds and centroid bounds of refs [0, n). */
+static void bounds_of(const ref *refs, st_u32 n, box *b, box *cb)
+{
+    *b = box_empty();
+    *cb = box_empty();
+    for (st_u32 i = 0; i < n; ++i) {
+        box r = ref_box(&refs[i]);
+        box_grow(b, &r);
+        box_grow_point(cb, v4_add(r.lo, r.hi));
+    }
+}
+
+/* A split into children [0, left_count) and [left_count, n), lower
+ * coordinates on `axis` first: their bounds and centroid bounds, and
+ * cost = N_L A(L) + N_R A(R). */
+typedef struct split {
+    st_u32 axis, left_count;
+    float cost;
+    box left, right, left_cb, right_cb;
+} split;
+
+/* ---- binned SAH (nodes of more than SMALL_MAX triangles) ------------------------ */
+
+/* The bins lie along the widest axis of the centroid bounds, as in pbrt
+ * (Pharr, Jakob & Humphreys, PBR 3rd ed. §4.3.2): evaluating the other two
+ * axes would triple the binning work for a few percent of SAH cost. Bin of a
+ * doubled centroid c: x = (c - cmin) * scale with scale = BIN_COUNT / extent,
+ * bin = trunc(x) clamped to the last bin (NaN, from an infinite extent, goes
+ * there too). Binning and partitioning use the same function, so they agree
+ * on every triangle. */
+typedef struct binning {
+    st_u32 axis;
+    float cmin, scale;
+} binning;
+
+static inline st_u32 bin_index(const binning *m, const ref *r)
+{
+    float x = (ref_key(r, m->axis) - m->cmin) * m->scale;
+    x = x < (float)(BIN_COUNT - 1u) ? x : (float)(BIN_COUNT - 1u);
+    return (st_u32)(int)x;
+}
+
+/* Triangle bounds, centroid bounds and count of one bin: the sweep takes the
+ * children's boxes and centroid boxes from them, so no pass over the
+ * children is needed before they are binned in turn. */
+typedef struct bin {
+    box b, c;
+    st_u32 n;
+} bin;
+
+static void bins_clear(bin *bins)
+{
+    for (st_u32 k = 0; k < BIN_COUNT; ++k) {
+        bins[k].b = box_empty();
+        bins[k].c = box_empty();
+        bins[k].n = 0;
+    }
+}
+
+static inline void bins_add(bin *bins, const binning *m, const ref *r)
+{
+    bin *b = &bins[bin_index(m, r)];
+    box rb = ref_box(r);
+    box_grow(&b->b, &rb);
+    box_grow_point(&b->c, v4_add(rb.lo, rb.hi));
+    b->n++;
+}
+
+/* In large nodes, even and odd triangles go into separate bin sets, merged
+ * at the end, so that runs of triangles falling into one bin do not
+ * serialise on store-to-load latency; small nodes skip the second set's
+ * fixed cost. */
+#define BIN_TWO_SETS_MIN 512u
+static void bin_refs(const ref *refs, st_u32 n, const binning *m, bin *bins)
+{
+    st_u32 i = 0;
+    bins_clear(bins);
+    if (n >= BIN_TWO_SETS_MIN) {
+        bin odd[BIN_COUNT];
+        bins_clear(odd);
+        for (; i + 1u < n; i += 2u) {
+            bins_add(bins, m, &refs[i]);
+            bins_add(odd, m, &refs[i + 1u]);
+        }
+        for (st_u32 k = 0; k < BIN_COUNT; ++k) {
+            box_grow(&bins[k].b, &odd[k].b);
+            box_grow(&bins[k].c, &odd[k].c);
+            bins[k].n += odd[k].n;
+        }
+    }
+    for (; i < n; ++i)
+        bins_add(bins, m, &refs[i]);
+}
+
+/* Finds the cheapest bin boundary, N_L A(L) + N_R A(R); returns it (0 for
+ * none: every triangle in one bin, or areas overflowing). */
+static st_u32 sweep_bins(const bin *bins, float *best_cost)
+{
+    float right_cost[BIN_COUNT];
+    box acc = box_empty();
+    st_u32 count = 0, best = 0;
+    for (st_u32 k = BIN_COUNT - 1u; k > 0u; --k) {
+        box_grow(&acc, &bins[k].b);
+        count += bins[k].n;
+        right_cost[k] = count ? (float)count * box_area(&acc) : INFINITY;
+    }
+    acc = box_empty();
+    count = 0;
+    *best_cost = INFINITY;
+    for (st_u32 k = 1; k < BIN_COUNT; ++k) {
+        box_grow(&acc, &bins[k - 1u].b);
+        count += bins[k - 1u].n;
+        float cost = count ? (float)count * box_area(&acc) + right_cost[k] : INFINITY;
+        if (cost < *best_cost) {
+            *best_cost = cost;
+            best = k;
+        }
+    }
+    return best;
+}
+
+/* Branch-free partition (Lomuto's scheme: every element is swapped with the
+ * first right-hand one), as the sides of a split are unpredictable. */
+static st_u32 partition_bins(ref *refs, st_u32 n, const binning *m, st_u32 split_bin)
+{
+    st_u32 p = 0;
+    for (st_u32 i = 0; i < n; ++i) {
+        ref r = refs[i];
+        st_u32 left = bin_index(m, &r) < split_bin;
+        refs[i] = refs[p];
+        refs[p] = r;
+        p += left;
+    }
+    return p;
+}
+
+/* Binned SAH split of a large node with centroid bounds cb, partitioned;
+ * returns 0 when there is none (no centroid extent, areas overflowing). */
+static int split_binned(ref *refs, st_u32 n, const box *cb, split *s)
+{
+    bin bins[BIN_COUNT];
+    float lo[4], hi[4];
+    binning m;
+    m.axis = box_widest_axis(cb);
+    v4_store(lo, cb->lo);
+    v4_store(hi, cb->hi);
+    float extent = hi[m.axis] - lo[m.axis];
+    m.cmin = lo[m.axis];
+    m.scale = (float)BIN_COUNT / extent;
+    if (!(extent > 0.0f && m.scale <= FLT_MAX))
+        return 0;
+    bin_refs(refs, n, &m, bins);
+    st_u32 k = sweep_bins(bins, &s->cost);
+    if (k == 0u)
+        return 0;
+    s->axis = m.axis;
+    s->left = s->right = s->left_cb = s->right_cb = box_empty();
+    for (st_u32 j = 0; j < BIN_COUNT; ++j) {
+        box_grow(j < k ? &s->left : &s->right, &bins[j].b);
+        box_grow(j < k ? &s->left_cb : &s->right_cb, &bins[j].c);
+    }
+    s->left_count = partition_bins(refs, n, &m, k);
+    return 1;
+}
+
+/* ---- median split (fallback) ----------------------------------------------- */
+
+/* Rearranges [0, n) so that element k has the centroid it would have if
+ * sorted along axis, smaller ones before it, larger after (Hoare's FIND, as
+ * in Wirth, "Algorithms + Data Structures = Programs", 1976, §2.3.4). Keys
+ * are never NaN (finite input), so the pivot bounds both scans. */
+static void select_nth(ref *refs, st_u32 n, st_u32 k, st_u32 axis)
+{
+    st_i64 lo = 0, hi = (st_i64)n - 1;
+    while (lo < hi) {
+        float pivot = ref_key(&refs[lo + (hi - lo) / 2], axis);
+        st_i64 i = lo, j = hi;
+        while (i <= j) {
+            while (ref_key(&refs[i], axis) < pivot)
+                ++i;
+            while (pivot < ref_key(&refs[j], axis))
+                --j;
+            if (i <= j)
+                swap_refs(refs, (st_u32)i++, (st_u32)j--);
+        }
+        if ((st_i64)k <= j)
+            hi = j;
+        else if ((st_i64)k >= i)
+            lo = i;
+        else
+            break;
+    }
+}
+
+static void split_median(ref *refs, st_u32 n, const box *cb, split *s)
+{
+    s->axis = box_widest_axis(cb);
+    s->left_count = n / 2u;
+    select_nth(refs, n, s->left_count, s->axis);
+    bounds_of(refs, s->left_count, &s->left, &s->left_cb);
+    bounds_of(refs + s->left_count, n - s->left_count, &s->right, &s->right_cb);
+}
+
+/* ---- the tree -------------------------------------------------------------- */
+
+typedef struct builder {
+    ref *refs;          /* in BVH order once built */
+    st_bvh_node *nodes;
+    st_u32 node_count;
+    st_u32 depth;
+} builder;
+
+static st_u32 median_levels(st_u32 n)
+{
+    st_u64 leaves = ((st_u64)n + LEAF_MAX - 1u) / LEAF_MAX;
+    st_u32 levels = 0;
+    while (((st_u64)1 << levels) < leaves)
+        ++levels;
+    return levels;
+}
+
+/* C_leaf <= C_split, both multiplied by A(node) so that a flat node (A = 0)
+ * compares 0 <= 0 instead of 0/0. */
+static int leaf_is_cheaper(const box *bounds, st_u32 n, float split_area_sum)
+{
+    float area = box_area(bounds);
+    float split_cost = COST_TRAVERSE * area + COST_INTERSECT * split_area_sum;
+    return !(split_cost < COST_INTERSECT * (float)n * area);
+}
+
+static void write_box(st_bvh_node *node, const box *b)
+{
+    float lo[4], hi[4];
+    v4_store(lo, b->lo);
+    v4_store(hi, b->hi);
+    memcpy(node->bmin, lo, sizeof node->bmin);
+    memcpy(node->bmax, hi, sizeof node->bmax);
+}
+
+/* ---- small subtrees (up to SMALL_MAX triangles): full-sweep SAH --------------- */
+
+/* A subtree of at most SMALL_MAX triangles is built from a local copy, its
+ * triangles named by 8-bit local indices. At each node they are sorted along
+ * the widest centroid axis (insertion sort: a child mostly inherits its
+ * parent's order) and every object split of that order is evaluated, the
+ * full sweep of MacDonald & Booth ("Heuristics for ray tracing using space
+ * subdivision", The Visual Computer 6(3), 1990): better than binning for few
+ * triangles and, without per-node bins or moves of whole references, several
+ * times cheaper; these nodes are most of the tree. Equal centroids are split
+ * apart like any others, and the middle of the sorted order is the object
+ * median the depth guard asks for. Leaves record their triangles in `out`;
+ * the references are permuted once at the end. */
+typedef struct small_tree {
+    builder *b;
+    st_u32 begin, cursor;
+    box rb[SMALL_MAX];              /* triangle bounds */
+    v4 c[SMALL_MAX];                /* doubled centroids */
+    float key[3][SMALL_MAX];        /* the same, per axis */
+    unsigned char perm[SMALL_MAX];  /* working order */
+    unsigned char out[SMALL_MAX];   /* leaf order */
+} small_tree;
+
+static void sort_by_key(unsigned char *perm, st_u32 n, const float *key)
+{
+    for (st_u32 i = 1; i < n; ++i) {
+        unsigned char v = perm[i];
+        st_u32 j = i;
+        for (; j > 0u && key[v] < key[perm[j - 1u]]; --j)
+            perm[j] = perm[j - 1u];
+        perm[j] = v;
+    }
+}
+
+/* Sorts perm[0, n) along the widest centroid axis and sweeps it; returns
+ * the best j (children: the first j and the rest) with its cost
+ * N_L A(L) + N_R A(R) in *best (INFINITY if the areas overflow). */
+static st_u32 small_sweep(small_tree *t, unsigned char *perm, st_u32 n, st_u32 *axis, float *best)
+{
+    float right_cost[SMALL_MAX];
+    box cb = box_empty(), acc = box_empty();
+    st_u32 best_j = n / 2u;
+    for (st_u32 i = 0; i < n; ++i)
+        box_grow_point(&cb, t->c[perm[i]]);
+    *axis = box_widest_axis(&cb);
+    sort_by_key(perm, n, t->key[*axis]);
+    for (st_u32 j = n - 1u; j > 0u; --j) {
+        box_grow(&acc, &t->rb[perm[j]]);
+        right_cost[j] = (float)(n - j) * box_area(&acc);
+    }
+    acc = box_empty();
+    *best = INFINITY;
+    for (st_u32 j = 1; j < n; ++j) {
+        box_grow(&acc, &t->rb[perm[j - 1u]]);
+        float cost = (float)j * box_area(&acc) + right_cost[j];
+        if (cost < *best) {
+            *best = cost;
+            best_j = j;
+        }
+    }
+    return best_j;
+}
+
+static box small_bounds(const small_tree *t, const unsigned char *perm, st_u32 n)
+{
+    box b = box_empty();
+    for (st_u32 i = 0; i < n; ++i)
+        box_grow(&b, &t->rb[perm[i]]);
+    return b;
+}
+
+static void small_node(small_tree *t, st_u32 lo, st_u32 hi, st_u32 depth, const box *bounds)
+{
+    builder *b = t->b;
+    st_u32 n = hi - lo, index = b->node_count++, axis = 0, j = 0;
+    st_bvh_node *node = &b->nodes[index];
+    unsigned char *perm = t->perm + lo;
+    float cost = INFINITY;
+    write_box(node, bounds);
+    if (depth > b->depth)
+        b->depth = depth;
+    if (n > 1u)
+        j = small_sweep(t, perm, n, &axis, &cost);
+    if (n == 1u ||
+        (n <= LEAF_MAX && (!(cost < INFINITY) || depth >= ST_BVH_MAX_DEPTH || leaf_is_cheaper(bounds, n, cost)))) {
+        node->offset = t->begin + t->cursor;
+        node->meta = n << 2;
+        for (st_u32 k = 0; k < n; ++k)
+            t->out[t->cursor++] = perm[k];
+        return;
+    }
+    if (depth + 1u + median_levels(j > n - j ? j : n - j) > ST_BVH_MAX_DEPTH)
+        j = n / 2u;
+    box left = small_bounds(t, perm, j), right = small_bounds(t, perm + j, n - j);
+    node->meta = axis;
+    small_node(t, lo, lo + j, depth + 1u, &left);
+    b->nodes[index].offset = b->node_count;
+    small_node(t, lo + j, hi, depth + 1u, &right);
+}
+
+static void small_subtree(builder *b, st_u32 begin, st_u32 n, st_u32 depth, const box *bounds)
+{
+    small_tree t;
+    ref *refs = b->refs + begin, sorted[SMALL_MAX];
+    t.b = b;
+    t.begin = begin;
+    t.cursor = 0;
+    for (st_u32 i = 0; i < n; ++i) {
+        float c[4];
+        t.rb[i] = ref_box(&refs[i]);
+        t.c[i] = v4_add(t.rb[i].lo, t.rb[i].hi);
+        v4_store(c, t.c[i]);
+        t.key[0][i] = c[0];
+        t.key[1][i] = c[1];
+        t.key[2][i] = c[2];
+        t.perm[i] = (unsigned char)i;
+    }
+    small_node(&t, 0, n, depth, bounds);
+    for (st_u32 i = 0; i < n; ++i)
+        sorted[i] = refs[t.out[i]];
+    memcpy(refs, sorted, n * sizeof *refs);
+}
+
+/* Builds the subtree of refs [begin, end), with bounds `bounds` and centroid
+ * bounds `cb`, at depth `depth` into the next free node. Nodes of more than
+ * SMALL_MAX (> LEAF_MAX) triangles are always split. */
+static void build_node(builder *b, st_u32 begin, st_u32 end, st_u32 depth, const box *bounds, const box *cb)
+{
+    st_u32 n = end - begin;
+    if (n <= SMALL_MAX) {
+        small_subtree(b, begin, n, depth, bounds);
+        return;
+    }
+    st_u32 index = b->node_count++;
+    ref *refs = b->refs + begin;
+    split s;
+    write_box(&b->nodes[index], bounds);
+    if (depth > b->depth)
+        b->depth = depth;
+    if (!split_binned(refs, n, cb, &s) ||
+        depth + 1u + median_levels(s.left_count > n - s.left_count ? s.left_count : n - s.left_count) >
+            ST_BVH_MAX_DEPTH)
+        split_median(refs, n, cb, &s);
+    b->nodes[index].meta = s.axis;
+    build_node(b, begin, begin + s.left_count, depth + 1u, &s.left, &s.left_cb);
+    b->nodes[index].offset = b->node_count;
+    build_node(b, begin + s.left_count, end, depth + 1u, &s.right, &s.right_cb);
+}
+
+/* ---- input ------------------------------------------------------------------- */
+
+static inline void tri_bounds(const float *p, float lo[3], float hi[3])
+{
+    for (int a = 0; a < 3; ++a) {
+        float x = p[a], y = p[3 + a], z = p[6 + a];
+        lo[a] = x < y ? (x < z ? x : z) : (y < z ? y : z);
+        hi[a] = x > y ? (x > z ? x : z) : (y > z ? y : z);
+    }
+}
+
+/* The scene bounds and centroid bounds; returns the first triangle with a
+ * non-finite coordinate, or n. */
+static st_u32 scan_positions(const float *positions, st_u32 n, box *bounds, box *cb)
+{
+    *bounds = box_empty();
+    *cb = box_empty();
+    for (st_u32 i = 0; i < n; ++i) {
+        const float *p = positions + (size_t)9 * i;
+        float finite = 0.0f; /* x * 0 is 0 for finite x, NaN otherwise */
+        for (int k = 0; k < 9; ++k)
+            finite += p[k] * 0.0f;
+        if (finite != 0.0f)
+            return i;
+        float lo[4] = {0}, hi[4] = {0};
+        tri_bounds(p, lo, hi);
+        box r = {v4_load(lo), v4_load(hi)};
+        box_grow(bounds, &r);
+        box_grow_point(cb, v4_add(r.lo, r.hi));
+    }
+    return n;
+}
+
+static void fill_refs(const float *positions, st_u32 n, ref *refs)
+{
+    for (st_u32 i = 0; i < n; ++i) {
+        float lo[3], hi[3];
+        tri_bounds(positions + (size_t)9 * i, lo, hi);
+        ref_set(&refs[i], lo, hi, i);
+    }
+}
+
+/* ---- the top levels of large scenes: a grid of clusters ------------------------ */
+
+/* From GRID_MIN_TRIS triangles on, the top of the tree is built over clusters
+ * rather than triangles, as HLBVH does (Pantaleoni & Luebke, "HLBVH:
+ * Hierarchical LBVH Construction for Real-Time Ray Tracing of Dynamic
+ * Geometry", HPG 2010; Garanzha, Pantaleoni & McAllister, "Simpler and Faster
+ * HLBVH with Work Queues", HPG 2011, build their top levels with binned SAH
+ * over grid cells). Triangles are counted into a uniform grid of at most
+ * GRID_RES cells per axis over the centroid bounds; the non-empty cells are
+ * the primitives of a binned SAH build (weighted by triangle count, over all
+ * three axes: it is cheap at this scale), the plan, whose leaves are single
+ * cells, or groups of cells holding at most PLAN_LEAF_TRIS triangles or
+ * stopped by the depth guard. The triangles are then scattered so that every
+ * plan node's triangles are contiguous, and each plan leaf is built over its
+ * triangles by build_node. The top levels so cost three passes over the input
+ * instead of a binning and a partitioning pass per level. */
+#define GRID_MIN_TRIS 65536u
+#define GRID_RES 32u
+#define PLAN_LEAF_TRIS 64u
+
+typedef struct cell {
+    box b, cb;          /* bounds and centroid bounds of its triangles */
+    st_u32 count, start;
+} cell;
+
+typedef struct cluster {
+    box b;
+    st_u32 cell, count;
+} cluster;
+
+/* A plan node: clusters [first, last) holding `tris` triangles; a leaf when
+ * right == 0, its triangles then at [start, start + tris). */
+typedef struct plan {
+    box b;
+    st_u32 first, last, tris, start;
+    st_u32 axis, left, right;
+} plan;
+
+typedef struct grid {
+    float cmin[3], scale[3], last[3];
+    st_u32 res[3];
+    cell *cells;
+    cluster *clusters;
+    plan *plans;
+    st_u32 cluster_count, plan_count;
+} grid;
+
+/* Resolution per axis proportional to the centroid extent (cells about
+ * cubic), at most GRID_RES; an axis without extent gets one cell. */
+static void grid_init(grid *g, const box *cb)
+{
+    float lo[4], hi[4], emax = 0.0f;
+    v4_store(lo, cb->lo);
+    v4_store(hi, cb->hi);
+    for (int a = 0; a < 3; ++a)
+        emax = hi[a] - lo[a] > emax ? hi[a] - lo[a] : emax;
+    for (int a = 0; a < 3; ++a) {
+        float extent = hi[a] - lo[a];
+        float cells = emax > 0.0f ? ceilf((float)GRID_RES * (extent / emax)) : 1.0f;
+        g->res[a] = cells >= 1.0f ? (cells <= (float)GRID_RES ? (st_u32)cells : GRID_RES) : 1u;
+        g->cmin[a] = lo[a];
+        g->scale[a] = extent > 0.0f && (float)g->res[a] / extent <= FLT_MAX ? (float)g->res[a] / extent : 0.0f;
+        g->last[a] = (float)(g->res[a] - 1u);
+    }
+}
+
+static inline st_u32 grid_cell(const grid *g, const float lo[3], const float hi[3])
+{
+    st_u32 k[3];
+    for (int a = 0; a < 3; ++a) {
+        float x = (lo[a] + hi[a] - g->cmin[a]) * g->scale[a];
+        x = x < g->last[a] ? x : g->last[a];
+        k[a] = (st_u32)(int)x;
+    }
+    return (k[0] * g->res[1] + k[1]) * g->res[2] + k[2];
+}
+
+/* Pass 1: every triangle's cell (into cell_of) and every cell's bounds. */
+static void grid_count(grid *g, const float *positions, st_u32 n, st_u32 *cell_of)
+{
+    for (st_u32 i = 0; i < n; ++i) {
+        float lo[4] = {0}, hi[4] = {0};
+        tri_bounds(positions + (size_t)9 * i, lo, hi);
+        st_u32 id = grid_cell(g, lo, hi);
+        cell *c = &g->cells[id];
+        box r = {v4_load(lo), v4_load(hi)};
+        cell_of[i] = id;
+        c->count++;
+        box_grow(&c->b, &r);
+        box_grow_point(&c->cb, v4_add(r.lo, r.hi));
+    }
+}
+
+/* A plan split: clusters whose centroid bin on `axis` is below `split` go
+ * left, bins as in binning. */
+typedef struct plan_cut {
+    st_u32 axis;
+    float cmin, scale, split;
+} plan_cut;
+
+static inline float plan_bin(const plan_cut *m, const cluster *c)
+{
+    float x = (v4_lane(v4_add(c->b.lo, c->b.hi), m->axis) - m->cmin) * m->scale;
+    x = x < (float)(BIN_COUNT - 1u) ? x : (float)(BIN_COUNT - 1u);
+    return (float)(int)x;
+}
+
+/* The best binned SAH split of clusters [first, last) over the three axes;
+ * returns 0 for none. */
+static int plan_split(const grid *g, st_u32 first, st_u32 last, plan_cut *best)
+{
+    box cb = box_empty();
+    float lo[4], hi[4], best_cost = INFINITY;
+    for (st_u32 i = first; i < last; ++i)
+        box_grow_point(&cb, v4_add(g->clusters[i].b.lo, g->clusters[i].b.hi));
+    v4_store(lo, cb.lo);
+    v4_store(hi, cb.hi);
+    for (st_u32 a = 0; a < 3u; ++a) {
+        plan_cut m = {a, lo[a], (float)BIN_COUNT / (hi[a] - lo[a]), 0.0f};
+        bin bins[BIN_COUNT];
+        float cost;
+        if (!(hi[a] - lo[a] > 0.0f && m.scale <= FLT_MAX))
+            continue;
+        bins_clear(bins);
+        for (st_u32 i = first; i < last; ++i) {
+            bin *b = &bins[(st_u32)plan_bin(&m, &g->clusters[i])];
+            box_grow(&b->b, &g->clusters[i].b);
+            b->n += g->clusters[i].count;
+        }
+        st_u32 k = sweep_bins(bins, &cost);
+        if (k != 0u && cost < best_cost) {
+            best_cost = cost;
+            *best = m;
+            best->split = (float)k;
+        }
+    }
+    return best_cost < INFINITY;
+}
+
+static st_u32 plan_partition(grid *g, st_u32 first, st_u32 last, const plan_cut *m)
+{
+    st_u32 p = first;
+    for (st_u32 i = first; i < last; ++i) {
+        cluster c = g->clusters[i];
+        int left = plan_bin(m, &c) < m->split;
+        g->clusters[i] = g->clusters[p];
+        g->clusters[p] = c;
+        p += (st_u32)left;
+    }
+    return p;
+}
+
+/* Builds the plan over clusters [first, last) at `depth`; returns its index. */
+static st_u32 plan_build(grid *g, st_u32 first, st_u32 last, st_u32 depth)
+{
+    st_u32 index = g->plan_count++, tris = 0;
+    box b = box_empty();
+    plan_cut m;
+    for (st_u32 i = first; i < last; ++i) {
+        box_grow(&b, &g->clusters[i].b);
+        tris += g->clusters[i].count;
+    }
+    g->plans[index] = (plan){b, first, last, tris, 0, 0, 0, 0};
+    if (last - first < 2u || tris <= PLAN_LEAF_TRIS || !plan_split(g, first, last, &m))
+        return index;
+    st_u32 mid = plan_partition(g, first, last, &m), left_tris = 0;
+    for (st_u32 i = first; i < mid; ++i)
+        left_tris += g->clusters[i].count;
+    st_u32 larger = left_tris > tris - left_tris ? left_tris : tris - left_tris;
+    if (mid == first || mid == last || depth + 1u + median_levels(larger) > ST_BVH_MAX_DEPTH)
+        return index;
+    st_u32 left = plan_build(g, first, mid, depth + 1u);
+    st_u32 right = plan_build(g, mid, last, depth + 1u);
+    g->plans[index].axis = m.axis;
+    g->plans[index].left = left;
+    g->plans[index].right = right;
+    return index;
+}
+
+/* Gives each plan leaf, in depth-first order, its range of triangles, and
+ * each cell its start within it. */
+static st_u32 plan_layout(grid *g, st_u32 index, st_u32 cursor)
+{
+    plan *p = &g->plans[index];
+    if (p->right != 0u) {
+        cursor = plan_layout(g, p->left, cursor);
+        return plan_layout(g, p->right, cursor);
+    }
+    p->start = cursor;
+    for (st_u32 i = p->first; i < p->last; ++i) {
+        cell *c = &g->cells[g->clusters[i].cell];
+        c->start = cursor;
+        cursor += c->count;
+    }
+    return cursor;
+}
+
+/* Pass 2: each triangle's reference to the next slot of its cell. */
+static void grid_scatter(grid *g, const float *positions, st_u32 n, const st_u32 *cell_of, ref *refs)
+{
+    for (st_u32 i = 0; i < n; ++i) {
+        float lo[3], hi[3];
+        tri_bounds(positions + (size_t)9 * i, lo, hi);
+        ref_set(&refs[g->cells[cell_of[i]].start++], lo, hi, i);
+    }
+}
+
+/* Writes the plan's interior nodes and builds its leaves with build_node. */
+static void plan_emit(builder *b, const grid *g, st_u32 index, st_u32 depth)
+{
+    const plan *p = &g->plans[index];
+    if (p->right == 0u) {
+        box cb = box_empty();
+        for (st_u32 i = p->first; i < p->last; ++i)
+            box_grow(&cb, &g->cells[g->clusters[i].cell].cb);
+        build_node(b, p->start, p->start + p->tris, depth, &p->b, &cb);
+        return;
+    }
+    st_u32 node = b->node_count++;
+    write_box(&b->nodes[node], &p->b);
+    b->nodes[node].meta = p->axis;
+    plan_emit(b, g, p->left, depth + 1u);
+    b->nodes[node].offset = b->node_count;
+    plan_emit(b, g, p->right, depth + 1u);
+}
+
+/* The clustered build of n >= GRID_MIN_TRIS triangles; cell_of is scratch
+ * for n cell indices. */
+static st_status build_clustered(builder *b, const float *positions, st_u32 n, const box *cb, st_u32 *cell_of,
+                                 st_error *err)
+{
+    grid g = {0};
+    grid_init(&g, cb);
+    size_t cells = (size_t)g.res[0] * g.res[1] * g.res[2];
+    g.cells = malloc(cells * sizeof *g.cells);
+    g.clusters = malloc(cells * sizeof *g.clusters);
+    g.plans = malloc((2u * cells - 1u) * sizeof *g.plans);
+    if (!g.cells || !g.clusters || !g.plans) {
+        free(g.cells);
+        free(g.clusters);
+        free(g.plans);
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the cluster grid");
+    }
+    for (size_t c = 0; c < cells; ++c)
+        g.cells[c] = (cell){box_empty(), box_empty(), 0, 0};
+    grid_count(&g, positions, n, cell_of);
+    for (st_u32 c = 0; c < (st_u32)cells; ++c)
+        if (g.cells[c].count)
+            g.clusters[g.cluster_count++] = (cluster){g.cells[c].b, c, g.cells[c].count};
+    plan_build(&g, 0, g.cluster_count, 1);
+    plan_layout(&g, 0, 0);
+    grid_scatter(&g, positions, n, cell_of, b->refs);
+    plan_emit(b, &g, 0, 1);
+    free(g.cells);
+    free(g.clusters);
+    free(g.plans);
+    return ST_OK;
+}
+
+/* tris[i] = input triangle order[i] as (v0, v1 - v0, v2 - v0), order[i]
+ * from refs[i]. The refs live in the tris array (32 of every 48 bytes, see
+ * build_tree), so the pass runs backwards: tris[i] covers refs[1.5 i] to
+ * refs[1.5 i + 1], all read already. The reads from positions are scattered
+ * over the input, so they are prefetched a few triangles ahead. */
+#define PREFETCH_AHEAD 16u
+static void write_triangles(const float *positions, const ref *refs, st_u32 n, st_bvh *bvh)
+{
+    for (st_u32 i = n; i-- > 0u;) {
+        st_u32 id = ref_id(&refs[i]);
+#if defined(__GNUC__)
+        if (i >= PREFETCH_AHEAD)
+            __builtin_prefetch(positions + (size_t)9 * ref_id(&refs[i - PREFETCH_AHEAD]));
+#endif
+        const float *p = positions + (size_t)9 * id;
+        st_triangle t;
+        for (int a = 0; a < 3; ++a) {
+            t.v0[a] = p[a];
+            t.e1[a] = p[3 + a] - p[a];
+            t.e2[a] = p[6 + a] - p[a];
+        }
+        t.v0[3] = t.e1[3] = t.e2[3] = 0.0f;
+        bvh->order[i] = id;
+        memcpy(&bvh->tris[i], &t, sizeof t);
+    }
+}
+
+/* The empty scene: one leaf whose inverted box no ray enters, holding one
+ * zeroed (unhittable: det = 0) placeholder triangle. */
+static void make_empty(st_bvh *bvh)
+{
+    st_bvh_node *root = &bvh->nodes[0];
+    for (int a = 0; a < 3; ++a) {
+        root->bmin[a] = FLT_MAX;
+        root->bmax[a] = -FLT_MAX;
+    }
+    root->offset = 0;
+    root->meta = 1u << 2;
+    memset(bvh->tris, 0, sizeof *bvh->tris);
+    bvh->order[0] = 0;
+    bvh->node_count = 1;
+    bvh->depth = 1;
+}
+
+/* The triangle references live in the (16-byte aligned) output triangle
+ * array, which is larger: no extra allocation, and the pages the build
+ * touches are the ones the output needs anyway. */
+ST_STATIC_ASSERT(sizeof(ref) <= sizeof(st_triangle), "refs must fit in the triangle array");
+
+static st_status build_tree(const float *positions, st_bvh *bvh, st_error *err)
+{
+    st_u32 n = bvh->tri_count;
+    builder b = {0};
+    box bounds, cb;
+    st_u32 bad = scan_positions(positions, n, &bounds, &cb);
+    if (bad < n)
+        return st_fail(err, ST_ERR_FORMAT, "bvh: triangle %u has a non-finite vertex coordinate", bad);
+    b.refs = (ref *)(void *)bvh->tris;
+    b.nodes = bvh->nodes;
+    if (n >= GRID_MIN_TRIS) {
+        st_status s = build_clustered(&b, positions, n, &cb, bvh->order, err);
+        if (s != ST_OK)
+            return s;
+    } else {
+        fill_refs(positions, n, b.refs);
+        build_node(&b, 0, n, 1, &bounds, &cb);
+    }
+    write_triangles(positions, b.refs, n, bvh);
+    bvh->node_count = b.node_count;
+    bvh->depth = b.depth;
+    if (b.depth > ST_BVH_MAX_DEPTH) /* unreachable: see the depth invariant above */
+        return st_fail(err, ST_ERR_FORMAT, "bvh: depth %u exceeds %d", b.depth, ST_BVH_MAX_DEPTH);
+    st_bvh_node *shrunk = realloc(bvh->nodes, (size_t)b.node_count * sizeof *bvh->nodes);
+    if (shrunk)
+        bvh->nodes = shrunk;
+    return ST_OK;
+}
+
+st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err)
+{
+    if (!out)
+        return st_fail(err, ST_ERR_USAGE, "bvh: no output handle");
+    *out = NULL;
+    if (!positions && tri_count > 0u)
+        return st_fail(err, ST_ERR_USAGE, "bvh: %u triangles but no positions", tri_count);
+    if (tri_count > MAX_TRIANGLES)
+        return st_fail(err, ST_ERR_FORMAT, "bvh: %u triangles, at most %u supported", tri_count, MAX_TRIANGLES);
+    size_t slots = tri_count ? tri_count : 1u;
+    st_bvh *bvh = calloc(1, sizeof *bvh);
+    if (!bvh)
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory");
+    bvh->tri_count = tri_count;
+    bvh->nodes = malloc((2u * slots - 1u) * sizeof *bvh->nodes);
+    bvh->tris = aligned_alloc(16, slots * sizeof *bvh->tris);
+    bvh->order = malloc(slots * sizeof *bvh->order);
+    st_status s = ST_OK;
+    if (!bvh->nodes || !bvh->tris || !bvh->order)
+        s = st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for %u triangles", tri_count);
+    else if (tri_count == 0u)
+        make_empty(bvh);
+    else
+        s = build_tree(positions, bvh, err);
+    if (s != ST_OK) {
+        st_bvh_destroy(bvh);
+        return s;
+    }
+    *out = bvh;
+    return ST_OK;
+}
+
+void st_bvh_destroy(st_bvh *bvh)
+{
+    if (!bvh)
+        return;
+    free(bvh->nodes);
+    free(bvh->tris);
+    free(bvh->order);
+    free(bvh);
+}

@@ -1,0 +1,635 @@
+/* test_bvh.c — the BVH (src/bvh.c) and the shared traversal (kernels/trace.h)
+ * against their definitions:
+ *   - closest hit through the tree = closest hit of a brute-force loop over
+ *     every input triangle (same t to the bit; same triangle, or one at the
+ *     same t), for random rays on random soups of 1 .. 100000 triangles and
+ *     degenerate ones (coincident centroids, axis-aligned flat triangles,
+ *     triangle sizes spanning 36 orders of magnitude, duplicated triangles);
+ *   - any hit = existence of a closest hit, for random tmax;
+ *   - the flattened tree is what st_bvh.h promises: preorder numbering, boxes
+ *     containing children and triangles, leaves of 1..4 covering every BVH
+ *     slot once, order a permutation, tris[i] = input triangle order[i];
+ *   - the ray/triangle test against an independent construction (points built
+ *     from chosen barycentrics);
+ *   - overflow: coordinates near 1e36 (infinite areas) still give valid trees;
+ *   - errors: no output handle, missing positions, non-finite coordinates.
+ * The 1M-triangle test also prints the build speed (a TAP comment, never an
+ * assertion: speed is measured by strata bench). */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "st_bvh.h"
+#include "trace.h"
+
+/* ---- deterministic random numbers (xorshift64*, Vigna 2016) ---------------- */
+
+typedef struct rng {
+    uint64_t s;
+} rng;
+
+static uint32_t rng_u32(rng *r)
+{
+    r->s ^= r->s >> 12;
+    r->s ^= r->s << 25;
+    r->s ^= r->s >> 27;
+    return (uint32_t)((r->s * 2685821657736338717ull) >> 32);
+}
+
+/* Uniform in [0, 1). */
+static float rng_float(rng *r) { return (float)(rng_u32(r) >> 8) / 16777216.0f; }
+static float rng_range(rng *r, float a, float b) { return a + (b - a) * rng_float(r); }
+
+/* ---- scenes ------------------------------------------------------------------ */
+
+/* Triangles of size ~size around centres uniform in [-1, 1]^3. */
+static float *soup(rng *r, uint32_t n, float size)
+{
+    float *p = malloc((size_t)n * 9 * sizeof *p);
+    assert_non_null(p);
+    for (uint32_t i = 0; i < n; ++i) {
+        float c[3] = {rng_range(r, -1, 1), rng_range(r, -1, 1), rng_range(r, -1, 1)};
+        for (int v = 0; v < 3; ++v)
+            for (int a = 0; a < 3; ++a)
+                p[9 * i + 3 * v + a] = c[a] + rng_range(r, -size, size);
+    }
+    return p;
+}
+
+/* Triangles of random shapes and sizes whose bounding boxes all have their
+ * centre at c = (0.25, 0.5, 0.75), the centroid the builder bins: v0 = c - h,
+ * v1 = c + h, v2 = c + s * h with |s| < 1 per axis. Coordinates are
+ * multiples of 2^-16 below 2, so c +- h is exact and the centres coincide
+ * bit for bit. */
+static float *coincident(rng *r, uint32_t n)
+{
+    const float c[3] = {0.25f, 0.5f, 0.75f};
+    float *p = malloc((size_t)n * 9 * sizeof *p);
+    assert_non_null(p);
+    for (uint32_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) {
+            float h = (float)(1 + rng_u32(r) % 256) / 1024.0f;
+            float s = (float)((int)(rng_u32(r) % 63) - 31) / 32.0f;
+            p[9 * i + a] = c[a] - h;
+            p[9 * i + 3 + a] = c[a] + h;
+            p[9 * i + 6 + a] = c[a] + s * h;
+        }
+    return p;
+}
+
+/* Axis-aligned flat triangles: each lies in a plane x, y or z = k/4, so many
+ * boxes have zero thickness and many triangles share planes. */
+static float *flat(rng *r, uint32_t n)
+{
+    float *p = malloc((size_t)n * 9 * sizeof *p);
+    assert_non_null(p);
+    for (uint32_t i = 0; i < n; ++i) {
+        uint32_t axis = rng_u32(r) % 3;
+        float plane = (float)((int)(rng_u32(r) % 9) - 4) / 4.0f;
+        float c[3] = {rng_range(r, -1, 1), rng_range(r, -1, 1), rng_range(r, -1, 1)};
+        for (int v = 0; v < 3; ++v)
+            for (int a = 0; a < 3; ++a)
+                p[9 * i + 3 * v + a] = (uint32_t)a == axis ? plane : c[a] + rng_range(r, -0.2f, 0.2f);
+    }
+    return p;
+}
+
+/* Triangle i spans [2^(i-60), 2^(i-59)]: sizes over 36 orders of magnitude,
+ * an unbalanced tree (depth about n / 3) and rays from far away. */
+static float *geometric(uint32_t n)
+{
+    float *p = malloc((size_t)n * 9 * sizeof *p);
+    assert_non_null(p);
+    for (uint32_t i = 0; i < n; ++i) {
+        float x0 = ldexpf(1.0f, (int)i - 60), x1 = 2.0f * x0;
+        float tri[9] = {x0, -x0, -x0, x1, x0, -x0, x0, x0, x1};
+        memcpy(&p[9 * i], tri, sizeof tri);
+    }
+    return p;
+}
+
+/* ---- references -------------------------------------------------------------- */
+
+/* Input triangles prepared as st_bvh_build documents: (v0, v1 - v0, v2 - v0). */
+static st_triangle *prepare(const float *p, uint32_t n)
+{
+    st_triangle *t = calloc(n ? n : 1, sizeof *t);
+    assert_non_null(t);
+    for (uint32_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) {
+            t[i].v0[a] = p[9 * i + a];
+            t[i].e1[a] = p[9 * i + 3 + a] - p[9 * i + a];
+            t[i].e2[a] = p[9 * i + 6 + a] - p[9 * i + a];
+        }
+    return t;
+}
+
+/* The definition: the smallest t over all input triangles. */
+static int brute_closest(const st_triangle *tris, uint32_t n, const st_ray *ray, st_hit *hit)
+{
+    hit->t = ray->tmax;
+    hit->prim = ST_NO_HIT;
+    for (uint32_t i = 0; i < n; ++i)
+        st_intersect_triangle(&tris[i], ray, i, hit);
+    return hit->prim != ST_NO_HIT;
+}
+
+/* Random rays: origins in the scene box grown by half, directions unnormalised
+ * and sometimes axis-aligned (exact zeros, -0 too), half aimed at a point on a
+ * random triangle; tmax infinite or random. */
+static st_ray random_ray(rng *r, const float *p, uint32_t n, const float lo[3], const float hi[3])
+{
+    st_ray ray;
+    for (int a = 0; a < 3; ++a) {
+        float m = 0.5f * (hi[a] - lo[a]) + 1e-3f;
+        ray.o[a] = rng_range(r, lo[a] - m, hi[a] + m);
+        ray.d[a] = rng_range(r, -1, 1);
+    }
+    uint32_t kind = rng_u32(r) % 8;
+    if (kind < 4 && n > 0) {
+        uint32_t i = rng_u32(r) % n;
+        float u = rng_float(r), v = rng_float(r);
+        if (u + v > 1) {
+            u = 1 - u;
+            v = 1 - v;
+        }
+        for (int a = 0; a < 3; ++a) {
+            float x = p[9 * i + a] + u * (p[9 * i + 3 + a] - p[9 * i + a]) + v * (p[9 * i + 6 + a] - p[9 * i + a]);
+            ray.d[a] = x - ray.o[a];
+        }
+    } else if (kind == 4) {
+        int axis = (int)(rng_u32(r) % 3);
+        for (int a = 0; a < 3; ++a)
+            ray.d[a] = a == axis ? (rng_u32(r) & 1 ? 1.0f : -1.0f) : (rng_u32(r) & 1 ? 0.0f : -0.0f);
+    }
+    ray.tmax = rng_u32(r) % 4 == 0 ? rng_range(r, 0.0f, 3.0f) : INFINITY;
+    return ray;
+}
+
+/* ---- structural checks --------------------------------------------------------- */
+
+static int box_contains(const st_bvh_node *outer, const float lo[3], const float hi[3])
+{
+    for (int a = 0; a < 3; ++a)
+        if (!(outer->bmin[a] <= lo[a] && hi[a] <= outer->bmax[a]))
+            return 0;
+    return 1;
+}
+
+/* Walks the tree from the root in preorder and checks every promise of
+ * st_bvh.h; returns the number of leaves. */
+static uint32_t check_structure(const st_bvh *bvh, const float *p, uint32_t n)
+{
+    uint32_t *covered = calloc(n ? n : 1, sizeof *covered), *seen = calloc(n ? n : 1, sizeof *seen);
+    uint32_t stack[2 * ST_BVH_MAX_DEPTH + 2], depth_of[2 * ST_BVH_MAX_DEPTH + 2];
+    uint32_t sp = 0, visited = 0, leaves = 0, deepest = 0;
+    assert_non_null(covered);
+    assert_non_null(seen);
+    assert_int_equal(bvh->tri_count, n);
+    assert_true(bvh->node_count >= 1 && bvh->node_count <= (n ? 2 * n - 1 : 1));
+    stack[sp] = 0;
+    depth_of[sp++] = 1;
+    while (sp > 0) {
+        uint32_t i = stack[--sp], depth = depth_of[sp];
+        const st_bvh_node *node = &bvh->nodes[i];
+        uint32_t count = node->meta >> 2;
+        assert_int_equal(i, visited); /* depth first: preorder numbering */
+        visited++;
+        assert_true(depth <= ST_BVH_MAX_DEPTH);
+        deepest = depth > deepest ? depth : deepest;
+        if (count == 0) {
+            const st_bvh_node *l = &bvh->nodes[i + 1], *r = &bvh->nodes[node->offset];
+            assert_true((node->meta & 3u) < 3u);
+            assert_true(node->offset > i + 1 && node->offset < bvh->node_count);
+            assert_true(box_contains(node, l->bmin, l->bmax));
+            assert_true(box_contains(node, r->bmin, r->bmax));
+            assert_true(sp + 2 <= 2 * ST_BVH_MAX_DEPTH + 2);
+            stack[sp] = node->offset;
+            depth_of[sp++] = depth + 1;
+            stack[sp] = i + 1;
+            depth_of[sp++] = depth + 1;
+            continue;
+        }
+        leaves++;
+        assert_true(count >= 1 && count <= 4);
+        assert_true(node->offset + count <= n);
+        for (uint32_t k = node->offset; k < node->offset + count; ++k) {
+            covered[k]++;
+            for (int v = 0; v < 3; ++v) {
+                const float *x = &p[9 * (size_t)bvh->order[k] + 3 * v];
+                assert_true(box_contains(node, x, x));
+            }
+        }
+    }
+    assert_int_equal(visited, bvh->node_count);
+    assert_int_equal(deepest, bvh->depth);
+    for (uint32_t k = 0; k < n; ++k) {
+        assert_int_equal(covered[k], 1);
+        assert_true(bvh->order[k] < n);
+        seen[bvh->order[k]]++;
+    }
+    for (uint32_t k = 0; k < n; ++k)
+        assert_int_equal(seen[k], 1);
+    free(covered);
+    free(seen);
+    return leaves;
+}
+
+static void check_tris_match_order(const st_bvh *bvh, const st_triangle *input)
+{
+    for (uint32_t i = 0; i < bvh->tri_count; ++i)
+        assert_memory_equal(&bvh->tris[i], &input[bvh->order[i]], sizeof(st_triangle));
+}
+
+static void scene_bounds(const float *p, uint32_t n, float lo[3], float hi[3])
+{
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = n ? INFINITY : -1.0f;
+        hi[a] = n ? -INFINITY : 1.0f;
+    }
+    for (uint32_t i = 0; i < 3 * n; ++i)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = fminf(lo[a], p[3 * i + a]);
+            hi[a] = fmaxf(hi[a], p[3 * i + a]);
+        }
+}
+
+/* Builds, checks the structure, then compares `rays` random rays with the
+ * brute-force closest hit, and any-hit with the closest hit's existence.
+ * Returns the number of rays that hit (to check the test is not vacuous). */
+static uint32_t check_scene(const float *p, uint32_t n, uint32_t rays, uint64_t seed)
+{
+    st_bvh *bvh = NULL;
+    st_error err = {0};
+    rng r = {seed};
+    float lo[3], hi[3];
+    uint32_t hits = 0;
+    assert_int_equal(st_bvh_build(p, n, &bvh, &err), ST_OK);
+    assert_non_null(bvh);
+    st_triangle *input = prepare(p, n);
+    check_structure(bvh, p, n);
+    check_tris_match_order(bvh, input);
+    scene_bounds(p, n, lo, hi);
+    for (uint32_t k = 0; k < rays; ++k) {
+        st_ray ray = random_ray(&r, p, n, lo, hi);
+        st_hit got, want;
+        int found = st_intersect_closest(bvh->nodes, bvh->tris, &ray, &got);
+        int exists = brute_closest(input, n, &ray, &want);
+        assert_int_equal(found, exists);
+        assert_int_equal(st_intersect_any(bvh->nodes, bvh->tris, &ray), exists);
+        if (!exists) {
+            assert_int_equal(got.prim, ST_NO_HIT);
+            continue;
+        }
+        hits++;
+        assert_true(got.prim < n);
+        assert_memory_equal(&got.t, &want.t, sizeof got.t);
+        if (bvh->order[got.prim] != want.prim) { /* a tie: that triangle is hit at the same t */
+            st_hit tie = {INFINITY, 0, 0, ST_NO_HIT};
+            assert_true(st_intersect_triangle(&input[bvh->order[got.prim]], &ray, 0, &tie));
+            assert_memory_equal(&tie.t, &want.t, sizeof tie.t);
+        } else {
+            assert_memory_equal(&got.u, &want.u, sizeof got.u);
+            assert_memory_equal(&got.v, &want.v, sizeof got.v);
+        }
+        /* any-hit with tmax just past, and at, the closest t */
+        st_ray shorter = ray;
+        shorter.tmax = want.t;
+        assert_false(st_intersect_any(bvh->nodes, bvh->tris, &shorter));
+        shorter.tmax = nextafterf(want.t, INFINITY);
+        assert_true(st_intersect_any(bvh->nodes, bvh->tris, &shorter));
+    }
+    free(input);
+    st_bvh_destroy(bvh);
+    return hits;
+}
+
+/* ---- tests: closest hit = brute force ---------------------------------------- */
+
+static void closest_equals_brute_force_1(void **state)
+{
+    (void)state;
+    rng r = {1};
+    float *p = soup(&r, 1, 0.8f);
+    assert_true(check_scene(p, 1, 20000, 11) > 1000);
+    free(p);
+}
+
+static void closest_equals_brute_force_2(void **state)
+{
+    (void)state;
+    rng r = {2};
+    float *p = soup(&r, 2, 0.8f);
+    assert_true(check_scene(p, 2, 20000, 12) > 1000);
+    free(p);
+}
+
+static void closest_equals_brute_force_100(void **state)
+{
+    (void)state;
+    rng r = {3};
+    float *p = soup(&r, 100, 0.3f);
+    assert_true(check_scene(p, 100, 20000, 13) > 5000);
+    free(p);
+}
+
+static void closest_equals_brute_force_10000(void **state)
+{
+    (void)state;
+    rng r = {4};
+    float *p = soup(&r, 10000, 0.05f);
+    assert_true(check_scene(p, 10000, 5000, 14) > 2000);
+    free(p);
+}
+
+/* Large enough for the builder's grid of clusters (its top levels). */
+static void closest_equals_brute_force_100000(void **state)
+{
+    (void)state;
+    rng r = {5};
+    float *p = soup(&r, 100000, 0.02f);
+    assert_true(check_scene(p, 100000, 400, 15) > 150);
+    free(p);
+}
+
+static void closest_equals_brute_force_coincident_centroids(void **state)
+{
+    (void)state;
+    rng r = {6};
+    float *p = coincident(&r, 1000);
+    assert_true(check_scene(p, 1000, 20000, 16) > 5000);
+    free(p);
+}
+
+static void closest_equals_brute_force_flat_axis_aligned(void **state)
+{
+    (void)state;
+    rng r = {7};
+    float *p = flat(&r, 2000);
+    assert_true(check_scene(p, 2000, 20000, 17) > 5000);
+    free(p);
+}
+
+/* Two copies of one soup: every triangle has a twin, so every hit is a tie. */
+static void closest_equals_brute_force_duplicates(void **state)
+{
+    (void)state;
+    rng r = {8};
+    float *p = soup(&r, 500, 0.2f);
+    float *twice = malloc(1000 * 9 * sizeof *twice);
+    assert_non_null(twice);
+    memcpy(twice, p, 500 * 9 * sizeof *p);
+    memcpy(twice + 500 * 9, p, 500 * 9 * sizeof *p);
+    assert_true(check_scene(twice, 1000, 20000, 18) > 5000);
+    free(twice);
+    free(p);
+}
+
+static void closest_equals_brute_force_unbalanced_geometric(void **state)
+{
+    (void)state;
+    float *p = geometric(120);
+    st_bvh *bvh = NULL;
+    st_error err = {0};
+    assert_int_equal(st_bvh_build(p, 120, &bvh, &err), ST_OK);
+    assert_true(bvh->depth > 20 && bvh->depth <= ST_BVH_MAX_DEPTH); /* unbalanced, yet bounded */
+    st_bvh_destroy(bvh);
+    assert_true(check_scene(p, 120, 20000, 19) > 1000);
+    free(p);
+}
+
+/* ---- tests: structure and the empty scene ------------------------------------- */
+
+static void build_empty_scene_has_no_hits(void **state)
+{
+    (void)state;
+    st_bvh *bvh = NULL;
+    st_error err = {0};
+    rng r = {9};
+    float lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+    assert_int_equal(st_bvh_build(NULL, 0, &bvh, &err), ST_OK);
+    assert_int_equal(bvh->tri_count, 0);
+    assert_int_equal(bvh->node_count, 1);
+    assert_int_equal(bvh->depth, 1);
+    assert_non_null(bvh->tris);   /* never-empty device buffers */
+    assert_non_null(bvh->order);
+    for (int k = 0; k < 20000; ++k) {
+        st_ray ray = random_ray(&r, NULL, 0, lo, hi);
+        st_hit hit;
+        assert_false(st_intersect_closest(bvh->nodes, bvh->tris, &ray, &hit));
+        assert_int_equal(hit.prim, ST_NO_HIT);
+        assert_false(st_intersect_any(bvh->nodes, bvh->tris, &ray));
+    }
+    st_bvh_destroy(bvh);
+}
+
+static void build_leaves_hold_at_most_four_and_order_is_permutation(void **state)
+{
+    (void)state;
+    rng r = {10};
+    for (uint32_t n = 1; n <= 40; ++n) {
+        float *p = soup(&r, n, 0.5f);
+        st_bvh *bvh = NULL;
+        st_error err = {0};
+        assert_int_equal(st_bvh_build(p, n, &bvh, &err), ST_OK);
+        check_structure(bvh, p, n);
+        st_bvh_destroy(bvh);
+        free(p);
+    }
+}
+
+static void build_is_deterministic(void **state)
+{
+    (void)state;
+    rng r = {11};
+    float *p = soup(&r, 70000, 0.02f);
+    st_bvh *a = NULL, *b = NULL;
+    st_error err = {0};
+    assert_int_equal(st_bvh_build(p, 70000, &a, &err), ST_OK);
+    assert_int_equal(st_bvh_build(p, 70000, &b, &err), ST_OK);
+    assert_int_equal(a->node_count, b->node_count);
+    assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
+    assert_memory_equal(a->order, b->order, a->tri_count * sizeof *a->order);
+    st_bvh_destroy(a);
+    st_bvh_destroy(b);
+    free(p);
+}
+
+/* 1M random triangles: structure checked; speed printed as a TAP comment. */
+static void build_million_triangles_structure(void **state)
+{
+    (void)state;
+    const uint32_t n = 1000000;
+    rng r = {12};
+    float *p = soup(&r, n, 0.01f);
+    st_bvh *bvh = NULL;
+    st_error err = {0};
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    assert_int_equal(st_bvh_build(p, n, &bvh, &err), ST_OK);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    print_message("# bvh build: %u triangles in %.3f s = %.2f M triangles/s (%u nodes, depth %u)\n", n, s,
+                  n / s / 1e6, bvh->node_count, bvh->depth);
+    check_structure(bvh, p, n);
+    st_bvh_destroy(bvh);
+    free(p);
+}
+
+/* Coordinates near 1e36: box areas and Moller-Trumbore's products overflow
+ * to infinity, so the SAH finds no finite cost and the builder falls back to
+ * median splits; the tree must still be valid and agree with brute force. */
+static void build_overflowing_areas_keeps_structure(void **state)
+{
+    (void)state;
+    const uint32_t sizes[2] = {3000, 70000}; /* below and above the cluster grid's threshold */
+    for (int k = 0; k < 2; ++k) {
+        rng r = {20u + (uint64_t)k};
+        float *p = soup(&r, sizes[k], 0.05f);
+        for (uint32_t i = 0; i < 9 * sizes[k]; ++i)
+            p[i] *= 1e36f;
+        check_scene(p, sizes[k], 200, 22);
+        free(p);
+    }
+}
+
+/* ---- tests: the ray/triangle test against an independent construction --------- */
+
+/* A ray aimed at the point with barycentrics (u, v) from distance t along d
+ * must report that t, u and v (tolerance 1e-4 relative: the construction
+ * rounds); points with u < 0, v < 0 or u + v > 1 by a margin are missed,
+ * as are hits behind the origin and beyond tmax; back faces are hit. */
+static void triangle_hit_matches_barycentric_construction(void **state)
+{
+    (void)state;
+    rng r = {13};
+    for (int k = 0; k < 20000; ++k) {
+        st_triangle tri;
+        memset(&tri, 0, sizeof tri);
+        for (int a = 0; a < 3; ++a) {
+            tri.v0[a] = rng_range(&r, -1, 1);
+            tri.e1[a] = rng_range(&r, -1, 1);
+            tri.e2[a] = rng_range(&r, -1, 1);
+        }
+        float u = rng_range(&r, 0.01f, 0.98f), v = rng_range(&r, 0.01f, 0.99f - u), t = rng_range(&r, 0.5f, 2.0f);
+        st_ray ray;
+        float n[3] = {tri.e1[1] * tri.e2[2] - tri.e1[2] * tri.e2[1], tri.e1[2] * tri.e2[0] - tri.e1[0] * tri.e2[2],
+                      tri.e1[0] * tri.e2[1] - tri.e1[1] * tri.e2[0]};
+        float sign = rng_u32(&r) & 1 ? 1.0f : -1.0f; /* front or back face */
+        float dn = 0;
+        for (int a = 0; a < 3; ++a) {
+            ray.d[a] = sign * n[a] + rng_range(&r, -0.3f, 0.3f);
+            dn += ray.d[a] * n[a];
+        }
+        if (fabsf(dn) < 0.05f * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]))
+            continue; /* nearly parallel: ill-conditioned, skip */
+        for (int a = 0; a < 3; ++a)
+            ray.o[a] = tri.v0[a] + u * tri.e1[a] + v * tri.e2[a] - t * ray.d[a];
+        ray.tmax = INFINITY;
+        st_hit hit = {INFINITY, 0, 0, ST_NO_HIT};
+        assert_true(st_intersect_triangle(&tri, &ray, 7, &hit));
+        assert_int_equal(hit.prim, 7);
+        assert_true(fabsf(hit.t - t) <= 1e-4f * t);
+        assert_true(fabsf(hit.u - u) <= 1e-4f);
+        assert_true(fabsf(hit.v - v) <= 1e-4f);
+        st_hit miss = {t * 0.999f, 0, 0, ST_NO_HIT}; /* tmax before the hit */
+        assert_false(st_intersect_triangle(&tri, &ray, 7, &miss));
+        st_ray behind = ray; /* origin past the triangle: t < 0 */
+        for (int a = 0; a < 3; ++a)
+            behind.o[a] = ray.o[a] + 2.0f * t * ray.d[a];
+        miss.t = INFINITY;
+        assert_false(st_intersect_triangle(&tri, &behind, 7, &miss));
+        st_ray outside = ray; /* aimed at u + v = 1.2 */
+        for (int a = 0; a < 3; ++a)
+            outside.o[a] = tri.v0[a] + (u + 0.6f) * tri.e1[a] + (v + 0.6f) * tri.e2[a] - t * ray.d[a];
+        assert_false(st_intersect_triangle(&tri, &outside, 7, &miss));
+        for (int a = 0; a < 3; ++a) /* aimed at u = -0.1 */
+            outside.o[a] = tri.v0[a] - 0.1f * tri.e1[a] + v * tri.e2[a] - t * ray.d[a];
+        assert_false(st_intersect_triangle(&tri, &outside, 7, &miss));
+        assert_int_equal(miss.prim, ST_NO_HIT);
+    }
+}
+
+/* t = 0 exactly (origin on the triangle) is not a hit: t > 0 strictly. */
+static void triangle_hit_excludes_t_zero(void **state)
+{
+    (void)state;
+    st_triangle tri = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
+    st_ray ray = {{0.25f, 0.25f, 0.0f}, {0, 0, 1}, INFINITY};
+    st_hit hit = {INFINITY, 0, 0, ST_NO_HIT};
+    assert_false(st_intersect_triangle(&tri, &ray, 0, &hit));
+    ray.o[2] = -1.0f;
+    assert_true(st_intersect_triangle(&tri, &ray, 0, &hit));
+    assert_true(hit.t == 1.0f && hit.u == 0.25f && hit.v == 0.25f);
+    st_triangle degenerate = {{0, 0, 0, 0}, {1, 0, 0, 0}, {2, 0, 0, 0}};
+    hit.t = INFINITY;
+    hit.prim = ST_NO_HIT;
+    assert_false(st_intersect_triangle(&degenerate, &ray, 0, &hit));
+}
+
+/* ---- tests: errors -------------------------------------------------------------- */
+
+static void build_rejects_missing_output_and_positions(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_bvh *bvh = (st_bvh *)&err;
+    float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    assert_int_equal(st_bvh_build(tri, 1, NULL, &err), ST_ERR_USAGE);
+    assert_int_equal(err.status, ST_ERR_USAGE);
+    st_error_clear(&err);
+    assert_int_equal(st_bvh_build(NULL, 3, &bvh, &err), ST_ERR_USAGE);
+    assert_null(bvh);
+    assert_non_null(strstr(err.msg, "3 triangles"));
+    st_bvh_destroy(NULL); /* harmless */
+}
+
+static void build_rejects_non_finite_coordinates(void **state)
+{
+    (void)state;
+    rng r = {14};
+    const float bad[3] = {NAN, INFINITY, -INFINITY};
+    for (int k = 0; k < 3; ++k) {
+        float *p = soup(&r, 50, 0.1f);
+        p[9 * 37 + 4] = bad[k];
+        st_error err = {0};
+        st_bvh *bvh = (st_bvh *)&err;
+        assert_int_equal(st_bvh_build(p, 50, &bvh, &err), ST_ERR_FORMAT);
+        assert_null(bvh);
+        assert_non_null(strstr(err.msg, "triangle 37"));
+        free(p);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(closest_equals_brute_force_1),
+        cmocka_unit_test(closest_equals_brute_force_2),
+        cmocka_unit_test(closest_equals_brute_force_100),
+        cmocka_unit_test(closest_equals_brute_force_10000),
+        cmocka_unit_test(closest_equals_brute_force_100000),
+        cmocka_unit_test(closest_equals_brute_force_coincident_centroids),
+        cmocka_unit_test(closest_equals_brute_force_flat_axis_aligned),
+        cmocka_unit_test(closest_equals_brute_force_duplicates),
+        cmocka_unit_test(closest_equals_brute_force_unbalanced_geometric),
+        cmocka_unit_test(build_empty_scene_has_no_hits),
+        cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
+        cmocka_unit_test(build_is_deterministic),
+        cmocka_unit_test(build_million_triangles_structure),
+        cmocka_unit_test(build_overflowing_areas_keeps_structure),
+        cmocka_unit_test(triangle_hit_matches_barycentric_construction),
+        cmocka_unit_test(triangle_hit_excludes_t_zero),
+        cmocka_unit_test(build_rejects_missing_output_and_positions),
+        cmocka_unit_test(build_rejects_non_finite_coordinates),
+    };
+    return cmocka_run_group_tests_name("bvh", tests, NULL, NULL);
+}
