@@ -308,14 +308,15 @@ ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_
 /* Dimension `dim` of sample id, in [0, 1). */
 ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
-    st_u32 pair_key = st_hash32(id->pixel_key ^ st_hash32(dim >> 1));
+/* per pixel and pair of dimensions: computed only by the samplers that use it */
+#define ST_PAIR_KEY (st_hash32(id->pixel_key ^ st_hash32(dim >> 1)))
     switch (p->sampler) {
     case ST_SAMPLER_UNIFORM:
         if (dim < 2u)
             return st_stratified_coord(p, id, dim, 0u, 0.5f);
         break;
     case ST_SAMPLER_STRATIFIED:
-        return st_stratified_coord(p, id, dim, (p->scramble || dim >= 2u) ? pair_key : 0u,
+        return st_stratified_coord(p, id, dim, (p->scramble || dim >= 2u) ? ST_PAIR_KEY : 0u,
                                    st_rng_unit(id->key, dim));
     case ST_SAMPLER_HALTON: {
         if (dim >= ST_PRIME_COUNT)
@@ -328,7 +329,7 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
         if (!p->scramble)
             return st_radical_inverse(st_primes[dim], n);
         /* pixel dimensions scrambled per pixel, the others per render */
-        st_u32 key = dim < 2u ? pair_key ^ dim : st_hash32(p->seed ^ st_hash32(dim));
+        st_u32 key = dim < 2u ? ST_PAIR_KEY ^ dim : st_hash32(p->seed ^ st_hash32(dim));
         return st_radical_inverse_scrambled(st_primes[dim], n, key);
     }
     case ST_SAMPLER_HAMMERSLEY: {
@@ -354,10 +355,10 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
     case ST_SAMPLER_SOBOL: {
         /* pixel dimensions: the (0,2)-sequence itself; later pairs: index
          * shuffled per pair (pbrt's PaddedSobolSampler) */
-        st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, pair_key);
+        st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, ST_PAIR_KEY);
         st_u32 bits = st_sobol_bits(i, dim & 1u);
         if (p->scramble || dim >= 2u)
-            bits = st_owen_scramble(bits, st_hash32(pair_key ^ (dim & 1u)));
+            bits = st_owen_scramble(bits, st_hash32(ST_PAIR_KEY ^ (dim & 1u)));
         return st_bits_to_unit(bits);
     }
     default:
@@ -365,5 +366,6 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
     }
     return st_rng_unit(id->key, dim);
 }
+#undef ST_PAIR_KEY
 
 #endif

@@ -44,14 +44,11 @@ static float3 triangle_point(__global const st_triangle *tris, st_u32 t, float u
     return v0 + b1 * vload4(0, tris[t].e1).xyz + b2 * vload4(0, tris[t].e2).xyz;
 }
 
-/* Geometric normal of triangle t, turned to the side of its shading normals. */
-static float3 facing_normal(__global const st_triangle *tris,
-                            __global const st_tri_normals *normals, st_u32 t)
+/* Geometric normal of triangle t, turned to the side of its shading normals
+ * (precomputed: st_tri_normals). */
+static float3 facing_normal(__global const st_tri_normals *normals, st_u32 t)
 {
-    float3 ng = normalize(cross(vload4(0, tris[t].e1).xyz, vload4(0, tris[t].e2).xyz));
-    float3 ns = vload4(0, normals[t].n0).xyz + vload4(0, normals[t].n1).xyz +
-                vload4(0, normals[t].n2).xyz;
-    return dot(ng, ns) < 0.0f ? -ng : ng;
+    return (float3)(normals[t].n0[3], normals[t].n1[3], normals[t].n2[3]);
 }
 
 static float power_heuristic(float a, float b)
@@ -105,7 +102,7 @@ __kernel void shade_hits(const st_params p, __global const st_triangle *tris,
     float3 pos = ray_o[i].xyz - wo * h.x;
     float4 beta = beta_buf[i];
     float3 L = rad.xyz;
-    float3 ng = facing_normal(tris, normals, t);
+    float3 ng = facing_normal(normals, t);
     float3 ns = normalize((1.0f - h.y - h.z) * vload4(0, normals[t].n0).xyz +
                           h.y * vload4(0, normals[t].n1).xyz +
                           h.z * vload4(0, normals[t].n2).xyz);
@@ -144,7 +141,7 @@ __kernel void shade_hits(const st_params p, __global const st_triangle *tris,
     if (p.light_count > 0u) {
         st_u32 lt = light_tri[pick_light(light_cdf, p.light_count, st_sample_dim(&p, &id, dim + 4u))];
         float3 q = triangle_point(tris, lt, st_sample_dim(&p, &id, dim), st_sample_dim(&p, &id, dim + 1u));
-        float3 nl = facing_normal(tris, normals, lt);
+        float3 nl = facing_normal(normals, lt);
         float3 wi = q - origin;
         float dist2 = dot(wi, wi), dist = sqrt(dist2);
         wi /= dist;

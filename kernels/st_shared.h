@@ -132,7 +132,9 @@ typedef struct st_triangle {
     st_f32 e2[4];
 } st_triangle;
 
-/* Per-vertex shading normals of a triangle, in the same (BVH) order. */
+/* Per-vertex shading normals of a triangle, in the same (BVH) order; the
+ * fourth floats n0[3], n1[3], n2[3] hold the unit geometric normal, turned to
+ * the side the shading normals face (computed once on the host). */
 typedef struct st_tri_normals {
     st_f32 n0[4];
     st_f32 n1[4];

@@ -216,6 +216,18 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         memcpy(nrm[t].n1, sn + 3, 3 * sizeof(float));
         memcpy(nrm[t].n2, sn + 6, 3 * sizeof(float));
         mat[t] = s->tri_material[bvh->order[t]];
+        /* unit geometric normal, on the side of the shading normals */
+        const float *e1 = bvh->tris[t].e1, *e2 = bvh->tris[t].e2;
+        double g[3] = {(double)e1[1] * e2[2] - (double)e1[2] * e2[1],
+                       (double)e1[2] * e2[0] - (double)e1[0] * e2[2],
+                       (double)e1[0] * e2[1] - (double)e1[1] * e2[0]};
+        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), side = 0.0;
+        for (int a = 0; a < 3; a++)
+            side += g[a] * ((double)sn[a] + sn[3 + a] + sn[6 + a]);
+        double scale = (side < 0.0 ? -1.0 : 1.0) / (len > 0.0 ? len : 1.0);
+        nrm[t].n0[3] = (float)(g[0] * scale);
+        nrm[t].n1[3] = (float)(g[1] * scale);
+        nrm[t].n2[3] = (float)(g[2] * scale);
     }
     if (build_lights(s, bvh, &light_tri, &light_cdf, &light_pdf, &r->light_count,
                      &r->light_power, err) != ST_OK) {
