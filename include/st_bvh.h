@@ -11,9 +11,11 @@
  *     order[i]; hits report BVH-order indices);
  *   - every box is the exact bounds of its subtree's triangles;
  *   - depth <= ST_BVH_MAX_DEPTH (trace.h's stack size).
- * An empty scene (tri_count == 0) has a single leaf root with an inverted
- * (empty) box that no ray enters; tris and order then hold one zeroed
- * placeholder, so that device buffers made from them are never empty. */
+ * An empty scene (tri_count == 0) has a single leaf root (count 1, since
+ * count 0 marks an interior node) with an inverted (empty) box that no ray
+ * enters, over one zeroed placeholder triangle that no ray can hit (det = 0);
+ * tris and order then hold that one entry, so that device buffers made from
+ * them are never empty. */
 #ifndef ST_BVH_H
 #define ST_BVH_H
 
@@ -31,7 +33,9 @@ typedef struct st_bvh {
 
 /* positions: 9 floats per triangle (v0 v1 v2). tri_count may be 0 (an empty leaf root: no hits). Returns ST_ERR_NOMEM on
    allocation failure, ST_ERR_FORMAT if the tree would exceed ST_BVH_MAX_DEPTH. */
-/* Also: ST_ERR_USAGE when out is NULL or positions is NULL with tri_count > 0;
+/* The depth bound is kept by construction (median splits near the limit), so
+ * the ST_ERR_FORMAT for depth is a safety net that does not fire.
+ * Also: ST_ERR_USAGE when out is NULL or positions is NULL with tri_count > 0;
  * ST_ERR_FORMAT when a coordinate is not finite (the message names the
  * triangle) or tri_count > 2^30 - 1. The build reads positions only during the
  * call. On success *out is owned by the caller (st_bvh_destroy); on failure

@@ -22,7 +22,6 @@
 #ifndef ST_FILTERS_H
 #define ST_FILTERS_H
 
-#define ST_PI_F 3.14159265358979323846f
 /* Largest radius a render accepts: the splat kernel keeps the per-column
  * weights of one sample in a private array of 2 * 8 + 1 entries. */
 #define ST_FILTER_MAX_RADIUS 8.0f

@@ -43,6 +43,8 @@ typedef float st_f32;
 
 /* ---- constants ------------------------------------------------------------ */
 
+#define ST_PI_F 3.14159265358979323846f
+
 /* Samplers (render --sampler, pattern --sampler). POISSON and BEST_CANDIDATE
  * read a tile of points made on the host (ST_SAMPLER_IS_TILED). */
 #define ST_SAMPLER_RANDOM 0u

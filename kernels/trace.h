@@ -46,25 +46,6 @@ ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
 #endif
 
-/* min/max with OpenCL's common-function definition (OpenCL C 1.2 §6.12.4:
- * min(x, y) = y < x ? y : x), which maps to one instruction on both sides
- * (minss on x86, min.f32 on NVIDIA). Unlike fmin it does not promise to drop
- * NaN; NaN only arises from a NaN ray, which then hits nothing. */
-#ifdef __OPENCL_VERSION__
-#define ST_TRACE_MIN(x, y) min(x, y)
-#define ST_TRACE_MAX(x, y) max(x, y)
-#else
-#define ST_TRACE_MIN(x, y) ((y) < (x) ? (y) : (x))
-#define ST_TRACE_MAX(x, y) ((x) < (y) ? (y) : (x))
-#endif
-
-/* Direction components smaller than this in magnitude are replaced by it
- * (with their sign) before taking the reciprocal, so that 1/d stays finite and
- * (b - o) * (1/d) is never 0 * inf = NaN. A component that small moves the ray
- * by less than t * 1e-20 along its axis; the slab it bounds then spans either
- * all t or only t beyond |b - o| * 1e20, as it would for the true ray. */
-#define ST_TRACE_TINY_DIR 1e-20f
-
 /* Far-end widening of the slab interval: t0 <= t1 * (1 + 2^-12). It covers
  * the rounding of (b - o) * inv in the three slabs (1 + 2 gamma(3) would do:
  * Ize, "Robust BVH Ray Traversal", JCGT 2(2) 2013; pbrt-v3 §3.9.2) and, more
@@ -76,31 +57,29 @@ ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
  * beyond the current closest hit are still opened. */
 #define ST_TRACE_SLAB_WIDEN 1.000244140625f
 
-/* Per-ray constants of the slab test. neg: bit a set when the (adjusted)
- * direction is negative along axis a, so that the near plane is bmax. */
+/* Running max and min of the slab test, t > acc ? t : acc and t < acc ? t :
+ * acc: a NaN t leaves acc as it is. NaN comes only from a zero direction
+ * component (1/d = inf) on a ray starting exactly in that slab's plane,
+ * 0 * inf; ignoring the slab then counts the plane as inside, which it is
+ * (boxes are closed). Any other zero component gives inv = +-inf and slab
+ * times of +-inf, exact. On x86 (host, PoCL) each is one maxss/minss. */
+ST_FN st_f32 st_trace_near(st_f32 t, st_f32 acc) { return t > acc ? t : acc; }
+ST_FN st_f32 st_trace_far(st_f32 t, st_f32 acc) { return t < acc ? t : acc; }
+
+/* Per-ray constants of the slab test. neg: bit a set when inv[a] < 0 (the
+ * sign of 1/d, so -0 counts as negative), the near plane then being bmax. */
 typedef struct st_trace_ray {
     st_f32 o[3], inv[3];
     st_u32 neg;
 } st_trace_ray;
 
-ST_FN st_f32 st_trace_safe_dir(st_f32 d)
-{
-    st_f32 tiny = d < 0.0f ? -ST_TRACE_TINY_DIR : ST_TRACE_TINY_DIR;
-    return (d > -ST_TRACE_TINY_DIR && d < ST_TRACE_TINY_DIR) ? tiny : d;
-}
-
 ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
 {
-    st_f32 dx = st_trace_safe_dir(ray->d[0]);
-    st_f32 dy = st_trace_safe_dir(ray->d[1]);
-    st_f32 dz = st_trace_safe_dir(ray->d[2]);
-    r->o[0] = ray->o[0];
-    r->o[1] = ray->o[1];
-    r->o[2] = ray->o[2];
-    r->inv[0] = 1.0f / dx;
-    r->inv[1] = 1.0f / dy;
-    r->inv[2] = 1.0f / dz;
-    r->neg = (dx < 0.0f ? 1u : 0u) | (dy < 0.0f ? 2u : 0u) | (dz < 0.0f ? 4u : 0u);
+    for (int a = 0; a < 3; ++a) {
+        r->o[a] = ray->o[a];
+        r->inv[a] = 1.0f / ray->d[a];
+    }
+    r->neg = (r->inv[0] < 0.0f ? 1u : 0u) | (r->inv[1] < 0.0f ? 2u : 0u) | (r->inv[2] < 0.0f ? 4u : 0u);
 }
 
 /* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
@@ -118,11 +97,12 @@ ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st
     st_f32 fy = (neg & 2u) ? n->bmin[1] : n->bmax[1];
     st_f32 nz = (neg & 4u) ? n->bmax[2] : n->bmin[2];
     st_f32 fz = (neg & 4u) ? n->bmin[2] : n->bmax[2];
-    st_f32 t0x = (nx - r->o[0]) * r->inv[0], t1x = (fx - r->o[0]) * r->inv[0];
-    st_f32 t0y = (ny - r->o[1]) * r->inv[1], t1y = (fy - r->o[1]) * r->inv[1];
-    st_f32 t0z = (nz - r->o[2]) * r->inv[2], t1z = (fz - r->o[2]) * r->inv[2];
-    st_f32 t0 = ST_TRACE_MAX(ST_TRACE_MAX(t0x, t0y), ST_TRACE_MAX(t0z, 0.0f));
-    st_f32 t1 = ST_TRACE_MIN(ST_TRACE_MIN(t1x, t1y), ST_TRACE_MIN(t1z, tmax));
+    st_f32 t0 = st_trace_near((nx - r->o[0]) * r->inv[0], 0.0f);
+    st_f32 t1 = st_trace_far((fx - r->o[0]) * r->inv[0], tmax);
+    t0 = st_trace_near((ny - r->o[1]) * r->inv[1], t0);
+    t1 = st_trace_far((fy - r->o[1]) * r->inv[1], t1);
+    t0 = st_trace_near((nz - r->o[2]) * r->inv[2], t0);
+    t1 = st_trace_far((fz - r->o[2]) * r->inv[2], t1);
     return t0 <= t1 * ST_TRACE_SLAB_WIDEN;
 }
 

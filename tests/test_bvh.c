@@ -4,8 +4,11 @@
  *     every input triangle (same t to the bit; same triangle, or one at the
  *     same t), for random rays on random soups of 1 .. 100000 triangles and
  *     degenerate ones (coincident centroids, axis-aligned flat triangles,
- *     triangle sizes spanning 36 orders of magnitude, duplicated triangles);
- *   - any hit = existence of a closest hit, for random tmax;
+ *     triangle sizes spanning 36 orders of magnitude, duplicated triangles,
+ *     axis-aligned rays starting on box planes, where 0 * inf meets the slab
+ *     test); scenes above 65536 triangles take the builder's cluster-grid path;
+ *   - any hit = existence of a closest hit, for random tmax, and false/true
+ *     with tmax at/just past the closest t;
  *   - the flattened tree is what st_bvh.h promises: preorder numbering, boxes
  *     containing children and triangles, leaves of 1..4 covering every BVH
  *     slot once, order a permutation, tris[i] = input triangle order[i];
@@ -172,6 +175,33 @@ static st_ray random_ray(rng *r, const float *p, uint32_t n, const float lo[3], 
     }
     ray.tmax = rng_u32(r) % 4 == 0 ? rng_range(r, 0.0f, 3.0f) : INFINITY;
     return ray;
+}
+
+/* The 12 triangles of each unit cube [x, x+1] x [y, y+1] x [z, z+1] of a
+ * k x k x k grid with gaps (cubes at even coordinates): many boxes share
+ * planes with integer coordinates. Returns the triangle count. */
+static float *cubes(uint32_t k, uint32_t *count)
+{
+    static const int quad[6][4][3] = {
+        {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}}, {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}},
+        {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}, {{0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}},
+        {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
+    float *p = malloc((size_t)k * k * k * 12 * 9 * sizeof *p);
+    uint32_t t = 0;
+    assert_non_null(p);
+    for (uint32_t c = 0; c < k * k * k; ++c) {
+        int base[3] = {2 * (int)(c % k), 2 * (int)(c / k % k), 2 * (int)(c / (k * k))};
+        for (int f = 0; f < 6; ++f)
+            for (int half = 0; half < 2; ++half) {
+                const int *v[3] = {quad[f][0], quad[f][1 + half], quad[f][2 + half]};
+                for (int i = 0; i < 3; ++i)
+                    for (int a = 0; a < 3; ++a)
+                        p[9 * t + 3 * i + a] = (float)(base[a] + v[i][a]);
+                t++;
+            }
+    }
+    *count = t;
+    return p;
 }
 
 /* ---- structural checks --------------------------------------------------------- */
@@ -390,6 +420,46 @@ static void closest_equals_brute_force_duplicates(void **state)
     memcpy(twice + 500 * 9, p, 500 * 9 * sizeof *p);
     assert_true(check_scene(twice, 1000, 20000, 18) > 5000);
     free(twice);
+    free(p);
+}
+
+/* Axis-aligned rays (direction components exactly 0, +-1) from origins on
+ * the cubes' face planes and edges: zero components meet box faces at
+ * 0 * inf, and hits land on triangle edges. */
+static void closest_equals_brute_force_rays_in_box_planes(void **state)
+{
+    (void)state;
+    uint32_t n, hits = 0;
+    float *p = cubes(3, &n);
+    st_bvh *bvh = NULL;
+    st_error err = {0};
+    rng r = {30};
+    assert_int_equal(st_bvh_build(p, n, &bvh, &err), ST_OK);
+    st_triangle *input = prepare(p, n);
+    for (int k = 0; k < 20000; ++k) {
+        st_ray ray;
+        do {
+            for (int a = 0; a < 3; ++a)
+                ray.d[a] = (float)((int)(rng_u32(&r) % 3) - 1);
+        } while (ray.d[0] == 0 && ray.d[1] == 0 && ray.d[2] == 0);
+        for (int a = 0; a < 3; ++a) {
+            ray.o[a] = (float)((int)(rng_u32(&r) % 13) - 1) * 0.5f; /* -0.5 .. 5.5 in halves */
+            if (ray.d[a] == 0 && rng_u32(&r) & 1)
+                ray.d[a] = -0.0f;
+        }
+        ray.tmax = INFINITY;
+        st_hit got, want;
+        int found = st_intersect_closest(bvh->nodes, bvh->tris, &ray, &got);
+        assert_int_equal(found, brute_closest(input, n, &ray, &want));
+        assert_int_equal(st_intersect_any(bvh->nodes, bvh->tris, &ray), found);
+        if (!found)
+            continue;
+        hits++;
+        assert_memory_equal(&got.t, &want.t, sizeof got.t);
+    }
+    assert_true(hits > 5000);
+    free(input);
+    st_bvh_destroy(bvh);
     free(p);
 }
 
@@ -620,6 +690,7 @@ int main(void)
         cmocka_unit_test(closest_equals_brute_force_coincident_centroids),
         cmocka_unit_test(closest_equals_brute_force_flat_axis_aligned),
         cmocka_unit_test(closest_equals_brute_force_duplicates),
+        cmocka_unit_test(closest_equals_brute_force_rays_in_box_planes),
         cmocka_unit_test(closest_equals_brute_force_unbalanced_geometric),
         cmocka_unit_test(build_empty_scene_has_no_hits),
         cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
