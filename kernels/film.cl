@@ -27,11 +27,12 @@ static int2 taps(float x, float r, st_u32 n)
 }
 
 /* Reads film positions and radiance (w: rays traced); adds to accum (4 longs
- * per pixel: Σ f L for R, G, B and Σ f) and to counts (per pixel: splats
- * received; closest and shadow rays traced by the samples in the pixel). */
+ * per pixel: Σ f L for R, G, B and Σ f); adds to tally[i] (the work-item's
+ * own slot, the same in every wave, so no atomics: splats made, closest and
+ * shadow rays traced). */
 __kernel void splat_samples(const st_params p, __global const float2 *film,
                             __global const uint2 *sample_id, __global const float4 *radiance,
-                            __global long *accum, __global uint *counts, __global uint *stats)
+                            __global long *accum, __global uint4 *tally, __global uint *stats)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
@@ -41,10 +42,10 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
         return; /* a tile point outside the image (generate.cl) */
     float4 rad = radiance[i];
     float3 L = rad.xyz;
-    st_u32 own = sample_id[i].x;
     st_u32 rays = (st_u32)rad.w;
-    atomic_add(&counts[ST_COUNTS_PER_PIXEL * (size_t)own + 1], rays & 0xffffu);
-    atomic_add(&counts[ST_COUNTS_PER_PIXEL * (size_t)own + 2], rays >> 16);
+    uint4 t = tally[i];
+    t.y += rays & 0xffffu;
+    t.z += rays >> 16;
     if (!(isfinite(L.x) && isfinite(L.y) && isfinite(L.z))) {
         count(stats, ST_STAT_NONFINITE);
         L = (float3)(0.0f);
@@ -63,7 +64,7 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
         atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, &clamped)));
         atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, &clamped)));
         atom_add(a + 3, st_fixed_from_float(w));
-        atomic_inc(&counts[ST_COUNTS_PER_PIXEL * (size_t)sample_id[i].x]);
+        tally[i] = t + (uint4)(1u, 0u, 0u, 0u);
         if (clamped)
             count(stats, ST_STAT_CLAMPED);
         return;
@@ -81,9 +82,10 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
             atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, &clamped)));
             atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, &clamped)));
             atom_add(a + 3, st_fixed_from_float(w));
-            atomic_inc(&counts[ST_COUNTS_PER_PIXEL * ((size_t)y * p.width + x)]);
         }
     }
+    t.x += (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
+    tally[i] = t;
     if (clamped)
         count(stats, ST_STAT_CLAMPED);
 }

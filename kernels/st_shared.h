@@ -108,10 +108,8 @@ typedef float st_f32;
 
 /* A sample counts the rays it traces in radiance.w: 1 per closest-hit ray,
  * ST_SHADOW_RAY_UNIT per shadow ray (exact in a float: at most 65 closest and
- * 64 shadow rays). Per pixel the film keeps ST_COUNTS_PER_PIXEL counters:
- * splats received, closest-hit rays, shadow rays. */
+ * 64 shadow rays); splat_samples adds them up per work-item slot. */
 #define ST_SHADOW_RAY_UNIT 65536.0f
-#define ST_COUNTS_PER_PIXEL 3u
 
 /* ---- layouts ------------------------------------------------------------- */
 

@@ -38,7 +38,7 @@ enum { B_NODES, B_TRIS, B_NORMALS, B_TRI_MATERIAL, B_MATERIALS, B_LIGHT_TRI, B_L
        B_LIGHT_PDF, B_SCENE_COUNT };
 /* Per-wave state (one entry per item) and the film. */
 enum { W_FILM, W_SAMPLE_ID, W_RAY_O, W_RAY_D, W_HIT, W_BETA, W_RADIANCE, W_DEPTH, W_SHADOW_O, W_SHADOW_D,
-       W_SHADOW_L, W_ACCUM, W_COUNTS, W_STATS, W_IMAGE, W_COUNT };
+       W_SHADOW_L, W_TALLY, W_ACCUM, W_STATS, W_IMAGE, W_COUNT };
 
 struct st_renderer {
     st_device *dev;
@@ -330,7 +330,7 @@ typedef struct wave_state {
 static size_t wave_item_bytes[W_COUNT] = {
     sizeof(float) * 2, sizeof(st_u32) * 2, sizeof(float) * 4, sizeof(float) * 4, sizeof(float) * 4,
     sizeof(float) * 4, sizeof(float) * 4, sizeof(st_u32), sizeof(float) * 4,
-    sizeof(float) * 4, sizeof(float) * 4};
+    sizeof(float) * 4, sizeof(float) * 4, sizeof(st_u32) * 4};
 
 static st_status wave_alloc(st_renderer *r, wave_state *w, size_t items, size_t pixels,
                             st_error *err)
@@ -341,12 +341,11 @@ static st_status wave_alloc(st_renderer *r, wave_state *w, size_t items, size_t 
         if (st_device_buffer_create(r->dev, wave_item_bytes[b] * items, NULL, &w->b[b], err))
             return err->status;
     if (st_device_buffer_create(r->dev, pixels * 4 * sizeof(st_i64), NULL, &w->b[W_ACCUM], err) ||
-        st_device_buffer_create(r->dev, pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32), NULL, &w->b[W_COUNTS], err) ||
         st_device_buffer_create(r->dev, ST_STAT_COUNT * sizeof(st_u32), NULL, &w->b[W_STATS], err) ||
         st_device_buffer_create(r->dev, pixels * 4 * sizeof(float), NULL, &w->b[W_IMAGE], err))
         return err->status;
     if (st_device_buffer_zero(r->dev, w->b[W_ACCUM], pixels * 4 * sizeof(st_i64), err) ||
-        st_device_buffer_zero(r->dev, w->b[W_COUNTS], pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32), err) ||
+        st_device_buffer_zero(r->dev, w->b[W_TALLY], items * 4 * sizeof(st_u32), err) ||
         st_device_buffer_zero(r->dev, w->b[W_STATS], ST_STAT_COUNT * sizeof(st_u32), err))
         return err->status;
     return ST_OK;
@@ -392,7 +391,7 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
                                   MEM(b[W_RADIANCE]));
     case ST_STAGE_SPLAT:
         return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]),
-                                  MEM(b[W_RADIANCE]), MEM(b[W_ACCUM]), MEM(b[W_COUNTS]),
+                                  MEM(b[W_RADIANCE]), MEM(b[W_ACCUM]), MEM(b[W_TALLY]),
                                   MEM(b[W_STATS]));
     case ST_STAGE_RESOLVE:
         return st_device_set_args(kk, err, 4, PARAMS(*p), MEM(b[W_ACCUM]), MEM(b[W_IMAGE]),
@@ -528,15 +527,15 @@ static st_status read_back(st_renderer *r, wave_state *w, const st_render_option
     size_t pixels = (size_t)o->width * o->height;
     const char *names[4] = {"R", "G", "B", "W"};
     float *img = malloc(pixels * 4 * sizeof(float));
-    st_u32 *counts = malloc(pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32));
+    st_u32 *tally = malloc(w->items * 4 * sizeof(st_u32));
     st_u32 stats[ST_STAT_COUNT];
     st_status rc = ST_OK;
-    if (!img || !counts) {
+    if (!img || !tally) {
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory reading the image back");
         goto done;
     }
     if (st_device_buffer_read(r->dev, w->b[W_IMAGE], pixels * 4 * sizeof(float), img, err) ||
-        st_device_buffer_read(r->dev, w->b[W_COUNTS], pixels * ST_COUNTS_PER_PIXEL * sizeof(st_u32), counts, err) ||
+        st_device_buffer_read(r->dev, w->b[W_TALLY], w->items * 4 * sizeof(st_u32), tally, err) ||
         st_device_buffer_read(r->dev, w->b[W_STATS], sizeof stats, stats, err)) {
         rc = err->status;
         goto done;
@@ -560,10 +559,10 @@ static st_status read_back(st_renderer *r, wave_state *w, const st_render_option
         goto done;
     }
     memcpy(out->data, img, pixels * 4 * sizeof(float));
-    for (size_t i = 0; i < pixels; i++) {
-        st->splats += counts[ST_COUNTS_PER_PIXEL * i];
-        st->closest_rays += counts[ST_COUNTS_PER_PIXEL * i + 1];
-        st->shadow_rays += counts[ST_COUNTS_PER_PIXEL * i + 2];
+    for (size_t i = 0; i < w->items; i++) {
+        st->splats += tally[4 * i];
+        st->closest_rays += tally[4 * i + 1];
+        st->shadow_rays += tally[4 * i + 2];
     }
     st->rays = st->closest_rays + st->shadow_rays;
     st->clamped = stats[ST_STAT_CLAMPED];
@@ -571,7 +570,7 @@ static st_status read_back(st_renderer *r, wave_state *w, const st_render_option
     st->zero_weight = stats[ST_STAT_ZERO_WEIGHT];
 done:
     free(img);
-    free(counts);
+    free(tally);
     return rc;
 }
 
