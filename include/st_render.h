@@ -30,6 +30,11 @@ typedef struct st_render_options {
     st_u32 max_depth;
     st_filter filter;
     st_u32 reconstruction; /* ST_RECON_SPLAT or ST_RECON_FIS */
+    /* adaptive sampling (adaptive.cl): min_spp samples everywhere, then up to
+     * spp where the error estimate is above noise_threshold */
+    int adaptive;
+    st_u32 min_spp;
+    float noise_threshold;
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
@@ -60,6 +65,7 @@ typedef struct st_render_stats {
     double stage_seconds[ST_STAGE_COUNT]; /* with profile only */
     st_u64 samples, rays, closest_rays, shadow_rays, splats;
     st_u32 clamped, nonfinite, zero_weight;
+    st_u32 *spp_map; /* adaptive only: samples per pixel, malloc'ed, the caller frees */
 } st_render_stats;
 
 typedef struct st_renderer st_renderer;

@@ -15,6 +15,15 @@ static void count(__global uint *stats, st_u32 which)
     atomic_inc(&stats[which]);
 }
 
+/* Adds w L and w to one pixel's four sums. */
+static void add_splat(__global long *a, float w, float3 L, st_u32 *clamped)
+{
+    atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, clamped)));
+    atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, clamped)));
+    atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, clamped)));
+    atom_add(a + 3, st_fixed_from_float(w));
+}
+
 /* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */
 static int2 taps(float x, float r, st_u32 n)
 {
@@ -32,7 +41,8 @@ static int2 taps(float x, float r, st_u32 n)
  * shadow rays traced). */
 __kernel void splat_samples(const st_params p, __global const float2 *film,
                             __global const uint2 *sample_id, __global const float4 *radiance,
-                            __global long *accum, __global uint4 *tally, __global uint *stats)
+                            __global long *accum, __global long *half_film,
+                            __global uint4 *tally, __global uint *stats)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
@@ -52,6 +62,7 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
     }
     st_filter flt = p.filter;
     st_u32 clamped = 0u;
+    int to_half = p.half_buffer && (sample_id[i].y & 1u) == 0u;
     if (p.reconstruction == ST_RECON_FIS) {
         /* the offset was drawn from |f|: weight f / pdf = sign(f) x ∫|f|, and
          * the constant cancels in Σ w L / Σ w */
@@ -59,11 +70,9 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
         float w = st_filter_eval_1d(&flt, f.x - (float)px - 0.5f) *
                   st_filter_eval_1d(&flt, f.y - (float)py - 0.5f);
         w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
-        __global long *a = accum + 4 * (size_t)sample_id[i].x;
-        atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, &clamped)));
-        atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, &clamped)));
-        atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, &clamped)));
-        atom_add(a + 3, st_fixed_from_float(w));
+        add_splat(accum + 4 * (size_t)sample_id[i].x, w, L, &clamped);
+        if (to_half)
+            add_splat(half_film + 4 * (size_t)sample_id[i].x, w, L, &clamped);
         tally[i] = t + (uint4)(1u, 0u, 0u, 0u);
         if (clamped)
             count(stats, ST_STAT_CLAMPED);
@@ -77,11 +86,9 @@ __kernel void splat_samples(const st_params p, __global const float2 *film,
         float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - f.y);
         for (int x = xs.x; x <= xs.y; x++) {
             float w = wx[x - xs.x] * wy;
-            __global long *a = accum + 4 * ((size_t)y * p.width + x);
-            atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, &clamped)));
-            atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, &clamped)));
-            atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, &clamped)));
-            atom_add(a + 3, st_fixed_from_float(w));
+            add_splat(accum + 4 * ((size_t)y * p.width + x), w, L, &clamped);
+            if (to_half)
+                add_splat(half_film + 4 * ((size_t)y * p.width + x), w, L, &clamped);
         }
     }
     t.x += (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);

@@ -34,8 +34,8 @@ static float fis_offset(__global const float *cdf, float r, float u)
  * warped through the CDF of |f| (their stratification carries over) into an
  * offset from the pixel centre. */
 __kernel void generate_samples(const st_params p, __global const float2 *tile,
-                               __global const float *fis_cdf, __global float2 *film,
-                               __global uint2 *id)
+                               __global const float *fis_cdf, __global const uint *active,
+                               __global float2 *film, __global uint2 *id)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
@@ -53,6 +53,10 @@ __kernel void generate_samples(const st_params p, __global const float2 *tile,
     }
     st_u32 npix = p.width * p.height;
     st_u32 pixel = (st_u32)(g % npix), s = (st_u32)(g / npix);
+    if (p.adaptive_count) { /* a round of adaptive sampling (adaptive.cl) */
+        pixel = active[g % p.adaptive_count];
+        s = p.adaptive_base + (st_u32)(g / p.adaptive_count);
+    }
     st_u32 px = pixel % p.width, py = pixel / p.width;
     st_sample_id sid = st_sample_begin(&p, px, py, s);
     float u = st_sample_dim(&p, &sid, 0u), v = st_sample_dim(&p, &sid, 1u);

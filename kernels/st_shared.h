@@ -194,7 +194,11 @@ typedef struct st_params {
      * tile_begin + tile_count - 1 of every repetition (see generate.cl) */
     st_u32 tile_size, tile_begin, tile_count, tiles_x;
     st_u32 reconstruction; /* ST_RECON_* */
-    st_u32 pad[2];
+    /* adaptive sampling: nonzero during a round over the active-pixel list
+     * (item g: pixel active[g mod adaptive_count], sample adaptive_base +
+     * g / adaptive_count); half_buffer: even samples also go to the half film */
+    st_u32 adaptive_count, adaptive_base, half_buffer;
+    st_u32 pad[3];
     st_filter filter;
     st_camera camera;
 } st_params;
@@ -207,9 +211,9 @@ ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 32, "st_material: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
-ST_STATIC_ASSERT(offsetof(st_params, filter) == 112, "st_params.filter moved");
-ST_STATIC_ASSERT(offsetof(st_params, camera) == 144, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 208, "st_params: 208 bytes");
+ST_STATIC_ASSERT(offsetof(st_params, filter) == 128, "st_params.filter moved");
+ST_STATIC_ASSERT(offsetof(st_params, camera) == 160, "st_params.camera moved");
+ST_STATIC_ASSERT(sizeof(st_params) == 224, "st_params: 224 bytes");
 #endif
 
 #endif

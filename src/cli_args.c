@@ -28,6 +28,12 @@ static const char render_help[] =
     "  --reconstruction splat|fis   splat each sample into every pixel within the filter\n"
     "                         radius (default), or filter importance sampling: offsets drawn\n"
     "                         from |f|, each sample in one pixel weighted by the sign of f\n"
+    "  --adaptive             adaptive sampling: --min-spp everywhere, then more samples only\n"
+    "                         where the error estimate (full vs half film) is above the threshold\n"
+    "  --min-spp N            samples every pixel gets first (default 16)\n"
+    "  --max-spp N            the most samples a pixel gets (same as --spp)\n"
+    "  --noise-threshold X    relative error at which a pixel stops (default 0.01, as Cycles)\n"
+    "  --spp-map FILE.png     the samples each pixel received, colour-mapped with a legend\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
@@ -41,7 +47,8 @@ static const char render_help[] =
 enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
-    O_SCENE_LIST, O_QUIET, O_JSON, O_RECON
+    O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
+    O_SPP_MAP
 };
 
 static const struct option options[] = {
@@ -65,6 +72,11 @@ static const struct option options[] = {
     {"local-size", required_argument, 0, O_LOCAL},
     {"scene-list", no_argument, 0, O_SCENE_LIST},
     {"reconstruction", required_argument, 0, O_RECON},
+    {"adaptive", no_argument, 0, O_ADAPTIVE},
+    {"min-spp", required_argument, 0, O_MIN_SPP},
+    {"max-spp", required_argument, 0, O_MAX_SPP},
+    {"noise-threshold", required_argument, 0, O_THRESHOLD},
+    {"spp-map", required_argument, 0, O_SPP_MAP},
     {"quiet", no_argument, 0, O_QUIET},
     {"json", no_argument, 0, O_JSON},
     {"output", required_argument, 0, 'o'},
@@ -174,6 +186,18 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
     case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
+    case O_ADAPTIVE: o->adaptive = 1; return ST_CLI_OK;
+    case O_MIN_SPP: a->adaptive_opt = "--min-spp"; return st_cli_parse_u32("--min-spp", v, 1, 1u << 24, &o->min_spp);
+    case O_MAX_SPP: a->adaptive_opt = "--max-spp"; return st_cli_parse_u32("--max-spp", v, 1, 1u << 24, &o->spp);
+    case O_THRESHOLD:
+        a->adaptive_opt = "--noise-threshold";
+        return st_cli_parse_float("--noise-threshold", v, &o->noise_threshold);
+    case O_SPP_MAP:
+        if (bench)
+            return st_cli_usage_error("--spp-map: `strata bench` writes no image");
+        a->adaptive_opt = "--spp-map";
+        a->spp_map = v;
+        return ST_CLI_OK;
     case O_RECON:
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_QUIET: a->quiet = 1; return ST_CLI_OK;
@@ -220,6 +244,9 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         return st_cli_usage_error("%s: unexpected argument %s", argv[0], argv[optind]);
     if (st_cli_apply_filter_args(&fa, &a->opt.filter))
         return ST_CLI_EXIT_USAGE;
+    if (a->adaptive_opt && !a->opt.adaptive)
+        return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
+                                  a->adaptive_opt);
     st_error err = {0};
     if (st_render_check(&a->opt, &err) != ST_OK)
         return st_cli_fail(&err);

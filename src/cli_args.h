@@ -14,6 +14,8 @@ typedef struct st_cli_render_args {
     int json;           /* bench --json */
     int scene_list;     /* --scene-list */
     int quiet;          /* --quiet: no progress bar, no summary */
+    const char *spp_map;      /* --spp-map FILE.png */
+    const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
 } st_cli_render_args;
 
 enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };

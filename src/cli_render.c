@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "cli_run.h"
 #include "st_film.h"
+#include "st_plot.h"
 
 double st_cli_now(void)
 {
@@ -92,6 +93,11 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     if (f->kind == ST_FILTER_LANCZOS)
         ATTR("filter_tau", "%.9g", (double)f->tau);
     ATTR("seed", "%u", o->seed);
+    if (o->adaptive) {
+        ATTR("adaptive", "min_spp %u, max_spp %u, noise_threshold %.9g", o->min_spp, o->spp,
+             (double)o->noise_threshold);
+        ATTR("samples_total", "%llu", (unsigned long long)st->samples);
+    }
     ATTR("integrator", "%s", st_integrator_names[o->integrator]);
     ATTR("max_depth", "%u", o->max_depth);
     ATTR("device", "%s", st_device_get_info(s->dev)->name);
@@ -118,10 +124,39 @@ void st_cli_print_summary(const char *what, const st_render_options *o, const st
     printf("strata: %s %ux%u, %u spp in %.3f s: %.2f M samples/s, %.2f M rays/s", what,
            o->width, o->height, o->spp, st->seconds, st->samples / t * 1e-6,
            st->rays / t * 1e-6);
+    if (o->adaptive) {
+        double uniform = (double)o->width * o->height * o->spp;
+        printf("; adaptive: %llu samples in all, %.2fx fewer than uniform at %u spp",
+               (unsigned long long)st->samples, uniform / (double)st->samples, o->spp);
+    }
     if (st->clamped || st->nonfinite || st->zero_weight)
         printf(" (%u splats clamped, %u non-finite, %u pixels without weight)", st->clamped,
                st->nonfinite, st->zero_weight);
     putchar('\n');
+}
+
+/* The adaptive render's samples per pixel as a colour-mapped picture. */
+static st_status save_spp_map(const char *path, const st_render_options *o,
+                              const st_render_stats *st, st_error *err)
+{
+    size_t n = (size_t)o->width * o->height;
+    double *v = malloc(n * sizeof *v);
+    if (!v)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the spp map");
+    for (st_u32 y = 0; y < o->height; y++) /* the plot's row 0 is the bottom */
+        for (st_u32 x = 0; x < o->width; x++)
+            v[(size_t)(o->height - 1 - y) * o->width + x] = st->spp_map[(size_t)y * o->width + x];
+    char title[128];
+    snprintf(title, sizeof title, "samples per pixel: %u..%u, threshold %g", o->min_spp, o->spp,
+             (double)o->noise_threshold);
+    st_plot_heatmap h = {.title = title, .colorbar_label = "samples per pixel", .values = v,
+                         .width = o->width, .height = o->height, .vmin = o->min_spp,
+                         .vmax = o->spp};
+    st_u32 pw = o->width + 160 < 640 ? 640 : o->width + 160;
+    st_u32 ph = o->height + 120 < 480 ? 480 : o->height + 120;
+    st_status rc = st_plot_save_heatmap(path, &h, pw > 8192 ? 8192 : pw, ph > 8192 ? 8192 : ph, err);
+    free(v);
+    return rc;
 }
 
 int st_cli_render(int argc, char **argv)
@@ -144,7 +179,7 @@ int st_cli_render(int argc, char **argv)
     st_error err = {0};
     st_cli_session s;
     st_image img = {0}, rgb = {0};
-    st_render_stats st;
+    st_render_stats st = {0};
     st_cli_progress_state prog;
     st_cli_progress_init(&prog, "render", a.quiet);
     st_i64 *sums = NULL;
@@ -157,12 +192,14 @@ int st_cli_render(int argc, char **argv)
     } else {
         st_attr attrs[ST_CLI_MAX_ATTRS];
         int nattrs = st_cli_render_attrs(&a, &s, &st, attrs);
-        if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK)
+        if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK ||
+            (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
         else if (!a.quiet)
             st_cli_print_summary("rendered", &a.opt, &st);
     }
     free(sums);
+    free(st.spp_map);
     st_image_free(&img);
     st_image_free(&rgb);
     st_cli_session_close(&s);

@@ -38,7 +38,8 @@ enum { B_NODES, B_TRIS, B_NORMALS, B_TRI_MATERIAL, B_MATERIALS, B_LIGHT_TRI, B_L
        B_LIGHT_PDF, B_SCENE_COUNT };
 /* Per-wave state (one entry per item) and the film. */
 enum { W_FILM, W_SAMPLE_ID, W_RAY_O, W_RAY_D, W_HIT, W_BETA, W_RADIANCE, W_DEPTH, W_SHADOW_O, W_SHADOW_D,
-       W_SHADOW_L, W_TALLY, W_ACCUM, W_STATS, W_IMAGE, W_COUNT };
+       W_SHADOW_L, W_TALLY, W_ACCUM, W_HALF, W_ACTIVE, W_PIXEL_SPP, W_ACTIVE_COUNT, W_STATS,
+       W_IMAGE, W_COUNT };
 
 struct st_renderer {
     st_device *dev;
@@ -87,6 +88,8 @@ st_render_options st_render_defaults(void)
     o.integrator = ST_INTEGRATOR_PATH;
     o.max_depth = 5;
     o.filter = st_filter_default(ST_FILTER_MITCHELL);
+    o.min_spp = 16;
+    o.noise_threshold = 0.01f;
     return o;
 }
 
@@ -124,6 +127,19 @@ st_status st_render_check(const st_render_options *o, st_error *err)
         return st_fail(err, ST_ERR_USAGE,
                        "--reconstruction fis needs a per-pixel sampler; %s places its points "
                        "across pixels", st_sampler_names[o->sampler]);
+    if (o->adaptive) {
+        if (ST_SAMPLER_IS_TILED(o->sampler))
+            return st_fail(err, ST_ERR_USAGE, "--adaptive needs a per-pixel sampler, not %s",
+                           st_sampler_names[o->sampler]);
+        if (o->min_spp < 2 || o->min_spp > o->spp)
+            return st_fail(err, ST_ERR_USAGE,
+                           "--min-spp %u: must be at least 2 (the half film needs two samples) "
+                           "and at most --max-spp %u", o->min_spp, o->spp);
+        if (!(o->noise_threshold > 0.0f))
+            return st_fail(err, ST_ERR_USAGE, "--noise-threshold must be positive");
+        if (o->sample_begin || o->sample_end)
+            return st_fail(err, ST_ERR_USAGE, "--adaptive renders cannot be split by --sample-range");
+    }
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "--max-depth %u: at most 64", o->max_depth);
     const st_filter *f = &o->filter;
@@ -333,18 +349,25 @@ static size_t wave_item_bytes[W_COUNT] = {
     sizeof(float) * 4, sizeof(float) * 4, sizeof(st_u32) * 4};
 
 static st_status wave_alloc(st_renderer *r, wave_state *w, size_t items, size_t pixels,
-                            st_error *err)
+                            int adaptive, st_error *err)
 {
     memset(w, 0, sizeof *w);
     w->items = items;
     for (int b = 0; b < W_ACCUM; b++)
         if (st_device_buffer_create(r->dev, wave_item_bytes[b] * items, NULL, &w->b[b], err))
             return err->status;
+    /* the adaptive buffers are one entry when not adaptive (kernels take them anyway) */
+    size_t ap = adaptive ? pixels : 1;
     if (st_device_buffer_create(r->dev, pixels * 4 * sizeof(st_i64), NULL, &w->b[W_ACCUM], err) ||
+        st_device_buffer_create(r->dev, ap * 4 * sizeof(st_i64), NULL, &w->b[W_HALF], err) ||
+        st_device_buffer_create(r->dev, ap * sizeof(st_u32), NULL, &w->b[W_ACTIVE], err) ||
+        st_device_buffer_create(r->dev, ap * sizeof(st_u32), NULL, &w->b[W_PIXEL_SPP], err) ||
+        st_device_buffer_create(r->dev, sizeof(st_u32), NULL, &w->b[W_ACTIVE_COUNT], err) ||
         st_device_buffer_create(r->dev, ST_STAT_COUNT * sizeof(st_u32), NULL, &w->b[W_STATS], err) ||
         st_device_buffer_create(r->dev, pixels * 4 * sizeof(float), NULL, &w->b[W_IMAGE], err))
         return err->status;
     if (st_device_buffer_zero(r->dev, w->b[W_ACCUM], pixels * 4 * sizeof(st_i64), err) ||
+        st_device_buffer_zero(r->dev, w->b[W_HALF], ap * 4 * sizeof(st_i64), err) ||
         st_device_buffer_zero(r->dev, w->b[W_TALLY], items * 4 * sizeof(st_u32), err) ||
         st_device_buffer_zero(r->dev, w->b[W_STATS], ST_STAT_COUNT * sizeof(st_u32), err))
         return err->status;
@@ -368,8 +391,8 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
     cl_kernel kk = r->k[k];
     switch (k) {
     case ST_STAGE_GENERATE:
-        return st_device_set_args(kk, err, 5, PARAMS(*p), MEM(r->tile), MEM(r->fis_cdf),
-                                  MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]));
+        return st_device_set_args(kk, err, 6, PARAMS(*p), MEM(r->tile), MEM(r->fis_cdf),
+                                  MEM(b[W_ACTIVE]), MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]));
     case ST_STAGE_CAMERA:
         return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_RAY_O]),
                                   MEM(b[W_RAY_D]), MEM(b[W_BETA]), MEM(b[W_RADIANCE]),
@@ -390,9 +413,9 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
                                   MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]), MEM(b[W_SHADOW_L]),
                                   MEM(b[W_RADIANCE]));
     case ST_STAGE_SPLAT:
-        return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]),
-                                  MEM(b[W_RADIANCE]), MEM(b[W_ACCUM]), MEM(b[W_TALLY]),
-                                  MEM(b[W_STATS]));
+        return st_device_set_args(kk, err, 8, PARAMS(*p), MEM(b[W_FILM]), MEM(b[W_SAMPLE_ID]),
+                                  MEM(b[W_RADIANCE]), MEM(b[W_ACCUM]), MEM(b[W_HALF]),
+                                  MEM(b[W_TALLY]), MEM(b[W_STATS]));
     case ST_STAGE_RESOLVE:
         return st_device_set_args(kk, err, 4, PARAMS(*p), MEM(b[W_ACCUM]), MEM(b[W_IMAGE]),
                                   MEM(b[W_STATS]));
@@ -565,12 +588,101 @@ static st_status read_back(st_renderer *r, wave_state *w, const st_render_option
         st->shadow_rays += tally[4 * i + 2];
     }
     st->rays = st->closest_rays + st->shadow_rays;
+    if (o->adaptive) {
+        st->spp_map = malloc(pixels * sizeof *st->spp_map);
+        if (!st->spp_map) {
+            rc = st_fail(err, ST_ERR_NOMEM, "out of memory for the spp map");
+            goto done;
+        }
+        if (st_device_buffer_read(r->dev, w->b[W_PIXEL_SPP], pixels * sizeof *st->spp_map,
+                                  st->spp_map, err)) {
+            rc = err->status;
+            goto done;
+        }
+        for (size_t i = 0; i < pixels; i++)
+            st->spp_map[i] &= 0x7fffffffu; /* drop adaptive.cl's stopped flag */
+    }
     st->clamped = stats[ST_STAT_CLAMPED];
     st->nonfinite = stats[ST_STAT_NONFINITE];
     st->zero_weight = stats[ST_STAT_ZERO_WEIGHT];
 done:
     free(img);
     free(tally);
+    return rc;
+}
+
+typedef struct progress_state {
+    st_progress_fn fn;
+    void *ctx;
+    double done, total;
+} progress_state;
+
+/* Items [first, first + total) of the current item space, in waves. */
+static st_status run_items(st_renderer *r, st_params *p, wave_state *w,
+                           const st_render_options *o, st_u64 first, st_u64 total,
+                           progress_state *pr, st_render_stats *st, st_error *err)
+{
+    st_status rc = ST_OK;
+    for (st_u64 done = 0; rc == ST_OK && done < total; done += w->items) {
+        p->first_item = first + done;
+        p->item_count = (st_u32)(total - done < w->items ? total - done : w->items);
+        rc = run_wave(r, p, w, o, st, err);
+        if (rc == ST_OK && pr->fn) {
+            rc = st_device_finish(r->dev, err);
+            pr->done += p->item_count;
+            pr->fn(pr->ctx, pr->done < pr->total ? pr->done / pr->total : 1.0);
+        }
+    }
+    return rc;
+}
+
+/* Adaptive rounds after the first min_spp samples: adaptive_mark picks the
+ * pixels whose error estimate is above the threshold (adaptive.cl); each round
+ * gives every one of them the next `batch` samples of its own sequence. Only
+ * the active count returns to the host. Rounds grow with the samples taken
+ * (batch = half of them, so a pixel's sample count roughly follows 1.5^k). */
+static st_status run_adaptive(st_renderer *r, st_params *p, wave_state *w,
+                              const st_render_options *o, progress_state *pr,
+                              st_render_stats *st, st_error *err)
+{
+    size_t pixels = (size_t)o->width * o->height;
+    cl_kernel mark;
+    st_u32 *init = malloc(pixels * sizeof *init);
+    if (!init)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive state");
+    for (size_t i = 0; i < pixels; i++)
+        init[i] = o->min_spp;
+    st_status rc = st_device_kernel(r->dev, "adaptive_mark", &mark, err);
+    if (rc == ST_OK)
+        rc = st_device_buffer_write(r->dev, w->b[W_PIXEL_SPP], pixels * sizeof *init, init, err);
+    free(init);
+    for (st_u32 done = o->min_spp; rc == ST_OK && done < o->spp;) {
+        st_u32 batch = done / 2 > 1 ? done / 2 : 1, count = 0, zero = 0;
+        if (batch > o->spp - done)
+            batch = o->spp - done;
+        float threshold = o->noise_threshold;
+        st_u32 max_spp = o->spp;
+        p->adaptive_count = 0;
+        if (st_device_buffer_write(r->dev, w->b[W_ACTIVE_COUNT], sizeof zero, &zero, err) ||
+            st_device_set_args(mark, err, 9, PARAMS(*p), MEM(w->b[W_ACCUM]), MEM(w->b[W_HALF]),
+                               MEM(w->b[W_PIXEL_SPP]), MEM(w->b[W_ACTIVE]),
+                               MEM(w->b[W_ACTIVE_COUNT]), sizeof threshold, (const void *)&threshold,
+                               sizeof max_spp, (const void *)&max_spp, sizeof batch,
+                               (const void *)&batch) ||
+            st_device_launch(r->dev, mark, pixels, 0, err) ||
+            st_device_buffer_read(r->dev, w->b[W_ACTIVE_COUNT], sizeof count, &count, err)) {
+            rc = err->status;
+            break;
+        }
+        if (count == 0)
+            break;
+        p->adaptive_count = count;
+        p->adaptive_base = done;
+        rc = run_items(r, p, w, o, 0, (st_u64)count * batch, pr, st, err);
+        st->samples += (st_u64)count * batch;
+        done += batch;
+    }
+    p->adaptive_count = 0;
     return rc;
 }
 
@@ -637,27 +749,29 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
         first = 0;
         total = (st_u64)p.tiles_x * ((o->height + side - 1) / side) * p.tile_count;
     }
+    if (o->adaptive) { /* the first round: min_spp samples everywhere */
+        total = (st_u64)o->min_spp * pixels;
+        p.half_buffer = 1;
+    }
     size_t wave = o->wave ? o->wave : (size_t)1 << 18;
     if (wave > total)
         wave = (size_t)total;
     wave_state w;
     double t0 = now_seconds();
-    st_status rc = wave_alloc(r, &w, wave, pixels, err);
-    for (st_u64 done = 0; rc == ST_OK && done < total; done += wave) {
-        p.first_item = first + done;
-        p.item_count = (st_u32)(total - done < wave ? total - done : wave);
-        rc = run_wave(r, &p, &w, o, st, err);
-        if (rc == ST_OK && progress) {
-            rc = st_device_finish(r->dev, err);
-            progress(progress_ctx, (double)(done + p.item_count) / (double)total);
-        }
-    }
+    progress_state pr = {progress, progress_ctx, 0.0, (double)total};
+    if (o->adaptive)
+        pr.total = (double)o->spp * pixels;
+    st_status rc = wave_alloc(r, &w, wave, pixels, o->adaptive, err);
+    if (rc == ST_OK)
+        rc = run_items(r, &p, &w, o, first, total, &pr, st, err);
+    st->samples = total;
+    if (rc == ST_OK && o->adaptive)
+        rc = run_adaptive(r, &p, &w, o, &pr, st, err);
     if (rc == ST_OK)
         rc = run_stage(r, ST_STAGE_RESOLVE, &p, &w, pixels, o, st, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = now_seconds() - t0;
-    st->samples = total;
     if (rc == ST_OK)
         rc = read_back(r, &w, o, out, sums, st, err);
     wave_free(&w);
