@@ -11,8 +11,9 @@
  *          is gathered (pbrt's maxdepth; Mitsuba's max_depth is one more).
  * Materials are Lambertian: f = albedo / π, emitters one-sided on the side
  * their shading normals face.
- * Sample dimensions of vertex k: 2 + 6k + {0,1: point on light, 2,3: BSDF
- * direction, 4: light choice, 5: Russian roulette}. */
+ * Sample dimensions of vertex k: 2 + 6k + {0: light choice and first
+ * coordinate on it, 1: second coordinate, 2,3: BSDF direction, 4: unused,
+ * 5: Russian roulette}. */
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
@@ -21,17 +22,23 @@
 #define ST_DIMS_PER_VERTEX 6u
 #define ST_RR_START_DEPTH 3u
 
-/* Index of the light whose CDF interval holds u (first cdf[i] > u). */
-static st_u32 pick_light(__global const float *cdf, st_u32 n, float u)
+/* Index of the light whose CDF interval holds *u (first cdf[i] > *u), and *u
+ * rescaled to [0, 1) within that interval, so that one stratified dimension
+ * both chooses the light and places the point on it: a light's share of the
+ * samples stays stratified (drawing the choice from a dimension of its own
+ * would scatter each light's points and lose the stratification). */
+static st_u32 pick_light(__global const float *cdf, st_u32 n, float *u)
 {
     st_u32 lo = 0, hi = n - 1u;
     while (lo < hi) {
         st_u32 mid = (lo + hi) / 2u;
-        if (cdf[mid] > u)
+        if (cdf[mid] > *u)
             hi = mid;
         else
             lo = mid + 1u;
     }
+    float c0 = lo ? cdf[lo - 1u] : 0.0f, c1 = cdf[lo];
+    *u = c1 > c0 ? fmin((*u - c0) / (c1 - c0), 0.99999994f) : 0.0f;
     return lo;
 }
 
@@ -139,8 +146,9 @@ __kernel void shade_hits(const st_params p, __global const st_triangle *tris,
 
     /* next-event estimation: one point on one emissive triangle */
     if (p.light_count > 0u) {
-        st_u32 lt = light_tri[pick_light(light_cdf, p.light_count, st_sample_dim(&p, &id, dim + 4u))];
-        float3 q = triangle_point(tris, lt, st_sample_dim(&p, &id, dim), st_sample_dim(&p, &id, dim + 1u));
+        float u = st_sample_dim(&p, &id, dim);
+        st_u32 lt = light_tri[pick_light(light_cdf, p.light_count, &u)];
+        float3 q = triangle_point(tris, lt, u, st_sample_dim(&p, &id, dim + 1u));
         float3 nl = facing_normal(normals, lt);
         float3 wi = q - origin;
         float dist2 = dot(wi, wi), dist = sqrt(dist2);

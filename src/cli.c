@@ -42,6 +42,7 @@ static const char main_help[] =
     "  filter NAME [--csv F] [--png F]     a filter's profile and frequency response\n"
     "  signal [options]                    1-D sampling and reconstruction laboratory\n"
     "  merge PART.exr... -o OUT.exr        add split renders (--sample-range) into one image\n"
+    "  converge [SCENE] --sampler LIST --spp-list LIST   error against spp, per sampler\n"
     "  diff A B [--max-rmse X]             compare two images (RMSE, PSNR, max difference)\n"
     "  devices                             list the OpenCL devices\n";
 
@@ -54,7 +55,8 @@ int st_cli_main(int argc, char **argv)
     static const struct { const char *name; int (*run)(int, char **); } cmds[] = {
         {"render", st_cli_render}, {"bench", st_cli_bench},
         {"devices", st_cli_devices}, {"diff", st_cli_diff}, {"pattern", st_cli_pattern},
-        {"filter", st_cli_filter}, {"merge", st_cli_merge}, {"signal", st_cli_signal}};
+        {"filter", st_cli_filter}, {"merge", st_cli_merge},
+        {"converge", st_cli_converge}, {"signal", st_cli_signal}};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (!strcmp(argv[1], cmds[i].name))
             return cmds[i].run(argc - 1, argv + 1);

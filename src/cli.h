@@ -14,6 +14,7 @@ int st_cli_pattern(int argc, char **argv);
 int st_cli_signal(int argc, char **argv);
 int st_cli_filter(int argc, char **argv);
 int st_cli_merge(int argc, char **argv);
+int st_cli_converge(int argc, char **argv);
 
 /* Prints "strata: error: MSG" and returns the exit status for err. */
 struct st_error;

@@ -202,13 +202,13 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_QUIET: a->quiet = 1; return ST_CLI_OK;
     case O_JSON:
-        if (!bench)
+        if (bench != 1)
             return st_cli_usage_error("--json: only `strata bench` takes it");
         a->json = 1;
         return ST_CLI_OK;
     case 'o':
         if (bench)
-            return st_cli_usage_error("-o: `strata bench` writes no image");
+            return st_cli_usage_error("-o: `strata %s` writes no image", bench == 1 ? "bench" : "converge");
         a->output = v;
         return ST_CLI_OK;
     default: return ST_CLI_EXIT_USAGE;

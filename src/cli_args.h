@@ -20,7 +20,8 @@ typedef struct st_cli_render_args {
 
 enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };
 
-/* Parses argv (argv[0] is the subcommand). bench: accept --json and not -o.
+/* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench
+ * (--json, no -o); 2 for converge (neither).
  * Returns ST_CLI_OK, ST_CLI_HELP (help printed) or ST_CLI_EXIT_USAGE. */
 int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_args *a);
 

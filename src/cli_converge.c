@@ -1,0 +1,364 @@
+/* cli_converge.c — `strata converge`: how fast each sampler's error falls
+ * with the number of samples per pixel. One process, one scene upload and one
+ * kernel build; for each sampler and sample count, K seeds (one for the
+ * deterministic patterns), RMSE and relative MSE against a reference, over
+ * the whole image or a --region; a CSV and a log-log plot with the fitted
+ * slope of each sampler (error ∝ N^slope: -0.5 for independent samples). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cli_args.h"
+#include "cli_run.h"
+#include "st_pattern.h"
+#include "st_plot.h"
+
+#define MAX_SERIES 16
+#define MAX_SPP 32
+
+static const char converge_help[] =
+    "usage: strata converge [SCENE] --sampler LIST --spp-list LIST [options] [render options]\n"
+    "  --sampler LIST        comma-separated samplers (random,stratified,halton,...)\n"
+    "  --spp-list LIST       comma-separated samples per pixel, e.g. 4,16,64,256\n"
+    "  --reference FILE.exr  the reference image (same size), or\n"
+    "  --reference-spp N     render it here: sobol, N spp, another seed (default 1024)\n"
+    "  --seeds K             seeds per randomised sampler and count (default 4)\n"
+    "  --region X,Y,W,H      measure only this pixel rectangle (default: the whole image)\n"
+    "  --csv FILE|-          sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n"
+    "  --png FILE            log-log plot of RMSE against spp, the fitted slope in the legend\n"
+    "  --adaptive            also each sampler with adaptive sampling (--min-spp N/4,\n"
+    "                        --max-spp 4N, --noise-threshold), at its mean spp\n"
+    "  render options: --width, --height, --filter..., --integrator, --max-depth, --device, ...\n"
+    "  (not --spp, --max-spp, --min-spp, --sample-range, --spp-map: the study sets them)\n"
+    "relative MSE: the mean of (x - r)^2 / (r^2 + 0.01) over pixels and R, G, B\n";
+
+typedef struct converge_args {
+    st_cli_render_args r;
+    st_u32 samplers[MAX_SERIES], nsamplers;
+    st_u32 spp[MAX_SPP], nspp;
+    const char *reference, *csv, *png;
+    st_u32 reference_spp, seeds;
+    st_u32 region[4];
+    int have_region;
+} converge_args;
+
+/* Parses a comma-separated list of unsigned integers or of sampler names. */
+static int parse_list(const char *opt, const char *s, int names, st_u32 *out, st_u32 max,
+                      st_u32 *n)
+{
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", s);
+    *n = 0;
+    for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+        if (*n == max)
+            return st_cli_usage_error("%s %s: at most %u entries", opt, s, max);
+        if (names) {
+            int k = st_name_lookup(st_sampler_names, ST_SAMPLER_COUNT, tok);
+            if (k < 0)
+                return st_cli_usage_error("%s: unknown sampler '%s'", opt, tok);
+            out[(*n)++] = (st_u32)k;
+        } else if (st_cli_parse_u32(opt, tok, 1, 1u << 20, &out[(*n)++])) {
+            return ST_CLI_EXIT_USAGE;
+        }
+    }
+    if (*n == 0)
+        return st_cli_usage_error("%s '%s': an empty list", opt, s);
+    for (st_u32 i = 1; !names && i < *n; i++)
+        if (out[i] <= out[i - 1])
+            return st_cli_usage_error("%s %s: counts must increase", opt, s);
+    return ST_CLI_OK;
+}
+
+static int parse(int argc, char **argv, converge_args *c)
+{
+    memset(c, 0, sizeof *c);
+    c->reference_spp = 1024;
+    c->seeds = 4;
+    char **rest = calloc((size_t)argc + 1, sizeof *rest);
+    int nrest = 0, rc = ST_CLI_OK, have_sampler = 0, have_spp = 0;
+    if (!rest)
+        return st_cli_usage_error("out of memory");
+    rest[nrest++] = argv[0];
+    for (int i = 1; i < argc && rc == ST_CLI_OK; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int takes = !strcmp(a, "--sampler") || !strcmp(a, "--spp-list") ||
+                    !strcmp(a, "--reference") || !strcmp(a, "--reference-spp") ||
+                    !strcmp(a, "--seeds") || !strcmp(a, "--region") || !strcmp(a, "--csv") ||
+                    !strcmp(a, "--png");
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(converge_help, stdout);
+            rc = ST_CLI_HELP;
+        } else if (!strcmp(a, "--spp") || !strcmp(a, "--max-spp") || !strcmp(a, "--min-spp") ||
+                   !strcmp(a, "--sample-range") || !strcmp(a, "--spp-map")) {
+            rc = st_cli_usage_error("converge: %s is set by the study (use --spp-list)", a);
+        } else if (takes && !v) {
+            rc = st_cli_usage_error("converge: option %s needs a value", a);
+        } else if (!strcmp(a, "--sampler")) {
+            rc = parse_list(a, v, 1, c->samplers, MAX_SERIES, &c->nsamplers);
+            have_sampler = 1;
+        } else if (!strcmp(a, "--spp-list")) {
+            rc = parse_list(a, v, 0, c->spp, MAX_SPP, &c->nspp);
+            have_spp = 1;
+        } else if (!strcmp(a, "--reference")) {
+            c->reference = v;
+        } else if (!strcmp(a, "--reference-spp")) {
+            rc = st_cli_parse_u32(a, v, 1, 1u << 20, &c->reference_spp);
+        } else if (!strcmp(a, "--seeds")) {
+            rc = st_cli_parse_u32(a, v, 1, 1024, &c->seeds);
+        } else if (!strcmp(a, "--csv")) {
+            c->csv = v;
+        } else if (!strcmp(a, "--png")) {
+            c->png = v;
+        } else if (!strcmp(a, "--region")) {
+            char tail;
+            st_u32 *g = c->region;
+            if (sscanf(v, "%u,%u,%u,%u%c", &g[0], &g[1], &g[2], &g[3], &tail) != 4 ||
+                strchr(v, '-') || g[2] == 0 || g[3] == 0)
+                rc = st_cli_usage_error("--region %s: expected X,Y,W,H with W, H >= 1", v);
+            c->have_region = 1;
+        } else {
+            rest[nrest++] = argv[i];
+            continue;
+        }
+        if (takes)
+            i++;
+    }
+    if (rc == ST_CLI_OK)
+        rc = st_cli_parse_render_args(nrest, rest, 2, &c->r);
+    free(rest);
+    if (rc)
+        return rc;
+    if (!have_sampler || !have_spp)
+        return st_cli_usage_error("converge: --sampler LIST and --spp-list LIST are required");
+    const st_render_options *o = &c->r.opt;
+    if (c->have_region && ((st_u64)c->region[0] + c->region[2] > o->width ||
+                           (st_u64)c->region[1] + c->region[3] > o->height))
+        return st_cli_usage_error("--region %u,%u,%u,%u: outside the %ux%u image", c->region[0],
+                                  c->region[1], c->region[2], c->region[3], o->width, o->height);
+    if (!c->have_region) {
+        c->region[2] = o->width;
+        c->region[3] = o->height;
+    }
+    if (!c->csv && !c->png)
+        return st_cli_usage_error("converge: nothing to write (give --csv or --png)");
+    return ST_CLI_OK;
+}
+
+typedef struct series {
+    char name[48];
+    st_u32 sampler, adaptive, n;
+    double spp[MAX_SPP], rmse[MAX_SPP], stderr_[MAX_SPP], rel[MAX_SPP], seeds[MAX_SPP];
+    double slope;
+} series;
+
+/* RMSE and relative MSE of img against ref over the region (R, G, B). */
+static void measure(const converge_args *c, const st_image *img, const st_image *ref,
+                    int ir[3], double *rmse, double *rel)
+{
+    double se = 0, rs = 0;
+    size_t n = 0;
+    for (st_u32 y = c->region[1]; y < c->region[1] + c->region[3]; y++)
+        for (st_u32 x = c->region[0]; x < c->region[0] + c->region[2]; x++) {
+            size_t i = (size_t)y * img->width + x;
+            for (int ch = 0; ch < 3; ch++) {
+                double r = ref->data[i * ref->channels + ir[ch]];
+                double d = img->data[i * img->channels + ch] - r;
+                se += d * d;
+                rs += d * d / (r * r + 0.01);
+                n++;
+            }
+        }
+    *rmse = sqrt(se / n);
+    *rel = rs / n;
+}
+
+/* Least-squares slope of log(rmse) against log(spp). */
+static double fit_slope(const series *s)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (st_u32 i = 0; i < s->n; i++) {
+        double x = log(s->spp[i]), y = log(s->rmse[i]);
+        sx += x; sy += y; sxx += x * x; sxy += x * y;
+    }
+    double d = s->n * sxx - sx * sx;
+    return s->n > 1 && d != 0 ? (s->n * sxy - sx * sy) / d : NAN;
+}
+
+static st_status get_reference(const converge_args *c, st_cli_session *s, st_image *ref,
+                               int ir[3], st_error *err)
+{
+    const st_render_options *o = &c->r.opt;
+    if (c->reference) {
+        if (st_image_load(c->reference, ref, err) != ST_OK)
+            return err->status;
+        if (ref->width != o->width || ref->height != o->height)
+            return st_fail(err, ST_ERR_USAGE, "%s: %ux%u pixels, the study renders %ux%u",
+                           c->reference, ref->width, ref->height, o->width, o->height);
+    } else {
+        st_render_options ro = *o;
+        ro.sampler = ST_SAMPLER_SOBOL;
+        ro.spp = c->reference_spp;
+        ro.seed = o->seed + 0x5eed5eedu; /* independent of the study's seeds */
+        ro.adaptive = 0;
+        if (st_render(s->renderer, &ro, ref, NULL, NULL, NULL, NULL, err) != ST_OK)
+            return err->status;
+    }
+    const char *names[3] = {"R", "G", "B"};
+    for (int ch = 0; ch < 3; ch++)
+        if ((ir[ch] = st_image_find_channel(ref, names[ch])) < 0)
+            return st_fail(err, ST_ERR_FORMAT, "%s: no channel %s",
+                           c->reference ? c->reference : "reference", names[ch]);
+    return ST_OK;
+}
+
+/* One point of one series: K seeds (one for a deterministic pattern). */
+static st_status run_point(const converge_args *c, st_cli_session *s, const st_image *ref,
+                           int ir[3], series *se, st_u32 k, st_cli_progress_state *prog,
+                           double *done, double total, st_error *err)
+{
+    st_render_options o = c->r.opt;
+    o.sampler = se->sampler;
+    o.adaptive = se->adaptive;
+    o.spp = se->adaptive ? 4 * c->spp[k] : c->spp[k];
+    o.min_spp = c->spp[k] / 4 > 2 ? c->spp[k] / 4 : 2;
+    st_u32 runs = st_pattern_is_random(o.sampler, o.scramble) || o.adaptive ? c->seeds : 1;
+    double sum = 0, sum2 = 0, rel = 0, samples = 0;
+    for (st_u32 r = 0; r < runs; r++) {
+        st_image img = {0};
+        st_render_stats st = {0};
+        o.seed = c->r.opt.seed + r;
+        if (st_render(s->renderer, &o, &img, NULL, &st, NULL, NULL, err) != ST_OK)
+            return err->status;
+        double e, q;
+        measure(c, &img, ref, ir, &e, &q);
+        sum += e;
+        sum2 += e * e;
+        rel += q;
+        samples += (double)st.samples;
+        free(st.spp_map);
+        st_image_free(&img);
+        *done += 1;
+        st_cli_progress(prog, *done / total);
+    }
+    double mean = sum / runs, var = runs > 1 ? (sum2 - runs * mean * mean) / (runs - 1) : 0;
+    se->spp[k] = se->adaptive ? samples / runs / ((double)o.width * o.height) : c->spp[k];
+    se->rmse[k] = mean;
+    se->stderr_[k] = runs > 1 ? sqrt(fmax(var, 0) / runs) : 0;
+    se->rel[k] = rel / runs;
+    se->seeds[k] = runs;
+    se->n = k + 1;
+    return ST_OK;
+}
+
+static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st_error *err)
+{
+    if (c->csv) {
+        int to_stdout = !strcmp(c->csv, "-");
+        char tmp[4096];
+        snprintf(tmp, sizeof tmp, "%s.tmp-strata", c->csv);
+        FILE *f = to_stdout ? stdout : fopen(tmp, "w");
+        if (!f)
+            return st_fail(err, ST_ERR_IO, "%s: cannot create", c->csv);
+        fprintf(f, "sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n");
+        for (st_u32 i = 0; i < ns; i++)
+            for (st_u32 k = 0; k < ss[i].n; k++)
+                fprintf(f, "%s,%.6g,%.0f,%.9g,%.9g,%.9g\n", ss[i].name, ss[i].spp[k],
+                        ss[i].seeds[k], ss[i].rmse[k], ss[i].stderr_[k], ss[i].rel[k]);
+        if (!to_stdout) {
+            int bad = ferror(f);
+            bad |= fclose(f) != 0;
+            if (bad || rename(tmp, c->csv) != 0) {
+                remove(tmp);
+                return st_fail(err, ST_ERR_IO, "%s: cannot write", c->csv);
+            }
+        }
+    }
+    if (c->png) {
+        st_plot_series ps[MAX_SERIES * 2];
+        char legend[MAX_SERIES * 2][80];
+        for (st_u32 i = 0; i < ns; i++) {
+            snprintf(legend[i], sizeof legend[i], "%s (slope %.2f)", ss[i].name, ss[i].slope);
+            ps[i] = (st_plot_series){.name = legend[i], .x = ss[i].spp, .y = ss[i].rmse,
+                                     .n = ss[i].n, .style = ST_PLOT_STYLE_LINE_POINTS};
+        }
+        char title[160];
+        snprintf(title, sizeof title, "RMSE against samples per pixel (region %u,%u %ux%u)",
+                 c->region[0], c->region[1], c->region[2], c->region[3]);
+        st_plot_lines pl = {.title = title, .xlabel = "samples per pixel", .ylabel = "RMSE",
+                             .series = ps, .series_count = ns,
+                             .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y, .legend_left = 0};
+        if (st_plot_save_lines(c->png, &pl, 800, 600, err) != ST_OK)
+            return err->status;
+    }
+    return ST_OK;
+}
+
+int st_cli_converge(int argc, char **argv)
+{
+    converge_args *c = calloc(1, sizeof *c);
+    series *ss = calloc(MAX_SERIES * 2, sizeof *ss);
+    if (!c || !ss) {
+        free(c);
+        free(ss);
+        return st_cli_fail(&(st_error){ST_ERR_NOMEM, "out of memory"});
+    }
+    int rc = parse(argc, argv, c);
+    if (rc) {
+        free(c);
+        free(ss);
+        return rc == ST_CLI_HELP ? 0 : rc;
+    }
+    st_u32 ns = 0;
+    for (st_u32 i = 0; i < c->nsamplers; i++)
+        for (int adaptive = 0; adaptive <= c->r.opt.adaptive; adaptive++) {
+            series *s = &ss[ns++];
+            s->sampler = c->samplers[i];
+            s->adaptive = adaptive;
+            snprintf(s->name, sizeof s->name, "%s%s", st_sampler_names[s->sampler],
+                     adaptive ? "+adaptive" : "");
+        }
+    double total = 0, done = 0;
+    for (st_u32 i = 0; i < ns; i++) {
+        st_render_options o = c->r.opt;
+        o.adaptive = ss[i].adaptive;
+        total += c->nspp * (st_pattern_is_random(ss[i].sampler, o.scramble) || o.adaptive
+                                ? c->seeds : 1);
+    }
+    st_error err = {0};
+    st_cli_session s;
+    st_image ref = {0};
+    int ir[3];
+    st_cli_progress_state prog;
+    st_cli_progress_init(&prog, "converge", c->r.quiet);
+    if (st_cli_session_open(&c->r, &s, &err) || get_reference(c, &s, &ref, ir, &err)) {
+        rc = st_cli_session_fail(&s, &err);
+        goto done;
+    }
+    for (st_u32 i = 0; i < ns; i++) {
+        for (st_u32 k = 0; k < c->nspp; k++)
+            if (run_point(c, &s, &ref, ir, &ss[i], k, &prog, &done, total, &err)) {
+                rc = st_cli_session_fail(&s, &err);
+                goto done;
+            }
+        ss[i].slope = fit_slope(&ss[i]);
+    }
+    if (write_outputs(c, ss, ns, &err)) {
+        rc = st_cli_fail(&err);
+        goto done;
+    }
+    if (!c->r.quiet) {
+        fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "converge: slopes");
+        for (st_u32 i = 0; i < ns; i++)
+            fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, " %s %.3f", ss[i].name,
+                    ss[i].slope);
+        fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "\n");
+    }
+done:
+    st_image_free(&ref);
+    st_cli_session_close(&s);
+    free(c);
+    free(ss);
+    return rc;
+}
