@@ -141,21 +141,36 @@ ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
     return (i + p) % n;
 }
 
-/* Φ_b(n) with random digit permutations: digit position k is mapped through a
- * permutation of [0, b) drawn from (key, k) (pbrt-v4's DigitPermutation idea;
- * Braaten & Weller 1979). Digits past n's own are zeros permuted too, taken
- * until they cannot change a float (b^k >= 2^26 once n is used up). */
+/* Φ_b(n) with random digit permutations (Braaten & Weller 1979; pbrt-v4's
+ * DigitPermutation): digit position k goes through the affine permutation
+ * d -> (a d + c) mod b of [0, b), a in 1..b-1 and c in 0..b-1 drawn from
+ * (key, k). Affine maps are all 2 permutations of base 2 and all 6 of base 3,
+ * a random subset beyond; each is a bijection per digit, so every elementary
+ * interval still holds the same number of points. Digits past n's own are
+ * zeros permuted too, taken until they cannot change 24 bits (b^k >= 2^24).
+ * The result keeps 24 fraction bits: floor(x 2^24) 2^-24, so it is < 1 (the
+ * exact rounding of st_radical_inverse is for the unscrambled definition;
+ * here it would cost a long division per dimension). In base 2 the only
+ * affine maps are d -> d xor c: the digits are the reversed bits of n xored
+ * with one random word. */
 ST_FN st_f32 st_radical_inverse_scrambled(st_u32 base, st_u32 n, st_u32 key)
 {
+    if (base == 2u)
+        return (st_f32)((st_reverse_bits(n) ^ st_hash32(key)) >> 8) * 5.9604644775390625e-8f;
     st_u64 rev = 0, den = 1;
-    for (st_u32 k = 0; n != 0u || den < (1ul << 26); k++) {
-        st_u32 next = n / base;
-        st_u32 digit = st_permute(n - next * base, base, key ^ st_hash32(k));
-        rev = rev * base + digit;
+    for (st_u32 k = 0; n != 0u || den < (1ul << 24); k++) {
+        st_u32 next = n / base, h = st_hash32(key ^ (k * 0x9e3779b9u));
+        /* a in 1..b-1 and c in 0..b-1 by multiply-shift (no division) */
+        st_u32 a = 1u + (((h >> 16) * (base - 1u)) >> 16), c = ((h & 0xffffu) * base) >> 16;
+        rev = rev * base + (a * (n - next * base) + c) % base;
         den *= base;
         n = next;
     }
-    return st_ratio_floor(rev, den);
+    while (den >= (1ul << 40)) { /* keep rev 2^24 below 2^64 */
+        rev >>= 8;
+        den >>= 8;
+    }
+    return (st_f32)((rev << 24) / den) * 5.9604644775390625e-8f; /* 2^-24 */
 }
 
 /* Nested uniform (Owen) scrambling of a base-2 digit string held with its
