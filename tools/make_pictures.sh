@@ -26,3 +26,11 @@ $S signal --freq 0.3 --png $P/signal/sine-above-nyquist.png 2> /dev/null
 $S signal --freq 0.8 --png $P/signal/alias.png 2> /dev/null
 $S signal --function step --filter lanczos --png $P/signal/gibbs-lanczos.png 2> /dev/null
 $S signal --function step --filter gaussian --png $P/signal/blur-gaussian.png 2> /dev/null
+mkdir -p $P/adaptive
+$S render --adaptive --spp 256 --min-spp 16 --width 256 --height 256 --quiet \
+    --spp-map $P/adaptive/spp-map.png -o /tmp/strata-adaptive.exr
+ALL=random,uniform,stratified,halton,hammersley,poisson,best-candidate,sobol
+$S converge --sampler $ALL --spp-list 4,16,64,256 --width 64 --height 64 --integrator direct \
+    --reference-spp 8192 --seeds 4 --region 18,14,28,10 --quiet --png $P/adaptive/converge-smooth.png
+$S converge --sampler $ALL --spp-list 4,16,64,256 --width 64 --height 64 --integrator direct \
+    --reference-spp 8192 --seeds 4 --region 22,5,18,8 --quiet --png $P/adaptive/converge-edge.png
