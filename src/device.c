@@ -286,7 +286,8 @@ static double now_seconds(void)
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-/* Reads every embedded kernel name from $STRATA_KERNEL_DIR instead. */
+/* A kernel file from $STRATA_KERNEL_DIR, headed by a #line marker so that
+ * build logs name it (the embedded sources carry theirs from tools/embed.c). */
 static char *read_text(const char *path)
 {
     FILE *f = fopen(path, "rb");
@@ -295,9 +296,13 @@ static char *read_text(const char *path)
     fseek(f, 0, SEEK_END);
     long n = ftell(f);
     fseek(f, 0, SEEK_SET);
-    char *s = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    if (s && fread(s, 1, (size_t)n, f) == (size_t)n)
-        s[n] = '\0';
+    char head[1100];
+    int h = snprintf(head, sizeof head, "#line 1 \"%s\"\n", path);
+    char *s = n >= 0 && h > 0 ? malloc((size_t)n + (size_t)h + 1) : NULL;
+    if (s)
+        memcpy(s, head, (size_t)h);
+    if (s && fread(s + h, 1, (size_t)n, f) == (size_t)n)
+        s[h + n] = '\0';
     else {
         free(s);
         s = NULL;

@@ -70,6 +70,21 @@ check "scene list names the built-in scenes" 'grep -q "^cornell-box$" "$T/list"'
 $S render --help > "$T/help"
 check "render --help documents --max-depth" 'grep -q -- "--max-depth" "$T/help"'
 
+# the OpenCL layer's own failures
+mkdir "$T/novendors"
+OCL_ICD_VENDORS="$T/novendors" $S devices > "$T/out" 2> "$T/err"
+st=$?
+check "no OpenCL platform: exit 1 naming make deps" '[ $st -eq 1 ] && grep -q "^strata: error: no OpenCL platform found: run .make deps." "$T/err"'
+OCL_ICD_VENDORS="$T/novendors" $S render $R -o "$T/nv.exr" > /dev/null 2>&1
+check "no OpenCL platform: render writes nothing" '[ ! -e "$T/nv.exr" ]'
+mkdir "$T/kernels"
+cp kernels/*.cl kernels/*.h "$T/kernels/"
+printf '\n__kernel void broken(void) { this is not C; }\n' >> "$T/kernels/film.cl"
+STRATA_KERNEL_DIR="$T/kernels" $S render $R -o "$T/kb.exr" > "$T/out" 2> "$T/err"
+st=$?
+check "a kernel that fails to build: exit 1 and the cause" '[ $st -eq 1 ] && grep -q "^strata: error: kernel build failed on .*CL_BUILD_PROGRAM_FAILURE" "$T/err"'
+check "a kernel that fails to build: the compiler log names the file" 'grep -q "kernels/film.cl:[0-9]*:[0-9]*:" "$T/err" && [ ! -e "$T/kb.exr" ]'
+
 # strata pattern
 $S pattern --sampler halton --scramble none --count 1000 --dims 3 --csv "$T/h.csv" > /dev/null 2>&1
 check "pattern writes one line per point" '[ "$(wc -l < "$T/h.csv")" -eq 1000 ]'
