@@ -311,6 +311,13 @@ ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_
     if (cell >= n)
         cell = n - 1u;
     st_f32 x = ((st_f32)cell + jitter) / (st_f32)n;
+    /* Far from both edges no rounding can cross one: the computed position t
+     * within the cell errs by a few units of 2^-24 (cell + 1), well inside
+     * the margin 2^-20 (cell + 2); only the rare near-edge x take the exact
+     * (and slower: two long divisions) clamp below. */
+    st_f32 t = x * (st_f32)n - (st_f32)cell, margin = 9.5367431640625e-7f * ((st_f32)cell + 2.0f);
+    if (t > margin && t < 1.0f - margin)
+        return x;
     /* The roundings of cell + jitter and of the quotient can move x a float
      * past either edge of its cell; keep it among the floats of [cell/n,
      * (cell+1)/n): lo the smallest float >= cell/n, hi a float below
