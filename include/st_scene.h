@@ -1,70 +1,118 @@
 /* st_scene.h — scene import: a glTF 2.0 file, or a built-in scene embedded in
- * the binary, flattened into world-space triangle arrays with materials and a
- * camera.
+ * the binary, flattened into world-space triangle arrays with materials,
+ * textures, cameras and the environment light.
  *
  * What loads: the default scene of the file (scene 0 when none is named),
  * every node reachable from it through `children`, with TRS and matrix
  * transforms composed down the tree; of each mesh, the TRIANGLES primitives
- * (mode 4, the default), indexed (u8/u16/u32) or not, with any byteStride.
- * .gltf with external .bin files or data: URIs, and .glb. Other primitive
- * modes are skipped; textures are not read.
+ * (mode 4, the default), indexed (u8/u16/u32) or not, with any byteStride,
+ * POSITION, NORMAL (flat normals where missing) and TEXCOORD_0 (float or
+ * normalised integers). .gltf with external .bin files or data: URIs, and
+ * .glb. Other primitive modes are skipped with a warning. Materials: base
+ * colour, emissive (with KHR_materials_emissive_strength) and
+ * metallic-roughness factors and textures (with KHR_texture_transform),
+ * alphaMode and alphaCutoff; images decoded by stb_image (PNG, JPEG, ...).
+ * Cameras: every perspective or orthographic camera node.
  *
  * Invariants of a loaded scene: tri_count >= 1; every triangle is finite and
  * has non-zero area (the others are dropped and counted in `dropped`); shading
  * normals are unit length, and where a node's transform mirrors (negative
  * determinant) the winding was reversed, so the geometric normal
  * (v1 - v0) x (v2 - v0) faces the side the shading normals face, as it did in
- * the file; every tri_material is < material_count; bounds hold every vertex;
- * camera.forward and camera.up are unit and orthogonal.
+ * the file; every tri_material is < material_count; every material texture
+ * index is ST_NO_TEXTURE or < texture_count; every texture's mip chain lies
+ * inside texels[0, texel_count); bounds hold every vertex; every camera's
+ * forward and up are unit and orthogonal.
  *
  * Errors (st_error.h): ST_ERR_IO when the file itself cannot be read,
  * ST_ERR_FORMAT for anything malformed ("FILE: what is wrong", tinygltf's own
- * message included; a missing .bin is a format error), ST_ERR_USAGE for an
- * unknown built-in name, ST_ERR_NOMEM. Tests: tests/test_scene.c. */
+ * message included; a missing .bin, or an image a material uses that cannot
+ * be read or decoded, is a format error), ST_ERR_USAGE for an unknown
+ * built-in name, ST_ERR_NOMEM. Tests: tests/test_scene.c, tests/test_texture.c,
+ * tests/test_khronos.sh. */
 #ifndef ST_SCENE_H
 #define ST_SCENE_H
 
 #include "st_error.h"
-#include "st_shared.h" /* st_u32, st_material {base_color[4], emission[4]} */
+#include "st_shared.h" /* st_u32, st_material, st_texture */
 
 typedef struct st_scene_camera {
     float origin[3], forward[3], up[3]; /* world space, unit forward/up, orthogonal */
-    float yfov;                         /* vertical field of view, radians */
-    int from_file; /* 1: a glTF perspective camera node; 0: default framing */
+    float yfov;         /* perspective: vertical field of view, radians */
+    float ymag;         /* orthographic: half the view's height (world units) */
+    int orthographic;   /* 1: orthographic projection; 0: perspective */
+    int from_file;      /* 1: a glTF camera node; 0: default framing */
 } st_scene_camera;
 
 /* A loaded scene; owns every array (st_scene_destroy frees them).
- * materials[i].base_color = baseColorFactor (RGB, [3] = its alpha);
- * materials[i].emission = emissiveFactor x emissiveStrength (RGB, [3] = 0). */
+ * materials[i]: base_color = baseColorFactor (RGB, [3] = its alpha);
+ * emission = emissiveFactor x emissiveStrength (RGB, [3] = 0); metallic,
+ * roughness, alpha mode and cutoff as in the file; *_tex index `textures`. */
 typedef struct st_scene {
     st_u32 tri_count;
     float *positions;      /* 9 floats per triangle: v0 v1 v2, world space */
     float *normals;        /* 9 floats per triangle: unit shading normals per vertex, world space */
+    float *uvs;            /* 6 floats per triangle: TEXCOORD_0 (u, v) per vertex, 0 without */
     st_u32 *tri_material;  /* material index per triangle (< material_count) */
     st_u32 material_count; /* >= 1: a default white (0.8) material is appended if the file has none or a primitive has none */
     st_material *materials;
-    st_scene_camera camera;
+    st_u32 texture_count;  /* texture descriptors (a texture as a material slot samples it) */
+    st_texture *textures;
+    st_u32 texel_count;    /* RGBA8 texels of every mip level of every texture */
+    st_u32 *texels;
+    st_scene_camera camera; /* the camera renders use: cameras[0], or the default framing */
+    st_u32 camera_count;   /* camera nodes, depth first in scene order */
+    st_scene_camera *cameras;
     float bounds_min[3], bounds_max[3];
     st_u32 dropped;        /* degenerate (zero-area) or non-finite triangles dropped */
+    /* Uniform environment radiance (linear RGB) seen by rays that leave the
+     * scene: (1, 1, 1) when no material emits (so that any model renders
+     * visibly), else 0. Renders take it from here (render --env sets it). */
+    float env[3];
+    st_u32 texture_filter; /* ST_TEXFILTER_*: TRILINEAR (render --texture-filter sets it) */
+    st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
+    char **warnings;
     char name[256];        /* the file path, or the built-in name */
 } st_scene;
 
 /* spec: NULL -> the built-in default "cornell-box"; a bare name without '/' and without a .gltf/.glb suffix -> a built-in scene
    (embedded in the binary); anything else -> a file path.
-   The camera is the first node, depth first in scene order, holding a
-   perspective camera: origin = the node's world translation, forward = its
-   world -Z axis, up = its world +Y axis made orthogonal to forward. Without
-   one, a default camera looks along -Z from the +Z side of the bounds, yfov
-   40 degrees, at the distance where the bounding sphere fits the vertical
-   field of view. A scene with no triangle left is ST_ERR_FORMAT.
+   Cameras: every camera node, depth first in scene order; it looks down its
+   world -Z with +Y up (made orthogonal to forward), from its world
+   translation. scene->camera is the first of them. Without one, a default
+   perspective camera looks along -Z from the +Z side of the bounds, yfov 40
+   degrees, at the distance where the bounding sphere fits the vertical field
+   of view. A scene with no triangle left is ST_ERR_FORMAT.
    On success *out is a new scene (st_scene_destroy frees it); on error *out is
    NULL. */
 st_status st_scene_load(const char *spec, st_scene **out, st_error *err);
 void st_scene_destroy(st_scene *scene);           /* NULL: does nothing */
+
+/* Makes cameras[index] the scene's camera (render --camera N).
+   ST_ERR_USAGE when index >= camera_count (the message says how many). */
+st_status st_scene_select_camera(st_scene *scene, st_u32 index, st_error *err);
+
 /* Names of the built-in scenes, for --scene-list: fills up to max names, returns the count.
    The count returned is the number of names written (<= max). The names
    (embedded file names without .gltf/.glb, e.g. "cornell-box") are static
    strings, valid for the life of the program. */
 st_u32 st_scene_builtin_names(const char **names, st_u32 max);
+
+/* The mip chain of a width x height RGBA8 image (bytes R, G, B, A per texel,
+   rows from the top), as packed texels (R | G << 8 | B << 16 | A << 24):
+   level 0 = the image, level l + 1 = max(1, w_l / 2) x max(1, h_l / 2), each
+   texel a weighted mean of level l around its centre: separable tent weights
+   max(0, 1 - |d| / 2), d the distance in level-l texels, normalised (for an
+   even size, [1 3 3 1] / 8), taps beyond the edge wrapped by wrap_s / wrap_t
+   (ST_WRAP_*). With srgb, RGB are averaged in linear light (st_srgb_table,
+   then re-encoded to the nearest byte); alpha and non-sRGB data are averaged
+   as they are, rounded to the nearest byte. levels = 1 + floor(log2(max(w,
+   h))). *out (malloc'd, the caller frees) receives st_scene_mip_texels(w, h)
+   texels. ST_ERR_NOMEM; ST_ERR_USAGE for an empty image. */
+st_status st_scene_build_mips(const unsigned char *rgba, st_u32 width, st_u32 height, int srgb,
+                              st_u32 wrap_s, st_u32 wrap_t, st_u32 **out, st_u32 *levels,
+                              st_error *err);
+/* Texels in the mip chain of a width x height image (all levels). */
+st_u64 st_scene_mip_texels(st_u32 width, st_u32 height);
 
 #endif

@@ -84,8 +84,12 @@ __kernel void generate_camera_rays(const st_params p, __global const float2 *fil
     float4 u = vload4(0, p.camera.up), fw = vload4(0, p.camera.forward);
     float sx = (2.0f * f.x / (float)p.width - 1.0f) * o.w * r.w;
     float sy = (1.0f - 2.0f * f.y / (float)p.height) * o.w;
-    float3 d = normalize(fw.xyz + sx * r.xyz + sy * u.xyz);
-    ray_o[i] = (float4)(o.xyz, INFINITY);
+    /* orthographic (forward.w = 1): parallel rays from the image plane,
+     * o.w = ymag, the half height */
+    int ortho = fw.w > 0.5f;
+    float3 d = ortho ? fw.xyz : normalize(fw.xyz + sx * r.xyz + sy * u.xyz);
+    float3 start = ortho ? o.xyz + sx * r.xyz + sy * u.xyz : o.xyz;
+    ray_o[i] = (float4)(start, INFINITY);
     ray_d[i] = (float4)(d, 0.0f);
     beta[i] = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
     radiance[i] = (float4)(0.0f);

@@ -22,4 +22,11 @@ __kernel void probe_layout(__global uint *out)
     out[9] = ST_OFFSET(p, camera);
     out[10] = ST_OFFSET(p, width);
     out[11] = ST_OFFSET(p, tile_size);
+    st_material m;
+    st_texture t;
+    out[12] = ST_OFFSET(m, base_color_tex);
+    out[13] = sizeof(st_texture);
+    out[14] = ST_OFFSET(t, offset);
+    out[15] = sizeof(st_tri_uv);
+    out[16] = sizeof(st_shading);
 }

@@ -141,15 +141,83 @@ typedef struct st_tri_normals {
     st_f32 n2[4];
 } st_tri_normals;
 
-/* Lambertian material: linear RGB albedo and emitted radiance (one-sided, on
- * the side the shading normals face). */
+/* ---- textures and materials (scene import, shade.cl, texture.h) ------------ */
+
+#define ST_NO_TEXTURE 0xffffffffu
+/* Wrap modes of a texture coordinate (glTF sampler wrapS / wrapT). */
+#define ST_WRAP_REPEAT 0u
+#define ST_WRAP_CLAMP 1u
+#define ST_WRAP_MIRROR 2u
+/* st_texture.flags */
+#define ST_TEX_SRGB 1u        /* RGB bytes sRGB-encoded (base colour, emission); alpha linear */
+#define ST_TEX_MAG_NEAREST 2u /* the glTF sampler's magFilter is NEAREST */
+/* Texture filtering (render --texture-filter): nearest texel of level 0,
+ * bilinear in level 0, or trilinear between mip levels from the ray cone. */
+#define ST_TEXFILTER_NONE 0u
+#define ST_TEXFILTER_BILINEAR 1u
+#define ST_TEXFILTER_TRILINEAR 2u
+/* glTF alphaMode: MASK cuts out where alpha < alpha_cutoff; BLEND is
+ * rendered as stochastic coverage (a ray passes with probability 1 - alpha). */
+#define ST_ALPHA_OPAQUE 0u
+#define ST_ALPHA_MASK 1u
+#define ST_ALPHA_BLEND 2u
+
+/* A glTF metallic-roughness material, shaded as Lambertian with albedo =
+ * base colour x (1 - metallic) (roughness is kept, unused), emitting on the
+ * side its shading normals face. Each factor is multiplied by its texture
+ * where *_tex is a texture descriptor index (ST_NO_TEXTURE: none):
+ * base_color_tex (sRGB RGB, linear alpha), emission_tex (sRGB),
+ * metallic_roughness_tex (linear; metallic in B, roughness in G). */
 typedef struct st_material {
-    st_f32 base_color[4];
-    st_f32 emission[4];
+    st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
+    st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
+    st_f32 metallic, roughness;
+    st_f32 alpha_cutoff;   /* ST_ALPHA_MASK: alpha below it is cut out */
+    st_u32 alpha_mode;     /* ST_ALPHA_* */
+    st_u32 base_color_tex, emission_tex, metallic_roughness_tex;
+    st_u32 pad;
 } st_material;
 
+/* A texture as a material samples it: one image's mip chain (RGBA8 texels
+ * packed R | G << 8 | B << 16 | A << 24 in one array; level 0 at `offset`,
+ * each next level, max(1, w/2) x max(1, h/2), right after the previous one),
+ * its sampler's wrap modes and the KHR_texture_transform of the reference:
+ * (u', v') = (t[0] u + t[1] v + t[2], t[3] u + t[4] v + t[5]). lod_bias =
+ * 1/2 log2(width x height x |det t|): the texel-area term of the ray-cone
+ * level of detail that depends on the texture (texture.h, st_tex_lod). */
+typedef struct st_texture {
+    st_f32 transform[6];
+    st_f32 lod_bias;
+    st_u32 offset;
+    st_u32 width, height, levels;
+    st_u32 flags; /* ST_TEX_* */
+    st_u32 wrap_s, wrap_t; /* ST_WRAP_* */
+    st_u32 pad[2];
+} st_texture;
+
+/* Texture coordinates (TEXCOORD_0) of a triangle's vertices, in BVH order,
+ * and lod = 1/2 log2(uv area / world area) (Akenine-Moller et al., "Texture
+ * Level of Detail Strategies for Real-Time Ray Tracing", Ray Tracing Gems
+ * 2019, eq. 34's Delta without the texture size; -64 for a triangle whose
+ * UVs have no area). */
+typedef struct st_tri_uv {
+    st_f32 uv[6];
+    st_f32 lod;
+    st_f32 pad;
+} st_tri_uv;
+
+/* Scene-wide shading settings: a value argument of shade_hits. */
+typedef struct st_shading {
+    st_f32 env[4];          /* uniform environment radiance RGB (0: none); [3] = 0 */
+    st_u32 texture_filter;  /* ST_TEXFILTER_* */
+    st_u32 texture_count;
+    st_u32 pad[2];
+} st_shading;
+
 /* Pinhole perspective camera: image-plane x maps to right * tan(fov/2) * aspect,
- * y to up * tan(fov/2). origin[3] = tan(yfov/2), right[3] = aspect (w/h). */
+ * y to up * tan(fov/2). origin[3] = tan(yfov/2), right[3] = aspect (w/h).
+ * forward[3] = 1 marks an orthographic camera: rays along forward from
+ * origin + x * right * ymag * aspect + y * up * ymag, origin[3] = ymag. */
 typedef struct st_camera {
     st_f32 origin[4];
     st_f32 right[4];
@@ -208,7 +276,12 @@ ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes"
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 32, "st_material: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 64, "st_material: 64 bytes");
+ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
+ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
+ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");
+ST_STATIC_ASSERT(sizeof(st_tri_uv) == 32, "st_tri_uv: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_shading) == 32, "st_shading: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 128, "st_params.filter moved");

@@ -34,6 +34,11 @@ static const char render_help[] =
     "  --max-spp N            the most samples a pixel gets (same as --spp)\n"
     "  --noise-threshold X    relative error at which a pixel stops (default 0.01, as Cycles)\n"
     "  --spp-map FILE.png     the samples each pixel received, colour-mapped with a legend\n"
+    "  --env R,G,B | --env X  uniform environment light (linear radiance; 0: none). Default:\n"
+    "                         white (1) for a scene without emissive materials, else none\n"
+    "  --texture-filter none|bilinear|trilinear   texture lookups: nearest texel, bilinear,\n"
+    "                         or mip-mapped trilinear with ray-cone footprints (default)\n"
+    "  --camera N             the scene's N-th camera node (0 = the first, in scene order)\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
@@ -48,7 +53,7 @@ enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
-    O_SPP_MAP
+    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA
 };
 
 static const struct option options[] = {
@@ -77,6 +82,9 @@ static const struct option options[] = {
     {"max-spp", required_argument, 0, O_MAX_SPP},
     {"noise-threshold", required_argument, 0, O_THRESHOLD},
     {"spp-map", required_argument, 0, O_SPP_MAP},
+    {"env", required_argument, 0, O_ENV},
+    {"texture-filter", required_argument, 0, O_TEXFILTER},
+    {"camera", required_argument, 0, O_CAMERA},
     {"quiet", no_argument, 0, O_QUIET},
     {"json", no_argument, 0, O_JSON},
     {"output", required_argument, 0, 'o'},
@@ -142,6 +150,33 @@ int st_cli_apply_filter_args(const st_cli_filter_args *fa, st_filter *f)
     return ST_CLI_OK;
 }
 
+/* --env: three non-negative finite numbers R,G,B, or one for all three. */
+static int parse_env(const char *v, st_cli_render_args *a)
+{
+    float c[3];
+    int n = 0;
+    const char *s = v;
+    while (n < 3) {
+        char *end;
+        errno = 0;
+        float x = strtof(s, &end);
+        if (end == s || errno || !isfinite(x) || x < 0.0f)
+            break;
+        c[n++] = x;
+        s = end;
+        if (*s != ',' || n == 3)
+            break;
+        s++;
+    }
+    if (*s != '\0' || (n != 1 && n != 3))
+        return st_cli_usage_error("--env %s: expected R,G,B or one value, each finite and >= 0",
+                                  v);
+    for (int k = 0; k < 3; k++)
+        a->env[k] = n == 1 ? c[0] : c[k];
+    a->env_set = 1;
+    return ST_CLI_OK;
+}
+
 static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
                      st_cli_filter_args *fa)
 {
@@ -200,6 +235,22 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
         return ST_CLI_OK;
     case O_RECON:
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
+    case O_ENV: return parse_env(v, a);
+    case O_TEXFILTER: {
+        static const char *const names[3] = {"none", "bilinear", "trilinear"};
+        st_u32 k;
+        if (parse_name("--texture-filter", names, 3, v, &k))
+            return ST_CLI_EXIT_USAGE;
+        a->texture_filter = (int)k;
+        return ST_CLI_OK;
+    }
+    case O_CAMERA: {
+        unsigned n;
+        if (st_cli_parse_u32("--camera", v, 0, 1u << 30, &n))
+            return ST_CLI_EXIT_USAGE;
+        a->camera = (long)n;
+        return ST_CLI_OK;
+    }
     case O_QUIET: a->quiet = 1; return ST_CLI_OK;
     case O_JSON:
         if (bench != 1)
@@ -219,6 +270,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
 {
     memset(a, 0, sizeof *a);
     a->opt = st_render_defaults();
+    a->texture_filter = -1;
+    a->camera = -1;
     st_cli_filter_args fa = {0};
     opterr = 0;
     optind = 1;

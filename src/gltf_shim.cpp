@@ -3,8 +3,9 @@
  *
  * Spec: Khronos Group, "glTF 2.0 Specification", version 2.0.1 (2021):
  * §3.5 nodes and the TRS/matrix transform hierarchy, §3.6 buffers, bufferViews
- * and accessors, §3.7.2 mesh primitives, §3.9 materials, §4.4 the GLB
- * container; and the KHR_materials_emissive_strength extension.
+ * and accessors, §3.7.2 mesh primitives, §3.8 textures, images and samplers,
+ * §3.9 materials, §3.10 cameras, §4.4 the GLB container; and the extensions
+ * KHR_materials_emissive_strength and KHR_texture_transform.
  *
  * Invariants: no byte of a buffer is read before the accessor and bufferView
  * ranges that cover it were checked against the buffer's real size, and no
@@ -17,10 +18,17 @@
  * mesh's TRIANGLES primitives, transformed by the node's world matrix
  * (parent * local, local = T * R * S or the node's matrix). Normals go through
  * the inverse transpose; where the determinant is negative the winding is
- * reversed (v1 <-> v2), as the spec asks of mirrored nodes (§3.7.2.1). */
+ * reversed (v1 <-> v2), as the spec asks of mirrored nodes (§3.7.2.1).
+ *
+ * Images: tinygltf hands each image's encoded bytes to keep_image_bytes,
+ * which only keeps them; those a material's texture uses are decoded
+ * afterwards by stb_image (PNG, JPEG, ...), images stored in a bufferView
+ * read from its checked range. What is skipped (non-triangle primitives,
+ * textures on other texture coordinate sets) becomes a warning line. */
 #include "gltf_shim.h"
 
 #include <tiny_gltf.h>
+#include <stb/stb_image.h> /* Debian's libstb holds the implementation */
 
 #include <cerrno>
 #include <climits>
@@ -29,8 +37,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <new>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -52,6 +63,28 @@ void fail(const char *fmt, ...)
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
     throw shim_error{ST_ERR_FORMAT, buf};
+}
+
+/* Warnings of one load: the first ST_GLTF_MAX_WARNINGS lines and a count of
+ * the rest. */
+struct notes {
+    std::vector<std::string> lines;
+    size_t more = 0;
+};
+
+void note(notes &n, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void note(notes &n, const char *fmt, ...)
+{
+    if (n.lines.size() >= ST_GLTF_MAX_WARNINGS - 1) {
+        n.more++;
+        return;
+    }
+    char buf[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    n.lines.push_back(buf);
 }
 
 /* ---- file access for tinygltf ------------------------------------------- */
@@ -110,11 +143,22 @@ bool fs_write(std::string *, const std::string &, const std::vector<unsigned cha
     return false;
 }
 
-/* Textures are not used yet: skip decoding images (time, and formats that stb
- * cannot read would otherwise fail the whole load). */
-bool skip_image(tinygltf::Image *, const int, std::string *, std::string *, int, int,
-                const unsigned char *, int, void *)
+/* Encoded bytes of the images given by URI (file or data:), by image index;
+ * images in a bufferView are read later from their checked range. */
+struct image_bytes {
+    std::map<int, std::vector<unsigned char>> by_index;
+};
+
+/* tinygltf's image callback: keeps the bytes, decodes nothing (decoding waits
+ * until we know which images a material uses). tinygltf passes a bufferView
+ * image's bytes without checking the view against its buffer, so those are
+ * not touched here. */
+bool keep_image_bytes(tinygltf::Image *img, const int idx, std::string *, std::string *, int,
+                      int, const unsigned char *bytes, int size, void *user)
 {
+    if (img->bufferView != -1 || size <= 0)
+        return true;
+    static_cast<image_bytes *>(user)->by_index[idx].assign(bytes, bytes + size);
     return true;
 }
 
@@ -151,7 +195,8 @@ void check_glb(const unsigned char *b, size_t size)
     }
 }
 
-void parse(Model &model, const unsigned char *bytes, size_t size, const char *base_dir)
+void parse(Model &model, const unsigned char *bytes, size_t size, const char *base_dir,
+           image_bytes &images, notes &warn_out)
 {
     if (size > UINT_MAX)
         fail("file too large (%zu bytes)", size);
@@ -162,7 +207,7 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(fs);
-    loader.SetImageLoader(skip_image, nullptr);
+    loader.SetImageLoader(keep_image_bytes, &images);
     std::string err, warn, dir = base_dir ? base_dir : "";
     bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes, unsigned(size), dir)
                   : loader.LoadASCIIFromString(&model, &err, &warn,
@@ -172,10 +217,13 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
         std::string why = first_line(err.empty() ? warn : err);
         fail("%s", why.empty() ? "tinygltf could not parse the file" : why.c_str());
     }
-    for (const std::string &ext : model.extensionsRequired)
+    for (const std::string &ext : model.extensionsRequired) {
         if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
             ext == "KHR_mesh_quantization")
             fail("requires extension %s, which strata does not support", ext.c_str());
+        if (ext != "KHR_materials_emissive_strength" && ext != "KHR_texture_transform")
+            note(warn_out, "requires extension %s, which strata ignores", ext.c_str());
+    }
 }
 
 /* ---- transforms ------------------------------------------------------------ */
@@ -293,11 +341,6 @@ struct instance {
     mat4 world;
 };
 
-struct camera_pick {
-    bool found;
-    float origin[3], forward[3], up[3], yfov;
-};
-
 bool normalize3(double v[3])
 {
     double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -308,33 +351,46 @@ bool normalize3(double v[3])
     return true;
 }
 
-/* A perspective camera looks down its node's local -Z with +Y up (§3.10.1).
- * Up is made orthogonal to forward (Gram-Schmidt). A node whose transform
- * collapses either axis (zero scale) is passed over. */
-void take_camera(const Model &m, int cam, const mat4 &world, camera_pick &pick)
+/* A camera looks down its node's local -Z with +Y up (§3.10.1); the node's
+ * scale is ignored (the axes are normalised) and up is made orthogonal to
+ * forward (Gram-Schmidt). A node whose transform collapses either axis (zero
+ * scale) is passed over with a warning. */
+void take_camera(const Model &m, int node, int cam, const mat4 &world,
+                 std::vector<st_gltf_camera> &out, notes &warn)
 {
     const tinygltf::Camera &c = m.cameras[size_t(cam)];
-    if (c.type != "perspective")
-        return;
-    const double yfov = c.perspective.yfov;
-    if (!(yfov > 0.0 && yfov < M_PI))
-        fail("camera %d: yfov %g is not in (0, pi)", cam, yfov);
+    st_gltf_camera pick = {};
+    if (c.type == "perspective") {
+        const double yfov = c.perspective.yfov;
+        if (!(yfov > 0.0 && yfov < M_PI))
+            fail("camera %d: yfov %g is not in (0, pi)", cam, yfov);
+        pick.yfov = float(yfov);
+    } else if (c.type == "orthographic") {
+        const double ymag = std::fabs(c.orthographic.ymag);
+        if (!(ymag > 0.0 && ymag < 1e30))
+            fail("camera %d: ymag %g must be non-zero and finite", cam, c.orthographic.ymag);
+        pick.orthographic = 1;
+        pick.ymag = float(ymag);
+    } else {
+        fail("camera %d: type \"%s\" is neither perspective nor orthographic", cam,
+             c.type.c_str());
+    }
     double f[3] = {0.0 - world.m[8], 0.0 - world.m[9], 0.0 - world.m[10]}; /* no -0 */
     double u[3] = {world.m[4], world.m[5], world.m[6]};
-    if (!normalize3(f))
-        return;
+    bool ok = normalize3(f);
     const double d = u[0] * f[0] + u[1] * f[1] + u[2] * f[2];
     for (int i = 0; i < 3; i++)
         u[i] -= d * f[i];
-    if (!normalize3(u))
+    if (!ok || !normalize3(u)) {
+        note(warn, "node %d: camera %d passed over (its transform collapses an axis)", node, cam);
         return;
+    }
     for (int i = 0; i < 3; i++) {
         pick.origin[i] = float(world.m[12 + i]);
         pick.forward[i] = float(f[i]);
         pick.up[i] = float(u[i]);
     }
-    pick.yfov = float(yfov);
-    pick.found = true;
+    out.push_back(pick);
 }
 
 /* Fails with "<context> I out of range (have N)" unless 0 <= i < n; the
@@ -355,7 +411,8 @@ void check_index(int i, size_t n, const char *fmt, ...)
 /* Depth-first, in scene order (an explicit stack: a deep chain of nodes must
  * not overflow the C stack). The node graph must be disjoint trees (§3.5.2),
  * so a node reached twice (a cycle, or two parents) is an error. */
-void walk_scene(const Model &m, std::vector<instance> &out, camera_pick &cam)
+void walk_scene(const Model &m, std::vector<instance> &out, std::vector<st_gltf_camera> &cams,
+                notes &warn)
 {
     if (m.scenes.empty())
         fail("no scenes: nothing to render");
@@ -386,8 +443,7 @@ void walk_scene(const Model &m, std::vector<instance> &out, camera_pick &cam)
         }
         if (node.camera != -1) {
             check_index(node.camera, m.cameras.size(), "node %d: camera", it.node);
-            if (!cam.found)
-                take_camera(m, node.camera, world, cam);
+            take_camera(m, it.node, node.camera, world, cams, warn);
         }
         for (size_t i = node.children.size(); i-- > 0;) {
             check_index(node.children[i], m.nodes.size(), "node %d: child", it.node);
@@ -515,6 +571,43 @@ void read_indices(const Model &m, int a, size_t vertices, std::vector<uint32_t> 
     }
 }
 
+/* Reads TEXCOORD_0 (§3.7.2.1: float, or normalised unsigned byte or short,
+ * VEC2) into (u, v) pairs, one per vertex. */
+void read_uv(const Model &m, int a, size_t vertices, std::vector<float> &out)
+{
+    const tinygltf::Accessor &acc = m.accessors[size_t(a)];
+    const int ct = acc.componentType;
+    const bool ok = ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if (acc.type != TINYGLTF_TYPE_VEC2 || !ok)
+        fail("accessor %d: TEXCOORD_0 must be float, unsigned byte or unsigned short VEC2 "
+             "(componentType %d, type %d)",
+             a, ct, acc.type);
+    const span s = accessor_span(m, a);
+    if (s.count != vertices)
+        fail("accessor %d: TEXCOORD_0 has %zu elements, POSITION %zu", a, s.count, vertices);
+    out.resize(2 * s.count);
+    for (size_t i = 0; i < s.count; i++) {
+        const unsigned char *p = s.data + i * s.stride;
+        for (int k = 0; k < 2; k++) {
+            float v;
+            if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                memcpy(&v, p + 4 * k, 4);
+            } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                v = float(p[k]) / 255.0f;
+            } else {
+                uint16_t h;
+                memcpy(&h, p + 2 * k, 2);
+                v = float(h) / 65535.0f;
+            }
+            if (!std::isfinite(v))
+                fail("accessor %d: non-finite value in element %zu", a, i);
+            out[2 * i + size_t(k)] = v;
+        }
+    }
+}
+
 /* ---- primitives -------------------------------------------------------------- */
 
 const tinygltf::Primitive &primitive(const Model &m, int mesh, size_t p)
@@ -522,18 +615,47 @@ const tinygltf::Primitive &primitive(const Model &m, int mesh, size_t p)
     return m.meshes[size_t(mesh)].primitives[p];
 }
 
+bool is_triangles(const tinygltf::Primitive &prim)
+{
+    return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1; /* -1: the default */
+}
+
+/* The POSITION accessor of a TRIANGLES primitive; -1 for a primitive that is
+ * not drawn (another mode, or no POSITION: §3.7.2.1). */
 int position_accessor(const Model &m, int mesh, size_t p)
 {
     const tinygltf::Primitive &prim = primitive(m, mesh, p);
-    const int mode = prim.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES && mode != -1) /* -1: Primitive() default */
-        return -1; /* points, lines, strips and fans: not yet */
+    if (!is_triangles(prim))
+        return -1;
     auto it = prim.attributes.find("POSITION");
-    if (it == prim.attributes.end()) /* §3.7.2.1: such a primitive is not drawn */
+    if (it == prim.attributes.end())
         return -1;
     check_index(it->second, m.accessors.size(), "mesh %d primitive %zu: POSITION accessor", mesh,
                 p);
     return it->second;
+}
+
+const char *mode_name(int mode)
+{
+    static const char *names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
+                                  "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+    return mode >= 0 && mode <= 6 ? names[mode] : "unknown";
+}
+
+/* One warning per primitive that a mesh of the scene has and strata skips. */
+void note_skipped_primitives(const Model &m, int mesh, notes &warn)
+{
+    const tinygltf::Mesh &me = m.meshes[size_t(mesh)];
+    for (size_t p = 0; p < me.primitives.size(); p++) {
+        const tinygltf::Primitive &prim = me.primitives[p];
+        if (!is_triangles(prim))
+            note(warn, "mesh %d (%s) primitive %zu: mode %d (%s) skipped: strata renders "
+                       "triangles only",
+                 mesh, me.name.c_str(), p, prim.mode, mode_name(prim.mode));
+        else if (prim.attributes.find("POSITION") == prim.attributes.end())
+            note(warn, "mesh %d (%s) primitive %zu: no POSITION, skipped", mesh,
+                 me.name.c_str(), p);
+    }
 }
 
 /* Upper bound of a primitive's triangles (checked ranges), to size the output
@@ -551,14 +673,14 @@ size_t primitive_bound(const Model &m, int mesh, size_t p)
 
 /* Where triangles go: arrays sized by the bound, filled in scene order. */
 struct sink {
-    float *pos, *nrm;
+    float *pos, *nrm, *uv;
     uint32_t *mat;
     size_t count, dropped;
 };
 
 /* Per-primitive scratch, reused so that big scenes allocate once. */
 struct scratch {
-    std::vector<float> p, n, wp, wn;
+    std::vector<float> p, n, uv, wp, wn;
     std::vector<uint32_t> idx;
 };
 
@@ -592,8 +714,8 @@ void transform_vertices(const mat4 &w, const normal_xform &nx, scratch &s, bool 
  * The face normal g = (p1 - p0) x (p2 - p0) / |...| is computed in double,
  * where float inputs cannot overflow, so |g| is finite exactly when the three
  * positions are; g stands in for missing or unusable vertex normals. */
-void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, uint32_t material,
-                   sink &out)
+void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, bool uvs,
+                   uint32_t material, sink &out)
 {
     const float *p[3] = {&s.wp[3 * size_t(i[0])], &s.wp[3 * size_t(i[1])], &s.wp[3 * size_t(i[2])]};
     double e1[3], e2[3], g[3];
@@ -607,6 +729,7 @@ void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, uint32_t
         return;
     }
     float *dp = out.pos + 9 * out.count, *dn = out.nrm + 9 * out.count;
+    float *duv = out.uv + 6 * out.count;
     for (int v = 0; v < 3; v++) {
         const float *n = normals ? &s.wn[3 * size_t(i[v])] : nullptr;
         const bool usable = n && !std::isnan(n[0]);
@@ -614,8 +737,22 @@ void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, uint32_t
             dp[3 * v + k] = p[v][k];
             dn[3 * v + k] = usable ? n[k] : float(g[k]);
         }
+        for (int k = 0; k < 2; k++)
+            duv[2 * v + k] = uvs ? s.uv[2 * size_t(i[v]) + size_t(k)] : 0.0f;
     }
     out.mat[out.count++] = material;
+}
+
+/* The accessor of attribute `name`, checked; -1 when the primitive has none. */
+int attribute(const Model &m, int mesh, size_t p, const char *name)
+{
+    const tinygltf::Primitive &prim = primitive(m, mesh, p);
+    auto it = prim.attributes.find(name);
+    if (it == prim.attributes.end())
+        return -1;
+    check_index(it->second, m.accessors.size(), "mesh %d primitive %zu: %s accessor", mesh, p,
+                name);
+    return it->second;
 }
 
 void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
@@ -630,16 +767,16 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     const uint32_t material = prim.material == -1 ? ST_GLTF_NO_MATERIAL : uint32_t(prim.material);
     read_vec3(m, pos, s.p);
     const size_t nv = s.p.size() / 3;
-    auto nit = prim.attributes.find("NORMAL");
-    const bool normals = nit != prim.attributes.end();
-    if (normals) {
-        check_index(nit->second, m.accessors.size(), "mesh %d primitive %zu: NORMAL accessor",
-                    mesh, p);
-        read_vec3(m, nit->second, s.n);
+    const int nrm = attribute(m, mesh, p, "NORMAL");
+    if (nrm >= 0) {
+        read_vec3(m, nrm, s.n);
         if (s.n.size() != s.p.size())
             fail("mesh %d primitive %zu: NORMAL has %zu elements, POSITION %zu", mesh, p,
                  s.n.size() / 3, nv);
     }
+    const int uv = attribute(m, mesh, p, "TEXCOORD_0");
+    if (uv >= 0)
+        read_uv(m, uv, nv, s.uv);
     if (prim.indices != -1) {
         check_index(prim.indices, m.accessors.size(), "mesh %d primitive %zu: indices accessor",
                     mesh, p);
@@ -649,7 +786,7 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
         for (size_t v = 0; v < nv; v++)
             s.idx[v] = uint32_t(v);
     }
-    transform_vertices(world, nx, s, normals);
+    transform_vertices(world, nx, s, nrm >= 0);
     const bool flip = nx.det < 0.0;
     for (size_t t = 0; t + 3 <= s.idx.size(); t += 3) { /* a trailing 1 or 2 are ignored */
         uint32_t tri[3] = {s.idx[t], s.idx[t + 1], s.idx[t + 2]};
@@ -657,43 +794,207 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
             tri[1] = s.idx[t + 2];
             tri[2] = s.idx[t + 1];
         }
-        emit_triangle(s, tri, normals, material, out);
+        emit_triangle(s, tri, nrm >= 0, uv >= 0, material, out);
     }
+}
+
+/* ---- textures ----------------------------------------------------------------- */
+
+/* Texture references of the materials, made unique. */
+struct texture_table {
+    std::vector<st_gltf_texture> refs;
+};
+
+/* A number of a JSON extension object, `fallback` when absent. */
+double ext_number(const tinygltf::Value &obj, const char *key, double fallback, const char *what)
+{
+    if (!obj.IsObject() || !obj.Has(key))
+        return fallback;
+    const tinygltf::Value &v = obj.Get(key);
+    if (!v.IsNumber())
+        fail("%s: %s is not a number", what, key);
+    return v.GetNumberAsDouble();
+}
+
+/* Two numbers of a JSON array (offset, scale); out unchanged when absent. */
+void ext_pair(const tinygltf::Value &obj, const char *key, double out[2], const char *what)
+{
+    if (!obj.IsObject() || !obj.Has(key))
+        return;
+    const tinygltf::Value &v = obj.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+        fail("%s: %s must be an array of 2 numbers", what, key);
+    out[0] = v.Get(0).GetNumberAsDouble();
+    out[1] = v.Get(1).GetNumberAsDouble();
+}
+
+/* KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv with
+ * R = [cos sin; -sin cos] (the extension's README, "Texture Transform"),
+ * as the 2 x 3 matrix [t0 t1 t2; t3 t4 t5]. Returns the texCoord the
+ * extension names, or `tex_coord` when it names none. */
+int texture_transform(const tinygltf::ExtensionMap &ext, int tex_coord, float t[6],
+                      const char *what)
+{
+    double offset[2] = {0.0, 0.0}, scale[2] = {1.0, 1.0}, rotation = 0.0;
+    auto it = ext.find("KHR_texture_transform");
+    if (it != ext.end()) {
+        ext_pair(it->second, "offset", offset, what);
+        ext_pair(it->second, "scale", scale, what);
+        rotation = ext_number(it->second, "rotation", 0.0, what);
+        tex_coord = int(ext_number(it->second, "texCoord", tex_coord, what));
+    }
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    const double m[6] = {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
+    for (int k = 0; k < 6; k++) {
+        if (!std::isfinite(m[k]) || std::fabs(m[k]) > 1e30)
+            fail("%s: KHR_texture_transform is not finite", what);
+        t[k] = float(m[k]);
+    }
+    return tex_coord;
+}
+
+/* A sampler's wrap mode (§5.26: REPEAT 10497, CLAMP_TO_EDGE 33071,
+ * MIRRORED_REPEAT 33648), checked. */
+int wrap_code(int sampler, int code, const char *axis)
+{
+    if (code != 10497 && code != 33071 && code != 33648)
+        fail("sampler %d: %s %d is not a glTF wrap mode", sampler, axis, code);
+    return code;
+}
+
+/* The texture table entry of one material slot (baseColorTexture, ...), or
+ * -1 when the slot is empty or cannot be used (a warning says why). */
+int texture_ref(const Model &m, const tinygltf::TextureInfo &info, bool srgb, size_t mat,
+                const char *slot, texture_table &table, notes &warn)
+{
+    if (info.index == -1)
+        return -1;
+    char what[160];
+    snprintf(what, sizeof what, "material %zu: %s", mat, slot);
+    check_index(info.index, m.textures.size(), "%s: texture", what);
+    st_gltf_texture ref = {};
+    const int coord = texture_transform(info.extensions, info.texCoord, ref.transform, what);
+    const tinygltf::Texture &tex = m.textures[size_t(info.index)];
+    if (coord != 0) {
+        note(warn, "%s uses TEXCOORD_%d; strata reads TEXCOORD_0 only: texture ignored", what,
+             coord);
+        return -1;
+    }
+    if (tex.source == -1) {
+        note(warn, "%s: texture %d has no image strata can decode (source only in an "
+                   "extension?): texture ignored",
+             what, info.index);
+        return -1;
+    }
+    check_index(tex.source, m.images.size(), "texture %d: source image", info.index);
+    ref.image = tex.source;
+    ref.srgb = srgb ? 1 : 0;
+    ref.wrap_s = ref.wrap_t = 10497;
+    if (tex.sampler != -1) {
+        check_index(tex.sampler, m.samplers.size(), "texture %d: sampler", info.index);
+        const tinygltf::Sampler &smp = m.samplers[size_t(tex.sampler)];
+        ref.wrap_s = wrap_code(tex.sampler, smp.wrapS, "wrapS");
+        ref.wrap_t = wrap_code(tex.sampler, smp.wrapT, "wrapT");
+        ref.mag_nearest = smp.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+    }
+    for (size_t i = 0; i < table.refs.size(); i++)
+        if (memcmp(&table.refs[i], &ref, sizeof ref) == 0) /* no padding: ints and floats */
+            return int(i);
+    table.refs.push_back(ref);
+    return int(table.refs.size() - 1);
+}
+
+/* Decodes image i (RGBA8) from its bufferView (checked like an accessor's) or
+ * from the bytes tinygltf read for its URI. */
+st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
+{
+    const tinygltf::Image &img = m.images[size_t(i)];
+    const unsigned char *data = nullptr;
+    size_t size = 0;
+    if (img.bufferView != -1) {
+        check_index(img.bufferView, m.bufferViews.size(), "image %d: bufferView", i);
+        const tinygltf::BufferView &view = m.bufferViews[size_t(img.bufferView)];
+        check_index(view.buffer, m.buffers.size(), "bufferView %d: buffer", img.bufferView);
+        const std::vector<unsigned char> &buf = m.buffers[size_t(view.buffer)].data;
+        if (view.byteOffset > buf.size() || view.byteLength > buf.size() - view.byteOffset)
+            fail("bufferView %d: bytes %zu + %zu run past the end of buffer %d (%zu bytes)",
+                 img.bufferView, view.byteOffset, view.byteLength, view.buffer, buf.size());
+        data = buf.data() + view.byteOffset;
+        size = view.byteLength;
+    } else {
+        auto it = bytes.by_index.find(i);
+        if (it == bytes.by_index.end() || it->second.empty())
+            fail("image %d (%s): cannot read it", i,
+                 img.uri.size() > 80 ? "data: URI" : img.uri.c_str());
+        data = it->second.data();
+        size = it->second.size();
+    }
+    if (size > size_t(INT_MAX))
+        fail("image %d: too large (%zu bytes)", i, size);
+    int w = 0, h = 0, comp = 0;
+    unsigned char *rgba = stbi_load_from_memory(data, int(size), &w, &h, &comp, 4);
+    if (!rgba)
+        fail("image %d (%s): cannot decode: %s", i,
+             img.uri.empty() || img.uri.size() > 80 ? img.mimeType.c_str() : img.uri.c_str(),
+             stbi_failure_reason() ? stbi_failure_reason() : "unknown format");
+    if (w <= 0 || h <= 0 || size_t(w) * size_t(h) > (size_t(1) << 26)) {
+        stbi_image_free(rgba);
+        fail("image %d: %d x %d texels: more than 2^26", i, w, h);
+    }
+    return {uint32_t(w), uint32_t(h), rgba};
 }
 
 /* ---- materials ------------------------------------------------------------- */
 
-/* base colour = pbrMetallicRoughness.baseColorFactor (RGBA); emission =
- * emissiveFactor x KHR_materials_emissive_strength.emissiveStrength (1 when
- * absent). Factors must be finite and non-negative. */
-void read_materials(const Model &m, float *out)
+/* A material's factors (§3.9.2, §3.9.3 defaults: base colour 1, metallic 1,
+ * roughness 1, emission 0, alphaCutoff 0.5; emission x
+ * KHR_materials_emissive_strength's emissiveStrength, 1 when absent) and its
+ * base colour, emissive and metallic-roughness textures. Factors must be
+ * finite and non-negative. */
+st_gltf_material read_material(const Model &m, size_t i, texture_table &table, notes &warn)
 {
-    for (size_t i = 0; i < m.materials.size(); i++) {
-        const tinygltf::Material &mat = m.materials[i];
-        const std::vector<double> &bc = mat.pbrMetallicRoughness.baseColorFactor;
-        const std::vector<double> &ef = mat.emissiveFactor;
-        if (bc.size() != 4 || ef.size() != 3)
-            fail("material %zu: baseColorFactor needs 4 numbers, emissiveFactor 3", i);
-        double strength = 1.0;
-        auto ext = mat.extensions.find("KHR_materials_emissive_strength");
-        if (ext != mat.extensions.end() && ext->second.Has("emissiveStrength")) {
-            const tinygltf::Value &v = ext->second.Get("emissiveStrength");
-            if (!v.IsNumber())
-                fail("material %zu: emissiveStrength is not a number", i);
-            strength = v.GetNumberAsDouble();
-        }
-        float *o = out + 8 * i;
-        for (int k = 0; k < 4; k++)
-            o[k] = float(bc[size_t(k)]);
-        for (int k = 0; k < 3; k++)
-            o[4 + k] = float(ef[size_t(k)] * strength);
-        o[7] = 0.0f;
-        for (int k = 0; k < 7; k++)
-            if (!std::isfinite(o[k]) || o[k] < 0.0f)
-                fail("material %zu: colour factors and emissiveStrength must be finite and "
-                     ">= 0",
-                     i);
+    const tinygltf::Material &mat = m.materials[i];
+    const tinygltf::PbrMetallicRoughness &pbr = mat.pbrMetallicRoughness;
+    const std::vector<double> &bc = pbr.baseColorFactor;
+    const std::vector<double> &ef = mat.emissiveFactor;
+    if (bc.size() != 4 || ef.size() != 3)
+        fail("material %zu: baseColorFactor needs 4 numbers, emissiveFactor 3", i);
+    double strength = 1.0;
+    auto ext = mat.extensions.find("KHR_materials_emissive_strength");
+    if (ext != mat.extensions.end() && ext->second.Has("emissiveStrength")) {
+        const tinygltf::Value &v = ext->second.Get("emissiveStrength");
+        if (!v.IsNumber())
+            fail("material %zu: emissiveStrength is not a number", i);
+        strength = v.GetNumberAsDouble();
     }
+    st_gltf_material o = {};
+    for (int k = 0; k < 4; k++)
+        o.base_color[k] = float(bc[size_t(k)]);
+    for (int k = 0; k < 3; k++)
+        o.emission[k] = float(ef[size_t(k)] * strength);
+    o.metallic = float(pbr.metallicFactor);
+    o.roughness = float(pbr.roughnessFactor);
+    o.alpha_cutoff = float(mat.alphaCutoff);
+    const float check[10] = {o.base_color[0], o.base_color[1], o.base_color[2], o.base_color[3],
+                             o.emission[0],   o.emission[1],   o.emission[2],   o.metallic,
+                             o.roughness,     o.alpha_cutoff};
+    for (float v : check)
+        if (!std::isfinite(v) || v < 0.0f)
+            fail("material %zu: colour factors, emissiveStrength, metallic, roughness and "
+                 "alphaCutoff must be finite and >= 0",
+                 i);
+    if (mat.alphaMode == "MASK")
+        o.alpha_mode = 1;
+    else if (mat.alphaMode == "BLEND")
+        o.alpha_mode = 2;
+    else if (mat.alphaMode != "OPAQUE" && !mat.alphaMode.empty())
+        fail("material %zu: alphaMode \"%.40s\" is not OPAQUE, MASK or BLEND", i,
+             mat.alphaMode.c_str());
+    o.base_color_tex = texture_ref(m, pbr.baseColorTexture, true, i, "baseColorTexture", table, warn);
+    o.emission_tex = texture_ref(m, mat.emissiveTexture, true, i, "emissiveTexture", table, warn);
+    o.metallic_roughness_tex = texture_ref(m, pbr.metallicRoughnessTexture, false, i,
+                                           "metallicRoughnessTexture", table, warn);
+    return o;
 }
 
 /* ---- the whole file ---------------------------------------------------------- */
@@ -722,19 +1023,33 @@ template <typename T> T *shrink(T *p, size_t n, size_t per)
     return q ? q : p;
 }
 
-void flatten(const Model &m, st_gltf_data &out)
+/* A malloc'd copy of a vector (NULL when empty). */
+template <typename T> T *copy_out(const std::vector<T> &v)
+{
+    T *p = alloc_array<T>(v.size(), 1);
+    if (p)
+        memcpy(p, v.data(), v.size() * sizeof(T));
+    return p;
+}
+
+void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data &out)
 {
     std::vector<instance> inst;
-    camera_pick cam = {};
-    walk_scene(m, inst, cam);
+    std::vector<st_gltf_camera> cams;
+    walk_scene(m, inst, cams, warn);
+    std::vector<char> mesh_noted(m.meshes.size(), 0);
     size_t bound = 0;
-    for (const instance &in : inst)
+    for (const instance &in : inst) {
+        if (!mesh_noted[size_t(in.mesh)]++)
+            note_skipped_primitives(m, in.mesh, warn);
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
             bound += primitive_bound(m, in.mesh, p); /* each <= buffer bytes / 3 */
+    }
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);
+    out.uvs = alloc_array<float>(bound, 6);
     out.tri_material = alloc_array<uint32_t>(bound, 1);
-    sink s = {out.positions, out.normals, out.tri_material, 0, 0};
+    sink s = {out.positions, out.normals, out.uvs, out.tri_material, 0, 0};
     scratch tmp;
     for (const instance &in : inst) {
         const normal_xform nx = normal_matrix(in.world);
@@ -745,16 +1060,41 @@ void flatten(const Model &m, st_gltf_data &out)
     out.dropped = s.dropped;
     out.positions = shrink(out.positions, s.count, 9);
     out.normals = shrink(out.normals, s.count, 9);
+    out.uvs = shrink(out.uvs, s.count, 6);
     out.tri_material = shrink(out.tri_material, s.count, 1);
-    out.material_count = m.materials.size();
-    out.materials = alloc_array<float>(out.material_count, 8);
-    read_materials(m, out.materials);
-    if (cam.found) {
-        out.has_camera = 1;
-        memcpy(out.cam_origin, cam.origin, sizeof cam.origin);
-        memcpy(out.cam_forward, cam.forward, sizeof cam.forward);
-        memcpy(out.cam_up, cam.up, sizeof cam.up);
-        out.cam_yfov = cam.yfov;
+
+    texture_table table;
+    std::vector<st_gltf_material> mats;
+    for (size_t i = 0; i < m.materials.size(); i++)
+        mats.push_back(read_material(m, i, table, warn));
+    out.material_count = mats.size();
+    out.materials = copy_out(mats);
+    out.texture_count = table.refs.size();
+    out.textures = copy_out(table.refs);
+    out.image_count = m.images.size();
+    out.images = alloc_array<st_gltf_image>(out.image_count, 1);
+    if (out.images)
+        memset(out.images, 0, out.image_count * sizeof *out.images);
+    for (const st_gltf_texture &t : table.refs)
+        if (!out.images[size_t(t.image)].rgba)
+            out.images[size_t(t.image)] = decode_image(m, t.image, bytes);
+    out.camera_count = cams.size();
+    out.cameras = copy_out(cams);
+}
+
+/* The warnings as malloc'd C strings (a last line counts those left out). */
+void take_warnings(const notes &warn, st_gltf_data &out)
+{
+    std::vector<std::string> lines = warn.lines;
+    if (warn.more)
+        lines.push_back("... and " + std::to_string(warn.more) + " more warnings");
+    out.warnings = alloc_array<char *>(lines.size(), 1);
+    for (const std::string &l : lines) {
+        char *c = static_cast<char *>(malloc(l.size() + 1));
+        if (!c)
+            throw std::bad_alloc();
+        memcpy(c, l.c_str(), l.size() + 1);
+        out.warnings[out.warning_count++] = c;
     }
 }
 
@@ -769,8 +1109,11 @@ extern "C" st_status st_gltf_shim_load(const char *label, const unsigned char *b
         label = "(glTF)";
     try {
         Model model;
-        parse(model, bytes, size, base_dir);
-        flatten(model, *out);
+        image_bytes images;
+        notes warn;
+        parse(model, bytes, size, base_dir, images, warn);
+        flatten(model, images, warn, *out);
+        take_warnings(warn, *out);
         return ST_OK;
     } catch (const shim_error &e) {
         st_gltf_shim_release(out);
@@ -793,7 +1136,16 @@ extern "C" void st_gltf_shim_release(st_gltf_data *data)
         return;
     free(data->positions);
     free(data->normals);
+    free(data->uvs);
     free(data->tri_material);
     free(data->materials);
+    free(data->textures);
+    for (size_t i = 0; i < data->image_count && data->images; i++)
+        stbi_image_free(data->images[i].rgba);
+    free(data->images);
+    free(data->cameras);
+    for (size_t i = 0; i < data->warning_count; i++)
+        free(data->warnings[i]);
+    free(data->warnings);
     *data = st_gltf_data();
 }

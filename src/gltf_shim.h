@@ -3,9 +3,10 @@
  *
  * The shim parses one glTF 2.0 document (JSON .gltf or binary .glb, chosen by
  * the "glTF" magic of the bytes, not by the file name), validates every index,
- * accessor and bufferView range it uses, and flattens the default scene (or
- * scene 0) into world-space triangles. Only plain C types cross this header:
- * kernels/st_shared.h uses _Static_assert, which C++ does not accept. */
+ * accessor and bufferView range it uses, flattens the default scene (or
+ * scene 0) into world-space triangles, and decodes (stb_image) the images its
+ * materials use. Only plain C types cross this header: kernels/st_shared.h
+ * uses _Static_assert, which C++ does not accept. */
 #ifndef ST_GLTF_SHIM_H
 #define ST_GLTF_SHIM_H
 
@@ -20,6 +21,48 @@ extern "C" {
 
 /* tri_material value of a triangle whose primitive names no material. */
 #define ST_GLTF_NO_MATERIAL 0xffffffffu
+/* At most this many warnings are kept; a last one counts the rest. */
+#define ST_GLTF_MAX_WARNINGS 32
+
+/* A material of the file (§3.9). Factors as in the file (defaults filled);
+ * *_tex index st_gltf_data.textures, -1 for none. alpha_mode: 0 OPAQUE,
+ * 1 MASK, 2 BLEND (the values of st_shared.h's ST_ALPHA_*). */
+typedef struct st_gltf_material {
+    float base_color[4];   /* baseColorFactor */
+    float emission[3];     /* emissiveFactor x KHR_materials_emissive_strength */
+    float metallic, roughness;
+    float alpha_cutoff;    /* alphaCutoff, 0.5 by default */
+    int alpha_mode;
+    int base_color_tex, emission_tex, metallic_roughness_tex;
+} st_gltf_material;
+
+/* One texture reference as a material samples it (§3.8): an image, the
+ * sampler's wrap modes and magFilter, the colour space of its slot and the
+ * reference's KHR_texture_transform, (u', v') = (t0 u + t1 v + t2,
+ * t3 u + t4 v + t5). Equal references share one entry. */
+typedef struct st_gltf_texture {
+    int image;          /* index into st_gltf_data.images */
+    int srgb;           /* 1: base colour or emission; 0: metallic-roughness */
+    int wrap_s, wrap_t; /* glTF codes: 10497 REPEAT, 33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT */
+    int mag_nearest;    /* magFilter is NEAREST (9728) */
+    float transform[6];
+} st_gltf_texture;
+
+/* A decoded image (only those a texture above uses): RGBA8, rows from the
+ * top (glTF's uv (0, 0) is the first texel of the first row). Images no
+ * texture uses keep width = height = 0 and rgba = NULL. */
+typedef struct st_gltf_image {
+    uint32_t width, height;
+    unsigned char *rgba;
+} st_gltf_image;
+
+/* A camera node (§3.10): it looks down its local -Z with +Y up. */
+typedef struct st_gltf_camera {
+    float origin[3], forward[3], up[3]; /* world space; forward, up unit, orthogonal */
+    int orthographic;
+    float yfov;                         /* perspective: vertical field of view, radians */
+    float ymag;                         /* orthographic: half the view's height */
+} st_gltf_camera;
 
 /* The flattened default scene. Every array is malloc'd (free() releases it;
  * st_gltf_shim_release frees them all). Triangles that survive are finite
@@ -29,11 +72,18 @@ typedef struct st_gltf_data {
     size_t dropped;         /* zero-area or non-finite triangles left out */
     float *positions;       /* 9 floats per triangle, world space */
     float *normals;         /* 9 floats per triangle, unit, world space */
+    float *uvs;             /* 6 floats per triangle: TEXCOORD_0, 0 where a primitive has none */
     uint32_t *tri_material; /* index into materials, or ST_GLTF_NO_MATERIAL */
     size_t material_count;  /* the file's materials, all of them */
-    float *materials;       /* 8 floats each: base colour RGBA, emission RGB, 0 */
-    int has_camera;         /* 1: the first perspective camera node was found */
-    float cam_origin[3], cam_forward[3], cam_up[3], cam_yfov;
+    st_gltf_material *materials;
+    size_t texture_count;   /* distinct texture references of the materials */
+    st_gltf_texture *textures;
+    size_t image_count;     /* the file's images (decoded where used) */
+    st_gltf_image *images;
+    size_t camera_count;    /* camera nodes, depth first in scene order */
+    st_gltf_camera *cameras;
+    size_t warning_count;   /* things skipped, one line each (no file name) */
+    char **warnings;
 } st_gltf_data;
 
 /* Parses `size` bytes of a glTF document and fills *out (zeroed first).
@@ -41,7 +91,8 @@ typedef struct st_gltf_data {
  * URIs resolve against `base_dir` ("" = the working directory); base_dir NULL
  * forbids every file access, so only data: URIs and the GLB chunk load.
  * Errors: ST_ERR_FORMAT for anything malformed (tinygltf's own message
- * included), ST_ERR_NOMEM. On error *out holds nothing to free. */
+ * included; an image that a material uses and that cannot be read or
+ * decoded), ST_ERR_NOMEM. On error *out holds nothing to free. */
 st_status st_gltf_shim_load(const char *label, const unsigned char *bytes, size_t size,
                             const char *base_dir, st_gltf_data *out, st_error *err);
 

@@ -12,6 +12,7 @@
 #include "rng.h"
 #include "samplers.h"
 #include "filters.h"
+#include "texture.h"
 
 const char *const st_stage_names[ST_STAGE_COUNT] = {
     "generate_samples", "generate_camera_rays", "trace_rays", "shade_hits",
@@ -35,7 +36,7 @@ int st_name_lookup(const char *const *names, int count, const char *name)
 
 /* Scene buffers, uploaded once. */
 enum { B_NODES, B_TRIS, B_NORMALS, B_TRI_MATERIAL, B_MATERIALS, B_LIGHT_TRI, B_LIGHT_CDF,
-       B_LIGHT_PDF, B_SCENE_COUNT };
+       B_LIGHT_PDF, B_TRI_UV, B_TEXTURES, B_TEXELS, B_SCENE_COUNT };
 /* Per-wave state (one entry per item) and the film. */
 enum { W_FILM, W_SAMPLE_ID, W_RAY_O, W_RAY_D, W_HIT, W_BETA, W_RADIANCE, W_DEPTH, W_SHADOW_O, W_SHADOW_D,
        W_SHADOW_L, W_TALLY, W_ACCUM, W_HALF, W_ACTIVE, W_PIXEL_SPP, W_ACTIVE_COUNT, W_STATS,
@@ -162,31 +163,75 @@ st_status st_render_check(const st_render_options *o, st_error *err)
     return ST_OK;
 }
 
+/* Largest mean RGB of a texel of level 0 of texture t (linear). */
+static double texture_max(const st_scene *s, st_u32 t)
+{
+    const st_texture *tex = &s->textures[t];
+    double best = 0.0;
+    for (size_t i = 0; i < (size_t)tex->width * tex->height; i++) {
+        float c[4];
+        st_tex_texel(s->texels, tex->offset, 1, (st_i32)i, 0, tex->flags & ST_TEX_SRGB, c);
+        best = fmax(best, (c[0] + c[1] + c[2]) / 3.0);
+    }
+    return best;
+}
+
+/* The light-selection weight of triangle t's emission per unit area: the
+ * emissive factor's mean times, with an emissive texture, the texture
+ * averaged over the triangle (a trilinear lookup at the UV centroid at the
+ * level whose texel covers the triangle's texel area: lod = 1/2 log2 t_a)
+ * plus 1/256 of the texture's brightest texel, which keeps the weight
+ * positive wherever the texture may emit (the direct integrator needs that
+ * to stay unbiased; MIS in the path integrator would not). */
+static double emission_weight(const st_scene *s, const st_material *m, const st_tri_uv *uv,
+                              double area, const double *tex_max)
+{
+    double le = (m->emission[0] + m->emission[1] + m->emission[2]) / 3.0;
+    if (!(le > 0.0) || m->emission_tex == ST_NO_TEXTURE)
+        return le;
+    const st_texture *tex = &s->textures[m->emission_tex];
+    float u = (uv->uv[0] + uv->uv[2] + uv->uv[4]) / 3.0f;
+    float v = (uv->uv[1] + uv->uv[3] + uv->uv[5]) / 3.0f;
+    float lod = uv->lod + tex->lod_bias + 0.5f * log2f((float)(2.0 * area));
+    float c[4];
+    st_tex_sample(tex, s->texels, u, v, lod, ST_TEXFILTER_TRILINEAR, c);
+    double mean = 0.0;
+    for (int k = 0; k < 3; k++)
+        mean += m->emission[k] * c[k] / 3.0;
+    return mean + le * tex_max[m->emission_tex] / 256.0;
+}
+
 /* Emissive triangles (in BVH order), chosen with probability proportional to
- * area x mean emitted radiance; pdf_area[t] = P(choose t) / area(t). */
-static st_status build_lights(const st_scene *s, const st_bvh *bvh, st_u32 **tri_out,
-                              float **cdf_out, float **pdf_out, st_u32 *count, float *power,
-                              st_error *err)
+ * area x emission weight (emission_weight); pdf_area[t] = P(choose t) / area(t). */
+static st_status build_lights(const st_scene *s, const st_bvh *bvh, const st_tri_uv *uv,
+                              st_u32 **tri_out, float **cdf_out, float **pdf_out, st_u32 *count,
+                              float *power, st_error *err)
 {
     st_u32 n = bvh->tri_count;
     st_u32 *tri = malloc(sizeof *tri * (n ? n : 1));
     float *cdf = malloc(sizeof *cdf * (n ? n : 1));
     float *pdf = calloc(n ? n : 1, sizeof *pdf);
     double *acc = malloc(sizeof *acc * (n ? n : 1));
-    if (!tri || !cdf || !pdf || !acc) {
-        free(tri); free(cdf); free(pdf); free(acc);
+    double *tex_max = calloc(s->texture_count ? s->texture_count : 1, sizeof *tex_max);
+    if (!tri || !cdf || !pdf || !acc || !tex_max) {
+        free(tri); free(cdf); free(pdf); free(acc); free(tex_max);
         return st_fail(err, ST_ERR_NOMEM, "out of memory building the light table");
+    }
+    for (st_u32 m = 0; m < s->material_count; m++) {
+        st_u32 t = s->materials[m].emission_tex;
+        if (t != ST_NO_TEXTURE && tex_max[t] == 0.0)
+            tex_max[t] = texture_max(s, t);
     }
     st_u32 k = 0;
     double total = 0.0;
     for (st_u32 t = 0; t < n; t++) {
-        const float *e = s->materials[s->tri_material[bvh->order[t]]].emission;
-        double le = (e[0] + e[1] + e[2]) / 3.0;
         const st_triangle *tr = &bvh->tris[t];
         double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
         double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
         double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
         double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        const st_material *m = &s->materials[s->tri_material[bvh->order[t]]];
+        double le = area > 0.0 ? emission_weight(s, m, &uv[t], area, tex_max) : 0.0;
         if (le > 0.0 && area > 0.0) {
             total += area * le;
             tri[k] = t;
@@ -204,6 +249,7 @@ static st_status build_lights(const st_scene *s, const st_bvh *bvh, st_u32 **tri
         pdf[tri[i]] = (float)(p_select / area);
     }
     free(acc);
+    free(tex_max);
     *tri_out = tri;
     *cdf_out = cdf;
     *pdf_out = pdf;
@@ -212,16 +258,38 @@ static st_status build_lights(const st_scene *s, const st_bvh *bvh, st_u32 **tri
     return ST_OK;
 }
 
+/* Texture coordinates in BVH order and the triangle's part of the ray-cone
+ * level of detail, lod = 1/2 log2(uv area / world area) (st_tri_uv). */
+static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
+{
+    for (st_u32 t = 0; t < bvh->tri_count; t++) {
+        const float *uv = s->uvs + 6 * (size_t)bvh->order[t];
+        memcpy(out[t].uv, uv, 6 * sizeof(float));
+        const st_triangle *tr = &bvh->tris[t];
+        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+        double world = sqrt(cx * cx + cy * cy + cz * cz);
+        double tex = fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
+                          ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
+        out[t].lod = tex > 0.0 && world > 0.0 ? (float)(0.5 * log2(tex / world)) : -64.0f;
+        out[t].pad = 0.0f;
+    }
+}
+
 static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
 {
     const st_scene *s = r->scene;
     st_u32 n = bvh->tri_count;
     st_tri_normals *nrm = malloc(sizeof *nrm * (n ? n : 1));
     st_u32 *mat = malloc(sizeof *mat * (n ? n : 1));
+    st_tri_uv *uv = calloc(n ? n : 1, sizeof *uv);
     st_u32 *light_tri = NULL;
     float *light_cdf = NULL, *light_pdf = NULL;
     st_status rc = ST_OK;
-    if (!nrm || !mat) {
+    static const st_texture no_texture; /* device buffers are never empty */
+    static const st_u32 no_texel;
+    if (!nrm || !mat || !uv) {
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
         goto done;
     }
@@ -245,7 +313,8 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         nrm[t].n1[3] = (float)(g[1] * scale);
         nrm[t].n2[3] = (float)(g[2] * scale);
     }
-    if (build_lights(s, bvh, &light_tri, &light_cdf, &light_pdf, &r->light_count,
+    make_tri_uv(s, bvh, uv);
+    if (build_lights(s, bvh, uv, &light_tri, &light_cdf, &light_pdf, &r->light_count,
                      &r->light_power, err) != ST_OK) {
         rc = err->status;
         goto done;
@@ -259,12 +328,18 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         {sizeof(st_u32) * (r->light_count ? r->light_count : 1), light_tri},
         {sizeof(float) * (r->light_count ? r->light_count : 1), light_cdf},
         {sizeof(float) * (n ? n : 1), light_pdf},
+        {sizeof(st_tri_uv) * (n ? n : 1), uv},
+        {sizeof(st_texture) * (s->texture_count ? s->texture_count : 1),
+         s->texture_count ? (const void *)s->textures : (const void *)&no_texture},
+        {sizeof(st_u32) * (s->texel_count ? s->texel_count : 1),
+         s->texel_count ? (const void *)s->texels : (const void *)&no_texel},
     };
     for (int b = 0; b < B_SCENE_COUNT && rc == ST_OK; b++)
         rc = st_device_buffer_create(r->dev, up[b].bytes, up[b].data, &r->scene_buf[b], err);
 done:
     free(nrm);
     free(mat);
+    free(uv);
     free(light_tri);
     free(light_cdf);
     free(light_pdf);
@@ -333,7 +408,10 @@ static st_camera make_camera(const st_scene_camera *c, st_u32 w, st_u32 h)
         cam.up[a] = u[a];
         cam.forward[a] = f[a];
     }
-    cam.origin[3] = tanf(0.5f * c->yfov);
+    /* st_camera: forward[3] = 1 marks an orthographic camera, whose
+     * origin[3] is the half height ymag instead of tan(yfov / 2) */
+    cam.origin[3] = c->orthographic ? c->ymag : tanf(0.5f * c->yfov);
+    cam.forward[3] = c->orthographic ? 1.0f : 0.0f;
     cam.right[3] = (float)w / (float)h;
     return cam;
 }
@@ -401,13 +479,23 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
         return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(s[B_NODES]), MEM(s[B_TRIS]),
                                   MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_DEPTH]),
                                   MEM(b[W_HIT]));
-    case ST_STAGE_SHADE:
+    case ST_STAGE_SHADE: {
+        /* the scene's environment and texture filter, read at every render
+         * (the scene outlives the renderer; render --env and
+         * --texture-filter set them) */
+        st_shading sh;
+        memset(&sh, 0, sizeof sh);
+        memcpy(sh.env, r->scene->env, sizeof r->scene->env);
+        sh.texture_filter = r->scene->texture_filter;
+        sh.texture_count = r->scene->texture_count;
         return st_device_set_args(
-            kk, err, 18, PARAMS(*p), MEM(s[B_TRIS]), MEM(s[B_NORMALS]), MEM(s[B_TRI_MATERIAL]),
-            MEM(s[B_MATERIALS]), MEM(s[B_LIGHT_TRI]), MEM(s[B_LIGHT_CDF]), MEM(s[B_LIGHT_PDF]),
-            MEM(b[W_SAMPLE_ID]), MEM(b[W_HIT]), MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_BETA]),
-            MEM(b[W_RADIANCE]), MEM(b[W_DEPTH]), MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]),
-            MEM(b[W_SHADOW_L]));
+            kk, err, 22, PARAMS(*p), sizeof sh, (const void *)&sh, MEM(s[B_TRIS]),
+            MEM(s[B_NORMALS]), MEM(s[B_TRI_MATERIAL]), MEM(s[B_MATERIALS]), MEM(s[B_LIGHT_TRI]),
+            MEM(s[B_LIGHT_CDF]), MEM(s[B_LIGHT_PDF]), MEM(s[B_TRI_UV]), MEM(s[B_TEXTURES]),
+            MEM(s[B_TEXELS]), MEM(b[W_SAMPLE_ID]), MEM(b[W_HIT]), MEM(b[W_RAY_O]),
+            MEM(b[W_RAY_D]), MEM(b[W_BETA]), MEM(b[W_RADIANCE]), MEM(b[W_DEPTH]),
+            MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]), MEM(b[W_SHADOW_L]));
+    }
     case ST_STAGE_SHADOW:
         return st_device_set_args(kk, err, 7, PARAMS(*p), MEM(s[B_NODES]), MEM(s[B_TRIS]),
                                   MEM(b[W_SHADOW_O]), MEM(b[W_SHADOW_D]), MEM(b[W_SHADOW_L]),

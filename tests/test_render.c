@@ -71,19 +71,21 @@ static void layout_device_matches_host(void **state)
     st_error err = {0};
     cl_kernel k;
     cl_mem out;
-    st_u32 got[12];
+    st_u32 got[17];
     assert_int_equal(st_device_kernel(dev, "probe_layout", &k, &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, sizeof got, NULL, &out, &err), ST_OK);
     assert_int_equal(st_device_set_args(k, &err, 1, sizeof(cl_mem), (const void *)&out), ST_OK);
     assert_int_equal(st_device_launch(dev, k, 1, 1, &err), ST_OK);
     assert_int_equal(st_device_buffer_read(dev, out, sizeof got, got, &err), ST_OK);
     st_device_buffer_destroy(out);
-    const st_u32 want[12] = {
+    const st_u32 want[17] = {
         sizeof(st_bvh_node), offsetof(st_bvh_node, bmax), sizeof(st_triangle),
         sizeof(st_tri_normals), sizeof(st_material), sizeof(st_camera), sizeof(st_filter),
         sizeof(st_params), offsetof(st_params, filter), offsetof(st_params, camera),
-        offsetof(st_params, width), offsetof(st_params, tile_size)};
-    for (int i = 0; i < 12; i++)
+        offsetof(st_params, width), offsetof(st_params, tile_size),
+        offsetof(st_material, base_color_tex), sizeof(st_texture), offsetof(st_texture, offset),
+        sizeof(st_tri_uv), sizeof(st_shading)};
+    for (int i = 0; i < 17; i++)
         assert_int_equal(got[i], want[i]);
 }
 

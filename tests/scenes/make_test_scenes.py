@@ -11,14 +11,29 @@ layout_*      one pyramid (5 vertices, 4 triangles) stored every way the loader
 trs_nested    a mesh under nested TRS and matrix nodes (one mirrored), in a
               non-default scene; trs_baked holds the same triangles with the
               transforms applied here, in Python, as plain vertices.
-camera_pick   cameras in a hierarchy: the first perspective one in depth-first
-              order must win (an orthographic one comes before it, a
-              perspective one in a later subtree and one in a later root
-              after it).
+camera_pick   cameras in a hierarchy, listed depth first: an orthographic one,
+              then perspective ones (the first under a rotated node, one in a
+              later subtree, one in a later root).
 materials_flat  no normals (flat normals expected), a zero-area and a
               collinear triangle (dropped), an emissive material with
               KHR_materials_emissive_strength, a primitive without material
               (default appended), a POINTS primitive (skipped).
+textures      texture coordinates and materials: TEXCOORD_0 as float,
+              normalised unsigned byte and unsigned short; a 4 x 2 PNG (data:
+              URI) and a 2 x 2 PNG stored in a bufferView; materials with a
+              base colour texture (NEAREST magnification, MIRRORED_REPEAT x
+              CLAMP_TO_EDGE), an emissive texture with KHR_texture_transform,
+              a metallic-roughness texture on the same image (a second, linear
+              chain), a texture on TEXCOORD_1 (ignored, a warning), alpha MASK
+              (cutoff 0.3) and BLEND; a LINES primitive (skipped, a warning).
+textured_quad a 2 x 2 quad filling an orthographic view, its material's every
+              factor multiplied by a constant texture (base colour sRGB 188,
+              metallic-roughness B = 128, emissive sRGB 64): a render must
+              give emission + albedo x environment in every pixel.
+textured.glb  a quad with a 4 x 4 RGBA texture stored in the GLB's BIN chunk
+              (for byte mutation tests: the image decoder meets damaged PNGs).
+cutout        two quads seen by an orthographic camera: the front one red,
+              alpha MASK with its left half at alpha 0; the back one green.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -26,6 +41,7 @@ import json
 import math
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -63,6 +79,23 @@ def doc(meshes, accessors, views, buffers, nodes=None, scenes=None, scene=0, **e
     g["buffers"] = buffers
     g.update(extra)
     return g
+
+
+def png(width, height, channels, rows):
+    """PNG (W3C 2003 spec, sections 5, 11) of 8-bit rows (grey, RGB or RGBA)."""
+    raw = b"".join(b"\x00" + bytes(r) for r in rows)
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xffffffff)
+
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, {1: 0, 3: 2, 4: 6}[channels], 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw)) +
+            chunk(b"IEND", b""))
+
+
+def png_uri(data):
+    return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
 
 
 def write_json(name, g):
@@ -345,6 +378,150 @@ def write_materials_flat():
                    materials=materials, extensionsUsed=["KHR_materials_emissive_strength"]))
 
 
+QUAD_POS = [-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0]
+QUAD_UV = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]
+
+
+class Blob:
+    """One buffer built view by view (4-byte aligned)."""
+
+    def __init__(self):
+        self.data, self.views, self.accessors = bytearray(), [], []
+
+    def view(self, data):
+        while len(self.data) % 4:
+            self.data.append(0)
+        self.views.append({"buffer": 0, "byteOffset": len(self.data), "byteLength": len(data)})
+        self.data += data
+        return len(self.views) - 1
+
+    def accessor(self, data, component, count, kind, **extra):
+        a = {"bufferView": self.view(data), "componentType": component, "count": count,
+             "type": kind}
+        a.update(extra)
+        self.accessors.append(a)
+        return len(self.accessors) - 1
+
+    def quad(self, z=0.0, uv=None, uv_component=5126, uv_fmt="f"):
+        pos = list(QUAD_POS)
+        for k in range(2, 12, 3):
+            pos[k] = z
+        attrs = {"POSITION": self.accessor(f32(pos), 5126, 4, "VEC3",
+                                           min=[-1.0, -1.0, z], max=[1.0, 1.0, z]),
+                 "NORMAL": self.accessor(f32([0.0, 0.0, 1.0] * 4), 5126, 4, "VEC3")}
+        if uv is not None:
+            extra = {"normalized": True} if uv_component != 5126 else {}
+            attrs["TEXCOORD_0"] = self.accessor(struct.pack("<8" + uv_fmt, *uv), uv_component, 4,
+                                                "VEC2", **extra)
+        ind = self.accessor(struct.pack("<6H", 0, 1, 2, 0, 2, 3), 5123, 6, "SCALAR")
+        return {"attributes": attrs, "indices": ind}
+
+    def buffers(self):
+        return [{"byteLength": len(self.data), "uri": data_uri(bytes(self.data))}]
+
+
+def ortho_camera_node(z=5.0):
+    return {"name": "camera", "camera": 0, "translation": [0.0, 0.0, z]}
+
+
+ORTHO = [{"type": "orthographic", "orthographic": {"xmag": 0.4, "ymag": 0.4, "zfar": 100.0,
+                                                   "znear": 0.01}}]
+
+
+def constant_png(rgb, size=4):
+    return png(size, size, 3, [list(rgb) * size] * size)
+
+
+def write_textures():
+    b = Blob()
+    # uv: float (the quad's own), normalised u8 (x 255) and u16 (x 65535)
+    p_float = b.quad(0.0, QUAD_UV)
+    p_u8 = b.quad(1.0, [0, 255, 255, 255, 255, 0, 0, 0], 5121, "B")
+    p_u16 = b.quad(2.0, [0, 65535, 32768, 65535, 32768, 0, 0, 0], 5123, "H")
+    p_u8["material"], p_u16["material"], p_float["material"] = 0, 1, 2
+    lines = {"attributes": {"POSITION": p_float["attributes"]["POSITION"]}, "mode": 1}
+    # image 0: 4 x 2 RGBA, data: URI; image 1: 2 x 2 RGB in a bufferView
+    img0 = png(4, 2, 4, [[10, 20, 30, 255, 40, 50, 60, 128, 70, 80, 90, 0, 100, 110, 120, 64],
+                          [130, 140, 150, 255, 160, 170, 180, 255, 190, 200, 210, 255,
+                           220, 230, 240, 255]])
+    img1 = png(2, 2, 3, [[255, 0, 0, 0, 255, 0], [0, 0, 255, 255, 255, 255]])
+    images = [{"uri": png_uri(img0)}, {"bufferView": b.view(img1), "mimeType": "image/png"}]
+    samplers = [{"magFilter": 9728, "wrapS": 33648, "wrapT": 33071}, {}]
+    textures = [{"sampler": 0, "source": 0}, {"sampler": 1, "source": 1}, {"source": 0}]
+    transform = {"KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": math.pi / 2,
+                                           "scale": [2.0, 3.0]}}
+    materials = [
+        {"name": "textured", "alphaMode": "MASK", "alphaCutoff": 0.3,
+         "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0],
+                                  "baseColorTexture": {"index": 0},
+                                  "metallicFactor": 0.5,
+                                  "metallicRoughnessTexture": {"index": 2}},
+         "emissiveFactor": [1.0, 1.0, 1.0],
+         "emissiveTexture": {"index": 1, "extensions": transform}},
+        {"name": "second uv set", "alphaMode": "BLEND",
+         "pbrMetallicRoughness": {"baseColorTexture": {"index": 1, "texCoord": 1},
+                                  "metallicFactor": 0.0}},
+        {"name": "shared", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                                    "metallicFactor": 0.0}},
+    ]
+    g = doc([{"name": "quads", "primitives": [p_float, p_u8, p_u16, lines]}], b.accessors,
+            b.views, b.buffers(), materials=materials, images=images, samplers=samplers,
+            textures=textures, extensionsUsed=["KHR_texture_transform"])
+    write_json("textures.gltf", g)
+
+
+def write_textured_quad():
+    b = Blob()
+    p = b.quad(0.0, QUAD_UV)
+    p["material"] = 0
+    images = [{"uri": png_uri(constant_png((188, 188, 188)))},
+              {"uri": png_uri(constant_png((0, 0, 128)))},
+              {"uri": png_uri(constant_png((64, 64, 64)))}]
+    materials = [{"name": "constant textures",
+                  "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.5, 0.25, 1.0],
+                                           "baseColorTexture": {"index": 0},
+                                           "metallicFactor": 0.2,
+                                           "metallicRoughnessTexture": {"index": 1}},
+                  "emissiveFactor": [0.5, 1.0, 0.0], "emissiveTexture": {"index": 2}}]
+    g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+            cameras=ORTHO, materials=materials, images=images,
+            textures=[{"source": 0}, {"source": 1}, {"source": 2}])
+    write_json("textured_quad.gltf", g)
+
+
+def write_textured_glb():
+    b = Blob()
+    p = b.quad(0.0, QUAD_UV)
+    p["material"] = 0
+    image = png(4, 4, 4, [[v for x in range(4) for v in (x * 60, y * 60, 200, 255)]
+                          for y in range(4)])
+    view = b.view(image)
+    g = doc([{"primitives": [p]}], b.accessors, b.views, [{"byteLength": len(b.data)}],
+            materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                                 "metallicFactor": 0.0}}],
+            images=[{"bufferView": view, "mimeType": "image/png"}], textures=[{"source": 0}])
+    write_bytes("textured.glb", glb(g, b.data))
+
+
+def write_cutout():
+    b = Blob()
+    front, back = b.quad(0.0, QUAD_UV), b.quad(-1.0, QUAD_UV)
+    front["material"], back["material"] = 0, 1
+    half = [[0, 0, 0, 0] * 2 + [255, 255, 255, 255] * 2] * 4  # left half alpha 0
+    materials = [{"name": "front", "alphaMode": "MASK",
+                  "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.0, 0.0, 1.0],
+                                           "baseColorTexture": {"index": 0},
+                                           "metallicFactor": 0.0}},
+                 {"name": "back", "pbrMetallicRoughness": {"baseColorFactor": [0.0, 1.0, 0.0, 1.0],
+                                                           "metallicFactor": 0.0}}]
+    g = doc([{"primitives": [front, back]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+            cameras=ORTHO, materials=materials, images=[{"uri": png_uri(png(4, 4, 4, half))}],
+            samplers=[{"magFilter": 9728}], textures=[{"source": 0, "sampler": 0}])
+    write_json("cutout.gltf", g)
+
+
 def write_bad():
     # One valid base (u16 layout with a data: URI), then one fault per file.
     def base():
@@ -412,12 +589,44 @@ def write_bad():
     struct.pack_into("<I", data, bin_at, struct.unpack("<I", data[bin_at:bin_at + 4])[0] + 8)
     write_bytes("bad_glb_chunk.glb", bytes(data))
 
+    # texture faults, on a copy of textured_quad
+    with open(os.path.join(HERE, "textured_quad.gltf"), encoding="ascii") as f:
+        quad = json.load(f)
+
+    def variant(name, change):
+        g = json.loads(json.dumps(quad))
+        change(g)
+        write_json(name, g)
+
+    def not_png(g):
+        g["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(b"not a png").decode()
+    variant("bad_image_data.gltf", not_png)
+    variant("bad_image_missing.gltf", lambda g: g["images"][0].update(uri="no_such_image.png"))
+    variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
+            ["baseColorTexture"].update(index=7))
+    variant("bad_image_index.gltf", lambda g: g["textures"][1].update(source=9))
+
+    def bad_wrap(g):
+        g["samplers"] = [{"wrapS": 1234}]
+        g["textures"][0]["sampler"] = 0
+    variant("bad_sampler_wrap.gltf", bad_wrap)
+
+    def bad_uv(g):
+        g["accessors"][2]["type"] = "VEC3"
+    variant("bad_texcoord_type.gltf", bad_uv)
+    variant("bad_alpha_mode.gltf", lambda g: g["materials"][0].update(alphaMode="SOMETIMES"))
+    variant("bad_camera_ymag.gltf", lambda g: g["cameras"][0]["orthographic"].update(ymag=0.0))
+
 
 def main():
     write_layouts()
     write_trs()
     write_camera_pick()
     write_materials_flat()
+    write_textures()
+    write_textured_quad()
+    write_textured_glb()
+    write_cutout()
     write_bad()
 
 
