@@ -34,3 +34,27 @@ $S converge --sampler $ALL --spp-list 4,16,64,256 --width 64 --height 64 --integ
     --reference-spp 8192 --seeds 4 --region 18,14,28,10 --quiet --png $P/adaptive/converge-smooth.png
 $S converge --sampler $ALL --spp-list 4,16,64,256 --width 64 --height 64 --integrator direct \
     --reference-spp 8192 --seeds 4 --region 22,5,18,8 --quiet --png $P/adaptive/converge-edge.png
+# textures and built-in scenes
+mkdir -p $P/textures $P/khronos
+for f in none bilinear trilinear; do
+    $S render checkerboard --width 384 --height 288 --spp 1 --texture-filter $f --quiet \
+        -o $P/textures/checkerboard-$f-1spp.png
+done
+$S render checkerboard --width 384 --height 288 --spp 1 --texture-filter none --sampler uniform \
+    --quiet -o $P/textures/checkerboard-none-uniform-1spp.png
+$S render checkerboard --width 384 --height 288 --spp 256 --texture-filter none --quiet \
+    -o $P/textures/checkerboard-none-256spp.png
+for f in none trilinear; do
+    $S render zone-plate --width 240 --height 240 --spp 1 --texture-filter $f --quiet \
+        -o $P/textures/zone-plate-$f-1spp.png
+    $S render zone-plate --width 240 --height 240 --spp 1 --texture-filter $f --sampler uniform \
+        --quiet -o $P/textures/zone-plate-$f-uniform-1spp.png
+done
+$S render soft-shadows --width 384 --height 288 --spp 256 --quiet -o $P/textures/soft-shadows.png
+K=../shared/scenes/khronos
+if [ -d $K ]; then
+    for f in $(sed -n 's/^| [A-Za-z]* | `\([^`]*\.gl[tb]f*\)` |.*/\1/p' $K/INDEX.md); do
+        $S render $K/$f --width 160 --height 120 --spp 64 --env 1 --quiet \
+            -o $P/khronos/$(dirname $f).png
+    done
+fi
