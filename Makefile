@@ -34,7 +34,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/test_*.c)
 TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
 
-.PHONY: all deps test bench demo clean check-deps
+.PHONY: all deps test test-sanitize bench demo clean
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -81,7 +81,15 @@ $(BUILD):
 	mkdir -p $(BUILD)
 
 test: deps strata $(TEST_BIN)
-	@BUILD=$(BUILD) sh tests/run.sh $(TEST_BIN)
+	@BUILD=$(BUILD) sh tests/run.sh $(TEST_BIN) $(wildcard tests/test_*.sh)
+
+# The scene import and the malformed-file suite under AddressSanitizer and
+# UndefinedBehaviorSanitizer (leak reports off: PoCL and fontconfig keep
+# caches for the life of the process). CI runs it after `make test`.
+test-sanitize: deps
+	$(MAKE) SANITIZE=1 build/asan/strata build/asan/tests/test_scene
+	@ASAN_OPTIONS=detect_leaks=0 STRATA=build/asan/strata \
+	    sh tests/run.sh build/asan/tests/test_scene tests/test_khronos.sh
 
 bench: deps strata
 	./strata bench --width 512 --height 512 --spp 64 --integrator path
