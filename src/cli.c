@@ -139,6 +139,29 @@ int st_cli_diff(int argc, char **argv)
     return rc;
 }
 
+/* Writes through a temporary name and rename(2), or to stdout for "-". */
+st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
+                            st_error *err)
+{
+    if (!strcmp(path, "-")) {
+        emit(stdout, ctx);
+        return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
+    }
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp-strata", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return st_fail(err, ST_ERR_IO, "%s: cannot create", path);
+    emit(f, ctx);
+    int bad = ferror(f);
+    bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) {
+        remove(tmp);
+        return st_fail(err, ST_ERR_IO, "%s: cannot write", path);
+    }
+    return ST_OK;
+}
+
 /* ---- progress ------------------------------------------------------------ */
 
 void st_cli_progress(void *ctx, double fraction)

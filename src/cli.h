@@ -19,6 +19,13 @@ int st_cli_converge(int argc, char **argv);
 /* Prints "strata: error: MSG" and returns the exit status for err. */
 struct st_error;
 int st_cli_fail(const struct st_error *err);
+/* Writes a text file through emit(f, ctx): to a temporary name in the same
+ * folder, then rename(2), so no partial file is left; "-" is stdout. */
+#include <stdio.h>
+#include "st_error.h"
+st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
+                            st_error *err);
+
 /* Prints a usage error and returns 2. */
 int st_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 

@@ -252,29 +252,23 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
     return ST_OK;
 }
 
+typedef struct csv_ctx { const series *ss; st_u32 ns; } csv_ctx;
+
+static void emit_csv(FILE *f, const void *ctx)
+{
+    const csv_ctx *c = ctx;
+    fprintf(f, "sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n");
+    for (st_u32 i = 0; i < c->ns; i++)
+        for (st_u32 k = 0; k < c->ss[i].n; k++)
+            fprintf(f, "%s,%.6g,%.0f,%.9g,%.9g,%.9g\n", c->ss[i].name, c->ss[i].spp[k],
+                    c->ss[i].seeds[k], c->ss[i].rmse[k], c->ss[i].stderr_[k], c->ss[i].rel[k]);
+}
+
 static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st_error *err)
 {
-    if (c->csv) {
-        int to_stdout = !strcmp(c->csv, "-");
-        char tmp[4096];
-        snprintf(tmp, sizeof tmp, "%s.tmp-strata", c->csv);
-        FILE *f = to_stdout ? stdout : fopen(tmp, "w");
-        if (!f)
-            return st_fail(err, ST_ERR_IO, "%s: cannot create", c->csv);
-        fprintf(f, "sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n");
-        for (st_u32 i = 0; i < ns; i++)
-            for (st_u32 k = 0; k < ss[i].n; k++)
-                fprintf(f, "%s,%.6g,%.0f,%.9g,%.9g,%.9g\n", ss[i].name, ss[i].spp[k],
-                        ss[i].seeds[k], ss[i].rmse[k], ss[i].stderr_[k], ss[i].rel[k]);
-        if (!to_stdout) {
-            int bad = ferror(f);
-            bad |= fclose(f) != 0;
-            if (bad || rename(tmp, c->csv) != 0) {
-                remove(tmp);
-                return st_fail(err, ST_ERR_IO, "%s: cannot write", c->csv);
-            }
-        }
-    }
+    csv_ctx cc = {ss, ns};
+    if (c->csv && st_cli_write_text(c->csv, emit_csv, &cc, err) != ST_OK)
+        return err->status;
     if (c->png) {
         st_plot_series ps[MAX_SERIES * 2];
         char legend[MAX_SERIES * 2][80];

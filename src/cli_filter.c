@@ -78,29 +78,15 @@ static int parse(int argc, char **argv, filter_cli *c)
     return ST_CLI_OK;
 }
 
-static st_status write_csv(const filter_cli *c, st_error *err)
+static void emit_csv(FILE *f, const void *ctx)
 {
-    int to_stdout = !strcmp(c->csv, "-");
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp-strata", c->csv);
-    FILE *f = to_stdout ? stdout : fopen(tmp, "w");
-    if (!f)
-        return st_fail(err, ST_ERR_IO, "%s: cannot create", c->csv);
+    const filter_cli *c = ctx;
     fprintf(f, "x,f\n");
     for (int i = 0; i < PROFILE_POINTS; i++)
         fprintf(f, "%.6f,%.9g\n", c->x[i], c->y[i]);
     fprintf(f, "\nfrequency,magnitude\n");
     for (int i = 0; i < RESPONSE_POINTS; i++)
         fprintf(f, "%.6f,%.9g\n", c->w[i], c->mag[i]);
-    if (to_stdout)
-        return fflush(f) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
-    int bad = ferror(f);
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, c->csv) != 0) {
-        remove(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot write", c->csv);
-    }
-    return ST_OK;
 }
 
 static st_status write_png(const filter_cli *c, st_error *err)
@@ -142,7 +128,7 @@ int st_cli_filter(int argc, char **argv)
         c->w[i] = RESPONSE_MAX_FREQ * i / (RESPONSE_POINTS - 1);
     st_filter_response(&c->f, RESPONSE_POINTS, c->w, c->mag);
     st_error err = {0};
-    if ((c->csv && write_csv(c, &err)) || (c->png && write_png(c, &err)))
+    if ((c->csv && st_cli_write_text(c->csv, emit_csv, c, &err)) || (c->png && write_png(c, &err)))
         rc = st_cli_fail(&err);
     free(c);
     return rc;

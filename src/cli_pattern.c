@@ -108,28 +108,6 @@ static int parse(int argc, char **argv, pattern_args *a)
     return ST_CLI_OK;
 }
 
-/* Writes through a temporary name and rename(2), or to stdout for "-". */
-static st_status write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
-                            st_error *err)
-{
-    if (!strcmp(path, "-")) {
-        emit(stdout, ctx);
-        return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
-    }
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp-strata", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return st_fail(err, ST_ERR_IO, "%s: cannot create", path);
-    emit(f, ctx);
-    int bad = ferror(f);
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        remove(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot write", path);
-    }
-    return ST_OK;
-}
 
 typedef struct points_ctx { const float *pts; st_u32 n, dims; } points_ctx;
 
@@ -217,7 +195,7 @@ static st_status spectrum(const pattern_args *a, st_u32 n0, st_error *err)
     if (rc == ST_OK && a->radial) {
         st_spectrum_radial(power, kmax, radial, counts);
         radial_ctx c = {radial, counts, kmax};
-        rc = write_text(a->radial, emit_radial, &c, err);
+        rc = st_cli_write_text(a->radial, emit_radial, &c, err);
     }
 done:
     free(power);
@@ -238,7 +216,7 @@ int st_cli_pattern(int argc, char **argv)
     if (st_pattern_make(a.sampler, a.count, a.dims, a.seed, a.scramble, &pts, &n, &err))
         return st_cli_fail(&err);
     points_ctx pc = {pts, n, a.dims};
-    if ((a.csv && write_text(a.csv, emit_points, &pc, &err)) ||
+    if ((a.csv && st_cli_write_text(a.csv, emit_points, &pc, &err)) ||
         (a.png && scatter(&a, pts, n, &err)) ||
         ((a.spectrum || a.radial) && spectrum(&a, n, &err))) {
         free(pts);
