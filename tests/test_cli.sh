@@ -1,26 +1,7 @@
 #!/bin/sh
 # test_cli.sh — command-line behaviour: exit codes, one-line errors naming
 # what and where, no partial output, and the happy paths. TAP output.
-S=${STRATA:-./strata}
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-n=0
-ok() { n=$((n + 1)); echo "ok $n - $1"; }
-not_ok() { n=$((n + 1)); echo "not ok $n - $1"; }
-check() { if eval "$2"; then ok "$1"; else not_ok "$1"; fi; }
-
-# expect NAME STATUS PATTERN CMD...: exit status and a stderr line matching
-expect() {
-    name=$1 want=$2 pat=$3
-    shift 3
-    "$@" > "$T/out" 2> "$T/err"
-    got=$?
-    if [ "$got" -eq "$want" ] && grep -q -- "$pat" "$T/err"; then
-        ok "$name"
-    else
-        not_ok "$name (status $got, stderr: $(head -c 300 "$T/err"))"
-    fi
-}
+. tests/tap.sh
 
 R="--width 16 --height 12 --spp 2 --quiet"
 expect "unknown option exits 2" 2 "^strata: error: render: unknown option --bogus" $S render --bogus

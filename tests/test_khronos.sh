@@ -7,27 +7,8 @@
 # lines; the scene options (--env, --texture-filter, --camera) are checked;
 # nested transforms render as their baked vertices do. TAP output.
 # Under `make test SANITIZE=1` the same runs use the sanitized binary.
-S=${STRATA:-./strata}
+. tests/tap.sh
 K=${KHRONOS:-../shared/scenes/khronos}
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-n=0
-ok() { n=$((n + 1)); echo "ok $n - $1"; }
-not_ok() { n=$((n + 1)); echo "not ok $n - $1"; }
-check() { if eval "$2"; then ok "$1"; else not_ok "$1"; fi; }
-
-# expect NAME STATUS PATTERN CMD...: exit status and a stderr line matching
-expect() {
-    name=$1 want=$2 pat=$3
-    shift 3
-    "$@" > "$T/out" 2> "$T/err"
-    got=$?
-    if [ "$got" -eq "$want" ] && grep -q -- "$pat" "$T/err"; then
-        ok "$name"
-    else
-        not_ok "$name (status $got, stderr: $(head -c 300 "$T/err"))"
-    fi
-}
 
 # rmse_of A B: the RMSE `strata diff` prints (empty when the diff fails,
 # e.g. on a non-finite value)

@@ -3,26 +3,7 @@
 # (RMS error, dominant and alias frequencies), the CSV tables, the PNG, usage
 # errors (exit 2, "strata: error: ...") and failed writes (exit 1, nothing
 # left behind). TAP output. The binary is $STRATA (default ./strata).
-S=${STRATA:-./strata}
-T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
-n=0
-ok() { n=$((n + 1)); echo "ok $n - $1"; }
-not_ok() { n=$((n + 1)); echo "not ok $n - $1"; }
-check() { if eval "$2"; then ok "$1"; else not_ok "$1"; fi; }
-
-# expect NAME STATUS PATTERN CMD...: exit status and a stderr line matching
-expect() {
-    name=$1 want=$2 pat=$3
-    shift 3
-    "$@" > "$T/out" 2> "$T/err"
-    got=$?
-    if [ "$got" -eq "$want" ] && grep -q -- "$pat" "$T/err"; then
-        ok "$name"
-    else
-        not_ok "$name (status $got, stderr: $(head -c 300 "$T/err"))"
-    fi
-}
+. tests/tap.sh
 
 # field NAME FILE: the number after "NAME " in the summary line
 field() { sed -n "s/.*$1 \([-0-9.e+]*\).*/\1/p" "$2" | head -1; }
