@@ -44,7 +44,7 @@ static const char render_help[] =
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
     "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
-    "  --local-size N         OpenCL work-group size (default: the driver's; the image does not change)\n"
+    "  --local-size N         OpenCL work-group size (default 64; the image does not change)\n"
     "  --scene-list           list the built-in scenes and exit\n"
     "  --quiet                no progress bar and no summary\n"
     "  -h, --help             this help\n";

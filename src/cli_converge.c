@@ -28,7 +28,7 @@ static const char converge_help[] =
     "  --region X,Y,W,H      measure only this pixel rectangle (default: the whole image)\n"
     "  --csv FILE|-          sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n"
     "  --png FILE            log-log plot of RMSE against spp, the fitted slope in the legend\n"
-    "  --adaptive            also each sampler with adaptive sampling (--min-spp N/4,\n"
+    "  --adaptive            also each sampler with adaptive sampling (--min-spp max(N/4, 8),\n"
     "                        --max-spp 4N, --noise-threshold), at its mean spp\n"
     "  render options: --width, --height, --filter..., --integrator, --max-depth, --device, ...\n"
     "  (not --spp, --max-spp, --min-spp, --sample-range, --spp-map: the study sets them)\n"
@@ -222,7 +222,11 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
     o.sampler = se->sampler;
     o.adaptive = se->adaptive;
     o.spp = se->adaptive ? 4 * c->spp[k] : c->spp[k];
-    o.min_spp = c->spp[k] / 4 > 2 ? c->spp[k] / 4 : 2;
+    /* at least 8 samples before the first estimate: with fewer, the half film
+     * is too noisy to judge and pixels stop too early */
+    o.min_spp = c->spp[k] / 4 > 8 ? c->spp[k] / 4 : 8;
+    if (o.min_spp > o.spp)
+        o.min_spp = o.spp;
     st_u32 runs = st_pattern_is_random(o.sampler, o.scramble) || o.adaptive ? c->seeds : 1;
     double sum = 0, sum2 = 0, rel = 0, samples = 0;
     for (st_u32 r = 0; r < runs; r++) {

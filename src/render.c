@@ -91,6 +91,10 @@ st_render_options st_render_defaults(void)
     o.filter = st_filter_default(ST_FILTER_MITCHELL);
     o.min_spp = 16;
     o.noise_threshold = 0.01f;
+    /* a fixed work-group size: PoCL compiles a kernel again for every new
+     * size, and a driver's choice follows the global size, which changes
+     * from wave to wave in adaptive rounds (measured: 15 s against 1.9 s) */
+    o.local_size = 64;
     return o;
 }
 
