@@ -35,7 +35,7 @@ $S converge --sampler $ALL --spp-list 4,16,64,256 --width 64 --height 64 --integ
 $S converge --sampler $ALL --spp-list 4,16,64,256 --width 64 --height 64 --integrator direct \
     --reference-spp 8192 --seeds 4 --region 22,5,18,8 --quiet --png $P/adaptive/converge-edge.png
 # textures and built-in scenes
-mkdir -p $P/textures $P/khronos
+mkdir -p $P/textures $P/models
 for f in none bilinear trilinear; do
     $S render checkerboard --width 384 --height 288 --spp 1 --texture-filter $f --quiet \
         -o $P/textures/checkerboard-$f-1spp.png
@@ -55,6 +55,6 @@ K=../shared/scenes/khronos
 if [ -d $K ]; then
     for f in $(sed -n 's/^| [A-Za-z]* | `\([^`]*\.gl[tb]f*\)` |.*/\1/p' $K/INDEX.md); do
         $S render $K/$f --width 160 --height 120 --spp 64 --env 1 --quiet \
-            -o $P/khronos/$(dirname $f).png
+            -o $P/models/$(dirname $f).png
     done
 fi
