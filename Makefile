@@ -91,9 +91,18 @@ test-sanitize: deps
 	@ASAN_OPTIONS=detect_leaks=0 STRATA=build/asan/strata \
 	    sh tests/run.sh build/asan/tests/test_scene tests/test_khronos.sh
 
+# The default scene with the default settings, then (where ../shared is
+# present) the comparison workload: the bench Cornell box, independent
+# samples, box filter, paths of max depth 4 and direct lighting.
+BENCH_SCENE := ../shared/scenes/bench/cornell.gltf
+BENCH_OPTS  := --width 512 --height 512 --spp 64 --sampler random --filter box
 bench: deps strata
 	./strata bench --width 512 --height 512 --spp 64 --integrator path
 	./strata bench --width 512 --height 512 --spp 64 --integrator direct
+	@if [ -f $(BENCH_SCENE) ]; then \
+	  ./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator path --max-depth 4 && \
+	  ./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator direct; \
+	else echo "bench: $(BENCH_SCENE) not found; the comparison workload is skipped"; fi
 
 demo: deps strata
 	./strata render -o strata.exr
