@@ -47,6 +47,9 @@ extern const char *const st_filter_names[ST_FILTER_COUNT];
 extern const char *const st_integrator_names[2];
 extern const char *const st_reconstruction_names[2];
 int st_name_lookup(const char *const *names, int count, const char *name);
+/* Whether --scramble changes the sampler (stratified: the order of its
+ * strata; halton, hammersley, sobol: digit scrambling). */
+int st_sampler_takes_scramble(st_u32 sampler);
 
 /* The defaults of `strata render`. */
 st_render_options st_render_defaults(void);

@@ -255,7 +255,6 @@ typedef struct st_params {
     st_u32 halton_exp2, halton_exp3; /* 2^exp2, 3^exp3: Halton pixel scales */
     st_u32 halton_stride;        /* 2^exp2 * 3^exp3 */
     st_u32 halton_inv2, halton_inv3; /* multiplicative inverses (see st_sampling.h) */
-    st_f32 light_power;          /* sum of emitted power used by the light CDF */
     st_f32 ray_eps;              /* ray offset, scaled to the scene size */
     /* poisson and best-candidate: a toroidal tile of tile_size^2 pixels,
      * repeated tiles_x times across; this wave reads points tile_begin ..
@@ -266,7 +265,7 @@ typedef struct st_params {
      * (item g: pixel active[g mod adaptive_count], sample adaptive_base +
      * g / adaptive_count); half_buffer: even samples also go to the half film */
     st_u32 adaptive_count, adaptive_base, half_buffer;
-    st_u32 pad[3];
+    st_u32 pad[4];
     st_filter filter;
     st_camera camera;
 } st_params;

@@ -199,6 +199,7 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_SCRAMBLE:
         if (!strcmp(v, "none") || !strcmp(v, "on")) {
             o->scramble = !strcmp(v, "on");
+            a->scramble_given = 1;
             return ST_CLI_OK;
         }
         return st_cli_usage_error("--scramble %s: expected on or none", v);
@@ -297,6 +298,9 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         return st_cli_usage_error("%s: unexpected argument %s", argv[0], argv[optind]);
     if (st_cli_apply_filter_args(&fa, &a->opt.filter))
         return ST_CLI_EXIT_USAGE;
+    if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
+        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley and "
+                                  "sobol, not %s", st_sampler_names[a->opt.sampler]);
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);

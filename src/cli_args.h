@@ -14,6 +14,7 @@ typedef struct st_cli_render_args {
     int json;           /* bench --json */
     int scene_list;     /* --scene-list */
     int quiet;          /* --quiet: no progress bar, no summary */
+    int scramble_given; /* --scramble seen (for its error) */
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
     /* scene settings, applied to the loaded scene (st_cli_session_open) */

@@ -36,7 +36,7 @@ static const char pattern_help[] =
 
 typedef struct pattern_args {
     st_u32 sampler, count, dims, seed, scramble, kmax, seeds;
-    int have_sampler, have_count, discrepancy;
+    int have_sampler, have_count, discrepancy, scramble_given;
     const char *csv, *png, *spectrum, *radial;
 } pattern_args;
 
@@ -86,6 +86,7 @@ static int parse(int argc, char **argv, pattern_args *a)
             if (strcmp(v, "on") && strcmp(v, "none"))
                 return st_cli_usage_error("--scramble %s: expected on or none", v);
             a->scramble = !strcmp(v, "on");
+            a->scramble_given = 1;
             break;
         case P_CSV: a->csv = v; break;
         case P_PNG: a->png = v; break;
@@ -102,6 +103,9 @@ static int parse(int argc, char **argv, pattern_args *a)
         return st_cli_usage_error("pattern: unexpected argument %s", argv[optind]);
     if (!a->have_sampler || !a->have_count)
         return st_cli_usage_error("pattern: --sampler and --count are required");
+    if (a->scramble_given && !st_sampler_takes_scramble(a->sampler))
+        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley and "
+                                  "sobol, not %s", st_sampler_names[a->sampler]);
     if (!a->csv && !a->png && !a->spectrum && !a->radial && !a->discrepancy)
         return st_cli_usage_error("pattern: nothing to do (give --csv, --png, --spectrum, "
                                   "--radial or --discrepancy)");

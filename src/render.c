@@ -34,6 +34,12 @@ int st_name_lookup(const char *const *names, int count, const char *name)
     return -1;
 }
 
+int st_sampler_takes_scramble(st_u32 sampler)
+{
+    return sampler == ST_SAMPLER_STRATIFIED || sampler == ST_SAMPLER_HALTON ||
+           sampler == ST_SAMPLER_HAMMERSLEY || sampler == ST_SAMPLER_SOBOL;
+}
+
 /* Scene buffers, uploaded once. */
 enum { B_NODES, B_TRIS, B_NORMALS, B_TRI_MATERIAL, B_MATERIALS, B_LIGHT_TRI, B_LIGHT_CDF,
        B_LIGHT_PDF, B_TRI_UV, B_TEXTURES, B_TEXELS, B_SCENE_COUNT };
@@ -48,7 +54,6 @@ struct st_renderer {
     cl_mem scene_buf[B_SCENE_COUNT];
     cl_kernel k[ST_STAGE_COUNT];
     st_u32 light_count;
-    float light_power;
     float ray_eps;
     double bvh_seconds;
     /* the tile of the tiled samplers, kept for renders with the same key */
@@ -209,7 +214,7 @@ static double emission_weight(const st_scene *s, const st_material *m, const st_
  * area x emission weight (emission_weight); pdf_area[t] = P(choose t) / area(t). */
 static st_status build_lights(const st_scene *s, const st_bvh *bvh, const st_tri_uv *uv,
                               st_u32 **tri_out, float **cdf_out, float **pdf_out, st_u32 *count,
-                              float *power, st_error *err)
+                              st_error *err)
 {
     st_u32 n = bvh->tri_count;
     st_u32 *tri = malloc(sizeof *tri * (n ? n : 1));
@@ -258,7 +263,6 @@ static st_status build_lights(const st_scene *s, const st_bvh *bvh, const st_tri
     *cdf_out = cdf;
     *pdf_out = pdf;
     *count = k;
-    *power = (float)total;
     return ST_OK;
 }
 
@@ -319,7 +323,7 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     }
     make_tri_uv(s, bvh, uv);
     if (build_lights(s, bvh, uv, &light_tri, &light_cdf, &light_pdf, &r->light_count,
-                     &r->light_power, err) != ST_OK) {
+                     err) != ST_OK) {
         rc = err->status;
         goto done;
     }
@@ -606,7 +610,6 @@ static st_params make_params(const st_renderer *r, const st_render_options *o)
     p.integrator = o->integrator;
     p.max_depth = o->integrator == ST_INTEGRATOR_DIRECT ? 1u : o->max_depth;
     p.light_count = r->light_count;
-    p.light_power = r->light_power;
     p.ray_eps = r->ray_eps;
     p.filter = o->filter;
     p.reconstruction = o->reconstruction;
