@@ -35,6 +35,12 @@ typedef struct st_render_options {
     int adaptive;
     st_u32 min_spp;
     float noise_threshold;
+    /* the view: which of the scene's cameras, what environment, how
+     * textures are filtered (the scene itself is never changed) */
+    st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera */
+    int env_given;     /* 1: env below; 0: scene->default_env */
+    float env[3];      /* uniform environment radiance, linear RGB */
+    st_u32 texture_filter; /* ST_TEXFILTER_* (default trilinear) */
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
@@ -80,6 +86,9 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
 void st_renderer_destroy(st_renderer *r); /* NULL: does nothing */
 double st_renderer_bvh_seconds(const st_renderer *r);
 st_u32 st_renderer_light_count(const st_renderer *r);
+
+/* The environment radiance a render of scene with options o sees. */
+void st_render_env(const st_scene *scene, const st_render_options *o, float env[3]);
 
 typedef void (*st_progress_fn)(void *ctx, double fraction);
 

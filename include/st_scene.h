@@ -60,16 +60,16 @@ typedef struct st_scene {
     st_texture *textures;
     st_u32 texel_count;    /* RGBA8 texels of every mip level of every texture */
     st_u32 *texels;
-    st_scene_camera camera; /* the camera renders use: cameras[0], or the default framing */
+    st_scene_camera default_camera; /* the view of a render that names no camera:
+                                       cameras[0], or the default framing */
     st_u32 camera_count;   /* camera nodes, depth first in scene order */
     st_scene_camera *cameras;
     float bounds_min[3], bounds_max[3];
     st_u32 dropped;        /* degenerate (zero-area) or non-finite triangles dropped */
-    /* Uniform environment radiance (linear RGB) seen by rays that leave the
-     * scene: (1, 1, 1) when no material emits (so that any model renders
-     * visibly), else 0. Renders take it from here (render --env sets it). */
-    float env[3];
-    st_u32 texture_filter; /* ST_TEXFILTER_*: TRILINEAR (render --texture-filter sets it) */
+    /* Uniform environment radiance (linear RGB) of a render that asks for
+     * none (st_render_options.env): (1, 1, 1) when no material emits (so
+     * that any model renders visibly), else 0. */
+    float default_env[3];
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;
     char name[256];        /* the file path, or the built-in name */
@@ -79,7 +79,7 @@ typedef struct st_scene {
    (embedded in the binary); anything else -> a file path.
    Cameras: every camera node, depth first in scene order; it looks down its
    world -Z with +Y up (made orthogonal to forward), from its world
-   translation. scene->camera is the first of them. Without one, a default
+   translation. scene->default_camera is the first of them. Without one, a default
    perspective camera looks along -Z from the +Z side of the bounds, yfov 40
    degrees, at the distance where the bounding sphere fits the vertical field
    of view. A scene with no triangle left is ST_ERR_FORMAT.
@@ -88,9 +88,12 @@ typedef struct st_scene {
 st_status st_scene_load(const char *spec, st_scene **out, st_error *err);
 void st_scene_destroy(st_scene *scene);           /* NULL: does nothing */
 
-/* Makes cameras[index] the scene's camera (render --camera N).
+/* The camera of a view: cameras[index], or default_camera for index -1.
+   The scene is not changed: a loaded scene is immutable, and every
+   per-render choice travels in the render options.
    ST_ERR_USAGE when index >= camera_count (the message says how many). */
-st_status st_scene_select_camera(st_scene *scene, st_u32 index, st_error *err);
+st_status st_scene_view_camera(const st_scene *scene, st_i32 index, st_scene_camera *out,
+                               st_error *err);
 
 /* Names of the built-in scenes, for --scene-list: fills up to max names, returns the count.
    The count returned is the number of names written (<= max). The names

@@ -172,8 +172,8 @@ static int parse_env(const char *v, st_cli_render_args *a)
         return st_cli_usage_error("--env %s: expected R,G,B or one value, each finite and >= 0",
                                   v);
     for (int k = 0; k < 3; k++)
-        a->env[k] = n == 1 ? c[0] : c[k];
-    a->env_set = 1;
+        a->opt.env[k] = n == 1 ? c[0] : c[k];
+    a->opt.env_given = 1;
     return ST_CLI_OK;
 }
 
@@ -239,17 +239,13 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_ENV: return parse_env(v, a);
     case O_TEXFILTER: {
         static const char *const names[3] = {"none", "bilinear", "trilinear"};
-        st_u32 k;
-        if (parse_name("--texture-filter", names, 3, v, &k))
-            return ST_CLI_EXIT_USAGE;
-        a->texture_filter = (int)k;
-        return ST_CLI_OK;
+        return parse_name("--texture-filter", names, 3, v, &o->texture_filter);
     }
     case O_CAMERA: {
         unsigned n;
         if (st_cli_parse_u32("--camera", v, 0, 1u << 30, &n))
             return ST_CLI_EXIT_USAGE;
-        a->camera = (long)n;
+        o->camera = (st_i32)n;
         return ST_CLI_OK;
     }
     case O_QUIET: a->quiet = 1; return ST_CLI_OK;
@@ -271,8 +267,6 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
 {
     memset(a, 0, sizeof *a);
     a->opt = st_render_defaults();
-    a->texture_filter = -1;
-    a->camera = -1;
     st_cli_filter_args fa = {0};
     opterr = 0;
     optind = 1;

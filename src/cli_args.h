@@ -17,11 +17,6 @@ typedef struct st_cli_render_args {
     int scramble_given; /* --scramble seen (for its error) */
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
-    /* scene settings, applied to the loaded scene (st_cli_session_open) */
-    float env[3];        /* --env R,G,B (or one grey value): uniform environment radiance */
-    int env_set;         /* --env given (else the scene's default: white without emitters) */
-    int texture_filter;  /* --texture-filter: ST_TEXFILTER_*, -1: the scene's (trilinear) */
-    long camera;         /* --camera N: the scene's N-th camera node, -1: its first */
 } st_cli_render_args;
 
 enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };

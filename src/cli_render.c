@@ -35,13 +35,12 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; i < s->scene->warning_count; i++)
         fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
-    /* the scene settings of the command line */
-    if (a->env_set)
-        memcpy(s->scene->env, a->env, sizeof s->scene->env);
-    if (a->texture_filter >= 0)
-        s->scene->texture_filter = (st_u32)a->texture_filter;
-    if (a->camera >= 0 && st_scene_select_camera(s->scene, (st_u32)a->camera, err) != ST_OK)
-        return err->status;
+    /* --camera is checked before the device starts, in the flag's words */
+    st_u32 cams = s->scene->camera_count;
+    if (a->opt.camera >= 0 && (st_u32)a->opt.camera >= cams)
+        return st_fail(err, ST_ERR_USAGE, "--camera %d: %s has %u camera node%s%s",
+                       (int)a->opt.camera, s->scene->name, cams, cams == 1 ? "" : "s",
+                       cams ? " (numbered from 0)" : "");
     if (st_device_create(a->device, &s->dev, err) != ST_OK)
         return err->status;
     t0 = st_cli_now();
@@ -109,14 +108,15 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     }
     ATTR("integrator", "%s", st_integrator_names[o->integrator]);
     ATTR("max_depth", "%u", o->max_depth);
-    ATTR("env", "%.9g,%.9g,%.9g", (double)s->scene->env[0], (double)s->scene->env[1],
-         (double)s->scene->env[2]);
-    ATTR("texture_filter", "%s", s->scene->texture_filter == ST_TEXFILTER_NONE ? "none"
-                                 : s->scene->texture_filter == ST_TEXFILTER_BILINEAR
+    float env[3];
+    st_render_env(s->scene, o, env);
+    ATTR("env", "%.9g,%.9g,%.9g", (double)env[0], (double)env[1], (double)env[2]);
+    ATTR("texture_filter", "%s", o->texture_filter == ST_TEXFILTER_NONE ? "none"
+                                 : o->texture_filter == ST_TEXFILTER_BILINEAR
                                      ? "bilinear"
                                      : "trilinear");
     if (s->scene->camera_count)
-        ATTR("camera", "%ld", a->camera >= 0 ? a->camera : 0L);
+        ATTR("camera", "%d", o->camera >= 0 ? (int)o->camera : 0);
     else
         ATTR("camera", "default framing");
     ATTR("device", "%s", st_device_get_info(s->dev)->name);

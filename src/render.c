@@ -96,6 +96,8 @@ st_render_options st_render_defaults(void)
     o.filter = st_filter_default(ST_FILTER_MITCHELL);
     o.min_spp = 16;
     o.noise_threshold = 0.01f;
+    o.camera = -1;
+    o.texture_filter = ST_TEXFILTER_TRILINEAR;
     /* a fixed work-group size: PoCL compiles a kernel again for every new
      * size, and a driver's choice follows the global size, which changes
      * from wave to wave in adaptive rounds (measured: 15 s against 1.9 s) */
@@ -427,6 +429,7 @@ static st_camera make_camera(const st_scene_camera *c, st_u32 w, st_u32 h)
 typedef struct wave_state {
     cl_mem b[W_COUNT];
     size_t items;
+    st_shading shading; /* the view's environment and texture filter */
 } wave_state;
 
 static size_t wave_item_bytes[W_COUNT] = {
@@ -488,16 +491,8 @@ static st_status set_stage_args(st_renderer *r, int k, const st_params *p, wave_
                                   MEM(b[W_RAY_O]), MEM(b[W_RAY_D]), MEM(b[W_DEPTH]),
                                   MEM(b[W_HIT]));
     case ST_STAGE_SHADE: {
-        /* the scene's environment and texture filter, read at every render
-         * (the scene outlives the renderer; render --env and
-         * --texture-filter set them) */
-        st_shading sh;
-        memset(&sh, 0, sizeof sh);
-        memcpy(sh.env, r->scene->env, sizeof r->scene->env);
-        sh.texture_filter = r->scene->texture_filter;
-        sh.texture_count = r->scene->texture_count;
         return st_device_set_args(
-            kk, err, 22, PARAMS(*p), sizeof sh, (const void *)&sh, MEM(s[B_TRIS]),
+            kk, err, 22, PARAMS(*p), sizeof w->shading, (const void *)&w->shading, MEM(s[B_TRIS]),
             MEM(s[B_NORMALS]), MEM(s[B_TRI_MATERIAL]), MEM(s[B_MATERIALS]), MEM(s[B_LIGHT_TRI]),
             MEM(s[B_LIGHT_CDF]), MEM(s[B_LIGHT_PDF]), MEM(s[B_TRI_UV]), MEM(s[B_TEXTURES]),
             MEM(s[B_TEXELS]), MEM(b[W_SAMPLE_ID]), MEM(b[W_HIT]), MEM(b[W_RAY_O]),
@@ -597,7 +592,23 @@ static st_status prepare_fis(st_renderer *r, const st_render_options *o, st_erro
     return st_device_buffer_create(r->dev, sizeof cdf, cdf, &r->fis_cdf, err);
 }
 
-static st_params make_params(const st_renderer *r, const st_render_options *o)
+void st_render_env(const st_scene *scene, const st_render_options *o, float env[3])
+{
+    memcpy(env, o->env_given ? o->env : scene->default_env, 3 * sizeof(float));
+}
+
+static st_shading make_shading(const st_renderer *r, const st_render_options *o)
+{
+    st_shading sh;
+    memset(&sh, 0, sizeof sh);
+    st_render_env(r->scene, o, sh.env);
+    sh.texture_filter = o->texture_filter;
+    sh.texture_count = r->scene->texture_count;
+    return sh;
+}
+
+static st_params make_params(const st_renderer *r, const st_render_options *o,
+                             const st_scene_camera *cam)
 {
     st_params p;
     memset(&p, 0, sizeof p);
@@ -613,7 +624,7 @@ static st_params make_params(const st_renderer *r, const st_render_options *o)
     p.ray_eps = r->ray_eps;
     p.filter = o->filter;
     p.reconstruction = o->reconstruction;
-    p.camera = make_camera(&r->scene->camera, o->width, o->height);
+    p.camera = make_camera(cam, o->width, o->height);
     st_sampler_prepare(&p);
     return p;
 }
@@ -828,9 +839,13 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (st_render_check(o, err) != ST_OK)
         return err->status;
     size_t pixels = (size_t)o->width * o->height;
-    if (prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK)
+    st_scene_camera cam;
+    if (o->texture_filter > ST_TEXFILTER_TRILINEAR)
+        return st_fail(err, ST_ERR_USAGE, "unknown texture filter %u", o->texture_filter);
+    if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
+        prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK)
         return err->status;
-    st_params p = make_params(r, o);
+    st_params p = make_params(r, o, &cam);
     st_u32 end = o->sample_end ? o->sample_end : o->spp;
     st_u64 first = (st_u64)o->sample_begin * pixels;
     st_u64 total = (st_u64)(end - o->sample_begin) * pixels;
@@ -857,6 +872,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (o->adaptive)
         pr.total = (double)o->spp * pixels;
     st_status rc = wave_alloc(r, &w, wave, pixels, o->adaptive, err);
+    w.shading = make_shading(r, o);
     if (rc == ST_OK)
         rc = run_items(r, &p, &w, o, first, total, &pr, st, err);
     st->samples = total;

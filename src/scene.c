@@ -196,7 +196,7 @@ static void default_camera(st_scene *s)
     }
     const double yfov = DEFAULT_YFOV_DEGREES * PI / 180.0;
     const double d = sqrt(r2) / sin(0.5 * yfov);
-    st_scene_camera *cam = &s->camera;
+    st_scene_camera *cam = &s->default_camera;
     for (int k = 0; k < 3; k++) {
         cam->origin[k] = (float)c[k];
         cam->forward[k] = 0.0f;
@@ -489,7 +489,7 @@ static void default_env(st_scene *s)
         emits = e[0] > 0.0f || e[1] > 0.0f || e[2] > 0.0f;
     }
     for (int k = 0; k < 3; k++)
-        s->env[k] = emits ? 0.0f : 1.0f;
+        s->default_env[k] = emits ? 0.0f : 1.0f;
 }
 
 static void copy_camera(const st_gltf_camera *c, st_scene_camera *out)
@@ -518,7 +518,7 @@ static st_status take_cameras(const st_gltf_data *g, st_scene *s, const char *la
     for (size_t i = 0; i < g->camera_count; i++)
         copy_camera(&g->cameras[i], &s->cameras[i]);
     s->camera_count = (st_u32)g->camera_count;
-    s->camera = s->cameras[0];
+    s->default_camera = s->cameras[0];
     return ST_OK;
 }
 
@@ -577,7 +577,6 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
         (status = take_warnings(g, s, label, err)) != ST_OK)
         return status;
     default_env(s);
-    s->texture_filter = ST_TEXFILTER_TRILINEAR;
     snprintf(s->name, sizeof s->name, "%s", label);
     return ST_OK;
 }
@@ -648,12 +647,13 @@ void st_scene_destroy(st_scene *scene)
     free(scene);
 }
 
-st_status st_scene_select_camera(st_scene *scene, st_u32 index, st_error *err)
+st_status st_scene_view_camera(const st_scene *scene, st_i32 index, st_scene_camera *out,
+                               st_error *err)
 {
-    if (index >= scene->camera_count)
-        return st_fail(err, ST_ERR_USAGE, "--camera %u: %s has %u camera node%s%s", index,
+    if (index >= 0 && (st_u32)index >= scene->camera_count)
+        return st_fail(err, ST_ERR_USAGE, "camera %d: %s has %u camera node%s%s", (int)index,
                        scene->name, scene->camera_count, scene->camera_count == 1 ? "" : "s",
                        scene->camera_count ? " (numbered from 0)" : "");
-    scene->camera = scene->cameras[index];
+    *out = index < 0 ? scene->default_camera : scene->cameras[index];
     return ST_OK;
 }

@@ -218,6 +218,69 @@ static void render_same_bits_twice(void **state)
     st_image_free(&b);
 }
 
+/* FNV-1a over n bytes, continuing from h. */
+static uint64_t fnv(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+/* Every byte a loaded scene holds: the struct and each array it owns. */
+static uint64_t scene_hash(const st_scene *s)
+{
+    uint64_t h = fnv(14695981039346656037ull, s, sizeof *s);
+    h = fnv(h, s->positions, 9 * sizeof(float) * s->tri_count);
+    h = fnv(h, s->normals, 9 * sizeof(float) * s->tri_count);
+    h = fnv(h, s->uvs, 6 * sizeof(float) * s->tri_count);
+    h = fnv(h, s->tri_material, sizeof(st_u32) * s->tri_count);
+    h = fnv(h, s->materials, sizeof(st_material) * s->material_count);
+    h = fnv(h, s->textures, sizeof(st_texture) * s->texture_count);
+    h = fnv(h, s->texels, sizeof(st_u32) * s->texel_count);
+    return fnv(h, s->cameras, sizeof(st_scene_camera) * s->camera_count);
+}
+
+/* One renderer renders several views of one scene (camera, environment,
+ * texture filter) without touching it: every view equals a render of it by
+ * a fresh renderer, the views differ, and the scene's bytes do not change. */
+static void one_renderer_many_views(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *scene = NULL;
+    st_renderer *r = NULL;
+    if (st_scene_load("tests/scenes/camera_pick.gltf", &scene, &err) ||
+        st_renderer_create(dev, scene, &r, &err))
+        fail_msg("camera_pick: %s", err.msg);
+    uint64_t before = scene_hash(scene);
+    st_render_options v[3] = {small(24, 16, 2), small(24, 16, 2), small(24, 16, 2)};
+    v[1].camera = 3;
+    v[2].env_given = 1;
+    v[2].env[0] = 0.25f;
+    v[2].texture_filter = ST_TEXFILTER_NONE;
+    st_image img[3], again;
+    for (int i = 0; i < 3; i++)
+        if (st_render(r, &v[i], &img[i], NULL, NULL, NULL, NULL, &err))
+            fail_msg("view %d: %s", i, err.msg);
+    assert_true(scene_hash(scene) == before);
+    for (int i = 0; i < 3; i++) {
+        again = render("tests/scenes/camera_pick.gltf", &v[i], NULL);
+        assert_same_bits(&img[i], &again);
+        st_image_free(&again);
+    }
+    size_t bytes = sizeof(float) * img[0].width * img[0].height * img[0].channels;
+    assert_true(memcmp(img[0].data, img[1].data, bytes) != 0);
+    assert_true(memcmp(img[0].data, img[2].data, bytes) != 0);
+    v[0].camera = (st_i32)scene->camera_count;
+    assert_int_equal(st_render(r, &v[0], &again, NULL, NULL, NULL, NULL, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "camera nodes"));
+    for (int i = 0; i < 3; i++)
+        st_image_free(&img[i]);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+}
+
 static void render_same_bits_any_wave_and_group_size(void **state)
 {
     (void)state;
@@ -474,6 +537,7 @@ int main(void)
         cmocka_unit_test(layout_device_matches_host),
         cmocka_unit_test(bvh_device_closest_equals_brute_force),
         cmocka_unit_test(render_same_bits_twice),
+        cmocka_unit_test(one_renderer_many_views),
         cmocka_unit_test(render_same_bits_any_wave_and_group_size),
         cmocka_unit_test(render_split_sums_add_to_whole),
         cmocka_unit_test(constant_radiance_reconstructs_exactly),

@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "st_render.h"
 #include "st_scene.h"
 
 #define SCENES "tests/scenes/"
@@ -102,7 +103,7 @@ static void check_invariants(const st_scene *s)
                     s->texel_count);
     }
     for (st_u32 i = 0; i <= s->camera_count; i++) {
-        const st_scene_camera *c = i < s->camera_count ? &s->cameras[i] : &s->camera;
+        const st_scene_camera *c = i < s->camera_count ? &s->cameras[i] : &s->default_camera;
         const double f[3] = {c->forward[0], c->forward[1], c->forward[2]};
         const double u[3] = {c->up[0], c->up[1], c->up[2]};
         near(sqrt(dot3(f, f)), 1.0, 1e-5, "camera forward length");
@@ -197,11 +198,11 @@ static void cornell_box_loads_as_default_builtin(void **state)
     assert_int_equal(s->tri_count, 32); /* 5 walls + 2 x 5 block faces + light, 2 each */
     assert_int_equal(s->dropped, 0);
     assert_int_equal(s->material_count, 4); /* every primitive names one: no default */
-    assert_int_equal(s->camera.from_file, 1);
-    near3(s->camera.origin, 0.278, 0.273, -0.800, 1e-6, "camera origin");
-    near3(s->camera.forward, 0, 0, 1, 1e-6, "camera forward");
-    near3(s->camera.up, 0, 1, 0, 1e-6, "camera up");
-    near(s->camera.yfov, 2.0 * atan(12.5 / 35.0), 1e-6, "camera yfov");
+    assert_int_equal(s->default_camera.from_file, 1);
+    near3(s->default_camera.origin, 0.278, 0.273, -0.800, 1e-6, "camera origin");
+    near3(s->default_camera.forward, 0, 0, 1, 1e-6, "camera forward");
+    near3(s->default_camera.up, 0, 1, 0, 1e-6, "camera up");
+    near(s->default_camera.yfov, 2.0 * atan(12.5 / 35.0), 1e-6, "camera yfov");
     near3(s->bounds_min, 0, 0, 0, 1e-6, "bounds min");
     near3(s->bounds_max, 0.556, 0.5488, 0.5592, 1e-6, "bounds max");
     st_scene_destroy(s);
@@ -346,7 +347,7 @@ static void check_pyramid(const char *path)
             near3(s->positions + 9 * t + 3 * v, p[0], p[1], p[2], 0, path);
             near3(s->normals + 9 * t + 3 * v, n[0] / len, n[1] / len, n[2] / len, 1e-6, path);
         }
-    assert_int_equal(s->camera.from_file, 0);
+    assert_int_equal(s->default_camera.from_file, 0);
     st_scene_destroy(s);
 }
 
@@ -442,13 +443,16 @@ static void cameras_listed_depth_first_first_is_default(void **state)
         near3(c->up, 0, 1, 0, 1e-6, "up");
         near(c->orthographic ? c->ymag : c->yfov, want[i].fov_or_mag, 1e-7, "yfov or ymag");
     }
-    assert_memory_equal(&s->camera, &s->cameras[0], sizeof s->camera);
+    assert_memory_equal(&s->default_camera, &s->cameras[0], sizeof s->default_camera);
     st_error err = {0};
-    assert_int_equal(st_scene_select_camera(s, 1, &err), ST_OK);
-    assert_memory_equal(&s->camera, &s->cameras[1], sizeof s->camera);
-    assert_int_equal(st_scene_select_camera(s, 4, &err), ST_ERR_USAGE);
+    st_scene_camera view;
+    assert_int_equal(st_scene_view_camera(s, 1, &view, &err), ST_OK);
+    assert_memory_equal(&view, &s->cameras[1], sizeof view);
+    assert_int_equal(st_scene_view_camera(s, -1, &view, &err), ST_OK);
+    assert_memory_equal(&view, &s->default_camera, sizeof view);
+    assert_int_equal(st_scene_view_camera(s, 4, &view, &err), ST_ERR_USAGE);
     assert_non_null(strstr(err.msg, "4 camera nodes"));
-    assert_memory_equal(&s->camera, &s->cameras[1], sizeof s->camera); /* unchanged */
+    assert_memory_equal(&s->default_camera, &s->cameras[0], sizeof view); /* unchanged */
     st_scene_destroy(s);
 }
 
@@ -460,7 +464,7 @@ static void default_camera_frames_bounding_sphere(void **state)
 {
     (void)state;
     st_scene *s = load_ok(SCENES "materials_flat.gltf");
-    const st_scene_camera *c = &s->camera;
+    const st_scene_camera *c = &s->default_camera;
     assert_int_equal(c->from_file, 0);
     near(c->yfov, 40.0 * 3.14159265358979 / 180.0, 1e-6, "yfov");
     near3(c->forward, 0, 0, -1, 0, "forward");
@@ -594,7 +598,7 @@ static void texture_references_follow_the_file(void **state)
 }
 
 /* The environment is white exactly when no triangle's material emits; the
- * texture filter defaults to trilinear. */
+ * texture filter of a view defaults to trilinear. */
 static void environment_white_only_without_emission(void **state)
 {
     (void)state;
@@ -606,8 +610,8 @@ static void environment_white_only_without_emission(void **state)
                  {"checkerboard", 1.0f}, {"soft-shadows", 0.0f}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_scene *s = load_ok(cases[i].spec);
-        near3(s->env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);
-        assert_int_equal(s->texture_filter, ST_TEXFILTER_TRILINEAR);
+        near3(s->default_env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);
+        assert_int_equal(st_render_defaults().texture_filter, ST_TEXFILTER_TRILINEAR);
         st_scene_destroy(s);
     }
 }
@@ -628,7 +632,7 @@ static void builtin_scenes_load_by_name(void **state)
             fail_msg("built-in %s missing", want[k]);
         st_scene *s = load_ok(want[k]);
         assert_int_equal(s->warning_count, 0);
-        assert_int_equal(s->camera.from_file, 1);
+        assert_int_equal(s->default_camera.from_file, 1);
         st_scene_destroy(s);
     }
 }

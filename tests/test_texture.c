@@ -477,9 +477,17 @@ static st_scene *load(const char *spec)
     return s;
 }
 
-static st_image render(const st_scene *s, st_u32 w, st_u32 h, st_u32 spp, st_u32 integrator)
+/* A render of s with the view's environment (NULL: the scene's default)
+ * and texture filter. */
+static st_image render_view(const st_scene *s, st_u32 w, st_u32 h, st_u32 spp,
+                            st_u32 integrator, const float *env, st_u32 texture_filter)
 {
     st_render_options o = st_render_defaults();
+    if (env) {
+        o.env_given = 1;
+        memcpy(o.env, env, sizeof o.env);
+    }
+    o.texture_filter = texture_filter;
     o.width = w;
     o.height = h;
     o.spp = spp;
@@ -492,6 +500,11 @@ static st_image render(const st_scene *s, st_u32 w, st_u32 h, st_u32 spp, st_u32
         fail_msg("render %s: %s", s->name, err.msg);
     st_renderer_destroy(r);
     return img;
+}
+
+static st_image render(const st_scene *s, st_u32 w, st_u32 h, st_u32 spp, st_u32 integrator)
+{
+    return render_view(s, w, h, spp, integrator, NULL, ST_TEXFILTER_TRILINEAR);
 }
 
 /* textured_quad fills the orthographic view; its material multiplies every
@@ -513,10 +526,10 @@ static void textured_quad_renders_emission_plus_albedo(void **state)
     const double metal = 1.0 - 0.2 * (128.0 / 255.0);
     for (int env = 0; env < 2; env++)
         for (st_u32 integ = 0; integ < 2; integ++) {
-            for (int k = 0; k < 3; k++)
-                s->env[k] = (float)env;
+            const float view_env[3] = {(float)env, (float)env, (float)env};
             int mean_only = env && integ == ST_INTEGRATOR_DIRECT;
-            st_image img = render(s, 12, 8, mean_only ? 64 : 2, integ);
+            st_image img = render_view(s, 12, 8, mean_only ? 64 : 2, integ, view_env,
+                                       ST_TEXFILTER_TRILINEAR);
             size_t n = (size_t)img.width * img.height;
             for (int c = 0; c < 3; c++) {
                 double want = e[c] * srgb_formula(64) + env * f[c] * srgb_formula(188) * metal;
@@ -547,10 +560,9 @@ static void environment_alone_gives_albedo_and_sky(void **state)
     memset(s->materials[0].emission, 0, sizeof s->materials[0].emission);
     s->materials[0].emission_tex = ST_NO_TEXTURE;
     const float env[3] = {0.5f, 1.0f, 2.0f};
-    memcpy(s->env, env, sizeof env);
     const double f[3] = {1.0, 0.5, 0.25}, metal = 1.0 - 0.2 * (128.0 / 255.0);
     for (st_u32 integ = 0; integ < 2; integ++) {
-        st_image img = render(s, 12, 8, 2, integ);
+        st_image img = render_view(s, 12, 8, 2, integ, env, ST_TEXFILTER_TRILINEAR);
         for (size_t p = 0; p < (size_t)img.width * img.height; p++)
             for (int c = 0; c < 3; c++)
                 near(img.data[4 * p + (size_t)c], env[c] * f[c] * srgb_formula(188) * metal, 1e-5,
@@ -560,8 +572,7 @@ static void environment_alone_gives_albedo_and_sky(void **state)
     st_scene_destroy(s);
 
     s = load("checkerboard");
-    memcpy(s->env, env, sizeof env);
-    st_image img = render(s, 32, 24, 1, ST_INTEGRATOR_PATH);
+    st_image img = render_view(s, 32, 24, 1, ST_INTEGRATOR_PATH, env, ST_TEXFILTER_TRILINEAR);
     for (size_t p = 0; p < 4 * 32; p++) /* rows 0 to 3; the horizon is at row 7.2 */
         for (int c = 0; c < 3; c++)
             near(img.data[4 * p + (size_t)c], env[c], 1e-5, "sky");
@@ -603,12 +614,10 @@ static void trilinear_beats_none_and_bilinear_on_checkerboard(void **state)
     (void)state;
     st_scene *s = load("checkerboard");
     const st_u32 w = 128, h = 96;
-    s->texture_filter = ST_TEXFILTER_NONE;
-    st_image ref = render(s, w, h, 256, ST_INTEGRATOR_DIRECT);
+    st_image ref = render_view(s, w, h, 256, ST_INTEGRATOR_DIRECT, NULL, ST_TEXFILTER_NONE);
     double rmse[3];
     for (st_u32 f = 0; f < 3; f++) {
-        s->texture_filter = f;
-        st_image img = render(s, w, h, 1, ST_INTEGRATOR_DIRECT);
+        st_image img = render_view(s, w, h, 1, ST_INTEGRATOR_DIRECT, NULL, f);
         st_diff_result d;
         st_error err = {0};
         if (st_diff_images(&img, &ref, &d, &err) != ST_OK)
