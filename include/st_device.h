@@ -54,6 +54,9 @@ st_status st_device_kernel(st_device *dev, const char *name, cl_kernel *out, st_
 /* Sets the kernel's arguments from n (size_t size, const void *value) pairs;
  * a cl_mem argument is passed as (sizeof(cl_mem), &mem). */
 st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...);
+/* Sets argument `index` of k. */
+st_status st_device_set_arg(cl_kernel k, unsigned index, size_t size, const void *value,
+                            st_error *err);
 /* Enqueues k over `items` work-items (rounded up to the work-group size
  * `local`, 0: the driver's choice; kernels check their own bounds). */
 st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err);

@@ -13,7 +13,7 @@
 #include "st_image.h"
 #include "st_shared.h"
 
-#define ST_FILM_CHANNELS 8 /* 4 sums x (hi, lo) */
+#define ST_FILM_CHANNELS (2 * ST_FILM_SUMS) /* each sum as (hi, lo) */
 
 /* The sums (4 per pixel) as an image of ST_FILM_CHANNELS UINT channels. */
 st_status st_film_to_image(const st_i64 *sums, st_u32 width, st_u32 height, st_image *out,

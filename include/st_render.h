@@ -14,7 +14,9 @@
 
 #include "st_device.h"
 #include "st_error.h"
+#include "st_filter.h"
 #include "st_image.h"
+#include "st_sampler.h"
 #include "st_scene.h"
 #include "st_shared.h"
 
@@ -46,23 +48,18 @@ typedef struct st_render_options {
     int profile;       /* time every stage (slower: waits after each launch) */
 } st_render_options;
 
-/* Names on the command line, indexed by ST_SAMPLER_* / ST_FILTER_* /
- * ST_INTEGRATOR_*; st_name_lookup returns the index or -1. */
-extern const char *const st_sampler_names[ST_SAMPLER_COUNT];
-extern const char *const st_filter_names[ST_FILTER_COUNT];
+/* Names on the command line, indexed by ST_INTEGRATOR_* /
+ * ST_RECON_*; st_name_lookup returns the index or -1. Sampler and filter
+ * names, defaults and checks: st_sampler.h, st_filter.h. */
 extern const char *const st_integrator_names[2];
 extern const char *const st_reconstruction_names[2];
 int st_name_lookup(const char *const *names, int count, const char *name);
-/* Whether --scramble changes the sampler (stratified: the order of its
- * strata; halton, hammersley, sobol: digit scrambling). */
-int st_sampler_takes_scramble(st_u32 sampler);
 
 /* The defaults of `strata render`. */
 st_render_options st_render_defaults(void);
-/* A filter of the given kind with its default radius and parameters. */
-st_filter st_filter_default(st_u32 kind);
-/* Checks sizes, limits and the fixed-point headroom; ST_ERR_USAGE naming the
- * offending option. */
+/* Checks sizes, limits, the sampler (st_sampler_check), the filter
+ * (st_filter_check) and the fixed-point headroom; ST_ERR_USAGE naming the
+ * offending field ("spp", "sample range", "filter radius", ...). */
 st_status st_render_check(const st_render_options *o, st_error *err);
 
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
@@ -93,13 +90,14 @@ void st_render_env(const st_scene *scene, const st_render_options *o, float env[
 typedef void (*st_progress_fn)(void *ctx, double fraction);
 
 /* Renders into *out: channels R, G, B (resolved, linear) and W (Σ f); *sums,
- * when not NULL, receives the raw fixed-point film (4 int64 per pixel:
- * Σ f L for R, G, B, and Σ f; malloc'ed, caller frees) for merging. */
+ * when not NULL, receives the raw fixed-point film (an st_film_pixel per
+ * pixel: ST_FILM_SUMS int64, Σ f L for R, G, B, and Σ f; malloc'ed, caller
+ * frees) for merging. */
 st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err);
 
-/* Resolves raw sums (4 per pixel, as st_render returns them) on the device
+/* Resolves raw sums (ST_FILM_SUMS per pixel, as st_render returns them) on the device
  * with the render's own resolve_film kernel, so a merged split render equals
  * one render of all the samples bit for bit. *out: R, G, B, W as st_render;
  * stats (may be NULL) gets the zero-weight and non-finite counts. */

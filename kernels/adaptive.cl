@@ -14,22 +14,19 @@
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-#define ST_ADAPTIVE_STOPPED 0x80000000u
-
-static float3 pixel_mean(__global const long *a)
+static float3 pixel_mean(__global const st_film_pixel *px)
 {
+    __global const long *a = px->sum;
     float w = (float)a[3];
     return w > 0.0f ? (float3)((float)a[0], (float)a[1], (float)a[2]) / w : (float3)(INFINITY);
 }
 
 /* Reads both films; for every pixel still sampling, either stops it (flag in
- * pixel_spp) or appends it to the active list and books `batch` more samples.
- * *count ends as the number of active pixels (the list's order varies from run
- * to run; the set of (pixel, sample) pairs it makes does not). */
-__kernel void adaptive_mark(const st_params p, __global const long *accum,
-                            __global const long *half_film, __global uint *pixel_spp,
-                            __global uint *active, __global uint *count, const float threshold,
-                            const uint max_spp, const uint batch)
+ * pixel_spp) or appends it to the active list and books adaptive_batch more
+ * samples. *active_count ends as the number of active pixels (the list's
+ * order varies from run to run; the set of (pixel, sample) pairs it makes
+ * does not). */
+__kernel void adaptive_mark(ST_FILM_PARAMS)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.width * p.height)
@@ -37,13 +34,13 @@ __kernel void adaptive_mark(const st_params p, __global const long *accum,
     st_u32 n = pixel_spp[i];
     if (n & ST_ADAPTIVE_STOPPED)
         return;
-    float3 full = pixel_mean(accum + 4 * (size_t)i), part = pixel_mean(half_film + 4 * (size_t)i);
+    float3 full = pixel_mean(film + i), part = pixel_mean(half_film + i);
     float3 d = fabs(full - part);
     float err = (d.x + d.y + d.z) / sqrt(1e-4f + fmax(full.x + full.y + full.z, 0.0f));
-    if (n >= max_spp || (isfinite(err) && err <= threshold)) {
+    if (n >= p.adaptive_max_spp || (isfinite(err) && err <= p.adaptive_threshold)) {
         pixel_spp[i] = n | ST_ADAPTIVE_STOPPED;
         return;
     }
-    active[atomic_inc(count)] = i;
-    pixel_spp[i] = n + batch;
+    active[atomic_inc(active_count)] = i;
+    pixel_spp[i] = n + p.adaptive_batch;
 }

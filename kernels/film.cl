@@ -8,16 +8,10 @@
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-#define ST_MAX_TAPS 17 /* 2 * ST_FILTER_MAX_RADIUS + 1 */
-
-static void count(__global uint *stats, st_u32 which)
-{
-    atomic_inc(&stats[which]);
-}
-
 /* Adds w L and w to one pixel's four sums. */
-static void add_splat(__global long *a, float w, float3 L, st_u32 *clamped)
+static void add_splat(__global st_film_pixel *px, float w, float3 L, st_u32 *clamped)
 {
+    __global long *a = px->sum;
     atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, clamped)));
     atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, clamped)));
     atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, clamped)));
@@ -35,89 +29,96 @@ static int2 taps(float x, float r, st_u32 n)
     return (int2)(max(lo, 0), min(hi, (int)n - 1));
 }
 
-/* Reads film positions and radiance (w: rays traced); adds to accum (4 longs
- * per pixel: Σ f L for R, G, B and Σ f); adds to tally[i] (the work-item's
- * own slot, the same in every wave, so no atomics: splats made, closest and
- * shadow rays traced). */
-__kernel void splat_samples(const st_params p, __global const float2 *film,
-                            __global const uint2 *sample_id, __global const float4 *radiance,
-                            __global long *accum, __global long *half_film,
-                            __global uint4 *tally, __global uint *stats)
+/* Filter importance sampling: the offset was drawn from |f|, so the weight
+ * f / pdf = sign(f) x ∫|f|, and the constant cancels in Σ w L / Σ w; the
+ * sample goes to its own pixel only. Returns the splats made (1). */
+static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, __global st_film_pixel *film,
+                        __global st_film_pixel *half_film, int to_half, st_u32 *clamped)
+{
+    st_filter flt = p->filter;
+    st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
+    float w = st_filter_eval_1d(&flt, s.film[0] - (float)px - 0.5f) *
+              st_filter_eval_1d(&flt, s.film[1] - (float)py - 0.5f);
+    w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
+    add_splat(film + s.pixel, w, L, clamped);
+    if (to_half)
+        add_splat(half_film + s.pixel, w, L, clamped);
+    return 1u;
+}
+
+/* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
+ * with the separable weights f(dx) f(dy). Returns the splats made. */
+static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, __global st_film_pixel *film,
+                         __global st_film_pixel *half_film, int to_half, st_u32 *clamped)
+{
+    st_filter flt = p->filter;
+    int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
+    float wx[ST_MAX_TAPS];
+    for (int x = xs.x; x <= xs.y; x++)
+        wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - s.film[0]);
+    for (int y = ys.x; y <= ys.y; y++) {
+        float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - s.film[1]);
+        for (int x = xs.x; x <= xs.y; x++) {
+            float w = wx[x - xs.x] * wy;
+            add_splat(film + ((size_t)y * p->width + x), w, L, clamped);
+            if (to_half)
+                add_splat(half_film + ((size_t)y * p->width + x), w, L, clamped);
+        }
+    }
+    return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
+}
+
+/* Reads sample and path; adds to film (and, for even samples of an
+ * adaptive render's first round, half_film); adds the splats made and the
+ * path's rays to tally[i]. */
+__kernel void splat_samples(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
         return;
-    float2 f = film[i];
-    if (ST_SAMPLER_IS_TILED(p.sampler) && !(f.x < (float)p.width && f.y < (float)p.height))
+    st_sample s = sample[i];
+    if (ST_SAMPLER_IS_TILED(p.sampler) && !(s.film[0] < (float)p.width && s.film[1] < (float)p.height))
         return; /* a tile point outside the image (generate.cl) */
-    float4 rad = radiance[i];
-    float3 L = rad.xyz;
-    st_u32 rays = (st_u32)rad.w;
-    uint4 t = tally[i];
-    t.y += rays & 0xffffu;
-    t.z += rays >> 16;
+    __global const st_path *pa = &path[i];
+    float3 L = vload3(0, pa->radiance);
+    st_tally t = tally[i];
+    t.closest_rays += pa->closest_rays;
+    t.shadow_rays += pa->shadow_rays;
     if (!(isfinite(L.x) && isfinite(L.y) && isfinite(L.z))) {
-        count(stats, ST_STAT_NONFINITE);
+        atomic_inc(&stats->nonfinite);
         L = (float3)(0.0f);
     }
-    st_filter flt = p.filter;
     st_u32 clamped = 0u;
-    int to_half = p.half_buffer && (sample_id[i].y & 1u) == 0u;
-    if (p.reconstruction == ST_RECON_FIS) {
-        /* the offset was drawn from |f|: weight f / pdf = sign(f) x ∫|f|, and
-         * the constant cancels in Σ w L / Σ w */
-        st_u32 px = sample_id[i].x % p.width, py = sample_id[i].x / p.width;
-        float w = st_filter_eval_1d(&flt, f.x - (float)px - 0.5f) *
-                  st_filter_eval_1d(&flt, f.y - (float)py - 0.5f);
-        w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
-        add_splat(accum + 4 * (size_t)sample_id[i].x, w, L, &clamped);
-        if (to_half)
-            add_splat(half_film + 4 * (size_t)sample_id[i].x, w, L, &clamped);
-        tally[i] = t + (uint4)(1u, 0u, 0u, 0u);
-        if (clamped)
-            count(stats, ST_STAT_CLAMPED);
-        return;
-    }
-    int2 xs = taps(f.x, flt.radius, p.width), ys = taps(f.y, flt.radius, p.height);
-    float wx[ST_MAX_TAPS];
-    for (int x = xs.x; x <= xs.y; x++)
-        wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - f.x);
-    for (int y = ys.x; y <= ys.y; y++) {
-        float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - f.y);
-        for (int x = xs.x; x <= xs.y; x++) {
-            float w = wx[x - xs.x] * wy;
-            add_splat(accum + 4 * ((size_t)y * p.width + x), w, L, &clamped);
-            if (to_half)
-                add_splat(half_film + 4 * ((size_t)y * p.width + x), w, L, &clamped);
-        }
-    }
-    t.x += (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
+    int to_half = p.half_buffer && (s.index & 1u) == 0u;
+    t.splats += p.reconstruction == ST_RECON_FIS
+                    ? splat_fis(&p, s, L, film, half_film, to_half, &clamped)
+                    : splat_taps(&p, s, L, film, half_film, to_half, &clamped);
     tally[i] = t;
     if (clamped)
-        count(stats, ST_STAT_CLAMPED);
+        atomic_inc(&stats->clamped);
 }
 
-/* Reads accum; writes image (R, G, B, Σ f): I = Σ f L / Σ f, negative values
- * (from negative filter lobes) clamped to 0; a pixel whose weight sum is not
- * positive, or whose value is not finite, becomes 0 and is counted. */
-__kernel void resolve_film(const st_params p, __global const long *accum,
-                           __global float4 *image, __global uint *stats)
+/* Reads film; writes image: I = Σ f L / Σ f, negative values (from negative
+ * filter lobes) clamped to 0; a pixel whose weight sum is not positive, or
+ * whose value is not finite, becomes 0 and is counted. */
+__kernel void resolve_film(ST_FILM_PARAMS)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.width * p.height)
         return;
-    __global const long *a = accum + 4 * (size_t)i;
+    __global const long *a = film[i].sum;
     float w = (float)a[3] * (1.0f / ST_FIXED_SCALE);
     float3 v = (float3)(0.0f);
     if (w > 0.0f) {
         v = (float3)((float)a[0], (float)a[1], (float)a[2]) * (1.0f / ST_FIXED_SCALE) / w;
         if (!(isfinite(v.x) && isfinite(v.y) && isfinite(v.z))) {
-            count(stats, ST_STAT_NONFINITE);
+            atomic_inc(&stats->nonfinite);
             v = (float3)(0.0f);
         }
         v = fmax(v, (float3)(0.0f));
     } else {
-        count(stats, ST_STAT_ZERO_WEIGHT);
+        atomic_inc(&stats->zero_weight);
     }
-    image[i] = (float4)(v, w);
+    st_pixel out = {{v.x, v.y, v.z}, w};
+    image[i] = out;
 }

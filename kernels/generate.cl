@@ -28,14 +28,11 @@ static float fis_offset(__global const float *cdf, float r, float u)
     return -r + ((float)lo + t) * (2.0f * r / (float)ST_FIS_BINS);
 }
 
-/* Writes film[i] = the sample's film position in pixels (x right, y down;
- * outside the image for a dropped tile point) and id[i] = (pixel, sample).
- * With filter importance sampling the sampler's two pixel dimensions are
- * warped through the CDF of |f| (their stratification carries over) into an
- * offset from the pixel centre. */
-__kernel void generate_samples(const st_params p, __global const float2 *tile,
-                               __global const float *fis_cdf, __global const uint *active,
-                               __global float2 *film, __global uint2 *id)
+/* Writes sample[i]: the film position and (pixel, sample index). With
+ * filter importance sampling the sampler's two pixel dimensions are warped
+ * through the CDF of |f| (their stratification carries over) into an offset
+ * from the pixel centre. */
+__kernel void generate_samples(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
@@ -44,11 +41,12 @@ __kernel void generate_samples(const st_params p, __global const float2 *tile,
     if (ST_SAMPLER_IS_TILED(p.sampler)) {
         st_u32 rep = (st_u32)(g / p.tile_count);
         st_u32 j = p.tile_begin + (st_u32)(g % p.tile_count);
-        float2 f = tile[j] + (float2)((float)(rep % p.tiles_x * p.tile_size),
-                                      (float)(rep / p.tiles_x * p.tile_size));
+        float2 f = (float2)(tile[j].x, tile[j].y) +
+                   (float2)((float)(rep % p.tiles_x * p.tile_size),
+                            (float)(rep / p.tiles_x * p.tile_size));
         st_u32 px = min((st_u32)f.x, p.width - 1u), py = min((st_u32)f.y, p.height - 1u);
-        film[i] = f;
-        id[i] = (uint2)(py * p.width + px, j);
+        st_sample out = {{f.x, f.y}, py * p.width + px, j};
+        sample[i] = out;
         return;
     }
     st_u32 npix = p.width * p.height;
@@ -64,22 +62,27 @@ __kernel void generate_samples(const st_params p, __global const float2 *tile,
         u = 0.5f + fis_offset(fis_cdf, p.filter.radius, u);
         v = 0.5f + fis_offset(fis_cdf, p.filter.radius, v);
     }
-    film[i] = (float2)((float)px + u, (float)py + v);
-    id[i] = (uint2)(pixel, s);
+    st_sample out = {{(float)px + u, (float)py + v}, pixel, s};
+    sample[i] = out;
 }
 
-/* Reads film; writes the camera ray (ray_o.w = tmax) and resets the path:
- * beta = (1, 1, 1, bsdf pdf 0), radiance 0, depth 0 (ST_PATH_DEAD for a
- * dropped point outside the image). */
-__kernel void generate_camera_rays(const st_params p, __global const float2 *film,
-                                   __global float4 *ray_o, __global float4 *ray_d,
-                                   __global float4 *beta, __global float4 *radiance,
-                                   __global uint *depth)
+/* Whether a sample lies on the image (a tiled sampler's point may not). */
+static int on_film(const st_params *p, st_sample s)
+{
+    return !ST_SAMPLER_IS_TILED(p->sampler) ||
+           (s.film[0] < (float)p->width && s.film[1] < (float)p->height);
+}
+
+/* Reads sample; writes the camera ray and resets the path: beta = 1, bsdf
+ * pdf 0, radiance 0, depth 0 (ST_PATH_DEAD for a dropped point outside the
+ * image), no rays traced. */
+__kernel void generate_camera_rays(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
         return;
-    float2 f = film[i];
+    st_sample smp = sample[i];
+    float2 f = (float2)(smp.film[0], smp.film[1]);
     float4 o = vload4(0, p.camera.origin), r = vload4(0, p.camera.right);
     float4 u = vload4(0, p.camera.up), fw = vload4(0, p.camera.forward);
     float sx = (2.0f * f.x / (float)p.width - 1.0f) * o.w * r.w;
@@ -89,10 +92,9 @@ __kernel void generate_camera_rays(const st_params p, __global const float2 *fil
     int ortho = fw.w > 0.5f;
     float3 d = ortho ? fw.xyz : normalize(fw.xyz + sx * r.xyz + sy * u.xyz);
     float3 start = ortho ? o.xyz + sx * r.xyz + sy * u.xyz : o.xyz;
-    ray_o[i] = (float4)(start, INFINITY);
-    ray_d[i] = (float4)(d, 0.0f);
-    beta[i] = (float4)(1.0f, 1.0f, 1.0f, 0.0f);
-    radiance[i] = (float4)(0.0f);
-    int dropped = ST_SAMPLER_IS_TILED(p.sampler) && !(f.x < (float)p.width && f.y < (float)p.height);
-    depth[i] = dropped ? ST_PATH_DEAD : 0u;
+    st_wave_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
+    ray[i] = ray_out;
+    st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
+                     on_film(&p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, {0u, 0u}};
+    path[i] = fresh;
 }

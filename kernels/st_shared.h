@@ -68,9 +68,6 @@ typedef float st_f32;
 #define ST_FILTER_BLACKMAN_HARRIS 6u
 #define ST_FILTER_COUNT 7u
 
-/* depth of a path that has ended (film sample still splatted) */
-#define ST_PATH_DEAD 0xffffffffu
-
 /* Reconstruction (render --reconstruction): splat every sample into every
  * pixel within the filter radius, or filter importance sampling (pbrt-v4):
  * draw the sample's offset from the pixel centre from |f| and add it, weighted
@@ -88,7 +85,7 @@ typedef float st_f32;
  * pattern repeats every 128 x 243 pixels at most. */
 #define ST_HALTON_MAX_RESOLUTION 128u
 
-/* Film accumulation in 64-bit fixed point (see st_fixed.h for the proof of
+/* Film accumulation in 64-bit fixed point (see fixed.h for the proof of
  * headroom): a value v is stored as round(v * 2^24). */
 #define ST_FIXED_SHIFT 24
 #define ST_FIXED_SCALE 16777216.0f
@@ -99,17 +96,6 @@ typedef float st_f32;
  * ST_FIXED_MAX_SPLATS. */
 #define ST_SPLAT_MAX 65536.0f
 #define ST_FIXED_MAX_SPLATS 8388607.0
-
-/* Offsets of the film counters (render stats) in the stats buffer. */
-#define ST_STAT_CLAMPED 0u   /* splat values clamped to ST_SPLAT_MAX */
-#define ST_STAT_NONFINITE 1u /* samples with NaN/Inf radiance (dropped) */
-#define ST_STAT_ZERO_WEIGHT 2u /* pixels whose filter weight sum was <= 0 */
-#define ST_STAT_COUNT 4u
-
-/* A sample counts the rays it traces in radiance.w: 1 per closest-hit ray,
- * ST_SHADOW_RAY_UNIT per shadow ray (exact in a float: at most 65 closest and
- * 64 shadow rays); splat_samples adds them up per work-item slot. */
-#define ST_SHADOW_RAY_UNIT 65536.0f
 
 /* ---- layouts ------------------------------------------------------------- */
 
@@ -265,10 +251,204 @@ typedef struct st_params {
      * (item g: pixel active[g mod adaptive_count], sample adaptive_base +
      * g / adaptive_count); half_buffer: even samples also go to the half film */
     st_u32 adaptive_count, adaptive_base, half_buffer;
-    st_u32 pad[4];
+    /* adaptive_mark: a pixel stops when its error is at most the threshold
+     * or it has max_spp samples; otherwise it is booked `batch` more */
+    st_f32 adaptive_threshold;
+    st_u32 adaptive_max_spp, adaptive_batch;
+    st_u32 pad;
     st_filter filter;
     st_camera camera;
 } st_params;
+
+
+/* ---- the wavefront state and the film --------------------------------------
+ * Every buffer the stage kernels share, declared once. The lists below
+ * (X-macros, as Cycles' state_template.h) give each buffer's name, element
+ * type and extent; the host derives sizes and allocation from them
+ * (src/wave.c), the kernels their parameter lists (ST_STAGE_PARAMS), and
+ * the layout probe (kernels/layout.cl) checks every field on the device. */
+
+#define ST_PATH_DEAD 0xffffffffu /* st_path.depth of a path that has ended */
+#define ST_NO_HIT 0xffffffffu    /* st_hit.prim of a ray that left the scene */
+/* st_pixel_spp flag of an adaptive pixel that has stopped sampling */
+#define ST_ADAPTIVE_STOPPED 0x80000000u
+/* The largest filter radius, in pixels, and the most pixel columns (or
+ * rows) one sample reaches with it: |k + 0.5 - x| < r holds for at most
+ * 2r + 1 integers k. */
+#define ST_FILTER_MAX_RADIUS_PX 8
+#define ST_MAX_TAPS (2 * ST_FILTER_MAX_RADIUS_PX + 1)
+
+/* A sample's place: film position in pixels (x right, y down; outside the
+ * image for a dropped tile point), its pixel and its index in that pixel's
+ * sequence (tiled samplers: its point in the tile). */
+typedef struct st_sample {
+    st_f32 film[2];
+    st_u32 pixel, index;
+} st_sample;
+
+/* A ray of the wavefront. path_length: the distance the path travelled
+ * before this ray's origin; the ray cone's width there is the pixel's
+ * spread times it (shade.cl, texture level of detail). */
+typedef struct st_wave_ray {
+    st_f32 o[3], tmax;
+    st_f32 d[3], path_length;
+} st_wave_ray;
+
+/* The closest hit of a ray: t, barycentrics u, v of v1 and v2 (the point is
+ * v0 + u e1 + v e2) and the BVH-order triangle, ST_NO_HIT on a miss. */
+typedef struct st_hit {
+    st_f32 t, u, v;
+    st_u32 prim;
+} st_hit;
+
+/* A path: throughput beta, the pdf of the BSDF sample that made its current
+ * ray (for MIS at an emitter it reaches), the radiance gathered, its depth
+ * (vertices shaded; ST_PATH_DEAD once ended) and the rays it traced. */
+typedef struct st_path {
+    st_f32 beta[3], bsdf_pdf;
+    st_f32 radiance[3];
+    st_u32 depth;
+    st_u32 closest_rays, shadow_rays;
+    st_u32 pad[2];
+} st_path;
+
+/* A shadow ray and what it adds to its path's radiance when nothing blocks
+ * it; tmax 0: this vertex made none. */
+typedef struct st_shadow_ray {
+    st_f32 o[3], tmax;
+    st_f32 d[3], pad0;
+    st_f32 contribution[3], pad1;
+} st_shadow_ray;
+
+/* Per work-item slot, summed over the waves (the same slot in every wave,
+ * so no atomics): splats made, closest and shadow rays traced. */
+typedef struct st_tally {
+    st_u32 splats, closest_rays, shadow_rays, pad;
+} st_tally;
+
+/* The film's sums per pixel, 64-bit fixed point (fixed.h): Σ f L for R, G, B
+ * and the weight Σ f. */
+#define ST_FILM_SUMS 4
+typedef struct st_film_pixel {
+    st_i64 sum[ST_FILM_SUMS];
+} st_film_pixel;
+
+/* A resolved pixel: I = Σ f L / Σ f, and the weight Σ f. */
+typedef struct st_pixel {
+    st_f32 rgb[3], weight;
+} st_pixel;
+
+/* Counters of a render, atomically incremented by the kernels. */
+typedef struct st_film_stats {
+    st_u32 clamped;     /* splats whose value was clamped to ST_SPLAT_MAX */
+    st_u32 nonfinite;   /* samples with NaN/Inf radiance (dropped), NaN pixels */
+    st_u32 zero_weight; /* pixels whose filter weight sum was <= 0 */
+    st_u32 pad;
+} st_film_stats;
+
+/* A point of a tiled sampler's tile, in pixels. */
+typedef struct st_tile_point {
+    st_f32 x, y;
+} st_tile_point;
+
+/* Extents: how many elements a buffer holds. */
+#define ST_PER_ITEM 0     /* one per work-item of a wave */
+#define ST_PER_PIXEL 1    /* one per image pixel */
+#define ST_PER_ADAPTIVE 2 /* one per pixel in an adaptive render, else one */
+#define ST_ONE 3          /* one */
+
+/* The per-render state: X(name, element type, extent). */
+#define ST_WAVE_BUFFERS(X)                                                                  \
+    X(sample, st_sample, ST_PER_ITEM)                                                       \
+    X(ray, st_wave_ray, ST_PER_ITEM)                                                        \
+    X(hit, st_hit, ST_PER_ITEM)                                                             \
+    X(path, st_path, ST_PER_ITEM)                                                           \
+    X(shadow, st_shadow_ray, ST_PER_ITEM)                                                   \
+    X(tally, st_tally, ST_PER_ITEM)                                                         \
+    X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
+    X(half_film, st_film_pixel, ST_PER_ADAPTIVE) /* even samples only (adaptive.cl) */      \
+    X(pixel_spp, st_u32, ST_PER_ADAPTIVE)        /* samples booked, | ST_ADAPTIVE_STOPPED */ \
+    X(active, st_u32, ST_PER_ADAPTIVE)           /* pixels of the adaptive round */         \
+    X(active_count, st_u32, ST_ONE)                                                         \
+    X(stats, st_film_stats, ST_ONE)                                                         \
+    X(image, st_pixel, ST_PER_PIXEL)
+
+/* The scene, uploaded once per renderer, and the inputs made per render
+ * (a tiled sampler's points, filter importance sampling's CDF of |f|):
+ * X(name, element type). */
+#define ST_SCENE_BUFFERS(X)                                                                 \
+    X(nodes, st_bvh_node)                                                                   \
+    X(tris, st_triangle)                                                                    \
+    X(normals, st_tri_normals)                                                              \
+    X(tri_material, st_u32)                                                                 \
+    X(materials, st_material)                                                               \
+    X(light_tri, st_u32)                                                                    \
+    X(light_cdf, st_f32)                                                                    \
+    X(light_pdf, st_f32) /* P(choose the triangle) / its area; 0: not a light */           \
+    X(tri_uv, st_tri_uv)                                                                    \
+    X(textures, st_texture)                                                                 \
+    X(texels, st_u32)                                                                       \
+    X(tile, st_tile_point)                                                                  \
+    X(fis_cdf, st_f32)
+
+#ifdef __OPENCL_VERSION__
+#define ST_WAVE_PARAM(name, type, extent) , __global type *name
+#define ST_SCENE_PARAM(name, type) , __global const type *name
+/* Every stage kernel's parameters, in the order the host binds them: the
+ * render's values, the scene, then the wavefront state. */
+#define ST_STAGE_PARAMS \
+    const st_params p, const st_shading sh ST_SCENE_BUFFERS(ST_SCENE_PARAM) ST_WAVE_BUFFERS(ST_WAVE_PARAM)
+/* The film kernels' (resolve, adaptive decision): values and the state. */
+#define ST_FILM_PARAMS const st_params p ST_WAVE_BUFFERS(ST_WAVE_PARAM)
+#endif
+
+
+/* Every shared struct and field, for the layout probe (kernels/layout.cl
+ * reports the device's sizes and offsets; tests/test_layout.c compares them
+ * with the host's). */
+#define ST_LAYOUT_STRUCTS(X)                                                                \
+    X(st_bvh_node) X(st_triangle) X(st_tri_normals) X(st_material) X(st_texture)            \
+    X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
+    X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
+    X(st_pixel) X(st_film_stats) X(st_tile_point)
+#define ST_LAYOUT_FIELDS(X)                                                                 \
+    X(st_bvh_node, bmin) X(st_bvh_node, offset) X(st_bvh_node, bmax) X(st_bvh_node, meta)   \
+    X(st_triangle, v0) X(st_triangle, e1) X(st_triangle, e2)                                \
+    X(st_tri_normals, n0) X(st_tri_normals, n1) X(st_tri_normals, n2)                       \
+    X(st_material, base_color) X(st_material, emission) X(st_material, metallic)            \
+    X(st_material, roughness) X(st_material, alpha_cutoff) X(st_material, alpha_mode)       \
+    X(st_material, base_color_tex) X(st_material, emission_tex)                             \
+    X(st_material, metallic_roughness_tex)                                                  \
+    X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
+    X(st_texture, width) X(st_texture, height) X(st_texture, levels) X(st_texture, flags)    \
+    X(st_texture, wrap_s) X(st_texture, wrap_t)                                             \
+    X(st_tri_uv, uv) X(st_tri_uv, lod)                                                      \
+    X(st_shading, env) X(st_shading, texture_filter) X(st_shading, texture_count)           \
+    X(st_camera, origin) X(st_camera, right) X(st_camera, up) X(st_camera, forward)         \
+    X(st_filter, kind) X(st_filter, radius) X(st_filter, b) X(st_filter, c)                 \
+    X(st_filter, sigma) X(st_filter, tau)                                                   \
+    X(st_params, first_item) X(st_params, width) X(st_params, height) X(st_params, spp)     \
+    X(st_params, seed) X(st_params, sampler) X(st_params, scramble) X(st_params, item_count) \
+    X(st_params, integrator) X(st_params, max_depth) X(st_params, light_count)              \
+    X(st_params, strat_nx) X(st_params, strat_ny) X(st_params, halton_exp2)                 \
+    X(st_params, halton_exp3) X(st_params, halton_stride) X(st_params, halton_inv2)         \
+    X(st_params, halton_inv3) X(st_params, ray_eps) X(st_params, tile_size)                 \
+    X(st_params, tile_begin) X(st_params, tile_count) X(st_params, tiles_x)                 \
+    X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
+    X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
+    X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, filter)        \
+    X(st_params, camera)                                                                    \
+    X(st_sample, film) X(st_sample, pixel) X(st_sample, index)                              \
+    X(st_wave_ray, o) X(st_wave_ray, tmax) X(st_wave_ray, d) X(st_wave_ray, path_length)    \
+    X(st_hit, t) X(st_hit, u) X(st_hit, v) X(st_hit, prim)                                  \
+    X(st_path, beta) X(st_path, bsdf_pdf) X(st_path, radiance) X(st_path, depth)            \
+    X(st_path, closest_rays) X(st_path, shadow_rays)                                        \
+    X(st_shadow_ray, o) X(st_shadow_ray, tmax) X(st_shadow_ray, d)                          \
+    X(st_shadow_ray, contribution)                                                          \
+    X(st_tally, splats) X(st_tally, closest_rays) X(st_tally, shadow_rays)                  \
+    X(st_film_pixel, sum) X(st_pixel, rgb) X(st_pixel, weight)                              \
+    X(st_film_stats, clamped) X(st_film_stats, nonfinite) X(st_film_stats, zero_weight)     \
+    X(st_tile_point, x) X(st_tile_point, y)
 
 #ifndef __OPENCL_VERSION__
 ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes");
@@ -286,6 +466,12 @@ ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 128, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 160, "st_params.camera moved");
 ST_STATIC_ASSERT(sizeof(st_params) == 224, "st_params: 224 bytes");
+ST_STATIC_ASSERT(sizeof(st_sample) == 16, "st_sample: 16 bytes");
+ST_STATIC_ASSERT(sizeof(st_wave_ray) == 32, "st_wave_ray: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
+ST_STATIC_ASSERT(sizeof(st_path) == 48, "st_path: 48 bytes");
+ST_STATIC_ASSERT(sizeof(st_shadow_ray) == 48, "st_shadow_ray: 48 bytes");
+ST_STATIC_ASSERT(sizeof(st_film_pixel) == 32, "st_film_pixel: 32 bytes");
 #endif
 
 #endif

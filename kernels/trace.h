@@ -28,22 +28,15 @@
  * sibling per level of the current path, i.e. depth - 1 entries, and
  * st_bvh_build guarantees depth <= ST_BVH_MAX_DEPTH. */
 #define ST_BVH_MAX_DEPTH 64
-#define ST_NO_HIT 0xffffffffu
 
 typedef struct st_ray {
     st_f32 o[3], d[3], tmax;
 } st_ray;
 
-/* t: ray parameter; u, v: barycentrics of v1 and v2 (the point is
- * v0 + u e1 + v e2); prim: BVH-order triangle index or ST_NO_HIT. */
-typedef struct st_hit {
-    st_f32 t, u, v;
-    st_u32 prim;
-} st_hit;
+/* Hits are st_hit (st_shared.h), as the wavefront stores them. */
 
 #ifndef __OPENCL_VERSION__
 ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
-ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
 #endif
 
 /* Far-end widening of the slab interval: t0 <= t1 * (1 + 2^-12). It covers

@@ -111,7 +111,7 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
             rc = st_fail(err, ST_ERR_FORMAT, "%s: %ux%u pixels, but %s has %ux%u", parts[i].path,
                          img.width, img.height, parts[0].path, w, h);
         } else if ((rc = check_part(&parts[0], &parts[i], err)) == ST_OK) {
-            for (size_t k = 0; k < 4 * (size_t)w * h; k++) /* wraps as the device's atom_add */
+            for (size_t k = 0; k < ST_FILM_SUMS * (size_t)w * h; k++) /* wraps as the device's atom_add */
                 total[k] = (st_i64)((st_u64)total[k] + (st_u64)sums[k]);
         }
         free(sums);

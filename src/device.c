@@ -392,22 +392,27 @@ st_status st_device_kernel(st_device *dev, const char *name, cl_kernel *out, st_
     return ST_OK;
 }
 
+st_status st_device_set_arg(cl_kernel k, unsigned index, size_t size, const void *value,
+                            st_error *err)
+{
+    cl_int code = clSetKernelArg(k, index, size, value);
+    if (code == CL_SUCCESS)
+        return ST_OK;
+    char name[64] = "?";
+    clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
+    return st_fail(err, ST_ERR_DEVICE, "clSetKernelArg(%s, %u) failed: %s", name, index,
+                   st_device_error_name(code));
+}
+
 st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...)
 {
     va_list ap;
     va_start(ap, n);
     st_status rc = ST_OK;
-    for (unsigned i = 0; i < n; i++) {
+    for (unsigned i = 0; i < n && rc == ST_OK; i++) {
         size_t size = va_arg(ap, size_t);
         const void *value = va_arg(ap, const void *);
-        cl_int code = clSetKernelArg(k, i, size, value);
-        if (code != CL_SUCCESS) {
-            char name[64] = "?";
-            clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
-            rc = st_fail(err, ST_ERR_DEVICE, "clSetKernelArg(%s, %u) failed: %s", name, i,
-                         st_device_error_name(code));
-            break;
-        }
+        rc = st_device_set_arg(k, i, size, value, err);
     }
     va_end(ap);
     return rc;

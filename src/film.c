@@ -16,8 +16,8 @@ st_status st_film_to_image(const st_i64 *sums, st_u32 width, st_u32 height, st_i
         out->types[c] = ST_PIXEL_UINT;
     size_t n = (size_t)width * height;
     for (size_t i = 0; i < n; i++)
-        for (int s = 0; s < 4; s++) {
-            st_u64 v = (st_u64)sums[4 * i + s];
+        for (int s = 0; s < ST_FILM_SUMS; s++) {
+            st_u64 v = (st_u64)sums[ST_FILM_SUMS * i + s];
             out->udata[ST_FILM_CHANNELS * i + 2 * s] = (st_u32)(v >> 32);
             out->udata[ST_FILM_CHANNELS * i + 2 * s + 1] = (st_u32)v;
         }
@@ -38,14 +38,14 @@ st_status st_film_from_image(const st_image *img, const char *path, st_i64 **sum
                            path, names[c]);
     }
     size_t n = (size_t)img->width * img->height;
-    st_i64 *s = malloc(sizeof *s * 4 * (n ? n : 1));
+    st_i64 *s = malloc(sizeof *s * ST_FILM_SUMS * (n ? n : 1));
     if (!s)
         return st_fail(err, ST_ERR_NOMEM, "%s: out of memory", path);
     for (size_t i = 0; i < n; i++)
-        for (int k = 0; k < 4; k++) {
+        for (int k = 0; k < ST_FILM_SUMS; k++) {
             st_u64 hi = img->udata[img->channels * i + at[2 * k]];
             st_u64 lo = img->udata[img->channels * i + at[2 * k + 1]];
-            s[4 * i + k] = (st_i64)(hi << 32 | lo);
+            s[ST_FILM_SUMS * i + k] = (st_i64)(hi << 32 | lo);
         }
     *sums = s;
     return ST_OK;

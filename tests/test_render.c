@@ -19,26 +19,8 @@
 #include "st_render.h"
 #include "st_scene.h"
 #include "trace.h"
-
-static st_device *dev;
-
-static int setup(void **state)
-{
-    (void)state;
-    st_error err = {0};
-    if (st_device_create(NULL, &dev, &err) != ST_OK || st_device_build(dev, NULL, &err) != ST_OK) {
-        fprintf(stderr, "device: %s\n%s\n", err.msg, dev ? st_device_build_log(dev) : "");
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    st_device_destroy(dev);
-    return 0;
-}
+#include "wave.h"
+#include "device_fixture.h"
 
 /* Renders scene `name` with o; returns the image and (optionally) the sums. */
 static st_image render(const char *name, const st_render_options *o, st_i64 **sums)
@@ -81,30 +63,6 @@ static st_render_options small(st_u32 w, st_u32 h, st_u32 spp)
     return o;
 }
 
-static void layout_device_matches_host(void **state)
-{
-    (void)state;
-    st_error err = {0};
-    cl_kernel k;
-    cl_mem out;
-    st_u32 got[17];
-    assert_int_equal(st_device_kernel(dev, "probe_layout", &k, &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, sizeof got, NULL, &out, &err), ST_OK);
-    assert_int_equal(st_device_set_args(k, &err, 1, sizeof(cl_mem), (const void *)&out), ST_OK);
-    assert_int_equal(st_device_launch(dev, k, 1, 1, &err), ST_OK);
-    assert_int_equal(st_device_buffer_read(dev, out, sizeof got, got, &err), ST_OK);
-    st_device_buffer_destroy(out);
-    const st_u32 want[17] = {
-        sizeof(st_bvh_node), offsetof(st_bvh_node, bmax), sizeof(st_triangle),
-        sizeof(st_tri_normals), sizeof(st_material), sizeof(st_camera), sizeof(st_filter),
-        sizeof(st_params), offsetof(st_params, filter), offsetof(st_params, camera),
-        offsetof(st_params, width), offsetof(st_params, tile_size),
-        offsetof(st_material, base_color_tex), sizeof(st_texture), offsetof(st_texture, offset),
-        sizeof(st_tri_uv), sizeof(st_shading)};
-    for (int i = 0; i < 17; i++)
-        assert_int_equal(got[i], want[i]);
-}
-
 static float frand(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -132,40 +90,44 @@ static void bvh_device_closest_equals_brute_force(void **state)
     st_error err = {0};
     st_bvh *bvh;
     assert_int_equal(st_bvh_build(pos, TRIS, &bvh, &err), ST_OK);
-    float (*ro)[4] = malloc(sizeof *ro * RAYS), (*rd)[4] = malloc(sizeof *rd * RAYS);
-    float (*hit)[4] = malloc(sizeof *hit * RAYS);
-    st_u32 *depth = calloc(RAYS, sizeof *depth);
+    st_wave_ray *rays = calloc(RAYS, sizeof *rays);
+    st_hit *hit = calloc(RAYS, sizeof *hit);
     for (int i = 0; i < RAYS; i++) {
         float d[3] = {frand(&seed) - 0.5f, frand(&seed) - 0.5f, frand(&seed) - 0.5f};
         float n = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         for (int a = 0; a < 3; a++) {
-            ro[i][a] = frand(&seed) * 12 - 6;
-            rd[i][a] = d[a] / n;
+            rays[i].o[a] = frand(&seed) * 12 - 6;
+            rays[i].d[a] = d[a] / n;
         }
-        ro[i][3] = i % 3 ? INFINITY : 3.0f; /* tmax */
-        rd[i][3] = 0;
+        rays[i].tmax = i % 3 ? INFINITY : 3.0f;
     }
-    cl_mem b[6];
-    assert_int_equal(st_device_buffer_create(dev, sizeof(st_bvh_node) * bvh->node_count, bvh->nodes, &b[0], &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, sizeof(st_triangle) * TRIS, bvh->tris, &b[1], &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, sizeof *ro * RAYS, ro, &b[2], &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, sizeof *rd * RAYS, rd, &b[3], &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, sizeof *depth * RAYS, depth, &b[4], &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, sizeof *hit * RAYS, NULL, &b[5], &err), ST_OK);
+    /* the stage's own binding: the scene's BVH and triangles (the other
+     * scene buffers unused), a wave of RAYS live paths (depth 0) */
+    cl_mem scene[ST_SCENE_BUFFER_COUNT];
+    for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
+        assert_int_equal(st_device_buffer_create(dev, 16, NULL, &scene[i], &err), ST_OK);
+    st_device_buffer_destroy(scene[ST_SCENE_nodes]);
+    st_device_buffer_destroy(scene[ST_SCENE_tris]);
+    assert_int_equal(st_device_buffer_create(dev, sizeof(st_bvh_node) * bvh->node_count, bvh->nodes, &scene[ST_SCENE_nodes], &err), ST_OK);
+    assert_int_equal(st_device_buffer_create(dev, sizeof(st_triangle) * TRIS, bvh->tris, &scene[ST_SCENE_tris], &err), ST_OK);
+    st_wave w;
+    assert_int_equal(st_wave_create(dev, RAYS, 1, 0, &w, &err), ST_OK);
+    assert_int_equal(st_device_buffer_write(dev, w.b[ST_WAVE_ray], sizeof *rays * RAYS, rays, &err), ST_OK);
+    assert_int_equal(st_device_buffer_zero(dev, w.b[ST_WAVE_path], st_wave_bytes(&w, ST_WAVE_path), &err), ST_OK);
     st_params p;
+    st_shading sh;
     memset(&p, 0, sizeof p);
+    memset(&sh, 0, sizeof sh);
     p.item_count = RAYS;
     cl_kernel k;
     assert_int_equal(st_device_kernel(dev, "trace_rays", &k, &err), ST_OK);
-    assert_int_equal(st_device_set_args(k, &err, 7, sizeof p, (const void *)&p, sizeof(cl_mem), (const void *)&b[0],
-                                        sizeof(cl_mem), (const void *)&b[1], sizeof(cl_mem), (const void *)&b[2],
-                                        sizeof(cl_mem), (const void *)&b[3], sizeof(cl_mem), (const void *)&b[4],
-                                        sizeof(cl_mem), (const void *)&b[5]), ST_OK);
+    assert_int_equal(st_wave_bind_stage(k, &p, &sh, scene, &w, &err), ST_OK);
     assert_int_equal(st_device_launch(dev, k, RAYS, 0, &err), ST_OK);
-    assert_int_equal(st_device_buffer_read(dev, b[5], sizeof *hit * RAYS, hit, &err), ST_OK);
+    assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_hit], sizeof *hit * RAYS, hit, &err), ST_OK);
     int hits = 0;
     for (int i = 0; i < RAYS; i++) {
-        st_ray r = {{ro[i][0], ro[i][1], ro[i][2]}, {rd[i][0], rd[i][1], rd[i][2]}, ro[i][3]};
+        const st_wave_ray *wr = &rays[i];
+        st_ray r = {{wr->o[0], wr->o[1], wr->o[2]}, {wr->d[0], wr->d[1], wr->d[2]}, wr->tmax};
         st_hit best = {r.tmax, 0, 0, ST_NO_HIT};
         for (st_u32 t = 0; t < TRIS; t++) {
             st_hit h = best;
@@ -174,17 +136,16 @@ static void bvh_device_closest_equals_brute_force(void **state)
             if (st_intersect_triangle(&bvh->tris[t], &rr, t, &h))
                 best = h;
         }
-        st_u32 prim;
-        memcpy(&prim, &hit[i][3], sizeof prim);
+        st_u32 prim = hit[i].prim;
         if (best.prim == ST_NO_HIT) {
             assert_int_equal(prim, ST_NO_HIT);
             continue;
         }
         hits++;
         assert_int_not_equal(prim, ST_NO_HIT);
-        if (!(fabsf(hit[i][0] - best.t) <= TOL(best.t)))
+        if (!(fabsf(hit[i].t - best.t) <= TOL(best.t)))
             fail_msg("ray %d: device t %.9g (triangle %u), host t %.9g (triangle %u)", i,
-                     (double)hit[i][0], prim, (double)best.t, best.prim);
+                     (double)hit[i].t, prim, (double)best.t, best.prim);
         if (prim != best.prim) { /* a near tie: the device's triangle must be as close */
             st_hit h = {INFINITY, 0, 0, ST_NO_HIT};
             st_ray rr = r;
@@ -194,10 +155,11 @@ static void bvh_device_closest_equals_brute_force(void **state)
         }
     }
     assert_true(hits > RAYS / 10); /* the test exercises hits, not only misses */
-    for (int i = 0; i < 6; i++)
-        st_device_buffer_destroy(b[i]);
+    for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
+        st_device_buffer_destroy(scene[i]);
+    st_wave_destroy(&w);
     st_bvh_destroy(bvh);
-    free(pos); free(ro); free(rd); free(hit); free(depth);
+    free(pos); free(rays); free(hit);
 }
 
 static void assert_same_bits(const st_image *a, const st_image *b)
@@ -534,7 +496,6 @@ static void golden_cornell_box(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(layout_device_matches_host),
         cmocka_unit_test(bvh_device_closest_equals_brute_force),
         cmocka_unit_test(render_same_bits_twice),
         cmocka_unit_test(one_renderer_many_views),
@@ -549,5 +510,5 @@ int main(void)
         cmocka_unit_test(adaptive_deterministic_and_close_to_uniform),
         cmocka_unit_test(golden_cornell_box),
     };
-    return cmocka_run_group_tests_name("render", tests, setup, teardown);
+    return cmocka_run_group_tests_name("render", tests, device_setup, device_teardown);
 }

@@ -15,18 +15,18 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "device_fixture.h"
 #include "st_diff.h"
 #include "st_render.h"
 
-static st_device *dev;
 static st_scene *scene;
 static st_renderer *renderer;
 
+/* The device fixture, then the default scene on it. */
 static int setup(void **state)
 {
-    (void)state;
     st_error err = {0};
-    if (st_device_create(NULL, &dev, &err) || st_scene_load(NULL, &scene, &err) ||
+    if (device_setup(state) || st_scene_load(NULL, &scene, &err) ||
         st_renderer_create(dev, scene, &renderer, &err)) {
         fprintf(stderr, "setup: %s\n", err.msg);
         return -1;
@@ -36,11 +36,9 @@ static int setup(void **state)
 
 static int teardown(void **state)
 {
-    (void)state;
     st_renderer_destroy(renderer);
     st_scene_destroy(scene);
-    st_device_destroy(dev);
-    return 0;
+    return device_teardown(state);
 }
 
 static st_image render(st_u32 sampler, st_u32 spp, st_u32 seed)

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "device_fixture.h"
 #include "st_device.h"
 #include "st_diff.h"
 #include "st_render.h"
@@ -448,25 +449,7 @@ static void mip_averages_in_linear_light_and_keeps_the_mean(void **state)
 
 /* ---- renders on the device ------------------------------------------------------ */
 
-static st_device *dev;
 
-static int setup(void **state)
-{
-    (void)state;
-    st_error err = {0};
-    if (st_device_create(NULL, &dev, &err) != ST_OK || st_device_build(dev, NULL, &err) != ST_OK) {
-        fprintf(stderr, "device: %s\n", err.msg);
-        return -1;
-    }
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    st_device_destroy(dev);
-    return 0;
-}
 
 static st_scene *load(const char *spec)
 {
@@ -657,5 +640,5 @@ int main(void)
         cmocka_unit_test(trilinear_beats_none_and_bilinear_on_checkerboard),
     };
     int failed = cmocka_run_group_tests_name("texture", host, NULL, NULL);
-    return failed + cmocka_run_group_tests_name("texture_render", device, setup, teardown);
+    return failed + cmocka_run_group_tests_name("texture_render", device, device_setup, device_teardown);
 }

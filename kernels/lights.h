@@ -1,0 +1,94 @@
+/* lights.h — the emitters as next-event estimation samples them: the
+ * emissive triangles, chosen by power from a CDF, a point uniform in area on
+ * the chosen one, its emission (factor x texture); and the scene's
+ * triangles as the shading steps read them. OpenCL only (shade.cl). */
+#ifndef ST_LIGHTS_H
+#define ST_LIGHTS_H
+
+/* The scene buffers the shading steps read, gathered so that each step
+ * takes one argument for them. */
+typedef struct st_scene_refs {
+    __global const st_triangle *tris;
+    __global const st_tri_normals *normals;
+    __global const uint *tri_material;
+    __global const st_material *materials;
+    __global const uint *light_tri;
+    __global const float *light_cdf;
+    __global const float *light_pdf;
+    __global const st_tri_uv *tri_uv;
+    __global const st_texture *textures;
+    __global const uint *texels;
+} st_scene_refs;
+
+/* Index of the light whose CDF interval holds *u (first cdf[i] > *u), and *u
+ * rescaled to [0, 1) within that interval, so that one stratified dimension
+ * both chooses the light and places the point on it: a light's share of the
+ * samples stays stratified (drawing the choice from a dimension of its own
+ * would scatter each light's points and lose the stratification). */
+static st_u32 pick_light(__global const float *cdf, st_u32 n, float *u)
+{
+    st_u32 lo = 0, hi = n - 1u;
+    while (lo < hi) {
+        st_u32 mid = (lo + hi) / 2u;
+        if (cdf[mid] > *u)
+            hi = mid;
+        else
+            lo = mid + 1u;
+    }
+    float c0 = lo ? cdf[lo - 1u] : 0.0f, c1 = cdf[lo];
+    *u = c1 > c0 ? fmin((*u - c0) / (c1 - c0), 0.99999994f) : 0.0f;
+    return lo;
+}
+
+/* Point of triangle t at barycentrics from (u1, u2), uniform in area. */
+static float3 triangle_point(__global const st_triangle *tris, st_u32 t, float u1, float u2)
+{
+    float su = sqrt(u1);
+    float b1 = 1.0f - su, b2 = u2 * su;
+    float3 v0 = vload4(0, tris[t].v0).xyz;
+    return v0 + b1 * vload4(0, tris[t].e1).xyz + b2 * vload4(0, tris[t].e2).xyz;
+}
+
+/* Geometric normal of triangle t, turned to the side of its shading normals
+ * (precomputed: st_tri_normals). */
+static float3 facing_normal(__global const st_tri_normals *normals, st_u32 t)
+{
+    return (float3)(normals[t].n0[3], normals[t].n1[3], normals[t].n2[3]);
+}
+
+/* Texture `tex` (ST_NO_TEXTURE: white) at uv with the ray-cone level of
+ * detail of a cone of width `width` meeting the surface at cos_nd. */
+static float4 tex_lookup(const st_scene_refs *s, st_u32 tex, float2 uv, float tri_lod,
+                         float width, float cos_nd, st_u32 filter)
+{
+    if (tex == ST_NO_TEXTURE)
+        return (float4)(1.0f);
+    float c[4];
+    float lod = st_tex_lod(tri_lod, &s->textures[tex], width, cos_nd);
+    st_tex_sample(&s->textures[tex], s->texels, uv.x, uv.y, lod, filter, c);
+    return (float4)(c[0], c[1], c[2], c[3]);
+}
+
+/* Texture coordinates at barycentrics (b1, b2) of triangle t. */
+static float2 tri_uv_at(__global const st_tri_uv *tri_uv, st_u32 t, float b1, float b2)
+{
+    __global const float *u = tri_uv[t].uv;
+    return (1.0f - b1 - b2) * (float2)(u[0], u[1]) + b1 * (float2)(u[2], u[3]) +
+           b2 * (float2)(u[4], u[5]);
+}
+
+/* Emitted radiance of light triangle lt at the point triangle_point(u1, u2)
+ * picks: the factor times the emissive texture's level 0. */
+static float3 light_emission(const st_scene_refs *s, st_u32 lt, float u1, float u2,
+                             st_u32 filter)
+{
+    __global const st_material *m = &s->materials[s->tri_material[lt]];
+    float3 le = vload4(0, m->emission).xyz;
+    if (m->emission_tex == ST_NO_TEXTURE)
+        return le;
+    float su = sqrt(u1);
+    float2 uv = tri_uv_at(s->tri_uv, lt, 1.0f - su, u2 * su);
+    return le * tex_lookup(s, m->emission_tex, uv, 0.0f, 0.0f, 1.0f, filter).xyz;
+}
+
+#endif

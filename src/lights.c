@@ -1,0 +1,111 @@
+/* lights.c — the light table of a scene (see st_lights.h). */
+#include "st_lights.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "texture.h"
+
+/* Largest mean RGB of a texel of level 0 of texture t (linear). */
+static double texture_max(const st_scene *s, st_u32 t)
+{
+    const st_texture *tex = &s->textures[t];
+    double best = 0.0;
+    for (size_t i = 0; i < (size_t)tex->width * tex->height; i++) {
+        float c[4];
+        st_tex_texel(s->texels, tex->offset, 1, (st_i32)i, 0, tex->flags & ST_TEX_SRGB, c);
+        best = fmax(best, (c[0] + c[1] + c[2]) / 3.0);
+    }
+    return best;
+}
+
+/* The light-selection weight of triangle t's emission per unit area: the
+ * emissive factor's mean times, with an emissive texture, the texture
+ * averaged over the triangle (a trilinear lookup at the UV centroid at the
+ * level whose texel covers the triangle's texel area: lod = 1/2 log2 t_a)
+ * plus 1/256 of the texture's brightest texel, which keeps the weight
+ * positive wherever the texture may emit (the direct integrator needs that
+ * to stay unbiased; MIS in the path integrator would not). */
+static double emission_weight(const st_scene *s, const st_material *m, const st_tri_uv *uv,
+                              double area, const double *tex_max)
+{
+    double le = (m->emission[0] + m->emission[1] + m->emission[2]) / 3.0;
+    if (!(le > 0.0) || m->emission_tex == ST_NO_TEXTURE)
+        return le;
+    const st_texture *tex = &s->textures[m->emission_tex];
+    float u = (uv->uv[0] + uv->uv[2] + uv->uv[4]) / 3.0f;
+    float v = (uv->uv[1] + uv->uv[3] + uv->uv[5]) / 3.0f;
+    float lod = uv->lod + tex->lod_bias + 0.5f * log2f((float)(2.0 * area));
+    float c[4];
+    st_tex_sample(tex, s->texels, u, v, lod, ST_TEXFILTER_TRILINEAR, c);
+    double mean = 0.0;
+    for (int k = 0; k < 3; k++)
+        mean += m->emission[k] * c[k] / 3.0;
+    return mean + le * tex_max[m->emission_tex] / 256.0;
+}
+
+/* Emissive triangles (in BVH order), chosen with probability proportional to
+ * area x emission weight (emission_weight); pdf_area[t] = P(choose t) / area(t). */
+st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv *uv,
+                          st_lights *out, st_error *err)
+{
+    memset(out, 0, sizeof *out);
+    st_u32 n = bvh->tri_count;
+    st_u32 *tri = malloc(sizeof *tri * (n ? n : 1));
+    float *cdf = malloc(sizeof *cdf * (n ? n : 1));
+    float *pdf = calloc(n ? n : 1, sizeof *pdf);
+    double *acc = malloc(sizeof *acc * (n ? n : 1));
+    double *tex_max = calloc(s->texture_count ? s->texture_count : 1, sizeof *tex_max);
+    if (!tri || !cdf || !pdf || !acc || !tex_max) {
+        free(tri); free(cdf); free(pdf); free(acc); free(tex_max);
+        return st_fail(err, ST_ERR_NOMEM, "out of memory building the light table");
+    }
+    for (st_u32 m = 0; m < s->material_count; m++) {
+        st_u32 t = s->materials[m].emission_tex;
+        if (t != ST_NO_TEXTURE && tex_max[t] == 0.0)
+            tex_max[t] = texture_max(s, t);
+    }
+    st_u32 k = 0;
+    double total = 0.0;
+    for (st_u32 t = 0; t < n; t++) {
+        const st_triangle *tr = &bvh->tris[t];
+        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        const st_material *m = &s->materials[s->tri_material[bvh->order[t]]];
+        double le = area > 0.0 ? emission_weight(s, m, &uv[t], area, tex_max) : 0.0;
+        if (le > 0.0 && area > 0.0) {
+            total += area * le;
+            tri[k] = t;
+            acc[k++] = total;
+        }
+    }
+    for (st_u32 i = 0; i < k; i++) {
+        cdf[i] = i + 1 == k ? 1.0f : (float)(acc[i] / total);
+        const st_triangle *tr = &bvh->tris[tri[i]];
+        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        double p_select = (acc[i] - (i ? acc[i - 1] : 0.0)) / total;
+        pdf[tri[i]] = (float)(p_select / area);
+    }
+    free(acc);
+    free(tex_max);
+    out->tri = tri;
+    out->cdf = cdf;
+    out->pdf_area = pdf;
+    out->count = k;
+    return ST_OK;
+}
+
+void st_lights_free(st_lights *l)
+{
+    free(l->tri);
+    free(l->cdf);
+    free(l->pdf_area);
+    memset(l, 0, sizeof *l);
+}
+

@@ -1,0 +1,48 @@
+/* render_int.h — the renderer's inside, shared by the files that make it
+ * up: render_scene.c (the scene on the device), render.c (the pass loop),
+ * adaptive.c (adaptive rounds). Not a public header. */
+#ifndef ST_RENDER_INT_H
+#define ST_RENDER_INT_H
+
+#include "st_render.h"
+#include "wave.h"
+
+struct st_renderer {
+    st_device *dev;
+    const st_scene *scene;
+    /* ST_SCENE_BUFFERS: the scene, uploaded once; tile and fis_cdf are the
+     * per-render inputs (render.c) */
+    cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
+    cl_kernel k[ST_STAGE_COUNT];
+    cl_kernel mark; /* adaptive_mark */
+    st_u32 light_count;
+    float ray_eps;
+    double bvh_seconds;
+    /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],
+     * kept for renders with the same key */
+    st_u32 tile_sampler, tile_spp, tile_seed, tile_size, tile_points;
+};
+
+/* Progress over the items of a render. */
+typedef struct st_progress_state {
+    st_progress_fn fn;
+    void *ctx;
+    double done, total;
+} st_progress_state;
+
+double st_render_now(void);
+
+/* Items [first, first + total) of the current item space, in waves. */
+st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+                          st_u64 first, st_u64 total, st_progress_state *pr,
+                          st_render_stats *st, st_error *err);
+
+/* The adaptive rounds after the first min_spp samples (adaptive.c). */
+st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
+                             const st_render_options *o, st_progress_state *pr,
+                             st_render_stats *st, st_error *err);
+
+/* The camera basis of a view at an image aspect (render_scene.c). */
+st_camera st_render_camera(const st_scene_camera *c, st_u32 w, st_u32 h);
+
+#endif

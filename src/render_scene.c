@@ -1,0 +1,166 @@
+/* render_scene.c — the scene on the device: triangles in BVH order with
+ * their normals, materials, texture coordinates and light table, uploaded
+ * once per renderer; and the camera basis of a view. */
+#include "render_int.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "st_bvh.h"
+#include "st_lights.h"
+
+/* Texture coordinates in BVH order and the triangle's part of the ray-cone
+ * level of detail, lod = 1/2 log2(uv area / world area) (st_tri_uv). */
+static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
+{
+    for (st_u32 t = 0; t < bvh->tri_count; t++) {
+        const float *uv = s->uvs + 6 * (size_t)bvh->order[t];
+        memcpy(out[t].uv, uv, 6 * sizeof(float));
+        const st_triangle *tr = &bvh->tris[t];
+        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+        double world = sqrt(cx * cx + cy * cy + cz * cz);
+        double tex = fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
+                          ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
+        out[t].lod = tex > 0.0 && world > 0.0 ? (float)(0.5 * log2(tex / world)) : -64.0f;
+        out[t].pad = 0.0f;
+    }
+}
+
+static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
+{
+    const st_scene *s = r->scene;
+    st_u32 n = bvh->tri_count;
+    st_tri_normals *nrm = malloc(sizeof *nrm * (n ? n : 1));
+    st_u32 *mat = malloc(sizeof *mat * (n ? n : 1));
+    st_tri_uv *uv = calloc(n ? n : 1, sizeof *uv);
+    st_lights lights = {0};
+    st_status rc = ST_OK;
+    static const st_texture no_texture; /* device buffers are never empty */
+    static const st_u32 no_texel;
+    if (!nrm || !mat || !uv) {
+        rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
+        goto done;
+    }
+    memset(nrm, 0, sizeof *nrm * (n ? n : 1));
+    for (st_u32 t = 0; t < n; t++) {
+        const float *sn = s->normals + 9 * (size_t)bvh->order[t];
+        memcpy(nrm[t].n0, sn, 3 * sizeof(float));
+        memcpy(nrm[t].n1, sn + 3, 3 * sizeof(float));
+        memcpy(nrm[t].n2, sn + 6, 3 * sizeof(float));
+        mat[t] = s->tri_material[bvh->order[t]];
+        /* unit geometric normal, on the side of the shading normals */
+        const float *e1 = bvh->tris[t].e1, *e2 = bvh->tris[t].e2;
+        double g[3] = {(double)e1[1] * e2[2] - (double)e1[2] * e2[1],
+                       (double)e1[2] * e2[0] - (double)e1[0] * e2[2],
+                       (double)e1[0] * e2[1] - (double)e1[1] * e2[0]};
+        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), side = 0.0;
+        for (int a = 0; a < 3; a++)
+            side += g[a] * ((double)sn[a] + sn[3 + a] + sn[6 + a]);
+        double scale = (side < 0.0 ? -1.0 : 1.0) / (len > 0.0 ? len : 1.0);
+        nrm[t].n0[3] = (float)(g[0] * scale);
+        nrm[t].n1[3] = (float)(g[1] * scale);
+        nrm[t].n2[3] = (float)(g[2] * scale);
+    }
+    make_tri_uv(s, bvh, uv);
+    if (st_lights_build(s, bvh, uv, &lights, err) != ST_OK) {
+        rc = err->status;
+        goto done;
+    }
+    r->light_count = lights.count;
+    struct { size_t bytes; const void *data; } up[ST_SCENE_tile] = {
+        {sizeof(st_bvh_node) * bvh->node_count, bvh->nodes},
+        {sizeof(st_triangle) * (n ? n : 1), bvh->tris},
+        {sizeof(st_tri_normals) * (n ? n : 1), nrm},
+        {sizeof(st_u32) * (n ? n : 1), mat},
+        {sizeof(st_material) * s->material_count, s->materials},
+        {sizeof(st_u32) * (r->light_count ? r->light_count : 1), lights.tri},
+        {sizeof(float) * (r->light_count ? r->light_count : 1), lights.cdf},
+        {sizeof(float) * (n ? n : 1), lights.pdf_area},
+        {sizeof(st_tri_uv) * (n ? n : 1), uv},
+        {sizeof(st_texture) * (s->texture_count ? s->texture_count : 1),
+         s->texture_count ? (const void *)s->textures : (const void *)&no_texture},
+        {sizeof(st_u32) * (s->texel_count ? s->texel_count : 1),
+         s->texel_count ? (const void *)s->texels : (const void *)&no_texel},
+    };
+    for (int b = 0; b < ST_SCENE_tile && rc == ST_OK; b++)
+        rc = st_device_buffer_create(r->dev, up[b].bytes, up[b].data, &r->scene_buf[b], err);
+done:
+    free(nrm);
+    free(mat);
+    free(uv);
+    st_lights_free(&lights);
+    return rc;
+}
+
+st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer **out,
+                             st_error *err)
+{
+    *out = NULL;
+    st_renderer *r = calloc(1, sizeof *r);
+    if (!r)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory creating the renderer");
+    r->dev = dev;
+    r->scene = scene;
+    float extent = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        extent = fmaxf(extent, fabsf(scene->bounds_min[a]));
+        extent = fmaxf(extent, fabsf(scene->bounds_max[a]));
+    }
+    r->ray_eps = 1e-4f * fmaxf(extent, 1e-3f);
+    st_bvh *bvh = NULL;
+    double t0 = st_render_now();
+    if (st_bvh_build(scene->positions, scene->tri_count, &bvh, err) != ST_OK)
+        goto fail;
+    r->bvh_seconds = st_render_now() - t0;
+    if (upload_scene(r, bvh, err) != ST_OK || st_device_build(dev, NULL, err) != ST_OK)
+        goto fail;
+    for (int k = 0; k < ST_STAGE_COUNT; k++)
+        if (st_device_kernel(dev, st_stage_names[k], &r->k[k], err) != ST_OK)
+            goto fail;
+    if (st_device_kernel(dev, "adaptive_mark", &r->mark, err) != ST_OK)
+        goto fail;
+    st_bvh_destroy(bvh);
+    *out = r;
+    return ST_OK;
+fail:
+    st_bvh_destroy(bvh);
+    st_renderer_destroy(r);
+    return err->status;
+}
+
+void st_renderer_destroy(st_renderer *r)
+{
+    if (!r)
+        return;
+    for (int b = 0; b < ST_SCENE_BUFFER_COUNT; b++)
+        st_device_buffer_destroy(r->scene_buf[b]);
+    free(r);
+}
+
+double st_renderer_bvh_seconds(const st_renderer *r) { return r->bvh_seconds; }
+st_u32 st_renderer_light_count(const st_renderer *r) { return r->light_count; }
+
+/* Camera basis from the scene's camera and the image aspect. */
+st_camera st_render_camera(const st_scene_camera *c, st_u32 w, st_u32 h)
+{
+    st_camera cam;
+    memset(&cam, 0, sizeof cam);
+    const float *f = c->forward, *u = c->up;
+    float right[3] = {f[1] * u[2] - f[2] * u[1], f[2] * u[0] - f[0] * u[2],
+                      f[0] * u[1] - f[1] * u[0]};
+    for (int a = 0; a < 3; a++) {
+        cam.origin[a] = c->origin[a];
+        cam.right[a] = right[a];
+        cam.up[a] = u[a];
+        cam.forward[a] = f[a];
+    }
+    /* st_camera: forward[3] = 1 marks an orthographic camera, whose
+     * origin[3] is the half height ymag instead of tan(yfov / 2) */
+    cam.origin[3] = c->orthographic ? c->ymag : tanf(0.5f * c->yfov);
+    cam.forward[3] = c->orthographic ? 1.0f : 0.0f;
+    cam.right[3] = (float)w / (float)h;
+    return cam;
+}

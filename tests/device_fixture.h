@@ -1,0 +1,32 @@
+/* device_fixture.h — the one device fixture of the tests that run kernels:
+ * the default OpenCL device (PoCL's CPU) with the program built, as cmocka
+ * group setup and teardown. Include after <cmocka.h>. */
+#ifndef ST_DEVICE_FIXTURE_H
+#define ST_DEVICE_FIXTURE_H
+
+#include <stdio.h>
+
+#include "st_device.h"
+
+static st_device *dev;
+
+static int device_setup(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    if (st_device_create(NULL, &dev, &err) != ST_OK || st_device_build(dev, NULL, &err) != ST_OK) {
+        fprintf(stderr, "device: %s\n%s\n", err.msg, dev ? st_device_build_log(dev) : "");
+        return -1;
+    }
+    return 0;
+}
+
+static int device_teardown(void **state)
+{
+    (void)state;
+    st_device_destroy(dev);
+    dev = NULL;
+    return 0;
+}
+
+#endif
