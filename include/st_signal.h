@@ -124,9 +124,6 @@ double st_signal_max_frequency(const st_signal_function *fn);
  * |f - k/T| with k = round(f T) (the copy of the spectrum nearest to 0). */
 double st_signal_alias_frequency(double f, double spacing);
 
-/* ∫ r(u) du over the filter's support (midpoint rule, 2^16 intervals). */
-double st_signal_filter_integral(const st_filter *f);
-
 /* Reconstructs the samples at the m points x[] into out[]. A finite filter
  * whose weights sum to 0 at a point gives NaN there, counted in *zero_weight
  * (may be NULL). ST_ERR_USAGE for a bad filter or spacing. */

@@ -218,39 +218,8 @@ ST_FN void st_stratified_grid(st_u32 n, st_u32 *nx, st_u32 *ny)
     *ny = n / x;
 }
 
-/* x such that x * a = 1 (mod m), for gcd(a, m) = 1 (extended Euclid). */
-ST_FN st_u32 st_mult_inverse(st_u32 a, st_u32 m)
-{
-    st_i64 t = 0, nt = 1, r = m, nr = a % m;
-    while (nr != 0) {
-        st_i64 q = r / nr, tmp = t - q * nt;
-        t = nt;
-        nt = tmp;
-        tmp = r - q * nr;
-        r = nr;
-        nr = tmp;
-    }
-    if (t < 0)
-        t += m;
-    return (st_u32)t;
-}
-
-/* Fills the sampler fields of p from width, height and spp (pbrt-v4's
- * HaltonSampler constructor for the pixel scales). */
-ST_FN void st_sampler_prepare(st_params *p)
-{
-    st_stratified_grid(p->spp, &p->strat_nx, &p->strat_ny);
-    st_u32 s2 = 1, e2 = 0, s3 = 1, e3 = 0;
-    st_u32 rx = p->width < ST_HALTON_MAX_RESOLUTION ? p->width : ST_HALTON_MAX_RESOLUTION;
-    st_u32 ry = p->height < ST_HALTON_MAX_RESOLUTION ? p->height : ST_HALTON_MAX_RESOLUTION;
-    while (s2 < rx) { s2 *= 2u; e2++; }
-    while (s3 < ry) { s3 *= 3u; e3++; }
-    p->halton_exp2 = e2;
-    p->halton_exp3 = e3;
-    p->halton_stride = s2 * s3;
-    p->halton_inv2 = s2 > 1u ? st_mult_inverse(s3 % s2, s2) : 0u;
-    p->halton_inv3 = s3 > 1u ? st_mult_inverse(s2 % s3, s3) : 0u;
-}
+/* The sampler fields of st_params (stratified grid, Halton scales) are
+ * filled on the host by st_sampler_prepare (src/sampler.c). */
 
 /* One sample's identity, computed once and passed to st_sample_dim. */
 typedef struct st_sample_id {

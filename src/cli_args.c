@@ -128,15 +128,41 @@ static int parse_name(const char *opt, const char *const *names, int count, cons
     return ST_CLI_OK;
 }
 
+const st_cli_option_name st_cli_render_option_names[] = {
+    {"sample range", "--sample-range"}, {"spp", "--spp"}, {"min spp", "--min-spp"},
+    {"max spp", "--max-spp"}, {"noise threshold", "--noise-threshold"},
+    {"max depth", "--max-depth"}, {"reconstruction", "--reconstruction"},
+    {"adaptive", "--adaptive"}, {"sampler", "--sampler"}, {"filter kind", "--filter"},
+    {"filter radius", "--filter-radius"}, {"filter b", "--filter-b"},
+    {"filter c", "--filter-c"}, {"filter sigma", "--filter-sigma"},
+    {"filter tau", "--filter-tau"}, {NULL, NULL}};
+
+int st_cli_fail_options(const st_error *err, const st_cli_option_name *names)
+{
+    for (const st_cli_option_name *n = names; n->field; n++) {
+        size_t len = strlen(n->field);
+        char next = err->msg[len];
+        /* a whole field: "spp 3" is spp, "spp-map" or "sppx" is not */
+        if (strncmp(err->msg, n->field, len) || (next && next != ' ' && next != ':'))
+            continue;
+        st_error e = {.status = err->status};
+        snprintf(e.msg, sizeof e.msg, "%s%s", n->option, err->msg + len);
+        return st_cli_fail(&e);
+    }
+    return st_cli_fail(err);
+}
+
+/* The filter module says which parameters a kind reads; one given for a kind
+ * that ignores it is refused rather than silently dropped. */
 int st_cli_apply_filter_args(const st_cli_filter_args *fa, st_filter *f)
 {
-    st_u32 k = f->kind;
-    const char *name = st_filter_names[k];
-    if ((fa->b || fa->c) && k != ST_FILTER_MITCHELL)
+    st_u32 uses = st_filter_parameters(f->kind);
+    const char *name = st_filter_names[f->kind];
+    if ((fa->b || fa->c) && !(uses & ST_FILTER_USES_BC))
         return st_cli_usage_error("--filter-b/--filter-c apply to mitchell only, not %s", name);
-    if (fa->sigma && k != ST_FILTER_GAUSSIAN)
+    if (fa->sigma && !(uses & ST_FILTER_USES_SIGMA))
         return st_cli_usage_error("--filter-sigma applies to gaussian only, not %s", name);
-    if (fa->tau && k != ST_FILTER_LANCZOS)
+    if (fa->tau && !(uses & ST_FILTER_USES_TAU))
         return st_cli_usage_error("--filter-tau applies to lanczos only, not %s", name);
     if (fa->radius && st_cli_parse_float("--filter-radius", fa->radius, &f->radius))
         return ST_CLI_EXIT_USAGE;
@@ -300,6 +326,6 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
                                   a->adaptive_opt);
     st_error err = {0};
     if (st_render_check(&a->opt, &err) != ST_OK)
-        return st_cli_fail(&err);
+        return st_cli_fail_options(&err, st_cli_render_option_names);
     return ST_CLI_OK;
 }

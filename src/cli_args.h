@@ -34,6 +34,19 @@ typedef struct st_cli_filter_args {
 } st_cli_filter_args;
 int st_cli_apply_filter_args(const st_cli_filter_args *fa, st_filter *f);
 
+/* A field as library messages name it ("filter radius") and the option that
+ * sets it ("--filter-radius"): the library names fields, the CLI its flags. */
+typedef struct st_cli_option_name {
+    const char *field, *option;
+} st_cli_option_name;
+/* The fields of st_render_options that st_render_check names, with the
+ * options of render, bench and converge (and signal's filter options);
+ * ends with {NULL, NULL}. */
+extern const st_cli_option_name st_cli_render_option_names[];
+/* st_cli_fail, with the field that opens err's message ("filter radius 9:
+ * ...") written as its option ("--filter-radius 9: ...") when names lists it. */
+int st_cli_fail_options(const st_error *err, const st_cli_option_name *names);
+
 /* Strict numbers: the whole string must parse; else a usage error naming opt. */
 int st_cli_parse_u32(const char *opt, const char *s, unsigned lo, unsigned hi, unsigned *out);
 int st_cli_parse_float(const char *opt, const char *s, float *out);

@@ -55,7 +55,7 @@ static int parse_list(const char *opt, const char *s, int names, st_u32 *out, st
         if (*n == max)
             return st_cli_usage_error("%s %s: at most %u entries", opt, s, max);
         if (names) {
-            int k = st_name_lookup(st_sampler_names, ST_SAMPLER_COUNT, tok);
+            int k = st_sampler_lookup(tok);
             if (k < 0)
                 return st_cli_usage_error("%s: unknown sampler '%s'", opt, tok);
             out[(*n)++] = (st_u32)k;

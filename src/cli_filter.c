@@ -7,7 +7,8 @@
 
 #include "cli.h"
 #include "cli_args.h"
-#include "st_filter_lab.h"
+#include "filters.h"
+#include "st_filter.h"
 #include "st_plot.h"
 
 #define PROFILE_POINTS 401
@@ -60,7 +61,7 @@ static int parse(int argc, char **argv, filter_cli *c)
     }
     if (optind >= argc)
         return st_cli_usage_error("filter: needs a filter name (see strata filter --help)");
-    int k = st_name_lookup(st_filter_names, ST_FILTER_COUNT, argv[optind]);
+    int k = st_filter_lookup(argv[optind]);
     if (k < 0)
         return st_cli_usage_error("filter %s: unknown (see strata filter --help)", argv[optind]);
     if (optind + 1 < argc)
@@ -68,11 +69,13 @@ static int parse(int argc, char **argv, filter_cli *c)
     c->f = st_filter_default((st_u32)k);
     if (st_cli_apply_filter_args(&fa, &c->f))
         return ST_CLI_EXIT_USAGE;
-    st_render_options o2 = st_render_defaults();
-    o2.filter = c->f;
+    /* the renderer's limits: the lab shows filters that can render */
+    static const st_cli_option_name names[] = {
+        {"filter radius", "--radius"}, {"filter b", "--b"}, {"filter c", "--c"},
+        {"filter sigma", "--sigma"}, {"filter tau", "--tau"}, {NULL, NULL}};
     st_error err = {0};
-    if (st_render_check(&o2, &err) != ST_OK) /* radius and parameter ranges */
-        return st_cli_fail(&err);
+    if (st_filter_check(&c->f, ST_FILTER_MAX_RADIUS, &err) != ST_OK)
+        return st_cli_fail_options(&err, names);
     if (!c->csv && !c->png)
         return st_cli_usage_error("filter: nothing to do (give --csv or --png)");
     return ST_CLI_OK;

@@ -69,7 +69,7 @@ static int parse(int argc, char **argv, pattern_args *a)
         case '?': return st_cli_usage_error("pattern: unknown option %s", argv[optind - 1]);
         case ':': return st_cli_usage_error("pattern: option %s needs a value", argv[optind - 1]);
         case P_SAMPLER: {
-            int k = st_name_lookup(st_sampler_names, ST_SAMPLER_COUNT, v);
+            int k = st_sampler_lookup(v);
             if (k < 0)
                 return st_cli_usage_error("--sampler %s: unknown (see strata pattern --help)", v);
             a->sampler = (st_u32)k;

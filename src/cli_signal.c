@@ -232,7 +232,7 @@ static int parse_filter(signal_cli *c)
                                       ST_SIGNAL_MAX_SAMPLES / 2, &c->o.sinc_margin)
                    : ST_CLI_OK;
     }
-    int k = st_name_lookup(st_filter_names, ST_FILTER_COUNT, name);
+    int k = st_filter_lookup(name);
     if (k < 0)
         return st_cli_usage_error("--filter %s: unknown; expected sinc, box, triangle, gaussian, "
                                   "mitchell, lanczos, catmull-rom or blackman-harris", name);
@@ -247,6 +247,12 @@ static int parse_filter(signal_cli *c)
     r->mode = mode && !strcmp(mode, "convolution") ? ST_SIGNAL_CONVOLUTION : ST_SIGNAL_AVERAGE;
     return ST_CLI_OK;
 }
+
+/* The filter module names fields; signal's options for them. */
+static const st_cli_option_name filter_option_names[] = {
+    {"filter kind", "--filter"}, {"filter radius", "--filter-radius"},
+    {"filter b", "--filter-b"}, {"filter c", "--filter-c"},
+    {"filter sigma", "--filter-sigma"}, {"filter tau", "--filter-tau"}, {NULL, NULL}};
 
 static int parse(int argc, char **argv, signal_cli *c)
 {
@@ -282,7 +288,7 @@ static int parse(int argc, char **argv, signal_cli *c)
         return st_cli_usage_error("--fmax %s: must be positive", given(c, S_FMAX));
     st_error err = {0};
     if (st_signal_check(&c->o, &err) != ST_OK)
-        return st_cli_fail(&err);
+        return st_cli_fail_options(&err, filter_option_names);
     return ST_CLI_OK;
 }
 

@@ -6,6 +6,7 @@
 
 #include "rng.h"
 #include "samplers.h"
+#include "st_sampler.h"
 #include "st_sampling.h"
 
 int st_pattern_is_random(st_u32 sampler, st_u32 scramble)

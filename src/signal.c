@@ -13,9 +13,9 @@
 #include <string.h>
 
 #include "filters.h"
+#include "st_filter.h"
 
 #define PI 3.14159265358979323846
-#define INTEGRAL_INTERVALS 65536
 #define MIN_AUTO_POINTS 4096u
 #define MIN_POINTS 16u
 #define SINC_WORK_BUDGET 1.0e9 /* terms of the default sinc sum before its margin shrinks */
@@ -79,30 +79,16 @@ double st_signal_alias_frequency(double f, double spacing)
     return fabs(f - k / spacing);
 }
 
-double st_signal_filter_integral(const st_filter *f)
-{
-    double r = f->radius, h = 2.0 * r / INTEGRAL_INTERVALS, sum = 0.0;
-    for (int i = 0; i < INTEGRAL_INTERVALS; i++)
-        sum += st_filter_eval_1d(f, (float)(-r + (i + 0.5) * h));
-    return sum * h;
-}
-
 /* ---- reconstruction ---------------------------------------------------------------- */
 
 static st_status check_filter(const st_signal_filter *r, st_error *err)
 {
     if (r->sinc)
         return ST_OK;
-    const st_filter *f = &r->filter;
-    if (f->kind >= ST_FILTER_COUNT)
-        return st_fail(err, ST_ERR_USAGE, "--filter: unknown filter %u", f->kind);
-    if (!(f->radius > 0.0f) || f->radius > ST_SIGNAL_MAX_RADIUS)
-        return st_fail(err, ST_ERR_USAGE, "--filter-radius %g: must be in (0, %g] (units of T)",
-                       (double)f->radius, (double)ST_SIGNAL_MAX_RADIUS);
-    if (f->kind == ST_FILTER_GAUSSIAN && !(f->sigma > 0.0f))
-        return st_fail(err, ST_ERR_USAGE, "--filter-sigma %g: must be positive", (double)f->sigma);
-    if (f->kind == ST_FILTER_LANCZOS && !(f->tau > 0.0f))
-        return st_fail(err, ST_ERR_USAGE, "--filter-tau %g: must be positive", (double)f->tau);
+    /* the radius is in units of T here, not pixels */
+    st_status rc = st_filter_check(&r->filter, ST_SIGNAL_MAX_RADIUS, err);
+    if (rc != ST_OK)
+        return rc;
     if (r->mode != ST_SIGNAL_AVERAGE && r->mode != ST_SIGNAL_CONVOLUTION)
         return st_fail(err, ST_ERR_USAGE, "--reconstruct: unknown mode %u", r->mode);
     return ST_OK;
@@ -147,7 +133,7 @@ st_status st_signal_reconstruct(const st_signal_samples *s, const st_signal_filt
     if (check_filter(r, err) != ST_OK)
         return err ? err->status : ST_ERR_USAGE;
     int convolve = !r->sinc && r->mode == ST_SIGNAL_CONVOLUTION;
-    double integral = convolve ? st_signal_filter_integral(&r->filter) : 1.0;
+    double integral = convolve ? st_filter_integral(&r->filter) : 1.0;
     if (convolve && !(fabs(integral) > 0.0))
         return st_fail(err, ST_ERR_USAGE, "--reconstruct convolution: the filter's integral is 0");
     st_u32 zeros = 0;

@@ -35,6 +35,7 @@
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
+#include "st_sampler.h"
 
 typedef unsigned __int128 u128;
 

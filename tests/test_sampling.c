@@ -1,5 +1,5 @@
 /* test_sampling.c — guards the host side of the sampling module
- * (src/samplers.c, src/discrepancy.c, src/spectrum.c).
+ * (src/poisson_disk.c, src/best_candidate.c, src/discrepancy.c, src/spectrum.c).
  *
  * Expected values are derived independently of the code under test: minimum
  * distances by brute force over the 9 periodic images of the tile (not the

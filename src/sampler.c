@@ -1,0 +1,90 @@
+/* sampler.c — the sampler module on the host (st_sampler.h): names,
+ * predicates, the check of a render's sampler settings and the preparation
+ * of the per-render fields the kernels' samplers.h reads. Invariant: the
+ * check accepts exactly the settings whose Halton indices st_halton_index
+ * (samplers.h) computes without wrapping past 2^32. */
+#include "st_sampler.h"
+
+#include <string.h>
+
+#include "rng.h"
+#include "samplers.h"
+
+const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
+    "random", "uniform", "stratified", "halton", "hammersley", "poisson", "best-candidate",
+    "sobol"};
+
+int st_sampler_lookup(const char *name)
+{
+    for (st_u32 i = 0; i < ST_SAMPLER_COUNT; i++)
+        if (!strcmp(st_sampler_names[i], name))
+            return (int)i;
+    return -1;
+}
+
+int st_sampler_takes_scramble(st_u32 sampler)
+{
+    return sampler == ST_SAMPLER_STRATIFIED || sampler == ST_SAMPLER_HALTON ||
+           sampler == ST_SAMPLER_HAMMERSLEY || sampler == ST_SAMPLER_SOBOL;
+}
+
+int st_sampler_is_tiled(st_u32 sampler)
+{
+    return ST_SAMPLER_IS_TILED(sampler);
+}
+
+/* x such that x * a = 1 (mod m), for gcd(a, m) = 1 (extended Euclid). */
+static st_u32 mult_inverse(st_u32 a, st_u32 m)
+{
+    st_i64 t = 0, nt = 1, r = m, nr = a % m;
+    while (nr != 0) {
+        st_i64 q = r / nr, tmp = t - q * nt;
+        t = nt;
+        nt = tmp;
+        tmp = r - q * nr;
+        r = nr;
+        nr = tmp;
+    }
+    if (t < 0)
+        t += m;
+    return (st_u32)t;
+}
+
+/* The pixel scales 2^e2 >= width and 3^e3 >= height (each capped at
+ * ST_HALTON_MAX_RESOLUTION) make the first two Halton dimensions land one
+ * index per pixel per stride; the inverses solve the Chinese remainder
+ * problem of st_halton_index. */
+void st_sampler_prepare(st_params *p)
+{
+    st_stratified_grid(p->spp, &p->strat_nx, &p->strat_ny);
+    st_u32 s2 = 1, e2 = 0, s3 = 1, e3 = 0;
+    st_u32 rx = p->width < ST_HALTON_MAX_RESOLUTION ? p->width : ST_HALTON_MAX_RESOLUTION;
+    st_u32 ry = p->height < ST_HALTON_MAX_RESOLUTION ? p->height : ST_HALTON_MAX_RESOLUTION;
+    while (s2 < rx) { s2 *= 2u; e2++; }
+    while (s3 < ry) { s3 *= 3u; e3++; }
+    p->halton_exp2 = e2;
+    p->halton_exp3 = e3;
+    p->halton_stride = s2 * s3;
+    p->halton_inv2 = s2 > 1u ? mult_inverse(s3 % s2, s2) : 0u;
+    p->halton_inv3 = s3 > 1u ? mult_inverse(s2 % s3, s3) : 0u;
+}
+
+st_status st_sampler_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32 spp,
+                           st_error *err)
+{
+    if (sampler >= ST_SAMPLER_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "sampler %u: unknown", sampler);
+    if (sampler != ST_SAMPLER_HALTON)
+        return ST_OK;
+    st_params p;
+    memset(&p, 0, sizeof p);
+    p.width = width;
+    p.height = height;
+    p.spp = spp;
+    st_sampler_prepare(&p);
+    if ((st_u64)p.halton_stride * spp > 0xffffffffull)
+        return st_fail(err, ST_ERR_USAGE,
+                       "spp %u: Halton indices would pass 2^32 at %ux%u pixels (stride %u)",
+                       spp, width, height, p.halton_stride);
+    return ST_OK;
+}
