@@ -37,7 +37,9 @@ st_status st_device_list(st_device_info **out, unsigned *count, st_error *err);
 
 /* spec: NULL or "cpu" (the first CPU device, i.e. PoCL), "gpu" (the first
  * GPU), or "P:D" (platform P, device D of `strata devices`). Creates a context
- * and an in-order queue. The device must offer cl_khr_int64_base_atomics. */
+ * and an in-order queue. The device must offer cl_khr_int64_base_atomics.
+ * Errors about the spec itself open with "device SPEC: " (the CLI writes its
+ * flag there). */
 st_status st_device_create(const char *spec, st_device **out, st_error *err);
 void st_device_destroy(st_device *dev); /* NULL: does nothing */
 const st_device_info *st_device_get_info(const st_device *dev);

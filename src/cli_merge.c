@@ -8,8 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
-#include "cli_run.h"
+#include "cli_commands.h"
+#include "cli_error.h"
+#include "cli_session.h"
 #include "st_film.h"
 
 #define MAX_PARTS 4096
@@ -120,8 +121,9 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
     }
     if (rc == ST_OK)
         rc = check_ranges(parts, n, err);
-    if (rc == ST_OK && (st_device_create(device, &dev, err) ||
-                        st_render_resolve(dev, total, w, h, &resolved, NULL, err) ||
+    if (rc == ST_OK && st_device_create(device, &dev, err) != ST_OK)
+        rc = st_cli_device_words(err);
+    if (rc == ST_OK && (st_render_resolve(dev, total, w, h, &resolved, NULL, err) ||
                         st_cli_rgb_of(&resolved, &rgb, err)))
         rc = err->status;
     if (rc == ST_OK) {

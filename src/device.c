@@ -218,8 +218,7 @@ static st_status parse_spec(const char *spec, pick_ctx *c, st_error *err)
     char tail;
     if (sscanf(spec, "%u:%u%c", &c->p, &c->d, &tail) == 2)
         return ST_OK;
-    return st_fail(err, ST_ERR_USAGE, "--device %s: expected cpu, gpu or P:D (see `strata devices`)",
-                   spec);
+    return st_fail(err, ST_ERR_USAGE, "device %s: expected cpu, gpu or P:D", spec);
 }
 
 st_status st_device_create(const char *spec, st_device **out, st_error *err)
@@ -229,7 +228,7 @@ st_status st_device_create(const char *spec, st_device **out, st_error *err)
     if (parse_spec(spec, &c, err) != ST_OK || each_device(pick, &c, err) != ST_OK)
         return err->status;
     if (!c.found)
-        return st_fail(err, ST_ERR_DEVICE, "no OpenCL device matches --device %s (see `strata devices`)",
+        return st_fail(err, ST_ERR_DEVICE, "device %s: no OpenCL device matches",
                        spec ? spec : "cpu");
     if (!c.info.has_int64_atomics)
         return st_fail(err, ST_ERR_DEVICE, "%s: device lacks cl_khr_int64_base_atomics, needed for the film",

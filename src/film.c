@@ -34,7 +34,7 @@ st_status st_film_from_image(const st_image *img, const char *path, st_i64 **sum
         if (at[c] < 0 || img->types[at[c]] != ST_PIXEL_UINT)
             return st_fail(err, ST_ERR_FORMAT,
                            "%s: no UINT channel %s: not the raw film of a split render "
-                           "(render with --sample-range)",
+                           "(a render of a sample range)",
                            path, names[c]);
     }
     size_t n = (size_t)img->width * img->height;

@@ -54,10 +54,10 @@ st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed
     if (sampler >= ST_SAMPLER_COUNT)
         return st_fail(err, ST_ERR_USAGE, "unknown sampler %u", sampler);
     if (count < 1 || count > ST_PATTERN_MAX_COUNT)
-        return st_fail(err, ST_ERR_USAGE, "--count %u: must be in 1..%u", count,
+        return st_fail(err, ST_ERR_USAGE, "count %u: must be in 1..%u", count,
                        ST_PATTERN_MAX_COUNT);
     if (dims < 1 || dims > ST_PATTERN_MAX_DIMS)
-        return st_fail(err, ST_ERR_USAGE, "--dims %u: must be in 1..%u", dims, ST_PATTERN_MAX_DIMS);
+        return st_fail(err, ST_ERR_USAGE, "dims %u: must be in 1..%u", dims, ST_PATTERN_MAX_DIMS);
     if (ST_SAMPLER_IS_TILED(sampler))
         return tiled(sampler, count, dims, seed, points, out_count, err);
     st_params p;

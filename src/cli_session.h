@@ -1,21 +1,16 @@
-/* cli_run.h — what render and bench share: opening the device and scene,
- * the progress bar, and the EXR header of a render. */
-#ifndef ST_CLI_RUN_H
-#define ST_CLI_RUN_H
+/* cli_session.h — what the subcommands that render share (render, bench,
+ * converge, merge): opening the device, scene and renderer, the error of a
+ * failed session, the EXR header and RGB image of a render, and the one-line
+ * summary. Used by subcommands; uses only the argument parser, the error
+ * helpers and the library. */
+#ifndef ST_CLI_SESSION_H
+#define ST_CLI_SESSION_H
 
 #include "cli_args.h"
 #include "st_device.h"
 #include "st_image.h"
 #include "st_render.h"
 #include "st_scene.h"
-
-typedef struct st_cli_progress_state {
-    const char *label;
-    int tty;
-} st_cli_progress_state;
-
-void st_cli_progress_init(st_cli_progress_state *p, const char *label, int quiet);
-void st_cli_progress(void *ctx, double fraction);
 
 /* Everything a render needs, opened in order; st_cli_session_close releases
  * what was opened. */
@@ -30,6 +25,11 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
 void st_cli_session_close(st_cli_session *s);
 /* Prints the error (and a kernel build's compiler log); returns the exit status. */
 int st_cli_session_fail(const st_cli_session *s, const st_error *err);
+/* Rewrites an error of st_device_create in the CLI's words: the device
+ * module names its field ("device xyz: ..."), the CLI its flag and where the
+ * choices are listed ("--device xyz: ... (see `strata devices`)").
+ * Returns err->status. */
+st_status st_cli_device_words(st_error *err);
 
 /* The render's settings as "strata.*" EXR attributes; returns the count. */
 #define ST_CLI_MAX_ATTRS 24
@@ -43,6 +43,7 @@ int st_cli_has_extension(const char *path, const char *ext);
 /* Prints the built-in scene names, one per line. */
 void st_cli_print_scene_list(void);
 
+/* Monotonic seconds, for the load, build and render times. */
 double st_cli_now(void);
 
 /* The one-line summary: time, samples/s, rays/s, clamps. */

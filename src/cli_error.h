@@ -1,0 +1,20 @@
+/* cli_error.h — how the command line ends: the exit statuses and the one
+ * "strata: error: ..." line. Every CLI file uses these; they use nothing of
+ * the CLI, so the CLI's files depend on each other in one direction only
+ * (dispatch → subcommands → session, arguments → these). */
+#ifndef ST_CLI_ERROR_H
+#define ST_CLI_ERROR_H
+
+#include "st_error.h"
+
+/* Exit statuses (DESIGN.md: 2 for a usage error, 1 for any other failure);
+ * ST_CLI_HELP is no exit status: a parser's "help printed, exit 0". */
+enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };
+
+/* Prints "strata: error: MSG" and returns the exit status for err. */
+int st_cli_fail(const st_error *err);
+
+/* Prints a usage error and returns ST_CLI_EXIT_USAGE. */
+int st_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+#endif

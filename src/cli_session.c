@@ -1,0 +1,164 @@
+/* cli_session.c — the session (device, scene, renderer) that render, bench
+ * and converge open the same way, and what they (and merge) print or save of
+ * a render. */
+#include "cli_session.h"
+
+#include <stdio.h>
+#include <string.h>
+#include <strings.h>
+#include <time.h>
+
+#include "cli_error.h"
+
+double st_cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+void st_cli_print_scene_list(void)
+{
+    const char *names[64];
+    st_u32 n = st_scene_builtin_names(names, 64);
+    for (st_u32 i = 0; i < n; i++)
+        puts(names[i]);
+}
+
+st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err)
+{
+    memset(s, 0, sizeof *s);
+    double t0 = st_cli_now();
+    if (st_scene_load(a->scene, &s->scene, err) != ST_OK)
+        return err->status;
+    s->load_seconds = st_cli_now() - t0;
+    for (st_u32 i = 0; i < s->scene->warning_count; i++)
+        fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
+    /* --camera is checked before the device starts, in the flag's words */
+    st_u32 cams = s->scene->camera_count;
+    if (a->opt.camera >= 0 && (st_u32)a->opt.camera >= cams)
+        return st_fail(err, ST_ERR_USAGE, "--camera %d: %s has %u camera node%s%s",
+                       (int)a->opt.camera, s->scene->name, cams, cams == 1 ? "" : "s",
+                       cams ? " (numbered from 0)" : "");
+    if (st_device_create(a->device, &s->dev, err) != ST_OK)
+        return st_cli_device_words(err);
+    t0 = st_cli_now();
+    if (st_device_build(s->dev, NULL, err) != ST_OK)
+        return err->status;
+    s->build_seconds = st_cli_now() - t0;
+    return st_renderer_create(s->dev, s->scene, &s->renderer, err);
+}
+
+st_status st_cli_device_words(st_error *err)
+{
+    if (!strncmp(err->msg, "device ", 7)) {
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "--%.470s (see `strata devices`)", err->msg);
+        memcpy(err->msg, msg, sizeof msg);
+    }
+    return err->status;
+}
+
+int st_cli_session_fail(const st_cli_session *s, const st_error *err)
+{
+    int rc = st_cli_fail(err);
+    const char *log = s->dev ? st_device_build_log(s->dev) : "";
+    if (err->status == ST_ERR_DEVICE && log[0])
+        fprintf(stderr, "%s\n", log); /* the compiler log, after the cause */
+    return rc;
+}
+
+void st_cli_session_close(st_cli_session *s)
+{
+    st_renderer_destroy(s->renderer);
+    st_scene_destroy(s->scene);
+    st_device_destroy(s->dev);
+    memset(s, 0, sizeof *s);
+}
+
+int st_cli_has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext);
+    return n > k && !strcasecmp(path + n - k, ext);
+}
+
+/* The render's settings, as EXR header attributes (at most ST_CLI_MAX_ATTRS). */
+int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
+                        const st_render_stats *st, st_attr *attrs)
+{
+    const st_render_options *o = &a->opt;
+    const st_filter *f = &o->filter;
+    int n = 0;
+#define ATTR(key, ...)                                                                     \
+    do {                                                                                   \
+        snprintf(attrs[n].name, sizeof attrs[n].name, "strata.%s", key);                   \
+        snprintf(attrs[n].value, sizeof attrs[n].value, __VA_ARGS__);                      \
+        n++;                                                                               \
+    } while (0)
+    ATTR("scene", "%s", s->scene->name);
+    ATTR("sampler", "%s", st_sampler_names[o->sampler]);
+    ATTR("scramble", "%s", o->scramble ? "on" : "none");
+    ATTR("spp", "%u", o->spp);
+    ATTR("sample_range", "%u:%u", o->sample_begin, o->sample_end ? o->sample_end : o->spp);
+    ATTR("filter", "%s", st_filter_names[f->kind]);
+    ATTR("filter_radius", "%.9g", (double)f->radius);
+    ATTR("reconstruction", "%s", st_reconstruction_names[o->reconstruction]);
+    if (f->kind == ST_FILTER_MITCHELL)
+        ATTR("filter_bc", "%.9g,%.9g", (double)f->b, (double)f->c);
+    if (f->kind == ST_FILTER_GAUSSIAN)
+        ATTR("filter_sigma", "%.9g", (double)f->sigma);
+    if (f->kind == ST_FILTER_LANCZOS)
+        ATTR("filter_tau", "%.9g", (double)f->tau);
+    ATTR("seed", "%u", o->seed);
+    if (o->adaptive) {
+        ATTR("adaptive", "min_spp %u, max_spp %u, noise_threshold %.9g", o->min_spp, o->spp,
+             (double)o->noise_threshold);
+        ATTR("samples_total", "%llu", (unsigned long long)st->samples);
+    }
+    ATTR("integrator", "%s", st_integrator_names[o->integrator]);
+    ATTR("max_depth", "%u", o->max_depth);
+    float env[3];
+    st_render_env(s->scene, o, env);
+    ATTR("env", "%.9g,%.9g,%.9g", (double)env[0], (double)env[1], (double)env[2]);
+    ATTR("texture_filter", "%s", o->texture_filter == ST_TEXFILTER_NONE ? "none"
+                                 : o->texture_filter == ST_TEXFILTER_BILINEAR
+                                     ? "bilinear"
+                                     : "trilinear");
+    if (s->scene->camera_count)
+        ATTR("camera", "%d", o->camera >= 0 ? (int)o->camera : 0);
+    else
+        ATTR("camera", "default framing");
+    ATTR("device", "%s", st_device_get_info(s->dev)->name);
+    ATTR("render_seconds", "%.6f", st->seconds);
+#undef ATTR
+    return n;
+}
+
+st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
+{
+    const char *names[3] = {"R", "G", "B"};
+    if (st_image_create(out, in->width, in->height, 3, names, err) != ST_OK)
+        return err->status;
+    size_t n = (size_t)in->width * in->height;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++)
+            out->data[3 * i + c] = in->data[in->channels * i + c];
+    return ST_OK;
+}
+
+void st_cli_print_summary(const char *what, const st_render_options *o, const st_render_stats *st)
+{
+    double t = st->seconds > 0 ? st->seconds : 1e-9;
+    printf("strata: %s %ux%u, %u spp in %.3f s: %.2f M samples/s, %.2f M rays/s", what,
+           o->width, o->height, o->spp, st->seconds, st->samples / t * 1e-6,
+           st->rays / t * 1e-6);
+    if (o->adaptive) {
+        double uniform = (double)o->width * o->height * o->spp;
+        printf("; adaptive: %llu samples in all, %.2fx fewer than uniform at %u spp",
+               (unsigned long long)st->samples, uniform / (double)st->samples, o->spp);
+    }
+    if (st->clamped || st->nonfinite || st->zero_weight)
+        printf(" (%u splats clamped, %u non-finite, %u pixels without weight)", st->clamped,
+               st->nonfinite, st->zero_weight);
+    putchar('\n');
+}
