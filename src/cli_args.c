@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "cli_error.h"
 
 static const char render_help[] =
     "usage: strata %s [SCENE] [options]\n"

@@ -4,6 +4,7 @@
 #ifndef ST_CLI_ARGS_H
 #define ST_CLI_ARGS_H
 
+#include "cli_error.h"
 #include "st_render.h"
 
 typedef struct st_cli_render_args {
@@ -18,8 +19,6 @@ typedef struct st_cli_render_args {
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
 } st_cli_render_args;
-
-enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };
 
 /* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench
  * (--json, no -o); 2 for converge (neither).

@@ -9,9 +9,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "cli.h"
 #include "cli_check.h"
-#include "cli_run.h"
+#include "cli_commands.h"
+#include "cli_error.h"
+#include "cli_session.h"
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
 {

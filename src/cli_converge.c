@@ -9,9 +9,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "cli.h" /* st_cli_write_text */
 #include "cli_args.h"
-#include "cli_run.h"
+#include "cli_commands.h"
+#include "cli_error.h"
+#include "cli_progress.h"
+#include "cli_session.h"
 #include "st_pattern.h"
 #include "st_plot.h"
 

@@ -7,8 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "cli.h" /* st_cli_write_text */
 #include "cli_args.h"
+#include "cli_commands.h"
+#include "cli_error.h"
 #include "rng.h"
 #include "samplers.h"
 #include "st_pattern.h"

@@ -13,8 +13,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cli.h"
 #include "cli_args.h"
+#include "cli_commands.h"
+#include "cli_error.h"
 #include "st_plot.h"
 #include "st_render.h"
 #include "st_signal.h"
