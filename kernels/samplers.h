@@ -3,7 +3,7 @@
  * tests), so that what the laboratory measures is what renders.
  *
  * Dimensions: 0 and 1 are the position inside the pixel; 2, 3, ... feed the
- * integrator (light and BSDF samples; see render.cl). A sampler's values are a
+ * integrator (light and BSDF samples; see shade.cl and integrator.h). A sampler's values are a
  * pure function of (params, pixel, sample index, dimension).
  *
  * Definitions (the lecture; pbr-book 4ed ch. 8):
