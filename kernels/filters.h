@@ -23,8 +23,9 @@
 #define ST_FILTERS_H
 
 /* Largest radius a render accepts: the splat kernel keeps the per-column
- * weights of one sample in a private array of 2 * 8 + 1 entries. */
-#define ST_FILTER_MAX_RADIUS 8.0f
+ * weights of one sample in a private array of ST_MAX_TAPS entries
+ * (st_shared.h derives both from ST_FILTER_MAX_RADIUS_PX). */
+#define ST_FILTER_MAX_RADIUS ((st_f32)ST_FILTER_MAX_RADIUS_PX)
 
 ST_FN st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
 {

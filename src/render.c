@@ -1,5 +1,8 @@
-/* render.c — the pass loop (see st_render.h): scene upload, wave buffers sized
- * once per render, kernel dispatch, resolve and read-back. */
+/* render.c — the pass loop (see st_render.h): a render's options checked and
+ * turned into kernel parameters, its item space cut into waves pushed
+ * through the stage kernels, then resolve and read-back. The scene on the
+ * device is render_scene.c's, the wave buffers wave.c's, the adaptive rounds
+ * adaptive.c's. */
 #include "render_int.h"
 
 #include <math.h>
@@ -7,12 +10,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "st_bvh.h"
 #include "st_sampling.h"
-#include "rng.h"
-#include "samplers.h"
 #include "filters.h"
-#include "texture.h"
+
 
 const char *const st_stage_names[ST_STAGE_COUNT] = {
     "generate_samples", "generate_camera_rays", "trace_rays", "shade_hits",
@@ -69,6 +69,8 @@ st_status st_render_check(const st_render_options *o, st_error *err)
                        o->height);
     if (o->spp < 1)
         return st_fail(err, ST_ERR_USAGE, "spp must be at least 1");
+    if (o->texture_filter > ST_TEXFILTER_TRILINEAR)
+        return st_fail(err, ST_ERR_USAGE, "texture filter %u: unknown", o->texture_filter);
     st_u32 end = o->sample_end ? o->sample_end : o->spp;
     if (o->sample_begin >= end || end > o->spp)
         return st_fail(err, ST_ERR_USAGE, "sample range %u:%u: must satisfy 0 <= K < M <= spp (%u)",
@@ -126,11 +128,9 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
 }
 
 /* Launches stage k; with profiling, waits and adds its time to the stats. */
-static st_status run_stage(st_renderer *r, int k, const st_params *p, const st_wave *w,
-                           size_t items, const st_render_options *o, st_render_stats *st,
-                           st_error *err)
+static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t items,
+                           const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    (void)w;
     if (st_wave_set_params(r->k[k], p, err) != ST_OK)
         return err->status;
     double t0 = o->profile ? st_render_now() : 0.0;
@@ -234,24 +234,24 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
 }
 
 /* One wave: items [first, first + n) of the render's item space. */
-static st_status run_wave(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+static st_status run_wave(st_renderer *r, st_params *p, const st_render_options *o,
                           st_render_stats *st, st_error *err)
 {
     size_t n = p->item_count;
-    if (run_stage(r, ST_STAGE_GENERATE, p, w, n, o, st, err) ||
-        run_stage(r, ST_STAGE_CAMERA, p, w, n, o, st, err))
+    if (run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
+        run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS). */
     st_u32 vertices = p->integrator == ST_INTEGRATOR_DIRECT ? 1u : p->max_depth + 1u;
     for (st_u32 v = 0; v < vertices; v++) {
-        if (run_stage(r, ST_STAGE_TRACE, p, w, n, o, st, err) ||
-            run_stage(r, ST_STAGE_SHADE, p, w, n, o, st, err))
+        if (run_stage(r, ST_STAGE_TRACE, p, n, o, st, err) ||
+            run_stage(r, ST_STAGE_SHADE, p, n, o, st, err))
             return err->status;
-        if (v < p->max_depth && run_stage(r, ST_STAGE_SHADOW, p, w, n, o, st, err))
+        if (v < p->max_depth && run_stage(r, ST_STAGE_SHADOW, p, n, o, st, err))
             return err->status;
     }
-    return run_stage(r, ST_STAGE_SPLAT, p, w, n, o, st, err);
+    return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
 }
 
 /* The tallies of the work-item slots, summed into the stats. */
@@ -325,7 +325,7 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
     for (st_u64 done = 0; rc == ST_OK && done < total; done += w->items) {
         p->first_item = first + done;
         p->item_count = (st_u32)(total - done < w->items ? total - done : w->items);
-        rc = run_wave(r, p, w, o, st, err);
+        rc = run_wave(r, p, o, st, err);
         if (rc == ST_OK && pr->fn) {
             rc = st_device_finish(r->dev, err);
             pr->done += p->item_count;
@@ -368,6 +368,32 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     return rc;
 }
 
+/* The items of the first pass: sample range K:M of every pixel; for a
+ * tiled sampler, tile points [K N / spp, M N / spp) of every repetition of
+ * the tile; for an adaptive render, min_spp samples everywhere (with the
+ * half film). */
+static void plan_items(const st_renderer *r, const st_render_options *o, st_params *p,
+                       st_u64 *first, st_u64 *total)
+{
+    size_t pixels = (size_t)o->width * o->height;
+    st_u32 end = o->sample_end ? o->sample_end : o->spp;
+    *first = (st_u64)o->sample_begin * pixels;
+    *total = (st_u64)(end - o->sample_begin) * pixels;
+    if (st_sampler_is_tiled(o->sampler)) {
+        st_u32 side = r->tile_size, n = r->tile_points;
+        p->tile_size = side;
+        p->tiles_x = (o->width + side - 1) / side;
+        p->tile_begin = (st_u32)((st_u64)o->sample_begin * n / o->spp);
+        p->tile_count = (st_u32)((st_u64)end * n / o->spp) - p->tile_begin;
+        *first = 0;
+        *total = (st_u64)p->tiles_x * ((o->height + side - 1) / side) * p->tile_count;
+    }
+    if (o->adaptive) {
+        *total = (st_u64)o->min_spp * pixels;
+        p->half_buffer = 1;
+    }
+}
+
 st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err)
@@ -381,29 +407,12 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
         return err->status;
     size_t pixels = (size_t)o->width * o->height;
     st_scene_camera cam;
-    if (o->texture_filter > ST_TEXFILTER_TRILINEAR)
-        return st_fail(err, ST_ERR_USAGE, "unknown texture filter %u", o->texture_filter);
     if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK)
         return err->status;
     st_params p = make_params(r, o, &cam);
-    st_u32 end = o->sample_end ? o->sample_end : o->spp;
-    st_u64 first = (st_u64)o->sample_begin * pixels;
-    st_u64 total = (st_u64)(end - o->sample_begin) * pixels;
-    if (ST_SAMPLER_IS_TILED(o->sampler)) {
-        /* sample range K:M of spp reads tile points [K N / spp, M N / spp) */
-        st_u32 side = r->tile_size, n = r->tile_points;
-        p.tile_size = side;
-        p.tiles_x = (o->width + side - 1) / side;
-        p.tile_begin = (st_u32)((st_u64)o->sample_begin * n / o->spp);
-        p.tile_count = (st_u32)((st_u64)end * n / o->spp) - p.tile_begin;
-        first = 0;
-        total = (st_u64)p.tiles_x * ((o->height + side - 1) / side) * p.tile_count;
-    }
-    if (o->adaptive) { /* the first round: min_spp samples everywhere */
-        total = (st_u64)o->min_spp * pixels;
-        p.half_buffer = 1;
-    }
+    st_u64 first, total;
+    plan_items(r, o, &p, &first, &total);
     size_t wave = o->wave ? o->wave : (size_t)1 << 18;
     if (wave > total)
         wave = (size_t)total;
@@ -423,7 +432,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (rc == ST_OK && o->adaptive)
         rc = st_render_adaptive(r, &p, &w, o, &pr, st, err);
     if (rc == ST_OK)
-        rc = run_stage(r, ST_STAGE_RESOLVE, &p, &w, pixels, o, st, err);
+        rc = run_stage(r, ST_STAGE_RESOLVE, &p, pixels, o, st, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;
