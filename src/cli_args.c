@@ -203,6 +203,42 @@ static int parse_env(const char *v, st_cli_render_args *a)
     return ST_CLI_OK;
 }
 
+/* The options of the view (environment, texture filter, camera) and of
+ * adaptive sampling. */
+static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render_args *a)
+{
+    st_render_options *o = &a->opt;
+    switch (c) {
+    case O_ADAPTIVE: o->adaptive = 1; return ST_CLI_OK;
+    case O_MIN_SPP: a->adaptive_opt = "--min-spp"; return st_cli_parse_u32("--min-spp", v, 1, 1u << 24, &o->min_spp);
+    case O_MAX_SPP: a->adaptive_opt = "--max-spp"; return st_cli_parse_u32("--max-spp", v, 1, 1u << 24, &o->spp);
+    case O_THRESHOLD:
+        a->adaptive_opt = "--noise-threshold";
+        return st_cli_parse_float("--noise-threshold", v, &o->noise_threshold);
+    case O_SPP_MAP:
+        if (bench)
+            return st_cli_usage_error("--spp-map: `strata bench` writes no image");
+        a->adaptive_opt = "--spp-map";
+        a->spp_map = v;
+        return ST_CLI_OK;
+    case O_RECON:
+        return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
+    case O_ENV: return parse_env(v, a);
+    case O_TEXFILTER: {
+        static const char *const names[3] = {"none", "bilinear", "trilinear"};
+        return parse_name("--texture-filter", names, 3, v, &o->texture_filter);
+    }
+    case O_CAMERA: {
+        unsigned n;
+        if (st_cli_parse_u32("--camera", v, 0, 1u << 30, &n))
+            return ST_CLI_EXIT_USAGE;
+        o->camera = (st_i32)n;
+        return ST_CLI_OK;
+    }
+    default: return ST_CLI_EXIT_USAGE;
+    }
+}
+
 static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
                      st_cli_filter_args *fa)
 {
@@ -248,32 +284,6 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
     case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
-    case O_ADAPTIVE: o->adaptive = 1; return ST_CLI_OK;
-    case O_MIN_SPP: a->adaptive_opt = "--min-spp"; return st_cli_parse_u32("--min-spp", v, 1, 1u << 24, &o->min_spp);
-    case O_MAX_SPP: a->adaptive_opt = "--max-spp"; return st_cli_parse_u32("--max-spp", v, 1, 1u << 24, &o->spp);
-    case O_THRESHOLD:
-        a->adaptive_opt = "--noise-threshold";
-        return st_cli_parse_float("--noise-threshold", v, &o->noise_threshold);
-    case O_SPP_MAP:
-        if (bench)
-            return st_cli_usage_error("--spp-map: `strata bench` writes no image");
-        a->adaptive_opt = "--spp-map";
-        a->spp_map = v;
-        return ST_CLI_OK;
-    case O_RECON:
-        return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
-    case O_ENV: return parse_env(v, a);
-    case O_TEXFILTER: {
-        static const char *const names[3] = {"none", "bilinear", "trilinear"};
-        return parse_name("--texture-filter", names, 3, v, &o->texture_filter);
-    }
-    case O_CAMERA: {
-        unsigned n;
-        if (st_cli_parse_u32("--camera", v, 0, 1u << 30, &n))
-            return ST_CLI_EXIT_USAGE;
-        o->camera = (st_i32)n;
-        return ST_CLI_OK;
-    }
     case O_QUIET: a->quiet = 1; return ST_CLI_OK;
     case O_JSON:
         if (bench != 1)
@@ -285,7 +295,7 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
             return st_cli_usage_error("-o: `strata %s` writes no image", bench == 1 ? "bench" : "converge");
         a->output = v;
         return ST_CLI_OK;
-    default: return ST_CLI_EXIT_USAGE;
+    default: return parse_view_or_adaptive(c, v, bench, a);
     }
 }
 
