@@ -28,4 +28,8 @@ st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv 
                           st_lights *out, st_error *err);
 void st_lights_free(st_lights *l);
 
+/* |e1 x e2| (twice the triangle's area), the cross product taken in float as
+ * the light table and the texture level of detail have always taken it. */
+double st_triangle_cross_norm(const st_triangle *t);
+
 #endif

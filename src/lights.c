@@ -7,6 +7,14 @@
 
 #include "texture.h"
 
+double st_triangle_cross_norm(const st_triangle *tr)
+{
+    double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
+    double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
+    double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
+    return sqrt(cx * cx + cy * cy + cz * cz);
+}
+
 /* Largest mean RGB of a texel of level 0 of texture t (linear). */
 static double texture_max(const st_scene *s, st_u32 t)
 {
@@ -69,11 +77,7 @@ st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv 
     st_u32 k = 0;
     double total = 0.0;
     for (st_u32 t = 0; t < n; t++) {
-        const st_triangle *tr = &bvh->tris[t];
-        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
-        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
-        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
-        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        double area = 0.5 * st_triangle_cross_norm(&bvh->tris[t]);
         const st_material *m = &s->materials[s->tri_material[bvh->order[t]]];
         double le = area > 0.0 ? emission_weight(s, m, &uv[t], area, tex_max) : 0.0;
         if (le > 0.0 && area > 0.0) {
@@ -84,11 +88,7 @@ st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv 
     }
     for (st_u32 i = 0; i < k; i++) {
         cdf[i] = i + 1 == k ? 1.0f : (float)(acc[i] / total);
-        const st_triangle *tr = &bvh->tris[tri[i]];
-        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
-        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
-        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
-        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+        double area = 0.5 * st_triangle_cross_norm(&bvh->tris[tri[i]]);
         double p_select = (acc[i] - (i ? acc[i - 1] : 0.0)) / total;
         pdf[tri[i]] = (float)(p_select / area);
     }

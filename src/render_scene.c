@@ -17,11 +17,7 @@ static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
     for (st_u32 t = 0; t < bvh->tri_count; t++) {
         const float *uv = s->uvs + 6 * (size_t)bvh->order[t];
         memcpy(out[t].uv, uv, 6 * sizeof(float));
-        const st_triangle *tr = &bvh->tris[t];
-        double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
-        double cy = tr->e1[2] * tr->e2[0] - tr->e1[0] * tr->e2[2];
-        double cz = tr->e1[0] * tr->e2[1] - tr->e1[1] * tr->e2[0];
-        double world = sqrt(cx * cx + cy * cy + cz * cz);
+        double world = st_triangle_cross_norm(&bvh->tris[t]);
         double tex = fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
                           ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
         out[t].lod = tex > 0.0 && world > 0.0 ? (float)(0.5 * log2(tex / world)) : -64.0f;
