@@ -77,7 +77,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
     if (i >= p.item_count)
         return;
     st_sample s = sample[i];
-    if (ST_SAMPLER_IS_TILED(p.sampler) && !(s.film[0] < (float)p.width && s.film[1] < (float)p.height))
+    if (!st_sample_on_film(&p, s))
         return; /* a tile point outside the image (generate.cl) */
     __global const st_path *pa = &path[i];
     float3 L = vload3(0, pa->radiance);

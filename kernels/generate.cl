@@ -66,13 +66,6 @@ __kernel void generate_samples(ST_STAGE_PARAMS)
     sample[i] = out;
 }
 
-/* Whether a sample lies on the image (a tiled sampler's point may not). */
-static int on_film(const st_params *p, st_sample s)
-{
-    return !ST_SAMPLER_IS_TILED(p->sampler) ||
-           (s.film[0] < (float)p->width && s.film[1] < (float)p->height);
-}
-
 /* Reads sample; writes the camera ray and resets the path: beta = 1, bsdf
  * pdf 0, radiance 0, depth 0 (ST_PATH_DEAD for a dropped point outside the
  * image), no rays traced. */
@@ -95,6 +88,6 @@ __kernel void generate_camera_rays(ST_STAGE_PARAMS)
     st_wave_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
     ray[i] = ray_out;
     st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
-                     on_film(&p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, {0u, 0u}};
+                     st_sample_on_film(&p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, {0u, 0u}};
     path[i] = fresh;
 }

@@ -392,6 +392,14 @@ typedef struct st_tile_point {
     X(fis_cdf, st_f32)
 
 #ifdef __OPENCL_VERSION__
+/* Whether a sample lies on the image (a tiled sampler's point may not: its
+ * tile repeats past the image's edge). */
+static int st_sample_on_film(const st_params *p, st_sample s)
+{
+    return !ST_SAMPLER_IS_TILED(p->sampler) ||
+           (s.film[0] < (float)p->width && s.film[1] < (float)p->height);
+}
+
 #define ST_WAVE_PARAM(name, type, extent) , __global type *name
 #define ST_SCENE_PARAM(name, type) , __global const type *name
 /* Every stage kernel's parameters, in the order the host binds them: the
