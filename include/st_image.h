@@ -8,9 +8,10 @@
  * channel's type names. A hand-built image may instead point them at two arrays of
  * width*height*channels entries each; the save functions and st_image_free accept both.
  *
- * Files are written to a temporary name in the destination folder and renamed into place, so a
- * failed save leaves neither a partial file nor a temporary behind (an existing file of the same
- * name survives a failed save). Errors: every failing call returns a status and fills err with one
+ * Files are written through st_outfile (st_outfile.h): a temporary in the destination folder,
+ * renamed into place when complete, so a failed save leaves neither a partial file nor a temporary
+ * behind (an existing file of the same name survives a failed save). The container and the choice
+ * of format by extension are src/image.c; each format (image_exr.c, image_png.c) needs only them. Errors: every failing call returns a status and fills err with one
  * line that starts with the path: ST_ERR_IO when the file system refuses (cannot create, open,
  * write, rename), ST_ERR_FORMAT when a file or image content is invalid, ST_ERR_USAGE for a bad
  * argument (unknown extension, bad channel list), ST_ERR_NOMEM when memory runs out. Nothing here
@@ -61,7 +62,7 @@ int st_image_find_channel(const st_image *img, const char *name);
 /* Writes a single-part scanline EXR, ZIP-compressed, every channel as stored (FLOAT as 32-bit
  * float, UINT as 32-bit uint, so values round-trip bit for bit), data window (0,0)-(w-1,h-1), and
  * the nattrs attributes as string attributes (names that clash with a required attribute such as
- * "channels" are ST_ERR_FORMAT). Written through exr_start_write with EXR_INTERMEDIATE_TEMP_FILE. */
+ * "channels" are ST_ERR_FORMAT). OpenEXR writes through a custom write_fn into the st_outfile. */
 st_status st_image_save_exr(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
                             st_error *err);
 
@@ -88,8 +89,8 @@ float st_image_srgb_decode(float encoded);
 uint8_t st_image_srgb_quantize(float linear);
 
 /* Writes an 8-bit RGB PNG: the FLOAT channels named R, G and B (any order), or else the first three
- * channels, each quantised with st_image_srgb_quantize. Written to a temporary file in the same
- * folder, then rename(2); on failure the temporary is removed and no file is left. Round trip
+ * channels, each quantised with st_image_srgb_quantize, through an st_outfile (no file is left on
+ * failure). Round trip
  * through st_image_load: |decode(code) - x| <= half a code step of the EOTF, i.e. at most
  * (2.4/1.055) * 0.5/255 < 0.00447 in linear units for x in [0, 1]. */
 st_status st_image_save_png(const char *path, const st_image *img, st_error *err);

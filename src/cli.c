@@ -7,6 +7,7 @@
 
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "st_outfile.h"
 
 static const char main_help[] =
     "strata — an OpenCL renderer for sampling and reconstruction\n"
@@ -39,7 +40,7 @@ int st_cli_main(int argc, char **argv)
     return st_cli_usage_error("unknown command '%s' (see strata --help)", argv[1]);
 }
 
-/* Writes through a temporary name and rename(2), or to stdout for "-". */
+/* Writes through an st_outfile (a temporary and rename), or to stdout for "-". */
 st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
                             st_error *err)
 {
@@ -47,17 +48,9 @@ st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *)
         emit(stdout, ctx);
         return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
     }
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp-strata", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return st_fail(err, ST_ERR_IO, "%s: cannot create", path);
-    emit(f, ctx);
-    int bad = ferror(f);
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        remove(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot write", path);
-    }
-    return ST_OK;
+    st_outfile *out = NULL;
+    if (st_outfile_open(path, &out, err) != ST_OK)
+        return err ? err->status : ST_ERR_IO;
+    emit(st_outfile_stream(out), ctx);
+    return st_outfile_commit(out, err);
 }

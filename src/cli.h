@@ -8,8 +8,9 @@
 /* Runs `strata COMMAND ...`; returns the process's exit status. */
 int st_cli_main(int argc, char **argv);
 
-/* Writes a text file through emit(f, ctx): to a temporary name in the same
- * folder, then rename(2), so no partial file is left; "-" is stdout. */
+/* Writes a text file through emit(f, ctx) into an st_outfile (a temporary in
+ * the same folder, then rename(2)), so no partial file is left; "-" is stdout.
+ * Errors: ST_ERR_IO naming path. */
 #include <stdio.h>
 #include "st_error.h"
 st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,

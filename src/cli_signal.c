@@ -4,15 +4,13 @@
  * Nyquist frequency marked) through a temporary name, and prints one summary
  * line: the RMS error over [0, L) and the dominant frequencies, so that an
  * alias |f - k/T| shows as a number. The only part of the module that prints. */
-#include <errno.h>
-#include <fcntl.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
+#include "cli.h" /* st_cli_write_text */
 #include "cli_args.h"
 #include "cli_commands.h"
 #include "cli_error.h"
@@ -297,41 +295,25 @@ static int parse(int argc, char **argv, signal_cli *c)
 
 typedef void (*emit_fn)(FILE *, const signal_cli *, const st_signal_result *);
 
-/* Writes through a temporary file in the destination's folder and rename(2),
- * or to stdout for "-". */
+/* What st_cli_write_text hands back to emit_pair: one table and its inputs. */
+typedef struct signal_table {
+    emit_fn emit;
+    const signal_cli *c;
+    const st_signal_result *r;
+} signal_table;
+
+static void emit_pair(FILE *f, const void *ctx)
+{
+    const signal_table *t = ctx;
+    t->emit(f, t->c, t->r);
+}
+
+/* Writes one table through st_cli_write_text (a temporary and rename), or to stdout for "-". */
 static st_status write_text(const char *path, emit_fn emit, const signal_cli *c,
                             const st_signal_result *r, st_error *err)
 {
-    if (!strcmp(path, "-")) {
-        emit(stdout, c, r);
-        return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
-    }
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof tmp)
-        return st_fail(err, ST_ERR_IO, "%s: path too long", path);
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0666); /* the umask applies, as for fopen */
-    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
-    if (!f) {
-        int e = errno;
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        return st_fail(err, ST_ERR_IO, "%s: cannot create: %s", path, strerror(e));
-    }
-    emit(f, c, r);
-    int bad = ferror(f);
-    bad |= fclose(f) != 0;
-    if (bad) {
-        unlink(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: write failed", path);
-    }
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        unlink(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot rename into place: %s", path, strerror(e));
-    }
-    return ST_OK;
+    signal_table t = {emit, c, r};
+    return st_cli_write_text(path, emit_pair, &t, err);
 }
 
 static void put(FILE *f, double v, char end)

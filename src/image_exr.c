@@ -1,13 +1,15 @@
-/* image_exr.c — the st_image container, its OpenEXR form, and the choice of format by extension.
+/* image_exr.c — st_image as an OpenEXR file (scanline, uncompressed; any scanline or tiled file
+ * on reading).
  *
- * Invariant: an st_image owns exactly one buffer of width*height*channels 4-byte samples, reached
- * through both img->data (FLOAT channels) and img->udata (UINT channels); channel names are
- * distinct, non-empty and NUL-terminated. EXR files are read and written with the OpenEXR 3.1 core
- * C API (openexr.h; file layout: "OpenEXR File Layout", openexr.com), whose messages are captured
- * by an error_handler_fn so the library never prints; the first message of an operation is kept
- * because later ones are consequences of it.
+ * Files are read and written with the OpenEXR 3.1 core C API (openexr.h; file layout: "OpenEXR
+ * File Layout", openexr.com), whose messages are captured by an error_handler_fn so the library
+ * never prints; the first message of an operation is kept because later ones are consequences of
+ * it. Writing goes through a custom write_fn into an st_outfile (st_outfile.h), the temporary and
+ * rename every strata output shares, rather than OpenEXR's own EXR_INTERMEDIATE_TEMP_FILE. The
+ * container and the choice of format live in image.c.
  */
-#include "st_image.h"
+#include "image_int.h"
+#include "st_outfile.h"
 
 #include <openexr.h>
 
@@ -16,98 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-/* ---- the container ---------------------------------------------------------------------- */
-
-static st_status check_names(const char *const *names, uint32_t channels, st_error *err)
-{
-    for (uint32_t c = 0; c < channels; c++) {
-        if (!names[c] || !names[c][0] || strlen(names[c]) >= ST_IMAGE_NAME_LEN)
-            return st_fail(err, ST_ERR_USAGE, "image: channel %u name must have 1 to %d bytes", c,
-                           ST_IMAGE_NAME_LEN - 1);
-        for (uint32_t d = 0; d < c; d++)
-            if (strcmp(names[c], names[d]) == 0)
-                return st_fail(err, ST_ERR_USAGE, "image: channel name '%s' used twice", names[c]);
-    }
-    return ST_OK;
-}
-
-st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channels,
-                          const char *const *names, st_error *err)
-{
-    static const char *const rgba[4] = {"R", "G", "B", "A"};
-    static const char *const numbered[ST_IMAGE_MAX_CHANNELS] = {"C0", "C1", "C2", "C3",
-                                                                "C4", "C5", "C6", "C7"};
-    memset(img, 0, sizeof *img);
-    if (w == 0 || h == 0 || channels == 0 || channels > ST_IMAGE_MAX_CHANNELS)
-        return st_fail(err, ST_ERR_USAGE, "image: invalid size %ux%u with %u channels (1 to %d)", w,
-                       h, channels, ST_IMAGE_MAX_CHANNELS);
-    if (!names)
-        names = channels <= 4 ? rgba : numbered;
-    if (check_names(names, channels, err) != ST_OK)
-        return err ? err->status : ST_ERR_USAGE;
-    size_t count = (size_t)w * h; /* no overflow: both < 2^32 and size_t is 64-bit here */
-    if (count > SIZE_MAX / 4 / channels)
-        return st_fail(err, ST_ERR_NOMEM, "image: %ux%u with %u channels is too large", w, h,
-                       channels);
-    void *buf = calloc(count * channels, 4);
-    if (!buf)
-        return st_fail(err, ST_ERR_NOMEM, "image: cannot allocate %ux%u with %u channels", w, h,
-                       channels);
-    img->width = w;
-    img->height = h;
-    img->channels = channels;
-    for (uint32_t c = 0; c < channels; c++) {
-        snprintf(img->channel_names[c], ST_IMAGE_NAME_LEN, "%s", names[c]);
-        img->types[c] = ST_PIXEL_FLOAT;
-    }
-    img->data = buf;
-    img->udata = buf;
-    return ST_OK;
-}
-
-void st_image_free(st_image *img)
-{
-    if (!img)
-        return;
-    if ((void *)img->udata != (void *)img->data) /* a hand-built image with two arrays */
-        free(img->udata);
-    free(img->data);
-    memset(img, 0, sizeof *img);
-}
-
-int st_image_find_channel(const st_image *img, const char *name)
-{
-    for (uint32_t c = 0; c < img->channels && c < ST_IMAGE_MAX_CHANNELS; c++)
-        if (strcmp(img->channel_names[c], name) == 0)
-            return (int)c;
-    return -1;
-}
-
-/* An image handed to a save function: sizes, names and types as st_image_create makes them. */
-static st_status check_image(const char *path, const st_image *img, st_error *err)
-{
-    if (!img || img->width == 0 || img->height == 0 || img->width > INT32_MAX ||
-        img->height > INT32_MAX || img->channels == 0 || img->channels > ST_IMAGE_MAX_CHANNELS)
-        return st_fail(err, ST_ERR_USAGE, "%s: not a valid image (size, channels or buffer)", path);
-    const char *names[ST_IMAGE_MAX_CHANNELS];
-    for (uint32_t c = 0; c < img->channels; c++) {
-        if (memchr(img->channel_names[c], '\0', ST_IMAGE_NAME_LEN) == NULL)
-            return st_fail(err, ST_ERR_USAGE, "%s: channel %u name is not terminated", path, c);
-        if (img->types[c] != ST_PIXEL_FLOAT && img->types[c] != ST_PIXEL_UINT)
-            return st_fail(err, ST_ERR_USAGE, "%s: channel %u has an unknown pixel type", path, c);
-        if ((img->types[c] == ST_PIXEL_FLOAT && !img->data) ||
-            (img->types[c] == ST_PIXEL_UINT && !img->udata))
-            return st_fail(err, ST_ERR_USAGE, "%s: channel %u has no pixel buffer", path, c);
-        names[c] = img->channel_names[c];
-    }
-    st_error local = {ST_OK, ""};
-    if (check_names(names, img->channels, &local) != ST_OK)
-        return st_fail(err, ST_ERR_USAGE, "%s: %s", path, local.msg + strlen("image: "));
-    return ST_OK;
-}
 
 /* ---- capturing OpenEXR's messages --------------------------------------------------------- */
 
@@ -267,59 +177,61 @@ static st_status exr_write_pixels(exr_context_t ctx, const char *path, const st_
     return ST_OK;
 }
 
-/* OpenEXR 3.1 (OpenEXRCore context.c, make_temp_filename) names its temporary
- * "<folder>/tmp.<pid><file name>" and leaves it behind when the final rename fails; remove it. */
-static void exr_remove_temporary(const char *path)
+/* OpenEXR's write_fn: positioned writes into the temporary (the chunk table is written last, at
+ * its reserved offset). Returns the bytes written or -1 after reporting through error_cb, which
+ * reaches exr_record with errno still naming the failed call. */
+static int64_t exr_write_outfile(exr_const_context_t ctxt, void *userdata, const void *buffer,
+                                 uint64_t sz, uint64_t offset, exr_stream_error_func_ptr_t error_cb)
 {
-    const char *slash = strrchr(path, '/');
-    size_t dir = slash ? (size_t)(slash - path) + 1 : 0;
-    char tmp[4096];
-    int n = snprintf(tmp, sizeof tmp, "%.*stmp.%d%s", (int)dir, path, (int)getpid(), path + dir);
-    if (n > 0 && (size_t)n < sizeof tmp)
-        unlink(tmp);
+    if (sz > (uint64_t)INT64_MAX || st_outfile_write_at(userdata, buffer, (size_t)sz, offset) != 0) {
+        int e = errno;
+        error_cb(ctxt, EXR_ERR_WRITE_IO, "cannot write %llu bytes at offset %llu: %s",
+                 (unsigned long long)sz, (unsigned long long)offset, strerror(e));
+        errno = e;
+        return -1;
+    }
+    return (int64_t)sz;
 }
 
-static st_status exr_describe_open_failure(const char *path, exr_result_t rc, st_error *err)
+/* Header, pixels and chunk table into the open outfile; the caller commits or aborts it. */
+static st_status exr_write_to(st_outfile *out, const char *path, const st_image *img,
+                              const st_attr *attrs, int nattrs, int longnames, st_error *err)
 {
-    if (rc == EXR_ERR_FILE_ACCESS && exr_last.err_no)
-        return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, strerror(exr_last.err_no));
-    return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, exr_reason(rc));
+    exr_reset();
+    exr_context_initializer_t init = exr_init();
+    init.user_data = out;
+    init.write_fn = exr_write_outfile;
+    exr_context_t ctx = NULL;
+    exr_result_t rc = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_IO, "%s: cannot start writing (%s)", path, exr_reason(rc));
+    st_error local = {ST_OK, ""};
+    if (exr_define(ctx, path, img, attrs, nattrs, longnames, &local) == ST_OK)
+        exr_write_pixels(ctx, path, img, &local);
+    rc = exr_finish(&ctx); /* writes the chunk table through exr_write_outfile */
+    if (local.status != ST_OK)
+        return st_fail(err, local.status, "%s", local.msg);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_IO, "%s: cannot finish (%s)", path, exr_reason(rc));
+    return ST_OK;
 }
 
 st_status st_image_save_exr(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
                             st_error *err)
 {
     int longnames = 0;
-    if (check_image(path, img, err) != ST_OK ||
+    if (st_image_check(path, img, err) != ST_OK ||
         check_attrs(path, attrs, nattrs, &longnames, err) != ST_OK)
         return err ? err->status : ST_ERR_USAGE;
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) /* rename(2) would fail only at the end */
-        return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, strerror(EISDIR));
-
-    exr_reset();
-    exr_context_initializer_t init = exr_init();
-    exr_context_t ctx = NULL;
-    exr_result_t rc = exr_start_write(&ctx, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
-    if (rc != EXR_ERR_SUCCESS)
-        return exr_describe_open_failure(path, rc, err);
-
+    st_outfile *out = NULL;
+    if (st_outfile_open(path, &out, err) != ST_OK)
+        return err ? err->status : ST_ERR_IO;
     st_error local = {ST_OK, ""};
-    if (exr_define(ctx, path, img, attrs, nattrs, longnames, &local) == ST_OK)
-        exr_write_pixels(ctx, path, img, &local);
-    /* exr_finish renames the temporary when every chunk was written; after an earlier failure it
-     * deletes the temporary instead (the chunk table is incomplete). */
-    rc = exr_finish(&ctx);
-    if (local.status != ST_OK)
+    if (exr_write_to(out, path, img, attrs, nattrs, longnames, &local) != ST_OK) {
+        st_outfile_abort(out);
         return st_fail(err, local.status, "%s", local.msg);
-    if (rc != EXR_ERR_SUCCESS) {
-        exr_remove_temporary(path);
-        if (exr_last.err_no)
-            return st_fail(err, ST_ERR_IO, "%s: cannot finish (%s)", path,
-                           strerror(exr_last.err_no));
-        return st_fail(err, ST_ERR_IO, "%s: cannot finish (%s)", path, exr_reason(rc));
     }
-    return ST_OK;
+    return st_outfile_commit(out, err);
 }
 
 /* ---- reading ------------------------------------------------------------------------------- */
@@ -543,39 +455,4 @@ st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, in
         return st_fail(err, local.status, "%s", local.msg);
     }
     return ST_OK;
-}
-
-/* ---- format by extension ------------------------------------------------------------------- */
-
-/* The extension of the last path component, including the dot ("" when there is none). */
-static const char *extension_of(const char *path)
-{
-    const char *base = strrchr(path, '/');
-    base = base ? base + 1 : path;
-    const char *dot = strrchr(base, '.');
-    return dot ? dot : "";
-}
-
-st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
-                        st_error *err)
-{
-    const char *ext = extension_of(path);
-    if (strcasecmp(ext, ".exr") == 0)
-        return st_image_save_exr(path, img, attrs, nattrs, err);
-    if (strcasecmp(ext, ".png") == 0)
-        return st_image_save_png(path, img, err);
-    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
-                   path, ext);
-}
-
-st_status st_image_load(const char *path, st_image *img, st_error *err)
-{
-    const char *ext = extension_of(path);
-    if (strcasecmp(ext, ".exr") == 0)
-        return st_image_load_exr(path, img, NULL, NULL, err);
-    if (strcasecmp(ext, ".png") == 0)
-        return st_image_load_png(path, img, err);
-    memset(img, 0, sizeof *img);
-    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
-                   path, ext);
 }

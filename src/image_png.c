@@ -1,25 +1,24 @@
 /* image_png.c — 8-bit sRGB PNG files of an st_image, and the sRGB transfer functions.
  *
- * Invariant: a PNG is never written in place. It is encoded by stb_image_write into a temporary
- * file created (O_EXCL) next to the destination, flushed to disk, then renamed over the
- * destination; every failure removes the temporary, so the folder afterwards holds either the
- * complete new file or what it held before. Quantisation follows IEC 61966-2-1:1999 (sRGB),
+ * Invariant: a PNG is never written in place. stb_image_write encodes it into an st_outfile
+ * (st_outfile.h), the temporary beside the destination that is renamed over it only when
+ * complete, so the folder afterwards holds either the complete new file or what it held before.
+ * The container comes from image.c; this file knows no other format. Quantisation follows IEC 61966-2-1:1999 (sRGB),
  * section 5.2, the same formulas the header states. stb reports failure as a NULL/0 result plus
  * a global reason (stbi_failure_reason), which this file turns into st_error messages.
  */
 #include "st_image.h"
+#include "st_outfile.h"
 
 #include <stb/stb_image.h> /* Debian: implementations live in libstb (-lstb) */
 #include <stb/stb_image_write.h>
 
 #include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 /* ---- sRGB transfer functions (IEC 61966-2-1:1999 section 5.2) ---------------------------- */
 
@@ -93,59 +92,11 @@ static uint8_t *quantize_rgb(const st_image *img, const int rgb[3])
     return px;
 }
 
-/* Creates "<path>.tmp.<pid>.<n>" exclusively, trying a few n; returns the fd or -1 (errno set). */
-static int create_temporary(const char *path, char *name, size_t size)
-{
-    for (unsigned n = 0; n < 100; n++) {
-        int len = snprintf(name, size, "%s.tmp.%ld.%u", path, (long)getpid(), n);
-        if (len < 0 || (size_t)len >= size) {
-            errno = ENAMETOOLONG;
-            return -1;
-        }
-        int fd = open(name, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST)
-            return fd;
-    }
-    errno = EEXIST;
-    return -1;
-}
-
-typedef struct png_sink {
-    FILE *f;
-    int err_no; /* first write error, 0 if none */
-} png_sink;
-
+/* stb's write callback: the outfile keeps the first failure's errno for commit to report. */
 static void sink_write(void *context, void *data, int size)
 {
-    png_sink *s = context;
-    if (s->err_no == 0 && size > 0 && fwrite(data, 1, (size_t)size, s->f) != (size_t)size)
-        s->err_no = errno ? errno : EIO;
-}
-
-/* Encodes px into the open temporary fd (closed on return). */
-static st_status write_png_file(const char *path, int fd, const uint8_t *px, const st_image *img,
-                                st_error *err)
-{
-    png_sink sink = {fdopen(fd, "wb"), 0};
-    if (!sink.f) {
-        int e = errno;
-        close(fd);
-        return st_fail(err, ST_ERR_IO, "%s: cannot write (%s)", path, strerror(e));
-    }
-    errno = 0;
-    int ok = stbi_write_png_to_func(sink_write, &sink, (int)img->width, (int)img->height, 3, px,
-                                    (int)img->width * 3);
-    if (ok && sink.err_no == 0 && fflush(sink.f) != 0)
-        sink.err_no = errno;
-    if (ok && sink.err_no == 0 && fsync(fileno(sink.f)) != 0)
-        sink.err_no = errno;
-    if (fclose(sink.f) != 0 && ok && sink.err_no == 0)
-        sink.err_no = errno;
-    if (!ok)
-        return st_fail(err, ST_ERR_NOMEM, "%s: PNG encoding failed (out of memory)", path);
-    if (sink.err_no)
-        return st_fail(err, ST_ERR_IO, "%s: cannot write (%s)", path, strerror(sink.err_no));
-    return ST_OK;
+    if (size > 0)
+        st_outfile_write(context, data, (size_t)size);
 }
 
 st_status st_image_save_png(const char *path, const st_image *img, st_error *err)
@@ -153,28 +104,23 @@ st_status st_image_save_png(const char *path, const st_image *img, st_error *err
     int rgb[3];
     if (pick_rgb(path, img, rgb, err) != ST_OK)
         return err ? err->status : ST_ERR_USAGE;
-    size_t size = strlen(path) + 64;
-    char *tmp = malloc(size);
-    uint8_t *px = tmp ? quantize_rgb(img, rgb) : NULL;
-    if (!px) {
-        free(tmp);
+    uint8_t *px = quantize_rgb(img, rgb);
+    if (!px)
         return st_fail(err, ST_ERR_NOMEM, "%s: cannot allocate %ux%u RGB pixels", path,
                        img->width, img->height);
-    }
-    st_status s = ST_OK;
-    int fd = create_temporary(path, tmp, size);
-    if (fd < 0) {
-        s = st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, strerror(errno));
-    } else {
-        s = write_png_file(path, fd, px, img, err);
-        if (s == ST_OK && rename(tmp, path) != 0)
-            s = st_fail(err, ST_ERR_IO, "%s: cannot rename the temporary file (%s)", path,
-                        strerror(errno));
-        if (s != ST_OK)
-            unlink(tmp);
+    st_outfile *out = NULL;
+    st_status s = st_outfile_open(path, &out, err);
+    if (s == ST_OK) {
+        int ok = stbi_write_png_to_func(sink_write, out, (int)img->width, (int)img->height, 3, px,
+                                        (int)img->width * 3);
+        if (ok) {
+            s = st_outfile_commit(out, err);
+        } else {
+            st_outfile_abort(out);
+            s = st_fail(err, ST_ERR_NOMEM, "%s: PNG encoding failed (out of memory)", path);
+        }
     }
     free(px);
-    free(tmp);
     return s;
 }
 

@@ -2,21 +2,18 @@
  * files (see include/st_plot.h for the contract).
  *
  * Invariant: a picture either lands complete under its final name or not at
- * all: it is encoded to a temporary file in the destination folder (created
- * with O_EXCL), closed, and only then renamed over the destination; every
+ * all: cairo encodes it into an st_outfile (st_outfile.h), the temporary
+ * beside the destination that is renamed over it only when complete; every
  * failure removes the temporary. Layout is a pure function of the panel
  * description and its pixel size (st_plot_data_rect), so tests can find
  * where a point or a line must have been drawn. */
 #include "st_plot.h"
+#include "st_outfile.h"
 
 #include <cairo/cairo.h>
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #define ST_PI 3.14159265358979323846
 
@@ -719,57 +716,28 @@ static void draw_lines(cairo_t *cr, const st_plot_lines *p, uint32_t w, uint32_t
 
 /* ---- files ---------------------------------------------------------------------- */
 
-typedef struct png_sink {
-    FILE *f;
-    int failed;
-} png_sink;
-
+/* cairo's write function: the outfile keeps the errno of a failure for commit to report. */
 static cairo_status_t sink_write(void *closure, const unsigned char *data, unsigned int length)
 {
-    png_sink *sink = closure;
-    if (fwrite(data, 1, length, sink->f) != length) {
-        sink->failed = errno ? errno : EIO;
-        return CAIRO_STATUS_WRITE_ERROR;
-    }
-    return CAIRO_STATUS_SUCCESS;
+    return st_outfile_write(closure, data, length) == 0 ? CAIRO_STATUS_SUCCESS
+                                                        : CAIRO_STATUS_WRITE_ERROR;
 }
 
-/* Encodes the surface to path via a temporary sibling and rename(2). */
+/* Encodes the surface to path through an st_outfile. */
 static st_status save_png(cairo_surface_t *surface, const char *path, st_error *err)
 {
-    static atomic_uint serial;
-    char tmp[4096];
-    int len = snprintf(tmp, sizeof tmp, "%s.tmp.%ld.%u", path, (long)getpid(),
-                       atomic_fetch_add(&serial, 1u));
-    if (len < 0 || (size_t)len >= sizeof tmp)
-        return st_fail(err, ST_ERR_USAGE, "%s: path too long", path);
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
-    if (fd < 0)
-        return st_fail(err, ST_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
-    png_sink sink = {fdopen(fd, "wb"), 0};
-    if (!sink.f) {
-        int e = errno;
-        close(fd);
-        unlink(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(e));
-    }
-    errno = 0;
-    cairo_status_t cs = cairo_surface_write_to_png_stream(surface, sink_write, &sink);
-    int close_failed = fclose(sink.f) != 0;
-    if (cs != CAIRO_STATUS_SUCCESS || close_failed) {
-        int e = sink.failed ? sink.failed : (close_failed ? errno : 0);
-        unlink(tmp);
-        if (cs == CAIRO_STATUS_NO_MEMORY)
-            return st_fail(err, ST_ERR_NOMEM, "%s: out of memory encoding PNG", path);
-        return st_fail(err, ST_ERR_IO, "%s: cannot write: %s", path,
-                       e ? strerror(e) : cairo_status_to_string(cs));
-    }
-    if (rename(tmp, path) != 0) {
-        int e = errno;
-        unlink(tmp);
-        return st_fail(err, ST_ERR_IO, "%s: cannot rename into place: %s", path, strerror(e));
-    }
-    return ST_OK;
+    st_outfile *out = NULL;
+    if (st_outfile_open(path, &out, err) != ST_OK)
+        return err ? err->status : ST_ERR_IO;
+    cairo_status_t cs = cairo_surface_write_to_png_stream(surface, sink_write, out);
+    if (cs == CAIRO_STATUS_SUCCESS)
+        return st_outfile_commit(out, err);
+    int e = st_outfile_error(out);
+    st_outfile_abort(out);
+    if (cs == CAIRO_STATUS_NO_MEMORY)
+        return st_fail(err, ST_ERR_NOMEM, "%s: out of memory encoding PNG", path);
+    return st_fail(err, ST_ERR_IO, "%s: cannot write (%s)", path,
+                   e ? strerror(e) : cairo_status_to_string(cs));
 }
 
 static st_status check_panel(const st_plot_panel *p, uint32_t i, st_error *err)

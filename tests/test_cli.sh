@@ -32,7 +32,7 @@ expect "unknown built-in scene exits with its name" 2 "nosuchscene" $S render no
 expect "unwritable output exits 1 naming it" 1 "^strata: error: $T/no/such/dir/o.exr" $S render $R -o "$T/no/such/dir/o.exr"
 mkdir "$T/ro.exr"
 expect "output that is a folder exits 1" 1 "^strata: error: $T/ro.exr" $S render $R -o "$T/ro.exr"
-check "failed writes leave no temporary" '[ -z "$(ls -A "$T/ro.exr")" ] && [ -z "$(ls "$T" | grep -i tmp)" ]'
+check "failed writes leave no temporary" '[ -z "$(ls -A "$T/ro.exr")" ] && [ -z "$(ls -A "$T" | grep -i tmp)" ]'
 
 $S render --width 16 --height 12 --spp 2 -o "$T/a.exr" > "$T/sum" 2>&1
 check "render writes an EXR" '[ -s "$T/a.exr" ]'

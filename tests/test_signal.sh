@@ -103,6 +103,6 @@ expect "unwritable CSV exits 1 naming it" 1 "^strata: error: $T/no/dir/a.csv" $S
 mkdir "$T/dir.csv"
 expect "CSV that is a folder exits 1 naming it" 1 "^strata: error: $T/dir.csv" $S signal --csv "$T/dir.csv"
 expect "unwritable PNG exits 1 naming it" 1 "^strata: error: $T/no/dir/a.png" $S signal --png "$T/no/dir/a.png"
-check "failed writes leave no temporary" '[ -z "$(ls -A "$T/dir.csv")" ] && [ -z "$(ls "$T" | grep tmp)" ]'
+check "failed writes leave no temporary" '[ -z "$(ls -A "$T/dir.csv")" ] && [ -z "$(ls -A "$T" | grep tmp)" ]'
 
 echo "1..$n"

@@ -1,0 +1,66 @@
+/* st_outfile.h — the one way strata writes a user's file: to a temporary, then rename(2).
+ *
+ * Every output (EXR, PNG, CSV, plots) goes through an st_outfile, so a failed or abandoned write
+ * never leaves a partial file under the destination's name, nor a temporary beside it, and an
+ * existing file of that name is replaced only when the new one is complete and on disk.
+ *
+ *   st_outfile *out;
+ *   if (st_outfile_open(path, &out, err) != ST_OK) return err->status;
+ *   fprintf(st_outfile_stream(out), ...);            (or st_outfile_write / st_outfile_write_at)
+ *   return st_outfile_commit(out, err);              (or st_outfile_abort(out) to give up)
+ *
+ * The temporary is "<folder>/.<name>.tmp.<pid>.<n>", created with O_CREAT|O_EXCL (mode 0666 less
+ * the umask, as fopen) in the destination's own folder, so the final rename(2) never crosses a file
+ * system and two writers never share a temporary. Commit flushes, fsyncs, closes and renames;
+ * whatever fails on the way removes the temporary.
+ *
+ * Errors: ST_ERR_IO with one line starting with the destination path ("out.png: cannot create
+ * (No such file or directory)"), ST_ERR_NOMEM when the handle cannot be allocated. Nothing here
+ * prints or exits. A handle is used by one thread at a time, except st_outfile_write_at, which
+ * (like pwrite(2)) may be called concurrently on disjoint ranges.
+ */
+#ifndef ST_OUTFILE_H
+#define ST_OUTFILE_H
+
+#include "st_error.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+typedef struct st_outfile st_outfile; /* opaque: the temporary's name, fd, stream, first error */
+
+/* Creates the temporary for destination `path` and returns its handle in *out (NULL on failure,
+ * when no file is left). The destination is not touched until st_outfile_commit. Release the
+ * handle with exactly one of st_outfile_commit or st_outfile_abort. */
+st_status st_outfile_open(const char *path, st_outfile **out, st_error *err);
+
+/* The temporary as a stdio stream, valid until commit or abort. Write errors on it are noticed
+ * by commit (ferror). */
+FILE *st_outfile_stream(st_outfile *f);
+
+/* The destination path given to st_outfile_open (borrowed, valid until commit or abort). */
+const char *st_outfile_path(const st_outfile *f);
+
+/* Appends n bytes through the stream. Returns 0, or -1 with errno set; the first failure's errno
+ * is kept and reported by commit, so callbacks (stb, cairo) need not keep their own. */
+int st_outfile_write(st_outfile *f, const void *data, size_t n);
+
+/* Writes n bytes at byte offset `offset` with pwrite(2), for writers that seek (OpenEXR writes its
+ * chunk table last, before the pixels it indexes). Flushes the stream first, so earlier stream
+ * writes land before it. Returns 0, or -1 with errno set (kept as for st_outfile_write). */
+int st_outfile_write_at(st_outfile *f, const void *data, size_t n, uint64_t offset);
+
+/* The errno of the first failed st_outfile_write or st_outfile_write_at, 0 if none. */
+int st_outfile_error(const st_outfile *f);
+
+/* Finishes the file: fflush, fsync, close, then rename over the destination. On any failure, or
+ * when a write failed earlier, the temporary is removed, the destination keeps what it held, and
+ * err names the path and the reason. Always releases f. */
+st_status st_outfile_commit(st_outfile *f, st_error *err);
+
+/* Gives up: closes and removes the temporary; the destination is untouched. Releases f. NULL:
+ * does nothing. */
+void st_outfile_abort(st_outfile *f);
+
+#endif

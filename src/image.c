@@ -1,0 +1,139 @@
+/* image.c — the st_image container and the choice of file format by extension.
+ *
+ * Invariant: an st_image owns exactly one buffer of width*height*channels 4-byte samples, reached
+ * through both img->data (FLOAT channels) and img->udata (UINT channels); channel names are
+ * distinct, non-empty and NUL-terminated. The format files (image_exr.c, image_png.c) depend on
+ * this file only, never on each other: they build and check images here, and only the dispatch
+ * below names both formats.
+ */
+#include "image_int.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/* ---- the container ---------------------------------------------------------------------- */
+
+static st_status check_names(const char *const *names, uint32_t channels, st_error *err)
+{
+    for (uint32_t c = 0; c < channels; c++) {
+        if (!names[c] || !names[c][0] || strlen(names[c]) >= ST_IMAGE_NAME_LEN)
+            return st_fail(err, ST_ERR_USAGE, "image: channel %u name must have 1 to %d bytes", c,
+                           ST_IMAGE_NAME_LEN - 1);
+        for (uint32_t d = 0; d < c; d++)
+            if (strcmp(names[c], names[d]) == 0)
+                return st_fail(err, ST_ERR_USAGE, "image: channel name '%s' used twice", names[c]);
+    }
+    return ST_OK;
+}
+
+st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channels,
+                          const char *const *names, st_error *err)
+{
+    static const char *const rgba[4] = {"R", "G", "B", "A"};
+    static const char *const numbered[ST_IMAGE_MAX_CHANNELS] = {"C0", "C1", "C2", "C3",
+                                                                "C4", "C5", "C6", "C7"};
+    memset(img, 0, sizeof *img);
+    if (w == 0 || h == 0 || channels == 0 || channels > ST_IMAGE_MAX_CHANNELS)
+        return st_fail(err, ST_ERR_USAGE, "image: invalid size %ux%u with %u channels (1 to %d)", w,
+                       h, channels, ST_IMAGE_MAX_CHANNELS);
+    if (!names)
+        names = channels <= 4 ? rgba : numbered;
+    if (check_names(names, channels, err) != ST_OK)
+        return err ? err->status : ST_ERR_USAGE;
+    size_t count = (size_t)w * h; /* no overflow: both < 2^32 and size_t is 64-bit here */
+    if (count > SIZE_MAX / 4 / channels)
+        return st_fail(err, ST_ERR_NOMEM, "image: %ux%u with %u channels is too large", w, h,
+                       channels);
+    void *buf = calloc(count * channels, 4);
+    if (!buf)
+        return st_fail(err, ST_ERR_NOMEM, "image: cannot allocate %ux%u with %u channels", w, h,
+                       channels);
+    img->width = w;
+    img->height = h;
+    img->channels = channels;
+    for (uint32_t c = 0; c < channels; c++) {
+        snprintf(img->channel_names[c], ST_IMAGE_NAME_LEN, "%s", names[c]);
+        img->types[c] = ST_PIXEL_FLOAT;
+    }
+    img->data = buf;
+    img->udata = buf;
+    return ST_OK;
+}
+
+void st_image_free(st_image *img)
+{
+    if (!img)
+        return;
+    if ((void *)img->udata != (void *)img->data) /* a hand-built image with two arrays */
+        free(img->udata);
+    free(img->data);
+    memset(img, 0, sizeof *img);
+}
+
+int st_image_find_channel(const st_image *img, const char *name)
+{
+    for (uint32_t c = 0; c < img->channels && c < ST_IMAGE_MAX_CHANNELS; c++)
+        if (strcmp(img->channel_names[c], name) == 0)
+            return (int)c;
+    return -1;
+}
+
+st_status st_image_check(const char *path, const st_image *img, st_error *err)
+{
+    if (!img || img->width == 0 || img->height == 0 || img->width > INT32_MAX ||
+        img->height > INT32_MAX || img->channels == 0 || img->channels > ST_IMAGE_MAX_CHANNELS)
+        return st_fail(err, ST_ERR_USAGE, "%s: not a valid image (size, channels or buffer)", path);
+    const char *names[ST_IMAGE_MAX_CHANNELS];
+    for (uint32_t c = 0; c < img->channels; c++) {
+        if (memchr(img->channel_names[c], '\0', ST_IMAGE_NAME_LEN) == NULL)
+            return st_fail(err, ST_ERR_USAGE, "%s: channel %u name is not terminated", path, c);
+        if (img->types[c] != ST_PIXEL_FLOAT && img->types[c] != ST_PIXEL_UINT)
+            return st_fail(err, ST_ERR_USAGE, "%s: channel %u has an unknown pixel type", path, c);
+        if ((img->types[c] == ST_PIXEL_FLOAT && !img->data) ||
+            (img->types[c] == ST_PIXEL_UINT && !img->udata))
+            return st_fail(err, ST_ERR_USAGE, "%s: channel %u has no pixel buffer", path, c);
+        names[c] = img->channel_names[c];
+    }
+    st_error local = {ST_OK, ""};
+    if (check_names(names, img->channels, &local) != ST_OK)
+        return st_fail(err, ST_ERR_USAGE, "%s: %s", path, local.msg + strlen("image: "));
+    return ST_OK;
+}
+
+/* ---- format by extension ------------------------------------------------------------------- */
+
+/* The extension of the last path component, including the dot ("" when there is none). */
+static const char *extension_of(const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    return dot ? dot : "";
+}
+
+st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
+                        st_error *err)
+{
+    const char *ext = extension_of(path);
+    if (strcasecmp(ext, ".exr") == 0)
+        return st_image_save_exr(path, img, attrs, nattrs, err);
+    if (strcasecmp(ext, ".png") == 0)
+        return st_image_save_png(path, img, err);
+    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
+                   path, ext);
+}
+
+st_status st_image_load(const char *path, st_image *img, st_error *err)
+{
+    const char *ext = extension_of(path);
+    if (strcasecmp(ext, ".exr") == 0)
+        return st_image_load_exr(path, img, NULL, NULL, err);
+    if (strcasecmp(ext, ".png") == 0)
+        return st_image_load_png(path, img, err);
+    memset(img, 0, sizeof *img);
+    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
+                   path, ext);
+}

@@ -1,0 +1,362 @@
+/* test_outfile.c — guards src/outfile.c (include/st_outfile.h): the temporary-then-rename writer
+ * every strata output goes through.
+ *
+ * Each test works in a fresh folder under /tmp and checks the folder's listing afterwards: a
+ * commit leaves exactly the destination, an abort or any failure leaves exactly what was there
+ * before. Write failures are real ones, injected with RLIMIT_FSIZE (EFBIG once a file would grow
+ * past the limit; SIGXFSZ ignored so the process survives), in the spirit of SQLite's fault
+ * simulation.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "st_outfile.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* ---- scratch folder ------------------------------------------------------------------------ */
+
+static char dir[64];
+
+static int make_dir(void **state)
+{
+    (void)state;
+    snprintf(dir, sizeof dir, "/tmp/st_test_outfile.XXXXXX");
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+/* Removes the folder, what a test left in it and one level of subfolders. */
+static int remove_dir(void **state)
+{
+    (void)state;
+    chmod(dir, 0755);
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    char path[512];
+    while (d && (e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+            if (remove(path) != 0)
+                rmdir(path);
+        }
+    if (d)
+        closedir(d);
+    return rmdir(dir);
+}
+
+static const char *in_dir(const char *name)
+{
+    static char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return path;
+}
+
+/* Number of entries in the folder, hidden ones included (the temporary's name starts with a
+ * dot); the first one's name goes to first when not NULL. */
+static int entries(char *first, size_t size)
+{
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            if (n++ == 0 && first)
+                snprintf(first, size, "%s", e->d_name);
+        }
+    closedir(d);
+    return n;
+}
+
+static void put_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(text, f);
+    assert_int_equal(fclose(f), 0);
+}
+
+/* The file's whole content (at most 255 bytes) as a string. */
+static const char *content(const char *path)
+{
+    static char buf[256];
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return buf;
+}
+
+static void assert_message_names(const st_error *err, const char *path)
+{
+    if (strncmp(err->msg, path, strlen(path)) != 0)
+        fail_msg("message does not start with '%s': %s", path, err->msg);
+}
+
+/* ---- success ------------------------------------------------------------------------------- */
+
+/* Before commit only the hidden, exclusive temporary exists; after it only the destination. */
+static void outfile_commit_renames_temporary(void **state)
+{
+    (void)state;
+    char path[512], name[256];
+    snprintf(path, sizeof path, "%s", in_dir("out.csv"));
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    assert_string_equal(st_outfile_path(f), path);
+    fprintf(st_outfile_stream(f), "a,b\n");
+    assert_int_equal(st_outfile_write(f, "1,2\n", 4), 0);
+    assert_int_equal(entries(name, sizeof name), 1);
+    assert_true(strncmp(name, ".out.csv.tmp.", 13) == 0);
+    assert_int_equal(access(path, F_OK), -1);
+    assert_int_equal(st_outfile_commit(f, &err), ST_OK);
+    assert_string_equal(content(path), "a,b\n1,2\n");
+    assert_int_equal(entries(name, sizeof name), 1);
+    assert_string_equal(name, "out.csv");
+}
+
+/* Positioned writes land where asked, after what the stream wrote (OpenEXR's chunk table). */
+static void outfile_write_at_overwrites_after_stream(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", in_dir("seek.bin"));
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    fputs("xxxxxx", st_outfile_stream(f)); /* still buffered: write_at must flush it first */
+    assert_int_equal(st_outfile_write_at(f, "ab", 2, 1), 0);
+    assert_int_equal(st_outfile_write_at(f, "yz", 2, 6), 0);
+    assert_int_equal(st_outfile_commit(f, &err), ST_OK);
+    assert_string_equal(content(path), "xabxxxyz");
+}
+
+/* Two writers of one destination at once get distinct temporaries; the later commit wins. */
+static void outfile_concurrent_writers_use_distinct_temporaries(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", in_dir("same.txt"));
+    st_outfile *a = NULL, *b = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &a, &err), ST_OK);
+    assert_int_equal(st_outfile_open(path, &b, &err), ST_OK);
+    assert_int_equal(entries(NULL, 0), 2);
+    fputs("first", st_outfile_stream(a));
+    fputs("second", st_outfile_stream(b));
+    assert_int_equal(st_outfile_commit(a, &err), ST_OK);
+    assert_int_equal(st_outfile_commit(b, &err), ST_OK);
+    assert_string_equal(content(path), "second");
+    assert_int_equal(entries(NULL, 0), 1);
+}
+
+/* ---- abort and an existing destination ------------------------------------------------------ */
+
+static void outfile_abort_leaves_nothing(void **state)
+{
+    (void)state;
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(in_dir("gone.png"), &f, &err), ST_OK);
+    fputs("partial", st_outfile_stream(f));
+    st_outfile_abort(f);
+    assert_int_equal(entries(NULL, 0), 0);
+    st_outfile_abort(NULL); /* documented no-op */
+}
+
+/* An existing file keeps its content while a new one is written, after an abort, and is
+ * replaced only by a commit. */
+static void outfile_existing_destination_replaced_only_on_commit(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", in_dir("keep.txt"));
+    put_file(path, "old");
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    assert_int_equal(st_outfile_write(f, "new", 3), 0);
+    assert_int_equal(fflush(st_outfile_stream(f)), 0);
+    assert_string_equal(content(path), "old");
+    st_outfile_abort(f);
+    assert_string_equal(content(path), "old");
+    assert_int_equal(entries(NULL, 0), 1);
+
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    assert_int_equal(st_outfile_write(f, "new", 3), 0);
+    assert_string_equal(content(path), "old");
+    assert_int_equal(st_outfile_commit(f, &err), ST_OK);
+    assert_string_equal(content(path), "new");
+    assert_int_equal(entries(NULL, 0), 1);
+}
+
+/* ---- failures ------------------------------------------------------------------------------ */
+
+/* A folder that does not exist, and a "folder" that is a file: ST_ERR_IO naming the path. */
+static void outfile_missing_folder_fails_naming_path(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", in_dir("missing/out.exr"));
+    st_outfile *f = (st_outfile *)1;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_ERR_IO);
+    assert_null(f);
+    assert_message_names(&err, path);
+    assert_non_null(strstr(err.msg, strerror(ENOENT)));
+    assert_int_equal(entries(NULL, 0), 0);
+
+    put_file(in_dir("plain"), "x");
+    snprintf(path, sizeof path, "%s", in_dir("plain/out.exr"));
+    st_error err2 = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err2), ST_ERR_IO);
+    assert_message_names(&err2, path);
+    assert_non_null(strstr(err2.msg, strerror(ENOTDIR)));
+    assert_int_equal(entries(NULL, 0), 1);
+}
+
+/* A folder without write permission. Root passes permission checks, so for root the folder is
+ * /proc, which refuses to create files for anyone; then errno is not EACCES but some error. */
+static void outfile_unwritable_folder_fails_naming_path(void **state)
+{
+    (void)state;
+    char sub[512], path[600];
+    snprintf(sub, sizeof sub, "%s", in_dir("ro"));
+    assert_int_equal(mkdir(sub, 0555), 0);
+    int root = access(sub, W_OK) == 0;
+    snprintf(path, sizeof path, "%s/out.png", root ? "/proc" : sub);
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_ERR_IO);
+    assert_null(f);
+    assert_message_names(&err, path);
+    assert_non_null(strstr(err.msg, "cannot create"));
+    if (!root)
+        assert_non_null(strstr(err.msg, strerror(EACCES)));
+    assert_int_equal(rmdir(sub), 0); /* still empty */
+}
+
+/* The destination is a folder: the rename fails at commit, the temporary goes, the folder stays. */
+static void outfile_failed_rename_removes_temporary(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", in_dir("taken"));
+    assert_int_equal(mkdir(path, 0755), 0);
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    fputs("data", st_outfile_stream(f));
+    assert_int_equal(st_outfile_commit(f, &err), ST_ERR_IO);
+    assert_message_names(&err, path);
+    assert_non_null(strstr(err.msg, "rename"));
+    assert_int_equal(entries(NULL, 0), 1);
+    struct stat st;
+    assert_int_equal(stat(path, &st), 0);
+    assert_true(S_ISDIR(st.st_mode));
+}
+
+/* Runs one write through fn with files limited to 16 bytes, then commits: the commit fails with
+ * EFBIG's text, the existing destination is untouched and no temporary is left. */
+static void fails_past_file_limit(int (*fn)(st_outfile *))
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s", in_dir("big.bin"));
+    put_file(path, "old");
+    struct rlimit saved, small = {16, 16};
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &saved), 0);
+    small.rlim_max = saved.rlim_max; /* keep the hard limit, so it can be restored */
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN);
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+    int rc = fn(f);
+    st_status s = st_outfile_commit(f, &err);
+    setrlimit(RLIMIT_FSIZE, &saved);
+    signal(SIGXFSZ, old_handler);
+    (void)rc;
+    assert_int_equal(s, ST_ERR_IO);
+    assert_message_names(&err, path);
+    assert_non_null(strstr(err.msg, "cannot write"));
+    assert_string_equal(content(path), "old");
+    assert_int_equal(entries(NULL, 0), 1);
+}
+
+static char block[4096];
+
+static int write_block(st_outfile *f)
+{
+    int rc = st_outfile_write(f, block, sizeof block);
+    assert_int_equal(rc, -1);
+    assert_int_equal(st_outfile_error(f), EFBIG);
+    return rc;
+}
+
+static int write_block_at(st_outfile *f)
+{
+    int rc = st_outfile_write_at(f, block, 8, 1000);
+    assert_int_equal(rc, -1);
+    assert_int_equal(st_outfile_error(f), EFBIG);
+    return rc;
+}
+
+/* Small stream writes only fail when commit flushes them. */
+static int print_block(st_outfile *f)
+{
+    for (int i = 0; i < 4; i++)
+        fprintf(st_outfile_stream(f), "%s", "0123456789");
+    assert_int_equal(st_outfile_error(f), 0);
+    return 0;
+}
+
+static void outfile_write_failure_removes_temporary(void **state)
+{
+    (void)state;
+    fails_past_file_limit(write_block);
+}
+
+static void outfile_write_at_failure_removes_temporary(void **state)
+{
+    (void)state;
+    fails_past_file_limit(write_block_at);
+}
+
+static void outfile_flush_failure_removes_temporary(void **state)
+{
+    (void)state;
+    fails_past_file_limit(print_block);
+}
+
+int main(void)
+{
+#define T(name) cmocka_unit_test_setup_teardown(name, make_dir, remove_dir)
+    const struct CMUnitTest tests[] = {
+        T(outfile_commit_renames_temporary),
+        T(outfile_write_at_overwrites_after_stream),
+        T(outfile_concurrent_writers_use_distinct_temporaries),
+        T(outfile_abort_leaves_nothing),
+        T(outfile_existing_destination_replaced_only_on_commit),
+        T(outfile_missing_folder_fails_naming_path),
+        T(outfile_unwritable_folder_fails_naming_path),
+        T(outfile_failed_rename_removes_temporary),
+        T(outfile_write_failure_removes_temporary),
+        T(outfile_write_at_failure_removes_temporary),
+        T(outfile_flush_failure_removes_temporary),
+    };
+#undef T
+    return cmocka_run_group_tests_name("outfile", tests, NULL, NULL);
+}
