@@ -2,6 +2,7 @@
 /* cli_bench.c — `strata bench`: throughput of each kernel stage, the BVH
  * build and the kernel build (cold: an empty PoCL cache in a child process;
  * cached: this process), after checking that the device renders correctly. */
+#include <cjson/cJSON.h> /* Debian libcjson-dev */
 #include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -115,34 +116,88 @@ static void print_text(const st_cli_render_args *a, const bench_result *b)
     st_cli_print_summary("bench", o, &b->total);
 }
 
-static void print_json(const st_cli_render_args *a, const bench_result *b)
+/* ---- --json ---------------------------------------------------------------------------- */
+
+/* The value as printf's fmt shows it (so "%.4f" seconds stay four places, as the text output),
+ * read back into a double for cJSON. NaN and infinity survive and cJSON prints them as null,
+ * since JSON has no such numbers (RFC 8259 section 6). */
+static double shown(const char *fmt, double v)
+{
+    char buf[64];
+    snprintf(buf, sizeof buf, fmt, v);
+    return strtod(buf, NULL);
+}
+
+/* Adds a number or string to o; returns 0 when cJSON could not allocate. */
+static int put_num(cJSON *o, const char *key, double v)
+{
+    return cJSON_AddNumberToObject(o, key, v) != NULL;
+}
+
+static int put_str(cJSON *o, const char *key, const char *v)
+{
+    return cJSON_AddStringToObject(o, key, v ? v : "") != NULL;
+}
+
+/* The settings, the check and the build times: the keys before "stages". */
+static int json_head(cJSON *root, const st_cli_render_args *a, const bench_result *b)
 {
     const st_render_options *o = &a->opt;
-    printf("{\"device\": \"%s\", \"scene\": \"%s\", \"triangles\": %u, \"width\": %u, "
-           "\"height\": %u, \"spp\": %u, \"sampler\": \"%s\", \"filter\": \"%s\", "
-           "\"filter_radius\": %g, \"integrator\": \"%s\", \"max_depth\": %u, ",
-           b->device, b->scene, b->triangles, o->width, o->height, o->spp,
-           st_sampler_names[o->sampler], st_filter_names[o->filter.kind],
-           (double)o->filter.radius, st_integrator_names[o->integrator], o->max_depth);
-    printf("\"check\": {\"passed\": true, \"message\": \"%s\"}, ", b->check.message);
-    printf("\"bvh_seconds\": %.6f, \"kernel_build_cold_seconds\": %.4f, "
-           "\"kernel_build_cached_seconds\": %.4f, \"stages\": {",
-           b->bvh, b->cold, b->cached);
-    double pixels = (double)o->width * o->height;
-    for (int k = 0; k < ST_STAGE_COUNT; k++) {
+    int ok = put_str(root, "device", b->device) && put_str(root, "scene", b->scene) &&
+             put_num(root, "triangles", b->triangles) && put_num(root, "width", o->width) &&
+             put_num(root, "height", o->height) && put_num(root, "spp", o->spp) &&
+             put_str(root, "sampler", st_sampler_names[o->sampler]) &&
+             put_str(root, "filter", st_filter_names[o->filter.kind]) &&
+             put_num(root, "filter_radius", shown("%g", (double)o->filter.radius)) &&
+             put_str(root, "integrator", st_integrator_names[o->integrator]) &&
+             put_num(root, "max_depth", o->max_depth);
+    cJSON *check = ok ? cJSON_AddObjectToObject(root, "check") : NULL;
+    return check && cJSON_AddTrueToObject(check, "passed") &&
+           put_str(check, "message", b->check.message) &&
+           put_num(root, "bvh_seconds", shown("%.6f", b->bvh)) &&
+           put_num(root, "kernel_build_cold_seconds", shown("%.4f", b->cold)) &&
+           put_num(root, "kernel_build_cached_seconds", shown("%.4f", b->cached));
+}
+
+/* "stages": {name: {seconds, per_second, unit}} in stage order, then "total". */
+static int json_stages(cJSON *root, const st_cli_render_args *a, const bench_result *b)
+{
+    double pixels = (double)a->opt.width * a->opt.height;
+    cJSON *stages = cJSON_AddObjectToObject(root, "stages");
+    int ok = stages != NULL;
+    for (int k = 0; k < ST_STAGE_COUNT && ok; k++) {
         const char *unit;
         double n = k == ST_STAGE_RESOLVE ? pixels : stage_count(&b->staged, k, &unit);
         if (k == ST_STAGE_RESOLVE)
             unit = "pixels/s";
         double t = b->staged.stage_seconds[k];
-        printf("%s\"%s\": {\"seconds\": %.6f, \"per_second\": %.1f, \"unit\": \"%s\"}",
-               k ? ", " : "", st_stage_names[k], t, t > 0 ? n / t : 0.0, unit);
+        cJSON *st = cJSON_AddObjectToObject(stages, st_stage_names[k]);
+        ok = st && put_num(st, "seconds", shown("%.6f", t)) &&
+             put_num(st, "per_second", shown("%.1f", t > 0 ? n / t : 0.0)) &&
+             put_str(st, "unit", unit);
     }
     const st_render_stats *t = &b->total;
-    printf("}, \"total\": {\"seconds\": %.6f, \"samples_per_second\": %.1f, "
-           "\"rays_per_second\": %.1f, \"rays\": %llu}}\n",
-           t->seconds, t->samples / t->seconds, t->rays / t->seconds,
-           (unsigned long long)t->rays);
+    cJSON *total = ok ? cJSON_AddObjectToObject(root, "total") : NULL;
+    return total && put_num(total, "seconds", shown("%.6f", t->seconds)) &&
+           put_num(total, "samples_per_second", shown("%.1f", t->samples / t->seconds)) &&
+           put_num(total, "rays_per_second", shown("%.1f", t->rays / t->seconds)) &&
+           put_num(total, "rays", (double)t->rays); /* exact below 2^53 rays */
+}
+
+/* One line of JSON on stdout, built with cJSON so strings (a scene path, a device name) are
+ * escaped. The keys and their nesting are the interface scripts read: keep them. */
+static st_status print_json(const st_cli_render_args *a, const bench_result *b, st_error *err)
+{
+    cJSON *root = cJSON_CreateObject();
+    char *text = root && json_head(root, a, b) && json_stages(root, a, b)
+                     ? cJSON_PrintUnformatted(root)
+                     : NULL;
+    cJSON_Delete(root);
+    if (!text)
+        return st_fail(err, ST_ERR_NOMEM, "bench: cannot build the JSON report");
+    int bad = puts(text) == EOF || fflush(stdout) != 0;
+    cJSON_free(text);
+    return bad ? st_fail(err, ST_ERR_IO, "stdout: write failed") : ST_OK;
 }
 
 int st_cli_bench(int argc, char **argv)
@@ -176,10 +231,12 @@ int st_cli_bench(int argc, char **argv)
     b.lights = st_renderer_light_count(s.renderer);
     b.device = st_device_get_info(s.dev)->name;
     b.scene = s.scene->name;
-    if (a.json)
-        print_json(&a, &b);
-    else
+    if (a.json) {
+        if (print_json(&a, &b, &err) != ST_OK)
+            rc = st_cli_fail(&err);
+    } else {
         print_text(&a, &b);
+    }
 done:
     st_image_free(&img);
     st_cli_session_close(&s);

@@ -83,4 +83,27 @@ check "radial power CSV has a header and kmax+1 = 33 rows" '[ "$(head -1 "$T/r.c
 expect "pattern without --count exits 2" 2 "--sampler and --count are required" $S pattern --sampler halton --csv -
 expect "pattern with an unknown sampler exits 2" 2 "--sampler dart: unknown" $S pattern --sampler dart --count 4 --csv -
 expect "pattern into a missing folder exits 1" 1 "^strata: error: $T/nope/p.csv: cannot create" $S pattern --sampler random --count 4 --csv "$T/nope/p.csv"
+# ---- bench --json -----------------------------------------------------------------------------
+# The scene path holds a quote and a backslash: printf-built JSON would not parse, and an
+# unescaped or doubly escaped path would not come back equal.
+Q="$T/q\"b\\x"
+mkdir "$Q" && cp scenes/furnace.gltf "$Q/s.gltf"
+$S bench "$Q/s.gltf" --width 8 --height 8 --spp 1 --json > "$T/bench.json" 2> "$T/bench.err"
+json_keys_ok() {
+    python3 - "$1" <<'EOF'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["check"]["passed"] is True and d["width"] == 8 and d["spp"] == 1
+assert d["stages"]["trace_rays"]["unit"] == "rays/s" and d["total"]["rays"] > 0
+EOF
+}
+json_scene_is() {
+    python3 - "$1" "$2" <<'EOF'
+import json, sys
+sys.exit(json.load(open(sys.argv[1]))["scene"] != sys.argv[2])
+EOF
+}
+check "bench --json parses, with its keys" 'json_keys_ok "$T/bench.json" 2> /dev/null'
+check "bench --json escapes a quote and a backslash" 'json_scene_is "$T/bench.json" "$Q/s.gltf" 2> /dev/null'
+
 echo "1..$n"
