@@ -183,7 +183,8 @@ static st_status exr_write_pixels(exr_context_t ctx, const char *path, const st_
 static int64_t exr_write_outfile(exr_const_context_t ctxt, void *userdata, const void *buffer,
                                  uint64_t sz, uint64_t offset, exr_stream_error_func_ptr_t error_cb)
 {
-    if (sz > (uint64_t)INT64_MAX || st_outfile_write_at(userdata, buffer, (size_t)sz, offset) != 0) {
+    if (sz > (uint64_t)INT64_MAX ||
+        st_outfile_write_at(userdata, buffer, (size_t)sz, offset) != 0) {
         int e = errno;
         error_cb(ctxt, EXR_ERR_WRITE_IO, "cannot write %llu bytes at offset %llu: %s",
                  (unsigned long long)sz, (unsigned long long)offset, strerror(e));

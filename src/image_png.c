@@ -3,8 +3,8 @@
  * Invariant: a PNG is never written in place. stb_image_write encodes it into an st_outfile
  * (st_outfile.h), the temporary beside the destination that is renamed over it only when
  * complete, so the folder afterwards holds either the complete new file or what it held before.
- * The container comes from image.c; this file knows no other format. Quantisation follows IEC 61966-2-1:1999 (sRGB),
- * section 5.2, the same formulas the header states. stb reports failure as a NULL/0 result plus
+ * The container comes from image.c; this file knows no other format. Quantisation follows
+ * IEC 61966-2-1:1999 (sRGB), section 5.2, the same formulas the header states. stb reports failure as a NULL/0 result plus
  * a global reason (stbi_failure_reason), which this file turns into st_error messages.
  */
 #include "st_image.h"

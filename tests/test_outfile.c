@@ -13,9 +13,9 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "scratch.h"
 #include "st_outfile.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
@@ -24,60 +24,6 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-/* ---- scratch folder ------------------------------------------------------------------------ */
-
-static char dir[64];
-
-static int make_dir(void **state)
-{
-    (void)state;
-    snprintf(dir, sizeof dir, "/tmp/st_test_outfile.XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-/* Removes the folder, what a test left in it and one level of subfolders. */
-static int remove_dir(void **state)
-{
-    (void)state;
-    chmod(dir, 0755);
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    char path[512];
-    while (d && (e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-            if (remove(path) != 0)
-                rmdir(path);
-        }
-    if (d)
-        closedir(d);
-    return rmdir(dir);
-}
-
-static const char *in_dir(const char *name)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    return path;
-}
-
-/* Number of entries in the folder, hidden ones included (the temporary's name starts with a
- * dot); the first one's name goes to first when not NULL. */
-static int entries(char *first, size_t size)
-{
-    DIR *d = opendir(dir);
-    assert_non_null(d);
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            if (n++ == 0 && first)
-                snprintf(first, size, "%s", e->d_name);
-        }
-    closedir(d);
-    return n;
-}
 
 static void put_file(const char *path, const char *text)
 {
@@ -112,19 +58,19 @@ static void outfile_commit_renames_temporary(void **state)
 {
     (void)state;
     char path[512], name[256];
-    snprintf(path, sizeof path, "%s", in_dir("out.csv"));
+    snprintf(path, sizeof path, "%s", scratch_path("out.csv"));
     st_outfile *f = NULL;
     st_error err = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
     assert_string_equal(st_outfile_path(f), path);
     fprintf(st_outfile_stream(f), "a,b\n");
     assert_int_equal(st_outfile_write(f, "1,2\n", 4), 0);
-    assert_int_equal(entries(name, sizeof name), 1);
+    assert_int_equal(scratch_entries(name, sizeof name), 1);
     assert_true(strncmp(name, ".out.csv.tmp.", 13) == 0);
     assert_int_equal(access(path, F_OK), -1);
     assert_int_equal(st_outfile_commit(f, &err), ST_OK);
     assert_string_equal(content(path), "a,b\n1,2\n");
-    assert_int_equal(entries(name, sizeof name), 1);
+    assert_int_equal(scratch_entries(name, sizeof name), 1);
     assert_string_equal(name, "out.csv");
 }
 
@@ -133,7 +79,7 @@ static void outfile_write_at_overwrites_after_stream(void **state)
 {
     (void)state;
     char path[512];
-    snprintf(path, sizeof path, "%s", in_dir("seek.bin"));
+    snprintf(path, sizeof path, "%s", scratch_path("seek.bin"));
     st_outfile *f = NULL;
     st_error err = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
@@ -149,18 +95,18 @@ static void outfile_concurrent_writers_use_distinct_temporaries(void **state)
 {
     (void)state;
     char path[512];
-    snprintf(path, sizeof path, "%s", in_dir("same.txt"));
+    snprintf(path, sizeof path, "%s", scratch_path("same.txt"));
     st_outfile *a = NULL, *b = NULL;
     st_error err = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &a, &err), ST_OK);
     assert_int_equal(st_outfile_open(path, &b, &err), ST_OK);
-    assert_int_equal(entries(NULL, 0), 2);
+    assert_int_equal(scratch_entries(NULL, 0), 2);
     fputs("first", st_outfile_stream(a));
     fputs("second", st_outfile_stream(b));
     assert_int_equal(st_outfile_commit(a, &err), ST_OK);
     assert_int_equal(st_outfile_commit(b, &err), ST_OK);
     assert_string_equal(content(path), "second");
-    assert_int_equal(entries(NULL, 0), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
 }
 
 /* ---- abort and an existing destination ------------------------------------------------------ */
@@ -170,10 +116,10 @@ static void outfile_abort_leaves_nothing(void **state)
     (void)state;
     st_outfile *f = NULL;
     st_error err = {ST_OK, ""};
-    assert_int_equal(st_outfile_open(in_dir("gone.png"), &f, &err), ST_OK);
+    assert_int_equal(st_outfile_open(scratch_path("gone.png"), &f, &err), ST_OK);
     fputs("partial", st_outfile_stream(f));
     st_outfile_abort(f);
-    assert_int_equal(entries(NULL, 0), 0);
+    assert_int_equal(scratch_entries(NULL, 0), 0);
     st_outfile_abort(NULL); /* documented no-op */
 }
 
@@ -183,7 +129,7 @@ static void outfile_existing_destination_replaced_only_on_commit(void **state)
 {
     (void)state;
     char path[512];
-    snprintf(path, sizeof path, "%s", in_dir("keep.txt"));
+    snprintf(path, sizeof path, "%s", scratch_path("keep.txt"));
     put_file(path, "old");
     st_outfile *f = NULL;
     st_error err = {ST_OK, ""};
@@ -193,14 +139,14 @@ static void outfile_existing_destination_replaced_only_on_commit(void **state)
     assert_string_equal(content(path), "old");
     st_outfile_abort(f);
     assert_string_equal(content(path), "old");
-    assert_int_equal(entries(NULL, 0), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
 
     assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
     assert_int_equal(st_outfile_write(f, "new", 3), 0);
     assert_string_equal(content(path), "old");
     assert_int_equal(st_outfile_commit(f, &err), ST_OK);
     assert_string_equal(content(path), "new");
-    assert_int_equal(entries(NULL, 0), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
 }
 
 /* ---- failures ------------------------------------------------------------------------------ */
@@ -210,22 +156,22 @@ static void outfile_missing_folder_fails_naming_path(void **state)
 {
     (void)state;
     char path[512];
-    snprintf(path, sizeof path, "%s", in_dir("missing/out.exr"));
+    snprintf(path, sizeof path, "%s", scratch_path("missing/out.exr"));
     st_outfile *f = (st_outfile *)1;
     st_error err = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &f, &err), ST_ERR_IO);
     assert_null(f);
     assert_message_names(&err, path);
     assert_non_null(strstr(err.msg, strerror(ENOENT)));
-    assert_int_equal(entries(NULL, 0), 0);
+    assert_int_equal(scratch_entries(NULL, 0), 0);
 
-    put_file(in_dir("plain"), "x");
-    snprintf(path, sizeof path, "%s", in_dir("plain/out.exr"));
+    put_file(scratch_path("plain"), "x");
+    snprintf(path, sizeof path, "%s", scratch_path("plain/out.exr"));
     st_error err2 = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &f, &err2), ST_ERR_IO);
     assert_message_names(&err2, path);
     assert_non_null(strstr(err2.msg, strerror(ENOTDIR)));
-    assert_int_equal(entries(NULL, 0), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
 }
 
 /* A folder without write permission. Root passes permission checks, so for root the folder is
@@ -234,7 +180,7 @@ static void outfile_unwritable_folder_fails_naming_path(void **state)
 {
     (void)state;
     char sub[512], path[600];
-    snprintf(sub, sizeof sub, "%s", in_dir("ro"));
+    snprintf(sub, sizeof sub, "%s", scratch_path("ro"));
     assert_int_equal(mkdir(sub, 0555), 0);
     int root = access(sub, W_OK) == 0;
     snprintf(path, sizeof path, "%s/out.png", root ? "/proc" : sub);
@@ -254,7 +200,7 @@ static void outfile_failed_rename_removes_temporary(void **state)
 {
     (void)state;
     char path[512];
-    snprintf(path, sizeof path, "%s", in_dir("taken"));
+    snprintf(path, sizeof path, "%s", scratch_path("taken"));
     assert_int_equal(mkdir(path, 0755), 0);
     st_outfile *f = NULL;
     st_error err = {ST_OK, ""};
@@ -263,7 +209,7 @@ static void outfile_failed_rename_removes_temporary(void **state)
     assert_int_equal(st_outfile_commit(f, &err), ST_ERR_IO);
     assert_message_names(&err, path);
     assert_non_null(strstr(err.msg, "rename"));
-    assert_int_equal(entries(NULL, 0), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
     struct stat st;
     assert_int_equal(stat(path, &st), 0);
     assert_true(S_ISDIR(st.st_mode));
@@ -274,7 +220,7 @@ static void outfile_failed_rename_removes_temporary(void **state)
 static void fails_past_file_limit(int (*fn)(st_outfile *))
 {
     char path[512];
-    snprintf(path, sizeof path, "%s", in_dir("big.bin"));
+    snprintf(path, sizeof path, "%s", scratch_path("big.bin"));
     put_file(path, "old");
     struct rlimit saved, small = {16, 16};
     assert_int_equal(getrlimit(RLIMIT_FSIZE, &saved), 0);
@@ -284,43 +230,38 @@ static void fails_past_file_limit(int (*fn)(st_outfile *))
     st_error err = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
     assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
-    int rc = fn(f);
+    int as_expected = fn(f); /* no asserts until the limit is lifted again */
     st_status s = st_outfile_commit(f, &err);
     setrlimit(RLIMIT_FSIZE, &saved);
     signal(SIGXFSZ, old_handler);
-    (void)rc;
+    assert_true(as_expected);
     assert_int_equal(s, ST_ERR_IO);
     assert_message_names(&err, path);
     assert_non_null(strstr(err.msg, "cannot write"));
     assert_string_equal(content(path), "old");
-    assert_int_equal(entries(NULL, 0), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
 }
 
 static char block[4096];
 
+/* Each returns whether the write behaved as documented: a refused write returns -1 and keeps
+ * EFBIG for commit. */
 static int write_block(st_outfile *f)
 {
-    int rc = st_outfile_write(f, block, sizeof block);
-    assert_int_equal(rc, -1);
-    assert_int_equal(st_outfile_error(f), EFBIG);
-    return rc;
+    return st_outfile_write(f, block, sizeof block) == -1 && st_outfile_error(f) == EFBIG;
 }
 
 static int write_block_at(st_outfile *f)
 {
-    int rc = st_outfile_write_at(f, block, 8, 1000);
-    assert_int_equal(rc, -1);
-    assert_int_equal(st_outfile_error(f), EFBIG);
-    return rc;
+    return st_outfile_write_at(f, block, 8, 1000) == -1 && st_outfile_error(f) == EFBIG;
 }
 
-/* Small stream writes only fail when commit flushes them. */
+/* Small stream writes stay buffered and only fail when commit flushes them. */
 static int print_block(st_outfile *f)
 {
     for (int i = 0; i < 4; i++)
         fprintf(st_outfile_stream(f), "%s", "0123456789");
-    assert_int_equal(st_outfile_error(f), 0);
-    return 0;
+    return st_outfile_error(f) == 0;
 }
 
 static void outfile_write_failure_removes_temporary(void **state)
@@ -343,7 +284,7 @@ static void outfile_flush_failure_removes_temporary(void **state)
 
 int main(void)
 {
-#define T(name) cmocka_unit_test_setup_teardown(name, make_dir, remove_dir)
+#define T(name) cmocka_unit_test_setup_teardown(name, scratch_make, scratch_remove)
     const struct CMUnitTest tests[] = {
         T(outfile_commit_renames_temporary),
         T(outfile_write_at_overwrites_after_stream),

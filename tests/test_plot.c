@@ -11,7 +11,6 @@
 #include <cmocka.h>
 
 #include <cairo/cairo.h>
-#include <dirent.h>
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
@@ -20,57 +19,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "scratch.h"
 #include "st_plot.h"
 
 /* ---- helpers -------------------------------------------------------------------- */
-
-static char dir[256];
-
-static int make_dir(void **state)
-{
-    (void)state;
-    snprintf(dir, sizeof dir, "/tmp/st_test_plot.XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-/* Removes the test folder and whatever a test left in it. */
-static int remove_dir(void **state)
-{
-    (void)state;
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        char path[512];
-        while ((e = readdir(d)))
-            if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-                snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-                if (remove(path) != 0)
-                    rmdir(path);
-            }
-        closedir(d);
-    }
-    return rmdir(dir);
-}
-
-static const char *in_dir(const char *name)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    return path;
-}
-
-/* Number of entries in the test folder (besides . and ..). */
-static int dir_entries(void)
-{
-    DIR *d = opendir(dir);
-    int n = 0;
-    struct dirent *e;
-    assert_non_null(d);
-    while ((e = readdir(d)))
-        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
-    closedir(d);
-    return n;
-}
 
 typedef struct rgb {
     int r, g, b;
@@ -140,7 +92,7 @@ static void plot_scatter_point_where_data_maps(void **state)
     st_error err = {0};
     const float pts[2] = {0.7f, 0.3f};
     st_plot_scatter sc = {.title = "one point", .points = pts, .count = 1, .point_radius = 5.0};
-    const char *path = in_dir("scatter.png");
+    const char *path = scratch_path("scatter.png");
     assert_int_equal(st_plot_save_scatter(path, &sc, 320, 300, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 320, 300);
     st_plot_panel panel = {.kind = ST_PLOT_SCATTER, .scatter = &sc};
@@ -160,7 +112,7 @@ static void plot_scatter_strata_and_tile_border(void **state)
     const float pts[4] = {0.1f, 0.1f, 0.9f, 0.9f};
     st_plot_scatter sc = {.points = pts, .count = 2, .strata_nx = 4, .strata_ny = 2,
                           .toroidal = 1};
-    const char *path = in_dir("strata.png");
+    const char *path = scratch_path("strata.png");
     assert_int_equal(st_plot_save_scatter(path, &sc, 400, 400, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 400, 400);
     st_plot_panel panel = {.kind = ST_PLOT_SCATTER, .scatter = &sc};
@@ -192,7 +144,7 @@ static void plot_heatmap_cells_in_viridis(void **state)
     st_error err = {0};
     const double v[4] = {0.0, 1.0, 2.0, 3.0};
     st_plot_heatmap hm = {.title = "2x2", .values = v, .width = 2, .height = 2};
-    const char *path = in_dir("heat.png");
+    const char *path = scratch_path("heat.png");
     assert_int_equal(st_plot_save_heatmap(path, &hm, 400, 300, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 400, 300);
     st_plot_panel panel = {.kind = ST_PLOT_HEATMAP, .heatmap = &hm};
@@ -215,7 +167,7 @@ static void plot_heatmap_log_scale(void **state)
     const double v[5] = {1.0, 10.0, 1000.0, 0.0, 100.0};
     st_plot_heatmap hm = {.values = v, .width = 5, .height = 1, .log10 = 1,
                           .colorbar_label = "log10 P"};
-    const char *path = in_dir("log.png");
+    const char *path = scratch_path("log.png");
     assert_int_equal(st_plot_save_heatmap(path, &hm, 500, 200, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 500, 200);
     st_plot_panel panel = {.kind = ST_PLOT_HEATMAP, .heatmap = &hm};
@@ -247,7 +199,7 @@ static void plot_lines_series_and_marker(void **state)
     st_plot_lines pl = {.title = "t", .xlabel = "x", .ylabel = "y", .series = &se,
                         .series_count = 1, .markers = &mk, .marker_count = 1,
                         .xmin = 0, .xmax = 1, .ymin = 0, .ymax = 1, .legend_left = 1};
-    const char *path = in_dir("lines.png");
+    const char *path = scratch_path("lines.png");
     assert_int_equal(st_plot_save_lines(path, &pl, 480, 360, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 480, 360);
     st_plot_panel panel = {.kind = ST_PLOT_LINES, .lines = &pl};
@@ -271,7 +223,7 @@ static void plot_lines_log_axes(void **state)
     st_plot_series se = {.x = x, .y = y, .n = 4, .color = 0x0000ff, .width = 4};
     st_plot_lines pl = {.series = &se, .series_count = 1, .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y,
                         .xmin = 1, .xmax = 100, .ymin = 1, .ymax = 100};
-    const char *path = in_dir("loglog.png");
+    const char *path = scratch_path("loglog.png");
     assert_int_equal(st_plot_save_lines(path, &pl, 300, 300, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 300, 300);
     st_plot_panel panel = {.kind = ST_PLOT_LINES, .lines = &pl};
@@ -294,7 +246,7 @@ static void plot_row_panels_side_by_side(void **state)
     st_plot_lines lb = {.series = &b, .series_count = 1, .xmin = 0, .xmax = 1, .ymax = 1};
     st_plot_panel panels[2] = {{.kind = ST_PLOT_LINES, .lines = &la},
                                {.kind = ST_PLOT_LINES, .lines = &lb}};
-    const char *path = in_dir("row.png");
+    const char *path = scratch_path("row.png");
     assert_int_equal(st_plot_save_row(path, panels, 2, 250, 200, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 500, 200);
     st_plot_rect r = st_plot_data_rect(&panels[0], 250, 200);
@@ -315,11 +267,11 @@ static void plot_unwritable_path_fails_and_leaves_nothing(void **state)
     const float pts[2] = {0.5f, 0.5f};
     st_plot_scatter sc = {.points = pts, .count = 1};
     char path[512];
-    snprintf(path, sizeof path, "%s/missing/out.png", dir);
+    snprintf(path, sizeof path, "%s/missing/out.png", scratch_dir);
     assert_int_equal(st_plot_save_scatter(path, &sc, 128, 128, &err), ST_ERR_IO);
     assert_non_null(strstr(err.msg, path));
     assert_int_equal(access(path, F_OK), -1);
-    assert_int_equal(dir_entries(), 0);
+    assert_int_equal(scratch_entries(NULL, 0), 0);
 }
 
 /* Renaming onto a folder fails after the PNG was written: the temporary is
@@ -330,11 +282,11 @@ static void plot_failed_rename_removes_temporary(void **state)
     st_error err = {0};
     const double v[1] = {1.0};
     st_plot_heatmap hm = {.values = v, .width = 1, .height = 1};
-    const char *path = in_dir("taken");
+    const char *path = scratch_path("taken");
     assert_int_equal(mkdir(path, 0755), 0);
     assert_int_equal(st_plot_save_heatmap(path, &hm, 128, 128, &err), ST_ERR_IO);
     assert_non_null(strstr(err.msg, "rename"));
-    assert_int_equal(dir_entries(), 1); /* just the folder */
+    assert_int_equal(scratch_entries(NULL, 0), 1); /* just the folder */
     struct stat st;
     assert_int_equal(stat(path, &st), 0);
     assert_true(S_ISDIR(st.st_mode));
@@ -346,7 +298,7 @@ static void plot_bad_description_keeps_existing_file(void **state)
 {
     (void)state;
     st_error err = {0};
-    const char *path = in_dir("keep.png");
+    const char *path = scratch_path("keep.png");
     FILE *f = fopen(path, "wb");
     assert_non_null(f);
     fputs("old", f);
@@ -359,7 +311,7 @@ static void plot_bad_description_keeps_existing_file(void **state)
     assert_int_equal(fread(buf, 1, sizeof buf, f), 3);
     fclose(f);
     assert_string_equal(buf, "old");
-    assert_int_equal(dir_entries(), 1);
+    assert_int_equal(scratch_entries(NULL, 0), 1);
 }
 
 static void plot_rejects_bad_arguments(void **state)
@@ -375,7 +327,7 @@ static void plot_rejects_bad_arguments(void **state)
     st_plot_lines bad_log = {.series = &ok, .series_count = 1, .flags = ST_PLOT_LOG_X,
                              .xmin = 0, .xmax = 10};
     st_plot_panel none[1] = {{.kind = ST_PLOT_SCATTER, .scatter = NULL}};
-    const char *path = in_dir("never.png");
+    const char *path = scratch_path("never.png");
 
     assert_int_equal(st_plot_save_scatter(path, &sc, 10, 128, &err), ST_ERR_USAGE);
     st_error_clear(&err);
@@ -396,7 +348,7 @@ static void plot_rejects_bad_arguments(void **state)
     st_error_clear(&err);
     sc.stride = 1;
     assert_int_equal(st_plot_save_scatter(path, &sc, 128, 128, &err), ST_ERR_USAGE);
-    assert_int_equal(dir_entries(), 0);
+    assert_int_equal(scratch_entries(NULL, 0), 0);
 }
 
 /* Degenerate but valid input draws without failing: no points, a constant
@@ -413,7 +365,7 @@ static void plot_degenerate_inputs_still_draw(void **state)
     st_plot_panel panels[3] = {{.kind = ST_PLOT_SCATTER, .scatter = &sc},
                                {.kind = ST_PLOT_HEATMAP, .heatmap = &hm},
                                {.kind = ST_PLOT_LINES, .lines = &pl}};
-    const char *path = in_dir("degenerate.png");
+    const char *path = scratch_path("degenerate.png");
     assert_int_equal(st_plot_save_row(path, panels, 3, 200, 160, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 600, 160);
     cairo_surface_destroy(s);
@@ -437,22 +389,22 @@ static void release_font_caches(void)
 
 int main(void)
 {
+#define T(name) cmocka_unit_test_setup_teardown(name, scratch_make, scratch_remove)
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(plot_scatter_point_where_data_maps, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_scatter_strata_and_tile_border, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_heatmap_cells_in_viridis, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_heatmap_log_scale, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_lines_series_and_marker, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_lines_log_axes, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_row_panels_side_by_side, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_unwritable_path_fails_and_leaves_nothing, make_dir,
-                                        remove_dir),
-        cmocka_unit_test_setup_teardown(plot_failed_rename_removes_temporary, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_bad_description_keeps_existing_file, make_dir,
-                                        remove_dir),
-        cmocka_unit_test_setup_teardown(plot_rejects_bad_arguments, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(plot_degenerate_inputs_still_draw, make_dir, remove_dir),
+        T(plot_scatter_point_where_data_maps),
+        T(plot_scatter_strata_and_tile_border),
+        T(plot_heatmap_cells_in_viridis),
+        T(plot_heatmap_log_scale),
+        T(plot_lines_series_and_marker),
+        T(plot_lines_log_axes),
+        T(plot_row_panels_side_by_side),
+        T(plot_unwritable_path_fails_and_leaves_nothing),
+        T(plot_failed_rename_removes_temporary),
+        T(plot_bad_description_keeps_existing_file),
+        T(plot_rejects_bad_arguments),
+        T(plot_degenerate_inputs_still_draw),
     };
+#undef T
     int failed = cmocka_run_group_tests_name("plot", tests, NULL, NULL);
     release_font_caches();
     return failed;
