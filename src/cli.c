@@ -1,5 +1,5 @@
 /* cli.c — the command line's entry: subcommand dispatch (each subcommand is
- * its own file, cli_<name>.c), and the text writer of the CSV outputs. */
+ * its own file, cli_<name>.c). */
 #include "cli.h"
 
 #include <stdio.h>
@@ -7,7 +7,6 @@
 
 #include "cli_commands.h"
 #include "cli_error.h"
-#include "st_outfile.h"
 
 static const char main_help[] =
     "strata — an OpenCL renderer for sampling and reconstruction\n"
@@ -38,19 +37,4 @@ int st_cli_main(int argc, char **argv)
         if (!strcmp(argv[1], cmds[i].name))
             return cmds[i].run(argc - 1, argv + 1);
     return st_cli_usage_error("unknown command '%s' (see strata --help)", argv[1]);
-}
-
-/* Writes through an st_outfile (a temporary and rename), or to stdout for "-". */
-st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
-                            st_error *err)
-{
-    if (!strcmp(path, "-")) {
-        emit(stdout, ctx);
-        return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
-    }
-    st_outfile *out = NULL;
-    if (st_outfile_open(path, &out, err) != ST_OK)
-        return err ? err->status : ST_ERR_IO;
-    emit(st_outfile_stream(out), ctx);
-    return st_outfile_commit(out, err);
 }

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h" /* st_cli_write_text */
+#include "cli_text.h"
 #include "cli_args.h"
 #include "cli_commands.h"
 #include "cli_error.h"

@@ -1,0 +1,21 @@
+/* cli_text.c — the text outputs of the laboratory commands (CSV tables). */
+#include "cli_text.h"
+
+#include <string.h>
+
+#include "st_outfile.h"
+
+/* Writes through an st_outfile (a temporary and rename), or to stdout for "-". */
+st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
+                            st_error *err)
+{
+    if (!strcmp(path, "-")) {
+        emit(stdout, ctx);
+        return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
+    }
+    st_outfile *out = NULL;
+    if (st_outfile_open(path, &out, err) != ST_OK)
+        return err ? err->status : ST_ERR_IO;
+    emit(st_outfile_stream(out), ctx);
+    return st_outfile_commit(out, err);
+}

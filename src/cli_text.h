@@ -1,0 +1,16 @@
+/* cli_text.h — the text writer of the CSV outputs (pattern, filter,
+ * signal, converge). */
+#ifndef ST_CLI_TEXT_H
+#define ST_CLI_TEXT_H
+
+#include <stdio.h>
+
+#include "st_error.h"
+
+/* Writes a text file through emit(f, ctx) into an st_outfile (a temporary in
+ * the same folder, then rename(2)), so no partial file is left; "-" is stdout.
+ * Errors: ST_ERR_IO naming path. */
+st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
+                            st_error *err);
+
+#endif
