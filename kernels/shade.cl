@@ -107,7 +107,9 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
     if (pa.depth >= p.max_depth) {
         pa.depth = ST_PATH_DEAD;
     } else {
-        shadow[i] = next_event(&s, &p, &sh, &v, &pa, albedo, origin, &id, dim);
+        st_shadow_ray sr = next_event(&s, &p, &sh, &v, &pa, albedo, origin, &id, dim);
+        if (sr.tmax > 0.0f)
+            shadow[i] = sr;
         if (p.integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(&p, &v, albedo, &pa, &id, dim, &wi) ||
             !roulette(&p, &pa, &id, dim)) {
             pa.depth = ST_PATH_DEAD;
