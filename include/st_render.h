@@ -16,6 +16,7 @@
 #include "st_error.h"
 #include "st_filter.h"
 #include "st_image.h"
+#include "st_names.h"
 #include "st_sampler.h"
 #include "st_scene.h"
 #include "st_shared.h"
@@ -53,7 +54,6 @@ typedef struct st_render_options {
  * names, defaults and checks: st_sampler.h, st_filter.h. */
 extern const char *const st_integrator_names[2];
 extern const char *const st_reconstruction_names[2];
-int st_name_lookup(const char *const *names, int count, const char *name);
 
 /* The defaults of `strata render`. */
 st_render_options st_render_defaults(void);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "filters.h"
+#include "st_names.h"
 
 #define PI 3.14159265358979323846
 #define INTEGRAL_INTERVALS 65536
@@ -18,10 +19,7 @@ const char *const st_filter_names[ST_FILTER_COUNT] = {
 
 int st_filter_lookup(const char *name)
 {
-    for (st_u32 i = 0; i < ST_FILTER_COUNT; i++)
-        if (!strcmp(st_filter_names[i], name))
-            return (int)i;
-    return -1;
+    return st_name_lookup(st_filter_names, (int)ST_FILTER_COUNT, name);
 }
 
 st_filter st_filter_default(st_u32 kind)

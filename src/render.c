@@ -21,14 +21,6 @@ const char *const st_stage_names[ST_STAGE_COUNT] = {
 const char *const st_integrator_names[2] = {"direct", "path"};
 const char *const st_reconstruction_names[2] = {"splat", "fis"};
 
-int st_name_lookup(const char *const *names, int count, const char *name)
-{
-    for (int i = 0; i < count; i++)
-        if (!strcmp(names[i], name))
-            return i;
-    return -1;
-}
-
 double st_render_now(void)
 {
     struct timespec ts;

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "rng.h"
+#include "st_names.h"
 #include "samplers.h"
 
 const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
@@ -16,10 +17,7 @@ const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
 
 int st_sampler_lookup(const char *name)
 {
-    for (st_u32 i = 0; i < ST_SAMPLER_COUNT; i++)
-        if (!strcmp(st_sampler_names[i], name))
-            return (int)i;
-    return -1;
+    return st_name_lookup(st_sampler_names, (int)ST_SAMPLER_COUNT, name);
 }
 
 int st_sampler_takes_scramble(st_u32 sampler)
