@@ -135,9 +135,10 @@ const st_cli_option_name st_cli_render_option_names[] = {
     {"adaptive", "--adaptive"}, {"sampler", "--sampler"}, {"filter kind", "--filter"},
     {"filter radius", "--filter-radius"}, {"filter b", "--filter-b"},
     {"filter c", "--filter-c"}, {"filter sigma", "--filter-sigma"},
-    {"filter tau", "--filter-tau"}, {NULL, NULL}};
+    {"filter tau", "--filter-tau"}, {"texture filter", "--texture-filter"},
+    {"camera", "--camera"}, {NULL, NULL}};
 
-int st_cli_fail_options(const st_error *err, const st_cli_option_name *names)
+int st_cli_option_words(st_error *err, const st_cli_option_name *names)
 {
     for (const st_cli_option_name *n = names; n->field; n++) {
         size_t len = strlen(n->field);
@@ -145,11 +146,19 @@ int st_cli_fail_options(const st_error *err, const st_cli_option_name *names)
         /* a whole field: "spp 3" is spp, "spp-map" or "sppx" is not */
         if (strncmp(err->msg, n->field, len) || (next && next != ' ' && next != ':'))
             continue;
-        st_error e = {.status = err->status};
-        snprintf(e.msg, sizeof e.msg, "%s%s", n->option, err->msg + len);
-        return st_cli_fail(&e);
+        char msg[sizeof err->msg];
+        snprintf(msg, sizeof msg, "%s%s", n->option, err->msg + len);
+        memcpy(err->msg, msg, sizeof msg);
+        return 1;
     }
-    return st_cli_fail(err);
+    return 0;
+}
+
+int st_cli_fail_options(const st_error *err, const st_cli_option_name *names)
+{
+    st_error e = *err;
+    st_cli_option_words(&e, names);
+    return st_cli_fail(&e);
 }
 
 /* The filter module says which parameters a kind reads; one given for a kind

@@ -42,6 +42,10 @@ typedef struct st_cli_option_name {
  * options of render, bench and converge (and signal's filter options);
  * ends with {NULL, NULL}. */
 extern const st_cli_option_name st_cli_render_option_names[];
+/* Rewrites, in place, the field that opens err's message ("filter radius 9:
+ * ...") as its option ("--filter-radius 9: ...") when names lists it;
+ * returns whether it did. */
+int st_cli_option_words(st_error *err, const st_cli_option_name *names);
 /* st_cli_fail, with the field that opens err's message ("filter radius 9:
  * ...") written as its option ("--filter-radius 9: ...") when names lists it. */
 int st_cli_fail_options(const st_error *err, const st_cli_option_name *names);

@@ -34,12 +34,12 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; i < s->scene->warning_count; i++)
         fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
-    /* --camera is checked before the device starts, in the flag's words */
-    st_u32 cams = s->scene->camera_count;
-    if (a->opt.camera >= 0 && (st_u32)a->opt.camera >= cams)
-        return st_fail(err, ST_ERR_USAGE, "--camera %d: %s has %u camera node%s%s",
-                       (int)a->opt.camera, s->scene->name, cams, cams == 1 ? "" : "s",
-                       cams ? " (numbered from 0)" : "");
+    /* the camera is checked before the device starts, in the flag's words */
+    st_scene_camera cam;
+    if (st_scene_view_camera(s->scene, a->opt.camera, &cam, err) != ST_OK) {
+        st_cli_option_words(err, st_cli_render_option_names);
+        return err->status;
+    }
     if (st_device_create(a->device, &s->dev, err) != ST_OK)
         return st_cli_device_words(err);
     t0 = st_cli_now();
@@ -51,10 +51,10 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
 
 st_status st_cli_device_words(st_error *err)
 {
-    if (!strncmp(err->msg, "device ", 7)) {
-        char msg[sizeof err->msg];
-        snprintf(msg, sizeof msg, "--%.470s (see `strata devices`)", err->msg);
-        memcpy(err->msg, msg, sizeof msg);
+    static const st_cli_option_name device[] = {{"device", "--device"}, {NULL, NULL}};
+    if (st_cli_option_words(err, device)) {
+        size_t n = strlen(err->msg);
+        snprintf(err->msg + n, sizeof err->msg - n, " (see `strata devices`)");
     }
     return err->status;
 }

@@ -264,11 +264,13 @@ static st_status read_tallies(st_renderer *r, const st_wave *w, st_render_stats 
         st->shadow_rays += tally[i].shadow_rays;
     }
     free(tally);
+    if (rc != ST_OK)
+        return rc;
     st->rays = st->closest_rays + st->shadow_rays;
     st->clamped = counts.clamped;
     st->nonfinite = counts.nonfinite;
     st->zero_weight = counts.zero_weight;
-    return rc;
+    return ST_OK;
 }
 
 /* A device buffer of `bytes` into a new malloc'ed block *out. */
@@ -287,8 +289,8 @@ static st_status read_new(st_device *dev, cl_mem mem, size_t bytes, void **out, 
 
 /* The resolved image (R, G, B, W), the raw sums when asked, the stats and
  * an adaptive render's spp map. */
-static st_status read_back(st_renderer *r, st_wave *w, const st_render_options *o,
-                           st_image *out, st_i64 **sums, st_render_stats *st, st_error *err)
+static st_status read_results(st_renderer *r, st_wave *w, const st_render_options *o,
+                              st_image *out, st_i64 **sums, st_render_stats *st, st_error *err)
 {
     static const char *const names[4] = {"R", "G", "B", "W"};
     if (st_image_create(out, o->width, o->height, 4, names, err) ||
@@ -308,7 +310,21 @@ static st_status read_back(st_renderer *r, st_wave *w, const st_render_options *
     return ST_OK;
 }
 
-/* Items [first, first + total) of the current item space, in waves. */
+/* read_results, leaving nothing allocated when it fails. */
+static st_status read_back(st_renderer *r, st_wave *w, const st_render_options *o,
+                           st_image *out, st_i64 **sums, st_render_stats *st, st_error *err)
+{
+    st_status rc = read_results(r, w, o, out, sums, st, err);
+    if (rc != ST_OK) {
+        st_image_free(out);
+        if (sums) {
+            free(*sums);
+            *sums = NULL;
+        }
+    }
+    return rc;
+}
+
 st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                           st_u64 first, st_u64 total, st_progress_state *pr,
                           st_render_stats *st, st_error *err)

@@ -10,6 +10,9 @@
 #include "st_bvh.h"
 #include "st_lights.h"
 
+_Static_assert(ST_SCENE_tile + 2 == ST_SCENE_BUFFER_COUNT && ST_SCENE_fis_cdf == ST_SCENE_tile + 1,
+               "the per-render inputs come last in ST_SCENE_BUFFERS");
+
 /* Texture coordinates in BVH order and the triangle's part of the ray-cone
  * level of detail, lod = 1/2 log2(uv area / world area) (st_tri_uv). */
 static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
@@ -22,6 +25,32 @@ static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
                           ((double)uv[4] - uv[0]) * ((double)uv[3] - uv[1]));
         out[t].lod = tex > 0.0 && world > 0.0 ? (float)(0.5 * log2(tex / world)) : -64.0f;
         out[t].pad = 0.0f;
+    }
+}
+
+/* Shading normals in BVH order, each triangle's fourth floats holding its
+ * unit geometric normal turned to the side the shading normals face. */
+static void make_normals(const st_scene *s, const st_bvh *bvh, st_tri_normals *nrm)
+{
+    st_u32 n = bvh->tri_count;
+    memset(nrm, 0, sizeof *nrm * (n ? n : 1));
+    for (st_u32 t = 0; t < n; t++) {
+        const float *sn = s->normals + 9 * (size_t)bvh->order[t];
+        memcpy(nrm[t].n0, sn, 3 * sizeof(float));
+        memcpy(nrm[t].n1, sn + 3, 3 * sizeof(float));
+        memcpy(nrm[t].n2, sn + 6, 3 * sizeof(float));
+        /* unit geometric normal, on the side of the shading normals */
+        const float *e1 = bvh->tris[t].e1, *e2 = bvh->tris[t].e2;
+        double g[3] = {(double)e1[1] * e2[2] - (double)e1[2] * e2[1],
+                       (double)e1[2] * e2[0] - (double)e1[0] * e2[2],
+                       (double)e1[0] * e2[1] - (double)e1[1] * e2[0]};
+        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), side = 0.0;
+        for (int a = 0; a < 3; a++)
+            side += g[a] * ((double)sn[a] + sn[3 + a] + sn[6 + a]);
+        double scale = (side < 0.0 ? -1.0 : 1.0) / (len > 0.0 ? len : 1.0);
+        nrm[t].n0[3] = (float)(g[0] * scale);
+        nrm[t].n1[3] = (float)(g[1] * scale);
+        nrm[t].n2[3] = (float)(g[2] * scale);
     }
 }
 
@@ -40,45 +69,30 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
         goto done;
     }
-    memset(nrm, 0, sizeof *nrm * (n ? n : 1));
-    for (st_u32 t = 0; t < n; t++) {
-        const float *sn = s->normals + 9 * (size_t)bvh->order[t];
-        memcpy(nrm[t].n0, sn, 3 * sizeof(float));
-        memcpy(nrm[t].n1, sn + 3, 3 * sizeof(float));
-        memcpy(nrm[t].n2, sn + 6, 3 * sizeof(float));
+    make_normals(s, bvh, nrm);
+    for (st_u32 t = 0; t < n; t++)
         mat[t] = s->tri_material[bvh->order[t]];
-        /* unit geometric normal, on the side of the shading normals */
-        const float *e1 = bvh->tris[t].e1, *e2 = bvh->tris[t].e2;
-        double g[3] = {(double)e1[1] * e2[2] - (double)e1[2] * e2[1],
-                       (double)e1[2] * e2[0] - (double)e1[0] * e2[2],
-                       (double)e1[0] * e2[1] - (double)e1[1] * e2[0]};
-        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]), side = 0.0;
-        for (int a = 0; a < 3; a++)
-            side += g[a] * ((double)sn[a] + sn[3 + a] + sn[6 + a]);
-        double scale = (side < 0.0 ? -1.0 : 1.0) / (len > 0.0 ? len : 1.0);
-        nrm[t].n0[3] = (float)(g[0] * scale);
-        nrm[t].n1[3] = (float)(g[1] * scale);
-        nrm[t].n2[3] = (float)(g[2] * scale);
-    }
     make_tri_uv(s, bvh, uv);
     if (st_lights_build(s, bvh, uv, &lights, err) != ST_OK) {
         rc = err->status;
         goto done;
     }
     r->light_count = lights.count;
+    /* the scene's buffers by name (ST_SCENE_BUFFERS); tile and fis_cdf are
+     * made per render (render.c) */
     struct { size_t bytes; const void *data; } up[ST_SCENE_tile] = {
-        {sizeof(st_bvh_node) * bvh->node_count, bvh->nodes},
-        {sizeof(st_triangle) * (n ? n : 1), bvh->tris},
-        {sizeof(st_tri_normals) * (n ? n : 1), nrm},
-        {sizeof(st_u32) * (n ? n : 1), mat},
-        {sizeof(st_material) * s->material_count, s->materials},
-        {sizeof(st_u32) * (r->light_count ? r->light_count : 1), lights.tri},
-        {sizeof(float) * (r->light_count ? r->light_count : 1), lights.cdf},
-        {sizeof(float) * (n ? n : 1), lights.pdf_area},
-        {sizeof(st_tri_uv) * (n ? n : 1), uv},
-        {sizeof(st_texture) * (s->texture_count ? s->texture_count : 1),
+        [ST_SCENE_nodes] = {sizeof(st_bvh_node) * bvh->node_count, bvh->nodes},
+        [ST_SCENE_tris] = {sizeof(st_triangle) * (n ? n : 1), bvh->tris},
+        [ST_SCENE_normals] = {sizeof(st_tri_normals) * (n ? n : 1), nrm},
+        [ST_SCENE_tri_material] = {sizeof(st_u32) * (n ? n : 1), mat},
+        [ST_SCENE_materials] = {sizeof(st_material) * s->material_count, s->materials},
+        [ST_SCENE_light_tri] = {sizeof(st_u32) * (r->light_count ? r->light_count : 1), lights.tri},
+        [ST_SCENE_light_cdf] = {sizeof(float) * (r->light_count ? r->light_count : 1), lights.cdf},
+        [ST_SCENE_light_pdf] = {sizeof(float) * (n ? n : 1), lights.pdf_area},
+        [ST_SCENE_tri_uv] = {sizeof(st_tri_uv) * (n ? n : 1), uv},
+        [ST_SCENE_textures] = {sizeof(st_texture) * (s->texture_count ? s->texture_count : 1),
          s->texture_count ? (const void *)s->textures : (const void *)&no_texture},
-        {sizeof(st_u32) * (s->texel_count ? s->texel_count : 1),
+        [ST_SCENE_texels] = {sizeof(st_u32) * (s->texel_count ? s->texel_count : 1),
          s->texel_count ? (const void *)s->texels : (const void *)&no_texel},
     };
     for (int b = 0; b < ST_SCENE_tile && rc == ST_OK; b++)
