@@ -4,9 +4,16 @@
 
 DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
-                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev parallel pkg-config gcc g++ make
+                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev libpng-dev parallel pkg-config gcc g++ make \
+                help2man
 
 PKGS     := OpenCL stb cairo fftw3
+
+# The version `strata --version` prints and writes into its files: `git
+# describe` of the checkout, or the fallback outside a git checkout (a tarball).
+VERSION_FALLBACK := 0.1.0
+VERSION  := $(shell git describe --tags --always --dirty 2>/dev/null || echo $(VERSION_FALLBACK))
+PREFIX   ?= /usr/local
 CC       ?= cc
 CXX      ?= c++
 OPT      ?= -O2
@@ -14,7 +21,7 @@ WARN     := -Wall -Wextra
 CPPFLAGS += -Iinclude -Isrc -Ikernels -I/usr/include/OpenEXR
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(WARN)
 CXXFLAGS += -std=c++17 $(OPT) -g $(WARN) -I/usr/include/stb -I/usr/include/nlohmann
-LDLIBS   += -ltinygltf -lOpenEXRCore-3_1 -lcairo -lcjson -lfftw3 -lstb -lOpenCL -lstdc++ -lm -lpthread
+LDLIBS   += -ltinygltf -lOpenEXRCore-3_1 -lcairo -lpng -lcjson -lfftw3 -lstb -lOpenCL -lstdc++ -lm -lpthread
 
 ifeq ($(SANITIZE),1)
   CFLAGS   += -fsanitize=address,undefined -fno-omit-frame-pointer
@@ -28,13 +35,13 @@ endif
 LIB_C    := $(filter-out src/main.c,$(wildcard src/*.c))
 LIB_CXX  := $(wildcard src/*.cpp)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/%.o) \
-            $(BUILD)/embedded.o
+            $(BUILD)/embedded.o $(BUILD)/version.o
 KERNELS  := $(wildcard kernels/*.cl) $(wildcard kernels/*.h)
 SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/test_*.c)
 TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
 
-.PHONY: all deps test test-sanitize bench demo clean
+.PHONY: all deps test test-sanitize bench demo clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -73,6 +80,15 @@ $(BUILD)/embedded.c: $(BUILD)/embed $(KERNELS) $(SCENES)
 $(BUILD)/embedded.o: $(BUILD)/embedded.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
 
+# version.c is rewritten only when the version changed, so a build of the same
+# commit relinks nothing.
+$(BUILD)/version.c: FORCE | $(BUILD)
+	@printf '#include "st_version.h"\nconst char st_version[] = "%s";\n' '$(VERSION)' > $@.tmp
+	@if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
+
+$(BUILD)/version.o: $(BUILD)/version.c
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
+
 $(BUILD)/tests/%: tests/%.c $(BUILD)/libstrata.a | $(BUILD)
 	@mkdir -p $(BUILD)/tests
 	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(BUILD)/libstrata.a -lcmocka $(LDFLAGS) $(LDLIBS)
@@ -107,6 +123,19 @@ bench: deps strata
 demo: deps strata
 	./strata render -o strata.exr
 	./strata render -o strata.png
+
+# The binary, a man page made by help2man from the --help texts, and the bash
+# completion; DESTDIR for staged installs (packages).
+install: strata $(BUILD)/strata.1
+	install -D -m 755 strata $(DESTDIR)$(PREFIX)/bin/strata
+	install -D -m 644 $(BUILD)/strata.1 $(DESTDIR)$(PREFIX)/share/man/man1/strata.1
+	install -D -m 644 tools/strata.bash-completion \
+	    $(DESTDIR)$(PREFIX)/share/bash-completion/completions/strata
+
+COMMANDS := render bench pattern filter signal merge converge diff devices
+$(BUILD)/strata.1: $(BUILD)/strata tools/strata.h2m tools/man-commands.sh
+	sh tools/man-commands.sh $(BUILD)/strata $(COMMANDS) > $(BUILD)/strata.h2m
+	help2man --no-info --include=$(BUILD)/strata.h2m --output=$@ $(BUILD)/strata
 
 clean:
 	rm -rf build strata

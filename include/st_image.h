@@ -38,11 +38,18 @@ typedef struct st_image {
     uint32_t *udata; /* UINT samples at the same index; the same buffer as data (see above)     */
 } st_image;
 
-/* A string attribute of an EXR header ("strata.sampler" = "halton"). Longer names or values read
- * from a file are truncated to fit (63 and 255 bytes). */
+/* How an attribute is stored in an EXR header: its value is always kept as text here, and
+ * written as the type says (ST_ATTR_INT: a decimal integer as "int"; ST_ATTR_FLOAT / _DOUBLE: a
+ * number as "float" / "double"; ST_ATTR_STRING, the zero default: as "string"). */
+typedef enum { ST_ATTR_STRING = 0, ST_ATTR_INT, ST_ATTR_FLOAT, ST_ATTR_DOUBLE } st_attr_type;
+
+/* An attribute of an EXR header ("strata.sampler" = "halton", "strata.spp" = 64 as int). Longer
+ * names or values read from a file are truncated to fit (63 and 255 bytes). Numbers read back are
+ * printed as "%d", or the shortest "%g" text that reads back as the same float or double. */
 typedef struct st_attr {
     char name[64];
     char value[256];
+    st_attr_type type;
 } st_attr;
 
 /* Allocates a w x h image of `channels` (1..8) zeroed FLOAT channels. names: `channels` distinct,
@@ -61,8 +68,10 @@ int st_image_find_channel(const st_image *img, const char *name);
 
 /* Writes a single-part scanline EXR, ZIP-compressed, every channel as stored (FLOAT as 32-bit
  * float, UINT as 32-bit uint, so values round-trip bit for bit), data window (0,0)-(w-1,h-1), and
- * the nattrs attributes as string attributes (names that clash with a required attribute such as
- * "channels" are ST_ERR_FORMAT). OpenEXR writes through a custom write_fn into the st_outfile. */
+ * the nattrs attributes, each as its type says (a value that does not parse as its type, or a name
+ * that clashes with a required attribute such as "channels", is ST_ERR_FORMAT). Every file also
+ * gets "chromaticities" (Rec. 709 primaries, D65 white: the linear sRGB strata renders in) and
+ * "software" ("strata VERSION"). OpenEXR writes through a custom write_fn into the st_outfile. */
 st_status st_image_save_exr(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
                             st_error *err);
 
@@ -71,8 +80,8 @@ st_status st_image_save_exr(const char *path, const st_image *img, const st_attr
  * Channels come back in file order, which OpenEXR sorts by name (R,G,B is stored as B,G,R): use
  * st_image_find_channel. The data window becomes the image (its origin is dropped). attrs/nattrs:
  * if attrs is not NULL, *attrs receives a malloc'ed array of the *nattrs string attributes in file
- * order (NULL when there are none), which the caller frees with free(); the structural "type" and
- * "name" attributes are left out. *img is zeroed on failure. */
+ * order (NULL when there are none), which the caller frees with free(): the string, int, float and
+ * double attributes, typed as stored; the structural "type" and "name" attributes are left out. *img is zeroed on failure. */
 st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, int *nattrs,
                             st_error *err);
 
@@ -95,6 +104,13 @@ uint8_t st_image_srgb_quantize(float linear);
  * (2.4/1.055) * 0.5/255 < 0.00447 in linear units for x in [0, 1]. */
 st_status st_image_save_png(const char *path, const st_image *img, st_error *err);
 
+/* st_image_save_png, and the file carries an sRGB chunk (with its gAMA and cHRM fallbacks), a
+ * "Software" text chunk ("strata VERSION") and the nattrs attributes as text chunks (tEXt for
+ * ASCII values, iTXt for others; names must be 1..79 bytes, else ST_ERR_USAGE). libpng writes it.
+ * st_image_save_png is this with no attributes. */
+st_status st_image_save_png_text(const char *path, const st_image *img, const st_attr *attrs,
+                                 int nattrs, st_error *err);
+
 /* Reads a PNG (or anything stb_image decodes) as 8-bit RGB and decodes each value with
  * st_image_srgb_decode(code/255) into FLOAT channels "R","G","B" in that order (grey is
  * replicated, alpha dropped). Errors: ST_ERR_IO when it cannot be opened, ST_ERR_FORMAT when it
@@ -102,7 +118,7 @@ st_status st_image_save_png(const char *path, const st_image *img, st_error *err
 st_status st_image_load_png(const char *path, st_image *img, st_error *err);
 
 /* Picks the format by extension (.exr or .png, case-insensitive); any other extension is
- * ST_ERR_USAGE naming it. attrs are written to EXR files and ignored for PNG. */
+ * ST_ERR_USAGE naming it. attrs go into the EXR header, or a PNG's text chunks. */
 st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
                         st_error *err);
 

@@ -7,6 +7,7 @@
 
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "st_version.h"
 
 static const char main_help[] =
     "strata — an OpenCL renderer for sampling and reconstruction\n"
@@ -20,13 +21,18 @@ static const char main_help[] =
     "  merge PART.exr... -o OUT.exr        add split renders (--sample-range) into one image\n"
     "  converge [SCENE] --sampler LIST --spp-list LIST   error against spp, per sampler\n"
     "  diff A B [--max-rmse X]             compare two images (RMSE, PSNR, max difference)\n"
-    "  devices                             list the OpenCL devices\n";
+    "  devices                             list the OpenCL devices\n"
+    "  --version                           print the version\n";
 
 int st_cli_main(int argc, char **argv)
 {
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
         fputs(main_help, argc < 2 ? stderr : stdout);
         return argc < 2 ? ST_CLI_EXIT_USAGE : 0;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("strata %s\n", st_version);
+        return 0;
     }
     static const struct { const char *name; int (*run)(int, char **); } cmds[] = {
         {"render", st_cli_render}, {"bench", st_cli_bench},

@@ -13,6 +13,7 @@
 #include "cli_check.h"
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "st_version.h"
 #include "cli_session.h"
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
@@ -143,7 +144,8 @@ static int put_str(cJSON *o, const char *key, const char *v)
 static int json_head(cJSON *root, const st_cli_render_args *a, const bench_result *b)
 {
     const st_render_options *o = &a->opt;
-    int ok = put_str(root, "device", b->device) && put_str(root, "scene", b->scene) &&
+    int ok = put_str(root, "version", st_version) &&
+             put_str(root, "device", b->device) && put_str(root, "scene", b->scene) &&
              put_num(root, "triangles", b->triangles) && put_num(root, "width", o->width) &&
              put_num(root, "height", o->height) && put_num(root, "spp", o->spp) &&
              put_str(root, "sampler", st_sampler_names[o->sampler]) &&

@@ -135,7 +135,8 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
                 strcmp(parts[0].attrs[i].name, "strata.render_seconds"))
                 attrs[na++] = parts[0].attrs[i];
         snprintf(attrs[na].name, sizeof attrs[na].name, "strata.merged_parts");
-        snprintf(attrs[na++].value, sizeof attrs[na].value, "%d", n);
+        snprintf(attrs[na].value, sizeof attrs[na].value, "%d", n);
+        attrs[na++].type = ST_ATTR_INT;
         rc = st_image_save(out, &rgb, attrs, na, err);
     }
     if (rc != ST_OK && dev && err->status == ST_ERR_DEVICE && st_device_build_log(dev)[0])

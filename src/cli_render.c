@@ -67,6 +67,8 @@ int st_cli_render(int argc, char **argv)
     } else {
         st_attr attrs[ST_CLI_MAX_ATTRS];
         int nattrs = st_cli_render_attrs(&a, &s, &st, attrs);
+        if (st_cli_has_extension(out, ".png"))
+            nattrs = st_cli_settings_only(attrs, nattrs);
         if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);

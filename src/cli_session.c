@@ -89,34 +89,35 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     const st_render_options *o = &a->opt;
     const st_filter *f = &o->filter;
     int n = 0;
-#define ATTR(key, ...)                                                                     \
+#define TYPED(key, t, ...)                                                                 \
     do {                                                                                   \
         snprintf(attrs[n].name, sizeof attrs[n].name, "strata.%s", key);                   \
         snprintf(attrs[n].value, sizeof attrs[n].value, __VA_ARGS__);                      \
-        n++;                                                                               \
+        attrs[n++].type = t;                                                               \
     } while (0)
+#define ATTR(key, ...) TYPED(key, ST_ATTR_STRING, __VA_ARGS__)
     ATTR("scene", "%s", s->scene->name);
     ATTR("sampler", "%s", st_sampler_names[o->sampler]);
     ATTR("scramble", "%s", o->scramble ? "on" : "none");
-    ATTR("spp", "%u", o->spp);
+    TYPED("spp", ST_ATTR_INT, "%u", o->spp);
     ATTR("sample_range", "%u:%u", o->sample_begin, o->sample_end ? o->sample_end : o->spp);
     ATTR("filter", "%s", st_filter_names[f->kind]);
-    ATTR("filter_radius", "%.9g", (double)f->radius);
+    TYPED("filter_radius", ST_ATTR_FLOAT, "%.9g", (double)f->radius);
     ATTR("reconstruction", "%s", st_reconstruction_names[o->reconstruction]);
     if (f->kind == ST_FILTER_MITCHELL)
         ATTR("filter_bc", "%.9g,%.9g", (double)f->b, (double)f->c);
     if (f->kind == ST_FILTER_GAUSSIAN)
-        ATTR("filter_sigma", "%.9g", (double)f->sigma);
+        TYPED("filter_sigma", ST_ATTR_FLOAT, "%.9g", (double)f->sigma);
     if (f->kind == ST_FILTER_LANCZOS)
-        ATTR("filter_tau", "%.9g", (double)f->tau);
-    ATTR("seed", "%u", o->seed);
+        TYPED("filter_tau", ST_ATTR_FLOAT, "%.9g", (double)f->tau);
+    TYPED("seed", ST_ATTR_DOUBLE, "%u", o->seed); /* 32 bits: exact in a double */
     if (o->adaptive) {
         ATTR("adaptive", "min_spp %u, max_spp %u, noise_threshold %.9g", o->min_spp, o->spp,
              (double)o->noise_threshold);
-        ATTR("samples_total", "%llu", (unsigned long long)st->samples);
+        TYPED("samples_total", ST_ATTR_DOUBLE, "%llu", (unsigned long long)st->samples);
     }
     ATTR("integrator", "%s", st_integrator_names[o->integrator]);
-    ATTR("max_depth", "%u", o->max_depth);
+    TYPED("max_depth", ST_ATTR_INT, "%u", o->max_depth);
     float env[3];
     st_render_env(s->scene, o, env);
     ATTR("env", "%.9g,%.9g,%.9g", (double)env[0], (double)env[1], (double)env[2]);
@@ -125,13 +126,23 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                                      ? "bilinear"
                                      : "trilinear");
     if (s->scene->camera_count)
-        ATTR("camera", "%d", o->camera >= 0 ? (int)o->camera : 0);
+        TYPED("camera", ST_ATTR_INT, "%d", o->camera >= 0 ? (int)o->camera : 0);
     else
         ATTR("camera", "default framing");
     ATTR("device", "%s", st_device_get_info(s->dev)->name);
-    ATTR("render_seconds", "%.6f", st->seconds);
+    TYPED("render_seconds", ST_ATTR_DOUBLE, "%.6f", st->seconds);
 #undef ATTR
+#undef TYPED
     return n;
+}
+
+int st_cli_settings_only(st_attr *attrs, int n)
+{
+    int kept = 0;
+    for (int i = 0; i < n; i++)
+        if (strcmp(attrs[i].name, "strata.render_seconds") && strcmp(attrs[i].name, "strata.device"))
+            attrs[kept++] = attrs[i];
+    return kept;
 }
 
 st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)

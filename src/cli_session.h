@@ -35,6 +35,9 @@ st_status st_cli_device_words(st_error *err);
 #define ST_CLI_MAX_ATTRS 24
 int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                         const st_render_stats *st, st_attr *attrs);
+/* Drops the facts of the run (render time, device) from attrs, keeping the settings in order, so
+ * that a PNG made twice is the same file; returns the new count. */
+int st_cli_settings_only(st_attr *attrs, int n);
 /* The R, G, B channels of a render (its W channel dropped). */
 st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err);
 /* Whether path ends in ext, ignoring case. */

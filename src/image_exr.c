@@ -10,10 +10,13 @@
  */
 #include "image_int.h"
 #include "st_outfile.h"
+#include "st_version.h"
 
 #include <openexr.h>
 
 #include <errno.h>
+#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -92,6 +95,51 @@ static st_status check_attrs(const char *path, const st_attr *attrs, int nattrs,
     return ST_OK;
 }
 
+/* One attribute as its type says; the text must be exactly a number of that type. */
+static st_status exr_set_attr(exr_context_t ctx, int part, const char *path, const st_attr *a,
+                              st_error *err)
+{
+    char *end = NULL;
+    exr_result_t rc = EXR_ERR_SUCCESS;
+    errno = 0;
+    if (a->type == ST_ATTR_INT) {
+        long v = strtol(a->value, &end, 10);
+        if (v < INT_MIN || v > INT_MAX)
+            errno = ERANGE;
+        else
+            rc = exr_attr_set_int(ctx, part, a->name, (int32_t)v);
+    } else if (a->type == ST_ATTR_FLOAT || a->type == ST_ATTR_DOUBLE) {
+        double v = strtod(a->value, &end);
+        if (!isfinite(v) || (a->type == ST_ATTR_FLOAT && !isfinite((float)v)))
+            errno = ERANGE;
+        else if (a->type == ST_ATTR_FLOAT)
+            rc = exr_attr_set_float(ctx, part, a->name, (float)v);
+        else
+            rc = exr_attr_set_double(ctx, part, a->name, v);
+    } else {
+        rc = exr_attr_set_string(ctx, part, a->name, a->value);
+    }
+    if (end && (end == a->value || *end != '\0' || errno))
+        return st_fail(err, ST_ERR_FORMAT, "%s: attribute '%s': '%s' is not a%s", path, a->name,
+                       a->value, a->type == ST_ATTR_INT ? "n int" : " finite number");
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: attribute '%s': %s", path, a->name,
+                       exr_reason(rc));
+    return ST_OK;
+}
+
+/* What every strata EXR says of itself: its colour space, linear Rec. 709 (the sRGB primaries,
+ * ITU-R BT.709-6 table 1.3-1.4, D65 white), and the program that wrote it. */
+static exr_result_t exr_set_standard_attrs(exr_context_t ctx, int part)
+{
+    const exr_attr_chromaticities_t rec709 = {0.64f, 0.33f, 0.30f, 0.60f,
+                                              0.15f, 0.06f, 0.3127f, 0.3290f};
+    char software[128];
+    snprintf(software, sizeof software, "strata %s", st_version);
+    exr_result_t rc = exr_attr_set_chromaticities(ctx, part, "chromaticities", &rec709);
+    return rc == EXR_ERR_SUCCESS ? exr_attr_set_string(ctx, part, "software", software) : rc;
+}
+
 /* Declares the part: size, no compression, channels (sorted by OpenEXR), string
  * attributes. Not ZIP: with OpenEXR 3.1.5, a 48x48 image of three FLOAT
  * channels of render noise, written in 16-line ZIP chunks, read back as
@@ -117,12 +165,13 @@ static st_status exr_define(exr_context_t ctx, const char *path, const st_image 
             return st_fail(err, ST_ERR_FORMAT, "%s: channel '%s': %s", path, img->channel_names[c],
                            exr_reason(rc));
     }
-    for (int i = 0; i < nattrs; i++) {
-        rc = exr_attr_set_string(ctx, part, attrs[i].name, attrs[i].value);
-        if (rc != EXR_ERR_SUCCESS)
-            return st_fail(err, ST_ERR_FORMAT, "%s: attribute '%s': %s", path, attrs[i].name,
-                           exr_reason(rc));
-    }
+    for (int i = 0; i < nattrs; i++)
+        if (exr_set_attr(ctx, part, path, &attrs[i], err) != ST_OK)
+            return err->status;
+    rc = exr_set_standard_attrs(ctx, part);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: chromaticities or software: %s", path,
+                       exr_reason(rc));
     rc = exr_write_header(ctx);
     if (rc != EXR_ERR_SUCCESS)
         return st_fail(err, ST_ERR_IO, "%s: cannot write the header (%s)", path, exr_reason(rc));
@@ -237,14 +286,56 @@ st_status st_image_save_exr(const char *path, const st_image *img, const st_attr
 
 /* ---- reading ------------------------------------------------------------------------------- */
 
-/* The string attributes that describe the file's structure rather than the image: OpenEXR 3.1
- * writes "type" even for single-part files, and multi-part files carry "name". */
+/* The attributes that describe the file's structure rather than the image: OpenEXR 3.1 writes
+ * "type" even for single-part files, multi-part files carry "name", and the required float
+ * attributes (the others are of types not read here). */
 static int is_structural(const char *name)
 {
-    return strcmp(name, "type") == 0 || strcmp(name, "name") == 0;
+    return strcmp(name, "type") == 0 || strcmp(name, "name") == 0 ||
+           strcmp(name, "pixelAspectRatio") == 0 || strcmp(name, "screenWindowWidth") == 0;
 }
 
-/* Copies the string attributes of part 0 (structural ones left out), in file order, into a
+/* The shortest "%.Ng" text that reads back as exactly v (as a float when is_float). */
+static void print_shortest(char *out, size_t cap, double v, int is_float)
+{
+    for (int digits = is_float ? 6 : 15; digits <= 17; digits++) {
+        snprintf(out, cap, "%.*g", digits, v);
+        double back = strtod(out, NULL);
+        if (is_float ? (float)back == (float)v : back == v)
+            return;
+    }
+}
+
+/* The attribute as st_attr text when it is a string, int, float or double; returns whether. */
+static int attr_of_exr(const exr_attribute_t *a, st_attr *out)
+{
+    char *v = out->value;
+    size_t cap = sizeof out->value;
+    if (a->type == EXR_ATTR_STRING && a->string) {
+        int len = a->string->length > 0 ? a->string->length : 0;
+        if ((size_t)len >= cap)
+            len = (int)cap - 1;
+        if (len > 0 && a->string->str)
+            memcpy(v, a->string->str, (size_t)len);
+        v[len] = '\0';
+        out->type = ST_ATTR_STRING;
+    } else if (a->type == EXR_ATTR_INT) {
+        snprintf(v, cap, "%d", (int)a->i);
+        out->type = ST_ATTR_INT;
+    } else if (a->type == EXR_ATTR_FLOAT) {
+        print_shortest(v, cap, (double)a->f, 1);
+        out->type = ST_ATTR_FLOAT;
+    } else if (a->type == EXR_ATTR_DOUBLE) {
+        print_shortest(v, cap, a->d, 0);
+        out->type = ST_ATTR_DOUBLE;
+    } else {
+        return 0;
+    }
+    snprintf(out->name, sizeof out->name, "%s", a->name);
+    return 1;
+}
+
+/* Copies the string and number attributes of part 0 (structural ones left out), in file order, into a
  * malloc'ed array. */
 static st_status exr_read_attrs(exr_context_t ctx, const char *path, st_attr **out, int *count,
                                 st_error *err)
@@ -262,17 +353,9 @@ static st_status exr_read_attrs(exr_context_t ctx, const char *path, st_attr **o
     int used = 0;
     for (int32_t i = 0; i < n; i++) {
         const exr_attribute_t *a = NULL;
-        if (exr_get_attribute_by_index(ctx, 0, EXR_ATTR_LIST_FILE_ORDER, i, &a) != EXR_ERR_SUCCESS ||
-            !a || a->type != EXR_ATTR_STRING || !a->string || is_structural(a->name))
-            continue;
-        snprintf(list[used].name, sizeof list[used].name, "%s", a->name);
-        int len = a->string->length > 0 ? a->string->length : 0;
-        if ((size_t)len >= sizeof list[used].value)
-            len = (int)sizeof list[used].value - 1;
-        if (len > 0 && a->string->str)
-            memcpy(list[used].value, a->string->str, (size_t)len);
-        list[used].value[len] = '\0';
-        used++;
+        if (exr_get_attribute_by_index(ctx, 0, EXR_ATTR_LIST_FILE_ORDER, i, &a) == EXR_ERR_SUCCESS &&
+            a && !is_structural(a->name) && attr_of_exr(a, &list[used]))
+            used++;
     }
     if (used == 0) {
         free(list);

@@ -1,17 +1,19 @@
 /* image_png.c — 8-bit sRGB PNG files of an st_image, and the sRGB transfer functions.
  *
- * Invariant: a PNG is never written in place. stb_image_write encodes it into an st_outfile
+ * Invariant: a PNG is never written in place. libpng encodes it into an st_outfile
  * (st_outfile.h), the temporary beside the destination that is renamed over it only when
  * complete, so the folder afterwards holds either the complete new file or what it held before.
  * The container comes from image.c; this file knows no other format. Quantisation follows
- * IEC 61966-2-1:1999 (sRGB), section 5.2, the same formulas the header states. stb reports failure as a NULL/0 result plus
- * a global reason (stbi_failure_reason), which this file turns into st_error messages.
+ * IEC 61966-2-1:1999 (sRGB), section 5.2, the same formulas the header states. stb (reading) reports failure as a NULL
+ * result plus a global reason (stbi_failure_reason), libpng (writing) through its error callback
+ * and longjmp; this file turns both into st_error messages.
  */
 #include "st_image.h"
 #include "st_outfile.h"
+#include "st_version.h"
 
 #include <stb/stb_image.h> /* Debian: implementations live in libstb (-lstb) */
-#include <stb/stb_image_write.h>
+#include <png.h>
 
 #include <errno.h>
 #include <limits.h>
@@ -92,18 +94,81 @@ static uint8_t *quantize_rgb(const st_image *img, const int rgb[3])
     return px;
 }
 
-/* stb's write callback: the outfile keeps the first failure's errno for commit to report. */
-static void sink_write(void *context, void *data, int size)
+/* libpng's callbacks: bytes go to the outfile, which keeps the first failure's errno for
+ * commit to report; an error keeps libpng's message and unwinds to png_encode's setjmp. */
+static void png_sink(png_structp png, png_bytep data, size_t n)
 {
-    if (size > 0)
-        st_outfile_write(context, data, (size_t)size);
+    st_outfile_write(png_get_io_ptr(png), data, n);
 }
 
-st_status st_image_save_png(const char *path, const st_image *img, st_error *err)
+static void png_no_flush(png_structp png) { (void)png; }
+
+static void png_fail(png_structp png, png_const_charp msg)
+{
+    snprintf(png_get_error_ptr(png), 128, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+static void png_no_warning(png_structp png, png_const_charp msg) { (void)png, (void)msg; }
+
+/* A text chunk: tEXt (Latin-1) for ASCII values, iTXt (UTF-8) for any other. */
+static void png_text_of(png_text *t, const char *key, const char *value)
+{
+    int ascii = 1;
+    for (const char *c = value; *c; c++)
+        ascii &= (unsigned char)*c < 0x80;
+    t->compression = ascii ? PNG_TEXT_COMPRESSION_NONE : PNG_ITXT_COMPRESSION_NONE;
+    t->key = (png_charp)key;
+    t->text = (png_charp)value;
+}
+
+/* Encodes px (rows of RGB bytes) into out: an sRGB chunk (with the gAMA and cHRM that stand for
+ * it, as the PNG specification recommends), "Software" and the attributes as text. */
+static st_status png_encode(st_outfile *out, const char *path, const st_image *img,
+                            const uint8_t *px, const st_attr *attrs, int nattrs, st_error *err)
+{
+    char why[128] = "out of memory", software[128];
+    snprintf(software, sizeof software, "strata %s", st_version);
+    png_text *text = calloc((size_t)nattrs + 1, sizeof *text);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, why, png_fail, png_no_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    int failed = !text || !info;
+    if (!failed && setjmp(png_jmpbuf(png))) /* png_fail lands here */
+        failed = 1;
+    if (failed) {
+        png_destroy_write_struct(&png, &info);
+        free(text);
+        return st_fail(err, ST_ERR_FORMAT, "%s: PNG encoding failed (%s)", path, why);
+    }
+    png_set_write_fn(png, out, png_sink, png_no_flush);
+    png_set_IHDR(png, info, img->width, img->height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_text_of(&text[0], "Software", software);
+    for (int i = 0; i < nattrs; i++)
+        png_text_of(&text[i + 1], attrs[i].name, attrs[i].value);
+    png_set_text(png, info, text, nattrs + 1);
+    png_write_info(png, info);
+    for (uint32_t y = 0; y < img->height; y++)
+        png_write_row(png, px + (size_t)y * img->width * 3);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    free(text);
+    return ST_OK;
+}
+
+st_status st_image_save_png_text(const char *path, const st_image *img, const st_attr *attrs,
+                                 int nattrs, st_error *err)
 {
     int rgb[3];
     if (pick_rgb(path, img, rgb, err) != ST_OK)
         return err ? err->status : ST_ERR_USAGE;
+    for (int i = 0; i < nattrs; i++) {
+        size_t n = strnlen(attrs[i].name, sizeof attrs[i].name);
+        if (n == 0 || n > 79 || attrs[i].name[0] == ' ' || attrs[i].name[n - 1] == ' ')
+            return st_fail(err, ST_ERR_USAGE, "%s: text key '%.64s' is not 1..79 characters",
+                           path, attrs[i].name);
+    }
     uint8_t *px = quantize_rgb(img, rgb);
     if (!px)
         return st_fail(err, ST_ERR_NOMEM, "%s: cannot allocate %ux%u RGB pixels", path,
@@ -111,17 +176,19 @@ st_status st_image_save_png(const char *path, const st_image *img, st_error *err
     st_outfile *out = NULL;
     st_status s = st_outfile_open(path, &out, err);
     if (s == ST_OK) {
-        int ok = stbi_write_png_to_func(sink_write, out, (int)img->width, (int)img->height, 3, px,
-                                        (int)img->width * 3);
-        if (ok) {
+        s = png_encode(out, path, img, px, attrs, nattrs, err);
+        if (s == ST_OK)
             s = st_outfile_commit(out, err);
-        } else {
+        else
             st_outfile_abort(out);
-            s = st_fail(err, ST_ERR_NOMEM, "%s: PNG encoding failed (out of memory)", path);
-        }
     }
     free(px);
     return s;
+}
+
+st_status st_image_save_png(const char *path, const st_image *img, st_error *err)
+{
+    return st_image_save_png_text(path, img, NULL, 0, err);
 }
 
 /* ---- loading ------------------------------------------------------------------------------- */

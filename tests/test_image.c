@@ -348,7 +348,7 @@ static void exr_attributes_round_trip(void **state)
     st_attr *got = NULL;
     int n = -1;
     assert_int_equal(st_image_load_exr(path, &back, &got, &n, &err), ST_OK);
-    assert_int_equal(n, 4); /* required attributes are not strings; "type" is left out */
+    assert_int_equal(n, 5); /* the four and "software"; required ones are not read, nor "type" */
     for (int i = 0; i < 4; i++) {
         const st_attr *a = find_attr(got, n, attrs[i].name);
         if (!a)
@@ -363,7 +363,7 @@ static void exr_attributes_round_trip(void **state)
 static void exr_reserved_attribute_fails_leaves_nothing(void **state)
 {
     scratch *s = *state;
-    st_attr bad = {"channels", "R,G,B"};
+    st_attr bad = {"channels", "R,G,B", ST_ATTR_STRING};
     st_image img;
     st_error err = {ST_OK, ""};
     assert_int_equal(st_image_create(&img, 2, 2, 3, NULL, &err), ST_OK);
@@ -569,7 +569,7 @@ static void exr_failed_save_keeps_existing_file(void **state)
     img.data[0] = 42.f;
     const char *path = in_dir(s, "keep.exr");
     assert_int_equal(st_image_save_exr(path, &img, NULL, 0, &err), ST_OK);
-    st_attr bad = {"dataWindow", "x"};
+    st_attr bad = {"dataWindow", "x", ST_ATTR_STRING};
     img.data[0] = 7.f;
     assert_int_equal(st_image_save_exr(path, &img, &bad, 1, &err), ST_ERR_FORMAT);
     st_image back;
