@@ -98,9 +98,11 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         atomic_inc(&stats->clamped);
 }
 
-/* Reads film; writes image: I = Σ f L / Σ f, negative values (from negative
- * filter lobes) clamped to 0; a pixel whose weight sum is not positive, or
- * whose value is not finite, becomes 0 and is counted. */
+/* Reads film; writes image: I = Σ f L / Σ f wherever Σ f != 0 (the
+ * lecture's definition; a negative sum from negative filter lobes divides
+ * too, as in pbrt), negative values clamped to 0; a pixel whose weight sum
+ * is 0 (no definition), or whose value is not finite, becomes 0 and is
+ * counted. */
 __kernel void resolve_film(ST_FILM_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -109,7 +111,7 @@ __kernel void resolve_film(ST_FILM_PARAMS)
     __global const long *a = film[i].sum;
     float w = (float)a[3] * (1.0f / ST_FIXED_SCALE);
     float3 v = (float3)(0.0f);
-    if (w > 0.0f) {
+    if (w != 0.0f) {
         v = (float3)((float)a[0], (float)a[1], (float)a[2]) * (1.0f / ST_FIXED_SCALE) / w;
         if (!(isfinite(v.x) && isfinite(v.y) && isfinite(v.z))) {
             atomic_inc(&stats->nonfinite);

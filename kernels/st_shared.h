@@ -342,7 +342,7 @@ typedef struct st_pixel {
 typedef struct st_film_stats {
     st_u32 clamped;     /* splats whose value was clamped to ST_SPLAT_MAX */
     st_u32 nonfinite;   /* samples with NaN/Inf radiance (dropped), NaN pixels */
-    st_u32 zero_weight; /* pixels whose filter weight sum was <= 0 */
+    st_u32 zero_weight; /* pixels whose filter weight sum was 0 */
     st_u32 pad;
 } st_film_stats;
 
