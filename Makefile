@@ -109,16 +109,28 @@ test-sanitize: deps
 
 # The default scene with the default settings, then (where ../shared is
 # present) the comparison workload: the bench Cornell box, independent
-# samples, box filter, paths of max depth 4 and direct lighting.
+# samples, box filter, paths of max depth 4 and direct lighting; then the
+# trace benchmark (camera and random rays) on a 327,680-triangle icosphere
+# and the bench Cornell box.
 BENCH_SCENE := ../shared/scenes/bench/cornell.gltf
 BENCH_OPTS  := --width 512 --height 512 --spp 64 --sampler random --filter box
-bench: deps strata
+ICOSPHERE   := $(BUILD)/bench/icosphere.gltf
+bench: deps strata $(ICOSPHERE)
 	./strata bench --width 512 --height 512 --spp 64 --integrator path
 	./strata bench --width 512 --height 512 --spp 64 --integrator direct
 	@if [ -f $(BENCH_SCENE) ]; then \
 	  ./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator path --max-depth 4 && \
 	  ./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator direct; \
 	else echo "bench: $(BENCH_SCENE) not found; the comparison workload is skipped"; fi
+	@for s in $(ICOSPHERE) $(wildcard $(BENCH_SCENE)); do for k in camera random; do \
+	  echo "./strata bench $$s --rays $$k"; ./strata bench $$s --rays $$k || exit 1; done; done
+
+# The trace benchmark's large mesh: a 327,680-triangle icosphere (level 7).
+$(BUILD)/make_icosphere: tools/make_icosphere.c | $(BUILD)
+	$(CC) -std=c11 -O2 $(WARN) -o $@ $< -lm
+$(ICOSPHERE): $(BUILD)/make_icosphere
+	@mkdir -p $(BUILD)/bench
+	$(BUILD)/make_icosphere $(BUILD)/bench/icosphere 7
 
 demo: deps strata
 	./strata render -o strata.exr

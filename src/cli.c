@@ -15,6 +15,7 @@ static const char main_help[] =
     "usage: strata COMMAND [options]   (strata COMMAND --help for each)\n"
     "  render [SCENE] -o OUT.exr|OUT.png   render a glTF scene (default: cornell-box)\n"
     "  bench [SCENE] [--json]              per-stage throughput of a render\n"
+    "  bench [SCENE] --rays camera|random   trace rays alone: rays/s, hit fraction, BVH build\n"
     "  pattern --sampler NAME --count N    sample points, scatter plot, spectrum, discrepancy\n"
     "  filter NAME [--csv F] [--png F]     a filter's profile and frequency response\n"
     "  signal [options]                    1-D sampling and reconstruction laboratory\n"

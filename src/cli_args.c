@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "cli_error.h"
+#include "st_trace_bench.h"
 
 static const char render_help[] =
     "usage: strata %s [SCENE] [options]\n"
@@ -53,7 +54,7 @@ enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
-    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA
+    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT
 };
 
 static const struct option options[] = {
@@ -87,6 +88,8 @@ static const struct option options[] = {
     {"camera", required_argument, 0, O_CAMERA},
     {"quiet", no_argument, 0, O_QUIET},
     {"json", no_argument, 0, O_JSON},
+    {"rays", required_argument, 0, O_RAYS},
+    {"count", required_argument, 0, O_COUNT},
     {"output", required_argument, 0, 'o'},
     {"help", no_argument, 0, 'h'},
     {0, 0, 0, 0}};
@@ -248,6 +251,21 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     }
 }
 
+/* bench's trace benchmark: --rays camera|random, --count N. */
+static int parse_trace_bench(int c, const char *v, int bench, st_cli_render_args *a)
+{
+    const char *opt = c == O_RAYS ? "--rays" : "--count";
+    if (bench != 1)
+        return st_cli_usage_error("%s: only `strata bench` takes it", opt);
+    if (c == O_COUNT)
+        return st_cli_parse_u32("--count", v, 1, 1u << 30, &a->ray_count);
+    st_u32 set;
+    if (parse_name("--rays", st_ray_set_names, ST_RAYS_COUNT, v, &set))
+        return ST_CLI_EXIT_USAGE;
+    a->rays = 1 + (int)set;
+    return ST_CLI_OK;
+}
+
 static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
                      st_cli_filter_args *fa)
 {
@@ -304,6 +322,8 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
             return st_cli_usage_error("-o: `strata %s` writes no image", bench == 1 ? "bench" : "converge");
         a->output = v;
         return ST_CLI_OK;
+    case O_RAYS:
+    case O_COUNT: return parse_trace_bench(c, v, bench, a);
     default: return parse_view_or_adaptive(c, v, bench, a);
     }
 }
@@ -320,6 +340,10 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         if (c == 'h') {
             printf(render_help, argv[0],
                    bench ? "  --json                 print one JSON object\n"
+                           "  --rays camera|random   trace rays alone (closest hit): camera rays through\n"
+                           "                         random image points, or random origins in the scene's\n"
+                           "                         box and directions on the sphere (fixed --seed)\n"
+                           "  --count N              rays traced with --rays (default 2097152)\n"
                          : "  -o OUT.exr|OUT.png     output image (default strata.exr)\n");
             return ST_CLI_HELP;
         }
@@ -340,6 +364,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
         return st_cli_usage_error("--scramble applies to stratified, halton, hammersley and "
                                   "sobol, not %s", st_sampler_names[a->opt.sampler]);
+    if (a->ray_count && !a->rays)
+        return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);

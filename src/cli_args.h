@@ -13,6 +13,8 @@ typedef struct st_cli_render_args {
     const char *output; /* -o */
     const char *device; /* --device */
     int json;           /* bench --json */
+    int rays;           /* bench --rays: 1 + ST_RAYS_*; 0: bench a render */
+    unsigned ray_count; /* bench --count (0: not given) */
     int scene_list;     /* --scene-list */
     int quiet;          /* --quiet: no progress bar, no summary */
     int scramble_given; /* --scramble seen (for its error) */

@@ -208,6 +208,8 @@ int st_cli_bench(int argc, char **argv)
     int rc = st_cli_parse_render_args(argc, argv, 1, &a);
     if (rc)
         return rc == ST_CLI_HELP ? 0 : rc;
+    if (a.rays)
+        return st_cli_bench_trace(&a);
     bench_result b;
     memset(&b, 0, sizeof b);
     /* before this process touches OpenCL: fork() and OpenCL do not mix */

@@ -1,0 +1,35 @@
+/* st_trace_bench.h — rays alone through the device's closest-hit kernel
+ * (trace_rays): the trace benchmark of `strata bench --rays`.
+ *
+ * Two ray sets, each a pure function of (seed, ray index), so a benchmark is
+ * repeatable and a test can trace the same rays on the host:
+ *   camera: the primary ray of the view's camera through a uniformly random
+ *           point of the width x height image (generate_camera_rays' formula);
+ *   random: origin uniform in the scene's bounding box, direction uniform on
+ *           the unit sphere. */
+#ifndef ST_TRACE_BENCH_H
+#define ST_TRACE_BENCH_H
+
+#include "st_render.h"
+
+enum { ST_RAYS_CAMERA, ST_RAYS_RANDOM, ST_RAYS_COUNT };
+extern const char *const st_ray_set_names[ST_RAYS_COUNT]; /* "camera", "random" */
+
+/* Rays first .. first + n - 1 of a set, for the scene and the view of o
+ * (camera, width, height, seed). tmax is infinite. ST_ERR_USAGE for an
+ * unknown set or a camera index the scene does not have. */
+st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o, int set,
+                              st_u64 first, size_t n, st_wave_ray *out, st_error *err);
+
+typedef struct st_trace_bench_result {
+    st_u64 rays, hits;
+    double seconds; /* the trace_rays launches alone: making and uploading rays not counted */
+} st_trace_bench_result;
+
+/* Traces count rays of the set through the renderer's trace kernel, in waves
+ * of o->wave rays (0: 262144), with o->local_size, after one untimed wave
+ * (PoCL compiles a kernel at its first launch). */
+st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st_u64 count,
+                         st_trace_bench_result *out, st_error *err);
+
+#endif
