@@ -88,6 +88,6 @@ __kernel void generate_camera_rays(ST_STAGE_PARAMS)
     st_wave_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
     ray[i] = ray_out;
     st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
-                     st_sample_on_film(&p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, {0u, 0u}};
+                     st_sample_on_film(&p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, 0.0f, 0u};
     path[i] = fresh;
 }

@@ -13,15 +13,53 @@
 typedef struct st_surface {
     float3 pos, wo;  /* the point, and the direction back along the ray */
     float3 ng, ns;   /* geometric and shading normals */
+    float3 tu, tv;   /* the shading frame's tangents (surface_frame; not for Lambert) */
     float4 base;     /* base colour (RGB) and alpha, textured */
     float3 le;       /* emitted radiance, textured */
-    float metallic;
+    float3 albedo;   /* the Lambertian part's albedo, (1 - metallic) x base colour */
+    st_brdf brdf;    /* the glTF BRDF (bsdf.h) */
+    st_dir wo_local; /* wo in the shading frame (surface_frame) */
+    int lambert;     /* the BRDF is Lambertian only: the cheap path */
+    int unlit;       /* KHR_materials_unlit */
     float travelled; /* path length at the point (ray-cone width) */
 } st_surface;
 
+/* The material's factors at hit h times their textures, looked up with the
+ * ray cone's footprint; the BRDF made from them. */
+static void surface_material(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                             st_hit h, st_surface *v)
+{
+    st_u32 t = h.prim;
+    st_material m = s->materials[s->tri_material[t]];
+    float4 spec = vload4(0, m.specular);
+    float metallic = m.metallic, roughness = m.roughness;
+    v->base = vload4(0, m.base_color);
+    v->le = vload4(0, m.emission).xyz;
+    if (m.base_color_tex != ST_NO_TEXTURE || m.emission_tex != ST_NO_TEXTURE ||
+        m.metallic_roughness_tex != ST_NO_TEXTURE || m.specular_tex != ST_NO_TEXTURE ||
+        m.specular_color_tex != ST_NO_TEXTURE) {
+        float2 uv = tri_uv_at(s->tri_uv, t, h.u, h.v);
+        float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+        float width = p->camera.forward[3] > 0.5f ? px : px * v->travelled;
+        float cos_nd = dot(v->ng, v->wo), lod = s->tri_uv[t].lod;
+        st_u32 f = sh->texture_filter;
+        v->base *= tex_lookup(s, m.base_color_tex, uv, lod, width, cos_nd, f);
+        v->le *= tex_lookup(s, m.emission_tex, uv, lod, width, cos_nd, f).xyz;
+        float4 mr = tex_lookup(s, m.metallic_roughness_tex, uv, lod, width, cos_nd, f);
+        metallic *= mr.z;
+        roughness *= mr.y;
+        spec.w *= tex_lookup(s, m.specular_tex, uv, lod, width, cos_nd, f).w;
+        spec.xyz *= tex_lookup(s, m.specular_color_tex, uv, lod, width, cos_nd, f).xyz;
+    }
+    float c[3] = {v->base.x, v->base.y, v->base.z}, sc[3] = {spec.x, spec.y, spec.z};
+    v->brdf = st_brdf_make(c, metallic, roughness, spec.w, sc, m.ior);
+    v->lambert = st_brdf_is_lambert(&v->brdf);
+    v->albedo = (float3)(v->brdf.diffuse[0], v->brdf.diffuse[1], v->brdf.diffuse[2]);
+    v->unlit = (m.flags & ST_MAT_UNLIT) != 0u;
+}
+
 /* The surface at hit h of ray r: position, normals (ng on the side its
- * shading normals face), and the material's factors times their textures,
- * looked up with the ray cone's footprint. */
+ * shading normals face) and the material (surface_material). */
 static st_surface surface_at(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                              const st_wave_ray *r, st_hit h)
 {
@@ -33,22 +71,37 @@ static st_surface surface_at(const st_scene_refs *s, const st_params *p, const s
     v.ng = facing_normal(s->normals, t);
     v.ns = normalize((1.0f - h.u - h.v) * vload4(0, s->normals[t].n0).xyz +
                      h.u * vload4(0, s->normals[t].n1).xyz + h.v * vload4(0, s->normals[t].n2).xyz);
-    st_material m = s->materials[s->tri_material[t]];
-    v.base = vload4(0, m.base_color);
-    v.le = vload4(0, m.emission).xyz;
-    v.metallic = m.metallic;
-    if (m.base_color_tex != ST_NO_TEXTURE || m.emission_tex != ST_NO_TEXTURE ||
-        m.metallic_roughness_tex != ST_NO_TEXTURE) {
-        float2 uv = tri_uv_at(s->tri_uv, t, h.u, h.v);
-        float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
-        float width = p->camera.forward[3] > 0.5f ? px : px * v.travelled;
-        float cos_nd = dot(v.ng, v.wo), lod = s->tri_uv[t].lod;
-        st_u32 f = sh->texture_filter;
-        v.base *= tex_lookup(s, m.base_color_tex, uv, lod, width, cos_nd, f);
-        v.le *= tex_lookup(s, m.emission_tex, uv, lod, width, cos_nd, f).xyz;
-        v.metallic *= tex_lookup(s, m.metallic_roughness_tex, uv, lod, width, cos_nd, f).z;
-    }
+    surface_material(s, p, sh, h, &v);
     return v;
+}
+
+/* The shading frame around ns (once ns faces the ray's side) and wo in it;
+ * wo below the shading normal's horizon (interpolated normals at a
+ * silhouette) is lifted just above it, so the BRDF does not go black there. */
+static void surface_frame(st_surface *v)
+{
+    if (v->lambert)
+        return;
+    basis(v->ns, &v->tu, &v->tv);
+    float z = fmax(dot(v->wo, v->ns), 1e-4f);
+    st_dir w = {dot(v->wo, v->tu), dot(v->wo, v->tv), z};
+    v->wo_local = st_dir_normalize(w);
+}
+
+/* f(wo, wi) cos θi at the surface for a direction wi above it, and in *pdf
+ * the density with which bsdf_bounce would choose wi. */
+static float3 surface_f_cos(const st_surface *v, float3 wi, float *pdf)
+{
+    float c = dot(v->ns, wi);
+    if (v->lambert) {
+        *pdf = c / ST_PI_F;
+        return v->albedo * *pdf;
+    }
+    st_dir li = {dot(wi, v->tu), dot(wi, v->tv), c};
+    float f[3];
+    st_brdf_eval(&v->brdf, v->wo_local, li, f);
+    *pdf = st_brdf_pdf(&v->brdf, v->wo_local, li);
+    return (float3)(f[0], f[1], f[2]) * c;
 }
 
 /* Whether the ray goes on through the surface: an alpha MASK cut-out, or
@@ -84,17 +137,19 @@ static float emission_weight(const st_scene_refs *s, const st_surface *v, const 
 /* Next-event estimation: the environment (a cosine-distributed direction)
  * or one point on one emissive triangle, as a shadow ray with what it adds
  * when unoccluded; tmax stays 0 when the sample cannot contribute.
- * `choice` is the probability of the strategy taken. */
+ * `choice` is the probability of the strategy taken. In the path
+ * integrator each is weighted by the power heuristic against the BSDF
+ * sample (surface_f_cos's pdf). */
 static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                                const st_surface *v, const st_path *pa, float3 albedo,
-                                float3 origin, st_sample_id *id, st_u32 dim)
+                                const st_surface *v, const st_path *pa, float3 origin,
+                                st_sample_id *id, st_u32 dim)
 {
     st_shadow_ray out = {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, 0.0f,
                          {0.0f, 0.0f, 0.0f}, 0.0f};
     float3 env = vload4(0, sh->env).xyz, beta = vload3(0, pa->beta);
     int has_env = env.x > 0.0f || env.y > 0.0f || env.z > 0.0f;
     int path = p->integrator == ST_INTEGRATOR_PATH;
-    float choice = 1.0f, w = 1.0f;
+    float choice = 1.0f, w = 1.0f, pdf_bsdf;
     int take_env = has_env && p->light_count == 0u;
     if (has_env && p->light_count > 0u && !path) {
         take_env = st_sample_dim(p, id, dim + 4u) < 0.5f;
@@ -107,8 +162,10 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
         wi = cosine_direction(v->ns, u1, u2, &cz);
         if (!(cz > 0.0f && dot(wi, v->ng) > 0.0f))
             return out;
-        w = path ? 0.5f : 1.0f; /* MIS against the BSDF sample's miss */
-        c = beta * albedo * env * (w / choice);
+        float pdf_env = cz / ST_PI_F;
+        float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
+        w = path ? power_heuristic(pdf_env, pdf_bsdf) : 1.0f;
+        c = beta * fc * env * (w / (pdf_env * choice));
         tmax = INFINITY;
     } else if (p->light_count > 0u) {
         float u = st_sample_dim(p, id, dim), u2 = st_sample_dim(p, id, dim + 1u);
@@ -121,9 +178,10 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
         if (!(cos_l > 0.0f && cos_s > 0.0f && dot(v->ng, wi) > 0.0f))
             return out;
         float pdf_light = s->light_pdf[lt] * dist2 / cos_l;
-        w = path ? power_heuristic(pdf_light, cos_s / ST_PI_F) : 1.0f;
+        float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
+        w = path ? power_heuristic(pdf_light, pdf_bsdf) : 1.0f;
         float3 lel = light_emission(s, lt, u, u2, sh->texture_filter);
-        c = beta * albedo * (1.0f / ST_PI_F) * lel * (cos_s * w / pdf_light) / choice;
+        c = beta * fc * lel * (w / pdf_light) / choice;
         tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
     } else {
         return out;
@@ -135,18 +193,34 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
     return out;
 }
 
-/* The BSDF sample: a cosine-weighted direction; beta *= f cos / pdf =
- * albedo and bsdf_pdf = cos / π. Returns 0 when the direction is below the
- * geometric surface (the path ends). */
-static int bsdf_bounce(const st_params *p, const st_surface *v, float3 albedo, st_path *pa,
-                       st_sample_id *id, st_u32 dim, float3 *wi)
+/* The BSDF sample: a cosine-weighted direction for a Lambertian surface,
+ * else one from the BRDF's mixture (bsdf.h); beta *= f cos / pdf, bsdf_pdf
+ * = pdf and env_pdf = cos / π for MIS where the ray ends. Returns 0 when the
+ * direction is below the geometric surface (the path ends). */
+static int bsdf_bounce(const st_params *p, const st_surface *v, st_path *pa, st_sample_id *id,
+                       st_u32 dim, float3 *wi)
 {
     float cz, u1 = st_sample_dim(p, id, dim + 2u), u2 = st_sample_dim(p, id, dim + 3u);
-    *wi = cosine_direction(v->ns, u1, u2, &cz);
+    float3 weight;
+    if (v->lambert) {
+        *wi = cosine_direction(v->ns, u1, u2, &cz);
+        weight = v->albedo;
+        pa->bsdf_pdf = cz / ST_PI_F;
+    } else {
+        st_dir li = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
+        cz = li.z;
+        *wi = normalize(li.x * v->tu + li.y * v->tv + li.z * v->ns);
+        float f[3], pdf = st_brdf_pdf(&v->brdf, v->wo_local, li);
+        st_brdf_eval(&v->brdf, v->wo_local, li, f);
+        if (!(pdf > 0.0f))
+            return 0;
+        weight = (float3)(f[0], f[1], f[2]) * (cz / pdf);
+        pa->bsdf_pdf = pdf;
+    }
     if (!(cz > 0.0f) || dot(*wi, v->ng) <= 0.0f)
         return 0;
-    vstore3(vload3(0, pa->beta) * albedo, 0, pa->beta);
-    pa->bsdf_pdf = cz / ST_PI_F;
+    vstore3(vload3(0, pa->beta) * weight, 0, pa->beta);
+    pa->env_pdf = cz / ST_PI_F;
     return 1;
 }
 

@@ -9,9 +9,11 @@
  *          heuristic (Veach & Guibas, SIGGRAPH 1995); Russian roulette from
  *          the fourth vertex on. max_depth counts the vertices at which light
  *          is gathered (pbrt's maxdepth; Mitsuba's max_depth is one more).
- * Materials are Lambertian: f = albedo / π with albedo = base colour x
- * (1 - metallic) (glTF factors times their textures, texture.h), emitters
- * one-sided on the side their shading normals face. Alpha MASK cut-outs and
+ * Materials: the glTF metallic-roughness BRDF (bsdf.h; a Lambertian one,
+ * specularFactor 0, takes the cheap cosine path), its factors times their
+ * textures (texture.h); KHR_materials_unlit shows its base colour from
+ * either side and ends the path; emitters are one-sided on the side their
+ * shading normals face. Alpha MASK cut-outs and
  * BLEND (as stochastic coverage: a ray passes with probability 1 - alpha)
  * let the ray go on through the surface without a bounce: the path keeps its
  * depth but spends one of the wave's trace iterations; shadow rays treat
@@ -19,9 +21,11 @@
  * Environment (st_shading.env, uniform radiance): a path that leaves the
  * scene adds beta x env. Where there are no area lights it is also sampled
  * by next-event estimation: a cosine-distributed direction (dimensions 0, 1)
- * and a shadow ray to infinity, adding beta x albedo x env (f cos / pdf =
- * albedo) when unoccluded; in the path integrator that sample and the BSDF
- * sample have the same pdf, so MIS (either heuristic) weighs each 1/2. With
+ * and a shadow ray to infinity, adding beta x f cos / pdf x env when
+ * unoccluded; in the path integrator that sample and the BSDF sample are
+ * weighted by the power heuristic (st_path.env_pdf keeps the environment
+ * sample's pdf of the BSDF sample's direction for the weight at a miss; for
+ * a Lambertian surface both pdfs are equal and each weighs 1/2). With
  * area lights too, the direct integrator picks the environment or the area
  * lights with probability 1/2 each (dimension 4) and divides by it; the path
  * integrator leaves the environment to BSDF samples (weight 1).
@@ -32,7 +36,7 @@
  * camera's cone has the pixel's width and no spread.
  * Sample dimensions of vertex k: 2 + 6k + {0: light choice and first
  * coordinate on it (or the environment direction's first), 1: second
- * coordinate, 2,3: BSDF direction, 4: environment or area lights (direct
+ * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: environment or area lights (direct
  * integrator with both), 5: Russian roulette}. BLEND coverage draws from
  * the counter hash, keyed by the triangle. */
 #include "st_shared.h"
@@ -51,7 +55,7 @@ static void shade_miss(const st_params *p, const st_shading *sh, st_path *pa)
     float3 env = vload4(0, sh->env).xyz;
     if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f) {
         float w = pa->depth > 0u && p->integrator == ST_INTEGRATOR_PATH && p->light_count == 0u
-                      ? 0.5f
+                      ? power_heuristic(pa->bsdf_pdf, pa->env_pdf)
                       : 1.0f;
         vstore3(vload3(0, pa->radiance) + vload3(0, pa->beta) * env * w, 0, pa->radiance);
     }
@@ -92,7 +96,12 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         path[i] = pa;
         return;
     }
-    float3 albedo = v.base.xyz * (1.0f - v.metallic);
+    if (v.unlit) { /* KHR_materials_unlit: its colour, from either side, and no more */
+        vstore3(vload3(0, pa.radiance) + vload3(0, pa.beta) * v.base.xyz, 0, pa.radiance);
+        pa.depth = ST_PATH_DEAD;
+        path[i] = pa;
+        return;
+    }
     float cos_o = dot(v.ng, v.wo);
     float we = emission_weight(&s, &v, &pa, h, cos_o);
     if (we > 0.0f)
@@ -101,16 +110,17 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         v.ng = -v.ng;
     if (dot(v.ns, v.ng) < 0.0f)
         v.ns = -v.ns;
+    surface_frame(&v);
     st_sample_id id = st_sample_begin(&p, smp.pixel % p.width, smp.pixel / p.width, smp.index);
     st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa.depth;
     float3 origin = v.pos + v.ng * p.ray_eps, wi;
     if (pa.depth >= p.max_depth) {
         pa.depth = ST_PATH_DEAD;
     } else {
-        st_shadow_ray sr = next_event(&s, &p, &sh, &v, &pa, albedo, origin, &id, dim);
+        st_shadow_ray sr = next_event(&s, &p, &sh, &v, &pa, origin, &id, dim);
         if (sr.tmax > 0.0f)
             shadow[i] = sr;
-        if (p.integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(&p, &v, albedo, &pa, &id, dim, &wi) ||
+        if (p.integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(&p, &v, &pa, &id, dim, &wi) ||
             !roulette(&p, &pa, &id, dim)) {
             pa.depth = ST_PATH_DEAD;
         } else {

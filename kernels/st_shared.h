@@ -148,12 +148,16 @@ typedef struct st_tri_normals {
 #define ST_ALPHA_MASK 1u
 #define ST_ALPHA_BLEND 2u
 
-/* A glTF metallic-roughness material, shaded as Lambertian with albedo =
- * base colour x (1 - metallic) (roughness is kept, unused), emitting on the
- * side its shading normals face. Each factor is multiplied by its texture
- * where *_tex is a texture descriptor index (ST_NO_TEXTURE: none):
+/* Material flags (st_material.flags). */
+#define ST_MAT_UNLIT 1u /* KHR_materials_unlit: shows its base colour, unlit */
+
+/* A glTF metallic-roughness material (the BRDF: kernels/bsdf.h), emitting
+ * on the side its shading normals face. Each factor is multiplied by its
+ * texture where *_tex is a texture descriptor index (ST_NO_TEXTURE: none):
  * base_color_tex (sRGB RGB, linear alpha), emission_tex (sRGB),
- * metallic_roughness_tex (linear; metallic in B, roughness in G). */
+ * metallic_roughness_tex (linear; metallic in B, roughness in G),
+ * specular_tex (KHR_materials_specular's specularTexture, linear, A) and
+ * specular_color_tex (specularColorTexture, sRGB RGB). */
 typedef struct st_material {
     st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
     st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
@@ -161,6 +165,10 @@ typedef struct st_material {
     st_f32 alpha_cutoff;   /* ST_ALPHA_MASK: alpha below it is cut out */
     st_u32 alpha_mode;     /* ST_ALPHA_* */
     st_u32 base_color_tex, emission_tex, metallic_roughness_tex;
+    st_u32 flags;          /* ST_MAT_* */
+    st_f32 specular[4];    /* specularColorFactor RGB, specularFactor (1, 1, 1, 1) */
+    st_f32 ior;            /* KHR_materials_ior, 1.5 */
+    st_u32 specular_tex, specular_color_tex;
     st_u32 pad;
 } st_material;
 
@@ -309,7 +317,9 @@ typedef struct st_path {
     st_f32 radiance[3];
     st_u32 depth;
     st_u32 closest_rays, shadow_rays;
-    st_u32 pad[2];
+    st_f32 env_pdf; /* the pdf of next-event estimation's environment sample
+                       (cos / π) for the current ray's direction, for MIS at a miss */
+    st_u32 pad;
 } st_path;
 
 /* A shadow ray and what it adds to its path's radiance when nothing blocks
@@ -426,7 +436,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_material, base_color) X(st_material, emission) X(st_material, metallic)            \
     X(st_material, roughness) X(st_material, alpha_cutoff) X(st_material, alpha_mode)       \
     X(st_material, base_color_tex) X(st_material, emission_tex)                             \
-    X(st_material, metallic_roughness_tex)                                                  \
+    X(st_material, metallic_roughness_tex) X(st_material, flags) X(st_material, specular)   \
+    X(st_material, ior) X(st_material, specular_tex) X(st_material, specular_color_tex)     \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
     X(st_texture, width) X(st_texture, height) X(st_texture, levels) X(st_texture, flags)    \
     X(st_texture, wrap_s) X(st_texture, wrap_t)                                             \
@@ -450,7 +461,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_wave_ray, o) X(st_wave_ray, tmax) X(st_wave_ray, d) X(st_wave_ray, path_length)    \
     X(st_hit, t) X(st_hit, u) X(st_hit, v) X(st_hit, prim)                                  \
     X(st_path, beta) X(st_path, bsdf_pdf) X(st_path, radiance) X(st_path, depth)            \
-    X(st_path, closest_rays) X(st_path, shadow_rays)                                        \
+    X(st_path, closest_rays) X(st_path, shadow_rays) X(st_path, env_pdf)                    \
     X(st_shadow_ray, o) X(st_shadow_ray, tmax) X(st_shadow_ray, d)                          \
     X(st_shadow_ray, contribution)                                                          \
     X(st_tally, splats) X(st_tally, closest_rays) X(st_tally, shadow_rays)                  \
@@ -463,7 +474,7 @@ ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes"
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 64, "st_material: 64 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 96, "st_material: 96 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");

@@ -5,7 +5,8 @@
  * §3.5 nodes and the TRS/matrix transform hierarchy, §3.6 buffers, bufferViews
  * and accessors, §3.7.2 mesh primitives, §3.8 textures, images and samplers,
  * §3.9 materials, §3.10 cameras, §4.4 the GLB container; and the extensions
- * KHR_materials_emissive_strength and KHR_texture_transform.
+ * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
+ * KHR_materials_unlit and KHR_texture_transform.
  *
  * Invariants: no byte of a buffer is read before the accessor and bufferView
  * ranges that cover it were checked against the buffer's real size, and no
@@ -221,7 +222,9 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
         if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
             ext == "KHR_mesh_quantization")
             fail("requires extension %s, which strata does not support", ext.c_str());
-        if (ext != "KHR_materials_emissive_strength" && ext != "KHR_texture_transform")
+        if (ext != "KHR_materials_emissive_strength" && ext != "KHR_texture_transform" &&
+            ext != "KHR_materials_specular" && ext != "KHR_materials_ior" &&
+            ext != "KHR_materials_unlit")
             note(warn_out, "requires extension %s, which strata ignores", ext.c_str());
     }
 }
@@ -946,6 +949,67 @@ st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
 
 /* ---- materials ------------------------------------------------------------- */
 
+/* The textureInfo object `key` of an extension object (index -1: none). */
+tinygltf::TextureInfo ext_texture_info(const tinygltf::Value &obj, const char *key,
+                                       const char *what)
+{
+    tinygltf::TextureInfo info;
+    if (!obj.IsObject() || !obj.Has(key))
+        return info;
+    const tinygltf::Value &v = obj.Get(key);
+    if (!v.IsObject() || !v.Has("index") || !v.Get("index").IsInt())
+        fail("%s: %s needs an integer index", what, key);
+    info.index = v.Get("index").GetNumberAsInt();
+    info.texCoord = int(ext_number(v, "texCoord", 0.0, what));
+    if (v.Has("extensions") && v.Get("extensions").IsObject()) {
+        const tinygltf::Value &e = v.Get("extensions");
+        for (const std::string &name : e.Keys())
+            info.extensions[name] = e.Get(name);
+    }
+    return info;
+}
+
+/* KHR_materials_specular (specularFactor 1, specularColorFactor 1 and their
+ * textures: A of specularTexture, sRGB RGB of specularColorTexture),
+ * KHR_materials_ior (ior 1.5) and KHR_materials_unlit of material i. */
+void read_specular_ior_unlit(const Model &m, size_t i, texture_table &table, notes &warn,
+                             st_gltf_material &o)
+{
+    const tinygltf::ExtensionMap &exts = m.materials[i].extensions;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_specular", i);
+    o.specular[0] = o.specular[1] = o.specular[2] = o.specular[3] = 1.0f;
+    o.ior = 1.5f;
+    o.specular_tex = o.specular_color_tex = -1;
+    auto spec = exts.find("KHR_materials_specular");
+    if (spec != exts.end()) {
+        const tinygltf::Value &v = spec->second;
+        o.specular[3] = float(ext_number(v, "specularFactor", 1.0, what));
+        if (v.IsObject() && v.Has("specularColorFactor")) {
+            const tinygltf::Value &c = v.Get("specularColorFactor");
+            if (!c.IsArray() || c.ArrayLen() != 3 || !c.Get(0).IsNumber() ||
+                !c.Get(1).IsNumber() || !c.Get(2).IsNumber())
+                fail("%s: specularColorFactor must be an array of 3 numbers", what);
+            for (int k = 0; k < 3; k++)
+                o.specular[k] = float(c.Get(k).GetNumberAsDouble());
+        }
+        o.specular_tex = texture_ref(m, ext_texture_info(v, "specularTexture", what), false, i,
+                                     "specularTexture", table, warn);
+        o.specular_color_tex = texture_ref(m, ext_texture_info(v, "specularColorTexture", what),
+                                           true, i, "specularColorTexture", table, warn);
+    }
+    auto ior = exts.find("KHR_materials_ior");
+    if (ior != exts.end())
+        o.ior = float(ext_number(ior->second, "ior", 1.5, "KHR_materials_ior"));
+    o.unlit = exts.find("KHR_materials_unlit") != exts.end();
+    for (int k = 0; k < 4; k++)
+        if (!std::isfinite(o.specular[k]) || o.specular[k] < 0.0f)
+            fail("%s: factors must be finite and >= 0", what);
+    /* 0 is allowed: F0 = ((ior - 1) / (ior + 1))^2 = 1, the limit of a large ior */
+    if (!std::isfinite(o.ior) || (o.ior < 1.0f && o.ior != 0.0f))
+        fail("material %zu: KHR_materials_ior: ior %g is neither 0 nor >= 1", i, double(o.ior));
+}
+
 /* A material's factors (§3.9.2, §3.9.3 defaults: base colour 1, metallic 1,
  * roughness 1, emission 0, alphaCutoff 0.5; emission x
  * KHR_materials_emissive_strength's emissiveStrength, 1 when absent) and its
@@ -994,6 +1058,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.emission_tex = texture_ref(m, mat.emissiveTexture, true, i, "emissiveTexture", table, warn);
     o.metallic_roughness_tex = texture_ref(m, pbr.metallicRoughnessTexture, false, i,
                                            "metallicRoughnessTexture", table, warn);
+    read_specular_ior_unlit(m, i, table, warn, o);
     return o;
 }
 

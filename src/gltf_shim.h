@@ -34,6 +34,10 @@ typedef struct st_gltf_material {
     float alpha_cutoff;    /* alphaCutoff, 0.5 by default */
     int alpha_mode;
     int base_color_tex, emission_tex, metallic_roughness_tex;
+    float specular[4];     /* KHR_materials_specular: specularColorFactor RGB, specularFactor */
+    float ior;             /* KHR_materials_ior, 1.5 by default */
+    int unlit;             /* KHR_materials_unlit */
+    int specular_tex, specular_color_tex; /* specularTexture (A), specularColorTexture */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

@@ -464,6 +464,11 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->base_color_tex = texture_index(in->base_color_tex);
         m->emission_tex = texture_index(in->emission_tex);
         m->metallic_roughness_tex = texture_index(in->metallic_roughness_tex);
+        memcpy(m->specular, in->specular, sizeof m->specular);
+        m->ior = in->ior;
+        m->flags = in->unlit ? ST_MAT_UNLIT : 0u;
+        m->specular_tex = texture_index(in->specular_tex);
+        m->specular_color_tex = texture_index(in->specular_color_tex);
     }
     if (need_default) {
         st_material *m = &s->materials[g->material_count];
@@ -472,6 +477,9 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->roughness = 1.0f;
         m->alpha_cutoff = 0.5f;
         m->base_color_tex = m->emission_tex = m->metallic_roughness_tex = ST_NO_TEXTURE;
+        m->specular[0] = m->specular[1] = m->specular[2] = m->specular[3] = 1.0f;
+        m->ior = 1.5f;
+        m->specular_tex = m->specular_color_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

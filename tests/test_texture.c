@@ -492,7 +492,9 @@ static st_image render(const st_scene *s, st_u32 w, st_u32 h, st_u32 spp, st_u32
 
 /* textured_quad fills the orthographic view; its material multiplies every
  * factor by a constant texture: albedo = (1, 0.5, 0.25) x srgb(188) x (1 -
- * 0.2 x 128/255), emission = (0.5, 1, 0) x srgb(64). The quad emits, so it
+ * 0.2 x 0/255) (Lambertian: specularFactor 0, and metallic 0.2 times the
+ * texture's B = 0; were the texture ignored, the metal part of 0.2 would
+ * add a specular lobe), emission = (0.5, 1, 0) x srgb(64). The quad emits, so it
  * is an area light too (one that cannot light itself). Under a uniform
  * environment L_env it reflects albedo x L_env: in the path integrator
  * exactly in each sample (the environment is left to the BSDF sample, which
@@ -506,7 +508,7 @@ static void textured_quad_renders_emission_plus_albedo(void **state)
     st_scene *s = load(SCENES "textured_quad.gltf");
     assert_int_equal(s->texture_count, 3);
     const double f[3] = {1.0, 0.5, 0.25}, e[3] = {0.5, 1.0, 0.0};
-    const double metal = 1.0 - 0.2 * (128.0 / 255.0);
+    const double metal = 1.0 - 0.2 * (0.0 / 255.0);
     for (int env = 0; env < 2; env++)
         for (st_u32 integ = 0; integ < 2; integ++) {
             const float view_env[3] = {(float)env, (float)env, (float)env};
@@ -543,7 +545,7 @@ static void environment_alone_gives_albedo_and_sky(void **state)
     memset(s->materials[0].emission, 0, sizeof s->materials[0].emission);
     s->materials[0].emission_tex = ST_NO_TEXTURE;
     const float env[3] = {0.5f, 1.0f, 2.0f};
-    const double f[3] = {1.0, 0.5, 0.25}, metal = 1.0 - 0.2 * (128.0 / 255.0);
+    const double f[3] = {1.0, 0.5, 0.25}, metal = 1.0 - 0.2 * (0.0 / 255.0);
     for (st_u32 integ = 0; integ < 2; integ++) {
         st_image img = render_view(s, 12, 8, 2, integ, env, ST_TEXFILTER_TRILINEAR);
         for (size_t p = 0; p < (size_t)img.width * img.height; p++)

@@ -120,12 +120,15 @@ class Scene:
                "roughnessFactor": 1.0}
         if texture is not None:
             pbr["baseColorTexture"] = {"index": texture}
-        m = {"name": name, "pbrMetallicRoughness": pbr}
+        # specularFactor 0: Lambertian, so that closed forms (albedo x env) hold
+        m = {"name": name, "pbrMetallicRoughness": pbr,
+             "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+        self.extensions.add("KHR_materials_specular")
         if emission:
             peak = max(emission)
             m["emissiveFactor"] = [e / peak for e in emission]
             if peak != 1.0:
-                m["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": peak}}
+                m["extensions"]["KHR_materials_emissive_strength"] = {"emissiveStrength": peak}
                 self.extensions.add("KHR_materials_emissive_strength")
         self.materials.append(m)
         return len(self.materials) - 1

@@ -13,7 +13,8 @@ from the side its normal faces (glTF front faces), and the normals face into
 the box (walls, floor, ceiling), out of the blocks, and down (the light).
 The bottoms of the blocks rest on the floor and are left out.
 
-Materials (linear RGB, diffuse): white 0.73, red (0.63, 0.065, 0.05), green
+Materials (linear RGB, diffuse: KHR_materials_specular's specularFactor 0
+leaves the glTF BRDF Lambertian, as the Cornell box is): white 0.73, red (0.63, 0.065, 0.05), green
 (0.14, 0.45, 0.09), values close to the measured reflectances used by many
 renderers' Cornell boxes. The light is a quad 1 mm below the ceiling, facing
 down, emitting (17, 12, 4): emissiveFactor (1, 12/17, 4/17) times
@@ -177,16 +178,17 @@ def build():
     for name, albedo, emission in MATERIALS:
         m = {"name": name,
              "pbrMetallicRoughness": {"baseColorFactor": list(albedo) + [1.0],
-                                      "metallicFactor": 0.0, "roughnessFactor": 1.0}}
+                                      "metallicFactor": 0.0, "roughnessFactor": 1.0},
+             "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
         if emission:
             strength = max(emission)
             m["emissiveFactor"] = [e / strength for e in emission]
-            m["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}
+            m["extensions"]["KHR_materials_emissive_strength"] = {"emissiveStrength": strength}
         materials.append(m)
     return {
         "asset": {"version": "2.0", "generator": "strata tools/make_cornell_box.py",
                   "copyright": "geometry: Cornell Program of Computer Graphics, Cornell Box Data"},
-        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular"],
         "scene": 0,
         "scenes": [{"name": "cornell-box", "nodes": list(range(len(nodes)))}],
         "nodes": nodes,

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes scenes/furnace.gltf: the inside of a cube whose every face emits
-radiance 1 and reflects albedo 0.5 (Lambertian), seen from its centre.
+radiance 1 and reflects albedo 0.5 (Lambertian: KHR_materials_specular's
+specularFactor 0 turns the glTF BRDF's specular lobe off), seen from its centre.
 
 A "furnace test": the radiance along every camera ray is known in closed form,
 L = sum_{k=0..D} 0.5^k for paths gathering light at D vertices (D = 1 for
@@ -44,8 +45,10 @@ def main(out, emission=1.0):
             {"attributes": {"POSITION": 0, "NORMAL": 1}, "material": 0, "mode": 4}]}],
         "materials": [{"name": "glow", "pbrMetallicRoughness": {
             "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
-            "roughnessFactor": 1.0}, "emissiveFactor": [1.0, 1.0, 1.0]}],
-        "extensionsUsed": ["KHR_materials_emissive_strength"] if emission != 1.0 else [],
+            "roughnessFactor": 1.0}, "emissiveFactor": [1.0, 1.0, 1.0],
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}],
+        "extensionsUsed": ["KHR_materials_specular"] +
+                          (["KHR_materials_emissive_strength"] if emission != 1.0 else []),
         "buffers": [{"byteLength": len(blob), "uri": uri}],
         "bufferViews": [
             {"buffer": 0, "byteOffset": 0, "byteLength": 12 * count},
@@ -56,10 +59,8 @@ def main(out, emission=1.0):
             {"bufferView": 1, "componentType": 5126, "count": count, "type": "VEC3"}],
     }
     if emission != 1.0:
-        gltf["materials"][0]["extensions"] = {
-            "KHR_materials_emissive_strength": {"emissiveStrength": emission}}
-    else:
-        del gltf["extensionsUsed"]
+        gltf["materials"][0]["extensions"]["KHR_materials_emissive_strength"] = {
+            "emissiveStrength": emission}
     with open(out, "w") as f:
         json.dump(gltf, f, indent=1)
         f.write("\n")

@@ -28,12 +28,14 @@ textures      texture coordinates and materials: TEXCOORD_0 as float,
               (cutoff 0.3) and BLEND; a LINES primitive (skipped, a warning).
 textured_quad a 2 x 2 quad filling an orthographic view, its material's every
               factor multiplied by a constant texture (base colour sRGB 188,
-              metallic-roughness B = 128, emissive sRGB 64): a render must
-              give emission + albedo x environment in every pixel.
+              metallic-roughness G = 255, B = 0, emissive sRGB 64), Lambertian
+              (KHR_materials_specular's specularFactor 0, metallic 0.2 x 0): a
+              render must give emission + albedo x environment in every pixel.
 textured.glb  a quad with a 4 x 4 RGBA texture stored in the GLB's BIN chunk
               (for byte mutation tests: the image decoder meets damaged PNGs).
 cutout        two quads seen by an orthographic camera: the front one red,
-              alpha MASK with its left half at alpha 0; the back one green.
+              alpha MASK with its left half at alpha 0; the back one green
+              (both Lambertian: specularFactor 0).
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -475,14 +477,15 @@ def write_textured_quad():
     p = b.quad(0.0, QUAD_UV)
     p["material"] = 0
     images = [{"uri": png_uri(constant_png((188, 188, 188)))},
-              {"uri": png_uri(constant_png((0, 0, 128)))},
+              {"uri": png_uri(constant_png((0, 255, 0)))},
               {"uri": png_uri(constant_png((64, 64, 64)))}]
     materials = [{"name": "constant textures",
                   "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.5, 0.25, 1.0],
                                            "baseColorTexture": {"index": 0},
                                            "metallicFactor": 0.2,
                                            "metallicRoughnessTexture": {"index": 1}},
-                  "emissiveFactor": [0.5, 1.0, 0.0], "emissiveTexture": {"index": 2}}]
+                  "emissiveFactor": [0.5, 1.0, 0.0], "emissiveTexture": {"index": 2},
+                  "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
     g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
             nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
             cameras=ORTHO, materials=materials, images=images,
@@ -512,9 +515,11 @@ def write_cutout():
     materials = [{"name": "front", "alphaMode": "MASK",
                   "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.0, 0.0, 1.0],
                                            "baseColorTexture": {"index": 0},
-                                           "metallicFactor": 0.0}},
+                                           "metallicFactor": 0.0},
+                  "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}},
                  {"name": "back", "pbrMetallicRoughness": {"baseColorFactor": [0.0, 1.0, 0.0, 1.0],
-                                                           "metallicFactor": 0.0}}]
+                                                           "metallicFactor": 0.0},
+                  "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
     g = doc([{"primitives": [front, back]}], b.accessors, b.views, b.buffers(),
             nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
             cameras=ORTHO, materials=materials, images=[{"uri": png_uri(png(4, 4, 4, half))}],

@@ -1,0 +1,305 @@
+/* test_bsdf.c — the glTF metallic-roughness BRDF of kernels/bsdf.h, run
+ * here on the host (the device's own code).
+ *
+ * Expected values come from definitions, not from the code under test:
+ * GGX's D integrates to 1 against n.h over the hemisphere of normals, and
+ * the visible normals' density G1(v) max(0, v.h) D(h) / v.z to 1 (Heitz
+ * 2014, eq. 17); a BRDF is reciprocal; a Lambertian surface (specularFactor
+ * 0) reflects its base colour; a smooth white metal reflects everything.
+ * The sampler is checked against its pdf by a chi-square test over equal
+ * solid-angle bins (z, φ), and Monte Carlo albedos (f cos / pdf) against
+ * midpoint quadrature of f cos over the hemisphere. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+
+#include "bsdf.h"
+
+#define PI 3.14159265358979323846
+
+/* splitmix64: the test's own uniform numbers in [0, 1). */
+static double next_unit(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+}
+
+static st_dir dir_from(double z, double phi)
+{
+    double r = sqrt(fmax(0.0, 1.0 - z * z));
+    st_dir d = {(float)(r * cos(phi)), (float)(r * sin(phi)), (float)z};
+    return d;
+}
+
+static st_brdf material(float c, float metallic, float roughness, float specular)
+{
+    const float base[3] = {c, c, c}, white[3] = {1.0f, 1.0f, 1.0f};
+    return st_brdf_make(base, metallic, roughness, specular, white, 1.5f);
+}
+
+/* ∫ g(w) dω over the upper hemisphere by the midpoint rule in (z, φ)
+ * (dω = dz dφ); `which` selects the integrand. */
+enum integrand { D_COS, VNDF, F_COS, PDF };
+static double hemisphere(const st_brdf *b, st_dir wo, enum integrand which, int nz, int nphi)
+{
+    double sum = 0.0;
+    for (int i = 0; i < nz; i++)
+        for (int j = 0; j < nphi; j++) {
+            st_dir w = dir_from((i + 0.5) / nz, 2.0 * PI * (j + 0.5) / nphi);
+            float f[3];
+            double g = 0.0;
+            if (which == D_COS)
+                g = st_ggx_d(b->alpha, w) * w.z;
+            else if (which == VNDF) {
+                double vh = wo.x * w.x + wo.y * w.y + wo.z * w.z;
+                g = st_ggx_g1(b->alpha, wo) * fmax(0.0, vh) * st_ggx_d(b->alpha, w) / wo.z;
+            } else if (which == F_COS) {
+                st_brdf_eval(b, wo, w, f);
+                g = f[0] * w.z;
+            } else {
+                g = st_brdf_pdf(b, wo, w);
+            }
+            sum += g;
+        }
+    return sum * 2.0 * PI / ((double)nz * nphi);
+}
+
+static void ggx_and_visible_normals_are_normalised(void **state)
+{
+    (void)state;
+    const float rough[] = {0.3f, 0.5f, 0.8f, 1.0f};
+    for (int r = 0; r < 4; r++) {
+        st_brdf b = material(1.0f, 1.0f, rough[r], 1.0f);
+        double d = hemisphere(&b, dir_from(1.0, 0.0), D_COS, 2000, 64);
+        if (fabs(d - 1.0) > 2e-3)
+            fail_msg("roughness %g: ∫ D n.h dω = %.6f, want 1", rough[r], d);
+        const double zs[] = {1.0, 0.7, 0.3};
+        for (int k = 0; k < 3; k++) {
+            double v = hemisphere(&b, dir_from(zs[k], 0.4), VNDF, 2000, 256);
+            if (fabs(v - 1.0) > 3e-3)
+                fail_msg("roughness %g, v.z %g: ∫ D_v dω = %.6f, want 1", rough[r], zs[k], v);
+        }
+    }
+}
+
+/* D and V against their textbook forms, in double: D = α² / (π ((n.h)²
+ * (α² - 1) + 1)²); V = G2 / (4 n.l n.v), G2 = 1 / (1 + Λ(v) + Λ(l)),
+ * Λ(w) = (sqrt(1 + α² tan² θ) - 1) / 2 (Heitz 2014, eqs. 72, 99). */
+static void ggx_terms_match_their_definitions(void **state)
+{
+    (void)state;
+    uint64_t s = 9;
+    for (int i = 0; i < 1000; i++) {
+        double r = 0.1 + 0.9 * next_unit(&s), a = r * r;
+        st_brdf b = material(1.0f, 1.0f, (float)r, 1.0f);
+        st_dir h = dir_from(0.05 + 0.95 * next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir v = dir_from(0.05 + 0.95 * next_unit(&s), 2 * PI * next_unit(&s));
+        double c = h.z, t = c * c * (a * a - 1.0) + 1.0, d = a * a / (PI * t * t);
+        if (fabs(st_ggx_d(b.alpha, h) - d) > 1e-4 * d)
+            fail_msg("D: %g, definition %g", st_ggx_d(b.alpha, h), d);
+        double lv = (sqrt(1.0 + a * a * (1.0 - v.z * v.z) / (v.z * v.z)) - 1.0) / 2.0;
+        double lh = (sqrt(1.0 + a * a * (1.0 - h.z * h.z) / (h.z * h.z)) - 1.0) / 2.0;
+        double vis = 1.0 / (1.0 + lv + lh) / (4.0 * v.z * h.z);
+        if (fabs(st_ggx_v(b.alpha, v, h) - vis) > 1e-4 * vis)
+            fail_msg("V: %g, definition %g", st_ggx_v(b.alpha, v, h), vis);
+    }
+}
+
+static void brdf_is_reciprocal(void **state)
+{
+    (void)state;
+    uint64_t s = 1;
+    for (int i = 0; i < 2000; i++) {
+        st_brdf b = material((float)next_unit(&s), (float)next_unit(&s),
+                             (float)(0.05 + next_unit(&s)), (float)next_unit(&s));
+        st_dir a = dir_from(next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir c = dir_from(next_unit(&s), 2 * PI * next_unit(&s));
+        float fac[3], fca[3];
+        st_brdf_eval(&b, a, c, fac);
+        st_brdf_eval(&b, c, a, fca);
+        for (int k = 0; k < 3; k++)
+            if (fabsf(fac[k] - fca[k]) > 1e-5f * fmaxf(1.0f, fabsf(fac[k])))
+                fail_msg("f(a, c) = %g but f(c, a) = %g", fac[k], fca[k]);
+    }
+}
+
+/* Monte Carlo albedo E[f cos / pdf] with its standard error. */
+static double sampled_albedo(const st_brdf *b, st_dir wo, int n, double *stderr_out)
+{
+    uint64_t s = 7;
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < n; i++) {
+        st_dir wi = st_brdf_sample(b, wo, (float)next_unit(&s), (float)next_unit(&s));
+        double w = 0.0;
+        if (wi.z > 0.0f) {
+            float f[3], pdf = st_brdf_pdf(b, wo, wi);
+            st_brdf_eval(b, wo, wi, f);
+            w = pdf > 0.0f ? f[0] * wi.z / pdf : 0.0;
+        }
+        sum += w;
+        sum2 += w * w;
+    }
+    double mean = sum / n;
+    *stderr_out = sqrt(fmax(0.0, sum2 / n - mean * mean) / n);
+    return mean;
+}
+
+static void albedo_matches_quadrature(void **state)
+{
+    (void)state;
+    const float params[][4] = {/* base, metallic, roughness, specular */
+                               {0.8f, 0.0f, 1.0f, 1.0f}, {0.8f, 0.0f, 0.5f, 1.0f},
+                               {0.5f, 1.0f, 0.6f, 1.0f}, {0.9f, 0.5f, 0.4f, 0.7f},
+                               {0.2f, 0.0f, 0.3f, 1.0f}};
+    const double zs[] = {0.95, 0.5, 0.15};
+    for (int p = 0; p < 5; p++)
+        for (int k = 0; k < 3; k++) {
+            st_brdf b = material(params[p][0], params[p][1], params[p][2], params[p][3]);
+            st_dir wo = dir_from(zs[k], 1.0);
+            double quad = hemisphere(&b, wo, F_COS, 2000, 512), se;
+            double mc = sampled_albedo(&b, wo, 400000, &se);
+            if (!(quad <= 1.0 + 1e-3) || fabs(mc - quad) > 5.0 * se + 2e-3)
+                fail_msg("material %d, v.z %g: sampled albedo %.5f +- %.5f, quadrature %.5f", p,
+                         zs[k], mc, se, quad);
+        }
+}
+
+/* specularFactor 0 is Lambert: f = c / π whatever the directions. */
+static void specular_zero_is_lambert(void **state)
+{
+    (void)state;
+    st_brdf b = material(0.6f, 0.0f, 0.3f, 0.0f);
+    assert_true(st_brdf_is_lambert(&b));
+    uint64_t s = 3;
+    for (int i = 0; i < 100; i++) {
+        float f[3];
+        st_brdf_eval(&b, dir_from(next_unit(&s), 1.0), dir_from(next_unit(&s), 2.0), f);
+        assert_float_equal(f[1], 0.6f / ST_PI_F, 1e-7f);
+    }
+    st_brdf d = material(0.6f, 0.0f, 0.3f, 1.0f);
+    assert_false(st_brdf_is_lambert(&d));
+}
+
+/* A white metal reflects all light as roughness goes to 0; rougher ones lose
+ * some (single scattering) but never reflect more than they receive. */
+static void white_metal_albedo(void **state)
+{
+    (void)state;
+    const float rough[] = {0.0f, 0.02f, 0.3f, 0.7f, 1.0f};
+    for (int r = 0; r < 5; r++) {
+        st_brdf b = material(1.0f, 1.0f, rough[r], 1.0f);
+        double se, a = sampled_albedo(&b, dir_from(0.8, 0.3), 200000, &se);
+        if (!(a <= 1.0 + 5.0 * se + 1e-4))
+            fail_msg("roughness %g: albedo %.5f above 1", rough[r], a);
+        if (rough[r] <= 0.02f && fabs(a - 1.0) > 1e-3)
+            fail_msg("roughness %g: albedo %.5f, want 1", rough[r], a);
+    }
+}
+
+/* The pdf integrates to one: ∫ pdf dω over the hemisphere plus the share
+ * of samples lost below the surface (counted) is 1. */
+static void pdf_integrates_to_one(void **state)
+{
+    (void)state;
+    const float params[][4] = {{0.8f, 0.0f, 1.0f, 0.0f}, {0.8f, 0.0f, 0.5f, 1.0f},
+                               {0.5f, 1.0f, 0.4f, 1.0f}, {0.5f, 1.0f, 1.0f, 1.0f}};
+    for (int p = 0; p < 4; p++) {
+        st_brdf b = material(params[p][0], params[p][1], params[p][2], params[p][3]);
+        st_dir wo = dir_from(0.6, 0.2);
+        double integral = hemisphere(&b, wo, PDF, 2000, 512);
+        uint64_t s = 5;
+        int lost = 0, n = 400000;
+        for (int i = 0; i < n; i++)
+            lost += st_brdf_sample(&b, wo, (float)next_unit(&s), (float)next_unit(&s)).z <= 0.0f;
+        double want = 1.0 - (double)lost / n, se = sqrt(want * (1.0 - want) / n);
+        if (fabs(integral - want) > 5.0 * se + 2e-3)
+            fail_msg("material %d: ∫ pdf dω = %.5f, samples kept %.5f", p, integral, want);
+    }
+}
+
+/* Chi-square of st_brdf_sample against st_brdf_pdf: nz x nphi bins of
+ * equal solid angle, expected counts from the pdf by quadrature inside each
+ * bin, plus one bin for samples lost below the surface (expected: what the
+ * pdf leaves of 1); bins expecting under 5 merged. The threshold is the
+ * chi-square quantile at significance 1e-4 by Wilson-Hilferty's
+ * approximation, z = 3.719. */
+#define NZ 16
+#define NPHI 32
+static void sampler_passes_chi_square(void **state)
+{
+    (void)state;
+    const float params[][4] = {{0.8f, 0.0f, 0.5f, 1.0f}, {0.5f, 1.0f, 0.3f, 1.0f},
+                               {0.9f, 0.5f, 0.6f, 0.7f}, {0.5f, 1.0f, 0.8f, 1.0f}};
+    const double zs[] = {0.9, 0.4};
+    const int n = 1000000;
+    static double obs[NZ * NPHI + 1], expct[NZ * NPHI + 1];
+    for (int p = 0; p < 4; p++)
+        for (int k = 0; k < 2; k++) {
+            st_brdf b = material(params[p][0], params[p][1], params[p][2], params[p][3]);
+            st_dir wo = dir_from(zs[k], 0.5);
+            double total = 0.0;
+            for (int i = 0; i < NZ; i++)
+                for (int j = 0; j < NPHI; j++) {
+                    double e = 0.0;
+                    for (int a = 0; a < 8; a++)
+                        for (int c = 0; c < 8; c++)
+                            e += st_brdf_pdf(&b, wo,
+                                             dir_from((i + (a + 0.5) / 8) / NZ,
+                                                      2 * PI * (j + (c + 0.5) / 8) / NPHI));
+                    expct[i * NPHI + j] = e / 64.0 * 2 * PI / (NZ * NPHI) * n;
+                    obs[i * NPHI + j] = 0.0;
+                    total += expct[i * NPHI + j];
+                }
+            expct[NZ * NPHI] = fmax(0.0, n - total);
+            obs[NZ * NPHI] = 0.0;
+            uint64_t s = 11 + (uint64_t)p;
+            for (int i = 0; i < n; i++) {
+                st_dir wi = st_brdf_sample(&b, wo, (float)next_unit(&s), (float)next_unit(&s));
+                int bin = NZ * NPHI;
+                if (wi.z > 0.0f) {
+                    double phi = atan2(wi.y, wi.x);
+                    int iz = (int)(wi.z * NZ), ip = (int)((phi < 0 ? phi + 2 * PI : phi) /
+                                                          (2 * PI) * NPHI);
+                    bin = (iz < NZ ? iz : NZ - 1) * NPHI + (ip < NPHI ? ip : NPHI - 1);
+                }
+                obs[bin] += 1.0;
+            }
+            double chi2 = 0.0, eo = 0.0, oo = 0.0;
+            int dof = -1;
+            for (int i = 0; i <= NZ * NPHI; i++) {
+                eo += expct[i];
+                oo += obs[i];
+                if (eo >= 5.0) {
+                    chi2 += (oo - eo) * (oo - eo) / eo;
+                    dof++;
+                    eo = oo = 0.0;
+                }
+            }
+            double h = 2.0 / (9.0 * dof), limit = dof * pow(1.0 - h + 3.719 * sqrt(h), 3.0);
+            if (!(chi2 < limit))
+                fail_msg("material %d, v.z %g: chi-square %.1f over %d dof, limit %.1f", p,
+                         zs[k], chi2, dof, limit);
+        }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(ggx_and_visible_normals_are_normalised),
+        cmocka_unit_test(ggx_terms_match_their_definitions),
+        cmocka_unit_test(brdf_is_reciprocal),
+        cmocka_unit_test(albedo_matches_quadrature),
+        cmocka_unit_test(specular_zero_is_lambert),
+        cmocka_unit_test(white_metal_albedo),
+        cmocka_unit_test(pdf_integrates_to_one),
+        cmocka_unit_test(sampler_passes_chi_square),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

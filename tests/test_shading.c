@@ -1,0 +1,122 @@
+/* test_shading.c — the glTF BRDF on the device: a white furnace.
+ *
+ * A white metal (base colour 1, metallic 1) under a uniform environment of
+ * radiance 1, seen head-on (tests/scenes/textured_quad.gltf: a quad filling
+ * an orthographic view, its material replaced here): each pixel shows the
+ * BRDF's directional albedo at normal incidence, which is at most 1 (no
+ * pixel above 1 beyond the noise) and tends to 1 as roughness goes to 0
+ * (GGX reflects all at α -> 0, Fresnel of a white metal is 1). Its mean is
+ * compared with the albedo by midpoint quadrature of f cos on the host, an
+ * independent computation of the same integral (no sampling, no MIS), for
+ * the rough ones. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "device_fixture.h"
+#include "st_render.h"
+#include "st_scene.h"
+#include "bsdf.h"
+
+static st_scene *white_metal(float roughness)
+{
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/textured_quad.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    st_material *m = &s->materials[0];
+    for (int k = 0; k < 4; k++) {
+        m->base_color[k] = 1.0f;
+        m->specular[k] = 1.0f;
+        m->emission[k] = 0.0f;
+    }
+    m->metallic = 1.0f;
+    m->roughness = roughness;
+    m->base_color_tex = m->emission_tex = m->metallic_roughness_tex = ST_NO_TEXTURE;
+    return s;
+}
+
+static st_image render_furnace(const st_scene *s, st_u32 spp)
+{
+    st_render_options o = st_render_defaults();
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    o.width = 16;
+    o.height = 12;
+    o.spp = spp;
+    o.seed = 5;
+    o.integrator = ST_INTEGRATOR_PATH;
+    st_error err = {0};
+    st_renderer *r = NULL;
+    st_image img = {0};
+    if (st_renderer_create(dev, s, &r, &err) || st_render(r, &o, &img, NULL, NULL, NULL, NULL, &err))
+        fail_msg("render: %s", err.msg);
+    st_renderer_destroy(r);
+    return img;
+}
+
+/* The directional albedo at normal incidence by the midpoint rule in
+ * (cos θ, φ); isotropic, so φ needs few points. */
+static double albedo_head_on(float roughness)
+{
+    const float one[3] = {1.0f, 1.0f, 1.0f};
+    st_brdf b = st_brdf_make(one, 1.0f, roughness, 1.0f, one, 1.5f);
+    st_dir wo = {0.0f, 0.0f, 1.0f};
+    const int nz = 200000;
+    double sum = 0.0;
+    for (int i = 0; i < nz; i++) {
+        float z = (float)((i + 0.5) / nz), r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+        st_dir wi = {r, 0.0f, z};
+        float f[3];
+        st_brdf_eval(&b, wo, wi, f);
+        sum += f[0] * z;
+    }
+    return sum * 2.0 * 3.14159265358979323846 / nz;
+}
+
+static void white_furnace(void **state)
+{
+    (void)state;
+    const float rough[] = {0.0f, 0.5f, 1.0f};
+    for (int k = 0; k < 3; k++) {
+        st_scene *s = white_metal(rough[k]);
+        st_image img = render_furnace(s, 64);
+        size_t n = (size_t)img.width * img.height;
+        double mean = 0.0, var = 0.0, want = albedo_head_on(rough[k]);
+        for (size_t p = 0; p < n; p++)
+            mean += img.data[4 * p] / (double)n;
+        for (size_t p = 0; p < n; p++)
+            var += (img.data[4 * p] - mean) * (img.data[4 * p] - mean) / (double)(n - 1);
+        double se = sqrt(var / (double)n);
+        print_message("roughness %.1f: mean %.5f (+- %.5f), quadrature %.5f\n", rough[k], mean,
+                      se, want);
+        for (size_t p = 0; p < n; p++)
+            if (!(img.data[4 * p] <= 1.0f + 6.0 * sqrt(var) + 1e-4))
+                fail_msg("roughness %g: pixel %zu is %g, above 1", rough[k], p, img.data[4 * p]);
+        /* the midpoint rule cannot resolve the mirror-like peak at roughness 0 */
+        if (rough[k] > 0.0f && (!(want <= 1.0 + 1e-3) || fabs(mean - want) > 5.0 * se + 2e-3))
+            fail_msg("roughness %g: mean %.5f, quadrature albedo %.5f", rough[k], mean, want);
+        /* α = 1 head-on: D = 1/π, V = 1 / (2 (1 + z)), so ∫ f z dω = ∫ z / (1 + z) dz
+         * = 1 - ln 2 */
+        if (rough[k] == 1.0f && fabs(want - (1.0 - log(2.0))) > 1e-4)
+            fail_msg("roughness 1: quadrature %.5f, closed form 1 - ln 2", want);
+        if (rough[k] == 0.0f && fabs(mean - 1.0) > 2e-3)
+            fail_msg("roughness 0: mean %.5f, want 1", mean);
+        st_image_free(&img);
+        st_scene_destroy(s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest device[] = {
+        cmocka_unit_test(white_furnace),
+    };
+    return cmocka_run_group_tests_name("shading", device, device_setup, device_teardown);
+}
