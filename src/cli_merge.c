@@ -12,6 +12,7 @@
 #include "cli_error.h"
 #include "cli_session.h"
 #include "st_film.h"
+#include "st_outfile.h"
 
 #define MAX_PARTS 4096
 
@@ -182,6 +183,8 @@ int st_cli_merge(int argc, char **argv)
     if (rc == 0 && !st_cli_has_extension(out, ".exr") && !st_cli_has_extension(out, ".png"))
         rc = st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
     st_error err = {0};
+    if (rc == 0 && st_outfile_check(out, &err) != ST_OK)
+        rc = st_cli_fail(&err);
     if (rc == 0 && merge(parts, n, out, device, &err) != ST_OK)
         rc = st_cli_fail(&err);
     for (int i = 0; i < n; i++)
