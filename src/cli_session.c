@@ -82,6 +82,19 @@ int st_cli_has_extension(const char *path, const char *ext)
     return n > k && !strcasecmp(path + n - k, ext);
 }
 
+/* The film's counts (ST_EXR_INT_ATTRS, written as EXR ints), the same numbers
+ * the summary prints. */
+static int count_attrs(const st_render_stats *st, st_attr *attrs)
+{
+    const char *names[3] = {ST_EXR_INT_ATTRS};
+    const st_u32 counts[3] = {st->clamped, st->nonfinite, st->zero_weight};
+    for (int k = 0; k < 3; k++) {
+        snprintf(attrs[k].name, sizeof attrs[k].name, "%s", names[k]);
+        snprintf(attrs[k].value, sizeof attrs[k].value, "%u", counts[k]);
+    }
+    return 3;
+}
+
 /* The render's settings, as EXR header attributes (at most ST_CLI_MAX_ATTRS). */
 int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                         const st_render_stats *st, st_attr *attrs)
@@ -131,7 +144,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     ATTR("device", "%s", st_device_get_info(s->dev)->name);
     ATTR("render_seconds", "%.6f", st->seconds);
 #undef ATTR
-    return n;
+    return n + count_attrs(st, attrs + n);
 }
 
 st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)

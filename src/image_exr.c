@@ -92,6 +92,21 @@ static st_status check_attrs(const char *path, const st_attr *attrs, int nattrs,
     return ST_OK;
 }
 
+/* One header attribute: a string, except the film's counts (ST_EXR_INT_ATTRS),
+ * which are EXR ints so that a tool can read them as numbers. */
+static exr_result_t exr_set_attr(exr_context_t ctx, int part, const st_attr *a)
+{
+    static const char *const ints[] = {ST_EXR_INT_ATTRS};
+    for (size_t k = 0; k < sizeof ints / sizeof ints[0]; k++) {
+        char *end;
+        long v = strtol(a->value, &end, 10);
+        if (!strcmp(a->name, ints[k]) && end != a->value && !*end && v >= INT32_MIN &&
+            v <= INT32_MAX)
+            return exr_attr_set_int(ctx, part, a->name, (int32_t)v);
+    }
+    return exr_attr_set_string(ctx, part, a->name, a->value);
+}
+
 /* Declares the part: size, no compression, channels (sorted by OpenEXR), string
  * attributes. Not ZIP: with OpenEXR 3.1.5, a 48x48 image of three FLOAT
  * channels of render noise, written in 16-line ZIP chunks, read back as
@@ -118,7 +133,7 @@ static st_status exr_define(exr_context_t ctx, const char *path, const st_image 
                            exr_reason(rc));
     }
     for (int i = 0; i < nattrs; i++) {
-        rc = exr_attr_set_string(ctx, part, attrs[i].name, attrs[i].value);
+        rc = exr_set_attr(ctx, part, &attrs[i]);
         if (rc != EXR_ERR_SUCCESS)
             return st_fail(err, ST_ERR_FORMAT, "%s: attribute '%s': %s", path, attrs[i].name,
                            exr_reason(rc));

@@ -60,4 +60,22 @@ expect "the render summary to a full disk exits 1" 1 "^strata: error: stdout: wr
 expect "--discrepancy on a million points is refused with its cost" 2 "O(N^2) work, 1e+12 point pairs (about 4000 s" \
     timeout 60 $S pattern --sampler halton --count 1000000 --discrepancy
 
+# ---- film arithmetic ---------------------------------------------------------------------
+expect "--filter-b outside [0, 1] is a usage error" 2 "^strata: error: --filter-b -1.57286e+06: must be in \[0, 1\]" $S render $R --filter mitchell --filter-b -1572861 -o "$T/b.exr"
+expect "--filter-c 1e30 is a usage error" 2 "^strata: error: --filter-c 1e+30: must be in \[0, 1\]" $S render $R --filter mitchell --filter-c 1e30 -o "$T/b.exr"
+expect "--filter-sigma past 16 is a usage error" 2 "^strata: error: --filter-sigma 100: must be in" $S render $R --filter gaussian --filter-sigma 100 -o "$T/b.exr"
+check "no image from refused filter parameters" '[ ! -e "$T/b.exr" ]'
+# An EXR int attribute's value (name, "int", size 4, little-endian value), or "missing".
+int_attr() {
+    python3 -c 'import struct, sys
+d = open(sys.argv[1], "rb").read()
+k = d.find(sys.argv[2].encode() + b"\0int\0\4\0\0\0")
+print(struct.unpack("<i", d[k + len(sys.argv[2]) + 9:][:4])[0] if k >= 0 else "missing")' "$1" "$2"
+}
+$S render zone-plate --env 1e6 --width 16 --height 16 --spp 2 -o "$T/hot.exr" > "$T/hot.sum" 2>&1
+clamped=$(sed -n 's/.*(\([0-9]*\) splats clamped.*/\1/p' "$T/hot.sum")
+check "a radiance of 1e6 is clamped and counted in the summary" '[ "${clamped:-0}" -gt 0 ]' "($(cat "$T/hot.sum"))"
+check "the EXR header holds the same clamped count as an int" '[ "$(int_attr "$T/hot.exr" strata.clamped_splats)" = "$clamped" ]' "($(int_attr "$T/hot.exr" strata.clamped_splats) vs $clamped)"
+check "the EXR header holds the non-finite and zero-weight counts as ints" '[ "$(int_attr "$T/hot.exr" strata.nonfinite)" = 0 ] && [ "$(int_attr "$T/hot.exr" strata.zero_weight_pixels)" = 0 ]'
+
 echo "1..$n"
