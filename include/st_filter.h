@@ -10,7 +10,7 @@
  * here is per axis (the 2-D integral ∫∫ f is the square of the 1-D one). An
  * st_filter is a plain value (st_shared.h). Nothing here allocates or prints;
  * the check returns ST_ERR_USAGE with a message naming the field
- * ("filter radius 9: must be in (0, 8]"), which the CLI may rewrite as the
+ * ("filter radius 9: must be in [0.0625, 8]"), which the CLI may rewrite as the
  * option that sets it.
  *
  * Tests: tests/test_filter.c (integral, FIS table, profile, response, check);
@@ -37,11 +37,27 @@ st_filter st_filter_default(st_u32 kind);
 #define ST_FILTER_USES_TAU 4u   /* lanczos */
 st_u32 st_filter_parameters(st_u32 kind);
 
-/* Checks kind, radius in (0, max_radius] (the renderer passes
- * ST_FILTER_MAX_RADIUS, its splat kernel's limit; the signal lab its own) and
- * the parameters the kind reads: finite b and c, positive finite σ and τ.
- * ST_ERR_USAGE naming the field: "filter kind", "filter radius",
- * "filter b", "filter c", "filter sigma", "filter tau". */
+/* The parameter ranges st_filter_check accepts (pixels for r, σ, τ). Inside
+ * them every filter has ∫|f| > 0, even at the importance-sampling table's bin
+ * centres (a NaN table otherwise: a Gaussian with σ >> r is 0 in float
+ * everywhere), and |f| stays small enough for the film's fixed point: B and C
+ * span Mitchell and Netravali's own parameter square (any value was once
+ * accepted; B = -1572861 made weights that wrapped the film's Σf).
+ * Tests: test_filter.c filter_check_*, filter_fis_cdf_finite_at_range_corners. */
+#define ST_FILTER_MIN_RADIUS 0.0625f
+#define ST_FILTER_BC_MIN 0.0f
+#define ST_FILTER_BC_MAX 1.0f
+#define ST_FILTER_SIGMA_MIN 0.015625f
+#define ST_FILTER_SIGMA_MAX 16.0f
+#define ST_FILTER_TAU_MIN 0.0625f
+#define ST_FILTER_TAU_MAX 64.0f
+
+/* Checks kind, radius in [ST_FILTER_MIN_RADIUS, max_radius] (the renderer
+ * passes ST_FILTER_MAX_RADIUS, its splat kernel's limit; the signal lab its
+ * own) and the parameters the kind reads, each in its range above.
+ * ST_ERR_USAGE naming the field and the range ("filter b -2: must be in
+ * [0, 1]"): "filter kind", "filter radius", "filter b", "filter c",
+ * "filter sigma", "filter tau". */
 st_status st_filter_check(const st_filter *f, float max_radius, st_error *err);
 
 /* ∫_{-r}^{r} f(x) dx by the midpoint rule over 2^16 intervals (the kinks of

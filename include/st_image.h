@@ -52,6 +52,10 @@ typedef struct st_attr {
     st_attr_type type;
 } st_attr;
 
+/* The names of the film's counts of a render (clamped splats, non-finite samples and pixels,
+ * pixels without weight), written as EXR ints (as doubles from 2^31 on). */
+#define ST_EXR_INT_ATTRS "strata.clamped_splats", "strata.nonfinite", "strata.zero_weight_pixels"
+
 /* Allocates a w x h image of `channels` (1..8) zeroed FLOAT channels. names: `channels` distinct,
  * non-empty names of at most 31 bytes, or NULL for "R","G","B","A" (channels <= 4) or "C0".."C7".
  * Set img->types[c] = ST_PIXEL_UINT afterwards for integer channels. On failure *img is zeroed.

@@ -63,4 +63,14 @@ st_status st_outfile_commit(st_outfile *f, st_error *err);
  * does nothing. */
 void st_outfile_abort(st_outfile *f);
 
+/* Checks, before long work, that `path` could be written: refuses a folder and creates and removes
+ * a temporary beside it (so a missing or read-only folder is found now, not after a render). The
+ * same errors as st_outfile_open, or ST_ERR_IO "out.exr: is a folder". */
+st_status st_outfile_check(const char *path, st_error *err);
+
+/* Unlinks every temporary that an open st_outfile of this process holds. Async-signal-safe: for a
+ * SIGINT/SIGTERM handler, which then ends the process (the handles stay allocated). At most 64
+ * outputs are open at once (st_outfile_open fails beyond that), each name below PATH_MAX. */
+void st_outfile_remove_temporaries(void);
+
 #endif

@@ -12,10 +12,10 @@
 static void add_splat(__global st_film_pixel *px, float w, float3 L, st_u32 *clamped)
 {
     __global long *a = px->sum;
-    atom_add(a + 0, st_fixed_from_float(st_fixed_clamp(w * L.x, clamped)));
-    atom_add(a + 1, st_fixed_from_float(st_fixed_clamp(w * L.y, clamped)));
-    atom_add(a + 2, st_fixed_from_float(st_fixed_clamp(w * L.z, clamped)));
-    atom_add(a + 3, st_fixed_from_float(w));
+    st_i64 v[4];
+    st_fixed_splat(w, L.x, L.y, L.z, v, clamped);
+    for (int k = 0; k < 4; k++)
+        atom_add(a + k, v[k]);
 }
 
 /* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */

@@ -11,9 +11,15 @@
 #ifndef ST_FIXED_H
 #define ST_FIXED_H
 
-/* Clamps v to [-ST_SPLAT_MAX, ST_SPLAT_MAX]; *clamped is set when it had to. */
+/* Clamps v to [-ST_SPLAT_MAX, ST_SPLAT_MAX]; *clamped is set when it had to.
+ * NaN (from 0 x inf) becomes 0 and counts as clamped: converting it to an
+ * integer is undefined. */
 ST_FN st_f32 st_fixed_clamp(st_f32 v, st_u32 *clamped)
 {
+    if (v != v) {
+        *clamped = 1u;
+        return 0.0f;
+    }
     if (v > ST_SPLAT_MAX) {
         *clamped = 1u;
         return ST_SPLAT_MAX;
@@ -35,5 +41,19 @@ ST_FN st_i64 st_fixed_from_float(st_f32 v)
 #endif
 }
 
+/* The four fixed-point sums one splat adds to a pixel: w r, w g, w b and the
+ * weight w itself, each clamped (st_fixed_clamp) before conversion. Σf must be
+ * clamped like Σf L: an unclamped weight (a filter with huge lobes) once
+ * wrapped the 64-bit sum. Every splat path (film.cl, and any tile-owned
+ * accumulation) adds exactly these integers, so all give the same film.
+ * Tests: test_fixed.c fixed_splat_*. */
+ST_FN void st_fixed_splat(st_f32 w, st_f32 r, st_f32 g, st_f32 b, st_i64 *sums,
+                          st_u32 *clamped)
+{
+    sums[0] = st_fixed_from_float(st_fixed_clamp(w * r, clamped));
+    sums[1] = st_fixed_from_float(st_fixed_clamp(w * g, clamped));
+    sums[2] = st_fixed_from_float(st_fixed_clamp(w * b, clamped));
+    sums[3] = st_fixed_from_float(st_fixed_clamp(w, clamped));
+}
 
 #endif

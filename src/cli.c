@@ -2,6 +2,7 @@
  * its own file, cli_<name>.c). */
 #include "cli.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -25,8 +26,22 @@ static const char main_help[] =
     "  devices                             list the OpenCL devices\n"
     "  --version                           print the version\n";
 
+/* Everything a command printed must have reached stdout: a summary, a device
+ * list or a diff written to a full disk or a closed pipe is a failure (exit 1),
+ * not a success with lost output. */
+static int check_stdout(int rc)
+{
+    errno = 0;
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return rc;
+    int e = errno ? errno : EIO;
+    fprintf(stderr, "strata: error: stdout: write failed (%s)\n", strerror(e));
+    return rc ? rc : ST_CLI_EXIT_FAIL;
+}
+
 int st_cli_main(int argc, char **argv)
 {
+    st_cli_catch_interrupts();
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
         fputs(main_help, argc < 2 ? stderr : stdout);
         return argc < 2 ? ST_CLI_EXIT_USAGE : 0;
@@ -42,6 +57,6 @@ int st_cli_main(int argc, char **argv)
         {"converge", st_cli_converge}, {"signal", st_cli_signal}};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (!strcmp(argv[1], cmds[i].name))
-            return cmds[i].run(argc - 1, argv + 1);
+            return check_stdout(cmds[i].run(argc - 1, argv + 1));
     return st_cli_usage_error("unknown command '%s' (see strata --help)", argv[1]);
 }

@@ -279,6 +279,8 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
         char tail;
         if (sscanf(v, "%u:%u%c", &k, &m, &tail) != 2 || v[0] == '-' || strchr(v, '-'))
             return st_cli_usage_error("--sample-range %s: expected K:M (sample indices K..M-1)", v);
+        if (k >= m) /* M = 0 would mean "all samples": refuse rather than render them */
+            return st_cli_usage_error("--sample-range %s: needs K < M <= spp", v);
         o->sample_begin = k;
         o->sample_end = m;
         return ST_CLI_OK;

@@ -27,6 +27,8 @@ int st_cli_diff(int argc, char **argv)
                 return st_cli_usage_error("diff: --max-rmse needs a value");
             if (st_cli_parse_float("--max-rmse", argv[++i], &v))
                 return ST_CLI_EXIT_USAGE;
+            if (v < 0.0f) /* a gate that could never fail */
+                return st_cli_usage_error("diff: --max-rmse %s: must be >= 0", argv[i]);
             max_rmse = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return st_cli_usage_error("diff: unknown option %s", argv[i]);

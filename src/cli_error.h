@@ -17,4 +17,8 @@ int st_cli_fail(const st_error *err);
 /* Prints a usage error and returns ST_CLI_EXIT_USAGE. */
 int st_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
+/* SIGINT and SIGTERM remove every temporary output file of the process
+ * (st_outfile_remove_temporaries) and exit 130 and 143. */
+void st_cli_catch_interrupts(void);
+
 #endif

@@ -12,6 +12,7 @@
 #include "cli_error.h"
 #include "cli_session.h"
 #include "st_film.h"
+#include "st_outfile.h"
 
 #define MAX_PARTS 4096
 
@@ -30,12 +31,22 @@ static const char *attr_value(const part *p, const char *name)
     return NULL;
 }
 
+/* The film's counts of one part (ST_EXR_INT_ATTRS): a fact of that part alone. */
+static int is_count(const char *name)
+{
+    static const char *const counts[] = {ST_EXR_INT_ATTRS};
+    for (size_t k = 0; k < sizeof counts / sizeof counts[0]; k++)
+        if (!strcmp(name, counts[k]))
+            return 1;
+    return 0;
+}
+
 /* Settings that may differ between parts: what each part rendered, and
  * facts about the run rather than the image. */
 static int varies(const char *name)
 {
     return !strcmp(name, "strata.sample_range") || !strcmp(name, "strata.render_seconds") ||
-           !strcmp(name, "strata.device");
+           !strcmp(name, "strata.device") || is_count(name);
 }
 
 static st_status check_part(const part *first, const part *p, st_error *err)
@@ -132,7 +143,8 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
         int na = 0;
         for (int i = 0; i < parts[0].nattrs && na < ST_CLI_MAX_ATTRS; i++)
             if (strcmp(parts[0].attrs[i].name, "strata.sample_range") &&
-                strcmp(parts[0].attrs[i].name, "strata.render_seconds"))
+                strcmp(parts[0].attrs[i].name, "strata.render_seconds") &&
+                !is_count(parts[0].attrs[i].name))
                 attrs[na++] = parts[0].attrs[i];
         snprintf(attrs[na].name, sizeof attrs[na].name, "strata.merged_parts");
         snprintf(attrs[na].value, sizeof attrs[na].value, "%d", n);
@@ -183,6 +195,8 @@ int st_cli_merge(int argc, char **argv)
     if (rc == 0 && !st_cli_has_extension(out, ".exr") && !st_cli_has_extension(out, ".png"))
         rc = st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
     st_error err = {0};
+    if (rc == 0 && st_outfile_check(out, &err) != ST_OK)
+        rc = st_cli_fail(&err);
     if (rc == 0 && merge(parts, n, out, device, &err) != ST_OK)
         rc = st_cli_fail(&err);
     for (int i = 0; i < n; i++)

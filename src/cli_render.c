@@ -8,6 +8,7 @@
 #include "cli_progress.h"
 #include "cli_session.h"
 #include "st_film.h"
+#include "st_outfile.h"
 #include "st_plot.h"
 
 /* The adaptive render's samples per pixel as a colour-mapped picture. */
@@ -52,6 +53,10 @@ int st_cli_render(int argc, char **argv)
         return st_cli_usage_error("-o %s: a split render (--sample-range) writes its raw film "
                                   "to an EXR, for strata merge", out);
     st_error err = {0};
+    /* a typo in the output's folder must not cost the render */
+    if (st_outfile_check(out, &err) != ST_OK ||
+        (a.spp_map && st_outfile_check(a.spp_map, &err) != ST_OK))
+        return st_cli_fail(&err);
     st_cli_session s;
     st_image img = {0}, rgb = {0};
     st_render_stats st = {0};

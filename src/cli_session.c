@@ -82,6 +82,21 @@ int st_cli_has_extension(const char *path, const char *ext)
     return n > k && !strcasecmp(path + n - k, ext);
 }
 
+/* The film's counts (ST_EXR_INT_ATTRS, written as EXR ints), the same numbers
+ * the summary prints. */
+static int count_attrs(const st_render_stats *st, st_attr *attrs)
+{
+    const char *names[3] = {ST_EXR_INT_ATTRS};
+    const st_u32 counts[3] = {st->clamped, st->nonfinite, st->zero_weight};
+    for (int k = 0; k < 3; k++) {
+        snprintf(attrs[k].name, sizeof attrs[k].name, "%s", names[k]);
+        snprintf(attrs[k].value, sizeof attrs[k].value, "%u", counts[k]);
+        /* an EXR int holds counts below 2^31; a double holds every st_u32 exactly */
+        attrs[k].type = counts[k] <= INT32_MAX ? ST_ATTR_INT : ST_ATTR_DOUBLE;
+    }
+    return 3;
+}
+
 /* The render's settings, as EXR header attributes (at most ST_CLI_MAX_ATTRS). */
 int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                         const st_render_stats *st, st_attr *attrs)
@@ -133,7 +148,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     TYPED("render_seconds", ST_ATTR_DOUBLE, "%.6f", st->seconds);
 #undef ATTR
 #undef TYPED
-    return n;
+    return n + count_attrs(st, attrs + n);
 }
 
 int st_cli_settings_only(st_attr *attrs, int n)

@@ -45,12 +45,12 @@ st_u32 st_filter_parameters(st_u32 kind)
     }
 }
 
-/* A parameter that divides (σ, τ): positive and finite. */
-static st_status check_positive(const char *field, float v, st_error *err)
+/* A parameter inside its documented range (st_filter.h); NaN fails too. */
+static st_status check_range(const char *field, float v, float lo, float hi, st_error *err)
 {
-    if (!(v > 0.0f) || !isfinite(v))
-        return st_fail(err, ST_ERR_USAGE, "filter %s %g: must be positive and finite", field,
-                       (double)v);
+    if (!(v >= lo && v <= hi))
+        return st_fail(err, ST_ERR_USAGE, "filter %s %g: must be in [%g, %g]", field, (double)v,
+                       (double)lo, (double)hi);
     return ST_OK;
 }
 
@@ -58,17 +58,18 @@ st_status st_filter_check(const st_filter *f, float max_radius, st_error *err)
 {
     if (f->kind >= ST_FILTER_COUNT)
         return st_fail(err, ST_ERR_USAGE, "filter kind %u: unknown", f->kind);
-    if (!(f->radius > 0.0f) || !(f->radius <= max_radius))
-        return st_fail(err, ST_ERR_USAGE, "filter radius %g: must be in (0, %g]",
-                       (double)f->radius, (double)max_radius);
-    st_u32 uses = st_filter_parameters(f->kind);
-    if ((uses & ST_FILTER_USES_BC) && !isfinite(f->b))
-        return st_fail(err, ST_ERR_USAGE, "filter b %g: must be finite", (double)f->b);
-    if ((uses & ST_FILTER_USES_BC) && !isfinite(f->c))
-        return st_fail(err, ST_ERR_USAGE, "filter c %g: must be finite", (double)f->c);
-    if ((uses & ST_FILTER_USES_SIGMA) && check_positive("sigma", f->sigma, err) != ST_OK)
+    if (check_range("radius", f->radius, ST_FILTER_MIN_RADIUS, max_radius, err) != ST_OK)
         return err->status;
-    if ((uses & ST_FILTER_USES_TAU) && check_positive("tau", f->tau, err) != ST_OK)
+    st_u32 uses = st_filter_parameters(f->kind);
+    if ((uses & ST_FILTER_USES_BC) &&
+        (check_range("b", f->b, ST_FILTER_BC_MIN, ST_FILTER_BC_MAX, err) != ST_OK ||
+         check_range("c", f->c, ST_FILTER_BC_MIN, ST_FILTER_BC_MAX, err) != ST_OK))
+        return err->status;
+    if ((uses & ST_FILTER_USES_SIGMA) &&
+        check_range("sigma", f->sigma, ST_FILTER_SIGMA_MIN, ST_FILTER_SIGMA_MAX, err) != ST_OK)
+        return err->status;
+    if ((uses & ST_FILTER_USES_TAU) &&
+        check_range("tau", f->tau, ST_FILTER_TAU_MIN, ST_FILTER_TAU_MAX, err) != ST_OK)
         return err->status;
     return ST_OK;
 }

@@ -11,17 +11,56 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+/* Every live temporary's name, in static storage that a signal handler may read
+ * (st_outfile_remove_temporaries): a slot is claimed before its temporary is
+ * created and released only after the temporary is renamed or unlinked, so a
+ * temporary that exists is always listed. Names live in the slot itself, never
+ * in freed heap memory. */
+#define SLOTS 64
+static struct {
+    atomic_int used;  /* 0 free, 1 claimed (name may be incomplete), 2 name valid */
+    char name[PATH_MAX];
+} slots[SLOTS];
 
 struct st_outfile {
     FILE *stream;
     int err_no;  /* errno of the first failed write, 0 if none */
+    int slot;    /* index into slots */
     char *path;  /* destination */
     char *temp;  /* "<folder>/.<name>.tmp.<pid>.<n>" */
 };
+
+static int claim_slot(void)
+{
+    for (int i = 0; i < SLOTS; i++) {
+        int expect = 0;
+        if (atomic_compare_exchange_strong(&slots[i].used, &expect, 1))
+            return i;
+    }
+    return -1;
+}
+
+/* Lists f->temp before it is created. */
+static void list_temporary(const struct st_outfile *f)
+{
+    atomic_store(&slots[f->slot].used, 1);
+    strcpy(slots[f->slot].name, f->temp); /* fits: open checked the length */
+    atomic_store(&slots[f->slot].used, 2);
+}
+
+void st_outfile_remove_temporaries(void)
+{
+    for (int i = 0; i < SLOTS; i++)
+        if (atomic_load(&slots[i].used) == 2)
+            unlink(slots[i].name); /* async-signal-safe (POSIX.1-2008 §2.4.3) */
+}
 
 /* Tries this many names before giving up: only a crashed earlier run of the same pid (or a
  * hostile folder) leaves names of ours behind. */
@@ -42,6 +81,7 @@ static int open_temporary(struct st_outfile *f, size_t size)
     static atomic_uint serial;
     for (int tries = 0; tries < TEMP_TRIES; tries++) {
         temp_name(f, size, atomic_fetch_add(&serial, 1u));
+        list_temporary(f);
         int fd = open(f->temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd >= 0 || errno != EEXIST)
             return fd;
@@ -50,8 +90,11 @@ static int open_temporary(struct st_outfile *f, size_t size)
     return -1;
 }
 
+/* After the temporary is gone (renamed or unlinked): frees the slot and f. */
 static void release(struct st_outfile *f)
 {
+    if (f->slot >= 0)
+        atomic_store(&slots[f->slot].used, 0);
     free(f->path);
     free(f->temp);
     free(f);
@@ -63,10 +106,17 @@ st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
     if (!path || !path[0])
         return st_fail(err, ST_ERR_USAGE, "output: empty file name");
     size_t size = strlen(path) + 48; /* ".", ".tmp.", a pid and a counter */
+    if (size > PATH_MAX)
+        return st_fail(err, ST_ERR_IO, "%.200s...: file name too long", path);
     struct st_outfile *f = calloc(1, sizeof *f);
     if (f) {
+        f->slot = claim_slot();
         f->path = strdup(path);
         f->temp = malloc(size);
+    }
+    if (f && f->slot < 0) {
+        release(f);
+        return st_fail(err, ST_ERR_IO, "%s: more than %d outputs open at once", path, SLOTS);
     }
     if (!f || !f->path || !f->temp) {
         if (f)
@@ -171,4 +221,16 @@ void st_outfile_abort(st_outfile *f)
     fclose(f->stream);
     unlink(f->temp);
     release(f);
+}
+
+st_status st_outfile_check(const char *path, st_error *err)
+{
+    struct stat sb;
+    if (path && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        return st_fail(err, ST_ERR_IO, "%s: is a folder", path);
+    st_outfile *f;
+    if (st_outfile_open(path, &f, err) != ST_OK)
+        return err->status;
+    st_outfile_abort(f);
+    return ST_OK;
 }

@@ -237,14 +237,14 @@ static void filter_check_rejects_each_bad_parameter(void **state)
     st_filter f = st_filter_default(ST_FILTER_BOX);
     f.kind = ST_FILTER_COUNT;
     expect_rejected(f, 8.0f, "filter kind 7");
-    const float bad_radii[] = {0.0f, -1.0f, NAN, INFINITY, 9.0f};
-    for (int i = 0; i < 5; i++) {
+    const float bad_radii[] = {0.0f, -1.0f, NAN, INFINITY, 9.0f, 0.06f};
+    for (int i = 0; i < 6; i++) {
         f = st_filter_default(ST_FILTER_TRIANGLE);
         f.radius = bad_radii[i];
         expect_rejected(f, 8.0f, "filter radius");
     }
     f.radius = 9.0f;
-    expect_rejected(f, 8.0f, "filter radius 9: must be in (0, 8]");
+    expect_rejected(f, 8.0f, "filter radius 9: must be in [0.0625, 8]");
     st_error err = {0};
     assert_int_equal(st_filter_check(&f, 64.0f, &err), ST_OK); /* the caller's limit */
     const float bad_positive[] = {0.0f, -0.5f, NAN, INFINITY};
@@ -263,6 +263,62 @@ static void filter_check_rejects_each_bad_parameter(void **state)
     m = st_filter_default(ST_FILTER_MITCHELL);
     m.c = -INFINITY;
     expect_rejected(m, 8.0f, "filter c");
+    /* the documented ranges, just outside each end (values of the report) */
+    m = st_filter_default(ST_FILTER_MITCHELL);
+    m.b = -1572861.0f;
+    expect_rejected(m, 8.0f, "filter b -1.57286e+06: must be in [0, 1]");
+    m.b = 0.5f;
+    m.c = 1e30f;
+    expect_rejected(m, 8.0f, "filter c 1e+30: must be in [0, 1]");
+    m.c = -0.01f;
+    expect_rejected(m, 8.0f, "filter c -0.01");
+    st_filter g = st_filter_default(ST_FILTER_GAUSSIAN);
+    g.sigma = 17.0f;
+    expect_rejected(g, 8.0f, "filter sigma 17: must be in [0.015625, 16]");
+    g.sigma = 0.015f;
+    expect_rejected(g, 8.0f, "filter sigma 0.015");
+    st_filter l = st_filter_default(ST_FILTER_LANCZOS);
+    l.tau = 65.0f;
+    expect_rejected(l, 8.0f, "filter tau 65: must be in [0.0625, 64]");
+    l.tau = 0.06f;
+    expect_rejected(l, 8.0f, "filter tau 0.06");
+}
+
+/* At every corner of the accepted ranges (radius, B, C, σ, τ at their ends)
+ * the check passes and the FIS table is finite, starts at 0, ends at 1 and
+ * never decreases: ∫|f| > 0 over the bin centres. A Gaussian with σ = 1e-4 at
+ * r = 8 (outside the range) is 0 at every bin centre (|x| >= r/512, e^-12000),
+ * the NaN table the ranges exclude. */
+static void filter_fis_cdf_finite_at_range_corners(void **state)
+{
+    (void)state;
+    const float radii[2] = {ST_FILTER_MIN_RADIUS, ST_FILTER_MAX_RADIUS};
+    const float bc[2] = {ST_FILTER_BC_MIN, ST_FILTER_BC_MAX};
+    const float sigma[2] = {ST_FILTER_SIGMA_MIN, ST_FILTER_SIGMA_MAX};
+    const float tau[2] = {ST_FILTER_TAU_MIN, ST_FILTER_TAU_MAX};
+    static float cdf[ST_FIS_BINS + 1];
+    for (st_u32 k = 0; k < ST_FILTER_COUNT; k++)
+        for (int corner = 0; corner < 16; corner++) {
+            st_filter f = st_filter_default(k);
+            f.radius = radii[corner & 1];
+            f.b = bc[(corner >> 1) & 1];
+            f.c = bc[(corner >> 2) & 1];
+            f.sigma = sigma[(corner >> 3) & 1];
+            f.tau = tau[(corner >> 3) & 1];
+            st_error err = {0};
+            assert_int_equal(st_filter_check(&f, ST_FILTER_MAX_RADIUS, &err), ST_OK);
+            st_filter_fis_cdf(&f, cdf);
+            assert_true(cdf[0] == 0.0f && cdf[ST_FIS_BINS] == 1.0f);
+            for (st_u32 i = 1; i <= ST_FIS_BINS; i++)
+                if (!isfinite(cdf[i]) || cdf[i] < cdf[i - 1])
+                    fail_msg("%s corner %d: cdf[%u] = %g", st_filter_names[k], corner, i,
+                             (double)cdf[i]);
+        }
+    st_filter g = st_filter_default(ST_FILTER_GAUSSIAN);
+    g.radius = 8.0f;
+    g.sigma = 1e-4f;
+    st_filter_fis_cdf(&g, cdf);
+    assert_true(isnan(cdf[1])); /* why the range exists */
 }
 
 static void filter_names_and_parameters(void **state)
@@ -292,6 +348,7 @@ int main(void)
         cmocka_unit_test(filter_transform_at_zero_is_integral),
         cmocka_unit_test(filter_transform_matches_closed_forms),
         cmocka_unit_test(filter_check_rejects_each_bad_parameter),
+        cmocka_unit_test(filter_fis_cdf_finite_at_range_corners),
         cmocka_unit_test(filter_names_and_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -213,6 +213,39 @@ static void fixed_sum_independent_of_order(void **state)
     assert_true(ifwd == ishuf);
 }
 
+/* The splat's four sums: w L per channel and w, each clamped. The weight is
+ * clamped like the values (a huge weight once added unclamped and wrapped
+ * Σf), NaN (0 x inf) adds 0 and flags, and ST_FIXED_MAX_SPLATS splats of the
+ * largest weight still fit: exact in 128-bit integers. */
+static void fixed_splat_clamps_weight_and_values(void **state)
+{
+    (void)state;
+    st_i64 v[4];
+    st_u32 flag = 0;
+    st_fixed_splat(0.5f, 2.0f, -4.0f, 0.0f, v, &flag);
+    assert_int_equal(flag, 0);
+    assert_true(v[0] == 1 << 24 && v[1] == -(2 << 24) && v[2] == 0 && v[3] == 1 << 23);
+    const float huge[] = {65537.0f, 2.6e5f, 1e30f, INFINITY};
+    for (size_t i = 0; i < sizeof huge / sizeof huge[0]; i++)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            flag = 0;
+            st_fixed_splat(sign * huge[i], 1.0f, 0.0f, -1.0f, v, &flag);
+            assert_int_equal(flag, 1);
+            assert_true(v[3] == sign * ((int64_t)1 << 40));
+            assert_true(v[0] == sign * ((int64_t)1 << 40) && v[2] == -v[0]);
+            i128 sum = (i128)ST_FIXED_MAX_SPLATS * v[3];
+            assert_true(sum <= INT64_MAX && sum >= INT64_MIN);
+        }
+    flag = 0;
+    st_fixed_splat(INFINITY, 0.0f, 1.0f, 1.0f, v, &flag); /* inf x 0 is NaN */
+    assert_int_equal(flag, 1);
+    assert_true(v[0] == 0 && v[1] == (int64_t)1 << 40 && v[3] == (int64_t)1 << 40);
+    flag = 0;
+    st_fixed_splat(NAN, 1.0f, 1.0f, 1.0f, v, &flag);
+    assert_int_equal(flag, 1);
+    assert_true(v[0] == 0 && v[1] == 0 && v[2] == 0 && v[3] == 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -222,6 +255,7 @@ int main(void)
         cmocka_unit_test(fixed_clamp_flags_only_when_clamping),
         cmocka_unit_test(fixed_headroom_max_splats_fit_int64),
         cmocka_unit_test(fixed_sum_independent_of_order),
+        cmocka_unit_test(fixed_splat_clamps_weight_and_values),
     };
     return cmocka_run_group_tests_name("fixed", tests, NULL, NULL);
 }

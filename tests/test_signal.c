@@ -608,7 +608,7 @@ static void bad_options_are_usage_errors_naming_the_option(void **state)
      * options (test_signal.sh "radius past the limit") */
     expect_usage(o, "filter radius 0");
     o.recon.filter.radius = 65.0f; /* past ST_SIGNAL_MAX_RADIUS, not the renderer's 8 */
-    expect_usage(o, "must be in (0, 64]");
+    expect_usage(o, "must be in [0.0625, 64]");
     o.recon.filter = st_filter_default(ST_FILTER_GAUSSIAN);
     o.recon.filter.sigma = 0.0f;
     expect_usage(o, "filter sigma");

@@ -1,0 +1,81 @@
+#!/bin/sh
+# test_hostile.sh — hostile input and interruption (issue 12): signals while
+# an image is written, outputs checked before rendering, range and limit
+# checks on the options, stdout write failures. TAP output.
+. tests/tap.sh
+
+R="--width 16 --height 12 --spp 2 --quiet"
+
+# ---- interruption -------------------------------------------------------------------------
+# Signals render $1 (a path in $T) with signal $2 as soon as its temporary has
+# data, i.e. while the image is being written; sets st to the exit status and
+# caught to 1 when the temporary was seen.
+interrupt_at_write() {
+    out=$1 sig=$2
+    name=$(basename "$out")
+    $S render --width 2048 --height 2048 --spp 1 --sampler random --integrator direct --quiet \
+        -o "$out" > /dev/null 2> "$T/err" &
+    pid=$!
+    caught=0
+    i=0
+    while [ $i -lt 200000 ] && kill -0 $pid 2> /dev/null; do
+        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.tmp.*" -size +0 2> /dev/null)" ]; then
+            kill -$sig $pid
+            caught=1
+            break
+        fi
+        i=$((i + 1))
+    done
+    wait $pid
+    st=$?
+}
+interrupt_at_write "$T/int.exr" TERM
+check "SIGTERM while an EXR is written exits 143" '[ $caught = 1 ] && [ $st = 143 ]' "(caught $caught, status $st)"
+check "SIGTERM while an EXR is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T"))"
+interrupt_at_write "$T/int.png" INT
+check "SIGINT while a PNG is written exits 130" '[ $caught = 1 ] && [ $st = 130 ]' "(caught $caught, status $st)"
+check "SIGINT while a PNG is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T"))"
+
+# The output's folder is checked before the render: this one would take minutes.
+expect "missing output folder refused before rendering" 1 "^strata: error: $T/no/such/o.exr: cannot create" \
+    timeout 60 $S render --width 4096 --height 4096 --spp 4096 --sampler random --filter box --quiet -o "$T/no/such/o.exr"
+mkdir "$T/dir.png"
+expect "output that is a folder refused before rendering" 1 "^strata: error: $T/dir.png: is a folder" \
+    timeout 60 $S render --width 4096 --height 4096 --spp 4096 --sampler random --filter box --quiet -o "$T/dir.png"
+expect "unwritable --spp-map folder refused before rendering" 1 "^strata: error: $T/no/map.png" \
+    timeout 60 $S render --width 4096 --height 4096 --spp 4096 --sampler random --adaptive --quiet \
+    --spp-map "$T/no/map.png" -o "$T/ok.exr"
+expect "merge to a missing folder refused before reading parts" 1 "^strata: error: $T/no/m.exr" \
+    $S merge "$T/none.exr" -o "$T/no/m.exr"
+
+# ---- small things -------------------------------------------------------------------------
+expect "--sample-range 0:0 is refused" 2 "^strata: error: --sample-range 0:0: needs K < M <= spp" $S render $R --sample-range 0:0 -o "$T/r.exr"
+expect "--sample-range 3:3 is refused" 2 "--sample-range 3:3: needs K < M" $S render $R --sample-range 3:3 -o "$T/r.exr"
+expect "--sample-range past spp is refused" 2 "--sample-range 1:3: must satisfy" $S render $R --sample-range 1:3 -o "$T/r.exr"
+$S render $R -o "$T/a.exr" > /dev/null 2>&1
+expect "diff --max-rmse -1 is a usage error" 2 "^strata: error: diff: --max-rmse -1: must be >= 0" $S diff "$T/a.exr" "$T/a.exr" --max-rmse -1
+expect "devices to a full disk exits 1" 1 "^strata: error: stdout: write failed" sh -c "$S devices > /dev/full"
+expect "diff to a full disk exits 1" 1 "^strata: error: stdout: write failed" sh -c "$S diff $T/a.exr $T/a.exr > /dev/full"
+expect "the render summary to a full disk exits 1" 1 "^strata: error: stdout: write failed" sh -c "$S render --width 8 --height 8 --spp 1 -o $T/f.exr > /dev/full"
+expect "--discrepancy on a million points is refused with its cost" 2 "O(N^2) work, 1e+12 point pairs (about 4000 s" \
+    timeout 60 $S pattern --sampler halton --count 1000000 --discrepancy
+
+# ---- film arithmetic ---------------------------------------------------------------------
+expect "--filter-b outside [0, 1] is a usage error" 2 "^strata: error: --filter-b -1.57286e+06: must be in \[0, 1\]" $S render $R --filter mitchell --filter-b -1572861 -o "$T/b.exr"
+expect "--filter-c 1e30 is a usage error" 2 "^strata: error: --filter-c 1e+30: must be in \[0, 1\]" $S render $R --filter mitchell --filter-c 1e30 -o "$T/b.exr"
+expect "--filter-sigma past 16 is a usage error" 2 "^strata: error: --filter-sigma 100: must be in" $S render $R --filter gaussian --filter-sigma 100 -o "$T/b.exr"
+check "no image from refused filter parameters" '[ ! -e "$T/b.exr" ]'
+# An EXR int attribute's value (name, "int", size 4, little-endian value), or "missing".
+int_attr() {
+    python3 -c 'import struct, sys
+d = open(sys.argv[1], "rb").read()
+k = d.find(sys.argv[2].encode() + b"\0int\0\4\0\0\0")
+print(struct.unpack("<i", d[k + len(sys.argv[2]) + 9:][:4])[0] if k >= 0 else "missing")' "$1" "$2"
+}
+$S render zone-plate --env 1e6 --width 16 --height 16 --spp 2 -o "$T/hot.exr" > "$T/hot.sum" 2>&1
+clamped=$(sed -n 's/.*(\([0-9]*\) splats clamped.*/\1/p' "$T/hot.sum")
+check "a radiance of 1e6 is clamped and counted in the summary" '[ "${clamped:-0}" -gt 0 ]' "($(cat "$T/hot.sum"))"
+check "the EXR header holds the same clamped count as an int" '[ "$(int_attr "$T/hot.exr" strata.clamped_splats)" = "$clamped" ]' "($(int_attr "$T/hot.exr" strata.clamped_splats) vs $clamped)"
+check "the EXR header holds the non-finite and zero-weight counts as ints" '[ "$(int_attr "$T/hot.exr" strata.nonfinite)" = 0 ] && [ "$(int_attr "$T/hot.exr" strata.zero_weight_pixels)" = 0 ]'
+
+echo "1..$n"
