@@ -8,6 +8,7 @@
 
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "st_names.h"
 #include "st_version.h"
 
 static const char main_help[] =
@@ -58,5 +59,12 @@ int st_cli_main(int argc, char **argv)
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (!strcmp(argv[1], cmds[i].name))
             return check_stdout(cmds[i].run(argc - 1, argv + 1));
+    const char *names[sizeof cmds / sizeof cmds[0]];
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+        names[i] = cmds[i].name;
+    int k = st_name_nearest(names, (int)(sizeof names / sizeof names[0]), argv[1]);
+    if (k >= 0)
+        return st_cli_usage_error("unknown command '%s'; did you mean %s? (see strata --help)",
+                                  argv[1], names[k]);
     return st_cli_usage_error("unknown command '%s' (see strata --help)", argv[1]);
 }

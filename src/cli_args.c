@@ -7,8 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "cli_error.h"
+#include "cli_names.h"
 #include "st_trace_bench.h"
 
 static const char render_help[] =
@@ -18,7 +20,8 @@ static const char render_help[] =
     "  --width W, --height H  image size in pixels (default 512x512)\n"
     "  --spp N                samples per pixel (default 16)\n"
     "  --sample-range K:M     render only sample indices K..M-1 of the --spp (split renders)\n"
-    "  --sampler NAME         random, uniform, stratified, halton, hammersley, sobol (default halton)\n"
+    "  --sampler NAME         random, uniform, stratified, halton, hammersley, poisson,\n"
+    "                         best-candidate, sobol (default halton)\n"
     "  --scramble on|none     randomise the sampler (digit permutations, shuffles; default on)\n"
     "  --filter NAME          box, triangle, gaussian, mitchell, lanczos, catmull-rom,\n"
     "                         blackman-harris (default mitchell)\n"
@@ -120,13 +123,8 @@ static int parse_name(const char *opt, const char *const *names, int count, cons
                       st_u32 *out)
 {
     int i = st_name_lookup(names, count, s);
-    if (i < 0) {
-        char list[256] = "";
-        for (int k = 0; k < count; k++)
-            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", k ? ", " : "",
-                     names[k]);
-        return st_cli_usage_error("%s %s: unknown; expected one of %s", opt, s, list);
-    }
+    if (i < 0)
+        return st_cli_unknown_name(opt, s, names, count);
     *out = (st_u32)i;
     return ST_CLI_OK;
 }
@@ -288,14 +286,14 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_SAMPLER:
         return parse_name("--sampler", st_sampler_names, ST_SAMPLER_COUNT, v, &o->sampler);
     case O_SCRAMBLE:
-        if (!strcmp(v, "none") || !strcmp(v, "on")) {
-            o->scramble = !strcmp(v, "on");
+        if (!strcasecmp(v, "none") || !strcasecmp(v, "on")) {
+            o->scramble = !strcasecmp(v, "on");
             a->scramble_given = 1;
             return ST_CLI_OK;
         }
         return st_cli_usage_error("--scramble %s: expected on or none", v);
     case O_FILTER: {
-        st_u32 k;
+        st_u32 k = 0;
         if (parse_name("--filter", st_filter_names, ST_FILTER_COUNT, v, &k))
             return ST_CLI_EXIT_USAGE;
         o->filter = st_filter_default(k);
@@ -350,8 +348,7 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
             return ST_CLI_HELP;
         }
         if (c == '?')
-            return st_cli_usage_error("%s: unknown option %s (see strata %s --help)", argv[0],
-                                      argv[optind - 1], argv[0]);
+            return st_cli_unknown_option(argv[0], argv[optind - 1], options);
         if (c == ':')
             return st_cli_usage_error("%s: option %s needs a value", argv[0], argv[optind - 1]);
         if (parse_one(c, optarg, bench, a, &fa))

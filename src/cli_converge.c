@@ -13,6 +13,7 @@
 #include "cli_args.h"
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "cli_names.h"
 #include "cli_progress.h"
 #include "cli_session.h"
 #include "st_pattern.h"
@@ -23,7 +24,8 @@
 
 static const char converge_help[] =
     "usage: strata converge [SCENE] --sampler LIST --spp-list LIST [options] [render options]\n"
-    "  --sampler LIST        comma-separated samplers (random,stratified,halton,...)\n"
+    "  --sampler LIST        comma-separated samplers: random, uniform, stratified, halton,\n"
+    "                        hammersley, poisson, best-candidate, sobol\n"
     "  --spp-list LIST       comma-separated samples per pixel, e.g. 4,16,64,256\n"
     "  --reference FILE.exr  the reference image (same size), or\n"
     "  --reference-spp N     render it here: sobol, N spp, another seed (default 1024)\n"
@@ -60,7 +62,7 @@ static int parse_list(const char *opt, const char *s, int names, st_u32 *out, st
         if (names) {
             int k = st_sampler_lookup(tok);
             if (k < 0)
-                return st_cli_usage_error("%s: unknown sampler '%s'", opt, tok);
+                return st_cli_unknown_name(opt, tok, st_sampler_names, ST_SAMPLER_COUNT);
             out[(*n)++] = (st_u32)k;
         } else if (st_cli_parse_u32(opt, tok, 1, 1u << 20, &out[(*n)++])) {
             return ST_CLI_EXIT_USAGE;

@@ -9,6 +9,7 @@
 #include "cli_args.h"
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "cli_names.h"
 #include "filters.h"
 #include "st_filter.h"
 #include "st_plot.h"
@@ -50,7 +51,7 @@ static int parse(int argc, char **argv, filter_cli *c)
     while ((o = getopt_long(argc, argv, ":h", opts, NULL)) != -1) {
         switch (o) {
         case 'h': fputs(filter_help, stdout); return ST_CLI_HELP;
-        case '?': return st_cli_usage_error("filter: unknown option %s", argv[optind - 1]);
+        case '?': return st_cli_unknown_option("filter", argv[optind - 1], opts);
         case ':': return st_cli_usage_error("filter: option %s needs a value", argv[optind - 1]);
         case F_RADIUS: fa.radius = optarg; break;
         case F_B: fa.b = optarg; break;
@@ -65,7 +66,7 @@ static int parse(int argc, char **argv, filter_cli *c)
         return st_cli_usage_error("filter: needs a filter name (see strata filter --help)");
     int k = st_filter_lookup(argv[optind]);
     if (k < 0)
-        return st_cli_usage_error("filter %s: unknown (see strata filter --help)", argv[optind]);
+        return st_cli_unknown_name("filter", argv[optind], st_filter_names, ST_FILTER_COUNT);
     if (optind + 1 < argc)
         return st_cli_usage_error("filter: unexpected argument %s", argv[optind + 1]);
     c->f = st_filter_default((st_u32)k);

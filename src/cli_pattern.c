@@ -11,6 +11,7 @@
 #include "cli_args.h"
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "cli_names.h"
 #include "rng.h"
 #include "samplers.h"
 #include "st_pattern.h"
@@ -74,12 +75,12 @@ static int parse(int argc, char **argv, pattern_args *a)
         int rc = ST_CLI_OK;
         switch (c) {
         case 'h': fputs(pattern_help, stdout); return ST_CLI_HELP;
-        case '?': return st_cli_usage_error("pattern: unknown option %s", argv[optind - 1]);
+        case '?': return st_cli_unknown_option("pattern", argv[optind - 1], opts);
         case ':': return st_cli_usage_error("pattern: option %s needs a value", argv[optind - 1]);
         case P_SAMPLER: {
             int k = st_sampler_lookup(v);
             if (k < 0)
-                return st_cli_usage_error("--sampler %s: unknown (see strata pattern --help)", v);
+                return st_cli_unknown_name("--sampler", v, st_sampler_names, ST_SAMPLER_COUNT);
             a->sampler = (st_u32)k;
             a->have_sampler = 1;
             break;

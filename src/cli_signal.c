@@ -9,11 +9,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "cli_text.h"
 #include "cli_args.h"
 #include "cli_commands.h"
 #include "cli_error.h"
+#include "cli_names.h"
 #include "st_plot.h"
 #include "st_render.h"
 #include "st_signal.h"
@@ -167,8 +169,8 @@ static int parse_function(signal_cli *c)
     const char *name = given(c, S_FUNCTION) ? given(c, S_FUNCTION) : "sine";
     int k = st_name_lookup(st_signal_function_names, ST_SIGNAL_FUNCTION_COUNT, name);
     if (k < 0)
-        return st_cli_usage_error("--function %s: unknown; expected one of sine, sines, chirp, "
-                                  "step, square", name);
+        return st_cli_unknown_name("--function", name, st_signal_function_names,
+                                   ST_SIGNAL_FUNCTION_COUNT);
     fn->kind = (st_u32)k;
     if (check_function_options(c, fn->kind))
         return ST_CLI_EXIT_USAGE;
@@ -217,7 +219,7 @@ static int parse_filter(signal_cli *c)
     const char *name = given(c, S_FILTER) ? given(c, S_FILTER) : "sinc";
     st_cli_filter_args fa = {given(c, S_RADIUS), given(c, S_B), given(c, S_C), given(c, S_SIGMA),
                              given(c, S_TAU)};
-    r->sinc = !strcmp(name, "sinc");
+    r->sinc = !strcasecmp(name, "sinc");
     if (r->sinc) {
         static const int ids[] = {S_RADIUS, S_B, S_C, S_SIGMA, S_TAU, S_RECONSTRUCT};
         static const char *names[] = {"--filter-radius", "--filter-b", "--filter-c",
@@ -264,8 +266,7 @@ static int parse(int argc, char **argv, signal_cli *c)
             return ST_CLI_HELP;
         }
         if (o == '?')
-            return st_cli_usage_error("signal: unknown option %s (see strata signal --help)",
-                                      argv[optind - 1]);
+            return st_cli_unknown_option("signal", argv[optind - 1], signal_opts);
         if (o == ':')
             return st_cli_usage_error("signal: option %s needs a value", argv[optind - 1]);
         c->given[o - S_BASE] = optarg;

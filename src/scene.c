@@ -10,6 +10,7 @@
  * every vertex, orthonormal cameras); anything else is an error and no
  * scene. */
 #include "st_scene.h"
+#include "st_names.h"
 
 #include <errno.h>
 #include <math.h>
@@ -18,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "embedded.h"
 #include "gltf_shim.h"
@@ -66,7 +68,7 @@ static const st_embedded_file *find_builtin(const char *name)
 {
     for (unsigned i = 0; i < st_embedded_scene_count; i++) {
         size_t n = scene_stem(st_embedded_scenes[i].name);
-        if (n > 0 && strlen(name) == n && strncmp(name, st_embedded_scenes[i].name, n) == 0)
+        if (n > 0 && strlen(name) == n && strncasecmp(name, st_embedded_scenes[i].name, n) == 0)
             return &st_embedded_scenes[i];
     }
     return NULL;
@@ -108,6 +110,10 @@ static st_status unknown_builtin(const char *name, st_error *err)
         size_t used = strlen(list);
         snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", names[i]);
     }
+    int k = st_name_nearest(names, (int)n, name);
+    if (k >= 0)
+        return st_fail(err, ST_ERR_USAGE, "unknown built-in scene '%s'; did you mean %s? "
+                       "(built-in: %s)", name, names[k], list);
     return st_fail(err, ST_ERR_USAGE, "unknown built-in scene '%s' (built-in: %s)", name,
                    n ? list : "none");
 }

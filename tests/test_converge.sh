@@ -40,7 +40,7 @@ check "stratified slope $st is steeper than random's $r by 0.07 or more" 'awk -v
 
 expect "a bad spp list exits 2" 2 "--spp-list x: expected an integer" $S converge --sampler random --spp-list 4,x --csv -
 expect "a decreasing spp list exits 2" 2 "counts must increase" $S converge --sampler random --spp-list 16,4 --csv -
-expect "an unknown sampler in the list exits 2" 2 "unknown sampler 'dart'" $S converge --sampler random,dart --spp-list 4 --csv -
+expect "an unknown sampler in the list exits 2" 2 "--sampler dart: unknown; expected one of random" $S converge --sampler random,dart --spp-list 4 --csv -
 expect "a region outside the image exits 2" 2 "--region 30,0,8,8: outside the 32x32 image" $S converge --width 32 --height 32 --sampler random --spp-list 4 --region 30,0,8,8 --csv -
 expect "an empty region exits 2" 2 "--region 0,0,0,4: expected X,Y,W,H" $S converge --sampler random --spp-list 4 --region 0,0,0,4 --csv -
 expect "--spp is refused (the study sets it)" 2 "--spp is set by the study" $S converge --sampler random --spp-list 4 --spp 8 --csv -

@@ -22,6 +22,35 @@ $S render $R -o "$T/a.exr"
 check "an EXR names the version" 'grep -aq "software.string.*strata $v" "$T/a.exr"'
 check "an EXR's spp is an int" 'grep -aq "strata.spp.int" "$T/a.exr"'
 
+# names: any case; a close misspelling gets a suggestion; every name in each --help
+expect "a misspelt sampler gets a suggestion" 2 "^strata: error: --sampler hallton: unknown; did you mean halton?" $S render --sampler hallton
+expect "a misspelt filter gets a suggestion" 2 "--filter Mitchel: unknown; did you mean mitchell?" $S render --filter Mitchel
+expect "a prefix suggests the whole name" 2 "did you mean best-candidate?" $S pattern --sampler best --count 4
+expect "converge suggests sampler names" 2 "did you mean sobol?" $S converge --sampler sobl --spp-list 4
+expect "filter suggests filter names" 2 "^strata: error: filter gausian: unknown; did you mean gaussian?" $S filter gausian
+expect "a misspelt option gets a suggestion" 2 "^strata: error: render: unknown option --sampel; did you mean --sampler?" $S render --sampel halton
+expect "pattern options get suggestions" 2 "unknown option --cout; did you mean --count?" $S pattern --cout 3
+expect "a misspelt command gets a suggestion" 2 "unknown command 'rendr'; did you mean render?" $S rendr
+expect "a misspelt scene gets a suggestion" 2 "unknown built-in scene 'cornel-box'; did you mean cornell-box?" $S render cornel-box $R -o "$T/s.exr"
+expect "a far-off name gets none" 2 "--sampler zzzzzz: unknown; expected one of" $S render --sampler zzzzzz
+$S render CORNELL-BOX $R --sampler HALTON --filter Box --integrator Direct -o "$T/upper.exr"
+$S render cornell-box $R --sampler halton --filter box --integrator direct -o "$T/lower.exr"
+check "names are case-insensitive (same image)" \
+    '$S diff "$T/upper.exr" "$T/lower.exr" --max-rmse 0 > /dev/null 2>&1'
+samplers=$($S render --sampler zzzzzz 2>&1 | sed 's/.*expected one of //; s/,//g')
+filters=$($S render --filter zzzzzz 2>&1 | sed 's/.*expected one of //; s/,//g')
+check "the sampler list is read" '[ "$(echo $samplers | wc -w)" -ge 8 ]'
+for cmd in render bench converge pattern; do
+    missing=""
+    for s in $samplers; do $S $cmd --help | grep -q -- "$s" || missing="$missing $s"; done
+    check "$cmd --help names every sampler" '[ -z "$missing" ]' "(missing:$missing)"
+done
+for cmd in render bench filter signal; do
+    missing=""
+    for f in $filters; do $S $cmd --help | grep -q -- "$f" || missing="$missing $f"; done
+    check "$cmd --help names every filter" '[ -z "$missing" ]' "(missing:$missing)"
+done
+
 if command -v help2man > /dev/null && command -v make > /dev/null && [ -f Makefile ]; then
     make --no-print-directory -s install PREFIX="$T/prefix" > "$T/inst" 2>&1
     check "make install installs the binary" '[ -x "$T/prefix/bin/strata" ]' "$(tail -3 "$T/inst")"

@@ -1,0 +1,17 @@
+/* cli_names.h — the usage errors for a name or an option the command line
+ * does not know, with a "did you mean" when one is close (st_names.h). */
+#ifndef ST_CLI_NAMES_H
+#define ST_CLI_NAMES_H
+
+#include <getopt.h>
+
+/* "OPT VALUE: unknown; did you mean NAME? (one of: ...)", or without a close
+ * name "OPT VALUE: unknown; expected one of ..."; returns ST_CLI_EXIT_USAGE. */
+int st_cli_unknown_name(const char *opt, const char *value, const char *const *names, int count);
+
+/* "CMD: unknown option ARG; did you mean --NAME? (see strata CMD --help)",
+ * the suggestion only when one of opts is close (ARG's "=value" ignored);
+ * returns ST_CLI_EXIT_USAGE. */
+int st_cli_unknown_option(const char *cmd, const char *arg, const struct option *opts);
+
+#endif
