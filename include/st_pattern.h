@@ -1,7 +1,7 @@
 /* st_pattern.h — a sampler's point set as the laboratory sees it: the
  * samples of one pixel with spp = count, from the same functions of the
  * shared kernel headers that the renderer runs (kernels/samplers.h), or, for
- * the tiled samplers, the very tile the renderer uploads (st_sampling.h). So
+ * the tiled samplers, the renderer's tile (st_sampling_pixel_tile). So
  * `strata pattern --sampler halton --scramble none` prints
  * (Φ2(i), Φ3(i), Φ5(i), ...) and hammersley (i/N, Φ2(i), ...).
  * Tests: tests/test_pattern.c. */
@@ -18,8 +18,9 @@
 /* The first `dims` dimensions of `count` points of sampler `sampler`
  * (ST_SAMPLER_*), seed and scramble as for a render; *points holds
  * *out_count * dims floats in [0, 1), point-major, malloc'ed (caller frees).
- * *out_count equals count except for poisson, whose radius is chosen from
- * count and whose tile holds about that many points. */
+ * *out_count equals count except for the tiled samplers (poisson,
+ * best-candidate), whose tile of side x side pixels with spp points in each
+ * (side = floor(sqrt(count)), spp = count / side^2) holds side^2 spp <= count. */
 st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
                           st_u32 scramble, float **points, st_u32 *out_count, st_error *err);
 

@@ -96,6 +96,34 @@ st_status st_sampling_poisson_tile(st_u32 target_count, st_u32 seed, float **poi
 st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **points,
                                           st_error *err);
 
+/* The tile the tiled samplers (poisson, best-candidate) render from: a torus
+ * of side x side pixels with exactly spp points inside every pixel, spaced
+ * as blue noise across pixel borders (src/pixel_tile.c). Built in spp
+ * passes, each adding one point to every pixel in a random order:
+ *   best-candidate: of m = min(ST_PIXEL_TILE_K (pass + 1), ST_PIXEL_TILE_MAX_M)
+ *     uniform candidates inside the pixel, the one whose toroidal distance to
+ *     the nearest point so far is largest (Mitchell 1991, candidates confined
+ *     to the pixel; the first wins ties);
+ *   poisson: the first uniform dart inside the pixel at toroidal distance >= r
+ *     from every point so far, r^2 = ST_PIXEL_TILE_PACKING / spp pixel^2 at
+ *     first; when a pixel refuses ST_PIXEL_TILE_DARTS darts in a row the whole
+ *     tile is remade with r 1/16 smaller. *radius (may be NULL) is the r of
+ *     the tile returned (0 for best-candidate): every pair is >= r apart.
+ * Coordinates are multiples of 2^-16 pixel; distances are exact integers.
+ * Output: *points = 2 side^2 spp floats, point j = (x, y) in pixels, in
+ * [0, side)^2, lying in pixel j mod side^2 (row-major), as its sample
+ * j / side^2; malloc'ed, free() by the caller. Deterministic per (sampler,
+ * side, spp, seed): one splitmix64 stream.
+ * Errors: ST_ERR_USAGE (not a tiled sampler, side 0 or > 1024, spp 0, more
+ * than ST_PIXEL_TILE_MAX_POINTS points, NULL points), ST_ERR_NOMEM. */
+#define ST_PIXEL_TILE_K 4u
+#define ST_PIXEL_TILE_MAX_M 64u
+#define ST_PIXEL_TILE_PACKING 0.5
+#define ST_PIXEL_TILE_DARTS 256u
+#define ST_PIXEL_TILE_MAX_POINTS 4194304u
+st_status st_sampling_pixel_tile(st_u32 sampler, st_u32 side, st_u32 spp, st_u32 seed,
+                                 float **points, float *radius, st_error *err);
+
 /* Exact star discrepancy of n points (x,y pairs, in [0,1)^2), the lecture's
  *   D*_N = sup over a,b in [0,1] of | #{x_i in [0,a)x[0,b)} / N - a*b |,
  * with closed boxes [0,a]x[0,b] included as limits of open ones. The sup is

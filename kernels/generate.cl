@@ -5,9 +5,9 @@
  * pixel = g mod (width * height), sample = g / (width * height). Tiled samplers
  * (poisson, best-candidate): the tile of tile_size^2 pixels repeats over the
  * image; g picks repetition g / tile_count and point tile_begin + g mod
- * tile_count of it, and the pixel is wherever that point falls (pixels get
- * varying sample counts, as with pbrt-v2's best-candidate sampler); points
- * falling outside the image are dropped. */
+ * tile_count of it; the tile holds exactly spp points in each of its pixels,
+ * so every pixel of the image gets exactly spp samples; points of pixels
+ * outside the image are dropped. */
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
@@ -28,6 +28,28 @@ static float fis_offset(__global const float *cdf, float r, float u)
     return -r + ((float)lo + t) * (2.0f * r / (float)ST_FIS_BINS);
 }
 
+/* Coordinate px + t of a pixel's point, t in [0, 1): rounded down to a float
+ * below px + 1 when the sum rounds up onto the next pixel's edge. */
+static float in_pixel(st_u32 px, float t)
+{
+    float f = (float)px + t, edge = (float)(px + 1u);
+    return f < edge ? f : nextafter(edge, 0.0f);
+}
+
+/* Render item g of a tiled sampler: point j = tile_begin + g mod tile_count
+ * of repetition g / tile_count; the tile's point j lies in its pixel
+ * j mod side^2 as that pixel's sample j / side^2 (st_sampling_pixel_tile). */
+static st_sample tile_sample(const st_params *p, __global const st_tile_point *tile, st_u64 g)
+{
+    st_u32 rep = (st_u32)(g / p->tile_count), j = p->tile_begin + (st_u32)(g % p->tile_count);
+    st_u32 side = p->tile_size, tp = j % (side * side), tx = tp % side, ty = tp / side;
+    st_u32 px = rep % p->tiles_x * side + tx, py = rep / p->tiles_x * side + ty;
+    float fx = in_pixel(px, tile[j].x - (float)tx), fy = in_pixel(py, tile[j].y - (float)ty);
+    st_u32 pixel = min(py, p->height - 1u) * p->width + min(px, p->width - 1u);
+    st_sample out = {{fx, fy}, pixel, j / (side * side)};
+    return out;
+}
+
 /* Writes sample[i]: the film position and (pixel, sample index). With
  * filter importance sampling the sampler's two pixel dimensions are warped
  * through the CDF of |f| (their stratification carries over) into an offset
@@ -39,14 +61,7 @@ __kernel void generate_samples(ST_STAGE_PARAMS)
         return;
     st_u64 g = p.first_item + i;
     if (ST_SAMPLER_IS_TILED(p.sampler)) {
-        st_u32 rep = (st_u32)(g / p.tile_count);
-        st_u32 j = p.tile_begin + (st_u32)(g % p.tile_count);
-        float2 f = (float2)(tile[j].x, tile[j].y) +
-                   (float2)((float)(rep % p.tiles_x * p.tile_size),
-                            (float)(rep / p.tiles_x * p.tile_size));
-        st_u32 px = min((st_u32)f.x, p.width - 1u), py = min((st_u32)f.y, p.height - 1u);
-        st_sample out = {{f.x, f.y}, py * p.width + px, j};
-        sample[i] = out;
+        sample[i] = tile_sample(&p, tile, g);
         return;
     }
     st_u32 npix = p.width * p.height;

@@ -1,6 +1,7 @@
 /* pattern.c — point sets for the laboratory (see st_pattern.h). */
 #include "st_pattern.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,16 +20,20 @@ int st_pattern_is_random(st_u32 sampler, st_u32 scramble)
     return 1;
 }
 
-/* Tiled samplers: the tile itself; dimensions past 2 as the renderer draws
- * them (the counter-based hash of the point's sample id). */
+/* Tiled samplers: the renderer's tile (st_sampling_pixel_tile) of side x side
+ * pixels, side = floor(sqrt(count)), at spp = count / side^2, scaled to the
+ * unit square; dimensions past 2 as the renderer draws them (the
+ * counter-based hash of the point's pixel and sample). */
 static st_status tiled(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
                        float **points, st_u32 *n, st_error *err)
 {
     float *tile = NULL;
-    *n = count;
-    st_status rc = sampler == ST_SAMPLER_POISSON
-                       ? st_sampling_poisson_tile(count, seed, &tile, n, NULL, err)
-                       : st_sampling_best_candidate_tile(count, seed, &tile, err);
+    st_u32 side = (st_u32)sqrt((double)count);
+    while ((st_u64)side * side > count) /* floor, whatever sqrt rounded to */
+        side--;
+    st_u32 spp = count / (side * side), pixels = side * side;
+    *n = pixels * spp;
+    st_status rc = st_sampling_pixel_tile(sampler, side, spp, seed, &tile, NULL, err);
     if (rc != ST_OK)
         return rc;
     float *pts = malloc(sizeof(float) * (size_t)*n * dims);
@@ -37,9 +42,11 @@ static st_status tiled(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
         return st_fail(err, ST_ERR_NOMEM, "out of memory for %u points", *n);
     }
     for (st_u32 i = 0; i < *n; i++) {
-        st_u32 key = st_rng_key(seed, 0u, i);
-        for (st_u32 d = 0; d < dims; d++)
-            pts[(size_t)i * dims + d] = d < 2u ? tile[2 * i + d] : st_rng_unit(key, d);
+        st_u32 key = st_rng_key(seed, i % pixels, i / pixels);
+        for (st_u32 d = 0; d < dims; d++) {
+            float x = d < 2u ? tile[2 * i + d] / (float)side : st_rng_unit(key, d);
+            pts[(size_t)i * dims + d] = x < 1.0f ? x : nextafterf(1.0f, 0.0f);
+        }
     }
     free(tile);
     *points = pts;

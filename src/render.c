@@ -137,16 +137,15 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
 }
 
 /* Side of the tile in pixels for the tiled samplers: about 2^14 points, at
- * most 64 x 64 pixels (Bridson makes 2^14 points in milliseconds; the
- * best-candidate cost grows with the count, see st_sampling.h). */
+ * most 64 x 64 pixels (st_sampling_pixel_tile's cost grows with the count). */
 static st_u32 tile_side(st_u32 spp)
 {
     st_u32 t = (st_u32)sqrt(16384.0 / spp);
     return t < 1u ? 1u : t > 64u ? 64u : t;
 }
 
-/* Makes (or reuses) the tile of a tiled sampler: points in pixels within
- * [0, T)^2, uploaded once. */
+/* Makes (or reuses) the tile of a tiled sampler: spp points in each of its
+ * T x T pixels, uploaded once. */
 static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_error *err)
 {
     int tiled = ST_SAMPLER_IS_TILED(o->sampler);
@@ -157,15 +156,11 @@ static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_err
     r->scene_buf[ST_SCENE_tile] = NULL;
     if (!tiled) /* kernels take the argument anyway */
         return st_device_buffer_create(r->dev, 16, NULL, &r->scene_buf[ST_SCENE_tile], err);
-    st_u32 side = tile_side(o->spp), target = side * side * o->spp, count = target;
+    st_u32 side = tile_side(o->spp), count = side * side * o->spp;
     float *pts = NULL;
-    st_status rc = o->sampler == ST_SAMPLER_POISSON
-                       ? st_sampling_poisson_tile(target, o->seed, &pts, &count, NULL, err)
-                       : st_sampling_best_candidate_tile(target, o->seed, &pts, err);
+    st_status rc = st_sampling_pixel_tile(o->sampler, side, o->spp, o->seed, &pts, NULL, err);
     if (rc != ST_OK)
         return rc;
-    for (st_u32 i = 0; i < 2 * count; i++)
-        pts[i] *= (float)side;
     rc = st_device_buffer_create(r->dev, sizeof(st_tile_point) * count, pts, &r->scene_buf[ST_SCENE_tile], err);
     free(pts);
     r->tile_sampler = o->sampler;

@@ -64,7 +64,9 @@ static double min_toroidal_distance(const float *p, st_u32 n)
 }
 
 /* Best-candidate spreads points far better than jittered sampling: its
- * minimum distance (relative to the spacing 1/sqrt(N)) is above 0.5, while
+ * minimum distance (relative to the spacing 1/sqrt(N)) is above 0.3 (its
+ * candidates are confined to their pixel, one point per pixel at N = 1024:
+ * measured 0.35..0.38; unconfined it was 0.5 and more), while
  * jittered points, independent across strata, come almost together somewhere
  * (below 0.15 at N = 1024 for every seed tried). */
 static void best_candidate_min_distance_far_above_jittered(void **state)
@@ -77,7 +79,7 @@ static void best_candidate_min_distance_far_above_jittered(void **state)
         double spacing = 1.0 / sqrt(1024.0);
         double dbc = min_toroidal_distance(bc, 1024) / spacing;
         double djit = min_toroidal_distance(jit, 1024) / spacing;
-        if (!(dbc > 0.5 && djit < 0.15 && dbc > 3 * djit))
+        if (!(dbc > 0.3 && djit < 0.15 && dbc > 2 * djit))
             fail_msg("seed %u: best-candidate %.3f, jittered %.3f (x spacing)", seed, dbc, djit);
         free(bc);
         free(jit);

@@ -342,6 +342,31 @@ static void fis_constant_radiance(void **state)
     }
 }
 
+/* The tiled samplers give every pixel exactly spp samples: with the box
+ * filter (radius 1/2) a sample weighs 1 in its own pixel only, so the weight
+ * sum W of every pixel is spp, and the furnace is 1 everywhere. 70 x 10
+ * pixels: one whole 64-pixel tile and a cut one across; spp 1 and 3. */
+static void tiled_samplers_give_every_pixel_spp(void **state)
+{
+    (void)state;
+    st_u32 samplers[2] = {ST_SAMPLER_POISSON, ST_SAMPLER_BEST_CANDIDATE}, spps[2] = {1, 3};
+    for (int s = 0; s < 2; s++)
+        for (int k = 0; k < 2; k++) {
+            st_render_options o = small(70, 10, spps[k]);
+            o.sampler = samplers[s];
+            o.filter = st_filter_default(ST_FILTER_BOX);
+            o.max_depth = 0;
+            st_render_stats st;
+            st_image img = render_stats("furnace", &o, &st);
+            assert_int_equal(st.zero_weight, 0);
+            for (size_t i = 0; i < 70u * 10; i++)
+                if (img.data[4 * i + 3] != (float)spps[k] || img.data[4 * i] != 1.0f)
+                    fail_msg("sampler %s spp %u pixel %zu: W %g value %g", st_sampler_names[o.sampler],
+                             spps[k], i, (double)img.data[4 * i + 3], (double)img.data[4 * i]);
+            st_image_free(&img);
+        }
+}
+
 /* The overflow guard: radiance 10^5 (tests/scenes/hot-furnace.gltf) is above
  * ST_SPLAT_MAX = 2^16, so with a box filter every splat is clamped to 2^16
  * and counted; at 10^4 nothing is. */
@@ -511,6 +536,7 @@ int main(void)
         cmocka_unit_test(constant_radiance_reconstructs_exactly),
         cmocka_unit_test(furnace_matches_closed_form),
         cmocka_unit_test(fis_constant_radiance),
+        cmocka_unit_test(tiled_samplers_give_every_pixel_spp),
         cmocka_unit_test(splat_clamp_trips_above_limit),
         cmocka_unit_test(adaptive_constant_scene_stops_at_min),
         cmocka_unit_test(adaptive_edge_gets_more_samples),
