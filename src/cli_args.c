@@ -257,7 +257,7 @@ static int parse_trace_bench(int c, const char *v, int bench, st_cli_render_args
         return st_cli_usage_error("%s: only `strata bench` takes it", opt);
     if (c == O_COUNT)
         return st_cli_parse_u32("--count", v, 1, 1u << 30, &a->ray_count);
-    st_u32 set;
+    st_u32 set = 0;
     if (parse_name("--rays", st_ray_set_names, ST_RAYS_COUNT, v, &set))
         return ST_CLI_EXIT_USAGE;
     a->rays = 1 + (int)set;
