@@ -66,9 +66,12 @@ typedef struct st_scene {
     st_scene_camera *cameras;
     float bounds_min[3], bounds_max[3];
     st_u32 dropped;        /* degenerate (zero-area) or non-finite triangles dropped */
+    /* Power radiated by the emissive surfaces (W in the renderer's units:
+     * π x area x mean of emissive factor x the emissive texture's mean). */
+    double emitted_power;
     /* Uniform environment radiance (linear RGB) of a render that asks for
-     * none (st_render_options.env): (1, 1, 1) when no material emits (so
-     * that any model renders visibly), else 0. */
+     * none (st_render_options.env): (1, 1, 1) when nothing emits
+     * (emitted_power 0, so that any model renders visibly), else 0. */
     float default_env[3];
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;

@@ -36,6 +36,8 @@ textured.glb  a quad with a 4 x 4 RGBA texture stored in the GLB's BIN chunk
 cutout        two quads seen by an orthographic camera: the front one red,
               alpha MASK with its left half at alpha 0; the back one green
               (both Lambertian: specularFactor 0).
+black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
+              nothing emits.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -527,6 +529,15 @@ def write_cutout():
     write_json("cutout.gltf", g)
 
 
+def write_lighting():
+    # textured_quad whose emissive texture is black: emissiveFactor > 0, yet
+    # nothing emits, so the white environment must light it
+    with open(os.path.join(HERE, "textured_quad.gltf"), encoding="ascii") as f:
+        g = json.load(f)
+    g["images"][2]["uri"] = png_uri(constant_png((0, 0, 0)))
+    write_json("black_emitter.gltf", g)
+
+
 def write_bad():
     # One valid base (u16 layout with a data: URI), then one fault per file.
     def base():
@@ -632,6 +643,7 @@ def main():
     write_textured_quad()
     write_textured_glb()
     write_cutout()
+    write_lighting()
     write_bad()
 
 
