@@ -30,6 +30,7 @@
 
 #include <tiny_gltf.h>
 #include <stb/stb_image.h> /* Debian's libstb holds the implementation */
+#include <cjson/cJSON.h>    /* Debian libcjson-dev: extensionsRequired, before tinygltf */
 
 #include <cerrno>
 #include <climits>
@@ -196,6 +197,45 @@ void check_glb(const unsigned char *b, size_t size)
     }
 }
 
+/* The extensions strata implements; any other in extensionsRequired is an
+ * error, any other in extensionsUsed a warning. */
+const char *const supported_extensions[] = {
+    "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
+    "KHR_materials_unlit", "KHR_texture_transform"};
+
+bool supported(const char *ext)
+{
+    for (const char *s : supported_extensions)
+        if (strcmp(s, ext) == 0)
+            return true;
+    return false;
+}
+
+/* extensionsRequired, read from the JSON (a GLB's first chunk) before
+ * tinygltf parses the rest, so that a Draco or meshopt file fails naming
+ * the extension instead of on the buffers it cannot decode. */
+void check_required(const unsigned char *bytes, size_t size, bool glb)
+{
+    const char *json = reinterpret_cast<const char *>(bytes);
+    size_t len = size;
+    if (glb) {
+        if (size < 20 || le32(bytes + 16) != 0x4E4F534Au) /* "JSON" */
+            return; /* tinygltf reports it */
+        json += 20;
+        len = le32(bytes + 12);
+    }
+    cJSON *root = cJSON_ParseWithLength(json, len);
+    const cJSON *req = root ? cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired") : nullptr;
+    std::string missing;
+    const cJSON *e = nullptr;
+    cJSON_ArrayForEach(e, req)
+        if (cJSON_IsString(e) && !supported(e->valuestring) && missing.empty())
+            missing = e->valuestring;
+    cJSON_Delete(root);
+    if (!missing.empty())
+        fail("requires extension %.80s, which strata does not support", missing.c_str());
+}
+
 void parse(Model &model, const unsigned char *bytes, size_t size, const char *base_dir,
            image_bytes &images, notes &warn_out)
 {
@@ -204,6 +244,7 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     const bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
     if (glb)
         check_glb(bytes, size);
+    check_required(bytes, size, glb);
     fs_context ctx = {base_dir};
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
@@ -218,15 +259,9 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
         std::string why = first_line(err.empty() ? warn : err);
         fail("%s", why.empty() ? "tinygltf could not parse the file" : why.c_str());
     }
-    for (const std::string &ext : model.extensionsRequired) {
-        if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
-            ext == "KHR_mesh_quantization")
-            fail("requires extension %s, which strata does not support", ext.c_str());
-        if (ext != "KHR_materials_emissive_strength" && ext != "KHR_texture_transform" &&
-            ext != "KHR_materials_specular" && ext != "KHR_materials_ior" &&
-            ext != "KHR_materials_unlit")
-            note(warn_out, "requires extension %s, which strata ignores", ext.c_str());
-    }
+    for (const std::string &ext : model.extensionsUsed)
+        if (!supported(ext.c_str()))
+            note(warn_out, "uses extension %.80s, which strata ignores", ext.c_str());
 }
 
 /* ---- transforms ------------------------------------------------------------ */
@@ -947,6 +982,26 @@ st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
     return {uint32_t(w), uint32_t(h), rgba};
 }
 
+/* Image i decoded, or, where it cannot be read or decoded, a warning naming
+ * it and a 1 x 1 white image in its place: every slot multiplies its
+ * factor by the texture, so white leaves the factor alone and the model
+ * still renders. */
+st_gltf_image decode_or_white(const Model &m, int i, const image_bytes &bytes, notes &warn)
+{
+    try {
+        return decode_image(m, i, bytes);
+    } catch (const shim_error &e) {
+        if (e.status != ST_ERR_FORMAT)
+            throw;
+        note(warn, "%s: replaced by a white texture", e.msg.c_str());
+    }
+    unsigned char *white = static_cast<unsigned char *>(malloc(4)); /* stbi_image_free frees */
+    if (!white)
+        throw shim_error{ST_ERR_NOMEM, "out of memory"};
+    memset(white, 255, 4);
+    return {1u, 1u, white};
+}
+
 /* ---- materials ------------------------------------------------------------- */
 
 /* The textureInfo object `key` of an extension object (index -1: none). */
@@ -1142,7 +1197,7 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
         memset(out.images, 0, out.image_count * sizeof *out.images);
     for (const st_gltf_texture &t : table.refs)
         if (!out.images[size_t(t.image)].rgba)
-            out.images[size_t(t.image)] = decode_image(m, t.image, bytes);
+            out.images[size_t(t.image)] = decode_or_white(m, t.image, bytes, warn);
     out.camera_count = cams.size();
     out.cameras = copy_out(cams);
 }

@@ -36,6 +36,9 @@ textured.glb  a quad with a 4 x 4 RGBA texture stored in the GLB's BIN chunk
 cutout        two quads seen by an orthographic camera: the front one red,
               alpha MASK with its left half at alpha 0; the back one green
               (both Lambertian: specularFactor 0).
+image_*       textured_quad with an image that cannot be decoded or read: a
+              warning, and a white texture in its place.
+uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning.
 black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
               nothing emits.
 bad_*         malformed files, each wrong in one way (named by the file).
@@ -616,8 +619,15 @@ def write_bad():
 
     def not_png(g):
         g["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(b"not a png").decode()
-    variant("bad_image_data.gltf", not_png)
-    variant("bad_image_missing.gltf", lambda g: g["images"][0].update(uri="no_such_image.png"))
+    # unreadable images are warnings (a white texture replaces them), not faults
+    variant("image_undecodable.gltf", not_png)
+    variant("image_missing.gltf", lambda g: g["images"][0].update(uri="no_such_image.png"))
+
+    def draco(g):  # required and not supported; its bufferView is broken too
+        g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+        g["accessors"][0]["bufferView"] = 99
+    variant("bad_requires_draco.gltf", draco)
+    variant("uses_sheen.gltf", lambda g: g.update(extensionsUsed=["KHR_materials_sheen"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
             ["baseColorTexture"].update(index=7))
     variant("bad_image_index.gltf", lambda g: g["textures"][1].update(source=9))
