@@ -53,6 +53,8 @@ typedef struct st_scene {
     float *positions;      /* 9 floats per triangle: v0 v1 v2, world space */
     float *normals;        /* 9 floats per triangle: unit shading normals per vertex, world space */
     float *uvs;            /* 6 floats per triangle: TEXCOORD_0 (u, v) per vertex, 0 without */
+    float *tangents;       /* 12 floats per triangle: tangent xyz, handedness w per vertex
+                              (st_tri_tangents; 0 without texture coordinates) */
     st_u32 *tri_material;  /* material index per triangle (< material_count) */
     st_u32 material_count; /* >= 1: a default white (0.8) material is appended if the file has none or a primitive has none */
     st_material *materials;

@@ -469,6 +469,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->flags = in->unlit ? ST_MAT_UNLIT : 0u;
         m->specular_tex = texture_index(in->specular_tex);
         m->specular_color_tex = texture_index(in->specular_color_tex);
+        m->normal_tex = texture_index(in->normal_tex);
+        m->normal_scale = in->normal_scale;
     }
     if (need_default) {
         st_material *m = &s->materials[g->material_count];
@@ -479,7 +481,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->base_color_tex = m->emission_tex = m->metallic_roughness_tex = ST_NO_TEXTURE;
         m->specular[0] = m->specular[1] = m->specular[2] = m->specular[3] = 1.0f;
         m->ior = 1.5f;
-        m->specular_tex = m->specular_color_tex = ST_NO_TEXTURE;
+        m->specular_tex = m->specular_color_tex = m->normal_tex = ST_NO_TEXTURE;
+        m->normal_scale = 1.0f;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;
@@ -610,6 +613,8 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     s->positions = g->positions;
     s->normals = g->normals;
     s->uvs = g->uvs;
+    s->tangents = g->tangents;
+    g->tangents = NULL;
     s->tri_material = g->tri_material;
     g->positions = g->normals = g->uvs = NULL;
     g->tri_material = NULL;
@@ -677,6 +682,7 @@ void st_scene_destroy(st_scene *scene)
     free(scene->positions);
     free(scene->normals);
     free(scene->uvs);
+    free(scene->tangents);
     free(scene->tri_material);
     free(scene->materials);
     free(scene->textures);

@@ -41,6 +41,8 @@ image_*       textured_quad with an image that cannot be decoded or read: a
 uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning.
 black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
               nothing emits.
+normal_tilt   textured_quad as a white Lambertian plane whose constant normal
+              map tilts the shading normal by about 60 degrees.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -539,6 +541,14 @@ def write_lighting():
         g = json.load(f)
     g["images"][2]["uri"] = png_uri(constant_png((0, 0, 0)))
     write_json("black_emitter.gltf", g)
+    # textured_quad as a white Lambertian plane with a constant normal map
+    # tilting the normal about 60 degrees (bytes 238, 128, 191)
+    g["images"].append({"uri": png_uri(constant_png((238, 128, 191)))})
+    g["textures"].append({"source": len(g["images"]) - 1})
+    g["materials"] = [{"name": "tilted", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                       "normalTexture": {"index": len(g["textures"]) - 1},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+    write_json("normal_tilt.gltf", g)
 
 
 def write_bad():
