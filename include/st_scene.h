@@ -53,6 +53,8 @@ typedef struct st_scene {
     float *positions;      /* 9 floats per triangle: v0 v1 v2, world space */
     float *normals;        /* 9 floats per triangle: unit shading normals per vertex, world space */
     float *uvs;            /* 6 floats per triangle: TEXCOORD_0 (u, v) per vertex, 0 without */
+    float *tangents;       /* 12 floats per triangle: tangent xyz, handedness w per vertex
+                              (st_tri_tangents; 0 without texture coordinates) */
     st_u32 *tri_material;  /* material index per triangle (< material_count) */
     st_u32 material_count; /* >= 1: a default white (0.8) material is appended if the file has none or a primitive has none */
     st_material *materials;
@@ -66,9 +68,12 @@ typedef struct st_scene {
     st_scene_camera *cameras;
     float bounds_min[3], bounds_max[3];
     st_u32 dropped;        /* degenerate (zero-area) or non-finite triangles dropped */
+    /* Power radiated by the emissive surfaces (W in the renderer's units:
+     * π x area x mean of emissive factor x the emissive texture's mean). */
+    double emitted_power;
     /* Uniform environment radiance (linear RGB) of a render that asks for
-     * none (st_render_options.env): (1, 1, 1) when no material emits (so
-     * that any model renders visibly), else 0. */
+     * none (st_render_options.env): (1, 1, 1) when nothing emits
+     * (emitted_power 0, so that any model renders visibly), else 0. */
     float default_env[3];
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;

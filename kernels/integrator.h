@@ -24,8 +24,35 @@ typedef struct st_surface {
     float travelled; /* path length at the point (ray-cone width) */
 } st_surface;
 
+/* The shading normal ns bent by a normal map's texel c (tangent-space
+ * normal 2 c - 1, x and y times normalTexture.scale) in the frame of the
+ * interpolated tangent, made orthogonal to ns, and the bitangent w x
+ * cross(ns, tangent). Kept at least a little above the geometric surface
+ * ng, so that a map cannot turn the shading side over; ns stays where the
+ * triangle has no tangent (no texture coordinates). */
+static float3 normal_mapped(const st_scene_refs *s, st_hit h, float3 ns, float3 ng, float4 c,
+                            float scale)
+{
+    __global const st_tri_tangents *tt = &s->tangents[h.prim];
+    float3 tg = (1.0f - h.u - h.v) * vload4(0, tt->t0).xyz + h.u * vload4(0, tt->t1).xyz +
+                h.v * vload4(0, tt->t2).xyz;
+    float w = tt->t0[3];
+    tg -= ns * dot(ns, tg);
+    float len = length(tg);
+    if (!(len > 1e-6f) || w == 0.0f)
+        return ns;
+    tg /= len;
+    float3 t = 2.0f * c.xyz - 1.0f;
+    float3 n = t.x * scale * tg + t.y * scale * w * cross(ns, tg) + t.z * ns;
+    float up = dot(n, ng);
+    if (up < 0.01f)
+        n += (0.01f - up) * ng;
+    len = length(n);
+    return len > 0.0f ? n / len : ns;
+}
+
 /* The material's factors at hit h times their textures, looked up with the
- * ray cone's footprint; the BRDF made from them. */
+ * ray cone's footprint; the BRDF made from them; the normal map. */
 static void surface_material(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                              st_hit h, st_surface *v)
 {
@@ -37,7 +64,7 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
     v->le = vload4(0, m.emission).xyz;
     if (m.base_color_tex != ST_NO_TEXTURE || m.emission_tex != ST_NO_TEXTURE ||
         m.metallic_roughness_tex != ST_NO_TEXTURE || m.specular_tex != ST_NO_TEXTURE ||
-        m.specular_color_tex != ST_NO_TEXTURE) {
+        m.specular_color_tex != ST_NO_TEXTURE || m.normal_tex != ST_NO_TEXTURE) {
         float2 uv = tri_uv_at(s->tri_uv, t, h.u, h.v);
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * v->travelled;
@@ -50,6 +77,10 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
         roughness *= mr.y;
         spec.w *= tex_lookup(s, m.specular_tex, uv, lod, width, cos_nd, f).w;
         spec.xyz *= tex_lookup(s, m.specular_color_tex, uv, lod, width, cos_nd, f).xyz;
+        if (m.normal_tex != ST_NO_TEXTURE)
+            v->ns = normal_mapped(s, h, v->ns, v->ng,
+                                  tex_lookup(s, m.normal_tex, uv, lod, width, cos_nd, f),
+                                  m.normal_scale);
     }
     float c[3] = {v->base.x, v->base.y, v->base.z}, sc[3] = {spec.x, spec.y, spec.z};
     v->brdf = st_brdf_make(c, metallic, roughness, spec.w, sc, m.ior);

@@ -156,8 +156,9 @@ typedef struct st_tri_normals {
  * texture where *_tex is a texture descriptor index (ST_NO_TEXTURE: none):
  * base_color_tex (sRGB RGB, linear alpha), emission_tex (sRGB),
  * metallic_roughness_tex (linear; metallic in B, roughness in G),
- * specular_tex (KHR_materials_specular's specularTexture, linear, A) and
- * specular_color_tex (specularColorTexture, sRGB RGB). */
+ * specular_tex (KHR_materials_specular's specularTexture, linear, A),
+ * specular_color_tex (specularColorTexture, sRGB RGB) and normal_tex (the
+ * normal map, read in the frame of st_tri_tangents). */
 typedef struct st_material {
     st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
     st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
@@ -169,7 +170,9 @@ typedef struct st_material {
     st_f32 specular[4];    /* specularColorFactor RGB, specularFactor (1, 1, 1, 1) */
     st_f32 ior;            /* KHR_materials_ior, 1.5 */
     st_u32 specular_tex, specular_color_tex;
-    st_u32 pad;
+    st_u32 normal_tex;     /* normalTexture: tangent-space normals, linear RGB */
+    st_f32 normal_scale;   /* normalTexture.scale: multiplies the normal's x and y */
+    st_u32 pad[3];
 } st_material;
 
 /* A texture as a material samples it: one image's mip chain (RGBA8 texels
@@ -188,6 +191,16 @@ typedef struct st_texture {
     st_u32 wrap_s, wrap_t; /* ST_WRAP_* */
     st_u32 pad[2];
 } st_texture;
+
+/* Per-vertex tangents of a triangle, in BVH order: xyz the unit tangent
+ * (along increasing u) in world space, w the handedness: the bitangent is
+ * w x cross(normal, tangent) (glTF's TANGENT; generated from the texture
+ * coordinates where a mesh has none; all 0 without texture coordinates). */
+typedef struct st_tri_tangents {
+    st_f32 t0[4];
+    st_f32 t1[4];
+    st_f32 t2[4];
+} st_tri_tangents;
 
 /* Texture coordinates (TEXCOORD_0) of a triangle's vertices, in BVH order,
  * and lod = 1/2 log2(uv area / world area) (Akenine-Moller et al., "Texture
@@ -396,6 +409,7 @@ typedef struct st_tile_point {
     X(light_cdf, st_f32)                                                                    \
     X(light_pdf, st_f32) /* P(choose the triangle) / its area; 0: not a light */           \
     X(tri_uv, st_tri_uv)                                                                    \
+    X(tangents, st_tri_tangents)                                                            \
     X(textures, st_texture)                                                                 \
     X(texels, st_u32)                                                                       \
     X(tile, st_tile_point)                                                                  \
@@ -427,6 +441,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
 #define ST_LAYOUT_STRUCTS(X)                                                                \
     X(st_bvh_node) X(st_triangle) X(st_tri_normals) X(st_material) X(st_texture)            \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
+    X(st_tri_tangents)                                                                      \
     X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
@@ -438,6 +453,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_material, base_color_tex) X(st_material, emission_tex)                             \
     X(st_material, metallic_roughness_tex) X(st_material, flags) X(st_material, specular)   \
     X(st_material, ior) X(st_material, specular_tex) X(st_material, specular_color_tex)     \
+    X(st_material, normal_tex) X(st_material, normal_scale)                                 \
+    X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
     X(st_texture, width) X(st_texture, height) X(st_texture, levels) X(st_texture, flags)    \
     X(st_texture, wrap_s) X(st_texture, wrap_t)                                             \
@@ -474,11 +491,12 @@ ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes"
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 96, "st_material: 96 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");
 ST_STATIC_ASSERT(sizeof(st_tri_uv) == 32, "st_tri_uv: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_tri_tangents) == 48, "st_tri_tangents: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_shading) == 32, "st_shading: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");

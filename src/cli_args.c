@@ -39,7 +39,7 @@ static const char render_help[] =
     "  --noise-threshold X    relative error at which a pixel stops (default 0.01, as Cycles)\n"
     "  --spp-map FILE.png     the samples each pixel received, colour-mapped with a legend\n"
     "  --env R,G,B | --env X  uniform environment light (linear radiance; 0: none). Default:\n"
-    "                         white (1) for a scene without emissive materials, else none\n"
+    "                         white (1), with a note, for a scene that emits no light, else none\n"
     "  --texture-filter none|bilinear|trilinear   texture lookups: nearest texel, bilinear,\n"
     "                         or mip-mapped trilinear with ray-cone footprints (default)\n"
     "  --camera N             the scene's N-th camera node (0 = the first, in scene order)\n"

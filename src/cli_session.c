@@ -34,6 +34,7 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; i < s->scene->warning_count; i++)
         fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
+    st_cli_light_notes(s->scene, &a->opt);
     /* the camera is checked before the device starts, in the flag's words */
     st_scene_camera cam;
     if (st_scene_view_camera(s->scene, a->opt.camera, &cam, err) != ST_OK) {
@@ -47,6 +48,21 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
         return err->status;
     s->build_seconds = st_cli_now() - t0;
     return st_renderer_create(s->dev, s->scene, &s->renderer, err);
+}
+
+void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
+{
+    float env[3];
+    st_render_env(scene, o, env);
+    int has_env = env[0] > 0.0f || env[1] > 0.0f || env[2] > 0.0f;
+    if (scene->emitted_power > 0.0)
+        return;
+    if (!o->env_given)
+        fprintf(stderr, "strata: note: %s: nothing in the scene emits light; it is lit by the "
+                        "white environment (--env to change)\n", scene->name);
+    else if (!has_env)
+        fprintf(stderr, "strata: warning: %s: no light at all (nothing emits and --env is 0): "
+                        "the image will be black\n", scene->name);
 }
 
 st_status st_cli_device_words(st_error *err)

@@ -30,6 +30,7 @@
 
 #include <tiny_gltf.h>
 #include <stb/stb_image.h> /* Debian's libstb holds the implementation */
+#include <cjson/cJSON.h>    /* Debian libcjson-dev: extensionsRequired, before tinygltf */
 
 #include <cerrno>
 #include <climits>
@@ -196,6 +197,45 @@ void check_glb(const unsigned char *b, size_t size)
     }
 }
 
+/* The extensions strata implements; any other in extensionsRequired is an
+ * error, any other in extensionsUsed a warning. */
+const char *const supported_extensions[] = {
+    "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
+    "KHR_materials_unlit", "KHR_texture_transform"};
+
+bool supported(const char *ext)
+{
+    for (const char *s : supported_extensions)
+        if (strcmp(s, ext) == 0)
+            return true;
+    return false;
+}
+
+/* extensionsRequired, read from the JSON (a GLB's first chunk) before
+ * tinygltf parses the rest, so that a Draco or meshopt file fails naming
+ * the extension instead of on the buffers it cannot decode. */
+void check_required(const unsigned char *bytes, size_t size, bool glb)
+{
+    const char *json = reinterpret_cast<const char *>(bytes);
+    size_t len = size;
+    if (glb) {
+        if (size < 20 || le32(bytes + 16) != 0x4E4F534Au) /* "JSON" */
+            return; /* tinygltf reports it */
+        json += 20;
+        len = le32(bytes + 12);
+    }
+    cJSON *root = cJSON_ParseWithLength(json, len);
+    const cJSON *req = root ? cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired") : nullptr;
+    std::string missing;
+    const cJSON *e = nullptr;
+    cJSON_ArrayForEach(e, req)
+        if (cJSON_IsString(e) && !supported(e->valuestring) && missing.empty())
+            missing = e->valuestring;
+    cJSON_Delete(root);
+    if (!missing.empty())
+        fail("requires extension %.80s, which strata does not support", missing.c_str());
+}
+
 void parse(Model &model, const unsigned char *bytes, size_t size, const char *base_dir,
            image_bytes &images, notes &warn_out)
 {
@@ -204,6 +244,7 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     const bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
     if (glb)
         check_glb(bytes, size);
+    check_required(bytes, size, glb);
     fs_context ctx = {base_dir};
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
@@ -218,15 +259,9 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
         std::string why = first_line(err.empty() ? warn : err);
         fail("%s", why.empty() ? "tinygltf could not parse the file" : why.c_str());
     }
-    for (const std::string &ext : model.extensionsRequired) {
-        if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
-            ext == "KHR_mesh_quantization")
-            fail("requires extension %s, which strata does not support", ext.c_str());
-        if (ext != "KHR_materials_emissive_strength" && ext != "KHR_texture_transform" &&
-            ext != "KHR_materials_specular" && ext != "KHR_materials_ior" &&
-            ext != "KHR_materials_unlit")
-            note(warn_out, "requires extension %s, which strata ignores", ext.c_str());
-    }
+    for (const std::string &ext : model.extensionsUsed)
+        if (!supported(ext.c_str()))
+            note(warn_out, "uses extension %.80s, which strata ignores", ext.c_str());
 }
 
 /* ---- transforms ------------------------------------------------------------ */
@@ -676,16 +711,106 @@ size_t primitive_bound(const Model &m, int mesh, size_t p)
 
 /* Where triangles go: arrays sized by the bound, filled in scene order. */
 struct sink {
-    float *pos, *nrm, *uv;
+    float *pos, *nrm, *uv, *tan;
     uint32_t *mat;
     size_t count, dropped;
 };
 
 /* Per-primitive scratch, reused so that big scenes allocate once. */
 struct scratch {
-    std::vector<float> p, n, uv, wp, wn;
+    std::vector<float> p, n, uv, wp, wn, t, wt;
     std::vector<uint32_t> idx;
 };
+
+/* Reads TANGENT (§3.7.2.1: float VEC4, xyz unit, w = ±1 the handedness). */
+void read_tangents(const Model &m, int a, size_t vertices, std::vector<float> &out)
+{
+    const tinygltf::Accessor &acc = m.accessors[size_t(a)];
+    if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || acc.type != TINYGLTF_TYPE_VEC4)
+        fail("accessor %d: TANGENT must be float VEC4", a);
+    const span s = accessor_span(m, a);
+    if (s.count != vertices)
+        fail("accessor %d: TANGENT has %zu elements, POSITION %zu", a, s.count, vertices);
+    out.resize(4 * s.count);
+    for (size_t i = 0; i < s.count; i++)
+        memcpy(&out[4 * i], s.data + i * s.stride, 4 * sizeof(float));
+    for (size_t k = 0; k < out.size(); k++)
+        if (!std::isfinite(out[k]))
+            fail("accessor %d: non-finite value in element %zu", a, k / 4);
+}
+
+/* Per-vertex tangents from the texture coordinates, in object space: each
+ * triangle's dP/du and dP/dv (solving the edges against their uv deltas,
+ * Lengyel's method), summed at its vertices weighted by the triangle's size
+ * (the unnormalised solution carries it), then made orthogonal to the
+ * vertex normal (or the summed face normal); w = +1 where (t, b, n) is
+ * right-handed, else -1. A vertex whose uvs are degenerate gets 0. */
+void generate_tangents(scratch &s, bool normals)
+{
+    const size_t nv = s.p.size() / 3;
+    std::vector<double> tu(3 * nv, 0.0), tv(3 * nv, 0.0), fn(3 * nv, 0.0);
+    for (size_t t = 0; t + 3 <= s.idx.size(); t += 3) {
+        const uint32_t *i = &s.idx[t];
+        double e1[3], e2[3], g[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = double(s.p[3 * i[1] + k]) - s.p[3 * i[0] + k];
+            e2[k] = double(s.p[3 * i[2] + k]) - s.p[3 * i[0] + k];
+        }
+        const double du1 = double(s.uv[2 * i[1]]) - s.uv[2 * i[0]],
+                     dv1 = double(s.uv[2 * i[1] + 1]) - s.uv[2 * i[0] + 1],
+                     du2 = double(s.uv[2 * i[2]]) - s.uv[2 * i[0]],
+                     dv2 = double(s.uv[2 * i[2] + 1]) - s.uv[2 * i[0] + 1];
+        const double det = du1 * dv2 - du2 * dv1, sgn = det < 0.0 ? -1.0 : 1.0;
+        cross(e1, e2, g);
+        if (det == 0.0 || !std::isfinite(det))
+            continue;
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) { /* (e1 dv2 - e2 dv1) / det, times |det| */
+                tu[3 * i[v] + k] += (e1[k] * dv2 - e2[k] * dv1) * sgn;
+                tv[3 * i[v] + k] += (e2[k] * du1 - e1[k] * du2) * sgn;
+                fn[3 * i[v] + k] += g[k];
+            }
+    }
+    s.t.assign(4 * nv, 0.0f);
+    for (size_t v = 0; v < nv; v++) {
+        double n[3], t[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            n[k] = normals ? double(s.n[3 * v + k]) : fn[3 * v + k];
+            t[k] = tu[3 * v + k];
+            b[k] = tv[3 * v + k];
+        }
+        if (!normalize3(n))
+            continue;
+        const double d = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+        for (int k = 0; k < 3; k++)
+            t[k] -= d * n[k];
+        if (!normalize3(t))
+            continue;
+        cross(n, t, c);
+        for (int k = 0; k < 3; k++)
+            s.t[4 * v + size_t(k)] = float(t[k]);
+        s.t[4 * v + 3] = c[0] * b[0] + c[1] * b[1] + c[2] * b[2] < 0.0 ? -1.0f : 1.0f;
+    }
+}
+
+/* Tangents to world space: xyz by the world matrix and renormalised, w
+ * times the sign of its determinant (a mirror turns the bitangent over). */
+void transform_tangents(const mat4 &w, double det, scratch &s)
+{
+    const size_t nv = s.t.size() / 4;
+    s.wt.assign(4 * nv, 0.0f);
+    for (size_t v = 0; v < nv; v++) {
+        const float *t = &s.t[4 * v];
+        double o[3];
+        for (int r = 0; r < 3; r++)
+            o[r] = w.m[r] * t[0] + w.m[4 + r] * t[1] + w.m[8 + r] * t[2];
+        if (!normalize3(o))
+            continue;
+        for (int r = 0; r < 3; r++)
+            s.wt[4 * v + size_t(r)] = float(o[r]);
+        s.wt[4 * v + 3] = (t[3] < 0.0f ? -1.0f : 1.0f) * (det < 0.0 ? -1.0f : 1.0f);
+    }
+}
 
 /* Vertices to world space: positions by the world matrix, normals by the
  * normal matrix and renormalised; a normal that cannot be normalised is
@@ -732,8 +857,10 @@ void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, bool uvs
         return;
     }
     float *dp = out.pos + 9 * out.count, *dn = out.nrm + 9 * out.count;
-    float *duv = out.uv + 6 * out.count;
+    float *duv = out.uv + 6 * out.count, *dt = out.tan + 12 * out.count;
     for (int v = 0; v < 3; v++) {
+        for (int k = 0; k < 4; k++)
+            dt[4 * v + k] = s.wt.empty() ? 0.0f : s.wt[4 * size_t(i[v]) + size_t(k)];
         const float *n = normals ? &s.wn[3 * size_t(i[v])] : nullptr;
         const bool usable = n && !std::isnan(n[0]);
         for (int k = 0; k < 3; k++) {
@@ -790,6 +917,13 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
             s.idx[v] = uint32_t(v);
     }
     transform_vertices(world, nx, s, nrm >= 0);
+    const int tan = attribute(m, mesh, p, "TANGENT");
+    s.t.clear();
+    if (tan >= 0 && nrm >= 0) /* §3.7.2.1: TANGENT is used with NORMAL only */
+        read_tangents(m, tan, nv, s.t);
+    else if (uv >= 0)
+        generate_tangents(s, nrm >= 0);
+    transform_tangents(world, nx.det, s);
     const bool flip = nx.det < 0.0;
     for (size_t t = 0; t + 3 <= s.idx.size(); t += 3) { /* a trailing 1 or 2 are ignored */
         uint32_t tri[3] = {s.idx[t], s.idx[t + 1], s.idx[t + 2]};
@@ -947,6 +1081,26 @@ st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
     return {uint32_t(w), uint32_t(h), rgba};
 }
 
+/* Image i decoded, or, where it cannot be read or decoded, a warning naming
+ * it and a 1 x 1 white image in its place: every slot multiplies its
+ * factor by the texture, so white leaves the factor alone and the model
+ * still renders. */
+st_gltf_image decode_or_white(const Model &m, int i, const image_bytes &bytes, notes &warn)
+{
+    try {
+        return decode_image(m, i, bytes);
+    } catch (const shim_error &e) {
+        if (e.status != ST_ERR_FORMAT)
+            throw;
+        note(warn, "%s: replaced by a white texture", e.msg.c_str());
+    }
+    unsigned char *white = static_cast<unsigned char *>(malloc(4)); /* stbi_image_free frees */
+    if (!white)
+        throw shim_error{ST_ERR_NOMEM, "out of memory"};
+    memset(white, 255, 4);
+    return {1u, 1u, white};
+}
+
 /* ---- materials ------------------------------------------------------------- */
 
 /* The textureInfo object `key` of an extension object (index -1: none). */
@@ -1059,6 +1213,14 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.metallic_roughness_tex = texture_ref(m, pbr.metallicRoughnessTexture, false, i,
                                            "metallicRoughnessTexture", table, warn);
     read_specular_ior_unlit(m, i, table, warn, o);
+    tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
+    normal.index = mat.normalTexture.index;
+    normal.texCoord = mat.normalTexture.texCoord;
+    normal.extensions = mat.normalTexture.extensions;
+    o.normal_tex = texture_ref(m, normal, false, i, "normalTexture", table, warn);
+    o.normal_scale = float(mat.normalTexture.scale);
+    if (!std::isfinite(o.normal_scale))
+        fail("material %zu: normalTexture.scale is not finite", i);
     return o;
 }
 
@@ -1113,8 +1275,9 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);
     out.uvs = alloc_array<float>(bound, 6);
+    out.tangents = alloc_array<float>(bound, 12);
     out.tri_material = alloc_array<uint32_t>(bound, 1);
-    sink s = {out.positions, out.normals, out.uvs, out.tri_material, 0, 0};
+    sink s = {out.positions, out.normals, out.uvs, out.tangents, out.tri_material, 0, 0};
     scratch tmp;
     for (const instance &in : inst) {
         const normal_xform nx = normal_matrix(in.world);
@@ -1126,6 +1289,7 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     out.positions = shrink(out.positions, s.count, 9);
     out.normals = shrink(out.normals, s.count, 9);
     out.uvs = shrink(out.uvs, s.count, 6);
+    out.tangents = shrink(out.tangents, s.count, 12);
     out.tri_material = shrink(out.tri_material, s.count, 1);
 
     texture_table table;
@@ -1142,7 +1306,7 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
         memset(out.images, 0, out.image_count * sizeof *out.images);
     for (const st_gltf_texture &t : table.refs)
         if (!out.images[size_t(t.image)].rgba)
-            out.images[size_t(t.image)] = decode_image(m, t.image, bytes);
+            out.images[size_t(t.image)] = decode_or_white(m, t.image, bytes, warn);
     out.camera_count = cams.size();
     out.cameras = copy_out(cams);
 }
@@ -1202,6 +1366,7 @@ extern "C" void st_gltf_shim_release(st_gltf_data *data)
     free(data->positions);
     free(data->normals);
     free(data->uvs);
+    free(data->tangents);
     free(data->tri_material);
     free(data->materials);
     free(data->textures);

@@ -38,6 +38,8 @@ typedef struct st_gltf_material {
     float ior;             /* KHR_materials_ior, 1.5 by default */
     int unlit;             /* KHR_materials_unlit */
     int specular_tex, specular_color_tex; /* specularTexture (A), specularColorTexture */
+    int normal_tex;        /* normalTexture */
+    float normal_scale;    /* normalTexture.scale, 1 by default */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the
@@ -77,6 +79,8 @@ typedef struct st_gltf_data {
     float *positions;       /* 9 floats per triangle, world space */
     float *normals;         /* 9 floats per triangle, unit, world space */
     float *uvs;             /* 6 floats per triangle: TEXCOORD_0, 0 where a primitive has none */
+    float *tangents;        /* 12 floats per triangle: world tangent xyz and handedness w per
+                               vertex (TANGENT, or generated from TEXCOORD_0; 0 without it) */
     uint32_t *tri_material; /* index into materials, or ST_GLTF_NO_MATERIAL */
     size_t material_count;  /* the file's materials, all of them */
     st_gltf_material *materials;

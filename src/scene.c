@@ -475,6 +475,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->flags = in->unlit ? ST_MAT_UNLIT : 0u;
         m->specular_tex = texture_index(in->specular_tex);
         m->specular_color_tex = texture_index(in->specular_color_tex);
+        m->normal_tex = texture_index(in->normal_tex);
+        m->normal_scale = in->normal_scale;
     }
     if (need_default) {
         st_material *m = &s->materials[g->material_count];
@@ -485,7 +487,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->base_color_tex = m->emission_tex = m->metallic_roughness_tex = ST_NO_TEXTURE;
         m->specular[0] = m->specular[1] = m->specular[2] = m->specular[3] = 1.0f;
         m->ior = 1.5f;
-        m->specular_tex = m->specular_color_tex = ST_NO_TEXTURE;
+        m->specular_tex = m->specular_color_tex = m->normal_tex = ST_NO_TEXTURE;
+        m->normal_scale = 1.0f;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;
@@ -494,16 +497,49 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
     return ST_OK;
 }
 
-/* The environment default: white unless some triangle's material emits. */
-static void default_env(st_scene *s)
+/* Mean linear RGB of texture t (ST_NO_TEXTURE: 1): its mip chain's last,
+ * 1 x 1 level, whose filter keeps the mean. */
+static void texture_mean(const st_scene *s, st_u32 t, float mean[3])
 {
-    int emits = 0;
-    for (st_u32 t = 0; t < s->tri_count && !emits; t++) {
-        const float *e = s->materials[s->tri_material[t]].emission;
-        emits = e[0] > 0.0f || e[1] > 0.0f || e[2] > 0.0f;
+    mean[0] = mean[1] = mean[2] = 1.0f;
+    if (t == ST_NO_TEXTURE)
+        return;
+    const st_texture *tex = &s->textures[t];
+    float c[4];
+    st_u32 last = tex->offset + (st_u32)st_scene_mip_texels(tex->width, tex->height) - 1u;
+    st_tex_texel(s->texels, last, 1, 0, 0, tex->flags & ST_TEX_SRGB, c);
+    memcpy(mean, c, 3 * sizeof(float));
+}
+
+/* The power the emissive surfaces radiate, π x area x the mean of the
+ * emissive factor times the emissive texture's mean (a Lambertian emitter
+ * of radiance L radiates π L per unit area), and the environment default
+ * it decides: white when nothing emits, else none. */
+static void emitted_power(st_scene *s)
+{
+    double power = 0.0;
+    for (st_u32 t = 0; t < s->tri_count; t++) {
+        const st_material *m = &s->materials[s->tri_material[t]];
+        if (!(m->emission[0] > 0.0f || m->emission[1] > 0.0f || m->emission[2] > 0.0f))
+            continue;
+        float mean[3];
+        texture_mean(s, m->emission_tex, mean);
+        const float *p = s->positions + 9 * (size_t)t;
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            e1[k] = (double)p[3 + k] - p[k];
+            e2[k] = (double)p[6 + k] - p[k];
+        }
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+        double area = 0.5 * sqrt(cx * cx + cy * cy + cz * cz), le = 0.0;
+        for (int k = 0; k < 3; k++)
+            le += (double)m->emission[k] * mean[k] / 3.0;
+        power += ST_PI_F * area * le;
     }
+    s->emitted_power = power;
     for (int k = 0; k < 3; k++)
-        s->default_env[k] = emits ? 0.0f : 1.0f;
+        s->default_env[k] = power > 0.0 ? 0.0f : 1.0f;
 }
 
 static void copy_camera(const st_gltf_camera *c, st_scene_camera *out)
@@ -583,6 +619,8 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     s->positions = g->positions;
     s->normals = g->normals;
     s->uvs = g->uvs;
+    s->tangents = g->tangents;
+    g->tangents = NULL;
     s->tri_material = g->tri_material;
     g->positions = g->normals = g->uvs = NULL;
     g->tri_material = NULL;
@@ -590,7 +628,7 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     if ((status = take_cameras(g, s, label, err)) != ST_OK ||
         (status = take_warnings(g, s, label, err)) != ST_OK)
         return status;
-    default_env(s);
+    emitted_power(s);
     snprintf(s->name, sizeof s->name, "%s", label);
     return ST_OK;
 }
@@ -650,6 +688,7 @@ void st_scene_destroy(st_scene *scene)
     free(scene->positions);
     free(scene->normals);
     free(scene->uvs);
+    free(scene->tangents);
     free(scene->tri_material);
     free(scene->materials);
     free(scene->textures);

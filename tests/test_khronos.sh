@@ -48,7 +48,7 @@ for s in checkerboard soft-shadows zone-plate; do
     "$S" render "$s" $R -o "$T/b.exr" 2> "$T/err"
     rmse=$(rmse_of "$T/b.exr" "$T/black.exr")
     check "built-in $s renders finite and not black" \
-        '[ -s "$T/b.exr" ] && [ -n "$rmse" ] && [ ! -s "$T/err" ] && awk -v r="$rmse" "BEGIN { exit !(r > 0) }"'
+        '[ -s "$T/b.exr" ] && [ -n "$rmse" ] && ! grep -qv "^strata: note:" "$T/err" && awk -v r="$rmse" "BEGIN { exit !(r > 0) }"'
 done
 "$S" render --scene-list > "$T/list"
 check "--scene-list names the built-in scenes" \

@@ -658,8 +658,8 @@ static void malformed_files_return_format_error_naming_file(void **state)
         {"bad_stride.gltf", "byteStride"},
         {"bad_no_triangles.gltf", "no triangles"},
         {"bad_glb_chunk.glb", "chunk"},
-        {"bad_image_data.gltf", "image 0 (image/png): cannot decode"},
-        {"bad_image_missing.gltf", "image 0 (no_such_image.png): cannot read"},
+        {"bad_requires_draco.gltf",
+         "requires extension KHR_draco_mesh_compression, which strata does not support"},
         {"bad_texture_index.gltf", "baseColorTexture: texture 7 out of range"},
         {"bad_image_index.gltf", "source image 9 out of range"},
         {"bad_sampler_wrap.gltf", "wrapS 1234"},
@@ -672,6 +672,33 @@ static void malformed_files_return_format_error_naming_file(void **state)
         snprintf(path, sizeof path, SCENES "%s", cases[i].file);
         load_fails(path, ST_ERR_FORMAT, path, cases[i].phrase);
     }
+}
+
+/* An image that cannot be decoded or read is a warning naming it, and a
+ * 1 x 1 white texture in its place (the factor alone); an extension that is
+ * only used and not implemented is a warning naming it. */
+static void unreadable_images_and_unknown_extensions_warn(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file, *phrase;
+    } cases[] = {
+        {SCENES "image_undecodable.gltf", "image 0 (image/png): cannot decode"},
+        {SCENES "image_missing.gltf", "image 0 (no_such_image.png): cannot read"},
+    };
+    for (int i = 0; i < 2; i++) {
+        st_scene *s = load_ok(cases[i].file);
+        assert_true(has_warning(s, cases[i].phrase));
+        assert_true(has_warning(s, "replaced by a white texture"));
+        const st_texture *t = &s->textures[s->materials[0].base_color_tex];
+        assert_int_equal(t->width, 1);
+        assert_int_equal(t->height, 1);
+        assert_int_equal(s->texels[t->offset], 0xffffffffu);
+        st_scene_destroy(s);
+    }
+    st_scene *s = load_ok(SCENES "uses_sheen.gltf");
+    assert_true(has_warning(s, "uses extension KHR_materials_sheen, which strata ignores"));
+    st_scene_destroy(s);
 }
 
 /* A scratch directory for generated files, removed by the caller. */
@@ -849,6 +876,7 @@ int main(void)
         cmocka_unit_test(environment_white_only_without_emission),
         cmocka_unit_test(builtin_scenes_load_by_name),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
+        cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),

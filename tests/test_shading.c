@@ -1,4 +1,5 @@
-/* test_shading.c — the glTF BRDF on the device: a white furnace.
+/* test_shading.c — the glTF BRDF and normal maps on the device: a white
+ * furnace, and a normal-mapped plane against the analytic tilt (below).
  *
  * A white metal (base colour 1, metallic 1) under a uniform environment of
  * radiance 1, seen head-on (tests/scenes/textured_quad.gltf: a quad filling
@@ -113,10 +114,47 @@ static void white_furnace(void **state)
     }
 }
 
+/* A plane whose normal map tilts the shading normal by θ, under a uniform
+ * environment 1, seen head-on: the cosine lobe around the tilted normal
+ * loses what falls below the geometric surface (light never comes through
+ * it), leaving albedo x (1 + cos θ) / 2 (the projected solid angle of a
+ * hemisphere tilted by θ, clipped by the plane, over π). cos θ from the
+ * map's bytes (238, 128, 191) and the scale, computed here. */
+static void normal_map_tilts_by_its_angle(void **state)
+{
+    (void)state;
+    const float scales[] = {1.0f, 0.5f, 0.0f};
+    for (int k = 0; k < 3; k++) {
+        st_error err = {0};
+        st_scene *s = NULL;
+        if (st_scene_load("tests/scenes/normal_tilt.gltf", &s, &err) != ST_OK)
+            fail_msg("load: %s", err.msg);
+        assert_int_not_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
+        s->materials[0].normal_scale = scales[k];
+        double x = (238.0 / 255.0 * 2.0 - 1.0) * scales[k], y = (128.0 / 255.0 * 2.0 - 1.0) * scales[k],
+               z = 191.0 / 255.0 * 2.0 - 1.0, want = 0.5 * (1.0 + z / sqrt(x * x + y * y + z * z));
+        st_image img = render_furnace(s, 64);
+        size_t n = (size_t)img.width * img.height;
+        double mean = 0.0, var = 0.0;
+        for (size_t p = 0; p < n; p++)
+            mean += img.data[4 * p + 1] / (double)n;
+        for (size_t p = 0; p < n; p++)
+            var += (img.data[4 * p + 1] - mean) * (img.data[4 * p + 1] - mean) / (double)(n - 1);
+        double se = sqrt(var / (double)n);
+        print_message("normal scale %.1f: mean %.5f (+- %.5f), (1 + cos θ) / 2 = %.5f\n",
+                      scales[k], mean, se, want);
+        if (fabs(mean - want) > 5.0 * se + 1e-3)
+            fail_msg("scale %g: mean %.5f, want %.5f", scales[k], mean, want);
+        st_image_free(&img);
+        st_scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
         cmocka_unit_test(white_furnace),
+        cmocka_unit_test(normal_map_tilts_by_its_angle),
     };
     return cmocka_run_group_tests_name("shading", device, device_setup, device_teardown);
 }

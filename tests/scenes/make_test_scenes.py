@@ -36,6 +36,13 @@ textured.glb  a quad with a 4 x 4 RGBA texture stored in the GLB's BIN chunk
 cutout        two quads seen by an orthographic camera: the front one red,
               alpha MASK with its left half at alpha 0; the back one green
               (both Lambertian: specularFactor 0).
+image_*       textured_quad with an image that cannot be decoded or read: a
+              warning, and a white texture in its place.
+uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning.
+black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
+              nothing emits.
+normal_tilt   textured_quad as a white Lambertian plane whose constant normal
+              map tilts the shading normal by about 60 degrees.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -527,6 +534,23 @@ def write_cutout():
     write_json("cutout.gltf", g)
 
 
+def write_lighting():
+    # textured_quad whose emissive texture is black: emissiveFactor > 0, yet
+    # nothing emits, so the white environment must light it
+    with open(os.path.join(HERE, "textured_quad.gltf"), encoding="ascii") as f:
+        g = json.load(f)
+    g["images"][2]["uri"] = png_uri(constant_png((0, 0, 0)))
+    write_json("black_emitter.gltf", g)
+    # textured_quad as a white Lambertian plane with a constant normal map
+    # tilting the normal about 60 degrees (bytes 238, 128, 191)
+    g["images"].append({"uri": png_uri(constant_png((238, 128, 191)))})
+    g["textures"].append({"source": len(g["images"]) - 1})
+    g["materials"] = [{"name": "tilted", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                       "normalTexture": {"index": len(g["textures"]) - 1},
+                       "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
+    write_json("normal_tilt.gltf", g)
+
+
 def write_bad():
     # One valid base (u16 layout with a data: URI), then one fault per file.
     def base():
@@ -605,8 +629,15 @@ def write_bad():
 
     def not_png(g):
         g["images"][0]["uri"] = "data:image/png;base64," + base64.b64encode(b"not a png").decode()
-    variant("bad_image_data.gltf", not_png)
-    variant("bad_image_missing.gltf", lambda g: g["images"][0].update(uri="no_such_image.png"))
+    # unreadable images are warnings (a white texture replaces them), not faults
+    variant("image_undecodable.gltf", not_png)
+    variant("image_missing.gltf", lambda g: g["images"][0].update(uri="no_such_image.png"))
+
+    def draco(g):  # required and not supported; its bufferView is broken too
+        g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+        g["accessors"][0]["bufferView"] = 99
+    variant("bad_requires_draco.gltf", draco)
+    variant("uses_sheen.gltf", lambda g: g.update(extensionsUsed=["KHR_materials_sheen"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
             ["baseColorTexture"].update(index=7))
     variant("bad_image_index.gltf", lambda g: g["textures"][1].update(source=9))
@@ -632,6 +663,7 @@ def main():
     write_textured_quad()
     write_textured_glb()
     write_cutout()
+    write_lighting()
     write_bad()
 
 

@@ -1,0 +1,25 @@
+#!/bin/sh
+# test_lighting.sh — the lighting default through the command line: decided
+# by the power the scene emits (emissive factor x the emissive texture's
+# mean), not by the emissive factor alone; a scene that emits nothing gets
+# the white environment and a `strata: note:`; a render with no light at
+# all is a `strata: warning:` (and black, exit 0). TAP output.
+. tests/tap.sh
+R="--width 16 --height 12 --spp 2 --quiet"
+mean_of() { "$S" diff "$1" "$2" 2> /dev/null | sed -n 's/^rmse //p'; }
+
+"$S" render tests/scenes/layout_u16.gltf $R --env 0 -o "$T/black.exr" 2> "$T/err0"
+check "no light at all is a warning" "grep -q '^strata: warning: .*no light at all' '$T/err0'"
+
+"$S" render tests/scenes/black_emitter.gltf $R -o "$T/q.exr" 2> "$T/err1"
+check "a black emissive texture leaves the white environment on, with a note" \
+    "grep -q '^strata: note: .*nothing in the scene emits light' '$T/err1'"
+rmse=$(mean_of "$T/q.exr" "$T/black.exr")
+check "the black emitter is lit" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
+
+"$S" render cornell-box $R -o "$T/c.exr" 2> "$T/err2"
+check "an emitting scene gets neither note nor warning" "! grep -q 'note:\|warning:' '$T/err2'"
+
+"$S" render tests/scenes/black_emitter.gltf $R --env 0.5 -o "$T/e.exr" 2> "$T/err3"
+check "an --env given is no note" "! grep -q 'note:\|warning:' '$T/err3'"
+echo "1..$n"
