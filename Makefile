@@ -4,7 +4,7 @@
 
 DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
-                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev parallel pkg-config gcc g++ make
+                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev zlib1g-dev parallel pkg-config gcc g++ make
 
 PKGS     := OpenCL stb cairo fftw3
 CC       ?= cc
@@ -14,7 +14,7 @@ WARN     := -Wall -Wextra
 CPPFLAGS += -Iinclude -Isrc -Ikernels -I/usr/include/OpenEXR
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(WARN)
 CXXFLAGS += -std=c++17 $(OPT) -g $(WARN) -I/usr/include/stb -I/usr/include/nlohmann
-LDLIBS   += -ltinygltf -lOpenEXRCore-3_1 -lcairo -lcjson -lfftw3 -lstb -lOpenCL -lstdc++ -lm -lpthread
+LDLIBS   += -ltinygltf -lOpenEXRCore-3_1 -lcairo -lcjson -lz -lfftw3 -lstb -lOpenCL -lstdc++ -lm -lpthread
 
 ifeq ($(SANITIZE),1)
   CFLAGS   += -fsanitize=address,undefined -fno-omit-frame-pointer

@@ -109,6 +109,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
         n++;                                                                               \
     } while (0)
     ATTR("scene", "%s", s->scene->name);
+    ATTR("scene_hash", "crc32:%08x", (unsigned)st_scene_content_hash(s->scene));
     ATTR("sampler", "%s", st_sampler_names[o->sampler]);
     ATTR("scramble", "%s", o->scramble ? "on" : "none");
     ATTR("spp", "%u", o->spp);

@@ -11,6 +11,8 @@
  * scene. */
 #include "st_scene.h"
 
+#include <zlib.h>
+
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
@@ -627,6 +629,35 @@ done:
     free(dir);
     free(file);
     return status;
+}
+
+/* zlib's CRC-32 over one array's bytes (NULL or empty: unchanged). */
+static st_u32 crc_of(st_u32 crc, const void *p, size_t bytes)
+{
+    const unsigned char *b = p;
+    while (p && bytes > 0) { /* crc32 takes a uInt length */
+        uInt n = bytes > 1u << 30 ? 1u << 30 : (uInt)bytes;
+        crc = (st_u32)crc32(crc, b, n);
+        b += n;
+        bytes -= n;
+    }
+    return crc;
+}
+
+st_u32 st_scene_content_hash(const st_scene *s)
+{
+    size_t t = s->tri_count;
+    st_u32 crc = (st_u32)crc32(0L, Z_NULL, 0);
+    crc = crc_of(crc, &s->tri_count, sizeof s->tri_count);
+    crc = crc_of(crc, s->positions, 9 * t * sizeof(float));
+    crc = crc_of(crc, s->normals, 9 * t * sizeof(float));
+    crc = crc_of(crc, s->uvs, 6 * t * sizeof(float));
+    crc = crc_of(crc, s->tri_material, t * sizeof(st_u32));
+    crc = crc_of(crc, s->materials, s->material_count * sizeof *s->materials);
+    crc = crc_of(crc, s->textures, s->texture_count * sizeof *s->textures);
+    crc = crc_of(crc, s->texels, s->texel_count * sizeof *s->texels);
+    crc = crc_of(crc, s->cameras, s->camera_count * sizeof *s->cameras);
+    return crc_of(crc, s->default_env, sizeof s->default_env);
 }
 
 void st_scene_destroy(st_scene *scene)

@@ -78,4 +78,43 @@ check "a radiance of 1e6 is clamped and counted in the summary" '[ "${clamped:-0
 check "the EXR header holds the same clamped count as an int" '[ "$(int_attr "$T/hot.exr" strata.clamped_splats)" = "$clamped" ]' "($(int_attr "$T/hot.exr" strata.clamped_splats) vs $clamped)"
 check "the EXR header holds the non-finite and zero-weight counts as ints" '[ "$(int_attr "$T/hot.exr" strata.nonfinite)" = 0 ] && [ "$(int_attr "$T/hot.exr" strata.zero_weight_pixels)" = 0 ]'
 
+# ---- merge refuses what is not one render ------------------------------------------------
+P="--width 16 --height 12 --spp 4 --sampler random --seed 3 --quiet"
+# Replaces the value of EXR string attribute $2 in file $1 by $3 (same length;
+# "@": as many X).
+forge() {
+    python3 -c 'import sys
+p, name, new = sys.argv[1], sys.argv[2].encode(), sys.argv[3].encode()
+d = bytearray(open(p, "rb").read())
+k = d.find(name + b"\0string\0") + len(name) + 8
+n = int.from_bytes(d[k:k + 4], "little")
+new = b"X" * n if new == b"@" else new
+assert len(new) == n, (n, new)
+d[k + 4:k + 4 + n] = new
+open(p, "wb").write(d)' "$1" "$2" "$3"
+}
+$S render $P --sample-range 0:2 -o "$T/p1.exr" && $S render $P --sample-range 2:4 -o "$T/p2.exr"
+expect "merge of one part of two is refused naming the gap" 1 "samples 2:4 are in no part (the last, $T/p1.exr, ends at 2" \
+    $S merge "$T/p1.exr" -o "$T/m.exr"
+check "a refused merge writes nothing" '[ ! -e "$T/m.exr" ]'
+$S merge "$T/p1.exr" --partial -o "$T/half.exr" 2> "$T/err"
+check "merge --partial labels the result with the ranges it holds" 'grep -a -q "holds samples 0:2 of every pixel" "$T/half.exr"' "($(cat "$T/err"))"
+$S merge "$T/p1.exr" "$T/p2.exr" -o "$T/full.exr" 2> "$T/err"
+check "a complete merge is labelled 0:spp and not partial" 'grep -a -q "0:4" "$T/full.exr" && ! grep -a -q "strata.partial" "$T/full.exr"' "($(cat "$T/err"))"
+cp "$T/p2.exr" "$T/past.exr" && forge "$T/past.exr" strata.sample_range 2:9
+expect "a part whose range passes spp is refused" 1 "$T/past.exr: samples 2:9 pass the spp 4" $S merge "$T/p1.exr" "$T/past.exr" -o "$T/m.exr"
+cp "$T/p1.exr" "$T/f1.exr" && cp "$T/p2.exr" "$T/f2.exr" && forge "$T/f1.exr" strata.spp 8 && forge "$T/f2.exr" strata.spp 8
+expect "parts with a forged spp are refused (they do not tile 0:8)" 1 "samples 4:8 are in no part" $S merge "$T/f1.exr" "$T/f2.exr" -o "$T/m.exr"
+cp "$T/p2.exr" "$T/dev.exr" && forge "$T/dev.exr" strata.device @
+expect "parts from different devices are refused by name" 1 "$T/dev.exr: strata.device is XXX" $S merge "$T/p1.exr" "$T/dev.exr" -o "$T/m.exr"
+$S render cornell-box $P --sample-range 2:4 -o "$T/other.exr"
+$S render checkerboard $P --sample-range 0:2 -o "$T/check.exr"
+expect "parts of different scenes are refused by content hash" 1 "$T/other.exr: strata.scene_hash is crc32:" $S merge "$T/check.exr" "$T/other.exr" -o "$T/m.exr"
+mkdir "$T/sc" && cp tests/scenes/materials_flat.gltf "$T/sc/"
+SA=$(cd "$(dirname "$S")" && pwd)/$(basename "$S")
+(cd "$T/sc" && "$SA" render materials_flat.gltf $P --sample-range 0:2 -o "$T/rel.exr" 2> /dev/null)
+$S render "$T/sc/materials_flat.gltf" $P --sample-range 2:4 -o "$T/abs.exr" 2> /dev/null
+$S merge "$T/rel.exr" "$T/abs.exr" -o "$T/both.exr" 2> "$T/err"
+check "one scene named by a relative and an absolute path merges" '[ -s "$T/both.exr" ]' "($(cat "$T/err"))"
+
 echo "1..$n"
