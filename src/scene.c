@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "embedded.h"
+#include "scene_fs.h"
 #include "gltf_shim.h"
 #include "texture.h"
 
@@ -115,42 +116,6 @@ static st_status unknown_builtin(const char *name, st_error *err)
 }
 
 /* ---- files ------------------------------------------------------------------ */
-
-static st_status read_file(const char *path, unsigned char **data, size_t *size, st_error *err)
-{
-    *data = NULL;
-    *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    size_t cap = 0;
-    st_status s = ST_OK;
-    for (;;) {
-        if (*size == cap) {
-            cap = cap ? 2 * cap : 1 << 16;
-            unsigned char *grown = realloc(*data, cap);
-            if (!grown) {
-                s = st_fail(err, ST_ERR_NOMEM, "%s: out of memory reading the file", path);
-                break;
-            }
-            *data = grown;
-        }
-        size_t got = fread(*data + *size, 1, cap - *size, f);
-        *size += got;
-        if (got == 0) {
-            if (ferror(f))
-                s = st_fail(err, ST_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
-            break;
-        }
-    }
-    fclose(f);
-    if (s != ST_OK) {
-        free(*data);
-        *data = NULL;
-        *size = 0;
-    }
-    return s;
-}
 
 /* The directory external URIs resolve against: the path up to its last '/'
  * ("" for a bare file name: the working directory; "/" for a root file). */
@@ -604,7 +569,8 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
         bytes = e->data;
         size = e->size;
     } else {
-        if ((status = read_file(spec, &file, &size, err)) != ST_OK)
+        if ((status = st_scene_fs_read(spec, ST_SCENE_MAX_FILE_BYTES, "a scene file", &file,
+                                       &size, err)) != ST_OK)
             return status;
         bytes = file;
         if (!(dir = dir_of(spec))) {

@@ -117,4 +117,42 @@ $S render "$T/sc/materials_flat.gltf" $P --sample-range 2:4 -o "$T/abs.exr" 2> /
 $S merge "$T/rel.exr" "$T/abs.exr" -o "$T/both.exr" 2> "$T/err"
 check "one scene named by a relative and an absolute path merges" '[ -s "$T/both.exr" ]' "($(cat "$T/err"))"
 
+# ---- confinement: URIs stay in the scene's folder ----------------------------------------
+mkdir -p "$T/cf/sub" "$T/cf/other"
+cp tests/scenes/layout_u8.gltf "$T/cf/sub/" && cp tests/scenes/layout_u8.bin "$T/cf/other/secret.bin"
+uri_scene() { sed "s|\"uri\": \"layout_u8.bin\"|\"uri\": \"$2\"|" tests/scenes/layout_u8.gltf > "$T/cf/sub/$1"; }
+uri_scene up.gltf ../other/secret.bin
+expect "a ../ buffer URI is refused naming it" 1 "sub/up.gltf: .*sub/../other/secret.bin : the URI leads outside the scene's folder" \
+    $S render "$T/cf/sub/up.gltf" $R -o "$T/cf/o.exr"
+uri_scene pw.gltf ../../../../../../../../etc/passwd
+expect "a ../../etc/passwd URI is refused without its size" 1 "etc/passwd : the URI leads outside" \
+    $S render "$T/cf/sub/pw.gltf" $R -o "$T/cf/o.exr"
+check "the refusal does not quote the file's size" '! grep -q "requestedBytes\|size mismatch" "$T/err"'
+uri_scene abs.gltf "$(pwd)/tests/scenes/layout_u8.bin"
+expect "an absolute buffer URI is refused naming it" 1 "abs.gltf: File not found : $(pwd)/tests/scenes/layout_u8.bin" \
+    $S render "$T/cf/sub/abs.gltf" $R -o "$T/cf/o.exr"
+uri_scene link.gltf link.bin
+ln -s ../other/secret.bin "$T/cf/sub/link.bin"
+expect "a symbolic link out of the folder is refused" 1 "sub/link.bin : the URI leads outside" \
+    $S render "$T/cf/sub/link.gltf" $R -o "$T/cf/o.exr"
+cp "$T/cf/other/secret.bin" "$T/cf/sub/inside.bin" && uri_scene in.gltf inside.bin
+$S render "$T/cf/sub/in.gltf" $R -o "$T/cf/in.exr" 2> "$T/err"
+check "a buffer inside the folder still loads" '[ -s "$T/cf/in.exr" ]' "($(cat "$T/err"))"
+check "no image from a refused scene" '[ ! -e "$T/cf/o.exr" ]'
+
+# ---- caps -----------------------------------------------------------------------------------
+expect "an endless scene (/dev/zero) stops at the 512 MiB cap" 1 "^strata: error: /dev/zero: larger than 512 MiB, the limit for a scene file" \
+    timeout 120 $S render /dev/zero $R -o "$T/z.exr"
+truncate -s 1G "$T/sparse.gltf"
+expect "a 1 GB sparse scene is refused by its size, unread" 1 "sparse.gltf: 1073741824 bytes, larger than 512 MiB, the limit for a scene file" \
+    timeout 20 $S render "$T/sparse.gltf" $R -o "$T/z.exr"
+truncate -s 1G "$T/cf/sub/huge.bin" && uri_scene huge.gltf huge.bin
+expect "a 1 GB buffer is refused naming its URI" 1 "huge.bin : 1073741824 bytes, larger than 512 MiB, the limit for a buffer or image" \
+    timeout 20 $S render "$T/cf/sub/huge.gltf" $R -o "$T/z.exr"
+python3 -c 'import sys
+print("{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 1, \"uri\": \"data:application/octet-stream;base64," + "A" * (65 << 20) + "\"}]}")' > "$T/datauri.gltf"
+expect "a 65 MiB data: URI is refused" 1 "datauri.gltf: a data: URI of .* bytes at byte [0-9]*: more than 64 MiB, the limit" \
+    timeout 20 $S render "$T/datauri.gltf" $R -o "$T/z.exr"
+rm -f "$T/datauri.gltf" "$T/sparse.gltf" "$T/cf/sub/huge.bin"
+
 echo "1..$n"
