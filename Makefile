@@ -4,7 +4,7 @@
 
 DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
-                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev zlib1g-dev parallel pkg-config gcc g++ make
+                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev zlib1g-dev python3-venv parallel pkg-config gcc g++ make
 
 PKGS     := OpenCL stb cairo fftw3
 CC       ?= cc
@@ -47,6 +47,16 @@ deps:
 	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
+	@$(MAKE) --no-print-directory $(PYEXR)
+
+# OpenEXR's Python binding (pip's OpenEXR: Debian 12 packages none), in a venv
+# of its own, for the test that reads strata's EXRs with another library
+# (tests/test_exr_python.sh). Without a network it is left out with a note,
+# and that test skips saying so.
+PYEXR := build/pyexr/bin/python
+$(PYEXR):
+	@python3 -m venv build/pyexr && build/pyexr/bin/pip install -q OpenEXR numpy \
+	  || { rm -rf build/pyexr; echo "deps: OpenEXR's Python binding unavailable (pip failed); tests/test_exr_python.sh will skip"; }
 
 strata: $(BUILD)/strata
 	cp $< $@
