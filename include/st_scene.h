@@ -93,6 +93,14 @@ typedef struct st_scene {
 st_status st_scene_load(const char *spec, st_scene **out, st_error *err);
 void st_scene_destroy(st_scene *scene);           /* NULL: does nothing */
 
+/* A hash of what was loaded (triangles, normals, uvs, materials, textures and
+ * their texels, cameras, the default environment), not of the path that named
+ * it: `strata merge` compares it, so one scene reached by two paths is one
+ * scene, and an edited file is another. zlib's CRC-32 (ISO 3309) over the
+ * arrays' bytes in that order; every array the renderer reads belongs here.
+ * Pure. Tests: test_scene.c scene_content_hash_*. */
+st_u32 st_scene_content_hash(const st_scene *scene);
+
 /* The camera of a view: cameras[index], or default_camera for index -1.
    The scene is not changed: a loaded scene is immutable, and every
    per-render choice travels in the render options.

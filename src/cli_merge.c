@@ -2,8 +2,9 @@
  * split renders (render --sample-range K:M) and resolves them on the device
  * with the render's own kernel, so parts covering 0..spp give exactly the
  * image of one render. Parts must agree on every setting recorded in their
- * headers (scene, size, sampler, filter, seed, ...) and their sample ranges
- * must not overlap. */
+ * headers (the scene's content hash, size, sampler, filter, seed, device, ...;
+ * not the scene's path) and their sample ranges must tile 0..spp exactly, or,
+ * with --partial, at least not overlap nor pass spp. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,6 +24,9 @@ typedef struct part {
     st_u32 begin, end;
 } part;
 
+/* Sample ranges held by a merge with --partial, as the result's label. */
+#define RANGES_TEXT 256
+
 static const char *attr_value(const part *p, const char *name)
 {
     for (int i = 0; i < p->nattrs; i++)
@@ -41,12 +45,14 @@ static int is_count(const char *name)
     return 0;
 }
 
-/* Settings that may differ between parts: what each part rendered, and
- * facts about the run rather than the image. */
+/* Settings that may differ between parts: what each part rendered, facts
+ * about the run rather than the image, and the scene's path (its content hash,
+ * strata.scene_hash, must agree). The device must agree: two devices' floats
+ * differ (up to 2e-5 relative seen between PoCL and a GPU). */
 static int varies(const char *name)
 {
     return !strcmp(name, "strata.sample_range") || !strcmp(name, "strata.render_seconds") ||
-           !strcmp(name, "strata.device") || is_count(name);
+           !strcmp(name, "strata.scene") || is_count(name);
 }
 
 static st_status check_part(const part *first, const part *p, st_error *err)
@@ -73,9 +79,27 @@ static int by_begin(const void *x, const void *y)
     return (a->begin > b->begin) - (a->begin < b->begin);
 }
 
-/* Sample ranges must not overlap (sorted by start). */
-static st_status check_ranges(part *parts, int n, st_error *err)
+/* Appends "K:M" to the comma-separated list held (RANGES_TEXT bytes; "..."
+ * ends a list too long for it). */
+static void append_range(char *held, st_u32 k, st_u32 m)
 {
+    size_t len = strlen(held);
+    if (len + 28 >= RANGES_TEXT) {
+        if (len + 4 < RANGES_TEXT && strcmp(held + len - 3, "..."))
+            strcat(held, "...");
+        return;
+    }
+    snprintf(held + len, RANGES_TEXT - len, "%s%u:%u", len ? "," : "", k, m);
+}
+
+/* Sample ranges, sorted by start, must tile 0..spp: no overlap, none past
+ * spp, and (unless partial) no gap. The ranges held go to `held`. */
+static st_status check_ranges(part *parts, int n, int partial, char *held, st_error *err)
+{
+    const char *spp_text = attr_value(&parts[0], "strata.spp");
+    unsigned spp = 0;
+    if (!spp_text || sscanf(spp_text, "%u", &spp) != 1)
+        return st_fail(err, ST_ERR_FORMAT, "%s: no strata.spp in the header", parts[0].path);
     part **order = malloc(sizeof *order * n);
     if (!order)
         return st_fail(err, ST_ERR_NOMEM, "out of memory");
@@ -83,11 +107,29 @@ static st_status check_ranges(part *parts, int n, st_error *err)
         order[i] = &parts[i];
     qsort(order, n, sizeof *order, by_begin);
     st_status rc = ST_OK;
-    for (int i = 1; i < n && rc == ST_OK; i++)
-        if (order[i]->begin < order[i - 1]->end)
-            rc = st_fail(err, ST_ERR_FORMAT, "%s: samples %u:%u overlap %s's %u:%u",
-                         order[i]->path, order[i]->begin, order[i]->end, order[i - 1]->path,
-                         order[i - 1]->begin, order[i - 1]->end);
+    st_u32 at = 0, run = 0; /* samples run..at-1 are one unbroken run of parts */
+    held[0] = '\0';
+    for (int i = 0; i < n && rc == ST_OK; i++) {
+        const part *p = order[i], *prev = i ? order[i - 1] : NULL;
+        if (p->end > spp)
+            rc = st_fail(err, ST_ERR_FORMAT, "%s: samples %u:%u pass the spp %u", p->path,
+                         p->begin, p->end, spp);
+        else if (prev && p->begin < prev->end)
+            rc = st_fail(err, ST_ERR_FORMAT, "%s: samples %u:%u overlap %s's %u:%u", p->path,
+                         p->begin, p->end, prev->path, prev->begin, prev->end);
+        else if (p->begin > at && !partial)
+            rc = st_fail(err, ST_ERR_FORMAT, "samples %u:%u are in no part (%s starts at %u; "
+                         "--partial merges an incomplete set)", at, p->begin, p->path, p->begin);
+        if (i > 0 && p->begin != at) /* a gap closes the run run..at */
+            append_range(held, run, at);
+        if (i == 0 || p->begin != at)
+            run = p->begin;
+        at = p->end;
+    }
+    append_range(held, run, at);
+    if (rc == ST_OK && at < spp && !partial)
+        rc = st_fail(err, ST_ERR_FORMAT, "samples %u:%u are in no part (the last, %s, ends at "
+                     "%u; --partial merges an incomplete set)", at, spp, order[n - 1]->path, at);
     free(order);
     return rc;
 }
@@ -104,8 +146,34 @@ static st_status load_part(part *p, st_image *img, st_i64 **sums, st_error *err)
     return ST_OK;
 }
 
-static st_status merge(part *parts, int n, const char *out, const char *device, st_error *err)
+/* The first part's settings, labelled with the sample ranges the result
+ * holds (and strata.partial when they are not all of 0..spp). */
+static st_status save_result(const part *parts, int n, const char *held, int complete,
+                             const char *out, const st_image *rgb, st_error *err)
 {
+    st_attr attrs[ST_CLI_MAX_ATTRS + 3] = {0}; /* the added ones are strings, but for merged_parts */
+    int na = 0;
+    for (int i = 0; i < parts[0].nattrs && na < ST_CLI_MAX_ATTRS; i++)
+        if (strcmp(parts[0].attrs[i].name, "strata.sample_range") &&
+            strcmp(parts[0].attrs[i].name, "strata.render_seconds") &&
+            !is_count(parts[0].attrs[i].name))
+            attrs[na++] = parts[0].attrs[i];
+    snprintf(attrs[na].name, sizeof attrs[na].name, "strata.merged_parts");
+    snprintf(attrs[na].value, sizeof attrs[na].value, "%d", n);
+    attrs[na].type = ST_ATTR_INT;
+    snprintf(attrs[++na].name, sizeof attrs[na].name, "strata.sample_range");
+    snprintf(attrs[na].value, sizeof attrs[na].value, "%s", held);
+    if (!complete) {
+        snprintf(attrs[++na].name, sizeof attrs[na].name, "strata.partial");
+        snprintf(attrs[na].value, sizeof attrs[na].value, "holds samples %s of every pixel", held);
+    }
+    return st_image_save(out, rgb, attrs, na + 1, err);
+}
+
+static st_status merge(part *parts, int n, const char *out, const char *device, int partial,
+                       st_error *err)
+{
+    char held[RANGES_TEXT];
     st_image img = {0}, resolved = {0}, rgb = {0};
     st_i64 *total = NULL, *sums = NULL;
     st_device *dev = NULL;
@@ -131,25 +199,16 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
         st_image_free(&img);
     }
     if (rc == ST_OK)
-        rc = check_ranges(parts, n, err);
+        rc = check_ranges(parts, n, partial, held, err);
     if (rc == ST_OK && st_device_create(device, &dev, err) != ST_OK)
         rc = st_cli_device_words(err);
     if (rc == ST_OK && (st_render_resolve(dev, total, w, h, &resolved, NULL, err) ||
                         st_cli_rgb_of(&resolved, &rgb, err)))
         rc = err->status;
     if (rc == ST_OK) {
-        /* the first part's settings, with the ranges merged */
-        st_attr attrs[ST_CLI_MAX_ATTRS + 1];
-        int na = 0;
-        for (int i = 0; i < parts[0].nattrs && na < ST_CLI_MAX_ATTRS; i++)
-            if (strcmp(parts[0].attrs[i].name, "strata.sample_range") &&
-                strcmp(parts[0].attrs[i].name, "strata.render_seconds") &&
-                !is_count(parts[0].attrs[i].name))
-                attrs[na++] = parts[0].attrs[i];
-        snprintf(attrs[na].name, sizeof attrs[na].name, "strata.merged_parts");
-        snprintf(attrs[na].value, sizeof attrs[na].value, "%d", n);
-        attrs[na++].type = ST_ATTR_INT;
-        rc = st_image_save(out, &rgb, attrs, na, err);
+        char whole[sizeof parts[0].attrs->value + 2];
+        snprintf(whole, sizeof whole, "0:%s", attr_value(&parts[0], "strata.spp"));
+        rc = save_result(parts, n, held, !strcmp(held, whole), out, &rgb, err);
     }
     if (rc != ST_OK && dev && err->status == ST_ERR_DEVICE && st_device_build_log(dev)[0])
         fprintf(stderr, "%s\n", st_device_build_log(dev));
@@ -163,15 +222,20 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
 int st_cli_merge(int argc, char **argv)
 {
     const char *out = NULL, *device = NULL;
+    int partial = 0;
     part *parts = calloc(MAX_PARTS, sizeof *parts);
     int n = 0, rc = 0;
     if (!parts)
         return st_cli_fail(&(st_error){ST_ERR_NOMEM, "out of memory"});
     for (int i = 1; i < argc && rc == 0; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png [--device SPEC]\n"
+            puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png [--device SPEC] [--partial]\n"
                  "  adds the raw films of split renders (strata render --sample-range K:M)\n"
-                 "  into the image one render of all their samples gives, bit for bit");
+                 "  into the image one render of all their samples gives, bit for bit.\n"
+                 "  The parts' ranges must tile 0..spp, and parts must share every setting,\n"
+                 "  the scene's content and the device.\n"
+                 "  --partial   merge a set with gaps; the result is labelled with the\n"
+                 "              ranges it holds (strata.sample_range, strata.partial)");
             free(parts);
             return 0;
         }
@@ -182,6 +246,8 @@ int st_cli_merge(int argc, char **argv)
                 out = argv[++i];
             else
                 device = argv[++i];
+        } else if (!strcmp(argv[i], "--partial")) {
+            partial = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             rc = st_cli_usage_error("merge: unknown option %s", argv[i]);
         } else if (n == MAX_PARTS) {
@@ -197,7 +263,7 @@ int st_cli_merge(int argc, char **argv)
     st_error err = {0};
     if (rc == 0 && st_outfile_check(out, &err) != ST_OK)
         rc = st_cli_fail(&err);
-    if (rc == 0 && merge(parts, n, out, device, &err) != ST_OK)
+    if (rc == 0 && merge(parts, n, out, device, partial, &err) != ST_OK)
         rc = st_cli_fail(&err);
     for (int i = 0; i < n; i++)
         free(parts[i].attrs);

@@ -128,6 +128,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     } while (0)
 #define ATTR(key, ...) TYPED(key, ST_ATTR_STRING, __VA_ARGS__)
     ATTR("scene", "%s", s->scene->name);
+    ATTR("scene_hash", "crc32:%08x", (unsigned)st_scene_content_hash(s->scene));
     ATTR("sampler", "%s", st_sampler_names[o->sampler]);
     ATTR("scramble", "%s", o->scramble ? "on" : "none");
     TYPED("spp", ST_ATTR_INT, "%u", o->spp);

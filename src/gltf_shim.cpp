@@ -27,6 +27,7 @@
  * read from its checked range. What is skipped (non-triangle primitives,
  * textures on other texture coordinate sets) becomes a warning line. */
 #include "gltf_shim.h"
+#include "scene_fs.h"
 
 #include <tiny_gltf.h>
 #include <stb/stb_image.h> /* Debian's libstb holds the implementation */
@@ -115,6 +116,10 @@ bool fs_exists(const std::string &path, void *user)
 
 std::string fs_expand(const std::string &path, void *) { return path; }
 
+/* Reads a buffer or image named by URI: only inside the scene's folder (no
+ * "..", absolute path or symbolic link out of it) and within the size cap
+ * (scene_fs.h). tinygltf puts *err after the joined path, which ends with the
+ * URI. */
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path,
              void *user)
 {
@@ -123,21 +128,48 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
         *err = "built-in scenes may use data: URIs only";
         return false;
     }
-    FILE *f = fopen(path.c_str(), "rb");
-    if (!f) {
-        *err = strerror(errno);
+    if (!st_scene_fs_is_inside(ctx->base_dir, path.c_str())) {
+        *err = std::string("the URI leads outside the scene's folder '") +
+               (ctx->base_dir[0] ? ctx->base_dir : ".") + "'; refused";
         return false;
     }
-    unsigned char chunk[65536];
-    size_t got;
-    out->clear();
-    while ((got = fread(chunk, 1, sizeof chunk, f)) > 0)
-        out->insert(out->end(), chunk, chunk + got);
-    bool ok = !ferror(f);
-    if (!ok)
-        *err = "read error";
-    fclose(f);
-    return ok;
+    unsigned char *data = nullptr;
+    size_t size = 0;
+    st_error e = {ST_OK, ""};
+    if (st_scene_fs_read(path.c_str(), ST_SCENE_MAX_FILE_BYTES, "a buffer or image", &data, &size,
+                         &e) != ST_OK) {
+        const char *why = strstr(e.msg, ": "); /* the path is tinygltf's to print */
+        *err = why ? why + 2 : e.msg;
+        return false;
+    }
+    out->assign(data, data + size);
+    free(data);
+    return true;
+}
+
+/* Every data: URI of the JSON text within ST_SCENE_MAX_DATA_URI_BYTES, checked
+ * before tinygltf parses (and copies) it. A GLB's JSON chunk is scanned with
+ * its binary chunk: a stray match there only costs a needless look. */
+void check_data_uris(const unsigned char *bytes, size_t size)
+{
+    static const char key[] = "\"data:";
+    const size_t k = sizeof key - 1;
+    for (size_t at = 0; at + k <= size;) {
+        const void *hit = memchr(bytes + at, '"', size - at);
+        if (!hit)
+            return;
+        at = size_t(static_cast<const unsigned char *>(hit) - bytes);
+        if (size - at < k || memcmp(bytes + at, key, k) != 0) {
+            at++;
+            continue;
+        }
+        const void *close = memchr(bytes + at + 1, '"', size - at - 1);
+        size_t end = close ? size_t(static_cast<const unsigned char *>(close) - bytes) : size;
+        if (end - at - 1 > ST_SCENE_MAX_DATA_URI_BYTES)
+            fail("a data: URI of %zu bytes at byte %zu: more than %zu MiB, the limit", end - at - 1,
+                 at, ST_SCENE_MAX_DATA_URI_BYTES >> 20);
+        at = end + 1;
+    }
 }
 
 bool fs_write(std::string *, const std::string &, const std::vector<unsigned char> &, void *)
@@ -245,6 +277,7 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     if (glb)
         check_glb(bytes, size);
     check_required(bytes, size, glb);
+    check_data_uris(bytes, size);
     fs_context ctx = {base_dir};
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;

@@ -1,5 +1,5 @@
-/* image_exr.c — st_image as an OpenEXR file (scanline, uncompressed; any scanline or tiled file
- * on reading).
+/* image_exr.c — st_image as an OpenEXR file (scanline, ZIP-compressed chunk by chunk here; any
+ * scanline or tiled file on reading).
  *
  * Files are read and written with the OpenEXR 3.1 core C API (openexr.h; file layout: "OpenEXR
  * File Layout", openexr.com), whose messages are captured by an error_handler_fn so the library
@@ -13,6 +13,7 @@
 #include "st_version.h"
 
 #include <openexr.h>
+#include <zlib.h>
 
 #include <errno.h>
 #include <limits.h>
@@ -140,10 +141,8 @@ static exr_result_t exr_set_standard_attrs(exr_context_t ctx, int part)
     return rc == EXR_ERR_SUCCESS ? exr_attr_set_string(ctx, part, "software", software) : rc;
 }
 
-/* Declares the part: size, no compression, channels (sorted by OpenEXR), string
- * attributes. Not ZIP: with OpenEXR 3.1.5, a 48x48 image of three FLOAT
- * channels of render noise, written in 16-line ZIP chunks, read back as
- * garbage in every pixel (test_image.c exr_roundtrip_render_three_channels). */
+/* Declares the part: size, ZIP compression (chunks compressed by exr_write_pixels),
+ * channels (sorted by OpenEXR), attributes. */
 static st_status exr_define(exr_context_t ctx, const char *path, const st_image *img,
                             const st_attr *attrs, int nattrs, int longnames, st_error *err)
 {
@@ -151,7 +150,7 @@ static st_status exr_define(exr_context_t ctx, const char *path, const st_image 
     exr_result_t rc = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);
     if (rc == EXR_ERR_SUCCESS)
         rc = exr_initialize_required_attr_simple(ctx, part, (int32_t)img->width,
-                                                 (int32_t)img->height, EXR_COMPRESSION_NONE);
+                                                 (int32_t)img->height, EXR_COMPRESSION_ZIP);
     if (rc == EXR_ERR_SUCCESS && longnames)
         rc = exr_set_longname_support(ctx, 1);
     if (rc != EXR_ERR_SUCCESS)
@@ -178,49 +177,81 @@ static st_status exr_define(exr_context_t ctx, const char *path, const st_image 
     return ST_OK;
 }
 
-/* Points the encoder's channels (sorted by name) at the interleaved rows starting at row y. */
-static void exr_bind_encode(exr_encode_pipeline_t *enc, const st_image *img, int32_t y)
+/* ---- ZIP chunks, compressed here ------------------------------------------------------------
+ *
+ * OpenEXR 3.1.5's own encoder stores a ZIP chunk whose zlib data is exactly as large as the raw
+ * chunk with packed size == raw size, and every reader (OpenEXR's C, C++ and Python libraries
+ * alike) then takes the zlib bytes for raw pixels: the image comes back as garbage
+ * (test_image.c exr_roundtrip_render_three_channels holds the render that showed it). So strata
+ * compresses each chunk itself, as the OpenEXR file layout defines ZIP_COMPRESSION ("OpenEXR
+ * File Layout", openexr.com; OpenEXR's ImfZip.cpp), and keeps the zlib data only when it is
+ * strictly smaller; otherwise the chunk is stored raw, which every reader recognises by its
+ * packed size equal to the raw size. Chunks are written with exr_write_scanline_chunk. */
+
+/* The raw chunk of lines y .. y+n-1: per line, per channel in the file's (sorted) order, the
+ * width samples as 4-byte little-endian words. */
+static void pack_lines(const st_image *img, const exr_attr_chlist_t *chl, int64_t y, int32_t n,
+                       uint8_t *raw)
 {
-    int32_t stride = (int32_t)(img->channels * 4);
-    for (int16_t k = 0; k < enc->channel_count; k++) {
-        exr_coding_channel_info_t *ch = &enc->channels[k];
-        int c = st_image_find_channel(img, ch->channel_name); /* present: we declared it */
-        size_t at = ((size_t)y * img->width) * img->channels + (size_t)c;
-        ch->encode_from_ptr = img->types[c] == ST_PIXEL_UINT ? (const uint8_t *)(img->udata + at)
-                                                             : (const uint8_t *)(img->data + at);
-        ch->user_pixel_stride = stride;
-        ch->user_line_stride = stride * (int32_t)img->width;
-        ch->user_bytes_per_element = 4;
-        ch->user_data_type = img->types[c] == ST_PIXEL_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
-    }
+    for (int32_t l = 0; l < n; l++)
+        for (int k = 0; k < chl->num_channels; k++) {
+            int c = st_image_find_channel(img, chl->entries[k].name.str); /* declared by us */
+            for (uint32_t x = 0; x < img->width; x++) {
+                size_t at = ((size_t)(y + l) * img->width + x) * img->channels + (size_t)c;
+                uint32_t v;
+                if (img->types[c] == ST_PIXEL_UINT)
+                    v = img->udata[at];
+                else
+                    memcpy(&v, &img->data[at], 4);
+                *raw++ = (uint8_t)v;
+                *raw++ = (uint8_t)(v >> 8);
+                *raw++ = (uint8_t)(v >> 16);
+                *raw++ = (uint8_t)(v >> 24);
+            }
+        }
+}
+
+/* ZIP_COMPRESSION of n raw bytes: even-indexed bytes, then odd-indexed ones; each byte replaced
+ * by its difference to the previous one plus 128 (mod 256); zlib (RFC 1950). Returns the zlib
+ * size in *out, or 0 when it is not strictly smaller than n (store raw). tmp holds n bytes. */
+static size_t zip_chunk(const uint8_t *raw, size_t n, uint8_t *tmp, uint8_t *out, size_t out_cap)
+{
+    size_t half = (n + 1) / 2;
+    for (size_t i = 0; i < n; i++)
+        tmp[(i & 1) ? half + i / 2 : i / 2] = raw[i];
+    for (size_t i = n - 1; i > 0; i--) /* backwards: tmp[i - 1] is still the original */
+        tmp[i] = (uint8_t)(tmp[i] - tmp[i - 1] + 128);
+    uLongf size = (uLongf)out_cap;
+    if (compress2(out, &size, tmp, (uLong)n, Z_DEFAULT_COMPRESSION) != Z_OK || size >= n)
+        return 0;
+    return (size_t)size;
 }
 
 static st_status exr_write_pixels(exr_context_t ctx, const char *path, const st_image *img,
                                   st_error *err)
 {
     int32_t lines = 0;
+    const exr_attr_chlist_t *chl = NULL;
     exr_result_t rc = exr_get_scanlines_per_chunk(ctx, 0, &lines);
-    if (rc != EXR_ERR_SUCCESS || lines <= 0)
+    if (rc == EXR_ERR_SUCCESS)
+        rc = exr_get_channels(ctx, 0, &chl);
+    if (rc != EXR_ERR_SUCCESS || lines <= 0 || !chl)
         return st_fail(err, ST_ERR_FORMAT, "%s: cannot size chunks (%s)", path, exr_reason(rc));
-    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-    int started = 0;
+    size_t cap = (size_t)img->width * 4 * img->channels * (size_t)lines;
+    size_t zcap = compressBound((uLong)cap);
+    uint8_t *raw = malloc(cap), *tmp = malloc(cap), *zip = malloc(zcap);
+    if (!raw || !tmp || !zip)
+        rc = EXR_ERR_OUT_OF_MEMORY;
     for (int64_t y = 0; y < (int64_t)img->height && rc == EXR_ERR_SUCCESS; y += lines) {
-        exr_chunk_info_t cinfo;
-        rc = exr_write_scanline_chunk_info(ctx, 0, (int)y, &cinfo);
-        if (rc == EXR_ERR_SUCCESS)
-            rc = started ? exr_encoding_update(ctx, 0, &cinfo, &enc)
-                         : exr_encoding_initialize(ctx, 0, &cinfo, &enc);
-        if (rc != EXR_ERR_SUCCESS)
-            break;
-        exr_bind_encode(&enc, img, (int32_t)y);
-        if (!started)
-            rc = exr_encoding_choose_default_routines(ctx, 0, &enc);
-        started = 1;
-        if (rc == EXR_ERR_SUCCESS)
-            rc = exr_encoding_run(ctx, 0, &enc);
+        int32_t n = (int32_t)((int64_t)img->height - y < lines ? (int64_t)img->height - y : lines);
+        size_t size = (size_t)img->width * 4 * img->channels * (size_t)n;
+        pack_lines(img, chl, y, n, raw);
+        size_t zsize = zip_chunk(raw, size, tmp, zip, zcap);
+        rc = exr_write_scanline_chunk(ctx, 0, (int)y, zsize ? zip : raw, zsize ? zsize : size);
     }
-    if (started)
-        exr_encoding_destroy(ctx, &enc);
+    free(raw);
+    free(tmp);
+    free(zip);
     if (rc != EXR_ERR_SUCCESS)
         return st_fail(err, ST_ERR_IO, "%s: cannot write pixels (%s)", path, exr_reason(rc));
     return ST_OK;

@@ -12,6 +12,8 @@
 #include "st_scene.h"
 #include "st_names.h"
 
+#include <zlib.h>
+
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
@@ -22,6 +24,7 @@
 #include <strings.h>
 
 #include "embedded.h"
+#include "scene_fs.h"
 #include "gltf_shim.h"
 #include "texture.h"
 
@@ -119,42 +122,6 @@ static st_status unknown_builtin(const char *name, st_error *err)
 }
 
 /* ---- files ------------------------------------------------------------------ */
-
-static st_status read_file(const char *path, unsigned char **data, size_t *size, st_error *err)
-{
-    *data = NULL;
-    *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return st_fail(err, ST_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    size_t cap = 0;
-    st_status s = ST_OK;
-    for (;;) {
-        if (*size == cap) {
-            cap = cap ? 2 * cap : 1 << 16;
-            unsigned char *grown = realloc(*data, cap);
-            if (!grown) {
-                s = st_fail(err, ST_ERR_NOMEM, "%s: out of memory reading the file", path);
-                break;
-            }
-            *data = grown;
-        }
-        size_t got = fread(*data + *size, 1, cap - *size, f);
-        *size += got;
-        if (got == 0) {
-            if (ferror(f))
-                s = st_fail(err, ST_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
-            break;
-        }
-    }
-    fclose(f);
-    if (s != ST_OK) {
-        free(*data);
-        *data = NULL;
-        *size = 0;
-    }
-    return s;
-}
 
 /* The directory external URIs resolve against: the path up to its last '/'
  * ("" for a bare file name: the working directory; "/" for a root file). */
@@ -654,7 +621,8 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
         bytes = e->data;
         size = e->size;
     } else {
-        if ((status = read_file(spec, &file, &size, err)) != ST_OK)
+        if ((status = st_scene_fs_read(spec, ST_SCENE_MAX_FILE_BYTES, "a scene file", &file,
+                                       &size, err)) != ST_OK)
             return status;
         bytes = file;
         if (!(dir = dir_of(spec))) {
@@ -679,6 +647,35 @@ done:
     free(dir);
     free(file);
     return status;
+}
+
+/* zlib's CRC-32 over one array's bytes (NULL or empty: unchanged). */
+static st_u32 crc_of(st_u32 crc, const void *p, size_t bytes)
+{
+    const unsigned char *b = p;
+    while (p && bytes > 0) { /* crc32 takes a uInt length */
+        uInt n = bytes > 1u << 30 ? 1u << 30 : (uInt)bytes;
+        crc = (st_u32)crc32(crc, b, n);
+        b += n;
+        bytes -= n;
+    }
+    return crc;
+}
+
+st_u32 st_scene_content_hash(const st_scene *s)
+{
+    size_t t = s->tri_count;
+    st_u32 crc = (st_u32)crc32(0L, Z_NULL, 0);
+    crc = crc_of(crc, &s->tri_count, sizeof s->tri_count);
+    crc = crc_of(crc, s->positions, 9 * t * sizeof(float));
+    crc = crc_of(crc, s->normals, 9 * t * sizeof(float));
+    crc = crc_of(crc, s->uvs, 6 * t * sizeof(float));
+    crc = crc_of(crc, s->tri_material, t * sizeof(st_u32));
+    crc = crc_of(crc, s->materials, s->material_count * sizeof *s->materials);
+    crc = crc_of(crc, s->textures, s->texture_count * sizeof *s->textures);
+    crc = crc_of(crc, s->texels, s->texel_count * sizeof *s->texels);
+    crc = crc_of(crc, s->cameras, s->camera_count * sizeof *s->cameras);
+    return crc_of(crc, s->default_env, sizeof s->default_env);
 }
 
 void st_scene_destroy(st_scene *scene)

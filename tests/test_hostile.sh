@@ -78,4 +78,81 @@ check "a radiance of 1e6 is clamped and counted in the summary" '[ "${clamped:-0
 check "the EXR header holds the same clamped count as an int" '[ "$(int_attr "$T/hot.exr" strata.clamped_splats)" = "$clamped" ]' "($(int_attr "$T/hot.exr" strata.clamped_splats) vs $clamped)"
 check "the EXR header holds the non-finite and zero-weight counts as ints" '[ "$(int_attr "$T/hot.exr" strata.nonfinite)" = 0 ] && [ "$(int_attr "$T/hot.exr" strata.zero_weight_pixels)" = 0 ]'
 
+# ---- merge refuses what is not one render ------------------------------------------------
+P="--width 16 --height 12 --spp 4 --sampler random --seed 3 --quiet"
+# Replaces the value of EXR string attribute $2 in file $1 by $3 (same length;
+# "@": as many X).
+forge() {
+    python3 -c 'import sys
+p, name, new = sys.argv[1], sys.argv[2].encode(), sys.argv[3].encode()
+d = bytearray(open(p, "rb").read())
+k = d.find(name + b"\0string\0") + len(name) + 8
+n = int.from_bytes(d[k:k + 4], "little")
+new = b"X" * n if new == b"@" else new
+assert len(new) == n, (n, new)
+d[k + 4:k + 4 + n] = new
+open(p, "wb").write(d)' "$1" "$2" "$3"
+}
+$S render $P --sample-range 0:2 -o "$T/p1.exr" && $S render $P --sample-range 2:4 -o "$T/p2.exr"
+expect "merge of one part of two is refused naming the gap" 1 "samples 2:4 are in no part (the last, $T/p1.exr, ends at 2" \
+    $S merge "$T/p1.exr" -o "$T/m.exr"
+check "a refused merge writes nothing" '[ ! -e "$T/m.exr" ]'
+$S merge "$T/p1.exr" --partial -o "$T/half.exr" 2> "$T/err"
+check "merge --partial labels the result with the ranges it holds" 'grep -a -q "holds samples 0:2 of every pixel" "$T/half.exr"' "($(cat "$T/err"))"
+$S merge "$T/p1.exr" "$T/p2.exr" -o "$T/full.exr" 2> "$T/err"
+check "a complete merge is labelled 0:spp and not partial" 'grep -a -q "0:4" "$T/full.exr" && ! grep -a -q "strata.partial" "$T/full.exr"' "($(cat "$T/err"))"
+cp "$T/p2.exr" "$T/past.exr" && forge "$T/past.exr" strata.sample_range 2:9
+expect "a part whose range passes spp is refused" 1 "$T/past.exr: samples 2:9 pass the spp 4" $S merge "$T/p1.exr" "$T/past.exr" -o "$T/m.exr"
+cp "$T/p1.exr" "$T/f1.exr" && cp "$T/p2.exr" "$T/f2.exr" && forge "$T/f1.exr" strata.spp 8 && forge "$T/f2.exr" strata.spp 8
+expect "parts with a forged spp are refused (they do not tile 0:8)" 1 "samples 4:8 are in no part" $S merge "$T/f1.exr" "$T/f2.exr" -o "$T/m.exr"
+cp "$T/p2.exr" "$T/dev.exr" && forge "$T/dev.exr" strata.device @
+expect "parts from different devices are refused by name" 1 "$T/dev.exr: strata.device is XXX" $S merge "$T/p1.exr" "$T/dev.exr" -o "$T/m.exr"
+$S render cornell-box $P --sample-range 2:4 -o "$T/other.exr"
+$S render checkerboard $P --sample-range 0:2 -o "$T/check.exr"
+expect "parts of different scenes are refused by content hash" 1 "$T/other.exr: strata.scene_hash is crc32:" $S merge "$T/check.exr" "$T/other.exr" -o "$T/m.exr"
+mkdir "$T/sc" && cp tests/scenes/materials_flat.gltf "$T/sc/"
+SA=$(cd "$(dirname "$S")" && pwd)/$(basename "$S")
+(cd "$T/sc" && "$SA" render materials_flat.gltf $P --sample-range 0:2 -o "$T/rel.exr" 2> /dev/null)
+$S render "$T/sc/materials_flat.gltf" $P --sample-range 2:4 -o "$T/abs.exr" 2> /dev/null
+$S merge "$T/rel.exr" "$T/abs.exr" -o "$T/both.exr" 2> "$T/err"
+check "one scene named by a relative and an absolute path merges" '[ -s "$T/both.exr" ]' "($(cat "$T/err"))"
+
+# ---- confinement: URIs stay in the scene's folder ----------------------------------------
+mkdir -p "$T/cf/sub" "$T/cf/other"
+cp tests/scenes/layout_u8.gltf "$T/cf/sub/" && cp tests/scenes/layout_u8.bin "$T/cf/other/secret.bin"
+uri_scene() { sed "s|\"uri\": \"layout_u8.bin\"|\"uri\": \"$2\"|" tests/scenes/layout_u8.gltf > "$T/cf/sub/$1"; }
+uri_scene up.gltf ../other/secret.bin
+expect "a ../ buffer URI is refused naming it" 1 "sub/up.gltf: .*sub/../other/secret.bin : the URI leads outside the scene's folder" \
+    $S render "$T/cf/sub/up.gltf" $R -o "$T/cf/o.exr"
+uri_scene pw.gltf ../../../../../../../../etc/passwd
+expect "a ../../etc/passwd URI is refused without its size" 1 "etc/passwd : the URI leads outside" \
+    $S render "$T/cf/sub/pw.gltf" $R -o "$T/cf/o.exr"
+check "the refusal does not quote the file's size" '! grep -q "requestedBytes\|size mismatch" "$T/err"'
+uri_scene abs.gltf "$(pwd)/tests/scenes/layout_u8.bin"
+expect "an absolute buffer URI is refused naming it" 1 "abs.gltf: File not found : $(pwd)/tests/scenes/layout_u8.bin" \
+    $S render "$T/cf/sub/abs.gltf" $R -o "$T/cf/o.exr"
+uri_scene link.gltf link.bin
+ln -s ../other/secret.bin "$T/cf/sub/link.bin"
+expect "a symbolic link out of the folder is refused" 1 "sub/link.bin : the URI leads outside" \
+    $S render "$T/cf/sub/link.gltf" $R -o "$T/cf/o.exr"
+cp "$T/cf/other/secret.bin" "$T/cf/sub/inside.bin" && uri_scene in.gltf inside.bin
+$S render "$T/cf/sub/in.gltf" $R -o "$T/cf/in.exr" 2> "$T/err"
+check "a buffer inside the folder still loads" '[ -s "$T/cf/in.exr" ]' "($(cat "$T/err"))"
+check "no image from a refused scene" '[ ! -e "$T/cf/o.exr" ]'
+
+# ---- caps -----------------------------------------------------------------------------------
+expect "an endless scene (/dev/zero) stops at the 512 MiB cap" 1 "^strata: error: /dev/zero: larger than 512 MiB, the limit for a scene file" \
+    timeout 120 $S render /dev/zero $R -o "$T/z.exr"
+truncate -s 1G "$T/sparse.gltf"
+expect "a 1 GB sparse scene is refused by its size, unread" 1 "sparse.gltf: 1073741824 bytes, larger than 512 MiB, the limit for a scene file" \
+    timeout 20 $S render "$T/sparse.gltf" $R -o "$T/z.exr"
+truncate -s 1G "$T/cf/sub/huge.bin" && uri_scene huge.gltf huge.bin
+expect "a 1 GB buffer is refused naming its URI" 1 "huge.bin : 1073741824 bytes, larger than 512 MiB, the limit for a buffer or image" \
+    timeout 20 $S render "$T/cf/sub/huge.gltf" $R -o "$T/z.exr"
+python3 -c 'import sys
+print("{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 1, \"uri\": \"data:application/octet-stream;base64," + "A" * (65 << 20) + "\"}]}")' > "$T/datauri.gltf"
+expect "a 65 MiB data: URI is refused" 1 "datauri.gltf: a data: URI of .* bytes at byte [0-9]*: more than 64 MiB, the limit" \
+    timeout 20 $S render "$T/datauri.gltf" $R -o "$T/z.exr"
+rm -f "$T/datauri.gltf" "$T/sparse.gltf" "$T/cf/sub/huge.bin"
+
 echo "1..$n"
