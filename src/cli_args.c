@@ -49,7 +49,8 @@ static const char render_help[] =
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
     "  --local-size N         OpenCL work-group size (default 64; the image does not change)\n"
     "  --scene-list           list the built-in scenes and exit\n"
-    "  --quiet                no progress bar and no summary\n"
+    "  -q, --quiet            no progress and no summary (progress: a bar with the time left on\n"
+    "                         a terminal, else a line at every 10 %% or 10 s)\n"
     "  -h, --help             this help\n";
 
 enum {
@@ -291,7 +292,8 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
     case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
-    case O_QUIET: a->quiet = 1; return ST_CLI_OK;
+    case O_QUIET:
+    case 'q': a->quiet = 1; return ST_CLI_OK;
     case O_JSON:
         if (bench != 1)
             return st_cli_usage_error("--json: only `strata bench` takes it");
@@ -314,7 +316,7 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     opterr = 0;
     optind = 1;
     int c;
-    while ((c = getopt_long(argc, argv, ":o:h", options, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:hq", options, NULL)) != -1) {
         if (c == 'h') {
             printf(render_help, argv[0],
                    bench ? "  --json                 print one JSON object\n"

@@ -57,6 +57,9 @@ int st_cli_render(int argc, char **argv)
     st_render_stats st = {0};
     st_cli_progress_state prog;
     st_cli_progress_init(&prog, "render", a.quiet);
+    st_u32 first = a.opt.sample_begin, last = a.opt.sample_end ? a.opt.sample_end : a.opt.spp;
+    if (!a.opt.adaptive) /* an adaptive render's samples are not known in advance */
+        st_cli_progress_work(&prog, (double)a.opt.width * a.opt.height * (last - first), "samples");
     st_i64 *sums = NULL;
     if (st_cli_session_open(&a, &s, &err) ||
         st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st, st_cli_progress, &prog,

@@ -160,8 +160,12 @@ st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
 void st_cli_print_summary(const char *what, const st_render_options *o, const st_render_stats *st)
 {
     double t = st->seconds > 0 ? st->seconds : 1e-9;
-    printf("strata: %s %ux%u, %u spp in %.3f s: %.2f M samples/s, %.2f M rays/s", what,
-           o->width, o->height, o->spp, st->seconds, st->samples / t * 1e-6,
+    printf("strata: %s %ux%u, ", what, o->width, o->height);
+    if (o->sample_begin || o->sample_end) /* a part: its own samples */
+        printf("samples %u:%u of %u spp", o->sample_begin, o->sample_end, o->spp);
+    else
+        printf("%u spp", o->spp);
+    printf(" in %.3f s: %.2f M samples/s, %.2f M rays/s", st->seconds, st->samples / t * 1e-6,
            st->rays / t * 1e-6);
     if (o->adaptive) {
         double uniform = (double)o->width * o->height * o->spp;

@@ -51,6 +51,27 @@ for cmd in render bench filter signal; do
     check "$cmd --help names every filter" '[ -z "$missing" ]' "(missing:$missing)"
 done
 
+# progress when stderr is no terminal: plain lines at 10 % steps (or 10 s), with
+# elapsed time, rate and ETA; -q: none. 32x32 pixels in waves of 1024 work-items:
+# 16 steps of 6.25 %, so lines at 12.5, 25, ..., 100 %.
+P="--width 32 --height 32 --spp 16 --wave 1024"
+$S render $P -o "$T/p.exr" > "$T/pout" 2> "$T/perr"
+check "progress: plain lines on a non-terminal" \
+    '[ "$(grep -c "^strata: render *[0-9]*% ([0-9.]* s elapsed, [0-9.]* [kM] samples/s" "$T/perr")" -eq 8 ]' \
+    "($(head -c 300 "$T/perr"))"
+check "progress: lines before the end show an ETA" 'head -1 "$T/perr" | grep -q " 12% (.*, ETA [0-9.]* s)"'
+check "progress: the last line is 100 % without ETA" 'tail -1 "$T/perr" | grep -q "^strata: render 100% ([^E]*)$"'
+check "progress: no bar control characters in a log" '! grep -q "$(printf "\r")" "$T/perr"'
+if command -v script > /dev/null; then # a terminal: the bar, redrawn in place
+    script -qec "$S render $P -o $T/tty.exr" /dev/null > "$T/tty" 2>&1
+    check "progress on a terminal: a bar with elapsed, rate and ETA, redrawn with CR" \
+        'tr "\r" "\n" < "$T/tty" | grep -q "^render \[#* *\]  *[0-9]*%  [0-9.]* s elapsed, [0-9.]* [kM] samples/s, ETA "'
+fi
+$S render $P -q -o "$T/q.exr" > "$T/qout" 2> "$T/qerr"
+check "-q: no progress and no summary" '[ ! -s "$T/qerr" ] && [ ! -s "$T/qout" ] && [ -s "$T/q.exr" ]'
+$S render $P --sample-range 4:8 -o "$T/part.exr" 2> /dev/null > "$T/partsum"
+check "a part's summary states its sample range" 'grep -q "32x32, samples 4:8 of 16 spp in" "$T/partsum"'
+
 if command -v help2man > /dev/null && command -v make > /dev/null && [ -f Makefile ]; then
     make --no-print-directory -s install PREFIX="$T/prefix" > "$T/inst" 2>&1
     check "make install installs the binary" '[ -x "$T/prefix/bin/strata" ]' "$(tail -3 "$T/inst")"
