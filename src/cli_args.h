@@ -6,6 +6,7 @@
 
 #include "cli_error.h"
 #include "st_render.h"
+#include "st_tonemap.h"
 
 typedef struct st_cli_render_args {
     st_render_options opt;
@@ -18,6 +19,10 @@ typedef struct st_cli_render_args {
     int scramble_given; /* --scramble seen (for its error) */
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
+    st_u32 threads;           /* --threads N; 0: every compute unit */
+    float exposure;           /* --exposure EV (PNG) */
+    st_u32 tonemap;           /* --tonemap: an st_tonemap (PNG) */
+    const char *png_opt;      /* a PNG-only option seen (for its error) */
 } st_cli_render_args;
 
 /* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench

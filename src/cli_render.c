@@ -48,6 +48,9 @@ int st_cli_render(int argc, char **argv)
     int part = a.opt.sample_begin != 0 || a.opt.sample_end != 0;
     if (!st_cli_has_extension(out, ".exr") && !st_cli_has_extension(out, ".png"))
         return st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
+    if (a.png_opt && !st_cli_has_extension(out, ".png"))
+        return st_cli_usage_error("%s applies to PNG output only (an EXR stays linear): -o %s",
+                                  a.png_opt, out);
     if (part && !st_cli_has_extension(out, ".exr"))
         return st_cli_usage_error("-o %s: a split render (--sample-range) writes its raw film "
                                   "to an EXR, for strata merge", out);
@@ -71,7 +74,7 @@ int st_cli_render(int argc, char **argv)
         st_attr attrs[ST_CLI_MAX_ATTRS];
         int nattrs = st_cli_render_attrs(&a, &s, &st, attrs);
         if (st_cli_has_extension(out, ".png"))
-            nattrs = st_cli_settings_only(attrs, nattrs);
+            nattrs = st_cli_png_settings(&a, &rgb, attrs, nattrs);
         if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);

@@ -42,6 +42,11 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     }
     if (st_device_create(a->device, &s->dev, err) != ST_OK)
         return st_cli_device_words(err);
+    if (a->threads && st_device_limit_compute_units(s->dev, a->threads, err) != ST_OK) {
+        static const st_cli_option_name threads[] = {{"threads", "--threads"}, {NULL, NULL}};
+        st_cli_option_words(err, threads);
+        return err->status;
+    }
     t0 = st_cli_now();
     if (st_device_build(s->dev, NULL, err) != ST_OK)
         return err->status;
@@ -143,6 +148,18 @@ int st_cli_settings_only(st_attr *attrs, int n)
         if (strcmp(attrs[i].name, "strata.render_seconds") && strcmp(attrs[i].name, "strata.device"))
             attrs[kept++] = attrs[i];
     return kept;
+}
+
+int st_cli_png_settings(const st_cli_render_args *a, st_image *rgb, st_attr *attrs, int n)
+{
+    st_tonemap_apply(rgb->data, (size_t)rgb->width * rgb->height, rgb->channels, a->exposure,
+                     (st_tonemap)a->tonemap);
+    n = st_cli_settings_only(attrs, n);
+    snprintf(attrs[n].name, sizeof attrs[n].name, "strata.exposure");
+    snprintf(attrs[n].value, sizeof attrs[n].value, "%g", (double)a->exposure);
+    snprintf(attrs[++n].name, sizeof attrs[n].name, "strata.tonemap");
+    snprintf(attrs[n].value, sizeof attrs[n].value, "%s", st_tonemap_names[a->tonemap]);
+    return n + 1;
 }
 
 st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)

@@ -72,6 +72,24 @@ check "-q: no progress and no summary" '[ ! -s "$T/qerr" ] && [ ! -s "$T/qout" ]
 $S render $P --sample-range 4:8 -o "$T/part.exr" 2> /dev/null > "$T/partsum"
 check "a part's summary states its sample range" 'grep -q "32x32, samples 4:8 of 16 spp in" "$T/partsum"'
 
+# --threads: a sub-device of the CPU device, the same image; --exposure and
+# --tonemap for PNG only, recorded in its text
+$S render $R --threads 1 -o "$T/t1.exr"
+$S render $R -o "$T/tall.exr"
+check "--threads 1 renders the same image" '$S diff "$T/t1.exr" "$T/tall.exr" --max-rmse 0 > /dev/null 2>&1'
+expect "--threads above the compute units exits 2" 2 "^strata: error: --threads 4096: .* has [0-9]* compute units" $S render $R --threads 4096 -o "$T/t.exr"
+expect "--threads 0 exits 2" 2 "^strata: error: --threads 0: expected an integer in 1..4096" $S render $R --threads 0
+expect "--exposure with an EXR exits 2" 2 "^strata: error: --exposure applies to PNG output only" $S render $R --exposure 1 -o "$T/e.exr"
+expect "--tonemap with bench exits 2" 2 "^strata: error: --tonemap: only .strata render. writes a PNG" $S bench $R --tonemap filmic
+expect "an unknown tone curve exits 2" 2 "^strata: error: --tonemap flimic: unknown; did you mean filmic?" $S render $R --tonemap flimic -o "$T/e.png"
+check "--exposure wrote nothing for the EXR" '[ ! -e "$T/e.exr" ]'
+$S render $R --exposure 0 --tonemap clamp -o "$T/e0.png"
+$S render $R -o "$T/edef.png"
+$S render $R --exposure 1.5 --tonemap filmic -o "$T/e1.png"
+check "exposure 0 with clamp is the default PNG" 'cmp -s "$T/e0.png" "$T/edef.png"'
+check "exposure and curve change the PNG" '! $S diff "$T/e1.png" "$T/edef.png" --max-rmse 0 > /dev/null 2>&1'
+check "the PNG records exposure and curve" 'grep -aq "strata.exposure.1.5" "$T/e1.png" && grep -aq "strata.tonemap.filmic" "$T/e1.png"'
+
 if command -v help2man > /dev/null && command -v make > /dev/null && [ -f Makefile ]; then
     make --no-print-directory -s install PREFIX="$T/prefix" > "$T/inst" 2>&1
     check "make install installs the binary" '[ -x "$T/prefix/bin/strata" ]' "$(tail -3 "$T/inst")"
