@@ -328,7 +328,9 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case 'o':
         if (bench)
             return st_cli_usage_error("-o: `strata %s` writes no image", bench == 1 ? "bench" : "converge");
-        a->output = v;
+        if (a->noutputs == ST_CLI_MAX_OUTPUTS)
+            return st_cli_usage_error("-o %s: at most %d outputs", v, ST_CLI_MAX_OUTPUTS);
+        a->output = a->outputs[a->noutputs++] = v;
         return ST_CLI_OK;
     default: return parse_view_or_adaptive(c, v, bench, a);
     }
@@ -346,7 +348,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         if (c == 'h') {
             printf(render_help, argv[0],
                    bench ? "  --json                 print one JSON object\n"
-                         : "  -o OUT.exr|OUT.png     output image (default strata.exr)\n");
+                         : "  -o OUT.exr|OUT.png     output image (default strata.exr); repeat -o to\n"
+                           "                         write one render to several files\n");
             return ST_CLI_HELP;
         }
         if (c == '?')

@@ -8,10 +8,14 @@
 #include "st_render.h"
 #include "st_tonemap.h"
 
+#define ST_CLI_MAX_OUTPUTS 4
+
 typedef struct st_cli_render_args {
     st_render_options opt;
     const char *scene;  /* positional SCENE, NULL: the default scene */
-    const char *output; /* -o */
+    const char *output; /* -o (the last one) */
+    const char *outputs[ST_CLI_MAX_OUTPUTS]; /* render: every -o, in order */
+    int noutputs;
     const char *device; /* --device */
     int json;           /* bench --json */
     int scene_list;     /* --scene-list */

@@ -90,6 +90,12 @@ check "exposure 0 with clamp is the default PNG" 'cmp -s "$T/e0.png" "$T/edef.pn
 check "exposure and curve change the PNG" '! $S diff "$T/e1.png" "$T/edef.png" --max-rmse 0 > /dev/null 2>&1'
 check "the PNG records exposure and curve" 'grep -aq "strata.exposure.1.5" "$T/e1.png" && grep -aq "strata.tonemap.filmic" "$T/e1.png"'
 
+# one render, several files (make demo)
+$S render $R -o "$T/both.exr" -o "$T/both.png"
+check "two -o write the EXR and the PNG of one render" \
+    '$S diff "$T/both.exr" "$T/a.exr" --max-rmse 0 > /dev/null 2>&1 && cmp -s "$T/both.png" "$T/a.png"'
+expect "a split render refuses a PNG among its outputs" 2 "^strata: error: -o $T/p.png: a split render" $S render $R --sample-range 0:1 -o "$T/p.exr" -o "$T/p.png"
+
 if command -v help2man > /dev/null && command -v make > /dev/null && [ -f Makefile ]; then
     make --no-print-directory -s install PREFIX="$T/prefix" > "$T/inst" 2>&1
     check "make install installs the binary" '[ -x "$T/prefix/bin/strata" ]' "$(tail -3 "$T/inst")"
