@@ -41,7 +41,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/test_*.c)
 TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
 
-.PHONY: all deps test test-sanitize bench demo clean install FORCE
+.PHONY: all deps test test-sanitize bench demo pictures clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -142,9 +142,13 @@ $(ICOSPHERE): $(BUILD)/make_icosphere
 	@mkdir -p $(BUILD)/bench
 	$(BUILD)/make_icosphere $(BUILD)/bench/icosphere 7
 
+# The README's pictures, each made by its one line in tools/make_pictures.sh
+# (tests/test_pictures.sh checks that a few of them are up to date).
+pictures: deps strata
+	sh tools/make_pictures.sh
+
 demo: deps strata
-	./strata render -o strata.exr
-	./strata render -o strata.png
+	./strata render -o strata.exr -o strata.png
 
 # The binary, a man page made by help2man from the --help texts, and the bash
 # completion; DESTDIR for staged installs (packages).

@@ -44,6 +44,13 @@ st_status st_device_create(const char *spec, st_device **out, st_error *err);
 void st_device_destroy(st_device *dev); /* NULL: does nothing */
 const st_device_info *st_device_get_info(const st_device *dev);
 
+/* Limits the device to n compute units (on a CPU: n threads) by running on an OpenCL sub-device
+ * (clCreateSubDevices, CL_DEVICE_PARTITION_BY_COUNTS {n}); call before st_device_build. n equal
+ * to the device's compute units changes nothing. Errors name the field "threads": n above the
+ * compute units is ST_ERR_USAGE; a device that cannot be partitioned (most GPU drivers) is
+ * ST_ERR_DEVICE. Images do not depend on it: the film's sums are order-free integers. */
+st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err);
+
 /* Builds the program from the embedded kernels, or from the .cl files in
  * $STRATA_KERNEL_DIR when set (for kernel development). Idempotent; the first
  * call's wall time is stored in *seconds (may be NULL). */

@@ -49,15 +49,20 @@ static const char render_help[] =
     "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
     "  --local-size N         OpenCL work-group size (default 64; the image does not change)\n"
+    "  --threads N            run on N of a CPU device's compute units (an OpenCL sub-device;\n"
+    "                         default all; the image does not change)\n"
+    "  --exposure EV          PNG only: scale by 2^EV before the tone curve (default 0)\n"
+    "  --tonemap NAME         PNG only: clamp (default), reinhard or filmic; an EXR stays linear\n"
     "  --scene-list           list the built-in scenes and exit\n"
-    "  --quiet                no progress bar and no summary\n"
+    "  -q, --quiet            no progress and no summary (progress: a bar with the time left on\n"
+    "                         a terminal, else a line at every 10 %% or 10 s)\n"
     "  -h, --help             this help\n";
 
 enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
-    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT
+    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP
 };
 
 static const struct option options[] = {
@@ -89,6 +94,9 @@ static const struct option options[] = {
     {"env", required_argument, 0, O_ENV},
     {"texture-filter", required_argument, 0, O_TEXFILTER},
     {"camera", required_argument, 0, O_CAMERA},
+    {"threads", required_argument, 0, O_THREADS},
+    {"exposure", required_argument, 0, O_EXPOSURE},
+    {"tonemap", required_argument, 0, O_TONEMAP},
     {"quiet", no_argument, 0, O_QUIET},
     {"json", no_argument, 0, O_JSON},
     {"rays", required_argument, 0, O_RAYS},
@@ -213,6 +221,25 @@ static int parse_env(const char *v, st_cli_render_args *a)
     return ST_CLI_OK;
 }
 
+/* The device's thread count and the PNG's exposure and tone curve. */
+static int parse_device_or_png(int c, const char *v, int bench, st_cli_render_args *a)
+{
+    if (c == O_THREADS)
+        return st_cli_parse_u32("--threads", v, 1, 4096, &a->threads);
+    if (bench && (c == O_EXPOSURE || c == O_TONEMAP))
+        return st_cli_usage_error("%s: only `strata render` writes a PNG",
+                                  c == O_EXPOSURE ? "--exposure" : "--tonemap");
+    if (c == O_EXPOSURE) {
+        a->png_opt = "--exposure";
+        return st_cli_parse_float("--exposure", v, &a->exposure);
+    }
+    if (c == O_TONEMAP) {
+        a->png_opt = "--tonemap";
+        return parse_name("--tonemap", st_tonemap_names, ST_TONEMAP_COUNT, v, &a->tonemap);
+    }
+    return ST_CLI_EXIT_USAGE;
+}
+
 /* The options of the view (environment, texture filter, camera) and of
  * adaptive sampling. */
 static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render_args *a)
@@ -245,7 +272,7 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
         o->camera = (st_i32)n;
         return ST_CLI_OK;
     }
-    default: return ST_CLI_EXIT_USAGE;
+    default: return parse_device_or_png(c, v, bench, a);
     }
 }
 
@@ -311,7 +338,8 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
     case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
-    case O_QUIET: a->quiet = 1; return ST_CLI_OK;
+    case O_QUIET:
+    case 'q': a->quiet = 1; return ST_CLI_OK;
     case O_JSON:
         if (bench != 1)
             return st_cli_usage_error("--json: only `strata bench` takes it");
@@ -320,7 +348,9 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case 'o':
         if (bench)
             return st_cli_usage_error("-o: `strata %s` writes no image", bench == 1 ? "bench" : "converge");
-        a->output = v;
+        if (a->noutputs == ST_CLI_MAX_OUTPUTS)
+            return st_cli_usage_error("-o %s: at most %d outputs", v, ST_CLI_MAX_OUTPUTS);
+        a->output = a->outputs[a->noutputs++] = v;
         return ST_CLI_OK;
     case O_RAYS:
     case O_COUNT: return parse_trace_bench(c, v, bench, a);
@@ -336,7 +366,7 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     opterr = 0;
     optind = 1;
     int c;
-    while ((c = getopt_long(argc, argv, ":o:h", options, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":o:hq", options, NULL)) != -1) {
         if (c == 'h') {
             printf(render_help, argv[0],
                    bench ? "  --json                 print one JSON object\n"
@@ -344,7 +374,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
                            "                         random image points, or random origins in the scene's\n"
                            "                         box and directions on the sphere (fixed --seed)\n"
                            "  --count N              rays traced with --rays (default 2097152)\n"
-                         : "  -o OUT.exr|OUT.png     output image (default strata.exr)\n");
+                         : "  -o OUT.exr|OUT.png     output image (default strata.exr); repeat -o to\n"
+                           "                         write one render to several files\n");
             return ST_CLI_HELP;
         }
         if (c == '?')

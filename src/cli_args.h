@@ -6,11 +6,16 @@
 
 #include "cli_error.h"
 #include "st_render.h"
+#include "st_tonemap.h"
+
+#define ST_CLI_MAX_OUTPUTS 4
 
 typedef struct st_cli_render_args {
     st_render_options opt;
     const char *scene;  /* positional SCENE, NULL: the default scene */
-    const char *output; /* -o */
+    const char *output; /* -o (the last one) */
+    const char *outputs[ST_CLI_MAX_OUTPUTS]; /* render: every -o, in order */
+    int noutputs;
     const char *device; /* --device */
     int json;           /* bench --json */
     int rays;           /* bench --rays: 1 + ST_RAYS_*; 0: bench a render */
@@ -20,6 +25,10 @@ typedef struct st_cli_render_args {
     int scramble_given; /* --scramble seen (for its error) */
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
+    st_u32 threads;           /* --threads N; 0: every compute unit */
+    float exposure;           /* --exposure EV (PNG) */
+    st_u32 tonemap;           /* --tonemap: an st_tonemap (PNG) */
+    const char *png_opt;      /* a PNG-only option seen (for its error) */
 } st_cli_render_args;
 
 /* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench

@@ -335,6 +335,7 @@ int st_cli_converge(int argc, char **argv)
     int ir[3];
     st_cli_progress_state prog;
     st_cli_progress_init(&prog, "converge", c->r.quiet);
+    st_cli_progress_work(&prog, total, "renders");
     if (st_cli_session_open(&c->r, &s, &err) || get_reference(c, &s, &ref, ir, &err)) {
         rc = st_cli_session_fail(&s, &err);
         goto done;

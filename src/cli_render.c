@@ -35,6 +35,45 @@ static st_status save_spp_map(const char *path, const st_render_options *o,
     return rc;
 }
 
+/* Each -o ends in .exr or .png; a split render writes EXRs only; the PNG options need a PNG. */
+static int check_outputs(const st_cli_render_args *a, int part)
+{
+    int pngs = 0;
+    for (int i = 0; i < a->noutputs; i++) {
+        const char *out = a->outputs[i];
+        int png = st_cli_has_extension(out, ".png");
+        if (!png && !st_cli_has_extension(out, ".exr"))
+            return st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
+        if (part && png)
+            return st_cli_usage_error("-o %s: a split render (--sample-range) writes its raw "
+                                      "film to an EXR, for strata merge", out);
+        pngs += png;
+    }
+    if (a->png_opt && !pngs)
+        return st_cli_usage_error("%s applies to PNG output only (an EXR stays linear): -o %s",
+                                  a->png_opt, a->outputs[0]);
+    return ST_CLI_OK;
+}
+
+/* The EXRs first (linear, every attribute), then the PNGs (exposure and tone curve applied
+ * once to rgb, the settings as text). */
+static st_status save_outputs(const st_cli_render_args *a, const st_cli_session *s,
+                              const st_render_stats *st, st_image *rgb, st_error *err)
+{
+    st_attr attrs[ST_CLI_MAX_ATTRS];
+    int nattrs = st_cli_render_attrs(a, s, st, attrs), toned = 0;
+    for (int png = 0; png < 2; png++)
+        for (int i = 0; i < a->noutputs; i++) {
+            if (st_cli_has_extension(a->outputs[i], ".png") != png)
+                continue;
+            if (png && !toned++)
+                nattrs = st_cli_png_settings(a, rgb, attrs, nattrs);
+            if (st_image_save(a->outputs[i], rgb, attrs, nattrs, err) != ST_OK)
+                return err->status;
+        }
+    return ST_OK;
+}
+
 int st_cli_render(int argc, char **argv)
 {
     st_cli_render_args a;
@@ -45,13 +84,11 @@ int st_cli_render(int argc, char **argv)
         st_cli_print_scene_list();
         return 0;
     }
-    const char *out = a.output ? a.output : "strata.exr";
+    if (a.noutputs == 0)
+        a.outputs[a.noutputs++] = "strata.exr";
     int part = a.opt.sample_begin != 0 || a.opt.sample_end != 0;
-    if (!st_cli_has_extension(out, ".exr") && !st_cli_has_extension(out, ".png"))
-        return st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
-    if (part && !st_cli_has_extension(out, ".exr"))
-        return st_cli_usage_error("-o %s: a split render (--sample-range) writes its raw film "
-                                  "to an EXR, for strata merge", out);
+    if ((rc = check_outputs(&a, part)))
+        return rc;
     st_error err = {0};
     /* a typo in the output's folder must not cost the render */
     if (st_outfile_check(out, &err) != ST_OK ||
@@ -62,6 +99,9 @@ int st_cli_render(int argc, char **argv)
     st_render_stats st = {0};
     st_cli_progress_state prog;
     st_cli_progress_init(&prog, "render", a.quiet);
+    st_u32 first = a.opt.sample_begin, last = a.opt.sample_end ? a.opt.sample_end : a.opt.spp;
+    if (!a.opt.adaptive) /* an adaptive render's samples are not known in advance */
+        st_cli_progress_work(&prog, (double)a.opt.width * a.opt.height * (last - first), "samples");
     st_i64 *sums = NULL;
     if (st_cli_session_open(&a, &s, &err) ||
         st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st, st_cli_progress, &prog,
@@ -70,11 +110,7 @@ int st_cli_render(int argc, char **argv)
               : st_cli_rgb_of(&img, &rgb, &err))) {
         rc = st_cli_session_fail(&s, &err);
     } else {
-        st_attr attrs[ST_CLI_MAX_ATTRS];
-        int nattrs = st_cli_render_attrs(&a, &s, &st, attrs);
-        if (st_cli_has_extension(out, ".png"))
-            nattrs = st_cli_settings_only(attrs, nattrs);
-        if (st_image_save(out, &rgb, attrs, nattrs, &err) != ST_OK ||
+        if (save_outputs(&a, &s, &st, &rgb, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
         else if (!a.quiet)

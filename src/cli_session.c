@@ -43,6 +43,11 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     }
     if (st_device_create(a->device, &s->dev, err) != ST_OK)
         return st_cli_device_words(err);
+    if (a->threads && st_device_limit_compute_units(s->dev, a->threads, err) != ST_OK) {
+        static const st_cli_option_name threads[] = {{"threads", "--threads"}, {NULL, NULL}};
+        st_cli_option_words(err, threads);
+        return err->status;
+    }
     t0 = st_cli_now();
     if (st_device_build(s->dev, NULL, err) != ST_OK)
         return err->status;
@@ -177,6 +182,18 @@ int st_cli_settings_only(st_attr *attrs, int n)
     return kept;
 }
 
+int st_cli_png_settings(const st_cli_render_args *a, st_image *rgb, st_attr *attrs, int n)
+{
+    st_tonemap_apply(rgb->data, (size_t)rgb->width * rgb->height, rgb->channels, a->exposure,
+                     (st_tonemap)a->tonemap);
+    n = st_cli_settings_only(attrs, n);
+    snprintf(attrs[n].name, sizeof attrs[n].name, "strata.exposure");
+    snprintf(attrs[n].value, sizeof attrs[n].value, "%g", (double)a->exposure);
+    snprintf(attrs[++n].name, sizeof attrs[n].name, "strata.tonemap");
+    snprintf(attrs[n].value, sizeof attrs[n].value, "%s", st_tonemap_names[a->tonemap]);
+    return n + 1;
+}
+
 st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
 {
     const char *names[3] = {"R", "G", "B"};
@@ -192,8 +209,12 @@ st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
 void st_cli_print_summary(const char *what, const st_render_options *o, const st_render_stats *st)
 {
     double t = st->seconds > 0 ? st->seconds : 1e-9;
-    printf("strata: %s %ux%u, %u spp in %.3f s: %.2f M samples/s, %.2f M rays/s", what,
-           o->width, o->height, o->spp, st->seconds, st->samples / t * 1e-6,
+    printf("strata: %s %ux%u, ", what, o->width, o->height);
+    if (o->sample_begin || o->sample_end) /* a part: its own samples */
+        printf("samples %u:%u of %u spp", o->sample_begin, o->sample_end, o->spp);
+    else
+        printf("%u spp", o->spp);
+    printf(" in %.3f s: %.2f M samples/s, %.2f M rays/s", st->seconds, st->samples / t * 1e-6,
            st->rays / t * 1e-6);
     if (o->adaptive) {
         double uniform = (double)o->width * o->height * o->spp;

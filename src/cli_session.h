@@ -42,6 +42,10 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
 /* Drops the facts of the run (render time, device) from attrs, keeping the settings in order, so
  * that a PNG made twice is the same file; returns the new count. */
 int st_cli_settings_only(st_attr *attrs, int n);
+/* For a PNG: applies --exposure and --tonemap to rgb (3 channels) and makes attrs the settings
+ * (st_cli_settings_only) with strata.exposure and strata.tonemap added (attrs has room for
+ * ST_CLI_MAX_ATTRS); returns the new count. */
+int st_cli_png_settings(const st_cli_render_args *a, st_image *rgb, st_attr *attrs, int n);
 /* The R, G, B channels of a render (its W channel dropped). */
 st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err);
 /* Whether path ends in ext, ignoring case. */

@@ -17,6 +17,7 @@ struct st_device {
     st_device_info info;
     cl_platform_id platform;
     cl_device_id id;
+    cl_device_id sub; /* the sub-device of st_device_limit_compute_units, or NULL */
     cl_context context;
     cl_command_queue queue;
     cl_program program;
@@ -267,11 +268,50 @@ void st_device_destroy(st_device *dev)
         clReleaseCommandQueue(dev->queue);
     if (dev->context)
         clReleaseContext(dev->context);
+    if (dev->sub)
+        clReleaseDevice(dev->sub);
     free(dev->log);
     free(dev);
 }
 
 const st_device_info *st_device_get_info(const st_device *dev) { return &dev->info; }
+
+st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err)
+{
+    if (dev->program || dev->sub)
+        return st_fail(err, ST_ERR_USAGE, "threads %u: set before the build, once", n);
+    if (n == 0 || n > dev->info.compute_units)
+        return st_fail(err, ST_ERR_USAGE, "threads %u: %s has %u compute units", n,
+                       dev->info.name, dev->info.compute_units);
+    if (n == dev->info.compute_units)
+        return ST_OK;
+    const cl_device_partition_property by_counts[] = {
+        CL_DEVICE_PARTITION_BY_COUNTS, (cl_device_partition_property)n,
+        CL_DEVICE_PARTITION_BY_COUNTS_LIST_END, 0};
+    cl_uint made = 0;
+    cl_int rc = clCreateSubDevices(dev->id, by_counts, 1, &dev->sub, &made);
+    if (rc != CL_SUCCESS || made != 1) {
+        dev->sub = NULL;
+        return st_fail(err, ST_ERR_DEVICE, "threads %u: %s cannot be limited (clCreateSubDevices: %s)",
+                       n, dev->info.name, st_device_error_name(rc));
+    }
+    cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)dev->platform, 0};
+    cl_context ctx = clCreateContext(props, 1, &dev->sub, NULL, NULL, &rc);
+    if (rc != CL_SUCCESS)
+        return cl_fail(err, "clCreateContext", rc);
+    cl_command_queue q = clCreateCommandQueue(ctx, dev->sub, 0, &rc);
+    if (rc != CL_SUCCESS) {
+        clReleaseContext(ctx);
+        return cl_fail(err, "clCreateCommandQueue", rc);
+    }
+    clReleaseCommandQueue(dev->queue);
+    clReleaseContext(dev->context);
+    dev->context = ctx;
+    dev->queue = q;
+    dev->id = dev->sub;
+    dev->info.compute_units = n;
+    return ST_OK;
+}
 
 const char *st_device_build_log(const st_device *dev)
 {

@@ -51,6 +51,51 @@ for cmd in render bench filter signal; do
     check "$cmd --help names every filter" '[ -z "$missing" ]' "(missing:$missing)"
 done
 
+# progress when stderr is no terminal: plain lines at 10 % steps (or 10 s), with
+# elapsed time, rate and ETA; -q: none. 32x32 pixels in waves of 1024 work-items:
+# 16 steps of 6.25 %, so lines at 12.5, 25, ..., 100 %.
+P="--width 32 --height 32 --spp 16 --wave 1024"
+$S render $P -o "$T/p.exr" > "$T/pout" 2> "$T/perr"
+check "progress: plain lines on a non-terminal" \
+    '[ "$(grep -c "^strata: render *[0-9]*% ([0-9.]* s elapsed, [0-9.]* [kM] samples/s" "$T/perr")" -eq 8 ]' \
+    "($(head -c 300 "$T/perr"))"
+check "progress: lines before the end show an ETA" 'head -1 "$T/perr" | grep -q " 12% (.*, ETA [0-9.]* s)"'
+check "progress: the last line is 100 % without ETA" 'tail -1 "$T/perr" | grep -q "^strata: render 100% ([^E]*)$"'
+check "progress: no bar control characters in a log" '! grep -q "$(printf "\r")" "$T/perr"'
+if command -v script > /dev/null; then # a terminal: the bar, redrawn in place
+    script -qec "$S render $P -o $T/tty.exr" /dev/null > "$T/tty" 2>&1
+    check "progress on a terminal: a bar with elapsed, rate and ETA, redrawn with CR" \
+        'tr "\r" "\n" < "$T/tty" | grep -q "^render \[#* *\]  *[0-9]*%  [0-9.]* s elapsed, [0-9.]* [kM] samples/s, ETA "'
+fi
+$S render $P -q -o "$T/q.exr" > "$T/qout" 2> "$T/qerr"
+check "-q: no progress and no summary" '[ ! -s "$T/qerr" ] && [ ! -s "$T/qout" ] && [ -s "$T/q.exr" ]'
+$S render $P --sample-range 4:8 -o "$T/part.exr" 2> /dev/null > "$T/partsum"
+check "a part's summary states its sample range" 'grep -q "32x32, samples 4:8 of 16 spp in" "$T/partsum"'
+
+# --threads: a sub-device of the CPU device, the same image; --exposure and
+# --tonemap for PNG only, recorded in its text
+$S render $R --threads 1 -o "$T/t1.exr"
+$S render $R -o "$T/tall.exr"
+check "--threads 1 renders the same image" '$S diff "$T/t1.exr" "$T/tall.exr" --max-rmse 0 > /dev/null 2>&1'
+expect "--threads above the compute units exits 2" 2 "^strata: error: --threads 4096: .* has [0-9]* compute units" $S render $R --threads 4096 -o "$T/t.exr"
+expect "--threads 0 exits 2" 2 "^strata: error: --threads 0: expected an integer in 1..4096" $S render $R --threads 0
+expect "--exposure with an EXR exits 2" 2 "^strata: error: --exposure applies to PNG output only" $S render $R --exposure 1 -o "$T/e.exr"
+expect "--tonemap with bench exits 2" 2 "^strata: error: --tonemap: only .strata render. writes a PNG" $S bench $R --tonemap filmic
+expect "an unknown tone curve exits 2" 2 "^strata: error: --tonemap flimic: unknown; did you mean filmic?" $S render $R --tonemap flimic -o "$T/e.png"
+check "--exposure wrote nothing for the EXR" '[ ! -e "$T/e.exr" ]'
+$S render $R --exposure 0 --tonemap clamp -o "$T/e0.png"
+$S render $R -o "$T/edef.png"
+$S render $R --exposure 1.5 --tonemap filmic -o "$T/e1.png"
+check "exposure 0 with clamp is the default PNG" 'cmp -s "$T/e0.png" "$T/edef.png"'
+check "exposure and curve change the PNG" '! $S diff "$T/e1.png" "$T/edef.png" --max-rmse 0 > /dev/null 2>&1'
+check "the PNG records exposure and curve" 'grep -aq "strata.exposure.1.5" "$T/e1.png" && grep -aq "strata.tonemap.filmic" "$T/e1.png"'
+
+# one render, several files (make demo)
+$S render $R -o "$T/both.exr" -o "$T/both.png"
+check "two -o write the EXR and the PNG of one render" \
+    '$S diff "$T/both.exr" "$T/a.exr" --max-rmse 0 > /dev/null 2>&1 && cmp -s "$T/both.png" "$T/a.png"'
+expect "a split render refuses a PNG among its outputs" 2 "^strata: error: -o $T/p.png: a split render" $S render $R --sample-range 0:1 -o "$T/p.exr" -o "$T/p.png"
+
 if command -v help2man > /dev/null && command -v make > /dev/null && [ -f Makefile ]; then
     make --no-print-directory -s install PREFIX="$T/prefix" > "$T/inst" 2>&1
     check "make install installs the binary" '[ -x "$T/prefix/bin/strata" ]' "$(tail -3 "$T/inst")"
