@@ -90,9 +90,11 @@ int st_cli_render(int argc, char **argv)
     if ((rc = check_outputs(&a, part)))
         return rc;
     st_error err = {0};
-    /* a typo in the output's folder must not cost the render */
-    if (st_outfile_check(out, &err) != ST_OK ||
-        (a.spp_map && st_outfile_check(a.spp_map, &err) != ST_OK))
+    /* a typo in an output's folder must not cost the render */
+    for (int i = 0; i < a.noutputs; i++)
+        if (st_outfile_check(a.outputs[i], &err) != ST_OK)
+            return st_cli_fail(&err);
+    if (a.spp_map && st_outfile_check(a.spp_map, &err) != ST_OK)
         return st_cli_fail(&err);
     st_cli_session s;
     st_image img = {0}, rgb = {0};
