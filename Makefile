@@ -4,7 +4,8 @@
 
 DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
-                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev parallel pkg-config gcc g++ make
+                libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev parallel pkg-config gcc g++ make \
+                python3-scipy
 
 PKGS     := OpenCL stb cairo fftw3
 CC       ?= cc

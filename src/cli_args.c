@@ -17,7 +17,8 @@ static const char render_help[] =
     "  --width W, --height H  image size in pixels (default 512x512)\n"
     "  --spp N                samples per pixel (default 16)\n"
     "  --sample-range K:M     render only sample indices K..M-1 of the --spp (split renders)\n"
-    "  --sampler NAME         random, uniform, stratified, halton, hammersley, sobol (default halton)\n"
+    "  --sampler NAME         random, uniform, stratified, halton, hammersley, poisson,\n"
+    "                         best-candidate, paddedsobol, sobol, zsobol (default halton)\n"
     "  --scramble on|none     randomise the sampler (digit permutations, shuffles; default on)\n"
     "  --filter NAME          box, triangle, gaussian, mitchell, lanczos, catmull-rom,\n"
     "                         blackman-harris (default mitchell)\n"
@@ -338,8 +339,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     if (st_cli_apply_filter_args(&fa, &a->opt.filter))
         return ST_CLI_EXIT_USAGE;
     if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
-        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley and "
-                                  "sobol, not %s", st_sampler_names[a->opt.sampler]);
+        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "
+                                  "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->opt.sampler]);
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);
