@@ -27,7 +27,8 @@ static const char render_help[] =
     "  --filter-sigma S       gaussian's standard deviation (default 0.5)\n"
     "  --filter-tau T         lanczos' window scale (default: the radius)\n"
     "  --reconstruction splat|fis   splat each sample into every pixel within the filter\n"
-    "                         radius (default), or filter importance sampling: offsets drawn\n"
+    "                         radius (default; fis for --adaptive), or filter importance\n"
+    "                         sampling: offsets drawn\n"
     "                         from |f|, each sample in one pixel weighted by the sign of f\n"
     "  --adaptive             adaptive sampling: --min-spp everywhere, then more samples only\n"
     "                         where the error estimate (full vs half film) is above the threshold\n"
@@ -232,6 +233,7 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
         a->spp_map = v;
         return ST_CLI_OK;
     case O_RECON:
+        a->recon_given = 1;
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_ENV: return parse_env(v, a);
     case O_TEXFILTER: {
@@ -341,6 +343,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
         return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "
                                   "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->opt.sampler]);
+    if (a->opt.adaptive && !a->recon_given) /* see st_render_check */
+        a->opt.reconstruction = ST_RECON_FIS;
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);
