@@ -5,7 +5,8 @@
 DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
                 libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev libpng-dev zlib1g-dev python3-venv \
-                parallel pkg-config gcc g++ make help2man
+                parallel pkg-config gcc g++ make help2man \
+                python3-scipy
 
 PKGS     := OpenCL stb cairo fftw3
 

@@ -13,7 +13,7 @@
 
 /* Largest --count and --dims. */
 #define ST_PATTERN_MAX_COUNT 1048576u
-#define ST_PATTERN_MAX_DIMS 64u
+#define ST_PATTERN_MAX_DIMS 256u
 
 /* The first `dims` dimensions of `count` points of sampler `sampler`
  * (ST_SAMPLER_*), seed and scramble as for a render; *points holds

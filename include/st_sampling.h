@@ -170,4 +170,14 @@ st_status st_spectrum_periodogram(const float *pts, st_u32 n, st_u32 stride, st_
  * counts[] (both required) are overwritten, kmax+1 entries each. */
 void st_spectrum_radial(const double *power, st_u32 kmax, double *radial, st_u32 *counts);
 
+/* Power spectrum of a w x h image (row-major values, row 0 first):
+ *   P(k) = |sum_x v(x) exp(-2 pi i (kx x / w + ky y / h))|^2 / (w h),
+ * ADDED to power[((ky + h/2) mod h) w + (kx + w/2) mod w], so k = 0 sits at
+ * (w/2, h/2) and callers can average over seeds. Independent values of
+ * variance s^2 give E[P(k)] = s^2 at every k != 0. 2-D FFT by FFTW
+ * (src/image_spectrum.c). Errors: ST_ERR_USAGE (NULL arrays, empty or more
+ * than 2^28 pixels), ST_ERR_NOMEM. */
+st_status st_spectrum_image(const double *values, st_u32 w, st_u32 h, double *power,
+                            st_error *err);
+
 #endif

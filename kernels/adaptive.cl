@@ -17,15 +17,27 @@
 static float3 pixel_mean(__global const st_film_pixel *px)
 {
     __global const long *a = px->sum;
-    float w = (float)a[3];
-    return w > 0.0f ? (float3)((float)a[0], (float)a[1], (float)a[2]) / w : (float3)(INFINITY);
+    float w = (float)a[3]; /* defined wherever the weight sum is not 0, as resolve_film */
+    return w != 0.0f ? (float3)((float)a[0], (float)a[1], (float)a[2]) / w : (float3)(INFINITY);
+}
+
+/* err of pixel i (see the file comment); INFINITY before it has a weight. */
+static float pixel_error(__global const st_film_pixel *film, __global const st_film_pixel *half_film,
+                         st_u32 i)
+{
+    float3 full = pixel_mean(film + i), part = pixel_mean(half_film + i);
+    float3 d = fabs(full - part);
+    return (d.x + d.y + d.z) / sqrt(1e-4f + fmax(full.x + full.y + full.z, 0.0f));
 }
 
 /* Reads both films; for every pixel still sampling, either stops it (flag in
  * pixel_spp) or appends it to the active list and books adaptive_batch more
- * samples. *active_count ends as the number of active pixels (the list's
- * order varies from run to run; the set of (pixel, sample) pairs it makes
- * does not). */
+ * samples. A pixel stops only when it and its 8 neighbours are all below
+ * the threshold (as Cycles dilates its active mask): one estimate from a few
+ * samples is often lucky, and a pixel that stops never restarts.
+ * *active_count ends as the number of active pixels (the list's order
+ * varies from run to run; the set of (pixel, sample) pairs it makes does
+ * not). */
 __kernel void adaptive_mark(ST_FILM_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -34,9 +46,11 @@ __kernel void adaptive_mark(ST_FILM_PARAMS)
     st_u32 n = pixel_spp[i];
     if (n & ST_ADAPTIVE_STOPPED)
         return;
-    float3 full = pixel_mean(film + i), part = pixel_mean(half_film + i);
-    float3 d = fabs(full - part);
-    float err = (d.x + d.y + d.z) / sqrt(1e-4f + fmax(full.x + full.y + full.z, 0.0f));
+    int x = (int)(i % p.width), y = (int)(i / p.width);
+    float err = 0.0f;
+    for (int dy = max(y - 1, 0); dy <= min(y + 1, (int)p.height - 1); dy++)
+        for (int dx = max(x - 1, 0); dx <= min(x + 1, (int)p.width - 1); dx++)
+            err = fmax(err, pixel_error(film, half_film, (st_u32)dy * p.width + (st_u32)dx));
     if (n >= p.adaptive_max_spp || (isfinite(err) && err <= p.adaptive_threshold)) {
         pixel_spp[i] = n | ST_ADAPTIVE_STOPPED;
         return;

@@ -17,6 +17,8 @@
 #ifndef ST_SAMPLERS_H
 #define ST_SAMPLERS_H
 
+#include "sobol_table.h"
+
 #define ST_PRIME_COUNT 64u
 ST_CONSTANT st_u32 st_primes[ST_PRIME_COUNT] = {
     2,   3,   5,   7,   11,  13,  17,  19,  23,  29,  31,  37,  41,  43,  47,  53,
@@ -204,6 +206,122 @@ ST_FN st_u32 st_sobol_bits(st_u32 i, st_u32 dim)
     return r;
 }
 
+/* Dimension dim (< ST_SOBOL_DIMS) of the Sobol' sequence at index i as 32
+ * bits, first digit in the most significant bit: the product of the
+ * generator matrix (Joe and Kuo's direction numbers, sobol_table.h) with the
+ * bits of i over GF(2). */
+ST_FN st_u32 st_sobol_sample_bits(st_u32 i, st_u32 dim)
+{
+    st_u32 r = 0;
+    for (st_u32 k = 0; i; i >>= 1, k++)
+        if (i & 1u)
+            r ^= st_sobol_matrix[dim * 32u + k];
+    return r;
+}
+
+/* The h with sum over k of h_k cols[k] = t over GF(2), for n <= 16 linearly
+ * independent n-bit columns (Gaussian elimination: each column is reduced
+ * by the pivots found so far, remembering which columns it combines). */
+ST_FN st_u32 st_gf2_solve(const st_u32 *cols, st_u32 n, st_u32 t)
+{
+    st_u32 piv[16], tag[16];
+    for (st_u32 b = 0; b < n; b++)
+        piv[b] = 0u;
+    for (st_u32 k = 0; k < n; k++) {
+        st_u32 v = cols[k], g = 1u << k;
+        for (st_u32 b = n; b-- > 0u;) {
+            if (!((v >> b) & 1u))
+                continue;
+            if (!piv[b]) {
+                piv[b] = v;
+                tag[b] = g;
+                break;
+            }
+            v ^= piv[b];
+            g ^= tag[b];
+        }
+    }
+    st_u32 h = 0;
+    for (st_u32 b = n; b-- > 0u;)
+        if (((t >> b) & 1u) && piv[b]) {
+            t ^= piv[b];
+            h ^= tag[b];
+        }
+    return h;
+}
+
+/* Global Sobol' (pbrt-v4's SobolSampler): the image is covered by a 2^m x
+ * 2^m grid of pixels (m = p->sobol_log2, 2^m >= width and height), and
+ * sample s of pixel (px, py) is the s-th index i of the whole sequence whose
+ * first two dimensions, scaled by 2^m, fall in that pixel. The 2^2m indices
+ * from s 2^2m on form a (0,2m,2)-net, so each pixel holds exactly one, with
+ * low bits L: dimension 0 is the bit reversal, so bits 0..m-1 of L are px
+ * reversed; bits m..2m-1 solve the m x m system that the top m digits of
+ * dimension 1 equal py. */
+ST_FN st_u32 st_sobol_global_index(st_u32 m, st_u32 px, st_u32 py, st_u32 s)
+{
+    if (m == 0u)
+        return s;
+    st_u32 lo = st_reverse_bits(px) >> (32u - m);
+    st_u32 base = (st_u32)((st_u64)s << (2u * m)) | lo;
+    st_u32 t = py ^ (st_sobol_sample_bits(base, 1u) >> (32u - m)), cols[16];
+    for (st_u32 k = 0; k < m; k++)
+        cols[k] = st_sobol_matrix[32u + m + k] >> (32u - m);
+    return base | (st_gf2_solve(cols, m, t) << m);
+}
+
+/* Morton code of (x, y) < 2^16: bits of x at even, of y at odd positions. */
+ST_FN st_u32 st_morton2(st_u32 x, st_u32 y)
+{
+    st_u32 v[2] = {x, y};
+    for (int k = 0; k < 2; k++) {
+        st_u32 a = v[k] & 0xffffu;
+        a = (a | (a << 8)) & 0x00ff00ffu;
+        a = (a | (a << 4)) & 0x0f0f0f0fu;
+        a = (a | (a << 2)) & 0x33333333u;
+        v[k] = (a | (a << 1)) & 0x55555555u;
+    }
+    return v[0] | (v[1] << 1);
+}
+
+/* The 24 permutations of {0,1,2,3}, 2 bits per image: entry q maps d to
+ * (st_perm4[q] >> 2d) & 3. */
+ST_CONSTANT st_u32 st_perm4[24] = {
+    0xe4u, 0xb4u, 0xd8u, 0x78u, 0x9cu, 0x6cu, 0xe1u, 0xb1u, 0xc9u, 0x39u, 0x8du, 0x2du,
+    0xd2u, 0x72u, 0xc6u, 0x36u, 0x4eu, 0x1eu, 0x93u, 0x63u, 0x87u, 0x27u, 0x4bu, 0x1bu};
+
+/* ceil(log2(n)) for n >= 1. */
+ST_FN st_u32 st_log2_ceil(st_u32 n)
+{
+    return n <= 1u ? 0u : 32u - ST_CLZ32(n - 1u);
+}
+
+/* ZSobol (Ahmed and Wonka, "Screen-Space Blue-Noise Diffusion of Monte Carlo
+ * Sampling Error via Hierarchical Ordering of Pixels", SIGGRAPH Asia 2020;
+ * pbrt-v4's default ZSobolSampler): the pixels in Morton (Z) order take
+ * consecutive blocks of 2^l indices (l = ceil(log2 spp)) of one (0,2)-
+ * sequence, and every base-4 digit of the index is permuted by a hash of the
+ * digits above it and of the pair of dimensions `pair`, so that neighbouring
+ * pixels get well-spread parts of the sequence (the error becomes blue
+ * noise) while each pixel keeps an aligned block: its 2^l samples of a pair
+ * of dimensions are a (0,l,2)-net. With l odd, the lowest bit is flipped by
+ * the hash instead. */
+ST_FN st_u32 st_zsobol_index(const st_params *p, st_u32 px, st_u32 py, st_u32 s, st_u32 pair)
+{
+    st_u32 l = st_log2_ceil(p->spp), odd = l & 1u;
+    st_u32 z = (st_morton2(px, py) << l) | s, key = 0x55555555u * (pair + 1u) ^ p->seed;
+    st_u32 digits = p->sobol_log2 + (l + 1u) / 2u, index = 0;
+    for (st_u32 i = digits; i-- > odd;) {
+        st_u32 shift = 2u * i - odd, d = (z >> shift) & 3u;
+        st_u32 above = shift + 2u < 32u ? z >> (shift + 2u) : 0u;
+        st_u32 q = st_hash32(above ^ st_hash32(key ^ shift)) % 24u;
+        index |= ((st_perm4[q] >> (2u * d)) & 3u) << shift;
+    }
+    if (odd)
+        index |= (z & 1u) ^ (st_hash32((z >> 1) ^ st_hash32(key)) & 1u);
+    return index;
+}
+
 /* ---- per-pixel samplers ----------------------------------------------------- */
 
 /* The most nearly square factorisation nx * ny = n with nx <= ny. */
@@ -225,7 +343,8 @@ ST_FN void st_stratified_grid(st_u32 n, st_u32 *nx, st_u32 *ny)
 typedef struct st_sample_id {
     st_u32 pixel, sample, key; /* key: st_rng_key(seed, pixel, sample) */
     st_u32 pixel_key;          /* per-pixel scramble key */
-    st_u32 index;              /* Halton: global index of this sample */
+    st_u32 index;              /* Halton, global Sobol': index of this sample in the sequence */
+    st_u32 px, py;             /* the pixel (ZSobol's Morton code) */
 } st_sample_id;
 
 /* Reverses the first `digits` base-b digits of x (the inverse of the radical
@@ -263,7 +382,11 @@ ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_
     id.sample = s;
     id.key = st_rng_key(p->seed, id.pixel, s);
     id.pixel_key = st_hash32(st_rng_key(p->seed, id.pixel, 0xffffffffu));
-    id.index = p->sampler == ST_SAMPLER_HALTON ? st_halton_index(p, px, py, s) : s;
+    id.index = p->sampler == ST_SAMPLER_HALTON  ? st_halton_index(p, px, py, s)
+               : p->sampler == ST_SAMPLER_SOBOL ? st_sobol_global_index(p->sobol_log2, px, py, s)
+                                                : s;
+    id.px = px;
+    id.py = py;
     return id;
 }
 
@@ -343,13 +466,29 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
         return st_radical_inverse_scrambled(st_primes[dim - 1u], id->sample,
                                             st_hash32(id->pixel_key ^ dim));
     }
-    case ST_SAMPLER_SOBOL: {
+    case ST_SAMPLER_PADDED_SOBOL: {
         /* pixel dimensions: the (0,2)-sequence itself; later pairs: index
          * shuffled per pair (pbrt's PaddedSobolSampler) */
         st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, ST_PAIR_KEY);
         st_u32 bits = st_sobol_bits(i, dim & 1u);
         if (p->scramble || dim >= 2u)
             bits = st_owen_scramble(bits, st_hash32(ST_PAIR_KEY ^ (dim & 1u)));
+        return st_bits_to_unit(bits);
+    }
+    case ST_SAMPLER_SOBOL: {
+        if (dim >= ST_SOBOL_DIMS)
+            break;
+        st_u32 bits = st_sobol_sample_bits(id->index, dim);
+        if (dim < 2u) /* the position within the pixel, never scrambled (as pbrt) */
+            return st_bits_to_unit(bits << p->sobol_log2);
+        if (p->scramble)
+            bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim)));
+        return st_bits_to_unit(bits);
+    }
+    case ST_SAMPLER_ZSOBOL: {
+        st_u32 bits = st_sobol_bits(st_zsobol_index(p, id->px, id->py, id->sample, dim >> 1), dim & 1u);
+        if (p->scramble)
+            bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim ^ 0x2a5e5u)));
         return st_bits_to_unit(bits);
     }
     default:

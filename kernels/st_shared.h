@@ -54,8 +54,10 @@ typedef float st_f32;
 #define ST_SAMPLER_HAMMERSLEY 4u
 #define ST_SAMPLER_POISSON 5u
 #define ST_SAMPLER_BEST_CANDIDATE 6u
-#define ST_SAMPLER_SOBOL 7u
-#define ST_SAMPLER_COUNT 8u
+#define ST_SAMPLER_PADDED_SOBOL 7u /* per pixel, later pairs shuffled (pbrt's "paddedsobol") */
+#define ST_SAMPLER_SOBOL 8u        /* one global sequence across the image (pbrt's "sobol") */
+#define ST_SAMPLER_ZSOBOL 9u       /* Morton-ordered blocks (pbrt's "zsobol") */
+#define ST_SAMPLER_COUNT 10u
 #define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
 
 /* Reconstruction filters (render --filter, strata filter). */
@@ -276,7 +278,7 @@ typedef struct st_params {
      * or it has max_spp samples; otherwise it is booked `batch` more */
     st_f32 adaptive_threshold;
     st_u32 adaptive_max_spp, adaptive_batch;
-    st_u32 pad;
+    st_u32 sobol_log2; /* sobol, zsobol: 2^sobol_log2 >= width, height */
     st_filter filter;
     st_camera camera;
 } st_params;
@@ -472,7 +474,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, tile_begin) X(st_params, tile_count) X(st_params, tiles_x)                 \
     X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
     X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
-    X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, filter)        \
+    X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, sobol_log2)   \
+    X(st_params, filter)        \
     X(st_params, camera)                                                                    \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index)                              \
     X(st_wave_ray, o) X(st_wave_ray, tmax) X(st_wave_ray, d) X(st_wave_ray, path_length)    \

@@ -21,7 +21,7 @@ static const char render_help[] =
     "  --spp N                samples per pixel (default 16)\n"
     "  --sample-range K:M     render only sample indices K..M-1 of the --spp (split renders)\n"
     "  --sampler NAME         random, uniform, stratified, halton, hammersley, poisson,\n"
-    "                         best-candidate, sobol (default halton)\n"
+    "                         best-candidate, paddedsobol, sobol, zsobol (default halton)\n"
     "  --scramble on|none     randomise the sampler (digit permutations, shuffles; default on)\n"
     "  --filter NAME          box, triangle, gaussian, mitchell, lanczos, catmull-rom,\n"
     "                         blackman-harris (default mitchell)\n"
@@ -30,7 +30,8 @@ static const char render_help[] =
     "  --filter-sigma S       gaussian's standard deviation (default 0.5)\n"
     "  --filter-tau T         lanczos' window scale (default: the radius)\n"
     "  --reconstruction splat|fis   splat each sample into every pixel within the filter\n"
-    "                         radius (default), or filter importance sampling: offsets drawn\n"
+    "                         radius (default; fis for --adaptive), or filter importance\n"
+    "                         sampling: offsets drawn\n"
     "                         from |f|, each sample in one pixel weighted by the sign of f\n"
     "  --adaptive             adaptive sampling: --min-spp everywhere, then more samples only\n"
     "                         where the error estimate (full vs half film) is above the threshold\n"
@@ -259,6 +260,7 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
         a->spp_map = v;
         return ST_CLI_OK;
     case O_RECON:
+        a->recon_given = 1;
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_ENV: return parse_env(v, a);
     case O_TEXFILTER: {
@@ -392,10 +394,12 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     if (st_cli_apply_filter_args(&fa, &a->opt.filter))
         return ST_CLI_EXIT_USAGE;
     if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
-        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley and "
-                                  "sobol, not %s", st_sampler_names[a->opt.sampler]);
+        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "
+                                  "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->opt.sampler]);
     if (a->ray_count && !a->rays)
         return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
+    if (a->opt.adaptive && !a->recon_given) /* see st_render_check */
+        a->opt.reconstruction = ST_RECON_FIS;
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);

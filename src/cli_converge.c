@@ -18,6 +18,7 @@
 #include "cli_session.h"
 #include "st_pattern.h"
 #include "st_plot.h"
+#include "st_sampling.h"
 
 #define MAX_SERIES 16
 #define MAX_SPP 32
@@ -28,11 +29,14 @@ static const char converge_help[] =
     "                        hammersley, poisson, best-candidate, sobol\n"
     "  --spp-list LIST       comma-separated samples per pixel, e.g. 4,16,64,256\n"
     "  --reference FILE.exr  the reference image (same size), or\n"
-    "  --reference-spp N     render it here: sobol, N spp, another seed (default 1024)\n"
+    "  --reference-spp N     render it here: paddedsobol, N spp, another seed (default 1024)\n"
     "  --seeds K             seeds per randomised sampler and count (default 4)\n"
     "  --region X,Y,W,H      measure only this pixel rectangle (default: the whole image)\n"
     "  --csv FILE|-          sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n"
     "  --png FILE            log-log plot of RMSE against spp, the fitted slope in the legend\n"
+    "  --error-spectrum FILE power spectrum of the per-pixel error (mean of R, G, B minus the\n"
+    "                        reference) at the first --spp-list count, one panel per sampler,\n"
+    "                        mean over seeds (PNG): white error is flat, blue noise dark inside\n"
     "  --adaptive            also each sampler with adaptive sampling (--min-spp max(N/4, 8),\n"
     "                        --max-spp 4N, --noise-threshold), at its mean spp\n"
     "  render options: --width, --height, --filter..., --integrator, --max-depth, --device, ...\n"
@@ -44,6 +48,7 @@ typedef struct converge_args {
     st_u32 samplers[MAX_SERIES], nsamplers;
     st_u32 spp[MAX_SPP], nspp;
     const char *reference, *csv, *png;
+    const char *error_spectrum; /* --error-spectrum FILE.png, or NULL */
     st_u32 reference_spp, seeds;
     st_u32 region[4];
     int have_region;
@@ -91,7 +96,7 @@ static int parse(int argc, char **argv, converge_args *c)
         int takes = !strcmp(a, "--sampler") || !strcmp(a, "--spp-list") ||
                     !strcmp(a, "--reference") || !strcmp(a, "--reference-spp") ||
                     !strcmp(a, "--seeds") || !strcmp(a, "--region") || !strcmp(a, "--csv") ||
-                    !strcmp(a, "--png");
+                    !strcmp(a, "--png") || !strcmp(a, "--error-spectrum");
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             fputs(converge_help, stdout);
             rc = ST_CLI_HELP;
@@ -116,6 +121,8 @@ static int parse(int argc, char **argv, converge_args *c)
             c->csv = v;
         } else if (!strcmp(a, "--png")) {
             c->png = v;
+        } else if (!strcmp(a, "--error-spectrum")) {
+            c->error_spectrum = v;
         } else if (!strcmp(a, "--region")) {
             char tail;
             st_u32 *g = c->region;
@@ -146,8 +153,12 @@ static int parse(int argc, char **argv, converge_args *c)
         c->region[2] = o->width;
         c->region[3] = o->height;
     }
-    if (!c->csv && !c->png)
-        return st_cli_usage_error("converge: nothing to write (give --csv or --png)");
+    if (!c->csv && !c->png && !c->error_spectrum)
+        return st_cli_usage_error("converge: nothing to write (give --csv, --png or "
+                                  "--error-spectrum)");
+    if (c->error_spectrum && c->nsamplers * (o->adaptive ? 2u : 1u) > ST_PLOT_MAX_PANELS)
+        return st_cli_usage_error("--error-spectrum: at most %u panels (samplers, with "
+                                  "--adaptive twice)", ST_PLOT_MAX_PANELS);
     return ST_CLI_OK;
 }
 
@@ -156,6 +167,8 @@ typedef struct series {
     st_u32 sampler, adaptive, n;
     double spp[MAX_SPP], rmse[MAX_SPP], stderr_[MAX_SPP], rel[MAX_SPP], seeds[MAX_SPP];
     double slope;
+    double *error_power; /* --error-spectrum: region-sized, summed over seeds */
+    st_u32 error_runs;
 } series;
 
 /* RMSE and relative MSE of img against ref over the region (R, G, B). */
@@ -203,7 +216,7 @@ static st_status get_reference(const converge_args *c, st_cli_session *s, st_ima
                            c->reference, ref->width, ref->height, o->width, o->height);
     } else {
         st_render_options ro = *o;
-        ro.sampler = ST_SAMPLER_SOBOL;
+        ro.sampler = ST_SAMPLER_PADDED_SOBOL;
         ro.spp = c->reference_spp;
         ro.seed = o->seed + 0x5eed5eedu; /* independent of the study's seeds */
         ro.adaptive = 0;
@@ -216,6 +229,66 @@ static st_status get_reference(const converge_args *c, st_cli_session *s, st_ima
             return st_fail(err, ST_ERR_FORMAT, "%s: no channel %s",
                            c->reference ? c->reference : "reference", names[ch]);
     return ST_OK;
+}
+
+/* --error-spectrum: adds the power spectrum of the region's error image
+ * e = mean over R, G, B of (img - ref) to the series' sum. */
+static st_status add_error_spectrum(const converge_args *c, const st_image *img,
+                                    const st_image *ref, const int ir[3], series *se,
+                                    st_error *err)
+{
+    st_u32 w = c->region[2], h = c->region[3];
+    double *e = malloc(sizeof *e * w * h);
+    if (!se->error_power)
+        se->error_power = calloc((size_t)w * h, sizeof *se->error_power);
+    if (!e || !se->error_power) {
+        free(e);
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the error spectrum");
+    }
+    for (st_u32 y = 0; y < h; y++)
+        for (st_u32 x = 0; x < w; x++) {
+            size_t i = (size_t)(y + c->region[1]) * img->width + x + c->region[0];
+            double d = 0;
+            for (int ch = 0; ch < 3; ch++)
+                d += img->data[i * img->channels + ch] - ref->data[i * ref->channels + ir[ch]];
+            e[(size_t)y * w + x] = d / 3;
+        }
+    st_status rc = st_spectrum_image(e, w, h, se->error_power, err);
+    se->error_runs++;
+    free(e);
+    return rc;
+}
+
+/* --error-spectrum: one log-scaled heatmap per series, side by side, with
+ * one colour range for all (the mean over seeds; heatmap rows run upwards,
+ * so row r of the image is frequency ky = r - h/2 either way). */
+static st_status write_error_spectrum(const converge_args *c, series *ss, st_u32 ns,
+                                      st_error *err)
+{
+    st_u32 w = c->region[2], h = c->region[3];
+    st_plot_heatmap hm[ST_PLOT_MAX_PANELS];
+    st_plot_panel panels[ST_PLOT_MAX_PANELS];
+    char titles[ST_PLOT_MAX_PANELS][96];
+    double lo = INFINITY, hi = -INFINITY;
+    for (st_u32 i = 0; i < ns; i++)
+        for (size_t j = 0; j < (size_t)w * h; j++) {
+            double v = ss[i].error_power[j] /= ss[i].error_runs;
+            if (v > 0) {
+                lo = fmin(lo, log10(v));
+                hi = fmax(hi, log10(v));
+            }
+        }
+    for (st_u32 i = 0; i < ns; i++) {
+        snprintf(titles[i], sizeof titles[i], "%s, %u spp: error spectrum (%u seeds)",
+                 ss[i].name, c->spp[0], ss[i].error_runs);
+        hm[i] = (st_plot_heatmap){.title = titles[i], .colorbar_label = "log10 |E(k)|^2 / N",
+                                  .values = ss[i].error_power, .width = w, .height = h,
+                                  .log10 = 1, .vmin = lo, .vmax = hi > lo ? hi : lo + 1,
+                                  .x0 = -(double)(w / 2), .x1 = (double)(w - 1 - w / 2),
+                                  .y0 = -(double)(h / 2), .y1 = (double)(h - 1 - h / 2)};
+        panels[i] = (st_plot_panel){.kind = ST_PLOT_HEATMAP, .heatmap = &hm[i]};
+    }
+    return st_plot_save_row(c->error_spectrum, panels, ns, 560, 540, err);
 }
 
 /* One point of one series: K seeds (one for a deterministic pattern). */
@@ -242,6 +315,10 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
             return err->status;
         double e, q;
         measure(c, &img, ref, ir, &e, &q);
+        if (c->error_spectrum && k == 0 && add_error_spectrum(c, &img, ref, ir, se, err) != ST_OK) {
+            st_image_free(&img);
+            return err->status;
+        }
         sum += e;
         sum2 += e * e;
         rel += q;
@@ -348,7 +425,8 @@ int st_cli_converge(int argc, char **argv)
             }
         ss[i].slope = fit_slope(&ss[i]);
     }
-    if (write_outputs(c, ss, ns, &err)) {
+    if (write_outputs(c, ss, ns, &err) ||
+        (c->error_spectrum && write_error_spectrum(c, ss, ns, &err))) {
         rc = st_cli_fail(&err);
         goto done;
     }
@@ -360,6 +438,8 @@ int st_cli_converge(int argc, char **argv)
         fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "\n");
     }
 done:
+    for (st_u32 i = 0; i < ns; i++)
+        free(ss[i].error_power);
     st_image_free(&ref);
     st_cli_session_close(&s);
     free(c);

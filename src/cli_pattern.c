@@ -22,11 +22,11 @@
 static const char pattern_help[] =
     "usage: strata pattern --sampler NAME --count N [options]\n"
     "  --sampler NAME      random, uniform, stratified, halton, hammersley, poisson,\n"
-    "                      best-candidate, sobol\n"
+    "                      best-candidate, paddedsobol, sobol, zsobol\n"
     "  --count N           number of points (poisson: the target; the radius follows)\n"
     "  --dims D            dimensions per point (default 2)\n"
     "  --seed S            random seed (default 0)\n"
-    "  --scramble on|none  randomise halton, hammersley, sobol, stratified order (default on)\n"
+    "  --scramble on|none  randomise halton, hammersley, the sobols, stratified order (default on)\n"
     "  --csv FILE|-        the points, one per line, comma-separated, in [0,1)^D\n"
     "  --png FILE          scatter plot of the first two dimensions\n"
     "  --spectrum FILE     periodogram |sum_j exp(-2 pi i k.x_j)|^2 / N over integer k,\n"
@@ -113,8 +113,8 @@ static int parse(int argc, char **argv, pattern_args *a)
     if (!a->have_sampler || !a->have_count)
         return st_cli_usage_error("pattern: --sampler and --count are required");
     if (a->scramble_given && !st_sampler_takes_scramble(a->sampler))
-        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley and "
-                                  "sobol, not %s", st_sampler_names[a->sampler]);
+        return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "
+                                  "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->sampler]);
     if (a->discrepancy && a->count > DISCREPANCY_MAX_COUNT) {
         double pairs = (double)a->count * a->count;
         return st_cli_usage_error("--discrepancy with --count %u: O(N^2) work, %.3g point pairs "

@@ -82,6 +82,13 @@ st_status st_render_check(const st_render_options *o, st_error *err)
         if (st_sampler_is_tiled(o->sampler))
             return st_fail(err, ST_ERR_USAGE, "adaptive needs a per-pixel sampler, not %s",
                            st_sampler_names[o->sampler]);
+        /* splatted across pixels, the dense samples of busy pixels swamp (and
+         * with negative lobes cancel) the filter weight of the sparse ones
+         * next to them: measured, the RMSE then grew with the sample count */
+        if (o->reconstruction != ST_RECON_FIS)
+            return st_fail(err, ST_ERR_USAGE,
+                           "adaptive needs reconstruction fis (each sample in its own pixel): "
+                           "splatting samples of uneven density unbalances the filter weights");
         if (o->min_spp < 2 || o->min_spp > o->spp)
             return st_fail(err, ST_ERR_USAGE,
                            "min spp %u: must be at least 2 (the half film needs two samples) "

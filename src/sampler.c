@@ -13,7 +13,7 @@
 
 const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
     "random", "uniform", "stratified", "halton", "hammersley", "poisson", "best-candidate",
-    "sobol"};
+    "paddedsobol", "sobol", "zsobol"};
 
 int st_sampler_lookup(const char *name)
 {
@@ -23,7 +23,8 @@ int st_sampler_lookup(const char *name)
 int st_sampler_takes_scramble(st_u32 sampler)
 {
     return sampler == ST_SAMPLER_STRATIFIED || sampler == ST_SAMPLER_HALTON ||
-           sampler == ST_SAMPLER_HAMMERSLEY || sampler == ST_SAMPLER_SOBOL;
+           sampler == ST_SAMPLER_HAMMERSLEY || sampler == ST_SAMPLER_PADDED_SOBOL ||
+           sampler == ST_SAMPLER_SOBOL || sampler == ST_SAMPLER_ZSOBOL;
 }
 
 int st_sampler_is_tiled(st_u32 sampler)
@@ -48,6 +49,32 @@ static st_u32 mult_inverse(st_u32 a, st_u32 m)
     return (st_u32)t;
 }
 
+/* The smallest m with 2^m >= width and height (pbrt-v4's SobolSampler
+ * scale), at most 16. */
+static st_u32 sobol_log2(st_u32 width, st_u32 height)
+{
+    st_u32 m = 0;
+    while (m < 16u && ((1u << m) < width || (1u << m) < height))
+        m++;
+    return m;
+}
+
+/* Global Sobol' and ZSobol index the sequence with 32 bits: 2m bits of pixel
+ * and the sample's bits above them (st_sobol_global_index, st_zsobol_index). */
+static st_status sobol_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32 spp,
+                             st_error *err)
+{
+    st_u32 m = sobol_log2(width, height), l = st_log2_ceil(spp);
+    if (width > 65536u || height > 65536u)
+        return st_fail(err, ST_ERR_USAGE, "image size %ux%u: %s needs at most 65536 a side", width,
+                       height, st_sampler_names[sampler]);
+    if (2u * m + l > 32u)
+        return st_fail(err, ST_ERR_USAGE,
+                       "spp %u: %s indices would pass 2^32 at %ux%u pixels (2^%u x 2^%u grid)",
+                       spp, st_sampler_names[sampler], width, height, m, m);
+    return ST_OK;
+}
+
 /* The pixel scales 2^e2 >= width and 3^e3 >= height (each capped at
  * ST_HALTON_MAX_RESOLUTION) make the first two Halton dimensions land one
  * index per pixel per stride; the inverses solve the Chinese remainder
@@ -65,6 +92,7 @@ void st_sampler_prepare(st_params *p)
     p->halton_stride = s2 * s3;
     p->halton_inv2 = s2 > 1u ? mult_inverse(s3 % s2, s2) : 0u;
     p->halton_inv3 = s3 > 1u ? mult_inverse(s2 % s3, s3) : 0u;
+    p->sobol_log2 = sobol_log2(p->width, p->height);
 }
 
 st_status st_sampler_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32 spp,
@@ -72,6 +100,8 @@ st_status st_sampler_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32 s
 {
     if (sampler >= ST_SAMPLER_COUNT)
         return st_fail(err, ST_ERR_USAGE, "sampler %u: unknown", sampler);
+    if (sampler == ST_SAMPLER_SOBOL || sampler == ST_SAMPLER_ZSOBOL)
+        return sobol_check(sampler, width, height, spp, err);
     if (sampler != ST_SAMPLER_HALTON)
         return ST_OK;
     st_params p;

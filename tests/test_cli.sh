@@ -15,7 +15,7 @@ expect "filter parameter of another filter exits 2" 2 "--filter-b/--filter-c app
 expect "sigma for mitchell exits 2" 2 "--filter-sigma applies to gaussian only" $S render --filter-sigma 1
 expect "radius past the limit exits 2" 2 "--filter-radius 9: must be in" $S render --filter-radius 9
 expect "overflowing spp exits 2" 2 "could overflow the 64-bit film" $S render --sampler random --filter lanczos --spp 16000000
-expect "--scramble with a sampler that has none exits 2" 2 "--scramble applies to stratified, halton, hammersley and sobol, not random" $S render --sampler random --scramble none
+expect "--scramble with a sampler that has none exits 2" 2 "--scramble applies to stratified, halton, hammersley, paddedsobol, sobol and zsobol, not random" $S render --sampler random --scramble none
 expect "pattern --scramble with poisson exits 2" 2 "--scramble applies to .* not poisson" $S pattern --sampler poisson --count 4 --scramble none --csv -
 expect "bad output extension exits 2" 2 "the output must end in .exr or .png" $S render -o "$T/x.tif"
 check "bad output extension writes nothing" '[ ! -e "$T/x.tif" ]'

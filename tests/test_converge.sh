@@ -45,4 +45,10 @@ expect "a region outside the image exits 2" 2 "--region 30,0,8,8: outside the 32
 expect "an empty region exits 2" 2 "--region 0,0,0,4: expected X,Y,W,H" $S converge --sampler random --spp-list 4 --region 0,0,0,4 --csv -
 expect "--spp is refused (the study sets it)" 2 "--spp is set by the study" $S converge --sampler random --spp-list 4 --spp 8 --csv -
 expect "nothing to write exits 2" 2 "nothing to write" $S converge --sampler random --spp-list 4
+
+# --error-spectrum alone is something to write: one panel per sampler, a PNG
+$S converge --sampler random,zsobol --spp-list 2 --width 16 --height 12 --integrator direct \
+    --reference-spp 64 --seeds 2 --quiet --error-spectrum "$T/e.png" > "$T/out" 2>&1
+check "--error-spectrum writes a PNG" '[ "$(head -c 4 "$T/e.png" | od -An -c | tr -d " ")" = "211PNG" ]' "$(cat "$T/out")"
+expect "--error-spectrum with more than 8 panels exits 2" 2 "at most 8 panels" $S converge --sampler random,uniform,stratified,halton,hammersley --adaptive --spp-list 4 --error-spectrum "$T/x.png"
 echo "1..$n"

@@ -390,12 +390,16 @@ static void splat_clamp_trips_above_limit(void **state)
     st_image_free(&one);
 }
 
-/* A constant image has error estimate 0: every pixel stops at min_spp. */
+/* A constant image has error estimate 0: every pixel stops at min_spp (box
+ * filter: every weight is +1; with negative lobes a half film whose few
+ * weights cancel has no estimate yet, and its pixel rightly goes on). */
 static void adaptive_constant_scene_stops_at_min(void **state)
 {
     (void)state;
     st_render_options o = small(16, 12, 64);
     o.adaptive = 1;
+    o.reconstruction = ST_RECON_FIS;
+    o.filter = st_filter_default(ST_FILTER_BOX);
     o.min_spp = 4;
     o.max_depth = 0;
     st_render_stats st;
@@ -409,12 +413,14 @@ static void adaptive_constant_scene_stops_at_min(void **state)
 
 /* tests/scenes/edge.gltf at max depth 0: radiance 1 left of a vertical edge,
  * 0 right of it. With a box filter, pixels away from the edge see one value
- * and stop at min_spp; the pixels the edge crosses keep sampling. */
+ * and stop at min_spp; the pixels the edge crosses (1 or 2 columns) and,
+ * through the 3 x 3 neighbourhood, the columns either side keep sampling. */
 static void adaptive_edge_gets_more_samples(void **state)
 {
     (void)state;
     st_render_options o = small(32, 24, 64);
     o.adaptive = 1;
+    o.reconstruction = ST_RECON_FIS;
     o.min_spp = 8;
     o.max_depth = 0;
     o.filter = st_filter_default(ST_FILTER_BOX);
@@ -433,9 +439,25 @@ static void adaptive_edge_gets_more_samples(void **state)
         else
             assert_int_equal(hi, 8); /* flat columns stop at min_spp */
     }
-    assert_true(edge_cols >= 1 && edge_cols <= 2);
+    assert_true(edge_cols >= 3 && edge_cols <= 4);
     free(st.spp_map);
     st_image_free(&img);
+}
+
+/* Adaptive renders reconstruct by filter importance sampling: splatted,
+ * the dense samples of busy pixels swamp the sparse ones next to them. */
+static void adaptive_refuses_splatting(void **state)
+{
+    (void)state;
+    st_render_options o = small(8, 8, 16);
+    o.adaptive = 1;
+    o.min_spp = 4;
+    o.reconstruction = ST_RECON_SPLAT;
+    st_error err = {0};
+    assert_int_equal(st_render_check(&o, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "adaptive needs reconstruction fis"));
+    o.reconstruction = ST_RECON_FIS;
+    assert_int_equal(st_render_check(&o, &err), ST_OK);
 }
 
 /* Same command, same image, bit for bit (the active list's order varies;
@@ -448,6 +470,7 @@ static void adaptive_deterministic_and_close_to_uniform(void **state)
     (void)state;
     st_render_options o = small(32, 32, 128);
     o.adaptive = 1;
+    o.reconstruction = ST_RECON_FIS;
     o.min_spp = 16;
     o.noise_threshold = 0.02f;
     st_render_stats s1, s2;
@@ -541,6 +564,7 @@ int main(void)
         cmocka_unit_test(adaptive_constant_scene_stops_at_min),
         cmocka_unit_test(adaptive_edge_gets_more_samples),
         cmocka_unit_test(adaptive_deterministic_and_close_to_uniform),
+        cmocka_unit_test(adaptive_refuses_splatting),
         cmocka_unit_test(golden_cornell_box),
     };
     return cmocka_run_group_tests_name("render", tests, device_setup, device_teardown);

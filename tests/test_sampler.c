@@ -60,10 +60,28 @@ static void sampler_check_halton_index_limit(void **state)
     assert_null(strstr(err.msg, "--"));
     /* other samplers index by sample alone */
     st_error e2 = {0};
-    assert_int_equal(st_sampler_check(ST_SAMPLER_SOBOL, 512, 512, limit + 1, &e2), ST_OK);
+    assert_int_equal(st_sampler_check(ST_SAMPLER_PADDED_SOBOL, 512, 512, limit + 1, &e2), ST_OK);
     st_error e3 = {0};
     assert_int_equal(st_sampler_check(ST_SAMPLER_COUNT, 16, 16, 1, &e3), ST_ERR_USAGE);
-    assert_non_null(strstr(e3.msg, "sampler 8"));
+    assert_non_null(strstr(e3.msg, "sampler 10"));
+}
+
+/* Global Sobol' and ZSobol: 2m bits of pixel (2^m = 512 >= 512) and
+ * ceil(log2 spp) bits of sample fit 32 bits: spp 2^14 passes, 2^14 + 1 not. */
+static void sampler_check_sobol_index_limit(void **state)
+{
+    (void)state;
+    st_u32 samplers[2] = {ST_SAMPLER_SOBOL, ST_SAMPLER_ZSOBOL};
+    for (int k = 0; k < 2; k++) {
+        st_error err = {0};
+        assert_int_equal(st_sampler_check(samplers[k], 512, 300, 1u << 14, &err), ST_OK);
+        assert_int_equal(st_sampler_check(samplers[k], 512, 300, (1u << 14) + 1, &err),
+                         ST_ERR_USAGE);
+        assert_non_null(strstr(err.msg, "spp 16385"));
+        assert_int_equal(st_sampler_check(samplers[k], 513, 2, 1u << 12, &err), ST_OK);
+        assert_int_equal(st_sampler_check(samplers[k], 513, 2, (1u << 12) + 1, &err),
+                         ST_ERR_USAGE);
+    }
 }
 
 int main(void)
@@ -72,6 +90,7 @@ int main(void)
         cmocka_unit_test(sampler_names_and_predicates),
         cmocka_unit_test(sampler_prepare_pixel_scales),
         cmocka_unit_test(sampler_check_halton_index_limit),
+        cmocka_unit_test(sampler_check_sobol_index_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

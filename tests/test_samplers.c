@@ -755,7 +755,7 @@ static void sobol_equals_direction_numbers(void **state)
         assert_int_equal(st_sobol_bits(i, 1), sobol_dim1_reference(i));
         assert_int_equal(st_sobol_bits(i, 0), st_reverse_bits(i));
     }
-    st_params p = pattern_params(ST_SAMPLER_SOBOL, 1024, 0, 17);
+    st_params p = pattern_params(ST_SAMPLER_PADDED_SOBOL, 1024, 0, 17);
     for (uint32_t i = 0; i < 1024; i++) {
         assert_float_same(pattern_value(&p, i, 0), floor_float(st_reverse_bits(i), (u128)1 << 32),
                           "sobol pattern %u dim 0", i);
@@ -771,7 +771,7 @@ static void sobol_check_nets(uint32_t scramble, uint32_t seed, uint32_t px, uint
     char what[96];
     for (uint32_t m = 0; m <= 10; m++) {
         /* the pixel pair, from a pattern with more points than the net */
-        st_params p = image_params(ST_SAMPLER_SOBOL, 4, 4, 4096, scramble, seed);
+        st_params p = image_params(ST_SAMPLER_PADDED_SOBOL, 4, 4, 4096, scramble, seed);
         for (uint32_t k = 0; k < (1u << m); k++) {
             x[k] = sample_value(&p, px, py, k, 0);
             y[k] = sample_value(&p, px, py, k, 1);
@@ -780,7 +780,7 @@ static void sobol_check_nets(uint32_t scramble, uint32_t seed, uint32_t px, uint
                  seed, px, py);
         assert_net(x, y, m, what);
         /* padded pairs: the index is shuffled within spp = 2^m, then Owen-scrambled */
-        st_params q = image_params(ST_SAMPLER_SOBOL, 4, 4, 1u << m, scramble, seed);
+        st_params q = image_params(ST_SAMPLER_PADDED_SOBOL, 4, 4, 1u << m, scramble, seed);
         for (uint32_t d = 2; d < 6; d += 2) {
             for (uint32_t k = 0; k < (1u << m); k++) {
                 x[k] = sample_value(&q, px, py, k, d);
@@ -832,13 +832,117 @@ static void sobol_scrambled_differs_by_seed_and_pixel(void **state)
     (void)state;
     const uint32_t base[3] = {1, 0, 0}, seed2[3] = {2, 0, 0}, right[3] = {1, 1, 0},
                    below[3] = {1, 0, 1}, far[3] = {1, 3, 3};
-    assert_differs(ST_SAMPLER_SOBOL, 6, 4, 4, base, seed2);
-    assert_differs(ST_SAMPLER_SOBOL, 6, 4, 4, base, right);
-    assert_differs(ST_SAMPLER_SOBOL, 6, 4, 4, base, below);
-    assert_differs(ST_SAMPLER_SOBOL, 6, 4, 4, right, far);
+    assert_differs(ST_SAMPLER_PADDED_SOBOL, 6, 4, 4, base, seed2);
+    assert_differs(ST_SAMPLER_PADDED_SOBOL, 6, 4, 4, base, right);
+    assert_differs(ST_SAMPLER_PADDED_SOBOL, 6, 4, 4, base, below);
+    assert_differs(ST_SAMPLER_PADDED_SOBOL, 6, 4, 4, right, far);
 }
 
 /* ---- scrambled Halton and Hammersley --------------------------------------------- */
+
+/* Global Sobol': for every sample s, the pixels of a W x H image take
+ * distinct indices of the block [s 4^m, (s+1) 4^m), and index i's first two
+ * dimensions, scaled by 2^m, fall in its pixel. Checked against the inverse
+ * map built by brute force: every index of the block, its pixel read off the
+ * top m digits of dimensions 0 and 1. */
+static void sobol_global_index_lands_in_its_pixel(void **state)
+{
+    (void)state;
+    uint32_t sizes[][3] = {{1, 1, 64}, {8, 8, 16}, {13, 7, 8}, {64, 33, 4}};
+    for (int t = 0; t < 4; t++) {
+        st_params p = image_params(ST_SAMPLER_SOBOL, sizes[t][0], sizes[t][1], sizes[t][2], 0, 0);
+        uint32_t m = p.sobol_log2, block = 1u << (2 * m);
+        assert_true((1u << m) >= sizes[t][0] && (1u << m) >= sizes[t][1]);
+        assert_true(m == 0 || (1u << (m - 1)) < sizes[t][0] || (1u << (m - 1)) < sizes[t][1]);
+        uint32_t *owner = malloc(block * sizeof *owner);
+        for (uint32_t s = 0; s < p.spp; s++) {
+            for (uint32_t k = 0; k < block; k++) {
+                uint32_t i = s * block + k, top = m ? 32 - m : 31;
+                uint32_t x = m ? st_sobol_sample_bits(i, 0) >> top : 0;
+                uint32_t y = m ? st_sobol_sample_bits(i, 1) >> top : 0;
+                owner[(y << m) | x] = i;
+            }
+            for (uint32_t py = 0; py < p.height; py++)
+                for (uint32_t px = 0; px < p.width; px++) {
+                    st_sample_id id = st_sample_begin(&p, px, py, s);
+                    if (id.index != owner[(py << m) | px])
+                        fail_msg("%ux%u sample %u pixel (%u,%u): index %u, expected %u",
+                                 p.width, p.height, s, px, py, id.index, owner[(py << m) | px]);
+                    float u = st_sample_dim(&p, &id, 0), v = st_sample_dim(&p, &id, 1);
+                    assert_true(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f);
+                }
+        }
+        free(owner);
+    }
+}
+
+/* Global Sobol': every dimension, unscrambled and Owen-scrambled, puts one
+ * of its first 2^m points in each interval [k 2^-m, (k+1) 2^-m) (each
+ * generator matrix is upper triangular with unit diagonal, and Owen
+ * scrambling maps elementary intervals onto elementary intervals). Equality
+ * with scipy in every dimension is tests/test_sobol_scipy.sh. */
+static void sobol_global_dimensions_stratified(void **state)
+{
+    (void)state;
+    uint8_t seen[1024];
+    for (uint32_t scramble = 0; scramble < 2; scramble++) {
+        st_params p = pattern_params(ST_SAMPLER_SOBOL, 1024, scramble, 5);
+        for (uint32_t d = 0; d < ST_SOBOL_DIMS; d++)
+            for (uint32_t m = 0; m <= 10; m += 5) {
+                memset(seen, 0, sizeof seen);
+                for (uint32_t k = 0; k < (1u << m); k++) {
+                    uint32_t c = cell_of(pattern_value(&p, k, d), 1u << m);
+                    if (seen[c]++)
+                        fail_msg("scramble %u dim %u m %u: interval %u twice", scramble, d, m, c);
+                }
+            }
+    }
+}
+
+/* ZSobol: in every pixel, with spp = 2^m, each pair of dimensions of the
+ * pixel's samples is a (0,m,2)-net (the pixel holds an aligned block of the
+ * (0,2)-sequence, its digits permuted, Owen-scrambled or not); for spp not a
+ * power of two the samples are still distinct. */
+static void zsobol_pixel_pairs_are_nets(void **state)
+{
+    (void)state;
+    float x[256], y[256];
+    char what[96];
+    for (uint32_t scramble = 0; scramble < 2; scramble++)
+        for (uint32_t m = 0; m <= 8; m++) {
+            st_params p = image_params(ST_SAMPLER_ZSOBOL, 5, 3, 1u << m, scramble, 7);
+            for (uint32_t pix = 0; pix < 15; pix++)
+                for (uint32_t d = 0; d < 6; d += 2) {
+                    for (uint32_t k = 0; k < (1u << m); k++) {
+                        x[k] = sample_value(&p, pix % 5, pix / 5, k, d);
+                        y[k] = sample_value(&p, pix % 5, pix / 5, k, d + 1);
+                    }
+                    snprintf(what, sizeof what, "zsobol scramble %u pixel %u dims %u,%u",
+                             scramble, pix, d, d + 1);
+                    assert_net(x, y, m, what);
+                }
+        }
+}
+
+/* ZSobol's index: a bijection of [0, 2^(2m + l)) (every pixel's block, every
+ * sample, one index each), for an odd and an even l. */
+static void zsobol_index_is_bijection(void **state)
+{
+    (void)state;
+    uint32_t spps[2] = {8, 16};
+    for (int t = 0; t < 2; t++) {
+        st_params p = image_params(ST_SAMPLER_ZSOBOL, 8, 8, spps[t], 1, 3);
+        uint32_t n = 64 * spps[t];
+        uint8_t *seen = calloc(n, 1);
+        for (uint32_t pix = 0; pix < 64; pix++)
+            for (uint32_t s = 0; s < spps[t]; s++) {
+                uint32_t i = st_zsobol_index(&p, pix % 8, pix / 8, s, 3);
+                assert_true(i < n && !seen[i]);
+                seen[i] = 1;
+            }
+        free(seen);
+    }
+}
 
 static int cmp_float(const void *a, const void *b)
 {
@@ -1194,6 +1298,10 @@ int main(void)
         cmocka_unit_test(sobol_pattern_is_0m2_net),
         cmocka_unit_test(sobol_owen_scrambled_is_0m2_net),
         cmocka_unit_test(sobol_scrambled_differs_by_seed_and_pixel),
+        cmocka_unit_test(sobol_global_index_lands_in_its_pixel),
+        cmocka_unit_test(sobol_global_dimensions_stratified),
+        cmocka_unit_test(zsobol_pixel_pairs_are_nets),
+        cmocka_unit_test(zsobol_index_is_bijection),
         cmocka_unit_test(halton_scrambled_keeps_stratification),
         cmocka_unit_test(hammersley_scrambled_keeps_stratification),
         cmocka_unit_test(hammersley_rotation_one_point_per_interval),
