@@ -1,9 +1,11 @@
 /* st_bvh.h — bounding volume hierarchy over a triangle soup, built on the host
  * with binned SAH and flattened depth first for the kernels.
  *
- * The layout (st_bvh_node, st_triangle) is kernels/st_shared.h's; the traversal
- * that reads it is kernels/trace.h (st_intersect_closest, st_intersect_any),
- * shared by host and device. Guarantees of a built tree:
+ * The layout (st_bvh_node, st_bvh4_node, st_triangle) is kernels/st_shared.h's;
+ * the traversals that read it are kernels/trace.h's, shared by host and device:
+ * st_intersect_closest and st_intersect_any on the binary tree (the host's
+ * reference), st_intersect4_closest and st_intersect4_any on the same tree
+ * collapsed 4-wide (the kernels'). Guarantees of a built tree:
  *   - nodes[0] is the root; an interior node's first child is the next node,
  *     its second child is nodes[offset]; meta = count << 2 | split axis;
  *   - a leaf holds 1..4 triangles, tris[offset .. offset + count);
@@ -29,6 +31,12 @@ typedef struct st_bvh {
     st_triangle *tris;      /* triangles in BVH order, prepared for Moller-Trumbore (v0, e1, e2) */
     st_u32 *order;          /* order[i] = index in the input of BVH triangle i */
     st_u32 depth;           /* deepest leaf, root = 1 */
+    /* The same tree collapsed 4-wide (st_bvh4_node; what the kernels trace):
+     * wide[0] is the root, depth first; every binary interior node is either
+     * a wide node or opened into its parent; leaves and triangles as above. */
+    st_u32 wide_count;
+    st_bvh4_node *wide;
+    st_u32 wide_depth;      /* deepest wide node, root = 1 */
 } st_bvh;
 
 /* positions: 9 floats per triangle (v0 v1 v2). tri_count may be 0 (an empty leaf root: no hits). Returns ST_ERR_NOMEM on
@@ -41,6 +49,12 @@ typedef struct st_bvh {
  * call. On success *out is owned by the caller (st_bvh_destroy); on failure
  * *out is NULL. */
 st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err);
+
+/* Collapses bvh->nodes into bvh->wide (src/bvh_wide.c; st_bvh_build calls
+ * it): each wide node takes its binary node's two children and, while it has
+ * fewer than four, opens the interior child of largest surface area (the one
+ * a ray is likeliest to enter). ST_ERR_NOMEM on allocation failure. */
+st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
 
 /* Frees the tree and its arrays. NULL is a no-op. */
 void st_bvh_destroy(st_bvh *bvh);

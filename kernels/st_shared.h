@@ -112,6 +112,19 @@ typedef struct st_bvh_node {
     st_u32 meta;
 } st_bvh_node;
 
+/* Wide BVH node: four children of the binary tree collapsed into one
+ * (src/bvh_wide.c), their boxes as structure of arrays, lo[axis][child] and
+ * hi[axis][child], so that one node is one 4-wide slab test (trace.h).
+ * count[k] == 0: child[k] is an interior node's index; count[k] = 1..4:
+ * child k is a leaf of that many triangles from tris[child[k]]. An unused
+ * slot has an inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray enters. */
+typedef struct st_bvh4_node {
+    st_f32 lo[3][4];
+    st_f32 hi[3][4];
+    st_u32 child[4];
+    st_u32 count[4];
+} st_bvh4_node;
+
 /* A triangle prepared for Moller-Trumbore: v0 and the two edges e1 = v1 - v0,
  * e2 = v2 - v0. The fourth float of each is padding (0). */
 typedef struct st_triangle {
@@ -402,7 +415,7 @@ typedef struct st_tile_point {
  * (a tiled sampler's points, filter importance sampling's CDF of |f|):
  * X(name, element type). */
 #define ST_SCENE_BUFFERS(X)                                                                 \
-    X(nodes, st_bvh_node)                                                                   \
+    X(nodes, st_bvh4_node)                                                                  \
     X(tris, st_triangle)                                                                    \
     X(normals, st_tri_normals)                                                              \
     X(tri_material, st_u32)                                                                 \
@@ -441,13 +454,15 @@ static int st_sample_on_film(const st_params *p, st_sample s)
  * reports the device's sizes and offsets; tests/test_layout.c compares them
  * with the host's). */
 #define ST_LAYOUT_STRUCTS(X)                                                                \
-    X(st_bvh_node) X(st_triangle) X(st_tri_normals) X(st_material) X(st_texture)            \
+    X(st_bvh_node) X(st_bvh4_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
+    X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
     X(st_tri_tangents)                                                                      \
     X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
     X(st_bvh_node, bmin) X(st_bvh_node, offset) X(st_bvh_node, bmax) X(st_bvh_node, meta)   \
+    X(st_bvh4_node, lo) X(st_bvh4_node, hi) X(st_bvh4_node, child) X(st_bvh4_node, count)   \
     X(st_triangle, v0) X(st_triangle, e1) X(st_triangle, e2)                                \
     X(st_tri_normals, n0) X(st_tri_normals, n1) X(st_tri_normals, n2)                       \
     X(st_material, base_color) X(st_material, emission) X(st_material, metallic)            \
@@ -492,6 +507,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
 #ifndef __OPENCL_VERSION__
 ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
+ST_STATIC_ASSERT(sizeof(st_bvh4_node) == 128, "st_bvh4_node: two 64-byte lines");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");

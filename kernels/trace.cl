@@ -16,7 +16,7 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
     r.d[0] = w.d[0]; r.d[1] = w.d[1]; r.d[2] = w.d[2];
     r.tmax = w.tmax;
     st_hit h;
-    if (!st_intersect_closest(nodes, tris, &r, &h))
+    if (!st_intersect4_closest(nodes, tris, &r, &h))
         h.prim = ST_NO_HIT;
     hit[i] = h;
 }
@@ -35,7 +35,7 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
     r.o[0] = s.o[0]; r.o[1] = s.o[1]; r.o[2] = s.o[2];
     r.d[0] = s.d[0]; r.d[1] = s.d[1]; r.d[2] = s.d[2];
     r.tmax = s.tmax;
-    float3 l = st_intersect_any(nodes, tris, &r) ? (float3)(0.0f) : vload3(0, s.contribution);
+    float3 l = st_intersect4_any(nodes, tris, &r) ? (float3)(0.0f) : vload3(0, s.contribution);
     __global st_path *pa = &path[i];
     vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
     pa->shadow_rays++;

@@ -12,7 +12,10 @@
  * returns whether any exists (shadow rays). Both agree with a brute-force loop
  * of st_intersect_triangle over all triangles: the box test is conservative
  * for the rounding of the slab test and of Moller-Trumbore's t (see
- * ST_TRACE_SLAB_WIDEN). The BVH is the one st_bvh_build writes
+ * ST_TRACE_SLAB_WIDEN). The kernels trace the 4-wide tree
+ * (st_intersect4_closest, st_intersect4_any: one float4 slab test per node);
+ * the binary tree's traversal stays as the host's reference, and both are
+ * tested against brute force. The BVH is the one st_bvh_build writes
  * (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH. On the
  * device the compiler may contract a * b + c into fma, so t, u, v can differ
  * from the host's in the last bits. Tests: tests/test_bvh.c
@@ -204,6 +207,151 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
             for (st_u32 i = first; i < first + count; ++i)
                 if (st_intersect_triangle(tris + i, ray, i, &hit))
                     return 1;
+        }
+        if (sp == 0u)
+            return 0;
+        node = stack[--sp];
+    }
+}
+
+/* ---- the wide BVH (st_bvh4_node): what the kernels trace ----------------- */
+
+/* Stack of the wide traversals: a node pushes at most three of its children
+ * (it goes on with the fourth), and a wide tree is no deeper than the binary
+ * one it was collapsed from. */
+#define ST_BVH4_STACK (3 * ST_BVH_MAX_DEPTH)
+
+/* The slab test of st_trace_box for a wide node's four boxes at once, lane k
+ * computed with the same operations in the same order as st_trace_box would
+ * for child k (so host and device agree to the bit). Returns a mask, bit k
+ * set when the ray meets child k's box at some t in [0, tmax]; tn[k] is that
+ * box's entry distance. In OpenCL C an explicit float4 test (one SSE/AVX
+ * instruction per step on PoCL, native on GPUs); on the host a loop over the
+ * lanes, which gcc vectorises. */
+#ifdef __OPENCL_VERSION__
+ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh4_node *n, const st_trace_ray *r, st_f32 tmax,
+                           st_f32 *tn)
+{
+    st_u32 neg = r->neg;
+    float4 nx = vload4(0, (neg & 1u) ? n->hi[0] : n->lo[0]);
+    float4 fx = vload4(0, (neg & 1u) ? n->lo[0] : n->hi[0]);
+    float4 ny = vload4(0, (neg & 2u) ? n->hi[1] : n->lo[1]);
+    float4 fy = vload4(0, (neg & 2u) ? n->lo[1] : n->hi[1]);
+    float4 nz = vload4(0, (neg & 4u) ? n->hi[2] : n->lo[2]);
+    float4 fz = vload4(0, (neg & 4u) ? n->lo[2] : n->hi[2]);
+    float4 t, t0 = (float4)(0.0f), t1 = (float4)(tmax);
+    /* select(acc, t, t > acc): st_trace_near, lane-wise (NaN t keeps acc) */
+    t = (nx - r->o[0]) * r->inv[0];
+    t0 = select(t0, t, t > t0);
+    t = (fx - r->o[0]) * r->inv[0];
+    t1 = select(t1, t, t < t1);
+    t = (ny - r->o[1]) * r->inv[1];
+    t0 = select(t0, t, t > t0);
+    t = (fy - r->o[1]) * r->inv[1];
+    t1 = select(t1, t, t < t1);
+    t = (nz - r->o[2]) * r->inv[2];
+    t0 = select(t0, t, t > t0);
+    t = (fz - r->o[2]) * r->inv[2];
+    t1 = select(t1, t, t < t1);
+    vstore4(t0, 0, tn);
+    int4 in = t0 <= t1 * ST_TRACE_SLAB_WIDEN;
+    return (st_u32)((in.x & 1) | (in.y & 2) | (in.z & 4) | (in.w & 8));
+}
+#else
+ST_FN st_u32 st_trace_box4(const st_bvh4_node *n, const st_trace_ray *r, st_f32 tmax, st_f32 *tn)
+{
+    st_u32 mask = 0u;
+    for (int k = 0; k < 4; ++k) {
+        st_f32 t0 = 0.0f, t1 = tmax;
+        for (int a = 0; a < 3; ++a) {
+            int flip = (r->neg >> a) & 1u;
+            st_f32 near_plane = flip ? n->hi[a][k] : n->lo[a][k];
+            st_f32 far_plane = flip ? n->lo[a][k] : n->hi[a][k];
+            t0 = st_trace_near((near_plane - r->o[a]) * r->inv[a], t0);
+            t1 = st_trace_far((far_plane - r->o[a]) * r->inv[a], t1);
+        }
+        tn[k] = t0;
+        mask |= (st_u32)(t0 <= t1 * ST_TRACE_SLAB_WIDEN) << k;
+    }
+    return mask;
+}
+#endif
+
+/* Closest hit through the wide tree; same contract as st_intersect_closest
+ * (ties: whichever triangle the traversal meets first). At each node the
+ * leaves the ray enters are tested at once; the interior children it enters
+ * go on the stack with their entry distance, sorted so that the nearest is
+ * visited next (Wald et al. 2008 order children front to back the same way);
+ * a popped child whose entry lies beyond the closest hit so far is skipped
+ * with the same widening as the box test. */
+ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
+                                const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
+{
+    st_trace_ray r;
+    st_u32 stack[ST_BVH4_STACK];
+    st_f32 entry[ST_BVH4_STACK];
+    st_u32 sp = 0u, node = 0u;
+    st_trace_setup(&r, ray);
+    hit->t = ray->tmax;
+    hit->u = 0.0f;
+    hit->v = 0.0f;
+    hit->prim = ST_NO_HIT;
+    for (;;) {
+        const ST_GLOBAL st_bvh4_node *n = nodes + node;
+        st_f32 tn[4];
+        st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp;
+        for (int k = 0; k < 4; ++k) {
+            if (!((mask >> k) & 1u))
+                continue;
+            st_u32 first = n->child[k], count = n->count[k];
+            for (st_u32 i = first; i < first + count; ++i)
+                st_intersect_triangle(tris + i, ray, i, hit);
+            if (count != 0u)
+                continue;
+            /* insertion: entries above base stay sorted far to near */
+            st_u32 j = sp++;
+            for (; j > base && entry[j - 1u] < tn[k]; --j) {
+                stack[j] = stack[j - 1u];
+                entry[j] = entry[j - 1u];
+            }
+            stack[j] = first;
+            entry[j] = tn[k];
+        }
+        for (;;) {
+            if (sp == 0u)
+                return hit->prim != ST_NO_HIT;
+            --sp;
+            if (entry[sp] <= hit->t * ST_TRACE_SLAB_WIDEN)
+                break;
+        }
+        node = stack[sp];
+    }
+}
+
+/* Whether any triangle is hit at t in (0, ray->tmax) through the wide tree:
+ * stops at the first (no ordering: any occluder will do). */
+ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL st_triangle *tris,
+                            const st_ray *ray)
+{
+    st_trace_ray r;
+    st_hit hit;
+    st_u32 stack[ST_BVH4_STACK];
+    st_u32 sp = 0u, node = 0u;
+    st_trace_setup(&r, ray);
+    hit.t = ray->tmax;
+    for (;;) {
+        const ST_GLOBAL st_bvh4_node *n = nodes + node;
+        st_f32 tn[4];
+        st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn);
+        for (int k = 0; k < 4; ++k) {
+            if (!((mask >> k) & 1u))
+                continue;
+            st_u32 first = n->child[k], count = n->count[k];
+            for (st_u32 i = first; i < first + count; ++i)
+                if (st_intersect_triangle(tris + i, ray, i, &hit))
+                    return 1;
+            if (count == 0u)
+                stack[sp++] = first;
         }
         if (sp == 0u)
             return 0;

@@ -970,6 +970,8 @@ st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, s
         make_empty(bvh);
     else
         s = build_tree(positions, bvh, err);
+    if (s == ST_OK)
+        s = st_bvh_collapse_wide(bvh, err);
     if (s != ST_OK) {
         st_bvh_destroy(bvh);
         return s;
@@ -983,6 +985,7 @@ void st_bvh_destroy(st_bvh *bvh)
     if (!bvh)
         return;
     free(bvh->nodes);
+    free(bvh->wide);
     free(bvh->tris);
     free(bvh->order);
     free(bvh);

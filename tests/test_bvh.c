@@ -9,6 +9,8 @@
  *     test); scenes above 65536 triangles take the builder's cluster-grid path;
  *   - any hit = existence of a closest hit, for random tmax, and false/true
  *     with tmax at/just past the closest t;
+ *   - both for the binary tree's traversal (the host reference) and the wide
+ *     one the kernels run (st_intersect4_*), whose tree is checked as well;
  *   - the flattened tree is what st_bvh.h promises: preorder numbering, boxes
  *     containing children and triangles, leaves of 1..4 covering every BVH
  *     slot once, order a permutation, tris[i] = input triangle order[i];
@@ -24,6 +26,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -214,6 +217,62 @@ static int box_contains(const st_bvh_node *outer, const float lo[3], const float
     return 1;
 }
 
+/* The wide tree (st_bvh4_node): nodes numbered depth first (a child after
+ * its parent), each used slot's box containing its subtree's triangles,
+ * unused slots inverted, leaves of 1..4 covering every triangle once, no
+ * deeper than the binary tree. Recursive: returns the subtree's depth. */
+static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, const float *plo,
+                                const float *phi, uint32_t *covered)
+{
+    const st_bvh4_node *node = &bvh->wide[w];
+    uint32_t deepest = 1, used = 0;
+    for (int k = 0; k < 4; ++k) {
+        float lo[3] = {node->lo[0][k], node->lo[1][k], node->lo[2][k]};
+        float hi[3] = {node->hi[0][k], node->hi[1][k], node->hi[2][k]};
+        uint32_t c = node->count[k], first = node->child[k];
+        if (lo[0] > hi[0]) { /* unused slot (or the empty scene's leaf) */
+            for (int a = 0; a < 3; ++a)
+                assert_true(lo[a] == FLT_MAX && hi[a] == -FLT_MAX);
+            assert_true(bvh->tri_count == 0 || (c == 0 && first == 0));
+            continue;
+        }
+        used++;
+        for (int a = 0; a < 3; ++a)
+            assert_true(plo[a] <= lo[a] && hi[a] <= phi[a]);
+        if (c == 0) {
+            assert_true(first > w && first < bvh->wide_count);
+            uint32_t d = 1 + check_wide_node(bvh, p, first, lo, hi, covered);
+            deepest = d > deepest ? d : deepest;
+            continue;
+        }
+        assert_true(c <= 4 && first + c <= bvh->tri_count);
+        for (uint32_t t = first; t < first + c; ++t) {
+            covered[t]++;
+            for (int v = 0; v < 3; ++v)
+                for (int a = 0; a < 3; ++a) {
+                    float x = p[9 * (size_t)bvh->order[t] + 3 * v + a];
+                    assert_true(lo[a] <= x && x <= hi[a]);
+                }
+        }
+    }
+    assert_true(used >= 2 || w == 0); /* a root may hold one leaf, or none (empty scene) */
+    return deepest;
+}
+
+static void check_wide_structure(const st_bvh *bvh, const float *p, uint32_t n)
+{
+    uint32_t *covered = calloc(n ? n : 1, sizeof *covered);
+    float lo[3] = {-INFINITY, -INFINITY, -INFINITY}, hi[3] = {INFINITY, INFINITY, INFINITY};
+    assert_non_null(covered);
+    assert_true(bvh->wide_count >= 1 && bvh->wide_count <= bvh->node_count);
+    uint32_t depth = check_wide_node(bvh, p, 0, lo, hi, covered);
+    assert_int_equal(depth, bvh->wide_depth);
+    assert_true(depth <= bvh->depth);
+    for (uint32_t k = 0; k < n; ++k)
+        assert_int_equal(covered[k], 1);
+    free(covered);
+}
+
 /* Walks the tree from the root in preorder and checks every promise of
  * st_bvh.h; returns the number of leaves. */
 static uint32_t check_structure(const st_bvh *bvh, const float *p, uint32_t n)
@@ -270,6 +329,7 @@ static uint32_t check_structure(const st_bvh *bvh, const float *p, uint32_t n)
         assert_int_equal(seen[k], 1);
     free(covered);
     free(seen);
+    check_wide_structure(bvh, p, n);
     return leaves;
 }
 
@@ -290,6 +350,34 @@ static void scene_bounds(const float *p, uint32_t n, float lo[3], float hi[3])
             lo[a] = fminf(lo[a], p[3 * i + a]);
             hi[a] = fmaxf(hi[a], p[3 * i + a]);
         }
+}
+
+/* The wide traversal (what the kernels run) against the brute force's
+ * closest hit want (exists: whether there is one): same t to the bit, the
+ * same triangle or one hit at that t; any-hit agrees, also with tmax at and
+ * just past the closest t. */
+static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st_ray *ray,
+                           int exists, const st_hit *want)
+{
+    st_hit got;
+    assert_int_equal(st_intersect4_closest(bvh->wide, bvh->tris, ray, &got), exists);
+    assert_int_equal(st_intersect4_any(bvh->wide, bvh->tris, ray), exists);
+    if (!exists) {
+        assert_int_equal(got.prim, ST_NO_HIT);
+        return;
+    }
+    assert_true(got.prim < bvh->tri_count);
+    assert_memory_equal(&got.t, &want->t, sizeof got.t);
+    if (bvh->order[got.prim] != want->prim) {
+        st_hit tie = {INFINITY, 0, 0, ST_NO_HIT};
+        assert_true(st_intersect_triangle(&input[bvh->order[got.prim]], ray, 0, &tie));
+        assert_memory_equal(&tie.t, &want->t, sizeof tie.t);
+    }
+    st_ray shorter = *ray;
+    shorter.tmax = want->t;
+    assert_false(st_intersect4_any(bvh->wide, bvh->tris, &shorter));
+    shorter.tmax = nextafterf(want->t, INFINITY);
+    assert_true(st_intersect4_any(bvh->wide, bvh->tris, &shorter));
 }
 
 /* Builds, checks the structure, then compares `rays` random rays with the
@@ -313,6 +401,7 @@ static uint32_t check_scene(const float *p, uint32_t n, uint32_t rays, uint64_t 
         st_hit got, want;
         int found = st_intersect_closest(bvh->nodes, bvh->tris, &ray, &got);
         int exists = brute_closest(input, n, &ray, &want);
+        check_wide_ray(bvh, input, &ray, exists, &want);
         assert_int_equal(found, exists);
         assert_int_equal(st_intersect_any(bvh->nodes, bvh->tris, &ray), exists);
         if (!exists) {
@@ -452,6 +541,7 @@ static void closest_equals_brute_force_rays_in_box_planes(void **state)
         int found = st_intersect_closest(bvh->nodes, bvh->tris, &ray, &got);
         assert_int_equal(found, brute_closest(input, n, &ray, &want));
         assert_int_equal(st_intersect_any(bvh->nodes, bvh->tris, &ray), found);
+        check_wide_ray(bvh, input, &ray, found, &want);
         if (!found)
             continue;
         hits++;
@@ -497,7 +587,10 @@ static void build_empty_scene_has_no_hits(void **state)
         assert_false(st_intersect_closest(bvh->nodes, bvh->tris, &ray, &hit));
         assert_int_equal(hit.prim, ST_NO_HIT);
         assert_false(st_intersect_any(bvh->nodes, bvh->tris, &ray));
+        assert_false(st_intersect4_closest(bvh->wide, bvh->tris, &ray, &hit));
+        assert_false(st_intersect4_any(bvh->wide, bvh->tris, &ray));
     }
+    check_wide_structure(bvh, NULL, 0);
     st_bvh_destroy(bvh);
 }
 
@@ -528,6 +621,8 @@ static void build_is_deterministic(void **state)
     assert_int_equal(a->node_count, b->node_count);
     assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
     assert_memory_equal(a->order, b->order, a->tri_count * sizeof *a->order);
+    assert_int_equal(a->wide_count, b->wide_count);
+    assert_memory_equal(a->wide, b->wide, a->wide_count * sizeof *a->wide);
     st_bvh_destroy(a);
     st_bvh_destroy(b);
     free(p);

@@ -108,7 +108,7 @@ static void bvh_device_closest_equals_brute_force(void **state)
         assert_int_equal(st_device_buffer_create(dev, 16, NULL, &scene[i], &err), ST_OK);
     st_device_buffer_destroy(scene[ST_SCENE_nodes]);
     st_device_buffer_destroy(scene[ST_SCENE_tris]);
-    assert_int_equal(st_device_buffer_create(dev, sizeof(st_bvh_node) * bvh->node_count, bvh->nodes, &scene[ST_SCENE_nodes], &err), ST_OK);
+    assert_int_equal(st_device_buffer_create(dev, sizeof(st_bvh4_node) * bvh->wide_count, bvh->wide, &scene[ST_SCENE_nodes], &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, sizeof(st_triangle) * TRIS, bvh->tris, &scene[ST_SCENE_tris], &err), ST_OK);
     st_wave w;
     assert_int_equal(st_wave_create(dev, RAYS, 1, 0, &w, &err), ST_OK);

@@ -1,0 +1,115 @@
+/* bvh_wide.c — the binary BVH collapsed into a 4-wide one (st_bvh4_node),
+ * as Embree and pbrt-v4's GPU path trace (Wald et al., "Getting Rid of
+ * Packets", RT 2008; Dammertz et al., "Shallow Bounding Volume Hierarchies
+ * for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008): a node's four
+ * boxes meet the ray in one vector slab test, and the tree is half as deep. */
+#include <float.h>
+#include <stdlib.h>
+
+#include "st_bvh.h"
+
+static int is_leaf(const st_bvh_node *n) { return (n->meta >> 2) != 0u; }
+
+static float half_area(const st_bvh_node *n)
+{
+    float dx = n->bmax[0] - n->bmin[0], dy = n->bmax[1] - n->bmin[1], dz = n->bmax[2] - n->bmin[2];
+    return dx * dy + dy * dz + dz * dx;
+}
+
+/* The binary nodes that become the children of a wide node made from
+ * interior node i: its two children, then, while fewer than four, the
+ * interior one of largest area replaced by its own two (the first of equal
+ * areas, so the result is a function of the tree). Returns their number. */
+static int gather(const st_bvh_node *nodes, st_u32 i, st_u32 kids[4])
+{
+    int c = 2;
+    kids[0] = i + 1u;
+    kids[1] = nodes[i].offset;
+    while (c < 4) {
+        int best = -1;
+        float area = -1.0f;
+        for (int k = 0; k < c; k++)
+            if (!is_leaf(&nodes[kids[k]]) && half_area(&nodes[kids[k]]) > area) {
+                area = half_area(&nodes[kids[k]]);
+                best = k;
+            }
+        if (best < 0)
+            break;
+        st_u32 open = kids[best];
+        kids[best] = open + 1u;
+        kids[c++] = nodes[open].offset;
+    }
+    return c;
+}
+
+typedef struct wide_builder {
+    const st_bvh_node *nodes;
+    st_bvh4_node *wide;
+    st_u32 count, depth;
+} wide_builder;
+
+static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth);
+
+/* Child slot k of wide node w: binary node `child`'s box, and the node
+ * itself as a leaf or as the wide node made from it (emit). */
+static void set_slot(wide_builder *b, st_u32 w, int k, st_u32 child, st_u32 depth)
+{
+    const st_bvh_node *n = &b->nodes[child];
+    for (int a = 0; a < 3; a++) {
+        b->wide[w].lo[a][k] = n->bmin[a];
+        b->wide[w].hi[a][k] = n->bmax[a];
+    }
+    b->wide[w].count[k] = n->meta >> 2;
+    b->wide[w].child[k] = is_leaf(n) ? n->offset : 0u;
+    if (!is_leaf(n)) {
+        st_u32 c = emit(b, child, depth + 1u);
+        b->wide[w].child[k] = c;
+    }
+}
+
+static void clear_slots(st_bvh4_node *w)
+{
+    for (int k = 0; k < 4; k++) {
+        for (int a = 0; a < 3; a++) {
+            w->lo[a][k] = FLT_MAX;
+            w->hi[a][k] = -FLT_MAX;
+        }
+        w->child[k] = 0u;
+        w->count[k] = 0u;
+    }
+}
+
+/* Wide node for binary interior node i, depth first; returns its index. */
+static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth)
+{
+    st_u32 w = b->count++;
+    b->depth = depth > b->depth ? depth : b->depth;
+    clear_slots(&b->wide[w]);
+    st_u32 kids[4];
+    int c = gather(b->nodes, i, kids);
+    for (int k = 0; k < c; k++)
+        set_slot(b, w, k, kids[k], depth);
+    return w;
+}
+
+st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
+{
+    /* every wide node consumes at least one binary interior node; a leaf
+     * root (a small or empty scene) gets one wide node over it */
+    size_t cap = bvh->node_count;
+    wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u};
+    if (!b.wide)
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
+    if (is_leaf(&bvh->nodes[0])) {
+        b.count = 1u;
+        clear_slots(&b.wide[0]);
+        set_slot(&b, 0u, 0, 0u, 1u);
+    } else {
+        emit(&b, 0u, 1u);
+    }
+    st_bvh4_node *shrunk = realloc(b.wide, (size_t)b.count * sizeof *b.wide);
+    bvh->wide = shrunk ? shrunk : b.wide;
+    bvh->wide_count = b.count;
+    bvh->wide_depth = b.depth;
+    return ST_OK;
+}
