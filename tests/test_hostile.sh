@@ -86,11 +86,16 @@ forge() {
     python3 -c 'import sys
 p, name, new = sys.argv[1], sys.argv[2].encode(), sys.argv[3].encode()
 d = bytearray(open(p, "rb").read())
-k = d.find(name + b"\0string\0") + len(name) + 8
-n = int.from_bytes(d[k:k + 4], "little")
-new = b"X" * n if new == b"@" else new
-assert len(new) == n, (n, new)
-d[k + 4:k + 4 + n] = new
+k = d.find(name + b"\0int\0")
+if k >= 0:  # name, type, size 4, the value
+    k += len(name) + 5
+    d[k + 4:k + 8] = int(new).to_bytes(4, "little")
+else:
+    k = d.find(name + b"\0string\0") + len(name) + 8
+    n = int.from_bytes(d[k:k + 4], "little")
+    new = b"X" * n if new == b"@" else new
+    assert len(new) == n, (n, new)
+    d[k + 4:k + 4 + n] = new
 open(p, "wb").write(d)' "$1" "$2" "$3"
 }
 $S render $P --sample-range 0:2 -o "$T/p1.exr" && $S render $P --sample-range 2:4 -o "$T/p2.exr"
