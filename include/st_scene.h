@@ -36,6 +36,9 @@
 #include "st_error.h"
 #include "st_shared.h" /* st_u32, st_material, st_texture */
 
+/* st_render_options.camera of the default framing (--camera auto). */
+#define ST_CAMERA_AUTO (-2)
+
 typedef struct st_scene_camera {
     float origin[3], forward[3], up[3]; /* world space, unit forward/up, orthogonal */
     float yfov;         /* perspective: vertical field of view, radians */
@@ -64,6 +67,8 @@ typedef struct st_scene {
     st_u32 *texels;
     st_scene_camera default_camera; /* the view of a render that names no camera:
                                        cameras[0], or the default framing */
+    st_scene_camera auto_camera;    /* the default framing (--camera auto): the bounds seen
+                                       through their largest face, a little from above */
     st_u32 camera_count;   /* camera nodes, depth first in scene order */
     st_scene_camera *cameras;
     float bounds_min[3], bounds_max[3];
