@@ -16,7 +16,7 @@
  * (the glTF byte order) with memcpy, so no alignment is assumed.
  *
  * Flattening: every node reachable from the scene's roots contributes its
- * mesh's TRIANGLES primitives, transformed by the node's world matrix
+ * mesh's TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, transformed by the node's world matrix
  * (parent * local, local = T * R * S or the node's matrix). Normals go through
  * the inverse transpose; where the determinant is negative the winding is
  * reversed (v1 <-> v2), as the spec asks of mirrored nodes (§3.7.2.1).
@@ -655,7 +655,26 @@ const tinygltf::Primitive &primitive(const Model &m, int mesh, size_t p)
 
 bool is_triangles(const tinygltf::Primitive &prim)
 {
-    return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1; /* -1: the default */
+    return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1 || /* -1: the default */
+           prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+/* A TRIANGLE_STRIP's or TRIANGLE_FAN's vertex list as a triangle list, by
+ * §3.7.2.1: strip triangle i = (v_i, v_{i+1+i%2}, v_{i+2-i%2}), fan triangle
+ * i = (v_{i+1}, v_{i+2}, v_0). */
+void strip_or_fan_to_list(int mode, std::vector<uint32_t> &idx)
+{
+    if (mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        return;
+    std::vector<uint32_t> list;
+    for (size_t i = 0; i + 2 < idx.size(); i++) {
+        const size_t odd = i % 2;
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+            list.insert(list.end(), {idx[i], idx[i + 1 + odd], idx[i + 2 - odd]});
+        else
+            list.insert(list.end(), {idx[i + 1], idx[i + 2], idx[0]});
+    }
+    idx.swap(list);
 }
 
 /* The POSITION accessor of a TRIANGLES primitive; -1 for a primitive that is
@@ -697,7 +716,8 @@ void note_skipped_primitives(const Model &m, int mesh, notes &warn)
 }
 
 /* Upper bound of a primitive's triangles (checked ranges), to size the output
- * once: the index count / 3, or the vertex count / 3 without indices. */
+ * once: the index count / 3, or the vertex count / 3 without indices (n - 2
+ * of n for a strip or fan). */
 size_t primitive_bound(const Model &m, int mesh, size_t p)
 {
     const int pos = position_accessor(m, mesh, p);
@@ -706,7 +726,11 @@ size_t primitive_bound(const Model &m, int mesh, size_t p)
     const int ind = primitive(m, mesh, p).indices;
     if (ind != -1)
         check_index(ind, m.accessors.size(), "mesh %d primitive %zu: indices accessor", mesh, p);
-    return accessor_span(m, ind != -1 ? ind : pos).count / 3;
+    const size_t n = accessor_span(m, ind != -1 ? ind : pos).count;
+    const int mode = primitive(m, mesh, p).mode;
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        return n >= 3 ? n - 2 : 0;
+    return n / 3;
 }
 
 /* Where triangles go: arrays sized by the bound, filled in scene order. */
@@ -916,6 +940,7 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
         for (size_t v = 0; v < nv; v++)
             s.idx[v] = uint32_t(v);
     }
+    strip_or_fan_to_list(prim.mode, s.idx);
     transform_vertices(world, nx, s, nrm >= 0);
     const int tan = attribute(m, mesh, p, "TANGENT");
     s.t.clear();
@@ -1270,7 +1295,7 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
         if (!mesh_noted[size_t(in.mesh)]++)
             note_skipped_primitives(m, in.mesh, warn);
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            bound += primitive_bound(m, in.mesh, p); /* each <= buffer bytes / 3 */
+            bound += primitive_bound(m, in.mesh, p); /* each <= its accessor's elements */
     }
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);

@@ -734,6 +734,26 @@ static void auto_camera_sees_the_largest_face(void **state)
     }
 }
 
+/* A TRIANGLE_STRIP and a TRIANGLE_FAN of the 2 x 2 quad in z = 0 give its
+ * two triangles: area 2 each (a wrong fan or strip rule gives other ones)
+ * and wound counter-clockwise seen from +z, as the quad's normals face (the
+ * strip's odd triangles swap two vertices, §3.7.2.1). */
+static void strips_and_fans_become_triangles(void **state)
+{
+    (void)state;
+    static const char *files[] = {SCENES "quad_strip.gltf", SCENES "quad_fan.gltf"};
+    for (int f = 0; f < 2; f++) {
+        st_scene *s = load_ok(files[f]);
+        assert_int_equal(s->tri_count, 2);
+        for (st_u32 t = 0; t < 2; t++) {
+            const float *p = s->positions + 9 * t;
+            double e1[2] = {p[3] - p[0], p[4] - p[1]}, e2[2] = {p[6] - p[0], p[7] - p[1]};
+            near(0.5 * (e1[0] * e2[1] - e1[1] * e2[0]), 2.0, 1e-6, "signed area seen from +z");
+        }
+        st_scene_destroy(s);
+    }
+}
+
 /* A scratch directory for generated files, removed by the caller. */
 static void make_scratch(char dir[64])
 {
@@ -911,6 +931,7 @@ int main(void)
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(auto_camera_sees_the_largest_face),
+        cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),
