@@ -4,7 +4,7 @@
  *
  * What loads: the default scene of the file (scene 0 when none is named),
  * every node reachable from it through `children`, with TRS and matrix
- * transforms composed down the tree; of each mesh, the TRIANGLES primitives
+ * transforms composed down the tree; of each mesh, the TRIANGLES (strips, fans) primitives
  * (mode 4, the default), indexed (u8/u16/u32) or not, with any byteStride,
  * POSITION, NORMAL (flat normals where missing) and TEXCOORD_0 (float or
  * normalised integers). .gltf with external .bin files or data: URIs, and
@@ -58,6 +58,7 @@ typedef struct st_scene {
     float *uvs;            /* 6 floats per triangle: TEXCOORD_0 (u, v) per vertex, 0 without */
     float *tangents;       /* 12 floats per triangle: tangent xyz, handedness w per vertex
                               (st_tri_tangents; 0 without texture coordinates) */
+    float *colors;         /* 12 floats per triangle: COLOR_0 RGBA per vertex (1 without) */
     st_u32 *tri_material;  /* material index per triangle (< material_count) */
     st_u32 material_count; /* >= 1: a default white (0.8) material is appended if the file has none or a primitive has none */
     st_material *materials;

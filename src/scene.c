@@ -508,6 +508,18 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
     return ST_OK;
 }
 
+/* ST_MAT_VERTEX_COLOR on the materials of triangles whose COLOR_0 is not
+ * white, so that the others skip the lookup. */
+static void mark_vertex_colors(st_scene *s)
+{
+    for (st_u32 t = 0; t < s->tri_count; t++)
+        for (int k = 0; k < 12; k++)
+            if (s->colors[12 * (size_t)t + (size_t)k] != 1.0f) {
+                s->materials[s->tri_material[t]].flags |= ST_MAT_VERTEX_COLOR;
+                break;
+            }
+}
+
 /* Mean linear RGB of texture t (ST_NO_TEXTURE: 1): its mip chain's last,
  * 1 x 1 level, whose filter keeps the mean. */
 static void texture_mean(const st_scene *s, st_u32 t, float mean[3])
@@ -632,7 +644,8 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     s->normals = g->normals;
     s->uvs = g->uvs;
     s->tangents = g->tangents;
-    g->tangents = NULL;
+    s->colors = g->colors;
+    g->tangents = g->colors = NULL;
     s->tri_material = g->tri_material;
     g->positions = g->normals = g->uvs = NULL;
     g->tri_material = NULL;
@@ -641,6 +654,7 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
         (status = take_warnings(g, s, label, err)) != ST_OK)
         return status;
     emitted_power(s);
+    mark_vertex_colors(s);
     snprintf(s->name, sizeof s->name, "%s", label);
     return ST_OK;
 }
@@ -701,6 +715,7 @@ void st_scene_destroy(st_scene *scene)
     free(scene->normals);
     free(scene->uvs);
     free(scene->tangents);
+    free(scene->colors);
     free(scene->tri_material);
     free(scene->materials);
     free(scene->textures);

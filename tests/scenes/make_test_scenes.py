@@ -42,6 +42,7 @@ uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning
 quad_strip, quad_fan  the quad as a TRIANGLE_STRIP and as a TRIANGLE_FAN.
 black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
               nothing emits.
+vertex_color  a white Lambertian quad with COLOR_0 (bytes 128, 64, 255, 255).
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 bad_*         malformed files, each wrong in one way (named by the file).
@@ -564,6 +565,20 @@ def write_lighting():
                        "normalTexture": {"index": len(g["textures"]) - 1},
                        "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
     write_json("normal_tilt.gltf", g)
+
+    # the quad, white and Lambertian, with COLOR_0 (normalised bytes 128, 64,
+    # 255, 255 at every vertex)
+    b = Blob()
+    p = b.quad(0.0, QUAD_UV)
+    p["attributes"]["COLOR_0"] = b.accessor(bytes([128, 64, 255, 255] * 4), 5121, 4, "VEC4",
+                                            normalized=True)
+    p["material"] = 0
+    g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+            cameras=ORTHO, materials=[{"pbrMetallicRoughness": {"metallicFactor": 0.0},
+                                       "extensions": {"KHR_materials_specular":
+                                                      {"specularFactor": 0.0}}}])
+    write_json("vertex_color.gltf", g)
 
 
 def write_bad():
