@@ -40,7 +40,8 @@ typedef struct st_render_options {
     float noise_threshold;
     /* the view: which of the scene's cameras, what environment, how
      * textures are filtered (the scene itself is never changed) */
-    st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera */
+    st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera;
+                          ST_CAMERA_AUTO: scene->auto_camera */
     int env_given;     /* 1: env below; 0: scene->default_env */
     float env[3];      /* uniform environment radiance, linear RGB */
     st_u32 texture_filter; /* ST_TEXFILTER_* (default trilinear) */

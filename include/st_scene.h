@@ -4,7 +4,7 @@
  *
  * What loads: the default scene of the file (scene 0 when none is named),
  * every node reachable from it through `children`, with TRS and matrix
- * transforms composed down the tree; of each mesh, the TRIANGLES primitives
+ * transforms composed down the tree; of each mesh, the TRIANGLES (strips, fans) primitives
  * (mode 4, the default), indexed (u8/u16/u32) or not, with any byteStride,
  * POSITION, NORMAL (flat normals where missing) and TEXCOORD_0 (float or
  * normalised integers). .gltf with external .bin files or data: URIs, and
@@ -36,6 +36,9 @@
 #include "st_error.h"
 #include "st_shared.h" /* st_u32, st_material, st_texture */
 
+/* st_render_options.camera of the default framing (--camera auto). */
+#define ST_CAMERA_AUTO (-2)
+
 typedef struct st_scene_camera {
     float origin[3], forward[3], up[3]; /* world space, unit forward/up, orthogonal */
     float yfov;         /* perspective: vertical field of view, radians */
@@ -55,6 +58,7 @@ typedef struct st_scene {
     float *uvs;            /* 6 floats per triangle: TEXCOORD_0 (u, v) per vertex, 0 without */
     float *tangents;       /* 12 floats per triangle: tangent xyz, handedness w per vertex
                               (st_tri_tangents; 0 without texture coordinates) */
+    float *colors;         /* 12 floats per triangle: COLOR_0 RGBA per vertex (1 without) */
     st_u32 *tri_material;  /* material index per triangle (< material_count) */
     st_u32 material_count; /* >= 1: a default white (0.8) material is appended if the file has none or a primitive has none */
     st_material *materials;
@@ -64,6 +68,8 @@ typedef struct st_scene {
     st_u32 *texels;
     st_scene_camera default_camera; /* the view of a render that names no camera:
                                        cameras[0], or the default framing */
+    st_scene_camera auto_camera;    /* the default framing (--camera auto): the bounds seen
+                                       through their largest face, a little from above */
     st_u32 camera_count;   /* camera nodes, depth first in scene order */
     st_scene_camera *cameras;
     float bounds_min[3], bounds_max[3];

@@ -62,6 +62,11 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
     float metallic = m.metallic, roughness = m.roughness;
     v->base = vload4(0, m.base_color);
     v->le = vload4(0, m.emission).xyz;
+    if (m.flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
+        __global const st_tri_colors *c = &s->colors[t];
+        v->base *= (1.0f - h.u - h.v) * vload4(0, c->c0) + h.u * vload4(0, c->c1) +
+                   h.v * vload4(0, c->c2);
+    }
     if (m.base_color_tex != ST_NO_TEXTURE || m.emission_tex != ST_NO_TEXTURE ||
         m.metallic_roughness_tex != ST_NO_TEXTURE || m.specular_tex != ST_NO_TEXTURE ||
         m.specular_color_tex != ST_NO_TEXTURE || m.normal_tex != ST_NO_TEXTURE) {

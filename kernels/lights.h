@@ -17,6 +17,7 @@ typedef struct st_scene_refs {
     __global const float *light_pdf;
     __global const st_tri_uv *tri_uv;
     __global const st_tri_tangents *tangents;
+    __global const st_tri_colors *colors;
     __global const st_texture *textures;
     __global const uint *texels;
 } st_scene_refs;

@@ -83,7 +83,7 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         return;
     }
     st_scene_refs s = {tris, normals, tri_material, materials, light_tri, light_cdf,
-                       light_pdf, tri_uv, tangents, textures, texels};
+                       light_pdf, tri_uv, tangents, colors, textures, texels};
     st_wave_ray r = ray[i];
     st_sample smp = sample[i];
     st_surface v = surface_at(&s, &p, &sh, &r, h);

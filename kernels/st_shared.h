@@ -165,6 +165,7 @@ typedef struct st_tri_normals {
 
 /* Material flags (st_material.flags). */
 #define ST_MAT_UNLIT 1u /* KHR_materials_unlit: shows its base colour, unlit */
+#define ST_MAT_VERTEX_COLOR 2u /* some triangle of it has a COLOR_0 other than white */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
@@ -216,6 +217,14 @@ typedef struct st_tri_tangents {
     st_f32 t1[4];
     st_f32 t2[4];
 } st_tri_tangents;
+
+/* Per-vertex colours (COLOR_0, linear RGBA; 1 without) of a triangle, in
+ * BVH order: they multiply the base colour. */
+typedef struct st_tri_colors {
+    st_f32 c0[4];
+    st_f32 c1[4];
+    st_f32 c2[4];
+} st_tri_colors;
 
 /* Texture coordinates (TEXCOORD_0) of a triangle's vertices, in BVH order,
  * and lod = 1/2 log2(uv area / world area) (Akenine-Moller et al., "Texture
@@ -425,6 +434,7 @@ typedef struct st_tile_point {
     X(light_pdf, st_f32) /* P(choose the triangle) / its area; 0: not a light */           \
     X(tri_uv, st_tri_uv)                                                                    \
     X(tangents, st_tri_tangents)                                                            \
+    X(colors, st_tri_colors)                                                                \
     X(textures, st_texture)                                                                 \
     X(texels, st_u32)                                                                       \
     X(tile, st_tile_point)                                                                  \
@@ -457,7 +467,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_bvh_node) X(st_bvh4_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
     X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
-    X(st_tri_tangents)                                                                      \
+    X(st_tri_tangents) X(st_tri_colors)                                                     \
     X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
@@ -472,6 +482,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_material, ior) X(st_material, specular_tex) X(st_material, specular_color_tex)     \
     X(st_material, normal_tex) X(st_material, normal_scale)                                 \
     X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
+    X(st_tri_colors, c0) X(st_tri_colors, c1) X(st_tri_colors, c2)                          \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
     X(st_texture, width) X(st_texture, height) X(st_texture, levels) X(st_texture, flags)    \
     X(st_texture, wrap_s) X(st_texture, wrap_t)                                             \
@@ -516,6 +527,7 @@ ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");
 ST_STATIC_ASSERT(sizeof(st_tri_uv) == 32, "st_tri_uv: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_tangents) == 48, "st_tri_tangents: 48 bytes");
+ST_STATIC_ASSERT(sizeof(st_tri_colors) == 48, "st_tri_colors: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_shading) == 32, "st_shading: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");

@@ -43,7 +43,9 @@ static const char render_help[] =
     "                         white (1), with a note, for a scene that emits no light, else none\n"
     "  --texture-filter none|bilinear|trilinear   texture lookups: nearest texel, bilinear,\n"
     "                         or mip-mapped trilinear with ray-cone footprints (default)\n"
-    "  --camera N             the scene's N-th camera node (0 = the first, in scene order)\n"
+    "  --camera N|auto        the scene's N-th camera node (0 = the first, in scene order), or\n"
+    "                         auto: frame the bounds through their largest face, from above a\n"
+    "                         little (the default for a file without cameras)\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
@@ -269,6 +271,10 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     }
     case O_CAMERA: {
         unsigned n;
+        if (strcmp(v, "auto") == 0) {
+            o->camera = ST_CAMERA_AUTO;
+            return ST_CLI_OK;
+        }
         if (st_cli_parse_u32("--camera", v, 0, 1u << 30, &n))
             return ST_CLI_EXIT_USAGE;
         o->camera = (st_i32)n;

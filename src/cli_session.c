@@ -162,7 +162,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                                  : o->texture_filter == ST_TEXFILTER_BILINEAR
                                      ? "bilinear"
                                      : "trilinear");
-    if (s->scene->camera_count)
+    if (s->scene->camera_count && o->camera != ST_CAMERA_AUTO)
         TYPED("camera", ST_ATTR_INT, "%d", o->camera >= 0 ? (int)o->camera : 0);
     else
         ATTR("camera", "default framing");

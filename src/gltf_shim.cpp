@@ -16,7 +16,7 @@
  * (the glTF byte order) with memcpy, so no alignment is assumed.
  *
  * Flattening: every node reachable from the scene's roots contributes its
- * mesh's TRIANGLES primitives, transformed by the node's world matrix
+ * mesh's TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, transformed by the node's world matrix
  * (parent * local, local = T * R * S or the node's matrix). Normals go through
  * the inverse transpose; where the determinant is negative the winding is
  * reversed (v1 <-> v2), as the spec asks of mirrored nodes (§3.7.2.1).
@@ -688,7 +688,26 @@ const tinygltf::Primitive &primitive(const Model &m, int mesh, size_t p)
 
 bool is_triangles(const tinygltf::Primitive &prim)
 {
-    return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1; /* -1: the default */
+    return prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1 || /* -1: the default */
+           prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+/* A TRIANGLE_STRIP's or TRIANGLE_FAN's vertex list as a triangle list, by
+ * §3.7.2.1: strip triangle i = (v_i, v_{i+1+i%2}, v_{i+2-i%2}), fan triangle
+ * i = (v_{i+1}, v_{i+2}, v_0). */
+void strip_or_fan_to_list(int mode, std::vector<uint32_t> &idx)
+{
+    if (mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN)
+        return;
+    std::vector<uint32_t> list;
+    for (size_t i = 0; i + 2 < idx.size(); i++) {
+        const size_t odd = i % 2;
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+            list.insert(list.end(), {idx[i], idx[i + 1 + odd], idx[i + 2 - odd]});
+        else
+            list.insert(list.end(), {idx[i + 1], idx[i + 2], idx[0]});
+    }
+    idx.swap(list);
 }
 
 /* The POSITION accessor of a TRIANGLES primitive; -1 for a primitive that is
@@ -730,7 +749,8 @@ void note_skipped_primitives(const Model &m, int mesh, notes &warn)
 }
 
 /* Upper bound of a primitive's triangles (checked ranges), to size the output
- * once: the index count / 3, or the vertex count / 3 without indices. */
+ * once: the index count / 3, or the vertex count / 3 without indices (n - 2
+ * of n for a strip or fan). */
 size_t primitive_bound(const Model &m, int mesh, size_t p)
 {
     const int pos = position_accessor(m, mesh, p);
@@ -739,21 +759,62 @@ size_t primitive_bound(const Model &m, int mesh, size_t p)
     const int ind = primitive(m, mesh, p).indices;
     if (ind != -1)
         check_index(ind, m.accessors.size(), "mesh %d primitive %zu: indices accessor", mesh, p);
-    return accessor_span(m, ind != -1 ? ind : pos).count / 3;
+    const size_t n = accessor_span(m, ind != -1 ? ind : pos).count;
+    const int mode = primitive(m, mesh, p).mode;
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN)
+        return n >= 3 ? n - 2 : 0;
+    return n / 3;
 }
 
 /* Where triangles go: arrays sized by the bound, filled in scene order. */
 struct sink {
-    float *pos, *nrm, *uv, *tan;
+    float *pos, *nrm, *uv, *tan, *col;
     uint32_t *mat;
     size_t count, dropped;
 };
 
 /* Per-primitive scratch, reused so that big scenes allocate once. */
 struct scratch {
-    std::vector<float> p, n, uv, wp, wn, t, wt;
+    std::vector<float> p, n, uv, wp, wn, t, wt, c;
     std::vector<uint32_t> idx;
 };
+
+/* Reads COLOR_0 (§3.7.2.1: float, or normalised unsigned byte or short,
+ * VEC3 or VEC4; linear) into RGBA, alpha 1 for VEC3. */
+void read_colors(const Model &m, int a, size_t vertices, std::vector<float> &out)
+{
+    const tinygltf::Accessor &acc = m.accessors[size_t(a)];
+    const int ct = acc.componentType;
+    const int n = acc.type == TINYGLTF_TYPE_VEC3 ? 3 : acc.type == TINYGLTF_TYPE_VEC4 ? 4 : 0;
+    const bool ok = ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if (n == 0 || !ok)
+        fail("accessor %d: COLOR_0 must be float, unsigned byte or unsigned short VEC3 or VEC4",
+             a);
+    const span s = accessor_span(m, a);
+    if (s.count != vertices)
+        fail("accessor %d: COLOR_0 has %zu elements, POSITION %zu", a, s.count, vertices);
+    out.assign(4 * s.count, 1.0f);
+    for (size_t i = 0; i < s.count; i++) {
+        const unsigned char *p = s.data + i * s.stride;
+        for (int k = 0; k < n; k++) {
+            float v;
+            if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                memcpy(&v, p + 4 * k, 4);
+            } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                v = float(p[k]) / 255.0f;
+            } else {
+                uint16_t h;
+                memcpy(&h, p + 2 * k, 2);
+                v = float(h) / 65535.0f;
+            }
+            if (!std::isfinite(v) || v < 0.0f)
+                fail("accessor %d: COLOR_0 element %zu is negative or not finite", a, i);
+            out[4 * i + size_t(k)] = v;
+        }
+    }
+}
 
 /* Reads TANGENT (§3.7.2.1: float VEC4, xyz unit, w = ±1 the handedness). */
 void read_tangents(const Model &m, int a, size_t vertices, std::vector<float> &out)
@@ -891,9 +952,12 @@ void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, bool uvs
     }
     float *dp = out.pos + 9 * out.count, *dn = out.nrm + 9 * out.count;
     float *duv = out.uv + 6 * out.count, *dt = out.tan + 12 * out.count;
+    float *dc = out.col + 12 * out.count;
     for (int v = 0; v < 3; v++) {
-        for (int k = 0; k < 4; k++)
+        for (int k = 0; k < 4; k++) {
             dt[4 * v + k] = s.wt.empty() ? 0.0f : s.wt[4 * size_t(i[v]) + size_t(k)];
+            dc[4 * v + k] = s.c.empty() ? 1.0f : s.c[4 * size_t(i[v]) + size_t(k)];
+        }
         const float *n = normals ? &s.wn[3 * size_t(i[v])] : nullptr;
         const bool usable = n && !std::isnan(n[0]);
         for (int k = 0; k < 3; k++) {
@@ -949,7 +1013,12 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
         for (size_t v = 0; v < nv; v++)
             s.idx[v] = uint32_t(v);
     }
+    strip_or_fan_to_list(prim.mode, s.idx);
     transform_vertices(world, nx, s, nrm >= 0);
+    const int col = attribute(m, mesh, p, "COLOR_0");
+    s.c.clear();
+    if (col >= 0)
+        read_colors(m, col, nv, s.c);
     const int tan = attribute(m, mesh, p, "TANGENT");
     s.t.clear();
     if (tan >= 0 && nrm >= 0) /* §3.7.2.1: TANGENT is used with NORMAL only */
@@ -1303,14 +1372,16 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
         if (!mesh_noted[size_t(in.mesh)]++)
             note_skipped_primitives(m, in.mesh, warn);
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            bound += primitive_bound(m, in.mesh, p); /* each <= buffer bytes / 3 */
+            bound += primitive_bound(m, in.mesh, p); /* each <= its accessor's elements */
     }
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);
     out.uvs = alloc_array<float>(bound, 6);
     out.tangents = alloc_array<float>(bound, 12);
+    out.colors = alloc_array<float>(bound, 12);
     out.tri_material = alloc_array<uint32_t>(bound, 1);
-    sink s = {out.positions, out.normals, out.uvs, out.tangents, out.tri_material, 0, 0};
+    sink s = {out.positions, out.normals, out.uvs, out.tangents, out.colors, out.tri_material,
+              0, 0};
     scratch tmp;
     for (const instance &in : inst) {
         const normal_xform nx = normal_matrix(in.world);
@@ -1323,6 +1394,7 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     out.normals = shrink(out.normals, s.count, 9);
     out.uvs = shrink(out.uvs, s.count, 6);
     out.tangents = shrink(out.tangents, s.count, 12);
+    out.colors = shrink(out.colors, s.count, 12);
     out.tri_material = shrink(out.tri_material, s.count, 1);
 
     texture_table table;
@@ -1400,6 +1472,7 @@ extern "C" void st_gltf_shim_release(st_gltf_data *data)
     free(data->normals);
     free(data->uvs);
     free(data->tangents);
+    free(data->colors);
     free(data->tri_material);
     free(data->materials);
     free(data->textures);

@@ -81,6 +81,7 @@ typedef struct st_gltf_data {
     float *uvs;             /* 6 floats per triangle: TEXCOORD_0, 0 where a primitive has none */
     float *tangents;        /* 12 floats per triangle: world tangent xyz and handedness w per
                                vertex (TANGENT, or generated from TEXCOORD_0; 0 without it) */
+    float *colors;          /* 12 floats per triangle: COLOR_0 RGBA per vertex, 1 without it */
     uint32_t *tri_material; /* index into materials, or ST_GLTF_NO_MATERIAL */
     size_t material_count;  /* the file's materials, all of them */
     st_gltf_material *materials;

@@ -39,6 +39,17 @@ static void make_tangents(const st_scene *s, const st_bvh *bvh, st_tri_tangents 
     }
 }
 
+/* Vertex colours in BVH order (st_tri_colors). */
+static void make_colors(const st_scene *s, const st_bvh *bvh, st_tri_colors *out)
+{
+    for (st_u32 t = 0; t < bvh->tri_count; t++) {
+        const float *c = s->colors + 12 * (size_t)bvh->order[t];
+        memcpy(out[t].c0, c, 4 * sizeof(float));
+        memcpy(out[t].c1, c + 4, 4 * sizeof(float));
+        memcpy(out[t].c2, c + 8, 4 * sizeof(float));
+    }
+}
+
 /* Shading normals in BVH order, each triangle's fourth floats holding its
  * unit geometric normal turned to the side the shading normals face. */
 static void make_normals(const st_scene *s, const st_bvh *bvh, st_tri_normals *nrm)
@@ -73,11 +84,12 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     st_u32 *mat = malloc(sizeof *mat * (n ? n : 1));
     st_tri_uv *uv = calloc(n ? n : 1, sizeof *uv);
     st_tri_tangents *tan = calloc(n ? n : 1, sizeof *tan);
+    st_tri_colors *col = calloc(n ? n : 1, sizeof *col);
     st_lights lights = {0};
     st_status rc = ST_OK;
     static const st_texture no_texture; /* device buffers are never empty */
     static const st_u32 no_texel;
-    if (!nrm || !mat || !uv || !tan) {
+    if (!nrm || !mat || !uv || !tan || !col) {
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
         goto done;
     }
@@ -86,6 +98,7 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         mat[t] = s->tri_material[bvh->order[t]];
     make_tri_uv(s, bvh, uv);
     make_tangents(s, bvh, tan);
+    make_colors(s, bvh, col);
     if (st_lights_build(s, bvh, uv, &lights, err) != ST_OK) {
         rc = err->status;
         goto done;
@@ -104,6 +117,7 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         [ST_SCENE_light_pdf] = {sizeof(float) * (n ? n : 1), lights.pdf_area},
         [ST_SCENE_tri_uv] = {sizeof(st_tri_uv) * (n ? n : 1), uv},
         [ST_SCENE_tangents] = {sizeof(st_tri_tangents) * (n ? n : 1), tan},
+        [ST_SCENE_colors] = {sizeof(st_tri_colors) * (n ? n : 1), col},
         [ST_SCENE_textures] = {sizeof(st_texture) * (s->texture_count ? s->texture_count : 1),
          s->texture_count ? (const void *)s->textures : (const void *)&no_texture},
         [ST_SCENE_texels] = {sizeof(st_u32) * (s->texel_count ? s->texel_count : 1),
@@ -116,6 +130,7 @@ done:
     free(mat);
     free(uv);
     free(tan);
+    free(col);
     st_lights_free(&lights);
     return rc;
 }

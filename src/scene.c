@@ -155,30 +155,47 @@ static void compute_bounds(st_scene *s)
         }
 }
 
-/* Default framing: the bounding sphere (centre c, radius r = half the box
- * diagonal) subtends the vertical field of view from distance
- * d = r / sin(yfov / 2) (the sphere's tangent cone has half-angle asin(r/d)),
- * so the camera sits at c + (0, 0, d) looking along -Z with +Y up. */
-static void default_camera(st_scene *s)
+/* Default framing (--camera auto, and the view of a file without
+ * cameras): the camera looks at the bounds' centre c along the axis normal
+ * to the box's largest face (z on a tie, then x), raised by
+ * FRAMING_ELEVATION towards +Y (or, for the y face, tilted towards +Z), so
+ * that a flat model is seen face-on and a little from above. The bounding
+ * sphere (radius r = half the box diagonal) subtends the vertical field of
+ * view from distance d = r / sin(yfov / 2) (its tangent cone's half-angle
+ * is asin(r / d)). */
+#define FRAMING_ELEVATION_DEGREES 20.0
+static void frame_bounds(const st_scene *s, st_scene_camera *cam)
 {
-    double c[3], r2 = 0.0;
+    double c[3], e[3], r2 = 0.0;
     for (int k = 0; k < 3; k++) {
         c[k] = 0.5 * ((double)s->bounds_min[k] + s->bounds_max[k]);
-        double h = 0.5 * ((double)s->bounds_max[k] - s->bounds_min[k]);
-        r2 += h * h;
+        e[k] = (double)s->bounds_max[k] - s->bounds_min[k];
+        r2 += 0.25 * e[k] * e[k];
     }
+    const double face_x = e[1] * e[2], face_y = e[0] * e[2], face_z = e[0] * e[1];
+    const double el = FRAMING_ELEVATION_DEGREES * PI / 180.0, ce = cos(el), se = sin(el);
+    double dir[3] = {0.0, se, ce}, up[3]; /* from c towards the camera */
+    if (face_y > face_z && face_y > face_x) {
+        dir[1] = ce; /* from above, tilted towards +Z */
+        dir[2] = se;
+    } else if (face_x > face_z) {
+        dir[0] = ce;
+        dir[2] = 0.0;
+    }
+    /* up: +Y made orthogonal to the view direction */
+    double dy = dir[1];
+    for (int k = 0; k < 3; k++)
+        up[k] = (k == 1 ? 1.0 : 0.0) - dy * dir[k];
+    double ul = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
     const double yfov = DEFAULT_YFOV_DEGREES * PI / 180.0;
     const double d = sqrt(r2) / sin(0.5 * yfov);
-    st_scene_camera *cam = &s->default_camera;
     for (int k = 0; k < 3; k++) {
-        cam->origin[k] = (float)c[k];
-        cam->forward[k] = 0.0f;
-        cam->up[k] = 0.0f;
+        cam->origin[k] = (float)(c[k] + d * dir[k]);
+        cam->forward[k] = (float)-dir[k];
+        cam->up[k] = (float)(up[k] / ul);
     }
-    cam->origin[2] = (float)(c[2] + d);
-    cam->forward[2] = -1.0f;
-    cam->up[1] = 1.0f;
     cam->yfov = (float)yfov;
+    cam->orthographic = 0;
     cam->from_file = 0;
 }
 
@@ -464,6 +481,18 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
     return ST_OK;
 }
 
+/* ST_MAT_VERTEX_COLOR on the materials of triangles whose COLOR_0 is not
+ * white, so that the others skip the lookup. */
+static void mark_vertex_colors(st_scene *s)
+{
+    for (st_u32 t = 0; t < s->tri_count; t++)
+        for (int k = 0; k < 12; k++)
+            if (s->colors[12 * (size_t)t + (size_t)k] != 1.0f) {
+                s->materials[s->tri_material[t]].flags |= ST_MAT_VERTEX_COLOR;
+                break;
+            }
+}
+
 /* Mean linear RGB of texture t (ST_NO_TEXTURE: 1): its mip chain's last,
  * 1 x 1 level, whose filter keeps the mean. */
 static void texture_mean(const st_scene *s, st_u32 t, float mean[3])
@@ -523,8 +552,9 @@ static void copy_camera(const st_gltf_camera *c, st_scene_camera *out)
 static st_status take_cameras(const st_gltf_data *g, st_scene *s, const char *label,
                               st_error *err)
 {
+    frame_bounds(s, &s->auto_camera);
     if (g->camera_count == 0) {
-        default_camera(s);
+        s->default_camera = s->auto_camera;
         return ST_OK;
     }
     if (g->camera_count > UINT32_MAX)
@@ -587,7 +617,8 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     s->normals = g->normals;
     s->uvs = g->uvs;
     s->tangents = g->tangents;
-    g->tangents = NULL;
+    s->colors = g->colors;
+    g->tangents = g->colors = NULL;
     s->tri_material = g->tri_material;
     g->positions = g->normals = g->uvs = NULL;
     g->tri_material = NULL;
@@ -596,6 +627,7 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
         (status = take_warnings(g, s, label, err)) != ST_OK)
         return status;
     emitted_power(s);
+    mark_vertex_colors(s);
     snprintf(s->name, sizeof s->name, "%s", label);
     return ST_OK;
 }
@@ -686,6 +718,7 @@ void st_scene_destroy(st_scene *scene)
     free(scene->normals);
     free(scene->uvs);
     free(scene->tangents);
+    free(scene->colors);
     free(scene->tri_material);
     free(scene->materials);
     free(scene->textures);
@@ -700,6 +733,10 @@ void st_scene_destroy(st_scene *scene)
 st_status st_scene_view_camera(const st_scene *scene, st_i32 index, st_scene_camera *out,
                                st_error *err)
 {
+    if (index == ST_CAMERA_AUTO) {
+        *out = scene->auto_camera;
+        return ST_OK;
+    }
     if (index >= 0 && (st_u32)index >= scene->camera_count)
         return st_fail(err, ST_ERR_USAGE, "camera %d: %s has %u camera node%s%s", (int)index,
                        scene->name, scene->camera_count, scene->camera_count == 1 ? "" : "s",

@@ -79,6 +79,9 @@ check "failed option writes nothing" '[ ! -e "$T/o.exr" ]'
 "$S" render tests/scenes/camera_pick.gltf --camera 1 $R -o "$T/c1.exr" 2> /dev/null
 rmse=$(rmse_of "$T/c1.exr" "$T/c3.exr")
 check "--camera picks another view" '[ -n "$rmse" ] && awk -v r="$rmse" "BEGIN { exit !(r > 0) }"'
+"$S" render tests/scenes/camera_pick.gltf --camera auto $R -o "$T/ca.exr" 2> /dev/null
+rmse=$(rmse_of "$T/ca.exr" "$T/c1.exr")
+check "--camera auto frames the bounds instead of a camera node" '[ -n "$rmse" ] && awk -v r="$rmse" "BEGIN { exit !(r > 0) }"'
 "$S" render checkerboard $R --env 0.25,0.5,1 --texture-filter none -o "$T/e.exr" 2> /dev/null
 check "EXR records env, texture filter and camera" \
     'grep -aq "0.25,0.5,1" "$T/e.exr" && grep -aq "strata.texture_filter" "$T/e.exr" && grep -aq "strata.camera" "$T/e.exr"'

@@ -456,8 +456,9 @@ static void cameras_listed_depth_first_first_is_default(void **state)
     st_scene_destroy(s);
 }
 
-/* Without a camera: looking along -Z from +Z, yfov 40 degrees, and the
- * bounding sphere (centre c, radius r) exactly fills the vertical view:
+/* Without a camera: looking at the bounds' centre (the direction:
+ * auto_camera_sees_the_largest_face), yfov 40 degrees, and the bounding
+ * sphere (centre c, radius r) exactly fills the vertical view:
  * |origin - c| sin(yfov / 2) = r. Then every corner of the bounds is within
  * the cone of half-angle yfov / 2. */
 static void default_camera_frames_bounding_sphere(void **state)
@@ -467,22 +468,21 @@ static void default_camera_frames_bounding_sphere(void **state)
     const st_scene_camera *c = &s->default_camera;
     assert_int_equal(c->from_file, 0);
     near(c->yfov, 40.0 * 3.14159265358979 / 180.0, 1e-6, "yfov");
-    near3(c->forward, 0, 0, -1, 0, "forward");
-    near3(c->up, 0, 1, 0, 0, "up");
-    double centre[3], r2 = 0;
+    double centre[3], r2 = 0, dist2 = 0;
     for (int k = 0; k < 3; k++) {
         centre[k] = 0.5 * (s->bounds_min[k] + s->bounds_max[k]);
         r2 += 0.25 * (s->bounds_max[k] - s->bounds_min[k]) * (s->bounds_max[k] - s->bounds_min[k]);
+        dist2 += (c->origin[k] - centre[k]) * (c->origin[k] - centre[k]);
     }
-    near(c->origin[0], centre[0], 1e-6, "origin x");
-    near(c->origin[1], centre[1], 1e-6, "origin y");
-    assert_true(c->origin[2] > s->bounds_max[2]);
-    near((c->origin[2] - centre[2]) * sin(0.5 * c->yfov), sqrt(r2), 1e-5, "sphere fit");
+    for (int k = 0; k < 3; k++) /* it looks at the centre */
+        near(c->origin[k] + sqrt(dist2) * c->forward[k], centre[k], 1e-5, "looks at the centre");
+    near(sqrt(dist2) * sin(0.5 * c->yfov), sqrt(r2), 1e-5, "sphere fit");
     for (int i = 0; i < 8; i++) {
         double d[3];
         for (int k = 0; k < 3; k++)
             d[k] = ((i >> k) & 1 ? s->bounds_max[k] : s->bounds_min[k]) - c->origin[k];
-        double cosang = -d[2] / sqrt(dot3(d, d));
+        double cosang = (d[0] * c->forward[0] + d[1] * c->forward[1] + d[2] * c->forward[2]) /
+                        sqrt(dot3(d, d));
         assert_true(cosang >= cos(0.5 * c->yfov) - 1e-6);
     }
     st_scene_destroy(s);
@@ -701,6 +701,59 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
     st_scene_destroy(s);
 }
 
+/* The default framing looks along the axis normal to the bounds' largest
+ * face, raised 20 degrees: a quad in the z = 0 plane (textured_quad) is seen
+ * from +z and a little above, the checkerboard's plane y = 0 from above,
+ * tilted towards +z; the camera sits r / sin(yfov / 2) from the centre,
+ * r the half diagonal. --camera auto (ST_CAMERA_AUTO) gives it even where
+ * the file has cameras. */
+static void auto_camera_sees_the_largest_face(void **state)
+{
+    (void)state;
+    const double el = 20.0 * 3.14159265358979323846 / 180.0;
+    static const char *files[] = {SCENES "textured_quad.gltf", "checkerboard"};
+    const double want[2][3] = {{0.0, -sin(el), -cos(el)}, {0.0, -cos(el), -sin(el)}};
+    for (int f = 0; f < 2; f++) {
+        st_scene *s = load_ok(files[f]);
+        st_scene_camera c;
+        st_error err = {0};
+        assert_int_equal(st_scene_view_camera(s, ST_CAMERA_AUTO, &c, &err), ST_OK);
+        assert_int_equal(c.from_file, 0);
+        near3(c.forward, want[f][0], want[f][1], want[f][2], 1e-6, "auto camera forward");
+        near(c.forward[0] * c.up[0] + c.forward[1] * c.up[1] + c.forward[2] * c.up[2], 0.0, 1e-6,
+             "auto camera up . forward");
+        double r2 = 0.0, d2 = 0.0;
+        for (int k = 0; k < 3; k++) {
+            double h = 0.5 * ((double)s->bounds_max[k] - s->bounds_min[k]);
+            double o = c.origin[k] - 0.5 * ((double)s->bounds_max[k] + s->bounds_min[k]);
+            r2 += h * h;
+            d2 += o * o;
+        }
+        near(sqrt(d2), sqrt(r2) / sin(0.5 * c.yfov), 1e-4 * sqrt(d2), "auto camera distance");
+        st_scene_destroy(s);
+    }
+}
+
+/* A TRIANGLE_STRIP and a TRIANGLE_FAN of the 2 x 2 quad in z = 0 give its
+ * two triangles: area 2 each (a wrong fan or strip rule gives other ones)
+ * and wound counter-clockwise seen from +z, as the quad's normals face (the
+ * strip's odd triangles swap two vertices, §3.7.2.1). */
+static void strips_and_fans_become_triangles(void **state)
+{
+    (void)state;
+    static const char *files[] = {SCENES "quad_strip.gltf", SCENES "quad_fan.gltf"};
+    for (int f = 0; f < 2; f++) {
+        st_scene *s = load_ok(files[f]);
+        assert_int_equal(s->tri_count, 2);
+        for (st_u32 t = 0; t < 2; t++) {
+            const float *p = s->positions + 9 * t;
+            double e1[2] = {p[3] - p[0], p[4] - p[1]}, e2[2] = {p[6] - p[0], p[7] - p[1]};
+            near(0.5 * (e1[0] * e2[1] - e1[1] * e2[0]), 2.0, 1e-6, "signed area seen from +z");
+        }
+        st_scene_destroy(s);
+    }
+}
+
 /* A scratch directory for generated files, removed by the caller. */
 static void make_scratch(char dir[64])
 {
@@ -877,6 +930,8 @@ int main(void)
         cmocka_unit_test(builtin_scenes_load_by_name),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
+        cmocka_unit_test(auto_camera_sees_the_largest_face),
+        cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),

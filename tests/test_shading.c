@@ -150,11 +150,34 @@ static void normal_map_tilts_by_its_angle(void **state)
     }
 }
 
+/* COLOR_0 multiplies the base colour: a white Lambertian quad whose vertex
+ * colour is (128, 64, 255) / 255, under a uniform environment 1, shows
+ * that colour in every pixel (exactly: for a Lambertian surface open to the
+ * environment each sample gives albedo x env, test_texture.c). */
+static void vertex_color_multiplies_base_colour(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/vertex_color.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    st_image img = render_furnace(s, 4);
+    const double want[3] = {128.0 / 255.0, 64.0 / 255.0, 1.0};
+    for (size_t p = 0; p < (size_t)img.width * img.height; p++)
+        for (int c = 0; c < 3; c++)
+            if (fabs(img.data[4 * p + (size_t)c] - want[c]) > 1e-5)
+                fail_msg("pixel %zu channel %d: %g, want %g", p, c, img.data[4 * p + (size_t)c],
+                         want[c]);
+    st_image_free(&img);
+    st_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(normal_map_tilts_by_its_angle),
+        cmocka_unit_test(vertex_color_multiplies_base_colour),
     };
     return cmocka_run_group_tests_name("shading", device, device_setup, device_teardown);
 }

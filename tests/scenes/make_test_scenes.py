@@ -39,8 +39,10 @@ cutout        two quads seen by an orthographic camera: the front one red,
 image_*       textured_quad with an image that cannot be decoded or read: a
               warning, and a white texture in its place.
 uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning.
+quad_strip, quad_fan  the quad as a TRIANGLE_STRIP and as a TRIANGLE_FAN.
 black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
               nothing emits.
+vertex_color  a white Lambertian quad with COLOR_0 (bytes 128, 64, 255, 255).
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 bad_*         malformed files, each wrong in one way (named by the file).
@@ -534,6 +536,20 @@ def write_cutout():
     write_json("cutout.gltf", g)
 
 
+def write_strip_fan():
+    # the quad (vertices 0 1 2 3, triangles 0 1 2 and 0 2 3) as a strip
+    # (1 2 0 3) and as a fan (0 1 2 3): the same two triangles, same winding
+    for name, mode, order in (("quad_strip.gltf", 5, (1, 2, 0, 3)),
+                              ("quad_fan.gltf", 6, (0, 1, 2, 3))):
+        b = Blob()
+        p = b.quad(0.0, QUAD_UV)
+        b.views[b.accessors[p["indices"]]["bufferView"]]["byteLength"] = 8
+        b.accessors[p["indices"]]["count"] = 4
+        p["indices"] = b.accessor(struct.pack("<4H", *order), 5123, 4, "SCALAR")
+        p["mode"] = mode
+        write_json(name, doc([{"primitives": [p]}], b.accessors, b.views, b.buffers()))
+
+
 def write_lighting():
     # textured_quad whose emissive texture is black: emissiveFactor > 0, yet
     # nothing emits, so the white environment must light it
@@ -549,6 +565,20 @@ def write_lighting():
                        "normalTexture": {"index": len(g["textures"]) - 1},
                        "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
     write_json("normal_tilt.gltf", g)
+
+    # the quad, white and Lambertian, with COLOR_0 (normalised bytes 128, 64,
+    # 255, 255 at every vertex)
+    b = Blob()
+    p = b.quad(0.0, QUAD_UV)
+    p["attributes"]["COLOR_0"] = b.accessor(bytes([128, 64, 255, 255] * 4), 5121, 4, "VEC4",
+                                            normalized=True)
+    p["material"] = 0
+    g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+            cameras=ORTHO, materials=[{"pbrMetallicRoughness": {"metallicFactor": 0.0},
+                                       "extensions": {"KHR_materials_specular":
+                                                      {"specularFactor": 0.0}}}])
+    write_json("vertex_color.gltf", g)
 
 
 def write_bad():
@@ -664,6 +694,7 @@ def main():
     write_textured_glb()
     write_cutout()
     write_lighting()
+    write_strip_fan()
     write_bad()
 
 
