@@ -5,7 +5,7 @@
 DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
                 libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev libpng-dev zlib1g-dev python3-venv \
-                parallel pkg-config gcc g++ make help2man \
+                clang libclang-rt-14-dev oclgrind parallel pkg-config gcc g++ make help2man \
                 python3-scipy
 
 PKGS     := OpenCL stb cairo fftw3
@@ -33,6 +33,17 @@ else
   BUILD    := build/release
 endif
 
+# libFuzzer harnesses (tests/fuzz/): the library again, built by clang with
+# ASan and UBSan and libFuzzer's coverage, in a folder of its own.
+ifeq ($(FUZZ),1)
+  CC       := clang
+  CXX      := clang++
+  FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+  CFLAGS   += -fsanitize=fuzzer-no-link $(FUZZ_SAN)
+  CXXFLAGS += -fsanitize=fuzzer-no-link $(FUZZ_SAN)
+  BUILD    := build/fuzz
+endif
+
 LIB_C    := $(filter-out src/main.c,$(wildcard src/*.c))
 LIB_CXX  := $(wildcard src/*.cpp)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/%.o) \
@@ -42,7 +53,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/test_*.c)
 TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
 
-.PHONY: all deps test test-sanitize bench demo pictures clean install FORCE
+.PHONY: all deps test test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -117,6 +128,26 @@ test-sanitize: deps
 	$(MAKE) SANITIZE=1 build/asan/strata build/asan/tests/test_scene
 	@ASAN_OPTIONS=detect_leaks=0 STRATA=build/asan/strata \
 	    sh tests/run.sh build/asan/tests/test_scene tests/test_khronos.sh
+
+# `make fuzz` builds the harnesses; `make test-fuzz` runs each for
+# FUZZ_SECONDS, seeded from the project's scenes and EXRs (tests/fuzz/run.sh).
+# CI runs it.
+FUZZERS      := gltf exr
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	$(MAKE) FUZZ=1 $(FUZZERS:%=build/fuzz/fuzz_%)
+
+build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(BUILD)/libstrata.a
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@.o $<
+	$(CXX) -fsanitize=fuzzer $(FUZZ_SAN) -o $@ $@.o $(BUILD)/libstrata.a $(LDLIBS)
+
+test-fuzz: fuzz strata
+	@sh tests/fuzz/run.sh $(FUZZ_SECONDS) $(FUZZERS)
+
+# Tiny renders under oclgrind's API, race and uninitialised-memory checks
+# (tests/oclgrind/run.sh). CI runs it.
+test-oclgrind: deps strata
+	@sh tests/oclgrind/run.sh
 
 # The default scene with the default settings, then (where ../shared is
 # present) the comparison workload: the bench Cornell box, independent

@@ -26,6 +26,9 @@
 #include <stdint.h>
 
 #define ST_IMAGE_MAX_CHANNELS 8
+/* The most samples (pixels x channels, 4 GiB of floats) an EXR may declare to be read: a header
+ * is only a claim, and found by fuzzing (tests/fuzz/fuzz_exr.c), a 100-byte file asked for 12 GB. */
+#define ST_IMAGE_MAX_SAMPLES ((uint64_t)1 << 30)
 #define ST_IMAGE_NAME_LEN 32 /* channel name bytes including the terminating NUL */
 
 typedef enum { ST_PIXEL_FLOAT = 0, ST_PIXEL_UINT = 1 } st_pixel_type; /* host-only */

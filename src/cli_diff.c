@@ -18,7 +18,7 @@ int st_cli_diff(int argc, char **argv)
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             puts("usage: strata diff A B [--max-rmse X]\n"
                  "  prints RMSE, PSNR (peak 1) and the largest absolute difference over R, G, B;\n"
-                 "  with --max-rmse, exits 1 when the RMSE is larger than X");
+                 "  with --max-rmse (X >= 0), exits 1 when the RMSE is larger than X");
             return 0;
         }
         if (!strcmp(argv[i], "--max-rmse")) {

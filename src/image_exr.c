@@ -419,6 +419,9 @@ static st_status exr_prepare(exr_context_t ctx, const char *path, st_image *img,
     if (n < 1 || n > ST_IMAGE_MAX_CHANNELS)
         return st_fail(err, ST_ERR_FORMAT, "%s: %d channels (1 to %d supported)", path, n,
                        ST_IMAGE_MAX_CHANNELS);
+    if ((uint64_t)w * (uint64_t)h * (uint64_t)n > ST_IMAGE_MAX_SAMPLES) /* a header's claim */
+        return st_fail(err, ST_ERR_FORMAT, "%s: %lld x %lld pixels x %d channels: more than 2^30 "
+                       "samples, the limit", path, (long long)w, (long long)h, n);
     const char *names[ST_IMAGE_MAX_CHANNELS];
     for (int c = 0; c < n; c++) {
         const exr_attr_chlist_entry_t *e = &chl->entries[c];

@@ -158,6 +158,9 @@ python3 -c 'import sys
 print("{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 1, \"uri\": \"data:application/octet-stream;base64," + "A" * (65 << 20) + "\"}]}")' > "$T/datauri.gltf"
 expect "a 65 MiB data: URI is refused" 1 "datauri.gltf: a data: URI of .* bytes at byte [0-9]*: more than 64 MiB, the limit" \
     timeout 20 $S render "$T/datauri.gltf" $R -o "$T/z.exr"
+# found by tests/fuzz/fuzz_exr.c: 1.7 kB whose header claims 8 x 134217981 pixels (12 GB)
+expect "an EXR claiming 12 GB is refused before allocating" 1 "fuzz-exr-12gb-window.exr: 8 x 134217981 pixels x 3 channels: more than 2^30 samples" \
+    $S diff tests/data/fuzz-exr-12gb-window.exr tests/data/fuzz-exr-12gb-window.exr
 rm -f "$T/datauri.gltf" "$T/sparse.gltf" "$T/cf/sub/huge.bin"
 
 echo "1..$n"

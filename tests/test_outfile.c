@@ -282,11 +282,64 @@ static void outfile_flush_failure_removes_temporary(void **state)
     fails_past_file_limit(print_block);
 }
 
+/* The signal handler's clean-up: every open temporary goes, the destinations stay untouched,
+ * and a handle released afterwards (commit fails, abort) leaves nothing either. A committed
+ * handle is no longer listed: removing again leaves its file. */
+static void outfile_remove_temporaries_removes_every_open_one(void **state)
+{
+    (void)state;
+    char a[512], b[512], c[512], name[256];
+    snprintf(a, sizeof a, "%s", scratch_path("a.exr"));
+    snprintf(b, sizeof b, "%s", scratch_path("b.png"));
+    snprintf(c, sizeof c, "%s", scratch_path("c.txt"));
+    put_file(b, "old");
+    st_outfile *fa = NULL, *fb = NULL, *fc = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(c, &fc, &err), ST_OK);
+    fputs("kept", st_outfile_stream(fc));
+    assert_int_equal(st_outfile_commit(fc, &err), ST_OK);
+    assert_int_equal(st_outfile_open(a, &fa, &err), ST_OK);
+    assert_int_equal(st_outfile_open(b, &fb, &err), ST_OK);
+    assert_int_equal(st_outfile_write(fa, "data", 4), 0);
+    assert_int_equal(scratch_entries(name, sizeof name), 4); /* b, c and two temporaries */
+    st_outfile_remove_temporaries();
+    assert_int_equal(scratch_entries(name, sizeof name), 2);
+    assert_string_equal(content(b), "old");
+    assert_string_equal(content(c), "kept");
+    assert_int_not_equal(st_outfile_commit(fa, &err), ST_OK); /* its temporary is gone */
+    st_outfile_abort(fb);
+    assert_int_equal(scratch_entries(name, sizeof name), 2);
+    assert_int_equal(access(a, F_OK), -1);
+}
+
+/* st_outfile_check: a writable folder passes and is left as it was; a missing folder and a
+ * destination that is a folder fail naming the path. */
+static void outfile_check_finds_unwritable_destinations(void **state)
+{
+    (void)state;
+    char ok[512], missing[512], dir[512], name[256];
+    snprintf(ok, sizeof ok, "%s", scratch_path("fine.exr"));
+    snprintf(missing, sizeof missing, "%s", scratch_path("no/such.exr"));
+    snprintf(dir, sizeof dir, "%s", scratch_path("d.exr"));
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_check(ok, &err), ST_OK);
+    assert_int_equal(scratch_entries(name, sizeof name), 0);
+    assert_int_equal(st_outfile_check(missing, &err), ST_ERR_IO);
+    assert_message_names(&err, missing);
+    assert_int_equal(mkdir(dir, 0755), 0);
+    err = (st_error){ST_OK, ""};
+    assert_int_equal(st_outfile_check(dir, &err), ST_ERR_IO);
+    assert_message_names(&err, dir);
+    assert_non_null(strstr(err.msg, "is a folder"));
+}
+
 int main(void)
 {
 #define T(name) cmocka_unit_test_setup_teardown(name, scratch_make, scratch_remove)
     const struct CMUnitTest tests[] = {
         T(outfile_commit_renames_temporary),
+        T(outfile_remove_temporaries_removes_every_open_one),
+        T(outfile_check_finds_unwritable_destinations),
         T(outfile_write_at_overwrites_after_stream),
         T(outfile_concurrent_writers_use_distinct_temporaries),
         T(outfile_abort_leaves_nothing),

@@ -637,6 +637,42 @@ static void builtin_scenes_load_by_name(void **state)
     }
 }
 
+/* ---- content hash ------------------------------------------------------------- */
+
+/* st_scene_content_hash names the content, not the path: one file by a relative, a "./" and an
+ * absolute path hashes alike; any single flipped bit of a hashed array changes it (CRC-32
+ * detects every single-bit error); two different scenes differ. */
+static void scene_content_hash_follows_content_not_path(void **state)
+{
+    (void)state;
+    char cwd[4096], abs_path[4200];
+    assert_non_null(getcwd(cwd, sizeof cwd));
+    snprintf(abs_path, sizeof abs_path, "%s/tests/scenes/textures.gltf", cwd);
+    st_scene *a = load_ok("tests/scenes/textures.gltf"), *b = load_ok("./tests/scenes/textures.gltf");
+    st_scene *c = load_ok(abs_path);
+    st_u32 h = st_scene_content_hash(a);
+    assert_int_equal(st_scene_content_hash(b), h);
+    assert_int_equal(st_scene_content_hash(c), h);
+    assert_true(a->texel_count > 0);
+    unsigned char *bytes[] = {(unsigned char *)a->positions, (unsigned char *)a->normals,
+                              (unsigned char *)a->uvs, (unsigned char *)a->materials,
+                              (unsigned char *)a->texels};
+    for (size_t k = 0; k < sizeof bytes / sizeof bytes[0]; k++) {
+        bytes[k][1] ^= 0x10;
+        if (st_scene_content_hash(a) == h)
+            fail_msg("array %zu: a flipped bit left the hash %08x", k, (unsigned)h);
+        bytes[k][1] ^= 0x10;
+        assert_int_equal(st_scene_content_hash(a), h);
+    }
+    st_scene *d = load_ok("cornell-box"), *e = load_ok("checkerboard");
+    assert_int_not_equal(st_scene_content_hash(d), st_scene_content_hash(e));
+    st_scene_destroy(a);
+    st_scene_destroy(b);
+    st_scene_destroy(c);
+    st_scene_destroy(d);
+    st_scene_destroy(e);
+}
+
 /* ---- malformed input ---------------------------------------------------------- */
 
 static void malformed_files_return_format_error_naming_file(void **state)
@@ -928,6 +964,7 @@ int main(void)
         cmocka_unit_test(texture_references_follow_the_file),
         cmocka_unit_test(environment_white_only_without_emission),
         cmocka_unit_test(builtin_scenes_load_by_name),
+        cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(auto_camera_sees_the_largest_face),
