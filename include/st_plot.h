@@ -1,6 +1,7 @@
 /* st_plot.h — the laboratory's pictures: scatter plots of sample patterns,
  * heat maps (periodograms), and line plots (filter profiles, frequency
- * responses, convergence curves), drawn with cairo and saved as PNG.
+ * responses, convergence curves), drawn with cairo and saved as PDF or SVG
+ * when the path ends in .pdf or .svg (any case), else as PNG.
  *
  * A picture is one or more panels side by side. Each panel kind is described
  * by a plain struct that borrows the caller's arrays for the duration of the
@@ -40,6 +41,7 @@ typedef struct st_plot_scatter {
     uint32_t strata_nx, strata_ny;   /* > 0: draw the nx x ny stratum grid */
     int toroidal;                    /* nonzero: dashed border, "toroidal tile" note */
     double point_radius;             /* pixels; <= 0: automatic from count */
+    const char *xlabel, *ylabel;     /* axis labels; NULL: none */
 } st_plot_scatter;
 
 /* A width x height array of doubles as an image with a colour bar (viridis,
@@ -53,6 +55,7 @@ typedef struct st_plot_heatmap {
                                            vmin >= vmax: the data's finite min..max */
     double x0, x1, y0, y1;              /* data coordinates of the first and last column
                                            (row) centres, for axis ticks; x0 == x1: none */
+    const char *xlabel, *ylabel;        /* axis labels; NULL: none */
 } st_plot_heatmap;
 
 typedef enum st_plot_style {
