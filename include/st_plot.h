@@ -73,6 +73,8 @@ typedef struct st_plot_series {
     st_plot_style style;
     uint32_t color;      /* 0xRRGGBB; 0: the next colour of the built-in palette */
     double width;        /* line width, pixels; <= 0: 2 */
+    const double *yerr;  /* n half-lengths of vertical error bars (y +- yerr); NULL: none */
+    int dashed;          /* nonzero: a dashed line (guides) */
 } st_plot_series;
 
 /* A labelled vertical line at data x (e.g. "Nyquist"). */
@@ -93,6 +95,8 @@ typedef struct st_plot_lines {
     uint32_t flags;                        /* ST_PLOT_LOG_X | ST_PLOT_LOG_Y */
     double xmin, xmax, ymin, ymax;         /* axis ranges; min >= max: fit the data */
     int legend_left;                       /* nonzero: legend top-left instead of top-right */
+    int legend_outside;                    /* nonzero: legend right of the axes, off the data
+                                              (the axes narrow to make room) */
 } st_plot_lines;
 
 /* One panel: `kind` says which pointer is read. */

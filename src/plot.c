@@ -72,7 +72,8 @@ st_plot_rect st_plot_data_rect(const st_plot_panel *panel, uint32_t width, uint3
     }
     case ST_PLOT_LINES:
     default:
-        return margins(width, height, fs, 1.5 * fs);
+        return margins(width, height, fs,
+                       panel->lines && panel->lines->legend_outside ? 17.0 * fs : 1.5 * fs);
     }
 }
 
@@ -581,6 +582,29 @@ static uint32_t series_color(const st_plot_series *s, uint32_t index)
     return s->color ? s->color : PALETTE[index % 10];
 }
 
+/* Vertical bars from y - yerr to y + yerr with short caps; on a log axis a bar whose lower
+ * end is not positive runs to the axis' bottom. */
+static void draw_error_bars(cairo_t *cr, const st_plot_series *s, const axis *ax, const axis *ay)
+{
+    for (uint32_t i = 0; i < s->n; ++i) {
+        double e = s->yerr[i];
+        if (!drawable(s->x[i], ax->log) || !drawable(s->y[i], ay->log) || !(e > 0))
+            continue;
+        double px = axis_map(ax, s->x[i]), top = axis_map(ay, s->y[i] + e);
+        double bottom = drawable(s->y[i] - e, ay->log) ? axis_map(ay, s->y[i] - e) : ay->p0;
+        cairo_move_to(cr, px, bottom);
+        cairo_line_to(cr, px, top);
+        cairo_move_to(cr, px - 4.0, top);
+        cairo_line_to(cr, px + 4.0, top);
+        cairo_move_to(cr, px - 4.0, bottom);
+        cairo_line_to(cr, px + 4.0, bottom);
+    }
+    cairo_save(cr);
+    cairo_set_line_width(cr, 1.2);
+    cairo_stroke(cr);
+    cairo_restore(cr);
+}
+
 static void draw_series(cairo_t *cr, const st_plot_series *s, uint32_t color, const axis *ax,
                         const axis *ay)
 {
@@ -588,6 +612,12 @@ static void draw_series(cairo_t *cr, const st_plot_series *s, uint32_t color, co
     set_rgb(cr, color);
     cairo_set_line_width(cr, s->width > 0.0 ? s->width : 2.0);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    if (s->dashed) {
+        double dash[2] = {6.0, 4.0};
+        cairo_set_dash(cr, dash, 2, 0.0);
+    }
+    if (s->yerr)
+        draw_error_bars(cr, s, ax, ay);
     if (s->style != ST_PLOT_STYLE_POINTS) {
         int pen = 0;
         for (uint32_t i = 0; i < s->n; ++i) {
@@ -662,7 +692,10 @@ static void draw_legend(cairo_t *cr, const st_plot_lines *p, st_plot_rect r, dou
         return;
     }
     double line = 1.4 * fs, bw = wmax + 3.6 * fs, bh = rows * line + 0.6 * fs;
-    double bx = p->legend_left ? r.x + 0.6 * fs : r.x + r.w - bw - 0.6 * fs, by = r.y + 0.6 * fs;
+    double bx = p->legend_outside ? r.x + r.w + 0.6 * fs
+                : p->legend_left  ? r.x + 0.6 * fs
+                                  : r.x + r.w - bw - 0.6 * fs,
+           by = r.y + (p->legend_outside ? 0.0 : 0.6 * fs);
     cairo_rectangle(cr, bx, by, bw, bh);
     cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
     cairo_fill_preserve(cr);
@@ -676,6 +709,8 @@ static void draw_legend(cairo_t *cr, const st_plot_lines *p, st_plot_rect r, dou
         double y = by + 0.3 * fs + (row + 0.5) * line;
         set_rgb(cr, series_color(&p->series[s], s));
         cairo_set_line_width(cr, 2.0);
+        double dash[2] = {6.0, 4.0};
+        cairo_set_dash(cr, dash, p->series[s].dashed ? 2 : 0, 0.0);
         cairo_move_to(cr, bx + 0.5 * fs, y);
         cairo_line_to(cr, bx + 2.5 * fs, y);
         cairo_stroke(cr);
