@@ -190,7 +190,7 @@ install: strata $(BUILD)/strata.1
 	install -D -m 644 tools/strata.bash-completion \
 	    $(DESTDIR)$(PREFIX)/share/bash-completion/completions/strata
 
-COMMANDS := render bench pattern filter signal merge converge diff devices
+COMMANDS := render bench pattern filter signal merge converge compare diff devices
 $(BUILD)/strata.1: $(BUILD)/strata tools/strata.h2m tools/man-commands.sh
 	sh tools/man-commands.sh $(BUILD)/strata $(COMMANDS) > $(BUILD)/strata.h2m
 	help2man --no-info --include=$(BUILD)/strata.h2m --output=$@ $(BUILD)/strata

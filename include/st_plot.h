@@ -1,6 +1,7 @@
 /* st_plot.h — the laboratory's pictures: scatter plots of sample patterns,
  * heat maps (periodograms), and line plots (filter profiles, frequency
- * responses, convergence curves), drawn with cairo and saved as PNG.
+ * responses, convergence curves), drawn with cairo and saved as PDF or SVG
+ * when the path ends in .pdf or .svg (any case), else as PNG.
  *
  * A picture is one or more panels side by side. Each panel kind is described
  * by a plain struct that borrows the caller's arrays for the duration of the
@@ -40,6 +41,7 @@ typedef struct st_plot_scatter {
     uint32_t strata_nx, strata_ny;   /* > 0: draw the nx x ny stratum grid */
     int toroidal;                    /* nonzero: dashed border, "toroidal tile" note */
     double point_radius;             /* pixels; <= 0: automatic from count */
+    const char *xlabel, *ylabel;     /* axis labels; NULL: none */
 } st_plot_scatter;
 
 /* A width x height array of doubles as an image with a colour bar (viridis,
@@ -53,6 +55,7 @@ typedef struct st_plot_heatmap {
                                            vmin >= vmax: the data's finite min..max */
     double x0, x1, y0, y1;              /* data coordinates of the first and last column
                                            (row) centres, for axis ticks; x0 == x1: none */
+    const char *xlabel, *ylabel;        /* axis labels; NULL: none */
 } st_plot_heatmap;
 
 typedef enum st_plot_style {
@@ -70,6 +73,8 @@ typedef struct st_plot_series {
     st_plot_style style;
     uint32_t color;      /* 0xRRGGBB; 0: the next colour of the built-in palette */
     double width;        /* line width, pixels; <= 0: 2 */
+    const double *yerr;  /* n half-lengths of vertical error bars (y +- yerr); NULL: none */
+    int dashed;          /* nonzero: a dashed line (guides) */
 } st_plot_series;
 
 /* A labelled vertical line at data x (e.g. "Nyquist"). */
@@ -90,6 +95,8 @@ typedef struct st_plot_lines {
     uint32_t flags;                        /* ST_PLOT_LOG_X | ST_PLOT_LOG_Y */
     double xmin, xmax, ymin, ymax;         /* axis ranges; min >= max: fit the data */
     int legend_left;                       /* nonzero: legend top-left instead of top-right */
+    int legend_outside;                    /* nonzero: legend right of the axes, off the data
+                                              (the axes narrow to make room) */
 } st_plot_lines;
 
 /* One panel: `kind` says which pointer is read. */

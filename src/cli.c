@@ -24,6 +24,7 @@ static const char main_help[] =
     "  merge PART.exr... -o OUT.exr        add split renders (--sample-range) into one image\n"
     "  converge [SCENE] --sampler LIST --spp-list LIST   error against spp, per sampler\n"
     "  diff A B [--max-rmse X]             compare two images (RMSE, PSNR, max difference)\n"
+    "  compare [SCENE] --sampler LIST -o SHEET   renders side by side with their RMSE\n"
     "  devices                             list the OpenCL devices\n"
     "  --version                           print the version\n";
 
@@ -55,7 +56,7 @@ int st_cli_main(int argc, char **argv)
         {"render", st_cli_render}, {"bench", st_cli_bench},
         {"devices", st_cli_devices}, {"diff", st_cli_diff}, {"pattern", st_cli_pattern},
         {"filter", st_cli_filter}, {"merge", st_cli_merge},
-        {"converge", st_cli_converge}, {"signal", st_cli_signal}};
+        {"converge", st_cli_converge}, {"signal", st_cli_signal}, {"compare", st_cli_compare}};
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
         if (!strcmp(argv[1], cmds[i].name))
             return check_stdout(cmds[i].run(argc - 1, argv + 1));

@@ -17,5 +17,6 @@ int st_cli_signal(int argc, char **argv);
 int st_cli_filter(int argc, char **argv);
 int st_cli_merge(int argc, char **argv);
 int st_cli_converge(int argc, char **argv);
+int st_cli_compare(int argc, char **argv);
 
 #endif

@@ -166,7 +166,8 @@ typedef struct series {
     char name[48];
     st_u32 sampler, adaptive, n;
     double spp[MAX_SPP], rmse[MAX_SPP], stderr_[MAX_SPP], rel[MAX_SPP], seeds[MAX_SPP];
-    double slope;
+    double slope;   /* fitted over the falling part only */
+    st_u32 falling; /* points 0 .. falling-1 fall; a plateau follows when falling < n */
     double *error_power; /* --error-spectrum: region-sized, summed over seeds */
     st_u32 error_runs;
 } series;
@@ -192,16 +193,36 @@ static void measure(const converge_args *c, const st_image *img, const st_image 
     *rel = rs / n;
 }
 
-/* Least-squares slope of log(rmse) against log(spp). */
-static double fit_slope(const series *s)
+/* How many leading points still fall: each must be below the one before by more than twice
+ * their combined standard error and by 5 % at least; from the first that is not, the curve
+ * has reached a plateau (the uniform grid converges to its own biased image). */
+static st_u32 falling_part(const series *s)
+{
+    st_u32 k = 1;
+    while (k < s->n) {
+        double drop = s->rmse[k - 1] - s->rmse[k];
+        double noise = 2.0 * sqrt(s->stderr_[k - 1] * s->stderr_[k - 1] +
+                                  s->stderr_[k] * s->stderr_[k]);
+        if (!(drop > noise && s->rmse[k] < 0.95 * s->rmse[k - 1]))
+            break;
+        k++;
+    }
+    return k;
+}
+
+/* Least-squares slope of log(rmse) against log(spp) over the falling part (NaN when it is a
+ * single point). */
+static double fit_slope(series *s)
 {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (st_u32 i = 0; i < s->n; i++) {
+    s->falling = falling_part(s);
+    st_u32 n = s->falling;
+    for (st_u32 i = 0; i < n; i++) {
         double x = log(s->spp[i]), y = log(s->rmse[i]);
         sx += x; sy += y; sxx += x * x; sxy += x * y;
     }
-    double d = s->n * sxx - sx * sx;
-    return s->n > 1 && d != 0 ? (s->n * sxy - sx * sy) / d : NAN;
+    double d = n * sxx - sx * sx;
+    return n > 1 && d != 0 ? (n * sxy - sx * sy) / d : NAN;
 }
 
 static st_status get_reference(const converge_args *c, st_cli_session *s, st_image *ref,
@@ -350,25 +371,58 @@ static void emit_csv(FILE *f, const void *ctx)
                     c->ss[i].seeds[k], c->ss[i].rmse[k], c->ss[i].stderr_[k], c->ss[i].rel[k]);
 }
 
+/* "halton (slope -0.98)", "uniform (slope -0.51 to 16 spp, plateau from 16)". */
+static void series_legend(const series *s, char *buf, size_t size)
+{
+    if (s->falling >= s->n)
+        snprintf(buf, size, "%s (slope %.2f)", s->name, s->slope);
+    else if (s->falling < 2)
+        snprintf(buf, size, "%s (plateau from %g spp)", s->name, s->spp[0]);
+    else
+        snprintf(buf, size, "%s (slope %.2f to %g, plateau)", s->name, s->slope,
+                 s->spp[s->falling - 1]);
+}
+
+/* Guide lines N^-1/2 and N^-1 through the geometric mean of every series' first RMSE. */
+static void guides(const series *ss, st_u32 ns, double *x, double *half, double *one)
+{
+    double lg = 0;
+    for (st_u32 i = 0; i < ns; i++)
+        lg += log(ss[i].rmse[0]);
+    double y0 = exp(lg / ns);
+    for (st_u32 k = 0; k < ss[0].n; k++) {
+        x[k] = ss[0].spp[k];
+        half[k] = y0 * sqrt(ss[0].spp[0] / x[k]);
+        one[k] = y0 * ss[0].spp[0] / x[k];
+    }
+}
+
 static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st_error *err)
 {
     csv_ctx cc = {ss, ns};
     if (c->csv && st_cli_write_text(c->csv, emit_csv, &cc, err) != ST_OK)
         return err->status;
     if (c->png) {
-        st_plot_series ps[MAX_SERIES * 2];
-        char legend[MAX_SERIES * 2][80];
+        st_plot_series ps[MAX_SERIES * 2 + 2];
+        char legend[MAX_SERIES * 2][96];
         for (st_u32 i = 0; i < ns; i++) {
-            snprintf(legend[i], sizeof legend[i], "%s (slope %.2f)", ss[i].name, ss[i].slope);
+            series_legend(&ss[i], legend[i], sizeof legend[i]);
             ps[i] = (st_plot_series){.name = legend[i], .x = ss[i].spp, .y = ss[i].rmse,
-                                     .n = ss[i].n, .style = ST_PLOT_STYLE_LINE_POINTS};
+                                     .n = ss[i].n, .style = ST_PLOT_STYLE_LINE_POINTS,
+                                     .yerr = ss[i].stderr_};
         }
+        double gx[MAX_SPP], g1[MAX_SPP], g2[MAX_SPP];
+        guides(ss, ns, gx, g1, g2);
+        ps[ns] = (st_plot_series){.name = "N^-1/2", .x = gx, .y = g1, .n = ss[0].n,
+                                  .color = 0x888888, .width = 1.2, .dashed = 1};
+        ps[ns + 1] = (st_plot_series){.name = "N^-1", .x = gx, .y = g2, .n = ss[0].n,
+                                      .color = 0x444444, .width = 1.2, .dashed = 1};
         char title[160];
         snprintf(title, sizeof title, "RMSE against samples per pixel (region %u,%u %ux%u)",
                  c->region[0], c->region[1], c->region[2], c->region[3]);
         st_plot_lines pl = {.title = title, .xlabel = "samples per pixel", .ylabel = "RMSE",
-                             .series = ps, .series_count = ns,
-                             .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y, .legend_left = 0};
+                             .series = ps, .series_count = ns + 2,
+                             .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y, .legend_outside = 1};
         if (st_plot_save_lines(c->png, &pl, 800, 600, err) != ST_OK)
             return err->status;
     }
@@ -432,9 +486,12 @@ int st_cli_converge(int argc, char **argv)
     }
     if (!c->r.quiet) {
         fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "converge: slopes");
-        for (st_u32 i = 0; i < ns; i++)
-            fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, " %s %.3f", ss[i].name,
-                    ss[i].slope);
+        for (st_u32 i = 0; i < ns; i++) {
+            FILE *f = c->csv && !strcmp(c->csv, "-") ? stderr : stdout;
+            fprintf(f, " %s %.3f", ss[i].name, ss[i].slope);
+            if (ss[i].falling < ss[i].n) /* the slope's range, where a plateau follows */
+                fprintf(f, " (to %g spp, then a plateau)", ss[i].spp[ss[i].falling - 1]);
+        }
         fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "\n");
     }
 done:

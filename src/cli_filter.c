@@ -1,6 +1,7 @@
 /* cli_filter.c — `strata filter NAME`: a filter's profile and frequency
  * response as CSV and as a two-panel plot with the Nyquist frequency marked. */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,23 +28,28 @@ static const char filter_help[] =
     "  --tau T        lanczos' window scale (default: the radius)\n"
     "  --csv FILE|-   the profile (x,f) across [-r, r] (401 points), then the frequency\n"
     "                 response (frequency,magnitude) in cycles per pixel, |F(w)|/|F(0)|\n"
-    "  --png FILE     the profile and the frequency response side by side, Nyquist marked\n";
+    "  --png FILE     the profile and the frequency response side by side, Nyquist marked\n"
+    "                 (.png, .pdf or .svg by the extension)\n"
+    "  --db           the response's plot in decibels, 20 log10 |F(w)|/|F(0)| down to -100\n"
+    "                 dB, where the side lobes show\n";
 
 typedef struct filter_cli {
     st_filter f;
     const char *csv, *png;
+    int db;
     double x[PROFILE_POINTS], y[PROFILE_POINTS];
     double w[RESPONSE_POINTS], mag[RESPONSE_POINTS];
 } filter_cli;
 
 static int parse(int argc, char **argv, filter_cli *c)
 {
-    enum { F_RADIUS = 400, F_B, F_C, F_SIGMA, F_TAU, F_CSV, F_PNG };
+    enum { F_RADIUS = 400, F_B, F_C, F_SIGMA, F_TAU, F_CSV, F_PNG, F_DB };
     static const struct option opts[] = {
         {"radius", required_argument, 0, F_RADIUS}, {"b", required_argument, 0, F_B},
         {"c", required_argument, 0, F_C}, {"sigma", required_argument, 0, F_SIGMA},
         {"tau", required_argument, 0, F_TAU}, {"csv", required_argument, 0, F_CSV},
-        {"png", required_argument, 0, F_PNG}, {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+        {"png", required_argument, 0, F_PNG}, {"db", no_argument, 0, F_DB},
+        {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     st_cli_filter_args fa = {0};
     opterr = 0;
     optind = 1;
@@ -60,6 +66,7 @@ static int parse(int argc, char **argv, filter_cli *c)
         case F_TAU: fa.tau = optarg; break;
         case F_CSV: c->csv = optarg; break;
         case F_PNG: c->png = optarg; break;
+        case F_DB: c->db = 1; break;
         }
     }
     if (optind >= argc)
@@ -81,6 +88,8 @@ static int parse(int argc, char **argv, filter_cli *c)
         return st_cli_fail_options(&err, names);
     if (!c->csv && !c->png)
         return st_cli_usage_error("filter: nothing to do (give --csv or --png)");
+    if (c->db && !c->png)
+        return st_cli_usage_error("--db applies to the plot: add --png FILE");
     return ST_CLI_OK;
 }
 
@@ -106,7 +115,11 @@ static st_status write_png(const filter_cli *c, st_error *err)
     st_plot_series prof[2] = {
         {.name = NULL, .x = zx, .y = zy, .n = 2, .color = 0x999999, .width = 1},
         {.name = "f(x)", .x = c->x, .y = c->y, .n = PROFILE_POINTS}};
-    st_plot_series resp = {.name = "|F(w)|", .x = c->w, .y = c->mag, .n = RESPONSE_POINTS};
+    double db[RESPONSE_POINTS]; /* 20 log10 of the magnitude; a zero is -inf: the line breaks */
+    for (int i = 0; i < RESPONSE_POINTS; i++)
+        db[i] = c->mag[i] > 0 ? 20.0 * log10(c->mag[i]) : -INFINITY;
+    st_plot_series resp = {.name = "|F(w)|", .x = c->w, .y = c->db ? db : c->mag,
+                           .n = RESPONSE_POINTS};
     st_plot_marker nyq = {.x = 0.5, .label = "Nyquist (1/2 cycle per pixel)"};
     st_plot_lines left = {.title = title, .xlabel = "x (pixels)", .ylabel = "f(x)",
                           .series = prof, .series_count = 2};
@@ -114,6 +127,11 @@ static st_status write_png(const filter_cli *c, st_error *err)
                            .ylabel = "|F(w)| / |F(0)|", .series = &resp, .series_count = 1,
                            .markers = &nyq, .marker_count = 1, .xmin = 0,
                            .xmax = RESPONSE_MAX_FREQ, .ymin = 0, .ymax = 1.1};
+    if (c->db) {
+        snprintf(title2, sizeof title2, "%s: frequency response in dB", st_filter_names[c->f.kind]);
+        right.ylabel = "20 log10 |F(w)|/|F(0)| (dB)";
+        right.ymin = -100, right.ymax = 5;
+    }
     st_plot_panel panels[2] = {{.kind = ST_PLOT_LINES, .lines = &left},
                                {.kind = ST_PLOT_LINES, .lines = &right}};
     return st_plot_save_row(c->png, panels, 2, 560, 420, err);

@@ -33,6 +33,7 @@ static const char pattern_help[] =
     "                      centred, log-scaled (PNG)\n"
     "  --radial FILE|-     radially averaged power as CSV (frequency,power,count)\n"
     "  --kmax K            largest |k| component of the spectrum (default 2 sqrt(N), 32..256)\n"
+    "  --range LO,HI       the spectrum's colour range in log10 P (default: the data's)\n"
     "  --seeds K           seeds averaged by the spectrum of a randomised sampler (default 16)\n"
     "  --discrepancy       print the star discrepancy (exact, first two dimensions) and the\n"
     "                      L2-star discrepancy (Warnock's formula, all dimensions);\n"
@@ -42,6 +43,7 @@ typedef struct pattern_args {
     st_u32 sampler, count, dims, seed, scramble, kmax, seeds;
     int have_sampler, have_count, discrepancy, scramble_given;
     const char *csv, *png, *spectrum, *radial;
+    double range[2]; /* --range LO,HI of the spectrum's colours (log10 P); equal: the data's */
 } pattern_args;
 
 /* Both discrepancies are O(N^2): measured here, ~4 ns a point pair (N = 65536:
@@ -50,7 +52,17 @@ typedef struct pattern_args {
 #define DISCREPANCY_PAIR_NS 4.0
 
 enum { P_SAMPLER = 300, P_COUNT, P_DIMS, P_SEED, P_SCRAMBLE, P_CSV, P_PNG, P_SPECTRUM, P_RADIAL,
-       P_KMAX, P_SEEDS, P_DISCREPANCY };
+       P_KMAX, P_SEEDS, P_DISCREPANCY, P_RANGE };
+
+/* --range LO,HI: two finite numbers, LO < HI. */
+static int parse_range(const char *v, double range[2])
+{
+    char tail;
+    if (sscanf(v, "%lf,%lf%c", &range[0], &range[1], &tail) != 2 || !isfinite(range[0]) ||
+        !isfinite(range[1]) || range[0] >= range[1])
+        return st_cli_usage_error("--range %s: expected LO,HI with LO < HI (log10 of the power)", v);
+    return ST_CLI_OK;
+}
 
 static int parse(int argc, char **argv, pattern_args *a)
 {
@@ -60,7 +72,7 @@ static int parse(int argc, char **argv, pattern_args *a)
         {"scramble", required_argument, 0, P_SCRAMBLE}, {"csv", required_argument, 0, P_CSV},
         {"png", required_argument, 0, P_PNG}, {"spectrum", required_argument, 0, P_SPECTRUM},
         {"radial", required_argument, 0, P_RADIAL}, {"kmax", required_argument, 0, P_KMAX},
-        {"seeds", required_argument, 0, P_SEEDS},
+        {"seeds", required_argument, 0, P_SEEDS}, {"range", required_argument, 0, P_RANGE},
         {"discrepancy", no_argument, 0, P_DISCREPANCY}, {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0}};
     memset(a, 0, sizeof *a);
@@ -104,6 +116,7 @@ static int parse(int argc, char **argv, pattern_args *a)
         case P_KMAX: rc = st_cli_parse_u32("--kmax", v, 1, ST_SPECTRUM_KMAX_MAX, &a->kmax); break;
         case P_SEEDS: rc = st_cli_parse_u32("--seeds", v, 1, 4096, &a->seeds); break;
         case P_DISCREPANCY: a->discrepancy = 1; break;
+        case P_RANGE: rc = parse_range(v, a->range); break;
         }
         if (rc)
             return rc;
@@ -164,7 +177,36 @@ static st_status scatter(const pattern_args *a, const float *pts, st_u32 n, st_e
     if (a->sampler == ST_SAMPLER_STRATIFIED)
         st_stratified_grid(n, &s.strata_nx, &s.strata_ny);
     s.toroidal = ST_SAMPLER_IS_TILED(a->sampler);
+    s.xlabel = "x (dimension 1)";
+    s.ylabel = "y (dimension 2)";
     return st_plot_save_scatter(a->png, &s, 640, 680, err);
+}
+
+static int by_value(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+/* The colour range from the data: log10 P from its 1st percentile to its largest value over
+ * every k but k = 0, whose power is always N (the scale would spend itself on that one cell),
+ * the percentile so that a few exact cancellations (Halton's k_y = 0 row holds 1e-30) do not
+ * stretch it; [-1, 1] when nothing else is positive. */
+static void data_range(const double *power, st_u32 kmax, double *lo, double *hi)
+{
+    st_u32 side = 2 * kmax + 1;
+    size_t n = 0;
+    double *v = malloc((size_t)side * side * sizeof *v);
+    for (size_t i = 0; v && i < (size_t)side * side; i++)
+        if (i != (size_t)kmax * side + kmax && power[i] > 0 && isfinite(power[i]))
+            v[n++] = log10(power[i]);
+    *lo = -1, *hi = 1;
+    if (n > 1) {
+        qsort(v, n, sizeof *v, by_value);
+        if (v[n / 100] < v[n - 1])
+            *lo = v[n / 100], *hi = v[n - 1];
+    }
+    free(v);
 }
 
 /* The periodogram averaged over seeds seed, seed+1, ... (one pass for a
@@ -206,8 +248,12 @@ static st_status spectrum(const pattern_args *a, st_u32 n0, st_error *err)
         h.values = power;
         h.width = h.height = side;
         h.log10 = 1;
-        h.vmin = -2.0;
-        h.vmax = 1.0;
+        h.vmin = a->range[0];
+        h.vmax = a->range[1];
+        if (h.vmin >= h.vmax) /* not given: from the data */
+            data_range(power, kmax, &h.vmin, &h.vmax);
+        h.xlabel = "frequency k_x (cycles per unit)";
+        h.ylabel = "frequency k_y";
         h.x0 = h.y0 = -(double)kmax;
         h.x1 = h.y1 = (double)kmax;
         rc = st_plot_save_heatmap(a->spectrum, &h, 720, 680, err);

@@ -11,6 +11,9 @@
 #include "st_outfile.h"
 
 #include <cairo/cairo.h>
+#include <cairo/cairo-pdf.h>
+#include <cairo/cairo-svg.h>
+#include <strings.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -69,7 +72,8 @@ st_plot_rect st_plot_data_rect(const st_plot_panel *panel, uint32_t width, uint3
     }
     case ST_PLOT_LINES:
     default:
-        return margins(width, height, fs, 1.5 * fs);
+        return margins(width, height, fs,
+                       panel->lines && panel->lines->legend_outside ? 17.0 * fs : 1.5 * fs);
     }
 }
 
@@ -308,6 +312,7 @@ static void draw_scatter(cairo_t *cr, const st_plot_scatter *s, uint32_t w, uint
     cairo_restore(cr);
 
     draw_axes(cr, r, &ax, &ay, fs, 0);
+    draw_axis_labels(cr, r, s->xlabel, s->ylabel, fs);
     if (s->toroidal) {
         double dash[2] = {0.6 * fs, 0.4 * fs};
         cairo_save(cr);
@@ -493,6 +498,7 @@ static st_status draw_heatmap(cairo_t *cr, const st_plot_heatmap *hm, uint32_t w
         cairo_stroke(cr);
         cairo_restore(cr);
     }
+    draw_axis_labels(cr, r, hm->xlabel, hm->ylabel, fs);
     draw_colorbar(cr, hm, r, lo, hi, fs);
     draw_title(cr, hm->title, w, fs);
     return ST_OK;
@@ -576,6 +582,29 @@ static uint32_t series_color(const st_plot_series *s, uint32_t index)
     return s->color ? s->color : PALETTE[index % 10];
 }
 
+/* Vertical bars from y - yerr to y + yerr with short caps; on a log axis a bar whose lower
+ * end is not positive runs to the axis' bottom. */
+static void draw_error_bars(cairo_t *cr, const st_plot_series *s, const axis *ax, const axis *ay)
+{
+    for (uint32_t i = 0; i < s->n; ++i) {
+        double e = s->yerr[i];
+        if (!drawable(s->x[i], ax->log) || !drawable(s->y[i], ay->log) || !(e > 0))
+            continue;
+        double px = axis_map(ax, s->x[i]), top = axis_map(ay, s->y[i] + e);
+        double bottom = drawable(s->y[i] - e, ay->log) ? axis_map(ay, s->y[i] - e) : ay->p0;
+        cairo_move_to(cr, px, bottom);
+        cairo_line_to(cr, px, top);
+        cairo_move_to(cr, px - 4.0, top);
+        cairo_line_to(cr, px + 4.0, top);
+        cairo_move_to(cr, px - 4.0, bottom);
+        cairo_line_to(cr, px + 4.0, bottom);
+    }
+    cairo_save(cr);
+    cairo_set_line_width(cr, 1.2);
+    cairo_stroke(cr);
+    cairo_restore(cr);
+}
+
 static void draw_series(cairo_t *cr, const st_plot_series *s, uint32_t color, const axis *ax,
                         const axis *ay)
 {
@@ -583,6 +612,12 @@ static void draw_series(cairo_t *cr, const st_plot_series *s, uint32_t color, co
     set_rgb(cr, color);
     cairo_set_line_width(cr, s->width > 0.0 ? s->width : 2.0);
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    if (s->dashed) {
+        double dash[2] = {6.0, 4.0};
+        cairo_set_dash(cr, dash, 2, 0.0);
+    }
+    if (s->yerr)
+        draw_error_bars(cr, s, ax, ay);
     if (s->style != ST_PLOT_STYLE_POINTS) {
         int pen = 0;
         for (uint32_t i = 0; i < s->n; ++i) {
@@ -657,7 +692,10 @@ static void draw_legend(cairo_t *cr, const st_plot_lines *p, st_plot_rect r, dou
         return;
     }
     double line = 1.4 * fs, bw = wmax + 3.6 * fs, bh = rows * line + 0.6 * fs;
-    double bx = p->legend_left ? r.x + 0.6 * fs : r.x + r.w - bw - 0.6 * fs, by = r.y + 0.6 * fs;
+    double bx = p->legend_outside ? r.x + r.w + 0.6 * fs
+                : p->legend_left  ? r.x + 0.6 * fs
+                                  : r.x + r.w - bw - 0.6 * fs,
+           by = r.y + (p->legend_outside ? 0.0 : 0.6 * fs);
     cairo_rectangle(cr, bx, by, bw, bh);
     cairo_set_source_rgba(cr, 1, 1, 1, 0.85);
     cairo_fill_preserve(cr);
@@ -671,6 +709,8 @@ static void draw_legend(cairo_t *cr, const st_plot_lines *p, st_plot_rect r, dou
         double y = by + 0.3 * fs + (row + 0.5) * line;
         set_rgb(cr, series_color(&p->series[s], s));
         cairo_set_line_width(cr, 2.0);
+        double dash[2] = {6.0, 4.0};
+        cairo_set_dash(cr, dash, p->series[s].dashed ? 2 : 0, 0.0);
         cairo_move_to(cr, bx + 0.5 * fs, y);
         cairo_line_to(cr, bx + 2.5 * fs, y);
         cairo_stroke(cr);
@@ -771,20 +811,11 @@ static st_status check_row(const char *path, const st_plot_panel *panels, uint32
     return ST_OK;
 }
 
-st_status st_plot_save_row(const char *path, const st_plot_panel *panels, uint32_t count,
-                           uint32_t panel_width, uint32_t panel_height, st_error *err)
+/* Draws the panels side by side on any cairo surface. */
+static st_status draw_row(cairo_t *cr, const st_plot_panel *panels, uint32_t count,
+                          uint32_t panel_width, uint32_t panel_height, st_error *err)
 {
-    st_status s = check_row(path, panels, count, panel_width, panel_height, err);
-    if (s != ST_OK)
-        return s;
-    cairo_surface_t *surface = cairo_image_surface_create(
-        CAIRO_FORMAT_RGB24, (int)(panel_width * count), (int)panel_height);
-    cairo_t *cr = cairo_create(surface);
-    if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
-        s = st_fail(err, ST_ERR_NOMEM, "%s: out of memory for a %u x %u image", path,
-                    panel_width * count, panel_height);
-        goto done;
-    }
+    st_status s = ST_OK;
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
@@ -801,6 +832,62 @@ st_status st_plot_save_row(const char *path, const st_plot_panel *panels, uint32
             draw_lines(cr, panels[i].lines, panel_width, panel_height);
         cairo_restore(cr);
     }
+    return s;
+}
+
+/* The file type of path: 1 PDF, 2 SVG, else 0, PNG (as before there were three). */
+static int file_type(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return dot && !strcasecmp(dot, ".pdf") ? 1 : dot && !strcasecmp(dot, ".svg") ? 2 : 0;
+}
+
+/* A PDF or SVG drawn into out and finished there. */
+static st_status save_vector(const char *path, const st_plot_panel *panels, uint32_t count,
+                             uint32_t pw, uint32_t ph, st_error *err)
+{
+    st_outfile *out = NULL;
+    if (st_outfile_open(path, &out, err) != ST_OK)
+        return err ? err->status : ST_ERR_IO;
+    double w = (double)pw * count;
+    cairo_surface_t *sf = file_type(path) == 1
+                              ? cairo_pdf_surface_create_for_stream(sink_write, out, w, ph)
+                              : cairo_svg_surface_create_for_stream(sink_write, out, w, ph);
+    cairo_t *cr = cairo_create(sf);
+    st_status s = draw_row(cr, panels, count, pw, ph, err);
+    cairo_destroy(cr);
+    cairo_surface_finish(sf);
+    cairo_status_t cs = cairo_surface_status(sf);
+    cairo_surface_destroy(sf);
+    if (s == ST_OK && cs != CAIRO_STATUS_SUCCESS) {
+        int e = st_outfile_error(out);
+        s = st_fail(err, cs == CAIRO_STATUS_NO_MEMORY ? ST_ERR_NOMEM : ST_ERR_IO,
+                    "%s: cannot write (%s)", path, e ? strerror(e) : cairo_status_to_string(cs));
+    }
+    if (s != ST_OK) {
+        st_outfile_abort(out);
+        return s;
+    }
+    return st_outfile_commit(out, err);
+}
+
+st_status st_plot_save_row(const char *path, const st_plot_panel *panels, uint32_t count,
+                           uint32_t panel_width, uint32_t panel_height, st_error *err)
+{
+    st_status s = check_row(path, panels, count, panel_width, panel_height, err);
+    if (s != ST_OK)
+        return s;
+    if (file_type(path) > 0)
+        return save_vector(path, panels, count, panel_width, panel_height, err);
+    cairo_surface_t *surface = cairo_image_surface_create(
+        CAIRO_FORMAT_RGB24, (int)(panel_width * count), (int)panel_height);
+    cairo_t *cr = cairo_create(surface);
+    if (cairo_status(cr) != CAIRO_STATUS_SUCCESS) {
+        s = st_fail(err, ST_ERR_NOMEM, "%s: out of memory for a %u x %u image", path,
+                    panel_width * count, panel_height);
+        goto done;
+    }
+    s = draw_row(cr, panels, count, panel_width, panel_height, err);
     if (s == ST_OK && cairo_status(cr) != CAIRO_STATUS_SUCCESS)
         s = st_fail(err, ST_ERR_NOMEM, "%s: drawing failed: %s", path,
                     cairo_status_to_string(cairo_status(cr)));

@@ -101,7 +101,7 @@ if command -v help2man > /dev/null && command -v make > /dev/null && [ -f Makefi
     check "make install installs the binary" '[ -x "$T/prefix/bin/strata" ]' "$(tail -3 "$T/inst")"
     check "the installed binary runs" '"$T/prefix/bin/strata" --version | grep -q "^strata "'
     check "make install installs a man page with every command" \
-        '! for c in render bench pattern filter signal merge converge diff devices; do
+        '! for c in render bench pattern filter signal merge converge compare diff devices; do
              grep -q "^\.SS strata $c" "$T/prefix/share/man/man1/strata.1" || echo missing; done |
              grep -q missing'
     check "the man page lists the render options" 'grep -q "sample\\\\-range" "$T/prefix/share/man/man1/strata.1"'
