@@ -6,7 +6,8 @@ S=./strata
 P=scenes/pictures
 mkdir -p $P/samplers $P/filters $P/renders
 $S render --width 512 --height 512 --spp 64 --quiet -o $P/cornell-box.png
-for s in random uniform stratified halton hammersley poisson best-candidate sobol; do
+for s in random uniform stratified halton hammersley poisson best-candidate paddedsobol sobol zsobol \
+    joint-stratified; do
     $S pattern --sampler $s --count 256 --png $P/samplers/$s.png
     $S pattern --sampler $s --count 1024 --spectrum $P/samplers/$s-spectrum.png
     $S render --width 128 --height 128 --spp 1 --sampler $s --filter box --quiet \
