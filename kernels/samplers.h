@@ -521,8 +521,14 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
         if (dim >= ST_SOBOL_DIMS)
             break;
         st_u32 bits = st_sobol_sample_bits(id->index, dim);
-        if (dim < 2u) /* the position within the pixel, never scrambled (as pbrt) */
-            return st_bits_to_unit(bits << p->sobol_log2);
+        if (dim < 2u) { /* the position within the pixel: its digits past the m-th */
+            bits <<= p->sobol_log2;
+            /* Owen-scrambled per pixel (pbrt leaves them: its box filter
+             * takes the edge, ours does not, and index 0 sits on it) */
+            if (p->scramble)
+                bits = st_owen_scramble(bits, ST_PAIR_KEY ^ dim);
+            return st_bits_to_unit(bits);
+        }
         if (p->scramble)
             bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim)));
         return st_bits_to_unit(bits);
