@@ -1,7 +1,8 @@
-/* st_sampling.h — the host side of the sampling laboratory: toroidal tiles of
- * Poisson-disk and best-candidate points (uploaded once to the device by the
- * renderer), the star and L2-star discrepancy of a point set, and its Fourier
- * periodogram. The per-sample sampler functions that the kernels run (radical
+/* st_sampling.h — the host side of the sampling laboratory: the pixel tiles
+ * of the tiled samplers (spp points in every pixel, uploaded once to the
+ * device by the renderer), toroidal Poisson-disk and best-candidate tiles of
+ * the unit square (without pixels), the star and L2-star discrepancy of a
+ * point set, its Fourier periodogram and the power spectrum of an image. The per-sample sampler functions that the kernels run (radical
  * inverse, Halton, Hammersley, Sobol, ...) live in the shared kernel headers,
  * not here.
  *

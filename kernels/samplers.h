@@ -390,18 +390,9 @@ ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_
     return id;
 }
 
-/* Jittered (or centred) coordinate `axis` of a 2-D stratum grid whose cell
- * order is shuffled by key (pbrt pads dimensions the same way). */
-ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_u32 dim,
-                                 st_u32 key, st_f32 jitter)
+/* Position cell + jitter of [0, 1) cut in n equal cells, kept inside the cell. */
+ST_FN st_f32 st_cell_coord(st_u32 cell, st_u32 n, st_f32 jitter)
 {
-    st_u32 s = id->sample;
-    if (key != 0u)
-        s = st_permute(s, p->spp, key);
-    st_u32 cell = (dim & 1u) ? s / p->strat_nx : s % p->strat_nx;
-    st_u32 n = (dim & 1u) ? p->strat_ny : p->strat_nx;
-    if (cell >= n)
-        cell = n - 1u;
     st_f32 x = ((st_f32)cell + jitter) / (st_f32)n;
     /* Far from both edges no rounding can cross one: the computed position t
      * within the cell errs by a few units of 2^-24 (cell + 1), well inside
@@ -417,6 +408,57 @@ ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_
     st_f32 lo = st_ratio_ceil(cell, n);
     st_f32 hi = st_ratio_floor((((st_u64)cell + 1u) << 32) - 1u, (st_u64)n << 32);
     return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* Jittered (or centred) coordinate `axis` of a 2-D stratum grid whose cell
+ * order is shuffled by key (pbrt pads dimensions the same way). */
+ST_FN st_f32 st_stratified_coord(const st_params *p, const st_sample_id *id, st_u32 dim,
+                                 st_u32 key, st_f32 jitter)
+{
+    st_u32 s = id->sample;
+    if (key != 0u)
+        s = st_permute(s, p->spp, key);
+    st_u32 cell = (dim & 1u) ? s / p->strat_nx : s % p->strat_nx;
+    st_u32 n = (dim & 1u) ? p->strat_ny : p->strat_nx;
+    return st_cell_coord(cell < n ? cell : n - 1u, n, jitter);
+}
+
+/* Orthogonal-array stratification (Owen, "Orthogonal arrays for computer
+ * experiments, integration and visualization", Statistica Sinica 1992; Bush's
+ * construction): for spp = q^2 with q an odd prime or a power of two >= 4,
+ * sample s = a + q b gets the symbols (a, b, a + b, a + x b) of GF(q) in
+ * dimensions 0..3 (x = 2: the element x of GF(2^k), or the integer 2 mod q).
+ * Any two of the four columns take every pair of symbols exactly once
+ * (strength 2), so the pixel pair, the light pair and every pixel-light pair
+ * are each stratified on a q x q grid. Each column's symbols go through a
+ * random permutation per pixel, then a jitter within the stratum. Returns
+ * the stratum of dimension dim (< 4), or q (no array) when spp is not such a
+ * square. */
+ST_FN st_u32 st_oa_symbol(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    st_u32 q = p->strat_nx, k = 31u - ST_CLZ32(q);
+    if (q != p->strat_ny || q < 3u)
+        return q;
+    st_u32 pow2 = (q & (q - 1u)) == 0u;
+    if (pow2 && k > 8u)
+        return q;
+    for (st_u32 d = 2u; !pow2 && d * d <= q; d++)
+        if (q % d == 0u)
+            return q;
+    st_u32 a = id->sample % q, b = id->sample / q, c;
+    if (dim == 0u)
+        c = a;
+    else if (dim == 1u)
+        c = b;
+    else if (dim == 2u)
+        c = pow2 ? a ^ b : (a + b) % q;
+    else if (pow2) { /* a + x b in GF(2^k) modulo a primitive polynomial */
+        const st_u32 poly[9] = {0u, 0u, 0x7u, 0xbu, 0x13u, 0x25u, 0x43u, 0x83u, 0x11du};
+        st_u32 xb = b << 1;
+        c = a ^ (xb & q ? xb ^ poly[k] : xb);
+    } else
+        c = (a + 2u * b) % q;
+    return st_permute(c, q, st_hash32(id->pixel_key ^ 0x0a0a0a0au ^ dim));
 }
 
 /* Dimension `dim` of sample id, in [0, 1). */
@@ -479,12 +521,25 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
         if (dim >= ST_SOBOL_DIMS)
             break;
         st_u32 bits = st_sobol_sample_bits(id->index, dim);
-        if (dim < 2u) /* the position within the pixel, never scrambled (as pbrt) */
-            return st_bits_to_unit(bits << p->sobol_log2);
+        if (dim < 2u) { /* the position within the pixel: its digits past the m-th */
+            bits <<= p->sobol_log2;
+            /* Owen-scrambled per pixel (pbrt leaves them: its box filter
+             * takes the edge, ours does not, and index 0 sits on it) */
+            if (p->scramble)
+                bits = st_owen_scramble(bits, ST_PAIR_KEY ^ dim);
+            return st_bits_to_unit(bits);
+        }
         if (p->scramble)
             bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim)));
         return st_bits_to_unit(bits);
     }
+    case ST_SAMPLER_JOINT_STRATIFIED:
+        if (dim < 4u) { /* pixel and light pairs: one orthogonal array */
+            st_u32 c = st_oa_symbol(p, id, dim);
+            if (c < p->strat_nx)
+                return st_cell_coord(c, p->strat_nx, st_rng_unit(id->key, dim));
+        }
+        return st_stratified_coord(p, id, dim, ST_PAIR_KEY, st_rng_unit(id->key, dim));
     case ST_SAMPLER_ZSOBOL: {
         st_u32 bits = st_sobol_bits(st_zsobol_index(p, id->px, id->py, id->sample, dim >> 1), dim & 1u);
         if (p->scramble)

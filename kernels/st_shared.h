@@ -57,7 +57,8 @@ typedef float st_f32;
 #define ST_SAMPLER_PADDED_SOBOL 7u /* per pixel, later pairs shuffled (pbrt's "paddedsobol") */
 #define ST_SAMPLER_SOBOL 8u        /* one global sequence across the image (pbrt's "sobol") */
 #define ST_SAMPLER_ZSOBOL 9u       /* Morton-ordered blocks (pbrt's "zsobol") */
-#define ST_SAMPLER_COUNT 10u
+#define ST_SAMPLER_JOINT_STRATIFIED 10u /* pixel and light pairs in one orthogonal array */
+#define ST_SAMPLER_COUNT 11u
 #define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
 
 /* Reconstruction filters (render --filter, strata filter). */

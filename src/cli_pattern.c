@@ -22,7 +22,7 @@
 static const char pattern_help[] =
     "usage: strata pattern --sampler NAME --count N [options]\n"
     "  --sampler NAME      random, uniform, stratified, halton, hammersley, poisson,\n"
-    "                      best-candidate, paddedsobol, sobol, zsobol\n"
+    "                      best-candidate, paddedsobol, sobol, zsobol, joint-stratified\n"
     "  --count N           number of points (poisson: the target; the radius follows)\n"
     "  --dims D            dimensions per point (default 2)\n"
     "  --seed S            random seed (default 0)\n"

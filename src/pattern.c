@@ -14,9 +14,9 @@ int st_pattern_is_random(st_u32 sampler, st_u32 scramble)
 {
     if (sampler == ST_SAMPLER_UNIFORM)
         return 0;
+    /* zsobol's digit permutations follow the seed even unscrambled */
     if (sampler == ST_SAMPLER_HALTON || sampler == ST_SAMPLER_HAMMERSLEY ||
-        sampler == ST_SAMPLER_PADDED_SOBOL || sampler == ST_SAMPLER_SOBOL ||
-        sampler == ST_SAMPLER_ZSOBOL)
+        sampler == ST_SAMPLER_PADDED_SOBOL || sampler == ST_SAMPLER_SOBOL)
         return scramble != 0;
     return 1;
 }

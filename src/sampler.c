@@ -13,7 +13,7 @@
 
 const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
     "random", "uniform", "stratified", "halton", "hammersley", "poisson", "best-candidate",
-    "paddedsobol", "sobol", "zsobol"};
+    "paddedsobol", "sobol", "zsobol", "joint-stratified"};
 
 int st_sampler_lookup(const char *name)
 {

@@ -109,6 +109,23 @@ static void patterns_deterministic_per_seed(void **state)
     }
 }
 
+/* Unscrambled, the Sobol'-type samplers are fixed point sets, except zsobol,
+ * whose digit permutations follow the seed: the spectra average its seeds. */
+static void zsobol_unscrambled_still_follows_the_seed(void **state)
+{
+    (void)state;
+    float *a, *c;
+    st_u32 n;
+    st_error err = {0};
+    assert_int_equal(st_pattern_make(ST_SAMPLER_ZSOBOL, 64, 4, 5, 0, &a, &n, &err), ST_OK);
+    assert_int_equal(st_pattern_make(ST_SAMPLER_ZSOBOL, 64, 4, 6, 0, &c, &n, &err), ST_OK);
+    assert_memory_not_equal(a, c, sizeof(float) * 4 * 64);
+    assert_true(st_pattern_is_random(ST_SAMPLER_ZSOBOL, 0));
+    assert_false(st_pattern_is_random(ST_SAMPLER_SOBOL, 0));
+    free(a);
+    free(c);
+}
+
 static void pattern_rejects_bad_sizes(void **state)
 {
     (void)state;
@@ -128,6 +145,7 @@ int main(void)
         cmocka_unit_test(star_discrepancy_orders_random_stratified_halton),
         cmocka_unit_test(best_candidate_min_distance_far_above_jittered),
         cmocka_unit_test(patterns_deterministic_per_seed),
+        cmocka_unit_test(zsobol_unscrambled_still_follows_the_seed),
         cmocka_unit_test(pattern_rejects_bad_sizes),
     };
     return cmocka_run_group_tests_name("pattern", tests, NULL, NULL);

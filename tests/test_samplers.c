@@ -944,6 +944,43 @@ static void zsobol_index_is_bijection(void **state)
     }
 }
 
+/* joint-stratified: for spp = q^2 (q = 3, 4, 5, 7, 8, 16), every pair of
+ * dimensions among 0..3 (pixel x, y, light u, v) puts exactly one of a
+ * pixel's samples in each cell of the q x q grid: an orthogonal array of
+ * strength 2. For spp = 12 (no array) the pixel pair is still stratified. */
+static void joint_stratified_pairs_are_stratified(void **state)
+{
+    (void)state;
+    uint32_t qs[6] = {3, 4, 5, 7, 8, 16};
+    uint8_t seen[256];
+    float v[4][256];
+    for (int t = 0; t < 6; t++) {
+        uint32_t q = qs[t];
+        st_params p = image_params(ST_SAMPLER_JOINT_STRATIFIED, 3, 2, q * q, 1, 9);
+        for (uint32_t pix = 0; pix < 6; pix++) {
+            for (uint32_t s = 0; s < q * q; s++)
+                for (uint32_t d = 0; d < 4; d++)
+                    v[d][s] = sample_value(&p, pix % 3, pix / 3, s, d);
+            for (uint32_t i = 0; i < 4; i++)
+                for (uint32_t j = i + 1; j < 4; j++) {
+                    memset(seen, 0, sizeof seen);
+                    for (uint32_t s = 0; s < q * q; s++) {
+                        uint32_t c = cell_of(v[i][s], q) * q + cell_of(v[j][s], q);
+                        if (seen[c]++)
+                            fail_msg("q %u pixel %u dims %u,%u: cell %u twice", q, pix, i, j, c);
+                    }
+                }
+        }
+    }
+    st_params p = image_params(ST_SAMPLER_JOINT_STRATIFIED, 1, 1, 12, 1, 9);
+    memset(seen, 0, sizeof seen);
+    for (uint32_t s = 0; s < 12; s++) {
+        uint32_t c = cell_of(sample_value(&p, 0, 0, s, 0), p.strat_nx) * p.strat_ny +
+                     cell_of(sample_value(&p, 0, 0, s, 1), p.strat_ny);
+        assert_false(seen[c]++);
+    }
+}
+
 static int cmp_float(const void *a, const void *b)
 {
     float x = *(const float *)a, y = *(const float *)b;
@@ -1302,6 +1339,7 @@ int main(void)
         cmocka_unit_test(sobol_global_dimensions_stratified),
         cmocka_unit_test(zsobol_pixel_pairs_are_nets),
         cmocka_unit_test(zsobol_index_is_bijection),
+        cmocka_unit_test(joint_stratified_pairs_are_stratified),
         cmocka_unit_test(halton_scrambled_keeps_stratification),
         cmocka_unit_test(hammersley_scrambled_keeps_stratification),
         cmocka_unit_test(hammersley_rotation_one_point_per_interval),
