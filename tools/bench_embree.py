@@ -1,0 +1,153 @@
+#!/usr/bin/env python3
+"""bench_embree.py - the trace benchmark of `strata bench SCENE --rays KIND`
+with Embree (pip install embreex numpy), for comparison; not a test.
+
+It reads the glTF scene itself (triangle meshes under the default scene's
+nodes: translation/rotation/scale or matrix; buffers as data: URIs or files
+beside the .gltf), makes the same rays as strata's src/trace_bench.c (the
+same hash, lowbias32, of the seed and the ray's index; camera: the first
+camera node, through uniformly random points of the WIDTH x HEIGHT image;
+random: origins uniform in the bounding box of the vertices, directions
+uniform on the sphere), builds Embree's BVH (timed) and traces the rays with
+embreex's EmbreeScene.run (rtcIntersect1 per ray, one thread; timed), and
+prints one JSON line with strata's keys, so the hit fraction can be checked
+against strata's (it should agree to about 1e-3).
+Usage: python3 tools/bench_embree.py SCENE.gltf camera|random [COUNT] [WIDTH HEIGHT] [SEED]
+"""
+import base64
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+from embreex import rtcore_scene
+from embreex.mesh_construction import TriangleMesh
+
+M32 = np.uint32(0xFFFFFFFF)
+
+
+def h32(x):
+    x = x.astype(np.uint64)
+    x ^= x >> np.uint64(16)
+    x = (x * np.uint64(0x7FEB352D)) & np.uint64(0xFFFFFFFF)
+    x ^= x >> np.uint64(15)
+    x = (x * np.uint64(0x846CA68B)) & np.uint64(0xFFFFFFFF)
+    x ^= x >> np.uint64(16)
+    return x
+
+
+def unit(key, dim):
+    """st_rng_unit(key, dim): top 24 bits of st_rng_u32 as a float in [0, 1)."""
+    d = h32(np.uint64(dim + 0x9E3779B9) & np.uint64(0xFFFFFFFF))
+    return ((h32(key ^ d) >> np.uint64(8)).astype(np.float32) * np.float32(2.0 ** -24))
+
+
+def ray_keys(seed, kind, n):
+    """ray_key of trace_bench.c: st_rng_key(seed ^ set * 0x68bc21eb, i, i >> 32)."""
+    s = (seed ^ (kind * 0x68BC21EB)) & 0xFFFFFFFF
+    i = np.arange(n, dtype=np.uint64)
+    inner = h32(np.uint64(s ^ 0x5BD1E995))
+    return h32((i >> np.uint64(32)) ^ h32((i & np.uint64(0xFFFFFFFF)) ^ inner))
+
+
+def quat_matrix(q):
+    x, y, z, w = q
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def node_matrix(n):
+    if "matrix" in n:
+        return np.array(n["matrix"], dtype=np.float64).reshape(4, 4).T
+    m = np.eye(4)
+    m[:3, :3] = quat_matrix(n.get("rotation", [0, 0, 0, 1])) * np.array(n.get("scale", [1, 1, 1]))
+    m[:3, 3] = n.get("translation", [0, 0, 0])
+    return m
+
+
+def load(path):
+    g = json.load(open(path))
+    folder = os.path.dirname(path)
+    bufs = []
+    for b in g["buffers"]:
+        uri = b["uri"]
+        bufs.append(base64.b64decode(uri.split(",", 1)[1]) if uri.startswith("data:")
+                    else open(os.path.join(folder, uri), "rb").read())
+
+    def accessor(i):
+        a = g["accessors"][i]
+        v = g["bufferViews"][a["bufferView"]]
+        dt = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
+        k = {"SCALAR": 1, "VEC3": 3}[a["type"]]
+        off = v.get("byteOffset", 0) + a.get("byteOffset", 0)
+        return np.frombuffer(bufs[v["buffer"]], dt, a["count"] * k, off).reshape(-1, k)
+
+    tris, camera = [], None
+    stack = [(n, np.eye(4)) for n in g["scenes"][g.get("scene", 0)]["nodes"]]
+    while stack:
+        i, parent = stack.pop()
+        n = g["nodes"][i]
+        m = parent @ node_matrix(n)
+        for c in n.get("children", []):
+            stack.append((c, m))
+        if "camera" in n and camera is None:
+            camera = (m, g["cameras"][n["camera"]]["perspective"]["yfov"])
+        for p in g["meshes"][n["mesh"]]["primitives"] if "mesh" in n else []:
+            pos = accessor(p["attributes"]["POSITION"]).astype(np.float64)
+            pos = pos @ m[:3, :3].T + m[:3, 3]
+            idx = accessor(p["indices"]).ravel() if "indices" in p else np.arange(len(pos))
+            tris.append(pos[idx].reshape(-1, 3, 3))
+    return np.concatenate(tris).astype(np.float32), camera
+
+
+def make_rays(kind, n, tris, camera, width, height, seed):
+    key = ray_keys(seed, kind, n)
+    if kind == 1:  # random
+        lo, hi = tris.reshape(-1, 3).min(0), tris.reshape(-1, 3).max(0)
+        o = np.stack([lo[a] + unit(key, a) * (hi[a] - lo[a]) for a in range(3)], 1)
+        z = 1 - 2 * unit(key, 3)
+        phi = np.float32(2 * math.pi) * unit(key, 4)
+        r = np.sqrt(np.maximum(0, 1 - z * z))
+        return o.astype(np.float32), np.stack([r * np.cos(phi), r * np.sin(phi), z], 1).astype(np.float32)
+    m, yfov = camera
+    fwd, up, right = -m[:3, 2], m[:3, 1], np.cross(-m[:3, 2], m[:3, 1])
+    th, aspect = math.tan(yfov / 2), width / height
+    fx, fy = unit(key, 0) * width, unit(key, 1) * height
+    sx = (2 * fx / width - 1) * th * aspect
+    sy = (1 - 2 * fy / height) * th
+    d = fwd + sx[:, None] * right + sy[:, None] * up
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    return np.repeat(m[None, :3, 3], n, 0).astype(np.float32), d.astype(np.float32)
+
+
+def main():
+    a = sys.argv[1:]
+    if len(a) < 2 or a[1] not in ("camera", "random"):
+        sys.exit(__doc__.split("Usage: ")[1])
+    count = int(a[2]) if len(a) > 2 else 1 << 21
+    width, height = (int(a[3]), int(a[4])) if len(a) > 4 else (512, 512)
+    seed = int(a[5]) if len(a) > 5 else 0
+    kind = 1 if a[1] == "random" else 0
+    tris, camera = load(a[0])
+    o, d = make_rays(kind, count, tris, camera, width, height, seed)
+    scene = rtcore_scene.EmbreeScene()
+    t0 = time.perf_counter()
+    TriangleMesh(scene, tris)
+    scene.run(o[:1], d[:1])  # embreex commits the scene (builds the BVH) at the first query
+    build = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    prim = scene.run(o, d)
+    seconds = time.perf_counter() - t0
+    print(json.dumps({"device": "embree (embreex, 1 thread)", "scene": a[0],
+                      "rays": {"kind": a[1], "count": count, "seconds": seconds,
+                               "rays_per_second": count / seconds,
+                               "hit_fraction": float(np.mean(prim >= 0))},
+                      "bvh": {"triangles": len(tris), "seconds": build,
+                              "triangles_per_second": len(tris) / build}}))
+
+
+if __name__ == "__main__":
+    main()
