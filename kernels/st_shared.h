@@ -39,15 +39,7 @@ typedef int64_t st_i64;
 #define ST_LDEXPF(x, e) ldexpf(x, e)
 #endif
 typedef float st_f32;
-/* Shared helpers are inlined on both sides. PoCL compiles kernels with
- * -Dinline= (so `static inline` is a plain static function there, and stays a
- * real call in hot loops, which also stops its work-group vectoriser), hence
- * the attribute on the device; the host's compiler inlines `static inline`. */
-#ifdef __OPENCL_VERSION__
-#define ST_FN static inline __attribute__((always_inline))
-#else
 #define ST_FN static inline
-#endif
 
 /* ---- constants ------------------------------------------------------------ */
 
