@@ -40,12 +40,12 @@ check "names are case-insensitive (same image)" \
 samplers=$($S render --sampler zzzzzz 2>&1 | sed 's/.*expected one of //; s/,//g')
 filters=$($S render --filter zzzzzz 2>&1 | sed 's/.*expected one of //; s/,//g')
 check "the sampler list is read" '[ "$(echo $samplers | wc -w)" -ge 8 ]'
-for cmd in render bench converge pattern; do
+for cmd in render bench converge pattern compare; do
     missing=""
-    for s in $samplers; do $S $cmd --help | grep -q -- "$s" || missing="$missing $s"; done
+    for s in $samplers; do $S $cmd --help | grep -qw -- "$s" || missing="$missing $s"; done
     check "$cmd --help names every sampler" '[ -z "$missing" ]' "(missing:$missing)"
 done
-for cmd in render bench filter signal; do
+for cmd in render bench filter signal compare; do
     missing=""
     for f in $filters; do $S $cmd --help | grep -q -- "$f" || missing="$missing $f"; done
     check "$cmd --help names every filter" '[ -z "$missing" ]' "(missing:$missing)"
