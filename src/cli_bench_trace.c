@@ -8,6 +8,7 @@
 #include "cli_error.h"
 #include "cli_session.h"
 #include "st_trace_bench.h"
+#include "st_version.h"
 
 #define ST_BENCH_DEFAULT_RAYS (1u << 21)
 
@@ -36,7 +37,8 @@ static void print_text(const trace_report *r)
 static st_status print_json(const trace_report *r, st_error *err)
 {
     cJSON *root = cJSON_CreateObject();
-    int ok = root && cJSON_AddStringToObject(root, "device", r->device) &&
+    int ok = root && cJSON_AddStringToObject(root, "version", st_version) &&
+             cJSON_AddStringToObject(root, "device", r->device) &&
              cJSON_AddStringToObject(root, "scene", r->scene);
     cJSON *rays = ok ? cJSON_AddObjectToObject(root, "rays") : NULL;
     cJSON *bvh = ok ? cJSON_AddObjectToObject(root, "bvh") : NULL;

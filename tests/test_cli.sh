@@ -108,16 +108,18 @@ check "bench --json escapes a quote and a backslash" 'json_scene_is "$T/bench.js
 # ---- bench --rays (the trace benchmark) --------------------------------------------------------
 $S bench --rays random --count 5000 --json > "$T/trace.json" 2> /dev/null
 trace_keys_ok() {
-    python3 - "$1" <<'EOF'
+    python3 - "$1" "$2" <<'EOF'
 import json, sys
 d = json.load(open(sys.argv[1]))
 r, b = d["rays"], d["bvh"]
 assert r["kind"] == "random" and r["count"] == 5000 and r["seconds"] > 0
 assert abs(r["rays_per_second"] - 5000 / r["seconds"]) < 1e-6 * r["rays_per_second"]
 assert 0 < r["hit_fraction"] < 1 and b["triangles"] == 32 and b["seconds"] >= 0
+assert d["version"] == sys.argv[2]
 EOF
 }
-check "bench --rays --json parses, with its keys" 'trace_keys_ok "$T/trace.json" 2> /dev/null'
+check "bench --rays --json parses, with its keys and the version" \
+    'trace_keys_ok "$T/trace.json" "$($S --version | cut -d" " -f2)" 2> /dev/null'
 check "bench --rays camera prints rays/s and the hit fraction" '$S bench --rays camera --count 1000 2> /dev/null | grep -q "camera rays: 1000 in .* M rays/s, hit fraction 0\.[0-9]"'
 expect "bench --rays with an unknown set exits 2" 2 "--rays sky: unknown; expected one of camera, random" $S bench --rays sky
 expect "bench --count without --rays exits 2" 2 "--count applies to the trace benchmark only" $S bench --count 10
