@@ -19,7 +19,8 @@ typedef struct st_surface {
     float3 albedo;   /* the Lambertian part's albedo, (1 - metallic) x base colour */
     st_brdf brdf;    /* the glTF BRDF (bsdf.h) */
     st_dir wo_local; /* wo in the shading frame (surface_frame) */
-    int lambert;     /* the BRDF is Lambertian only: the cheap path */
+    int lambert;     /* no specular lobe (metallic and specularFactor 0): the cheap path,
+                        albedo = base colour; brdf is then not made */
     int unlit;       /* KHR_materials_unlit */
     float travelled; /* path length at the point (ray-cone width) */
 } st_surface;
@@ -57,41 +58,44 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
                              st_hit h, st_surface *v)
 {
     st_u32 t = h.prim;
-    st_material m = s->materials[s->tri_material[t]];
-    float4 spec = vload4(0, m.specular);
-    float metallic = m.metallic, roughness = m.roughness;
-    v->base = vload4(0, m.base_color);
-    v->le = vload4(0, m.emission).xyz;
-    if (m.flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
+    __global const st_material *m = &s->materials[s->tri_material[t]]; /* fields as needed */
+    float4 spec = vload4(0, m->specular);
+    float metallic = m->metallic, roughness = m->roughness;
+    v->base = vload4(0, m->base_color);
+    v->le = vload4(0, m->emission).xyz;
+    if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
         v->base *= (1.0f - h.u - h.v) * vload4(0, c->c0) + h.u * vload4(0, c->c1) +
                    h.v * vload4(0, c->c2);
     }
-    if (m.base_color_tex != ST_NO_TEXTURE || m.emission_tex != ST_NO_TEXTURE ||
-        m.metallic_roughness_tex != ST_NO_TEXTURE || m.specular_tex != ST_NO_TEXTURE ||
-        m.specular_color_tex != ST_NO_TEXTURE || m.normal_tex != ST_NO_TEXTURE) {
+    if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
+        m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
+        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE) {
         float2 uv = tri_uv_at(s->tri_uv, t, h.u, h.v);
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * v->travelled;
         float cos_nd = dot(v->ng, v->wo), lod = s->tri_uv[t].lod;
         st_u32 f = sh->texture_filter;
-        v->base *= tex_lookup(s, m.base_color_tex, uv, lod, width, cos_nd, f);
-        v->le *= tex_lookup(s, m.emission_tex, uv, lod, width, cos_nd, f).xyz;
-        float4 mr = tex_lookup(s, m.metallic_roughness_tex, uv, lod, width, cos_nd, f);
+        v->base *= tex_lookup(s, m->base_color_tex, uv, lod, width, cos_nd, f);
+        v->le *= tex_lookup(s, m->emission_tex, uv, lod, width, cos_nd, f).xyz;
+        float4 mr = tex_lookup(s, m->metallic_roughness_tex, uv, lod, width, cos_nd, f);
         metallic *= mr.z;
         roughness *= mr.y;
-        spec.w *= tex_lookup(s, m.specular_tex, uv, lod, width, cos_nd, f).w;
-        spec.xyz *= tex_lookup(s, m.specular_color_tex, uv, lod, width, cos_nd, f).xyz;
-        if (m.normal_tex != ST_NO_TEXTURE)
+        spec.w *= tex_lookup(s, m->specular_tex, uv, lod, width, cos_nd, f).w;
+        spec.xyz *= tex_lookup(s, m->specular_color_tex, uv, lod, width, cos_nd, f).xyz;
+        if (m->normal_tex != ST_NO_TEXTURE)
             v->ns = normal_mapped(s, h, v->ns, v->ng,
-                                  tex_lookup(s, m.normal_tex, uv, lod, width, cos_nd, f),
-                                  m.normal_scale);
+                                  tex_lookup(s, m->normal_tex, uv, lod, width, cos_nd, f),
+                                  m->normal_scale);
     }
-    float c[3] = {v->base.x, v->base.y, v->base.z}, sc[3] = {spec.x, spec.y, spec.z};
-    v->brdf = st_brdf_make(c, metallic, roughness, spec.w, sc, m.ior);
-    v->lambert = st_brdf_is_lambert(&v->brdf);
-    v->albedo = (float3)(v->brdf.diffuse[0], v->brdf.diffuse[1], v->brdf.diffuse[2]);
-    v->unlit = (m.flags & ST_MAT_UNLIT) != 0u;
+    v->lambert = !(metallic > 0.0f || spec.w > 0.0f); /* no specular lobe: the cheap path */
+    v->albedo = v->base.xyz;
+    if (!v->lambert) {
+        float c[3] = {v->base.x, v->base.y, v->base.z}, sc[3] = {spec.x, spec.y, spec.z};
+        v->brdf = st_brdf_make(c, metallic, roughness, spec.w, sc, m->ior);
+        v->albedo = (float3)(v->brdf.diffuse[0], v->brdf.diffuse[1], v->brdf.diffuse[2]);
+    }
+    v->unlit = (m->flags & ST_MAT_UNLIT) != 0u;
 }
 
 /* The surface at hit h of ray r: position, normals (ng on the side its

@@ -593,6 +593,76 @@ span accessor_span(const Model &m, int a)
     return {buf.data() + view.byteOffset + acc.byteOffset, stride, acc.count, acc.componentType};
 }
 
+/* The `bytes` bytes at `offset` of bufferView v, checked against its
+ * buffer; what names the reader in errors. */
+const unsigned char *view_bytes(const Model &m, int v, size_t offset, size_t bytes, int a,
+                                const char *what)
+{
+    check_index(v, m.bufferViews.size(), "accessor %d: sparse %s bufferView", a, what);
+    const tinygltf::BufferView &view = m.bufferViews[size_t(v)];
+    check_index(view.buffer, m.buffers.size(), "bufferView %d: buffer", v);
+    const std::vector<unsigned char> &buf = m.buffers[size_t(view.buffer)].data;
+    if (view.byteOffset > buf.size() || view.byteLength > buf.size() - view.byteOffset ||
+        offset > view.byteLength || bytes > view.byteLength - offset)
+        fail("accessor %d: sparse %s (%zu bytes from %zu) run past bufferView %d", a, what, bytes,
+             offset, v);
+    return buf.data() + view.byteOffset + offset;
+}
+
+/* Sparse accessors (§3.6.2.3) made dense, once, before anything reads
+ * them: the base (its bufferView, or zeros without one) copied into a new
+ * buffer, the sparse values written over it at their indices, and the
+ * accessor pointed at the copy. */
+void densify_sparse(Model &m)
+{
+    for (size_t a = 0; a < m.accessors.size(); a++) {
+        tinygltf::Accessor &acc = m.accessors[a];
+        if (!acc.sparse.isSparse)
+            continue;
+        const size_t elem = component_size(acc.componentType) * type_components(acc.type);
+        if (elem == 0 || acc.count > (size_t(1) << 30) / elem)
+            fail("accessor %zu: bad type or too many elements for a sparse accessor", a);
+        std::vector<unsigned char> dense(elem * acc.count, 0);
+        acc.sparse.isSparse = false;
+        if (acc.bufferView >= 0) {
+            const span base = accessor_span(m, int(a));
+            for (size_t i = 0; i < acc.count; i++)
+                memcpy(&dense[i * elem], base.data + i * base.stride, elem);
+        }
+        const size_t n = size_t(acc.sparse.count > 0 ? acc.sparse.count : 0);
+        const int ict = acc.sparse.indices.componentType;
+        const size_t isz = ict == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                           : ict == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                           : ict == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                           : 0;
+        if (isz == 0 || n > acc.count)
+            fail("accessor %zu: sparse indices must be unsigned integers, at most count", a);
+        const unsigned char *idx = view_bytes(m, acc.sparse.indices.bufferView,
+                                              size_t(acc.sparse.indices.byteOffset), n * isz,
+                                              int(a), "indices");
+        const unsigned char *val = view_bytes(m, acc.sparse.values.bufferView,
+                                              size_t(acc.sparse.values.byteOffset), n * elem,
+                                              int(a), "values");
+        for (size_t k = 0; k < n; k++) {
+            uint32_t i = 0;
+            memcpy(&i, idx + k * isz, isz); /* little-endian, as glTF */
+            if (i >= acc.count)
+                fail("accessor %zu: sparse index %u out of range (%zu elements)", a, i,
+                     acc.count);
+            memcpy(&dense[i * elem], val + k * elem, elem);
+        }
+        tinygltf::Buffer buf;
+        buf.data.swap(dense);
+        tinygltf::BufferView view;
+        view.buffer = int(m.buffers.size());
+        view.byteLength = buf.data.size();
+        m.buffers.push_back(std::move(buf));
+        acc.bufferView = int(m.bufferViews.size());
+        acc.byteOffset = 0;
+        m.bufferViews.push_back(view);
+    }
+}
+
 /* Reads a float VEC3 accessor (POSITION, NORMAL) into xyz triples. glTF
  * accessors must not hold NaN or infinity (glTF-Validator's
  * ACCESSOR_INVALID_FLOAT), so one is a format error, not a dropped triangle. */
@@ -1446,6 +1516,7 @@ extern "C" st_status st_gltf_shim_load(const char *label, const unsigned char *b
         image_bytes images;
         notes warn;
         parse(model, bytes, size, base_dir, images, warn);
+        densify_sparse(model);
         flatten(model, images, warn, *out);
         take_warnings(warn, *out);
         return ST_OK;

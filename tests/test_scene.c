@@ -790,6 +790,22 @@ static void strips_and_fans_become_triangles(void **state)
     }
 }
 
+/* Sparse accessors: vertex 2 of the quad, moved to (2, 3, 0) sparsely over
+ * its own positions or over zeros, is where the first triangle (0 1 2)
+ * has its third vertex; vertex 1 stays at (1, -1, 0). */
+static void sparse_accessors_substitute_values(void **state)
+{
+    (void)state;
+    static const char *files[] = {SCENES "quad_sparse.gltf", SCENES "quad_sparse_zeros.gltf"};
+    for (int f = 0; f < 2; f++) {
+        st_scene *s = load_ok(files[f]);
+        assert_int_equal(s->tri_count, 2);
+        near3(s->positions + 3, 1.0, -1.0, 0.0, 0, "vertex 1");
+        near3(s->positions + 6, 2.0, 3.0, 0.0, 0, "vertex 2, sparse");
+        st_scene_destroy(s);
+    }
+}
+
 /* A scratch directory for generated files, removed by the caller. */
 static void make_scratch(char dir[64])
 {
@@ -969,6 +985,7 @@ int main(void)
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(auto_camera_sees_the_largest_face),
         cmocka_unit_test(strips_and_fans_become_triangles),
+        cmocka_unit_test(sparse_accessors_substitute_values),
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),

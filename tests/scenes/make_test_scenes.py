@@ -40,6 +40,8 @@ image_*       textured_quad with an image that cannot be decoded or read: a
               warning, and a white texture in its place.
 uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning.
 quad_strip, quad_fan  the quad as a TRIANGLE_STRIP and as a TRIANGLE_FAN.
+quad_sparse   the quad with vertex 2 moved to (2, 3, 0) by a sparse accessor
+              (quad_sparse_zeros: over zeros, every vertex sparse).
 black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
               nothing emits.
 vertex_color  a white Lambertian quad with COLOR_0 (bytes 128, 64, 255, 255).
@@ -550,6 +552,27 @@ def write_strip_fan():
         write_json(name, doc([{"primitives": [p]}], b.accessors, b.views, b.buffers()))
 
 
+def write_sparse():
+    # the quad with vertex 2 moved to (2, 3, 0) by a sparse POSITION accessor:
+    # over the quad's own positions, and over zeros (no bufferView) with
+    # every vertex given sparsely
+    for name, base in (("quad_sparse.gltf", True), ("quad_sparse_zeros.gltf", False)):
+        b = Blob()
+        p = b.quad(0.0, QUAD_UV)
+        acc = b.accessors[p["attributes"]["POSITION"]]
+        moved = list(QUAD_POS)
+        moved[6:9] = [2.0, 3.0, 0.0]
+        idx = [2] if base else [0, 1, 2, 3]
+        vals = moved[6:9] if base else moved
+        acc["sparse"] = {"count": len(idx),
+                         "indices": {"bufferView": b.view(bytes(idx)), "componentType": 5121},
+                         "values": {"bufferView": b.view(f32(vals))}}
+        acc["max"] = [2.0, 3.0, 0.0]
+        if not base:
+            del acc["bufferView"]
+        write_json(name, doc([{"primitives": [p]}], b.accessors, b.views, b.buffers()))
+
+
 def write_lighting():
     # textured_quad whose emissive texture is black: emissiveFactor > 0, yet
     # nothing emits, so the white environment must light it
@@ -695,6 +718,7 @@ def main():
     write_cutout()
     write_lighting()
     write_strip_fan()
+    write_sparse()
     write_bad()
 
 
