@@ -1241,6 +1241,10 @@ st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
     if (size > size_t(INT_MAX))
         fail("image %d: too large (%zu bytes)", i, size);
     int w = 0, h = 0, comp = 0;
+    /* the size from the header first: a small file may decode to gigabytes */
+    if (stbi_info_from_memory(data, int(size), &w, &h, &comp) &&
+        size_t(w) * size_t(h) > (size_t(1) << 26))
+        fail("image %d: %d x %d texels: more than 2^26", i, w, h);
     unsigned char *rgba = stbi_load_from_memory(data, int(size), &w, &h, &comp, 4);
     if (!rgba)
         fail("image %d (%s): cannot decode: %s", i,

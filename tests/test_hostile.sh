@@ -7,19 +7,25 @@
 R="--width 16 --height 12 --spp 2 --quiet"
 
 # ---- interruption -------------------------------------------------------------------------
-# Signals render $1 (a path in $T) with signal $2 as soon as its temporary has
-# data, i.e. while the image is being written; sets st to the exit status and
-# caught to 1 when the temporary was seen.
+# Signals render $1 (a path in $T) with signal $2 while its image is written:
+# as soon as the image's temporary exists (st_outfile's serial 1: serial 0 is
+# the writability check before the render) and, with $3 = data, holds data (an
+# EXR is written chunk by chunk; stb encodes a whole PNG before its one write,
+# so a PNG's temporary is caught empty, while it is encoded). Sets st to the
+# exit status and caught to 1 when the temporary was seen.
 interrupt_at_write() {
     out=$1 sig=$2
     name=$(basename "$out")
+    size=""
+    [ "$3" = data ] && size="-size +0"
     $S render --width 2048 --height 2048 --spp 1 --sampler random --integrator direct --quiet \
         -o "$out" > /dev/null 2> "$T/err" &
     pid=$!
     caught=0
     i=0
     while [ $i -lt 200000 ] && kill -0 $pid 2> /dev/null; do
-        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.tmp.*" -size +0 2> /dev/null)" ]; then
+        # shellcheck disable=SC2086 # $size is empty or two words
+        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.tmp.*.1" $size 2> /dev/null)" ]; then
             kill -$sig $pid
             caught=1
             break
@@ -29,12 +35,12 @@ interrupt_at_write() {
     wait $pid
     st=$?
 }
-interrupt_at_write "$T/int.exr" TERM
+interrupt_at_write "$T/int.exr" TERM data
 check "SIGTERM while an EXR is written exits 143" '[ $caught = 1 ] && [ $st = 143 ]' "(caught $caught, status $st)"
-check "SIGTERM while an EXR is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T"))"
+check "SIGTERM while an EXR is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T" | tr '\n' ' '))"
 interrupt_at_write "$T/int.png" INT
 check "SIGINT while a PNG is written exits 130" '[ $caught = 1 ] && [ $st = 130 ]' "(caught $caught, status $st)"
-check "SIGINT while a PNG is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T"))"
+check "SIGINT while a PNG is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T" | tr '\n' ' '))"
 
 # The output's folder is checked before the render: this one would take minutes.
 expect "missing output folder refused before rendering" 1 "^strata: error: $T/no/such/o.exr: cannot create" \
@@ -158,6 +164,19 @@ python3 -c 'import sys
 print("{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 1, \"uri\": \"data:application/octet-stream;base64," + "A" * (65 << 20) + "\"}]}")' > "$T/datauri.gltf"
 expect "a 65 MiB data: URI is refused" 1 "datauri.gltf: a data: URI of .* bytes at byte [0-9]*: more than 64 MiB, the limit" \
     timeout 20 $S render "$T/datauri.gltf" $R -o "$T/z.exr"
+# a 48 kB PNG of 20000 x 20000 1-bit pixels (1.6 GB as RGBA) is refused by its header's size
+python3 -c 'import json, struct, sys, zlib
+def chunk(t, d): return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+W = H = 20000
+raw = (b"\0" * (1 + (W + 7) // 8)) * H
+open(sys.argv[2] + "/big.png", "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", W, H, 1, 0, 0, 0, 0))
+    + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+g = json.load(open(sys.argv[1]))
+for im in g["images"]: im["uri"] = "big.png"
+json.dump(g, open(sys.argv[2] + "/big.gltf", "w"))' tests/scenes/textured_quad.gltf "$T"
+expect "a PNG of 20000 x 20000 texels is refused before decoding (in 1 GB of memory)" 1 "big.gltf: image 0: 20000 x 20000 texels: more than 2^26" \
+    sh -c "ulimit -v 1000000; exec $S render $T/big.gltf $R -o $T/z.exr"
+rm -f "$T/big.png"
 # found by tests/fuzz/fuzz_exr.c: 1.7 kB whose header claims 8 x 134217981 pixels (12 GB)
 expect "an EXR claiming 12 GB is refused before allocating" 1 "fuzz-exr-12gb-window.exr: 8 x 134217981 pixels x 3 channels: more than 2^30 samples" \
     $S diff tests/data/fuzz-exr-12gb-window.exr tests/data/fuzz-exr-12gb-window.exr
