@@ -18,4 +18,8 @@ for name in $CHECKED; do
 done
 check "only the checked pictures were made" \
     '[ "$(cd "$T/pictures" && find . -type f | wc -l)" -eq 3 ]'
+S="$S" sh tools/discrepancy_table.sh > "$T/table"
+sed -n '/^| sampler | N = 256 | N = 1024 |$/,/^$/p' README.md | sed '/^$/d' > "$T/readme"
+check "the README's discrepancy table is what the code measures" 'cmp -s "$T/table" "$T/readme"' \
+    "($(diff "$T/table" "$T/readme" | head -3 | tr '\n' ' '))"
 echo "1..$n"
