@@ -178,6 +178,8 @@ $(ICOSPHERE): $(BUILD)/make_icosphere
 # (tests/test_pictures.sh checks that a few of them are up to date).
 pictures: deps strata
 	sh tools/make_pictures.sh
+	@echo "pictures: the README's discrepancy table (paste it in where it differs):"
+	@sh tools/discrepancy_table.sh
 
 demo: deps strata
 	./strata render -o strata.exr -o strata.png

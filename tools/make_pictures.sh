@@ -60,6 +60,13 @@ pic adaptive/converge-smooth.png converge --sampler $ALL --spp-list 4,16,64,256 
 pic adaptive/converge-edge.png converge --sampler $ALL --spp-list 4,16,64,256 --width 64 \
     --height 64 --integrator direct --reference-spp 8192 --seeds 4 --region 22,5,18,8 \
     --quiet --png @
+# the lecture's comparisons, one sheet each (strata compare)
+pic compare/jitter.png compare --sampler uniform,stratified --spp 1,4 --filter box --width 96 \
+    --height 96 --reference-spp 256 --crop 30,4,36,20 --quiet -o @
+pic compare/halton.png compare --sampler stratified,halton --spp 1,16 --width 96 --height 96 \
+    --quiet -o @
+pic compare/best-candidate.png compare --sampler stratified,best-candidate --spp 1,16 \
+    --width 96 --height 96 --quiet -o @
 # textures and built-in scenes
 for f in none bilinear trilinear; do
     pic textures/checkerboard-$f-1spp.png render checkerboard --width 384 --height 288 --spp 1 \
