@@ -99,7 +99,7 @@ typedef struct st_scene {
 st_status st_scene_load(const char *spec, st_scene **out, st_error *err);
 void st_scene_destroy(st_scene *scene);           /* NULL: does nothing */
 
-/* A hash of what was loaded (triangles, normals, uvs, materials, textures and
+/* A hash of what was loaded (triangles, normals, uvs, tangents, colours, materials, textures and
  * their texels, cameras, the default environment), not of the path that named
  * it: `strata merge` compares it, so one scene reached by two paths is one
  * scene, and an edited file is another. zlib's CRC-32 (ISO 3309) over the

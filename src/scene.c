@@ -702,6 +702,8 @@ st_u32 st_scene_content_hash(const st_scene *s)
     crc = crc_of(crc, s->positions, 9 * t * sizeof(float));
     crc = crc_of(crc, s->normals, 9 * t * sizeof(float));
     crc = crc_of(crc, s->uvs, 6 * t * sizeof(float));
+    crc = crc_of(crc, s->tangents, 12 * t * sizeof(float));
+    crc = crc_of(crc, s->colors, 12 * t * sizeof(float));
     crc = crc_of(crc, s->tri_material, t * sizeof(st_u32));
     crc = crc_of(crc, s->materials, s->material_count * sizeof *s->materials);
     crc = crc_of(crc, s->textures, s->texture_count * sizeof *s->textures);
