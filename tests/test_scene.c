@@ -806,6 +806,32 @@ static void sparse_accessors_substitute_values(void **state)
     }
 }
 
+/* KHR_materials_specular, KHR_materials_ior and normalTexture reach the
+ * material as the file gives them; absent, their defaults (specular 1,
+ * colour 1, ior 1.5, no texture). */
+static void material_extensions_are_read(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "material_extensions.gltf");
+    const st_material *m = &s->materials[0];
+    near3(m->specular, 1.0, 0.5, 0.25, 0, "specularColorFactor");
+    near(m->specular[3], 0.5, 0, "specularFactor");
+    near(m->ior, 1.4, 1e-7, "ior");
+    assert_int_not_equal(m->specular_tex, ST_NO_TEXTURE);
+    assert_int_equal(m->specular_color_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(m->normal_tex, ST_NO_TEXTURE);
+    near(m->normal_scale, 0.5, 0, "normalTexture.scale");
+    assert_int_equal(s->warning_count, 0);
+    st_scene_destroy(s);
+    s = load_ok(SCENES "layout_u16.gltf");
+    m = &s->materials[0];
+    near3(m->specular, 1.0, 1.0, 1.0, 0, "default specularColorFactor");
+    near(m->specular[3], 1.0, 0, "default specularFactor");
+    near(m->ior, 1.5, 0, "default ior");
+    assert_int_equal(m->normal_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+}
+
 /* A scratch directory for generated files, removed by the caller. */
 static void make_scratch(char dir[64])
 {
@@ -986,6 +1012,7 @@ int main(void)
         cmocka_unit_test(auto_camera_sees_the_largest_face),
         cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(sparse_accessors_substitute_values),
+        cmocka_unit_test(material_extensions_are_read),
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),

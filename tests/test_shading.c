@@ -172,12 +172,35 @@ static void vertex_color_multiplies_base_colour(void **state)
     st_scene_destroy(s);
 }
 
+/* KHR_materials_unlit: the quad shows its base colour (0.3, 0.6, 0.9)
+ * exactly, whatever lights it (here a uniform environment 1, which a lit
+ * surface would reflect with its BRDF). */
+static void unlit_shows_base_colour(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/unlit.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_true(s->materials[0].flags & ST_MAT_UNLIT);
+    st_image img = render_furnace(s, 4);
+    const double want[3] = {0.3, 0.6, 0.9};
+    for (size_t p = 0; p < (size_t)img.width * img.height; p++)
+        for (int c = 0; c < 3; c++)
+            if (fabs(img.data[4 * p + (size_t)c] - want[c]) > 1e-5)
+                fail_msg("pixel %zu channel %d: %g, want %g", p, c, img.data[4 * p + (size_t)c],
+                         want[c]);
+    st_image_free(&img);
+    st_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(normal_map_tilts_by_its_angle),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
+        cmocka_unit_test(unlit_shows_base_colour),
     };
     return cmocka_run_group_tests_name("shading", device, device_setup, device_teardown);
 }

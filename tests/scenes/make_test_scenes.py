@@ -45,6 +45,10 @@ quad_sparse   the quad with vertex 2 moved to (2, 3, 0) by a sparse accessor
 black_emitter textured_quad with a black emissive texture (emissiveFactor > 0):
               nothing emits.
 vertex_color  a white Lambertian quad with COLOR_0 (bytes 128, 64, 255, 255).
+unlit         the quad with KHR_materials_unlit, base colour (0.3, 0.6, 0.9).
+material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
+              (1, 0.5, 0.25), a specularTexture), KHR_materials_ior 1.4 and a
+              normalTexture of scale 0.5.
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 bad_*         malformed files, each wrong in one way (named by the file).
@@ -602,6 +606,21 @@ def write_lighting():
                                        "extensions": {"KHR_materials_specular":
                                                       {"specularFactor": 0.0}}}])
     write_json("vertex_color.gltf", g)
+    g["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.6, 0.9, 1.0]},
+                       "extensions": {"KHR_materials_unlit": {}}}]
+    g["extensionsUsed"] = ["KHR_materials_unlit"]
+    del g["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"]
+    write_json("unlit.gltf", g)
+    g["materials"] = [{"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.6, 0.9, 1.0]},
+                       "normalTexture": {"index": 0, "scale": 0.5},
+                       "extensions": {"KHR_materials_specular": {
+                           "specularFactor": 0.5, "specularColorFactor": [1.0, 0.5, 0.25],
+                           "specularTexture": {"index": 0}},
+                                      "KHR_materials_ior": {"ior": 1.4}}}]
+    g["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_ior"]
+    g["images"] = [{"uri": png_uri(constant_png((128, 128, 255)))}]
+    g["textures"] = [{"source": 0}]
+    write_json("material_extensions.gltf", g)
 
 
 def write_bad():
