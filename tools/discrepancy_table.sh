@@ -21,7 +21,7 @@ echo "|---|---|---|"
 row random random - 8 5
 row "uniform (16×16, 32×32 grid)" uniform - 1 5
 row stratified stratified on 8 5
-row joint-stratified joint-stratified on 8 5
+row joint-stratified joint-stratified - 8 5
 row "poisson (N points per pixel of a 16×16, 32×32 tile)" poisson - 8 5
 row "best-candidate (same)" best-candidate - 8 5
 row "halton (scrambled)" halton on 8 5
