@@ -195,8 +195,8 @@ static void measure(const converge_args *c, const st_image *img, const st_image 
 }
 
 /* How many leading points still fall: each must be below the one before by more than twice
- * their combined standard error and by 5 % at least; from the first that is not, the curve
- * has reached a plateau (the uniform grid converges to its own biased image). */
+ * their combined standard error, at a local rate steeper than N^-0.1; from the first that is
+ * not, the curve has reached a plateau (the uniform grid converges to its own biased image). */
 static st_u32 falling_part(const series *s)
 {
     st_u32 k = 1;
@@ -204,7 +204,8 @@ static st_u32 falling_part(const series *s)
         double drop = s->rmse[k - 1] - s->rmse[k];
         double noise = 2.0 * sqrt(s->stderr_[k - 1] * s->stderr_[k - 1] +
                                   s->stderr_[k] * s->stderr_[k]);
-        if (!(drop > noise && s->rmse[k] < 0.95 * s->rmse[k - 1]))
+        double rate = log(s->rmse[k] / s->rmse[k - 1]) / log(s->spp[k] / s->spp[k - 1]);
+        if (!(drop > noise && rate < -0.1))
             break;
         k++;
     }
@@ -380,7 +381,7 @@ static void series_legend(const series *s, char *buf, size_t size)
     else if (s->falling < 2)
         snprintf(buf, size, "%s (plateau from %g spp)", s->name, s->spp[0]);
     else
-        snprintf(buf, size, "%s (slope %.2f to %g, plateau)", s->name, s->slope,
+        snprintf(buf, size, "%s (slope %.2f, flat from %g)", s->name, s->slope,
                  s->spp[s->falling - 1]);
 }
 

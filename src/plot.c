@@ -73,7 +73,7 @@ st_plot_rect st_plot_data_rect(const st_plot_panel *panel, uint32_t width, uint3
     case ST_PLOT_LINES:
     default:
         return margins(width, height, fs,
-                       panel->lines && panel->lines->legend_outside ? 17.0 * fs : 1.5 * fs);
+                       panel->lines && panel->lines->legend_outside ? 19.0 * fs : 1.5 * fs);
     }
 }
 
