@@ -14,6 +14,7 @@ $S render --width 8 --height 6 --spp 1 --quiet -o "$seeds/render.exr" &&
     $S render --width 8 --height 6 --spp 2 --sample-range 0:1 --quiet -o "$seeds/part.exr" ||
     echo "# could not render EXR seeds; the EXR harness starts from tests/golden"
 n=0
+failed=0
 for name in "$@"; do
     n=$((n + 1))
     case $name in
@@ -29,8 +30,11 @@ for name in "$@"; do
         -artifact_prefix=build/fuzz/ -print_final_stats=1 "$corpus" $from > "$log" 2>&1; then
         echo "ok $n - fuzz_$name: $(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$') runs in ${secs} s, nothing found"
     else
+        failed=$((failed + 1))
         echo "not ok $n - fuzz_$name found a defect (see $log):"
         grep -m 5 'ERROR\|SUMMARY\|Test unit written' "$log" | sed 's/^/#   /'
     fi
 done
 echo "1..$n"
+# a failure fails the make target (and CI)
+[ "$failed" -eq 0 ]

@@ -16,6 +16,7 @@ if ! command -v oclgrind > /dev/null; then
     exit 0
 fi
 n=0
+failed=0
 run() {
     name=$1
     shift
@@ -25,6 +26,7 @@ run() {
     if [ $st -eq 0 ] && ! grep -q -i "oclgrind\|uninitiali\|data race\|invalid" "$T/err"; then
         echo "ok $n - $name"
     else
+        failed=$((failed + 1))
         echo "not ok $n - $name (status $st)"
         head -20 "$T/err" | sed 's/^/#   /'
     fi
@@ -42,3 +44,5 @@ run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
 echo "1..$n"
+# a failure fails the make target (and CI)
+[ "$failed" -eq 0 ]
