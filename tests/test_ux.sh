@@ -40,7 +40,7 @@ check "names are case-insensitive (same image)" \
 samplers=$($S render --sampler zzzzzz 2>&1 | sed 's/.*expected one of //; s/,//g')
 filters=$($S render --filter zzzzzz 2>&1 | sed 's/.*expected one of //; s/,//g')
 check "the sampler list is read" '[ "$(echo $samplers | wc -w)" -ge 8 ]'
-for cmd in render bench converge pattern; do
+for cmd in render bench converge pattern compare; do
     missing=""
     for s in $samplers; do $S $cmd --help | grep -q -- "$s" || missing="$missing $s"; done
     check "$cmd --help names every sampler" '[ -z "$missing" ]' "(missing:$missing)"
