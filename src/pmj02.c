@@ -152,9 +152,13 @@ st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **poi
     s.xy = malloc(2 * n * sizeof *s.xy * sets);
     s.occ = malloc(((size_t)log2n + 1u) << log2n);
     st_u32 *out = s.xy;
-    st_status rc = s.xy && s.occ ? ST_OK
-                                 : st_fail(err, ST_ERR_NOMEM, "pmj02: out of memory for %u sets "
-                                           "of %zu points", sets, n);
+    if (!out || !s.occ) {
+        free(out);
+        free(s.occ);
+        return st_fail(err, ST_ERR_NOMEM, "pmj02: out of memory for %u sets of %zu points",
+                       sets, n);
+    }
+    st_status rc = ST_OK;
     for (st_u32 set = 0; set < sets && rc == ST_OK; set++) {
         s.xy = out + 2 * n * set;
         rc = pmj_sequence(&s, seed, set, err);
