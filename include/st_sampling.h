@@ -125,6 +125,20 @@ st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **poi
 st_status st_sampling_pixel_tile(st_u32 sampler, st_u32 side, st_u32 spp, st_u32 seed,
                                  float **points, float *radius, st_error *err);
 
+/* The tables of the pmj02 sampler (src/pmj02.c): `sets` progressive
+ * multi-jittered (0,2) sequences of 2^log2n points each (Christensen, Kensler
+ * and Kilpatrick 2018): every prefix of 2^m points is a (0,m,2)-net, each
+ * elementary interval of area 2^-m, of every shape 2^-i x 2^-(m-i), holding
+ * exactly one point. Output: *points = 2 sets 2^log2n words, point j of set
+ * q at 2 (q 2^log2n + j): x, y as 32-bit binary fractions (value = word
+ * 2^-32); malloc'ed, free() by the caller. Deterministic per (seed, set),
+ * and the first 2^m points of a set do not depend on log2n.
+ * Errors: ST_ERR_USAGE (log2n > ST_PMJ02_MAX_LOG2, sets 0 or more than
+ * ST_PMJ02_SETS, NULL points), ST_ERR_NOMEM, ST_ERR_CHECK (no extension
+ * found: never seen). */
+st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
+                            st_error *err);
+
 /* Exact star discrepancy of n points (x,y pairs, in [0,1)^2), the lecture's
  *   D*_N = sup over a,b in [0,1] of | #{x_i in [0,a)x[0,b)} / N - a*b |,
  * with closed boxes [0,a]x[0,b] included as limits of open ones. The sup is

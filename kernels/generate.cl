@@ -72,6 +72,7 @@ __kernel void generate_samples(ST_STAGE_PARAMS)
     }
     st_u32 px = pixel % p.width, py = pixel / p.width;
     st_sample_id sid = st_sample_begin(&p, px, py, s);
+    sid.pmj02 = pmj02;
     float u = st_sample_dim(&p, &sid, 0u), v = st_sample_dim(&p, &sid, 1u);
     if (p.reconstruction == ST_RECON_FIS) {
         u = 0.5f + fis_offset(fis_cdf, p.filter.radius, u);

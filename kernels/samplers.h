@@ -345,6 +345,7 @@ typedef struct st_sample_id {
     st_u32 pixel_key;          /* per-pixel scramble key */
     st_u32 index;              /* Halton, global Sobol': index of this sample in the sequence */
     st_u32 px, py;             /* the pixel (ZSobol's Morton code) */
+    const ST_GLOBAL st_u32 *pmj02; /* pmj02's tables (st_sampling_pmj02); NULL: none given */
 } st_sample_id;
 
 /* Reverses the first `digits` base-b digits of x (the inverse of the radical
@@ -387,6 +388,7 @@ ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_
                                                 : s;
     id.px = px;
     id.py = py;
+    id.pmj02 = 0;
     return id;
 }
 
@@ -545,6 +547,23 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
         if (p->scramble)
             bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim ^ 0x2a5e5u)));
         return st_bits_to_unit(bits);
+    }
+    case ST_SAMPLER_PMJ02: {
+        /* pbrt-v4's PMJ02BNSampler: each pair of dimensions reads one of the
+         * ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, chosen by a hash of
+         * (pixel, pair); the pixel pair at the sample index, later pairs at an
+         * index permuted per (pixel, pair) so that pairs do not correlate. A
+         * random digital shift per (pixel, pair) (the xor of the digits with
+         * one random word, which maps elementary intervals onto elementary
+         * intervals) keeps every 2^m prefix a (0,m,2)-net and keeps pixels
+         * that share a sequence apart. No tables (a host caller that gave
+         * none): the hash below. */
+        if (!id->pmj02)
+            break;
+        st_u32 key = ST_PAIR_KEY, set = st_hash32(key ^ 0x706d6a32u) % ST_PMJ02_SETS;
+        st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, key);
+        st_u32 at = (set << st_log2_ceil(p->spp)) + i;
+        return st_bits_to_unit(id->pmj02[2u * at + (dim & 1u)] ^ st_hash32(key ^ (dim & 1u)));
     }
     default:
         break;

@@ -112,6 +112,7 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         v.ns = -v.ns;
     surface_frame(&v);
     st_sample_id id = st_sample_begin(&p, smp.pixel % p.width, smp.pixel / p.width, smp.index);
+    id.pmj02 = pmj02;
     st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa.depth;
     float3 origin = v.pos + v.ng * p.ray_eps, wi;
     if (pa.depth >= p.max_depth) {

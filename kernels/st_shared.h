@@ -58,7 +58,12 @@ typedef float st_f32;
 #define ST_SAMPLER_SOBOL 8u        /* one global sequence across the image (pbrt's "sobol") */
 #define ST_SAMPLER_ZSOBOL 9u       /* Morton-ordered blocks (pbrt's "zsobol") */
 #define ST_SAMPLER_JOINT_STRATIFIED 10u /* pixel and light pairs in one orthogonal array */
-#define ST_SAMPLER_COUNT 11u
+#define ST_SAMPLER_PMJ02 11u /* host-made progressive multi-jittered (0,2) tables (pbrt's "pmj02bn") */
+#define ST_SAMPLER_COUNT 12u
+/* pmj02: ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, at most
+ * 2^ST_PMJ02_MAX_LOG2 (the spp limit), uploaded per render (src/pmj02.c) */
+#define ST_PMJ02_MAX_LOG2 12u
+#define ST_PMJ02_SETS 16u
 #define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
 
 /* Reconstruction filters (render --filter, strata filter). */
@@ -422,7 +427,8 @@ typedef struct st_tile_point {
     X(image, st_pixel, ST_PER_PIXEL)
 
 /* The scene, uploaded once per renderer, and the inputs made per render
- * (a tiled sampler's points, filter importance sampling's CDF of |f|):
+ * (a tiled sampler's points, filter importance sampling's CDF of |f|,
+ * pmj02's tables):
  * X(name, element type). */
 #define ST_SCENE_BUFFERS(X)                                                                 \
     X(nodes, st_bvh4_node)                                                                  \
@@ -439,7 +445,8 @@ typedef struct st_tile_point {
     X(textures, st_texture)                                                                 \
     X(texels, st_u32)                                                                       \
     X(tile, st_tile_point)                                                                  \
-    X(fis_cdf, st_f32)
+    X(fis_cdf, st_f32)                                                                      \
+    X(pmj02, st_u32) /* pmj02's tables: x, y words of each point (st_sampling_pmj02) */
 
 #ifdef __OPENCL_VERSION__
 /* Whether a sample lies on the image (a tiled sampler's point may not: its

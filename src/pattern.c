@@ -76,14 +76,26 @@ st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed
     p.sampler = sampler;
     p.scramble = scramble;
     st_sampler_prepare(&p);
+    /* pmj02: the renderer's tables for spp = count */
+    st_u32 *pmj02 = NULL;
+    if (sampler == ST_SAMPLER_PMJ02 && count > (1u << ST_PMJ02_MAX_LOG2))
+        return st_fail(err, ST_ERR_USAGE, "count %u: pmj02's tables hold at most %u points", count,
+                       1u << ST_PMJ02_MAX_LOG2);
+    if (sampler == ST_SAMPLER_PMJ02 &&
+        st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err) != ST_OK)
+        return err ? err->status : ST_ERR_NOMEM;
     float *pts = malloc(sizeof(float) * (size_t)count * dims);
-    if (!pts)
+    if (!pts) {
+        free(pmj02);
         return st_fail(err, ST_ERR_NOMEM, "out of memory for %u points", count);
+    }
     for (st_u32 i = 0; i < count; i++) {
         st_sample_id id = st_sample_begin(&p, 0u, 0u, i);
+        id.pmj02 = pmj02;
         for (st_u32 d = 0; d < dims; d++)
             pts[(size_t)i * dims + d] = st_sample_dim(&p, &id, d);
     }
+    free(pmj02);
     *points = pts;
     *out_count = count;
     return ST_OK;

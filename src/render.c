@@ -178,6 +178,34 @@ static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_err
     return rc;
 }
 
+/* Makes (or reuses) pmj02's tables: ST_PMJ02_SETS sequences of
+ * 2^ceil(log2 spp) points, uploaded once per seed and size. */
+static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_error *err)
+{
+    int used = o->sampler == ST_SAMPLER_PMJ02;
+    st_u32 log2n = 1u; /* ceil(log2 spp) + 1: 0 stands for none */
+    while (used && (1u << (log2n - 1u)) < o->spp)
+        log2n++;
+    if (r->scene_buf[ST_SCENE_pmj02] && (!used || (r->pmj02_seed == o->seed &&
+                                                   r->pmj02_log2 == log2n)))
+        return ST_OK;
+    st_device_buffer_destroy(r->scene_buf[ST_SCENE_pmj02]);
+    r->scene_buf[ST_SCENE_pmj02] = NULL;
+    r->pmj02_log2 = 0u;
+    if (!used) /* kernels take the argument anyway */
+        return st_device_buffer_create(r->dev, 16, NULL, &r->scene_buf[ST_SCENE_pmj02], err);
+    st_u32 *pts = NULL;
+    st_status rc = st_sampling_pmj02(log2n - 1u, ST_PMJ02_SETS, o->seed, &pts, err);
+    if (rc != ST_OK)
+        return rc;
+    size_t bytes = sizeof(st_u32) * 2u * ST_PMJ02_SETS << (log2n - 1u);
+    rc = st_device_buffer_create(r->dev, bytes, pts, &r->scene_buf[ST_SCENE_pmj02], err);
+    free(pts);
+    r->pmj02_seed = o->seed;
+    r->pmj02_log2 = rc == ST_OK ? log2n : 0u;
+    return rc;
+}
+
 /* The CDF of |f| over ST_FIS_BINS equal bins of [-r, r] (midpoint rule),
  * uploaded for filter importance sampling (pbrt-v4's FilterSampler
  * tabulates |f| the same way). */
@@ -418,7 +446,8 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     size_t pixels = (size_t)o->width * o->height;
     st_scene_camera cam;
     if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
-        prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK)
+        prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
+        prepare_pmj02(r, o, err) != ST_OK)
         return err->status;
     st_params p = make_params(r, o, &cam);
     st_u64 first, total;

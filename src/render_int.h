@@ -10,8 +10,8 @@
 struct st_renderer {
     st_device *dev;
     const st_scene *scene;
-    /* ST_SCENE_BUFFERS: the scene, uploaded once; tile and fis_cdf are the
-     * per-render inputs (render.c) */
+    /* ST_SCENE_BUFFERS: the scene, uploaded once; tile, fis_cdf and pmj02
+     * are the per-render inputs (render.c) */
     cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
     cl_kernel k[ST_STAGE_COUNT];
     cl_kernel mark; /* adaptive_mark */
@@ -21,6 +21,8 @@ struct st_renderer {
     /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],
      * kept for renders with the same key */
     st_u32 tile_sampler, tile_spp, tile_seed, tile_size, tile_points;
+    /* the key of pmj02's tables in scene_buf[ST_SCENE_pmj02] (log2 0: none) */
+    st_u32 pmj02_seed, pmj02_log2;
 };
 
 /* Progress over the items of a render. */

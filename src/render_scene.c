@@ -10,7 +10,8 @@
 #include "st_bvh.h"
 #include "st_lights.h"
 
-_Static_assert(ST_SCENE_tile + 2 == ST_SCENE_BUFFER_COUNT && ST_SCENE_fis_cdf == ST_SCENE_tile + 1,
+_Static_assert(ST_SCENE_tile + 3 == ST_SCENE_BUFFER_COUNT && ST_SCENE_fis_cdf == ST_SCENE_tile + 1 &&
+                   ST_SCENE_pmj02 == ST_SCENE_tile + 2,
                "the per-render inputs come last in ST_SCENE_BUFFERS");
 
 /* Texture coordinates in BVH order and the triangle's part of the ray-cone
@@ -104,8 +105,8 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         goto done;
     }
     r->light_count = lights.count;
-    /* the scene's buffers by name (ST_SCENE_BUFFERS); tile and fis_cdf are
-     * made per render (render.c) */
+    /* the scene's buffers by name (ST_SCENE_BUFFERS); tile, fis_cdf and
+     * pmj02 are made per render (render.c) */
     struct { size_t bytes; const void *data; } up[ST_SCENE_tile] = {
         [ST_SCENE_nodes] = {sizeof(st_bvh4_node) * bvh->wide_count, bvh->wide},
         [ST_SCENE_tris] = {sizeof(st_triangle) * (n ? n : 1), bvh->tris},

@@ -124,5 +124,7 @@ check "bench --rays camera prints rays/s and the hit fraction" '$S bench --rays 
 expect "bench --rays with an unknown set exits 2" 2 "--rays sky: unknown; expected one of camera, random" $S bench --rays sky
 expect "bench --count without --rays exits 2" 2 "--count applies to the trace benchmark only" $S bench --count 10
 expect "render --rays exits 2" 2 "--rays: only .strata bench. takes it" $S render --rays camera
+expect "pmj02 past its table's 4096 spp exits 2" 2 "^strata: error: --spp 4097: pmj02's tables hold at most 4096" $S render --sampler pmj02 --spp 4097
+expect "pattern pmj02 past 4096 points exits 2" 2 "^strata: error: .*count 4097: pmj02's tables hold at most 4096" $S pattern --sampler pmj02 --count 4097 --csv -
 
 echo "1..$n"

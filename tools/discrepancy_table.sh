@@ -33,3 +33,4 @@ row "paddedsobol (\`--scramble none\`)" paddedsobol none 1 5
 row "sobol (scrambled)" sobol on 8 5
 row "sobol (\`--scramble none\`)" sobol none 1 5
 row "zsobol (scrambled)" zsobol on 8 5
+row pmj02 pmj02 - 8 5

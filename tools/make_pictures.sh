@@ -30,7 +30,7 @@ pic() {
 
 pic cornell-box.png render --width 512 --height 512 --spp 64 --quiet -o @
 for s in random uniform stratified halton hammersley poisson best-candidate paddedsobol sobol zsobol \
-    joint-stratified; do
+    joint-stratified pmj02; do
     pic samplers/$s.png pattern --sampler $s --count 256 --png @
     pic samplers/$s-spectrum.png pattern --sampler $s --count 1024 --spectrum @
     pic renders/1spp-$s.png render --width 128 --height 128 --spp 1 --sampler $s --filter box \

@@ -1,0 +1,223 @@
+/* test_pmj02.c — guards the pmj02 sampler: its tables (src/pmj02.c,
+ * st_sampling_pmj02) and the values st_sample_dim (kernels/samplers.h) reads
+ * from them, which the kernels and `strata pattern` share.
+ *
+ * Independent check, from the definition of a (0,m,2)-net: a point set of
+ * 2^m points in [0,1)^2 is one when every elementary interval
+ * [a 2^-i, (a+1) 2^-i) x [b 2^-(m-i), (b+1) 2^-(m-i)), of every shape
+ * i = 0..m, holds exactly one point. The intervals are found from the
+ * points' values (floor of x 2^i in double, exact for these floats and
+ * 32-bit fractions) and counted, not taken from the generator's indexing. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "st_shared.h"
+#include "rng.h"
+#include "samplers.h"
+#include "st_pattern.h"
+#include "st_sampler.h"
+#include "st_sampling.h"
+
+/* 1 when the n = 2^m points (x, y) at xy[stride k], xy[stride k + 1] are a
+ * (0,m,2)-net; otherwise names the first overfull interval in *why. */
+static int is_net(const double *xy, st_u32 m, char *why, size_t len)
+{
+    size_t n = (size_t)1 << m;
+    unsigned *count = malloc(n * sizeof *count);
+    assert_non_null(count);
+    for (st_u32 i = 0; i <= m; i++) {
+        memset(count, 0, n * sizeof *count);
+        for (size_t k = 0; k < n; k++) {
+            size_t a = (size_t)floor(xy[2 * k] * ldexp(1.0, (int)i));
+            size_t b = (size_t)floor(xy[2 * k + 1] * ldexp(1.0, (int)(m - i)));
+            size_t cell = (a << (m - i)) + b;
+            if (a >= ((size_t)1 << i) || b >= ((size_t)1 << (m - i)) || ++count[cell] > 1) {
+                snprintf(why, len, "2^%u points: interval (%zu, %zu) of shape 2^-%u x 2^-%u "
+                         "holds two (point %zu)", m, a, b, i, m - i, k);
+                free(count);
+                return 0;
+            }
+        }
+    }
+    free(count);
+    return 1; /* 2^m points in 2^m intervals per shape, none holding two */
+}
+
+static st_u32 *tables(st_u32 log2n, st_u32 sets, st_u32 seed)
+{
+    st_u32 *t = NULL;
+    st_error err = {0};
+    if (st_sampling_pmj02(log2n, sets, seed, &t, &err) != ST_OK)
+        fail_msg("%s", err.msg);
+    return t;
+}
+
+/* Every 2^m prefix (m = 0..log2n) of every set is a (0,m,2)-net, for
+ * several seeds: all ST_PMJ02_SETS sets at 2^10, two at the full 2^12. */
+static void every_prefix_is_a_net(void **state)
+{
+    (void)state;
+    const st_u32 seeds[] = {0, 1, 7, 123456789};
+    for (size_t q = 0; q < 4; q++)
+        for (st_u32 log2n = 10; log2n <= ST_PMJ02_MAX_LOG2; log2n += ST_PMJ02_MAX_LOG2 - 10) {
+            st_u32 sets = log2n == 10 ? ST_PMJ02_SETS : 2u, n = 1u << log2n;
+            st_u32 *t = tables(log2n, sets, seeds[q]);
+            double *xy = malloc(2 * sizeof *xy * n);
+            assert_non_null(xy);
+            for (st_u32 set = 0; set < sets; set++) {
+                for (st_u32 k = 0; k < 2 * n; k++)
+                    xy[k] = ldexp((double)t[2 * (size_t)set * n + k], -32);
+                for (st_u32 m = 0; m <= log2n; m++) {
+                    char why[160];
+                    if (!is_net(xy, m, why, sizeof why))
+                        fail_msg("seed %u set %u: %s", seeds[q], set, why);
+                }
+            }
+            free(xy);
+            free(t);
+        }
+}
+
+/* The same seed gives the same tables; a shorter table is the prefix of a
+ * longer one; another seed or another set gives other points. */
+static void tables_deterministic_and_progressive(void **state)
+{
+    (void)state;
+    st_u32 *a = tables(9, 4, 5), *b = tables(9, 4, 5), *c = tables(6, 4, 5), *d = tables(9, 4, 6);
+    assert_memory_equal(a, b, sizeof(st_u32) * 2 * 4 * 512);
+    for (st_u32 set = 0; set < 4; set++)
+        assert_memory_equal(a + 2 * 512 * set, c + 2 * 64 * set, sizeof(st_u32) * 2 * 64);
+    assert_memory_not_equal(a, d, sizeof(st_u32) * 2 * 512);
+    assert_memory_not_equal(a, a + 2 * 512, sizeof(st_u32) * 2 * 512);
+    free(a);
+    free(b);
+    free(c);
+    free(d);
+}
+
+static void bad_arguments_refused(void **state)
+{
+    (void)state;
+    st_u32 *t = (st_u32 *)&t;
+    st_error err = {0};
+    assert_int_equal(st_sampling_pmj02(ST_PMJ02_MAX_LOG2 + 1, 1, 0, &t, &err), ST_ERR_USAGE);
+    assert_null(t);
+    assert_int_equal(st_sampling_pmj02(4, 0, 0, &t, &err), ST_ERR_USAGE);
+    assert_int_equal(st_sampling_pmj02(4, ST_PMJ02_SETS + 1, 0, &t, &err), ST_ERR_USAGE);
+    assert_int_equal(st_sampling_pmj02(4, 1, 0, NULL, &err), ST_ERR_USAGE);
+    /* the renderer's limit: spp up to the table size */
+    assert_int_equal(st_sampler_check(ST_SAMPLER_PMJ02, 64, 64, 1u << ST_PMJ02_MAX_LOG2, &err),
+                     ST_OK);
+    assert_int_equal(st_sampler_check(ST_SAMPLER_PMJ02, 64, 64, (1u << ST_PMJ02_MAX_LOG2) + 1,
+                                      &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "pmj02"));
+}
+
+/* What the renderer reads (st_sample_dim with the tables, as generate.cl and
+ * shade.cl call it): in every pixel, for spp = 2^m, the spp samples of the
+ * pixel pair and of the next two pairs are each a (0,m,2)-net; pixels that
+ * share a set still get different points. */
+static void renderer_pairs_are_nets(void **state)
+{
+    (void)state;
+    for (st_u32 m = 0; m <= 8; m += 2) {
+        st_u32 spp = 1u << m;
+        st_params p;
+        memset(&p, 0, sizeof p);
+        p.width = 5;
+        p.height = 4;
+        p.spp = spp;
+        p.seed = 9;
+        p.sampler = ST_SAMPLER_PMJ02;
+        st_sampler_prepare(&p);
+        st_u32 *t = tables(m, ST_PMJ02_SETS, p.seed);
+        double *xy = malloc(2 * sizeof *xy * spp);
+        assert_non_null(xy);
+        float first[20];
+        for (st_u32 pixel = 0; pixel < 20; pixel++)
+            for (st_u32 pair = 0; pair < 3; pair++) {
+                for (st_u32 s = 0; s < spp; s++) {
+                    st_sample_id id = st_sample_begin(&p, pixel % 5, pixel / 5, s);
+                    id.pmj02 = t;
+                    xy[2 * s] = st_sample_dim(&p, &id, 2 * pair);
+                    xy[2 * s + 1] = st_sample_dim(&p, &id, 2 * pair + 1);
+                }
+                char why[160];
+                if (!is_net(xy, m, why, sizeof why))
+                    fail_msg("spp %u pixel %u pair %u: %s", spp, pixel, pair, why);
+                if (pair == 0)
+                    first[pixel] = (float)xy[0];
+            }
+        for (st_u32 pixel = 1; pixel < 20; pixel++)
+            for (st_u32 o = 0; o < pixel; o++)
+                if (first[pixel] == first[o])
+                    fail_msg("spp %u: pixels %u and %u start at the same x", spp, o, pixel);
+        free(xy);
+        free(t);
+    }
+}
+
+/* `strata pattern --sampler pmj02` shows the renderer's pixel dimensions:
+ * st_pattern_make's points are st_sample_dim's at pixel (0, 0), read from
+ * the tables the renderer makes for spp = count (render.c: ST_PMJ02_SETS
+ * sets of 2^ceil(log2 spp) points from the seed); 1024 points: a net. */
+static void pattern_shows_the_renderer_points(void **state)
+{
+    (void)state;
+    const st_u32 counts[] = {1024, 100};
+    for (int c = 0; c < 2; c++) {
+        st_u32 n = 0, count = counts[c], log2n = count == 1024 ? 10u : 7u;
+        float *pts = NULL;
+        st_error err = {0};
+        if (st_pattern_make(ST_SAMPLER_PMJ02, count, 4, 3, 1, &pts, &n, &err) != ST_OK)
+            fail_msg("%s", err.msg);
+        assert_int_equal(n, count);
+        st_params p;
+        memset(&p, 0, sizeof p);
+        p.width = p.height = 1;
+        p.spp = count;
+        p.seed = 3;
+        p.sampler = ST_SAMPLER_PMJ02;
+        st_sampler_prepare(&p);
+        st_u32 *t = tables(log2n, ST_PMJ02_SETS, 3);
+        double *xy = malloc(2 * sizeof *xy * count);
+        assert_non_null(xy);
+        for (st_u32 s = 0; s < count; s++) {
+            st_sample_id id = st_sample_begin(&p, 0, 0, s);
+            id.pmj02 = t;
+            for (st_u32 d = 0; d < 4; d++)
+                if (pts[4 * s + d] != st_sample_dim(&p, &id, d))
+                    fail_msg("count %u point %u dim %u: pattern %a, renderer %a", count, s, d,
+                             (double)pts[4 * s + d], (double)st_sample_dim(&p, &id, d));
+            xy[2 * s] = pts[4 * s];
+            xy[2 * s + 1] = pts[4 * s + 1];
+        }
+        char why[160];
+        if (count == 1024 && !is_net(xy, 10, why, sizeof why))
+            fail_msg("pattern: %s", why);
+        free(xy);
+        free(t);
+        free(pts);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(every_prefix_is_a_net),
+        cmocka_unit_test(tables_deterministic_and_progressive),
+        cmocka_unit_test(bad_arguments_refused),
+        cmocka_unit_test(renderer_pairs_are_nets),
+        cmocka_unit_test(pattern_shows_the_renderer_points),
+    };
+    return cmocka_run_group_tests_name("pmj02", tests, NULL, NULL);
+}
