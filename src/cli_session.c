@@ -203,6 +203,7 @@ st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 3; c++)
             out->data[3 * i + c] = in->data[in->channels * i + c];
+    st_image_place_like(out, in);
     return ST_OK;
 }
 
