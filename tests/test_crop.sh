@@ -53,6 +53,10 @@ $S render $P $M --sample-range 1:4 -o "$T/p4.exr"
 expect "merge refuses a whole part with a crop's part" 1 "pixels, but" \
     $S merge "$T/p1.exr" "$T/p4.exr" -o "$T/bad.exr"
 
+# the summary names the window
+$S render --width 40 --height 28 --spp 4 --crop 4,3,25,17 -o "$T/c.exr" > "$T/summary" 2> /dev/null
+check "the summary names the window" 'grep -q "rendered 40x28, window 25x17 at (4, 3), 4 spp" "$T/summary"' "($(cat "$T/summary"))"
+
 # a PNG of a crop is the window alone: width and height from the IHDR chunk
 $S render $P --crop 4,3,25,17 -o "$T/crop.png"
 size=$(od -An -tu1 -j16 -N8 "$T/crop.png" | awk '{print $3 * 256 + $4 "x" $7 * 256 + $8}')
