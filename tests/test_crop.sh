@@ -3,7 +3,7 @@
 # render's there bit for bit (strata diff compares a crop with its full render
 # over the crop's data window: rmse 0 and largest difference 0), for filters
 # whose splats reach 1, 2 and 3 pixels (the apron), filter importance
-# sampling and a tiled sampler, at the image's corners and inside; split
+# sampling, a tiled sampler and adaptive sampling, at the image's corners and inside; split
 # parts of a crop merge into the same window; a PNG of a crop is the window
 # alone; bad windows are usage errors. TAP output.
 . tests/tap.sh
@@ -20,6 +20,7 @@ bit_equal "crop equals the full render: box (radius 0.5), bottom-right corner" "
 bit_equal "crop equals the full render: gaussian, sobol, one pixel" "--filter gaussian --sampler sobol" 21,13,1,1
 bit_equal "crop equals the full render: filter importance sampling" "--reconstruction fis --filter lanczos" 3,4,20,10
 bit_equal "crop equals the full render: tiled sampler (poisson)" "--sampler poisson --filter mitchell" 11,2,15,20
+bit_equal "crop equals the full render: adaptive sampling" "--adaptive --min-spp 2" 3,4,20,10
 
 # the check can fail: another seed's crop differs from the full render
 $S render $P --seed 1 --crop 9,5,17,11 -o "$T/other.exr"
