@@ -39,6 +39,11 @@ typedef struct st_image {
     st_pixel_type types[ST_IMAGE_MAX_CHANNELS];                   /* per channel */
     float *data;     /* FLOAT samples: data[(y*width + x)*channels + c]                         */
     uint32_t *udata; /* UINT samples at the same index; the same buffer as data (see above)     */
+    /* Where the pixels lie in a larger image (an EXR's data window in its display window, e.g. a
+     * render's --crop): pixel (x, y) of data is (x0 + x, y0 + y) of a display_width x
+     * display_height image. All 0 (as st_image_create leaves them): the image is all there is. */
+    int32_t x0, y0;
+    uint32_t display_width, display_height;
 } st_image;
 
 /* How an attribute is stored in an EXR header: its value is always kept as text here, and
@@ -70,11 +75,15 @@ st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channe
  * already freed image: does nothing. */
 void st_image_free(st_image *img);
 
+/* Gives dst src's place in a larger image (x0, y0, display_width, display_height). */
+void st_image_place_like(st_image *dst, const st_image *src);
+
 /* Index of the channel called `name`, or -1. */
 int st_image_find_channel(const st_image *img, const char *name);
 
 /* Writes a single-part scanline EXR, ZIP-compressed, every channel as stored (FLOAT as 32-bit
- * float, UINT as 32-bit uint, so values round-trip bit for bit), data window (0,0)-(w-1,h-1), and
+ * float, UINT as 32-bit uint, so values round-trip bit for bit), data window (0,0)-(w-1,h-1) (with a
+ * display_width: (x0,y0)-(x0+w-1,y0+h-1) inside the display window (0,0)-(dw-1,dh-1)), and
  * the nattrs attributes, each as its type says (a value that does not parse as its type, or a name
  * that clashes with a required attribute such as "channels", is ST_ERR_FORMAT). Every file also
  * gets "chromaticities" (Rec. 709 primaries, D65 white: the linear sRGB strata renders in) and
@@ -85,7 +94,8 @@ st_status st_image_save_exr(const char *path, const st_image *img, const st_attr
 /* Reads the first part of a scanline or tiled EXR (level 0 of a mip/rip map) whose channels are
  * FLOAT, HALF or UINT (HALF widened to float, exactly) and not subsampled, at most 8 of them.
  * Channels come back in file order, which OpenEXR sorts by name (R,G,B is stored as B,G,R): use
- * st_image_find_channel. The data window becomes the image (its origin is dropped). attrs/nattrs:
+ * st_image_find_channel. The data window becomes the image; x0, y0 keep its
+ * origin relative to the display window's, display_width/height the display window's size. attrs/nattrs:
  * if attrs is not NULL, *attrs receives a malloc'ed array of the *nattrs string attributes in file
  * order (NULL when there are none), which the caller frees with free(): the string, int, float and
  * double attributes, typed as stored; the structural "type" and "name" attributes are left out. *img is zeroed on failure. */

@@ -45,6 +45,11 @@ typedef struct st_render_options {
     int env_given;     /* 1: env below; 0: scene->default_env */
     float env[3];      /* uniform environment radiance, linear RGB */
     st_u32 texture_filter; /* ST_TEXFILTER_* (default trilinear) */
+    /* --crop: only the window [crop_x, crop_x + crop_w) x [crop_y, crop_y +
+     * crop_h) of the image, each pixel equal to the full render's bit for
+     * bit (its samples, and those of the filter's apron around it, are the
+     * full render's); crop_w 0: the whole image */
+    st_u32 crop_x, crop_y, crop_w, crop_h;
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
@@ -90,10 +95,17 @@ void st_render_env(const st_scene *scene, const st_render_options *o, float env[
 
 typedef void (*st_progress_fn)(void *ctx, double fraction);
 
+/* The pixels whose samples a render of o takes (row-major rectangle x, y,
+ * w, h): the whole image, or a crop's window with the filter's apron (the
+ * pixels whose samples can reach it); with a tiled sampler or adaptive
+ * sampling, whose samples are not per pixel, the whole image even for a crop. */
+void st_render_region(const st_render_options *o, st_u32 region[4]);
+
 /* Renders into *out: channels R, G, B (resolved, linear) and W (Σ f); *sums,
  * when not NULL, receives the raw fixed-point film (an st_film_pixel per
  * pixel: ST_FILM_SUMS int64, Σ f L for R, G, B, and Σ f; malloc'ed, caller
- * frees) for merging. */
+ * frees) for merging. With a crop, both hold the window only, and *out's
+ * x0, y0, display_width, display_height place it in the image. */
 st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err);

@@ -106,8 +106,9 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
 __kernel void resolve_film(ST_FILM_PARAMS)
 {
     st_u32 i = get_global_id(0);
-    if (i >= p.width * p.height)
+    if (i >= p.region_w * p.region_h)
         return;
+    i = st_region_pixel(&p, i); /* a crop resolves its window only */
     __global const long *a = film[i].sum;
     float w = (float)a[3] * (1.0f / ST_FIXED_SCALE);
     float3 v = (float3)(0.0f);

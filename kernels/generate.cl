@@ -2,7 +2,9 @@
  * camera rays.
  *
  * Item i of a wave is render item g = first_item + i. Per-pixel samplers:
- * pixel = g mod (width * height), sample = g / (width * height). Tiled samplers
+ * pixel = g mod n, sample = g / n over the n pixels of the region (the whole
+ * image, or a crop's window with its filter apron; st_region_pixel), so a
+ * pixel's samples are the same in a crop as in the full render. Tiled samplers
  * (poisson, best-candidate): the tile of tile_size^2 pixels repeats over the
  * image; g picks repetition g / tile_count and point tile_begin + g mod
  * tile_count of it; the tile holds exactly spp points in each of its pixels,
@@ -64,8 +66,8 @@ __kernel void generate_samples(ST_STAGE_PARAMS)
         sample[i] = tile_sample(&p, tile, g);
         return;
     }
-    st_u32 npix = p.width * p.height;
-    st_u32 pixel = (st_u32)(g % npix), s = (st_u32)(g / npix);
+    st_u32 npix = p.region_w * p.region_h; /* the image, or a crop's window and apron */
+    st_u32 pixel = st_region_pixel(&p, (st_u32)(g % npix)), s = (st_u32)(g / npix);
     if (p.adaptive_count) { /* a round of adaptive sampling (adaptive.cl) */
         pixel = active[g % p.adaptive_count];
         s = p.adaptive_base + (st_u32)(g / p.adaptive_count);

@@ -309,6 +309,11 @@ typedef struct st_params {
     st_u32 sobol_log2; /* sobol, zsobol: 2^sobol_log2 >= width, height */
     st_filter filter;
     st_camera camera;
+    /* the pixels this launch covers, a rectangle of the width x height image
+     * (all of it but for a --crop): generate_samples' item g is pixel
+     * region_pixel(g mod region_w region_h), resolve_film's item i is
+     * region_pixel(i) (st_region_pixel) */
+    st_u32 region_x, region_y, region_w, region_h;
 } st_params;
 
 
@@ -451,6 +456,12 @@ typedef struct st_tile_point {
 #ifdef __OPENCL_VERSION__
 /* Whether a sample lies on the image (a tiled sampler's point may not: its
  * tile repeats past the image's edge). */
+/* Index in the image of the region's pixel i (row-major in the region). */
+static st_u32 st_region_pixel(const st_params *p, st_u32 i)
+{
+    return (p->region_y + i / p->region_w) * p->width + p->region_x + i % p->region_w;
+}
+
 static int st_sample_on_film(const st_params *p, st_sample s)
 {
     return !ST_SAMPLER_IS_TILED(p->sampler) ||
@@ -510,7 +521,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
     X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, sobol_log2)   \
     X(st_params, filter)        \
-    X(st_params, camera)                                                                    \
+    X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
+    X(st_params, region_w) X(st_params, region_h)                                           \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index)                              \
     X(st_wave_ray, o) X(st_wave_ray, tmax) X(st_wave_ray, d) X(st_wave_ray, path_length)    \
     X(st_hit, t) X(st_hit, u) X(st_hit, v) X(st_hit, prim)                                  \
@@ -541,7 +553,7 @@ ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 128, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 160, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 224, "st_params: 224 bytes");
+ST_STATIC_ASSERT(sizeof(st_params) == 240, "st_params: 240 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 16, "st_sample: 16 bytes");
 ST_STATIC_ASSERT(sizeof(st_wave_ray) == 32, "st_wave_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");

@@ -21,6 +21,9 @@ static const char render_help[] =
     "  --spp N                samples per pixel (default 16)\n"
     "  --sample-range K:M     render only sample indices K..M-1 of the --spp, K < M <= spp\n"
     "                         (split renders, for strata merge)\n"
+    "  --crop X,Y,W,H         render only the window [X, X+W) x [Y, Y+H) of the image, each\n"
+    "                         pixel as in the full render, bit for bit (the EXR's data window;\n"
+    "                         a PNG holds the window alone); render only\n"
     "  --sampler NAME         random, uniform, stratified, halton, hammersley, poisson,\n"
     "                         best-candidate, paddedsobol, sobol, zsobol, joint-stratified,\n"
     "                         pmj02 (spp at most 4096)\n"
@@ -68,7 +71,7 @@ enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
-    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP
+    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP
 };
 
 static const struct option options[] = {
@@ -76,6 +79,7 @@ static const struct option options[] = {
     {"height", required_argument, 0, O_HEIGHT},
     {"spp", required_argument, 0, O_SPP},
     {"sample-range", required_argument, 0, O_SAMPLE_RANGE},
+    {"crop", required_argument, 0, O_CROP},
     {"sampler", required_argument, 0, O_SAMPLER},
     {"scramble", required_argument, 0, O_SCRAMBLE},
     {"filter", required_argument, 0, O_FILTER},
@@ -144,7 +148,7 @@ static int parse_name(const char *opt, const char *const *names, int count, cons
 }
 
 const st_cli_option_name st_cli_render_option_names[] = {
-    {"sample range", "--sample-range"}, {"spp", "--spp"}, {"min spp", "--min-spp"},
+    {"sample range", "--sample-range"}, {"crop", "--crop"}, {"spp", "--spp"}, {"min spp", "--min-spp"},
     {"max spp", "--max-spp"}, {"noise threshold", "--noise-threshold"},
     {"max depth", "--max-depth"}, {"reconstruction", "--reconstruction"},
     {"adaptive", "--adaptive"}, {"sampler", "--sampler"}, {"filter kind", "--filter"},
@@ -287,6 +291,26 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     }
 }
 
+/* --crop X,Y,W,H: four unsigned integers (the window is checked against the
+ * image size by st_render_check, once --width and --height are known). */
+static int parse_crop(const char *v, int bench, st_render_options *o)
+{
+    unsigned x, y, w, h;
+    char tail;
+    if (bench)
+        return st_cli_usage_error("--crop: only `strata render` takes it");
+    if (sscanf(v, "%u,%u,%u,%u%c", &x, &y, &w, &h, &tail) != 4 || strchr(v, '-') ||
+        strchr(v, '+') || strchr(v, ' '))
+        return st_cli_usage_error("--crop %s: expected X,Y,W,H (four integers >= 0)", v);
+    if (w == 0 || h == 0)
+        return st_cli_usage_error("--crop %s: the window is empty", v);
+    o->crop_x = x;
+    o->crop_y = y;
+    o->crop_w = w;
+    o->crop_h = h;
+    return ST_CLI_OK;
+}
+
 /* bench's trace benchmark: --rays camera|random, --count N. */
 static int parse_trace_bench(int c, const char *v, int bench, st_cli_render_args *a)
 {
@@ -365,6 +389,7 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
         return ST_CLI_OK;
     case O_RAYS:
     case O_COUNT: return parse_trace_bench(c, v, bench, a);
+    case O_CROP: return parse_crop(v, bench, o);
     default: return parse_view_or_adaptive(c, v, bench, a);
     }
 }

@@ -17,7 +17,10 @@ int st_cli_diff(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             puts("usage: strata diff A B [--max-rmse X]\n"
-                 "  prints RMSE, PSNR (peak 1) and the largest absolute difference over R, G, B;\n"
+                 "  prints RMSE, PSNR (peak 1) and the largest absolute difference over R, G, B\n"
+                 "  of the pixels both hold: EXR data windows (render --crop) of one display\n"
+                 "  window are compared where they overlap (a crop with its full render: the\n"
+                 "  crop's window); images of different sizes are refused;\n"
                  "  with --max-rmse (X >= 0), exits 1 when the RMSE is larger than X");
             return 0;
         }

@@ -4,7 +4,8 @@
  * image of one render. Parts must agree on every setting recorded in their
  * headers (the scene's content hash, size, sampler, filter, seed, device, ...;
  * not the scene's path) and their sample ranges must tile 0..spp exactly, or,
- * with --partial, at least not overlap nor pass spp. */
+ * with --partial, at least not overlap nor pass spp. Parts of a crop must
+ * hold the same data window, which the result keeps. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -71,6 +72,19 @@ static st_status check_part(const part *first, const part *p, st_error *err)
         }
     }
     return ST_OK;
+}
+
+/* Parts of a crop (render --crop) must hold the same window of the same image. */
+static st_status check_window(const part *first, const st_image *a, const part *p,
+                              const st_image *b, st_error *err)
+{
+    if (a->x0 == b->x0 && a->y0 == b->y0 && a->display_width == b->display_width &&
+        a->display_height == b->display_height)
+        return ST_OK;
+    return st_fail(err, ST_ERR_FORMAT, "%s: data window at (%d, %d) of a %ux%u image, but %s's "
+                   "is at (%d, %d) of %ux%u", p->path, b->x0, b->y0, b->display_width,
+                   b->display_height, first->path, a->x0, a->y0, a->display_width,
+                   a->display_height);
 }
 
 static int by_begin(const void *x, const void *y)
@@ -177,6 +191,7 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
     st_image img = {0}, resolved = {0}, rgb = {0};
     st_i64 *total = NULL, *sums = NULL;
     st_device *dev = NULL;
+    st_image place = {0}; /* the first part's window in the image (render --crop) */
     st_u32 w = 0, h = 0;
     st_status rc = ST_OK;
     for (int i = 0; i < n && rc == ST_OK; i++) {
@@ -185,11 +200,14 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
         if (i == 0) {
             w = img.width;
             h = img.height;
+            st_image_place_like(&place, &img);
             total = sums;
             sums = NULL;
         } else if (img.width != w || img.height != h) {
             rc = st_fail(err, ST_ERR_FORMAT, "%s: %ux%u pixels, but %s has %ux%u", parts[i].path,
                          img.width, img.height, parts[0].path, w, h);
+        } else if (check_window(&parts[0], &place, &parts[i], &img, err) != ST_OK) {
+            rc = err->status;
         } else if ((rc = check_part(&parts[0], &parts[i], err)) == ST_OK) {
             for (size_t k = 0; k < ST_FILM_SUMS * (size_t)w * h; k++) /* wraps as the device's atom_add */
                 total[k] = (st_i64)((st_u64)total[k] + (st_u64)sums[k]);
@@ -205,6 +223,8 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
     if (rc == ST_OK && (st_render_resolve(dev, total, w, h, &resolved, NULL, err) ||
                         st_cli_rgb_of(&resolved, &rgb, err)))
         rc = err->status;
+    if (rc == ST_OK)
+        st_image_place_like(&rgb, &place);
     if (rc == ST_OK) {
         char whole[sizeof parts[0].attrs->value + 2];
         snprintf(whole, sizeof whole, "0:%s", attr_value(&parts[0], "strata.spp"));
@@ -233,7 +253,8 @@ int st_cli_merge(int argc, char **argv)
                  "  adds the raw films of split renders (strata render --sample-range K:M)\n"
                  "  into the image one render of all their samples gives, bit for bit.\n"
                  "  The parts' ranges must tile 0..spp, and parts must share every setting,\n"
-                 "  the scene's content and the device.\n"
+                 "  the scene's content, the device and the data window (render --crop),\n"
+                 "  which the result keeps.\n"
                  "  --partial   merge a set with gaps; the result is labelled with the\n"
                  "              ranges it holds (strata.sample_range, strata.partial)");
             free(parts);

@@ -203,6 +203,7 @@ st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 3; c++)
             out->data[3 * i + c] = in->data[in->channels * i + c];
+    st_image_place_like(out, in);
     return ST_OK;
 }
 
@@ -210,6 +211,8 @@ void st_cli_print_summary(const char *what, const st_render_options *o, const st
 {
     double t = st->seconds > 0 ? st->seconds : 1e-9;
     printf("strata: %s %ux%u, ", what, o->width, o->height);
+    if (o->crop_w)
+        printf("window %ux%u at (%u, %u), ", o->crop_w, o->crop_h, o->crop_x, o->crop_y);
     if (o->sample_begin || o->sample_end) /* a part: its own samples */
         printf("samples %u:%u of %u spp", o->sample_begin, o->sample_end, o->spp);
     else

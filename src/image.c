@@ -73,6 +73,14 @@ void st_image_free(st_image *img)
     memset(img, 0, sizeof *img);
 }
 
+void st_image_place_like(st_image *dst, const st_image *src)
+{
+    dst->x0 = src->x0;
+    dst->y0 = src->y0;
+    dst->display_width = src->display_width;
+    dst->display_height = src->display_height;
+}
+
 int st_image_find_channel(const st_image *img, const char *name)
 {
     for (uint32_t c = 0; c < img->channels && c < ST_IMAGE_MAX_CHANNELS; c++)

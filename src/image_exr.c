@@ -141,6 +141,22 @@ static exr_result_t exr_set_standard_attrs(exr_context_t ctx, int part)
     return rc == EXR_ERR_SUCCESS ? exr_attr_set_string(ctx, part, "software", software) : rc;
 }
 
+/* A window of a larger image: the data window at (x0, y0) of the display window (0, 0) -
+ * (display_width - 1, display_height - 1). */
+static exr_result_t exr_set_windows(exr_context_t ctx, int part, const st_image *img)
+{
+    exr_attr_box2i_t dw, disp;
+    dw.min.x = img->x0;
+    dw.min.y = img->y0;
+    dw.max.x = (int32_t)(img->x0 + (int64_t)img->width - 1);
+    dw.max.y = (int32_t)(img->y0 + (int64_t)img->height - 1);
+    disp.min.x = disp.min.y = 0;
+    disp.max.x = (int32_t)img->display_width - 1;
+    disp.max.y = (int32_t)img->display_height - 1;
+    exr_result_t rc = exr_set_display_window(ctx, part, &disp);
+    return rc == EXR_ERR_SUCCESS ? exr_set_data_window(ctx, part, &dw) : rc;
+}
+
 /* Declares the part: size, ZIP compression (chunks compressed by exr_write_pixels),
  * channels (sorted by OpenEXR), attributes. */
 static st_status exr_define(exr_context_t ctx, const char *path, const st_image *img,
@@ -151,6 +167,8 @@ static st_status exr_define(exr_context_t ctx, const char *path, const st_image 
     if (rc == EXR_ERR_SUCCESS)
         rc = exr_initialize_required_attr_simple(ctx, part, (int32_t)img->width,
                                                  (int32_t)img->height, EXR_COMPRESSION_ZIP);
+    if (rc == EXR_ERR_SUCCESS && img->display_width)
+        rc = exr_set_windows(ctx, part, img);
     if (rc == EXR_ERR_SUCCESS && longnames)
         rc = exr_set_longname_support(ctx, 1);
     if (rc != EXR_ERR_SUCCESS)
@@ -247,7 +265,8 @@ static st_status exr_write_pixels(exr_context_t ctx, const char *path, const st_
         size_t size = (size_t)img->width * 4 * img->channels * (size_t)n;
         pack_lines(img, chl, y, n, raw);
         size_t zsize = zip_chunk(raw, size, tmp, zip, zcap);
-        rc = exr_write_scanline_chunk(ctx, 0, (int)y, zsize ? zip : raw, zsize ? zsize : size);
+        rc = exr_write_scanline_chunk(ctx, 0, (int)(img->y0 + y), zsize ? zip : raw,
+                                      zsize ? zsize : size);
     }
     free(raw);
     free(tmp);
@@ -397,6 +416,24 @@ static st_status exr_read_attrs(exr_context_t ctx, const char *path, st_attr **o
     return ST_OK;
 }
 
+/* The data window's origin relative to the display window's, and the display window's size. */
+static st_status exr_keep_windows(const char *path, st_image *img, const exr_attr_box2i_t *dw,
+                                  const exr_attr_box2i_t *disp, st_error *err)
+{
+    int64_t x0 = (int64_t)dw->min.x - disp->min.x, y0 = (int64_t)dw->min.y - disp->min.y;
+    int64_t w = (int64_t)disp->max.x - disp->min.x + 1, h = (int64_t)disp->max.y - disp->min.y + 1;
+    if (x0 < INT32_MIN || x0 > INT32_MAX || y0 < INT32_MIN || y0 > INT32_MAX || w <= 0 ||
+        h <= 0 || w > UINT32_MAX || h > UINT32_MAX) {
+        st_image_free(img);
+        return st_fail(err, ST_ERR_FORMAT, "%s: invalid display window", path);
+    }
+    img->x0 = (int32_t)x0;
+    img->y0 = (int32_t)y0;
+    img->display_width = (uint32_t)w;
+    img->display_height = (uint32_t)h;
+    return ST_OK;
+}
+
 /* Checks the part's layout and creates the matching image (channels in file order). */
 static st_status exr_prepare(exr_context_t ctx, const char *path, st_image *img,
                              exr_attr_box2i_t *dw, st_error *err)
@@ -404,8 +441,11 @@ static st_status exr_prepare(exr_context_t ctx, const char *path, st_image *img,
     exr_storage_t storage;
     const exr_attr_chlist_t *chl = NULL;
     exr_result_t rc = exr_get_storage(ctx, 0, &storage);
+    exr_attr_box2i_t disp;
     if (rc == EXR_ERR_SUCCESS)
         rc = exr_get_data_window(ctx, 0, dw);
+    if (rc == EXR_ERR_SUCCESS)
+        rc = exr_get_display_window(ctx, 0, &disp);
     if (rc == EXR_ERR_SUCCESS)
         rc = exr_get_channels(ctx, 0, &chl);
     if (rc != EXR_ERR_SUCCESS || !chl)
@@ -441,7 +481,7 @@ static st_status exr_prepare(exr_context_t ctx, const char *path, st_image *img,
     for (int c = 0; c < n; c++)
         img->types[c] = chl->entries[c].pixel_type == EXR_PIXEL_UINT ? ST_PIXEL_UINT
                                                                      : ST_PIXEL_FLOAT;
-    return ST_OK;
+    return exr_keep_windows(path, img, dw, &disp, err);
 }
 
 /* Points the decoder's channels (file order = image order) at pixel (x0, y0) of img; HALF is

@@ -101,6 +101,12 @@ st_status st_render_check(const st_render_options *o, st_error *err)
     }
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "max depth %u: at most 64", o->max_depth);
+    if ((o->crop_w || o->crop_h || o->crop_x || o->crop_y) &&
+        (!o->crop_w || !o->crop_h || (st_u64)o->crop_x + o->crop_w > o->width ||
+         (st_u64)o->crop_y + o->crop_h > o->height))
+        return st_fail(err, ST_ERR_USAGE,
+                       "crop %u,%u,%u,%u: the window must be non-empty and inside the %ux%u image",
+                       o->crop_x, o->crop_y, o->crop_w, o->crop_h, o->width, o->height);
     const st_filter *f = &o->filter;
     if ((rc = st_filter_check(f, ST_FILTER_MAX_RADIUS, err)) != ST_OK)
         return rc;
@@ -233,6 +239,46 @@ static st_shading make_shading(const st_renderer *r, const st_render_options *o)
     return sh;
 }
 
+static void set_region(st_params *p, const st_u32 region[4])
+{
+    p->region_x = region[0];
+    p->region_y = region[1];
+    p->region_w = region[2];
+    p->region_h = region[3];
+}
+
+/* The crop's window, or the whole image. */
+static void crop_window(const st_render_options *o, st_u32 win[4])
+{
+    int crop = o->crop_w != 0;
+    win[0] = crop ? o->crop_x : 0;
+    win[1] = crop ? o->crop_y : 0;
+    win[2] = crop ? o->crop_w : o->width;
+    win[3] = crop ? o->crop_h : o->height;
+}
+
+void st_render_region(const st_render_options *o, st_u32 region[4])
+{
+    int whole = !o->crop_w || o->adaptive || st_sampler_is_tiled(o->sampler);
+    crop_window(o, region);
+    if (whole) {
+        region[0] = region[1] = 0;
+        region[2] = o->width;
+        region[3] = o->height;
+        return;
+    }
+    /* a sample of pixel k lies in [k, k + 1) and reaches the pixels whose
+     * centres are within the radius: at most ceil(r) pixels away (FIS:
+     * its own pixel only) */
+    st_u32 a = o->reconstruction == ST_RECON_FIS ? 0u : (st_u32)ceilf(o->filter.radius);
+    st_u32 x0 = region[0] > a ? region[0] - a : 0, y0 = region[1] > a ? region[1] - a : 0;
+    st_u32 x1 = region[0] + region[2] + a, y1 = region[1] + region[3] + a;
+    region[0] = x0;
+    region[1] = y0;
+    region[2] = (x1 < o->width ? x1 : o->width) - x0;
+    region[3] = (y1 < o->height ? y1 : o->height) - y0;
+}
+
 static st_params make_params(const st_renderer *r, const st_render_options *o,
                              const st_scene_camera *cam)
 {
@@ -251,6 +297,9 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     p.filter = o->filter;
     p.reconstruction = o->reconstruction;
     p.camera = st_render_camera(cam, o->width, o->height);
+    st_u32 region[4];
+    st_render_region(o, region);
+    set_region(&p, region);
     st_sampler_prepare(&p);
     return p;
 }
@@ -317,19 +366,51 @@ static st_status read_new(st_device *dev, cl_mem mem, size_t bytes, void **out, 
     return ST_OK;
 }
 
-/* The resolved image (R, G, B, W), the raw sums when asked, the stats and
- * an adaptive render's spp map. */
+/* Rows win[1] .. win[1] + win[3] - 1, columns win[0] .. win[0] + win[2] - 1
+ * of a per-pixel device buffer (elem bytes a pixel) into dst. */
+static st_status read_window(st_device *dev, cl_mem mem, size_t elem, const st_render_options *o,
+                             const st_u32 win[4], void *dst, st_error *err)
+{
+    size_t row = elem * win[2];
+    if (win[2] == o->width && win[3] == o->height)
+        return st_device_buffer_read(dev, mem, row * win[3], dst, err);
+    char *all;
+    if (read_new(dev, mem, elem * o->width * o->height, (void **)&all, err) != ST_OK)
+        return err->status;
+    for (st_u32 y = 0; y < win[3]; y++)
+        memcpy((char *)dst + row * y, all + elem * ((size_t)(win[1] + y) * o->width + win[0]), row);
+    free(all);
+    return ST_OK;
+}
+
+/* The window's raw sums in a new malloc'ed block *sums. */
+static st_status read_sums(st_renderer *r, st_wave *w, const st_render_options *o,
+                           const st_u32 win[4], st_i64 **sums, st_error *err)
+{
+    *sums = malloc(sizeof(st_film_pixel) * win[2] * win[3]);
+    if (!*sums)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory reading the film back");
+    return read_window(r->dev, w->b[ST_WAVE_film], sizeof(st_film_pixel), o, win, *sums, err);
+}
+
+/* The resolved image (R, G, B, W) of the crop's window (or the image), the
+ * raw sums when asked, the stats and an adaptive render's spp map. */
 static st_status read_results(st_renderer *r, st_wave *w, const st_render_options *o,
                               st_image *out, st_i64 **sums, st_render_stats *st, st_error *err)
 {
     static const char *const names[4] = {"R", "G", "B", "W"};
-    if (st_image_create(out, o->width, o->height, 4, names, err) ||
-        st_device_buffer_read(r->dev, w->b[ST_WAVE_image], st_wave_bytes(w, ST_WAVE_image),
-                              out->data, err) ||
-        read_tallies(r, w, st, err) ||
-        (sums && read_new(r->dev, w->b[ST_WAVE_film], st_wave_bytes(w, ST_WAVE_film),
-                          (void **)sums, err)))
+    st_u32 win[4];
+    crop_window(o, win);
+    if (st_image_create(out, win[2], win[3], 4, names, err) ||
+        read_window(r->dev, w->b[ST_WAVE_image], sizeof(st_pixel), o, win, out->data, err) ||
+        read_tallies(r, w, st, err) || (sums && read_sums(r, w, o, win, sums, err)))
         return err->status;
+    if (o->crop_w) {
+        out->x0 = (int32_t)win[0];
+        out->y0 = (int32_t)win[1];
+        out->display_width = o->width;
+        out->display_height = o->height;
+    }
     if (!o->adaptive)
         return ST_OK;
     if (read_new(r->dev, w->b[ST_WAVE_pixel_spp], st_wave_bytes(w, ST_WAVE_pixel_spp),
@@ -382,6 +463,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     memset(&p, 0, sizeof p);
     p.width = width;
     p.height = height;
+    set_region(&p, (const st_u32[4]){0, 0, width, height});
     st_wave w;
     cl_kernel k;
     st_film_stats counts;
@@ -413,7 +495,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
 static void plan_items(const st_renderer *r, const st_render_options *o, st_params *p,
                        st_u64 *first, st_u64 *total)
 {
-    size_t pixels = (size_t)o->width * o->height;
+    size_t pixels = (size_t)p->region_w * p->region_h;
     st_u32 end = o->sample_end ? o->sample_end : o->spp;
     *first = (st_u64)o->sample_begin * pixels;
     *total = (st_u64)(end - o->sample_begin) * pixels;
@@ -470,8 +552,11 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st->samples = total;
     if (rc == ST_OK && o->adaptive)
         rc = st_render_adaptive(r, &p, &w, o, &pr, st, err);
+    st_u32 win[4];
+    crop_window(o, win);
+    set_region(&p, win); /* resolve the window alone: its counts are the window's */
     if (rc == ST_OK)
-        rc = run_stage(r, ST_STAGE_RESOLVE, &p, pixels, o, st, err);
+        rc = run_stage(r, ST_STAGE_RESOLVE, &p, (size_t)win[2] * win[3], o, st, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;

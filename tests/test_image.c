@@ -443,6 +443,10 @@ static void exr_loads_tiled_half_with_offset_window(void **state)
     assert_int_equal(img.width, 10);
     assert_int_equal(img.height, 7);
     assert_int_equal(img.channels, 2);
+    assert_int_equal(img.x0, 0); /* the data window is the display window, both at (3, 5) */
+    assert_int_equal(img.y0, 0);
+    assert_int_equal(img.display_width, 10);
+    assert_int_equal(img.display_height, 7);
     int f = st_image_find_channel(&img, "F"), h = st_image_find_channel(&img, "H");
     assert_int_equal(f, 0); /* sorted: F before H */
     assert_int_equal(h, 1);
@@ -454,6 +458,51 @@ static void exr_loads_tiled_half_with_offset_window(void **state)
             assert_true(img.data[p + (size_t)h] == (float)(y * 10 + x - 30) / 8.f);
         }
     st_image_free(&img);
+}
+
+/* A window of a larger image (render --crop): OpenEXR's own reader finds the data window at
+ * (x0, y0) inside the display window (0, 0) - (dw-1, dh-1); st_image_load_exr gives back the
+ * origin, the display size and every pixel. 37 rows span three 16-line ZIP chunks, whose y is
+ * then the window's. */
+static void exr_data_window_round_trips(void **state)
+{
+    scratch *s = *state;
+    const char *path = in_dir(s, "window.exr");
+    st_image img, back;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_image_create(&img, 5, 37, 1, (const char *const[]){"Y"}, &err), ST_OK);
+    for (size_t i = 0; i < 5 * 37; i++)
+        img.data[i] = 0.5f * (float)i - 3.0f;
+    img.x0 = 7;
+    img.y0 = 2;
+    img.display_width = 20;
+    img.display_height = 50;
+    assert_int_equal(st_image_save_exr(path, &img, NULL, 0, &err), ST_OK);
+    exr_context_t ctx;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    assert_int_equal(exr_start_read(&ctx, path, &init), 0);
+    exr_attr_box2i_t dw, disp;
+    assert_int_equal(exr_get_data_window(ctx, 0, &dw), 0);
+    assert_int_equal(exr_get_display_window(ctx, 0, &disp), 0);
+    exr_finish(&ctx);
+    assert_int_equal(dw.min.x, 7);
+    assert_int_equal(dw.min.y, 2);
+    assert_int_equal(dw.max.x, 11);
+    assert_int_equal(dw.max.y, 38);
+    assert_int_equal(disp.min.x, 0);
+    assert_int_equal(disp.min.y, 0);
+    assert_int_equal(disp.max.x, 19);
+    assert_int_equal(disp.max.y, 49);
+    assert_int_equal(st_image_load_exr(path, &back, NULL, NULL, &err), ST_OK);
+    assert_int_equal(back.x0, 7);
+    assert_int_equal(back.y0, 2);
+    assert_int_equal(back.display_width, 20);
+    assert_int_equal(back.display_height, 50);
+    assert_int_equal(back.width, 5);
+    assert_int_equal(back.height, 37);
+    assert_memory_equal(back.data, img.data, sizeof(float) * 5 * 37);
+    st_image_free(&img);
+    st_image_free(&back);
 }
 
 static void write_bytes(const char *path, const void *bytes, size_t n)
@@ -805,6 +854,7 @@ int main(void)
         T(exr_attributes_round_trip),
         T(exr_reserved_attribute_fails_leaves_nothing),
         T(exr_loads_tiled_half_with_offset_window),
+        T(exr_data_window_round_trips),
         T(exr_load_malformed_names_file),
         T(exr_load_missing_file_is_io_error),
         T(exr_unwritable_path_fails_leaves_nothing),
