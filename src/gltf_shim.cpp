@@ -1369,6 +1369,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.metallic = float(pbr.metallicFactor);
     o.roughness = float(pbr.roughnessFactor);
     o.alpha_cutoff = float(mat.alphaCutoff);
+    o.double_sided = mat.doubleSided ? 1 : 0;
     const float check[10] = {o.base_color[0], o.base_color[1], o.base_color[2], o.base_color[3],
                              o.emission[0],   o.emission[1],   o.emission[2],   o.metallic,
                              o.roughness,     o.alpha_cutoff};

@@ -43,9 +43,12 @@ static st_scene *white_metal(float roughness)
     return s;
 }
 
-static st_image render_furnace(const st_scene *s, st_u32 spp)
+/* A render of s from its camera `camera` (-1: the default) inside a uniform
+ * environment of radiance 1. */
+static st_image render_view(const st_scene *s, st_u32 spp, st_i32 camera)
 {
     st_render_options o = st_render_defaults();
+    o.camera = camera;
     o.env_given = 1;
     o.env[0] = o.env[1] = o.env[2] = 1.0f;
     o.width = 16;
@@ -60,6 +63,11 @@ static st_image render_furnace(const st_scene *s, st_u32 spp)
         fail_msg("render: %s", err.msg);
     st_renderer_destroy(r);
     return img;
+}
+
+static st_image render_furnace(const st_scene *s, st_u32 spp)
+{
+    return render_view(s, spp, -1);
 }
 
 /* The directional albedo at normal incidence by the midpoint rule in
@@ -194,6 +202,41 @@ static void unlit_shows_base_colour(void **state)
     st_scene_destroy(s);
 }
 
+/* Every pixel of img equals want to 1e-5. */
+static void assert_every_pixel(const st_image *img, const double want[3], const char *what)
+{
+    for (size_t p = 0; p < (size_t)img->width * img->height; p++)
+        for (int c = 0; c < 3; c++)
+            if (fabs(img->data[4 * p + (size_t)c] - want[c]) > 1e-5)
+                fail_msg("%s: pixel %zu channel %d: %g, want %g", what, p, c,
+                         img->data[4 * p + (size_t)c], want[c]);
+}
+
+/* doubleSided: a cube whose fronts face out, unlit (0.3, 0.6, 0.9), in an
+ * environment of 1. From outside (camera 1) both kinds show their colour in
+ * every pixel; from inside (camera 0) the one-sided cube's backs are culled,
+ * so every ray leaves and sees the environment, while the two-sided one
+ * shows its colour. */
+static void double_sided_culls_backs_of_one_sided(void **state)
+{
+    (void)state;
+    const double colour[3] = {0.3, 0.6, 0.9}, env[3] = {1.0, 1.0, 1.0};
+    const char *file[2] = {"tests/scenes/sided_one.gltf", "tests/scenes/sided_two.gltf"};
+    for (int two = 0; two < 2; two++) {
+        st_error err = {0};
+        st_scene *s = NULL;
+        if (st_scene_load(file[two], &s, &err) != ST_OK)
+            fail_msg("load: %s", err.msg);
+        assert_int_equal((s->materials[0].flags & ST_MAT_DOUBLE_SIDED) != 0u, two);
+        st_image in = render_view(s, 2, 0), out = render_view(s, 2, 1);
+        assert_every_pixel(&in, two ? colour : env, two ? "two-sided, inside" : "one-sided, inside");
+        assert_every_pixel(&out, colour, "outside");
+        st_image_free(&in);
+        st_image_free(&out);
+        st_scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
@@ -201,6 +244,7 @@ int main(void)
         cmocka_unit_test(normal_map_tilts_by_its_angle),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
         cmocka_unit_test(unlit_shows_base_colour),
+        cmocka_unit_test(double_sided_culls_backs_of_one_sided),
     };
     return cmocka_run_group_tests_name("shading", device, device_setup, device_teardown);
 }

@@ -51,6 +51,10 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
               normalTexture of scale 0.5.
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
+sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
+              seen from outside (its fronts face out), KHR_materials_unlit
+              (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
+              at the centre looking down -Z, camera 1 orthographic outside on +Z.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -623,6 +627,36 @@ def write_lighting():
     write_json("material_extensions.gltf", g)
 
 
+def write_sided():
+    # face (axis a, sign sg): corners c -+ u -+ v with u x v = the outward normal
+    pos, ind = [], []
+    for a in range(3):
+        for sg in (1.0, -1.0):
+            c = [0.0, 0.0, 0.0]
+            c[a] = sg
+            u, v = [0.0] * 3, [0.0] * 3
+            u[(a + 1) % 3], v[(a + 2) % 3] = 1.0, 1.0
+            if sg < 0:
+                u, v = v, u
+            base = len(pos) // 3
+            for du, dv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                pos += [c[k] + du * u[k] + dv * v[k] for k in range(3)]
+            ind += [base, base + 1, base + 2, base, base + 2, base + 3]
+    b = Blob()
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, 24, "VEC3",
+                                               min=[-1.0] * 3, max=[1.0] * 3)},
+         "indices": b.accessor(struct.pack("<36H", *ind), 5123, 36, "SCALAR"), "material": 0}
+    cameras = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}, ORTHO[0]]
+    for name, two in (("sided_one.gltf", False), ("sided_two.gltf", True)):
+        mat = {"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.6, 0.9, 1.0]},
+               "doubleSided": two, "extensions": {"KHR_materials_unlit": {}}}
+        g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                nodes=[{"mesh": 0}, {"camera": 0}, dict(ortho_camera_node(), camera=1)],
+                scenes=[{"nodes": [0, 1, 2]}], cameras=cameras, materials=[mat],
+                extensionsUsed=["KHR_materials_unlit"])
+        write_json(name, g)
+
+
 def write_bad():
     # One valid base (u16 layout with a data: URI), then one fault per file.
     def base():
@@ -738,6 +772,7 @@ def main():
     write_lighting()
     write_strip_fan()
     write_sparse()
+    write_sided()
     write_bad()
 
 
