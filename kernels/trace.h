@@ -336,16 +336,17 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
 }
 
 /* Whether any triangle is hit at t in (0, ray->tmax) through the wide tree:
- * stops at the first (no ordering: any occluder will do). */
-ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL st_triangle *tris,
-                            const st_ray *ray)
+ * stops at the first (no ordering: any occluder will do), which it leaves in
+ * *hit (t, u, v, prim; unspecified when there is none), so that the caller
+ * can look at what it met (kernels/shadow.h: its material's alpha). */
+ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh4_node *nodes,
+                                const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
 {
     st_trace_ray r;
-    st_hit hit;
     st_u32 stack[ST_BVH4_STACK];
     st_u32 sp = 0u, node = 0u;
     st_trace_setup(&r, ray);
-    hit.t = ray->tmax;
+    hit->t = ray->tmax;
     for (;;) {
         const ST_GLOBAL st_bvh4_node *n = nodes + node;
         st_f32 tn[4];
@@ -355,7 +356,7 @@ ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL
                 continue;
             st_u32 first = n->child[k], count = n->count[k];
             for (st_u32 i = first; i < first + count; ++i)
-                if (st_intersect_triangle(tris + i, ray, i, &hit))
+                if (st_intersect_triangle(tris + i, ray, i, hit))
                     return 1;
             if (count == 0u)
                 stack[sp++] = first;
@@ -364,6 +365,14 @@ ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL
             return 0;
         node = stack[--sp];
     }
+}
+
+/* st_intersect4_any_hit without the hit. */
+ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL st_triangle *tris,
+                            const st_ray *ray)
+{
+    st_hit hit;
+    return st_intersect4_any_hit(nodes, tris, ray, &hit);
 }
 
 #endif

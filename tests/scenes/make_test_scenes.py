@@ -657,6 +657,44 @@ def write_sided():
         write_json(name, g)
 
 
+def write_shadows():
+    half = [[0, 0, 0, 0] * 2 + [255, 255, 255, 255] * 2] * 4  # left half alpha 0
+    lambert = {"extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    black = [0.0, 0.0, 0.0, 1.0]  # the occluder reflects nothing onto the ground
+    variants = {
+        "shadow_cutout.gltf": (-1.0, {"alphaMode": "MASK", "pbrMetallicRoughness": {
+            "baseColorFactor": black, "baseColorTexture": {"index": 0}, "metallicFactor": 0.0}}),
+        "shadow_half.gltf": (0.0, {"pbrMetallicRoughness": {"baseColorFactor": black,
+                                                            "metallicFactor": 0.0}}),
+        "shadow_opaque.gltf": (-1.0, {"pbrMetallicRoughness": {"baseColorFactor": black,
+                                                               "metallicFactor": 0.0}}),
+        "shadow_blend.gltf": (-1.0, {"alphaMode": "BLEND", "pbrMetallicRoughness": {
+            "baseColorFactor": [0.0, 0.0, 0.0, 0.5], "metallicFactor": 0.0}}),
+    }
+    for name, (left, occluder) in variants.items():
+        b = Blob()
+        ground, top = b.quad(-1.0), b.quad(0.0, QUAD_UV)
+        if left != -1.0:  # only x in [left, 1]
+            pos = list(QUAD_POS)
+            pos[0] = pos[9] = left
+            top["attributes"]["POSITION"] = b.accessor(f32(pos), 5126, 4, "VEC3",
+                                                       min=[left, -1.0, 0.0], max=[1.0, 1.0, 0.0])
+        # the occluder faces down (one-sided): shadow rays from the ground meet
+        # its front, camera rays from above pass through its back
+        top["indices"] = b.accessor(struct.pack("<6H", 0, 2, 1, 0, 3, 2), 5123, 6, "SCALAR")
+        top["attributes"]["NORMAL"] = b.accessor(f32([0.0, 0.0, -1.0] * 4), 5126, 4, "VEC3")
+        ground["material"], top["material"] = 0, 1
+        occluder = dict(occluder, **lambert)
+        g = doc([{"primitives": [ground, top]}], b.accessors, b.views, b.buffers(),
+                nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+                cameras=ORTHO, materials=[dict(lambert, pbrMetallicRoughness={
+                    "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0}),
+                                          occluder],
+                images=[{"uri": png_uri(png(4, 4, 4, half))}],
+                samplers=[{"magFilter": 9728}], textures=[{"source": 0, "sampler": 0}])
+        write_json(name, g)
+
+
 def write_bad():
     # One valid base (u16 layout with a data: URI), then one fault per file.
     def base():
@@ -773,6 +811,7 @@ def main():
     write_strip_fan()
     write_sparse()
     write_sided()
+    write_shadows()
     write_bad()
 
 
