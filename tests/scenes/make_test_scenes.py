@@ -55,6 +55,16 @@ sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
               seen from outside (its fronts face out), KHR_materials_unlit
               (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
               at the centre looking down -Z, camera 1 orthographic outside on +Z.
+quantized, quantized_float  a pyramid under a scaled node, once with
+              KHR_mesh_quantization (positions as plain shorts; normals as normalised bytes; tangents as normalised
+              shorts; texcoords as plain unsigned bytes) and once as floats holding the values the extension's
+              decoding gives (c, max(c / 127, -1), max(c / 32767, -1), ...).
+shadow_*      a grey (0.5) Lambertian ground at z = -1 under a black occluder at
+              z = 0 facing down (one-sided: the camera above sees through it to
+              the ground; shadow rays meet it), orthographic: shadow_cutout's occluder is
+              the 2 x 2 quad, alpha MASK with its left half (x < 0) at alpha 0;
+              shadow_half's is only the right half, opaque; shadow_opaque's the
+              whole quad, opaque; shadow_blend's the whole quad, BLEND alpha 0.5.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -657,6 +667,61 @@ def write_sided():
         write_json(name, g)
 
 
+def write_quantized():
+    pos = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0), (0, 0, 3)]
+    nrm = [(0, -127, 0), (127, 0, 0), (0, 127, 0), (-128, 0, 0), (0, 0, 127)]  # -128: -1
+    tan = [(32767, 0, 0, 32767), (0, 32767, 0, -32767), (-32768, 0, 0, 32767),
+           (0, -32767, 0, 32767), (16384, 0, 0, 32767)]
+    uv = [(0, 0), (1, 0), (2, 1), (0, 3), (255, 7)]
+    ind = [0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]
+
+    def sn(c, m):
+        return max(c / m, -1.0)
+    variants = [  # (attribute, float values, packed element, stride, componentType, normalized)
+        ("POSITION", pos, lambda e: struct.pack("<3hxx", *e), 8, 5122, False, "VEC3"),
+        ("NORMAL", [[sn(c, 127) for c in e] for e in nrm], lambda e: struct.pack("<3bx", *e),
+         4, 5120, True, "VEC3"),
+        ("TANGENT", [[sn(c, 32767) for c in e] for e in tan], lambda e: struct.pack("<4h", *e),
+         8, 5122, True, "VEC4"),
+        ("TEXCOORD_0", uv, lambda e: struct.pack("<2Bxx", *e), 4, 5121, False, "VEC2"),
+    ]
+    quant_src = {"POSITION": pos, "NORMAL": nrm, "TANGENT": tan, "TEXCOORD_0": uv}
+    for name, quantized in (("quantized.gltf", True), ("quantized_float.gltf", False)):
+        blob, views, accessors, attrs = bytearray(), [], [], {}
+        for attr, floats, pack, stride, ct, normalized, kind in variants:
+            n = {"VEC2": 2, "VEC3": 3, "VEC4": 4}[kind]
+            if quantized:
+                data = b"".join(pack(e) for e in quant_src[attr])
+                view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data),
+                        "byteStride": stride}
+                acc = {"componentType": ct, "count": 5, "type": kind}
+                if normalized:
+                    acc["normalized"] = True
+            else:
+                data = struct.pack("<%df" % (5 * n), *[float(c) for e in floats for c in e])
+                view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)}
+                acc = {"componentType": 5126, "count": 5, "type": kind}
+            if attr == "POSITION":
+                acc["min"], acc["max"] = [-2, -2, 0], [2, 2, 3]
+            blob += data
+            views.append(view)
+            acc["bufferView"] = len(views) - 1
+            accessors.append(acc)
+            attrs[attr] = len(accessors) - 1
+        data = struct.pack("<12H", *ind)
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+        blob += data
+        accessors.append({"bufferView": len(views) - 1, "componentType": 5123, "count": 12,
+                          "type": "SCALAR"})
+        g = doc([{"primitives": [{"attributes": attrs, "indices": len(accessors) - 1}]}],
+                accessors, views, [{"byteLength": len(blob), "uri": data_uri(bytes(blob))}],
+                nodes=[{"mesh": 0, "scale": [0.25, 0.5, 0.125], "translation": [1.0, 0.0, 0.0]}])
+        if quantized:
+            write_json("bad_quantized_undeclared.gltf", g)  # the types, without the extension
+            g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_mesh_quantization"]
+        write_json(name, g)
+
+
 def write_shadows():
     half = [[0, 0, 0, 0] * 2 + [255, 255, 255, 255] * 2] * 4  # left half alpha 0
     lambert = {"extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
@@ -812,6 +877,7 @@ def main():
     write_sparse()
     write_sided()
     write_shadows()
+    write_quantized()
     write_bad()
 
 
