@@ -50,6 +50,13 @@ typedef struct st_bvh {
  * *out is NULL. */
 st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err);
 
+/* Marks each triangle one-sided (st_triangle.v0[3] = ST_TRI_ONE_SIDED) or
+ * two-sided from its material's ST_MAT_DOUBLE_SIDED flag: tri_material[i]
+ * is input triangle i's index into materials. st_bvh_build leaves every
+ * triangle two-sided; every traversal of a scene's triangles (the renderer's
+ * and the host's references) marks them so, to cull alike. */
+void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials);
+
 /* Collapses bvh->nodes into bvh->wide (src/bvh_wide.c; st_bvh_build calls
  * it): each wide node takes its binary node's two children and, while it has
  * fewer than four, opens the interior child of largest surface area (the one

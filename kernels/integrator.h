@@ -146,16 +146,22 @@ static float3 surface_f_cos(const st_surface *v, float3 wi, float *pdf)
 
 /* Whether the ray goes on through the surface: an alpha MASK cut-out, or
  * BLEND coverage (passes with probability 1 - alpha, drawn from the counter
- * hash keyed by the triangle and depth). */
-static int alpha_passes(const st_scene_refs *s, const st_params *p, const st_surface *v,
-                        st_sample smp, st_u32 prim, st_u32 depth)
+ * hash keyed by the seed ^ key, the sample, the triangle and depth). */
+static int alpha_passes_keyed(const st_scene_refs *s, const st_params *p, const st_surface *v,
+                              st_sample smp, st_u32 prim, st_u32 depth, st_u32 key)
 {
     __global const st_material *m = &s->materials[s->tri_material[prim]];
     if (m->alpha_mode == ST_ALPHA_OPAQUE)
         return 0;
-    float u = st_rng_unit(st_rng_key(p->seed ^ 0xa1fa0000u, smp.pixel, smp.index),
-                          prim ^ (depth << 24));
+    float u = st_rng_unit(st_rng_key(p->seed ^ key, smp.pixel, smp.index), prim ^ (depth << 24));
     return m->alpha_mode == ST_ALPHA_MASK ? v->base.w < m->alpha_cutoff : u >= v->base.w;
+}
+
+/* alpha_passes_keyed for the rays the path follows (shadow rays: shadow.h). */
+static int alpha_passes(const st_scene_refs *s, const st_params *p, const st_surface *v,
+                        st_sample smp, st_u32 prim, st_u32 depth)
+{
+    return alpha_passes_keyed(s, p, v, smp, prim, depth, 0xa1fa0000u);
 }
 
 /* The weight of the emission seen along the ray (one-sided; 0: none): 1

@@ -132,7 +132,10 @@ typedef struct st_bvh4_node {
 } st_bvh4_node;
 
 /* A triangle prepared for Moller-Trumbore: v0 and the two edges e1 = v1 - v0,
- * e2 = v2 - v0. The fourth float of each is padding (0). */
+ * e2 = v2 - v0. v0[3] is ST_TRI_ONE_SIDED when rays hit it only from the
+ * front (v0, v1, v2 counter-clockwise as seen: its material is not
+ * doubleSided), 0 when from both sides; e1[3], e2[3] are padding (0). */
+#define ST_TRI_ONE_SIDED 1.0f
 typedef struct st_triangle {
     st_f32 v0[4];
     st_f32 e1[4];
@@ -172,6 +175,7 @@ typedef struct st_tri_normals {
 /* Material flags (st_material.flags). */
 #define ST_MAT_UNLIT 1u /* KHR_materials_unlit: shows its base colour, unlit */
 #define ST_MAT_VERTEX_COLOR 2u /* some triangle of it has a COLOR_0 other than white */
+#define ST_MAT_DOUBLE_SIDED 4u /* glTF doubleSided: its triangles are hit from both sides */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its

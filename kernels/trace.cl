@@ -1,7 +1,15 @@
 /* trace.cl — closest-hit and any-hit queries through the BVH (trace.h holds
- * the traversal, shared with the host's reference tests). */
+ * the traversal, shared with the host's reference tests; shadow.h lets
+ * shadow rays through alpha cut-outs). */
 #include "st_shared.h"
+#include "rng.h"
+#include "samplers.h"
 #include "trace.h"
+#include "texture.h"
+#include "lights.h"
+#include "bsdf.h"
+#include "integrator.h"
+#include "shadow.h"
 
 /* Reads ray and path (depth ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT
  * on a miss). */
@@ -22,7 +30,8 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
 }
 
 /* Reads the shadow ray (tmax 0: none); adds its contribution to the path's
- * radiance when nothing blocks it, and counts the ray. */
+ * radiance when nothing blocks it (shadow_blocked: alpha lets it through
+ * cut-outs), and counts the ray. */
 __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -35,8 +44,11 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
     r.o[0] = s.o[0]; r.o[1] = s.o[1]; r.o[2] = s.o[2];
     r.d[0] = s.d[0]; r.d[1] = s.d[1]; r.d[2] = s.d[2];
     r.tmax = s.tmax;
-    float3 l = st_intersect4_any(nodes, tris, &r) ? (float3)(0.0f) : vload3(0, s.contribution);
+    st_scene_refs sc = {tris, normals, tri_material, materials, light_tri, light_cdf,
+                        light_pdf, tri_uv, tangents, colors, textures, texels};
     __global st_path *pa = &path[i];
+    int blocked = shadow_blocked(nodes, &sc, &p, &sh, r, sample[i], pa->depth);
+    float3 l = blocked ? (float3)(0.0f) : vload3(0, s.contribution);
     vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
     pa->shadow_rays++;
 }

@@ -7,7 +7,8 @@
  * dynamic indexing of private arrays except the traversal stack.
  *
  * Contract: a hit is a triangle crossing at t in (0, tmax), t > 0 strictly,
- * front and back faces alike. st_intersect_closest returns the smallest such t
+ * from its front, or from either side where the triangle is two-sided (see
+ * st_triangle: one-sided ones are culled from behind, as a rasteriser does). st_intersect_closest returns the smallest such t
  * (ties: whichever triangle the traversal meets first); st_intersect_any
  * returns whether any exists (shadow rays). Both agree with a brute-force loop
  * of st_intersect_triangle over all triangles: the box test is conservative
@@ -103,10 +104,14 @@ ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st
 }
 
 /* Moller-Trumbore ray/triangle test (Moller & Trumbore, "Fast, Minimum Storage
- * Ray/Triangle Intersection", JGT 2(1) 1997), without back-face culling:
+ * Ray/Triangle Intersection", JGT 2(1) 1997):
  *   p = d x e2, det = e1 . p, s = o - v0, q = s x e1,
  *   u = (s . p) / det, v = (d . q) / det, t = (e2 . q) / det,
- *   hit iff u >= 0, v >= 0, u + v <= 1 and 0 < t < hit->t.
+ *   hit iff u >= 0, v >= 0, u + v <= 1 and 0 < t < hit->t, and, for a
+ *   one-sided triangle (v0[3] != 0), det > 0.
+ * det = e1 . (d x e2) = -d . (e1 x e2): positive when the ray meets the
+ * front, the side from which v0, v1, v2 run counter-clockwise (glTF's front
+ * face, §3.7.2.1); so culling costs one compare, no extra arithmetic.
  * det = 0 (ray parallel to the plane, or a degenerate triangle) needs no test
  * of its own: 1/det is infinite, so u and v are infinite or NaN and fail the
  * barycentric tests. On a hit, fills hit->t, u, v and hit->prim = prim and
@@ -120,7 +125,8 @@ ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *
     st_f32 px = dy * e2z - dz * e2y;
     st_f32 py = dz * e2x - dx * e2z;
     st_f32 pz = dx * e2y - dy * e2x;
-    st_f32 inv_det = 1.0f / (e1x * px + e1y * py + e1z * pz);
+    st_f32 det = e1x * px + e1y * py + e1z * pz;
+    st_f32 inv_det = 1.0f / det;
     st_f32 sx = ray->o[0] - tri->v0[0];
     st_f32 sy = ray->o[1] - tri->v0[1];
     st_f32 sz = ray->o[2] - tri->v0[2];
@@ -130,7 +136,8 @@ ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *
     st_f32 qz = sx * e1y - sy * e1x;
     st_f32 v = (dx * qx + dy * qy + dz * qz) * inv_det;
     st_f32 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
-    int ok = (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < hit->t);
+    int ok = (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < hit->t) &
+             ((det > 0.0f) | (tri->v0[3] == 0.0f));
     if (ok) {
         hit->t = t;
         hit->u = u;
@@ -329,16 +336,17 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
 }
 
 /* Whether any triangle is hit at t in (0, ray->tmax) through the wide tree:
- * stops at the first (no ordering: any occluder will do). */
-ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL st_triangle *tris,
-                            const st_ray *ray)
+ * stops at the first (no ordering: any occluder will do), which it leaves in
+ * *hit (t, u, v, prim; unspecified when there is none), so that the caller
+ * can look at what it met (kernels/shadow.h: its material's alpha). */
+ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh4_node *nodes,
+                                const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
 {
     st_trace_ray r;
-    st_hit hit;
     st_u32 stack[ST_BVH4_STACK];
     st_u32 sp = 0u, node = 0u;
     st_trace_setup(&r, ray);
-    hit.t = ray->tmax;
+    hit->t = ray->tmax;
     for (;;) {
         const ST_GLOBAL st_bvh4_node *n = nodes + node;
         st_f32 tn[4];
@@ -348,7 +356,7 @@ ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL
                 continue;
             st_u32 first = n->child[k], count = n->count[k];
             for (st_u32 i = first; i < first + count; ++i)
-                if (st_intersect_triangle(tris + i, ray, i, &hit))
+                if (st_intersect_triangle(tris + i, ray, i, hit))
                     return 1;
             if (count == 0u)
                 stack[sp++] = first;
@@ -357,6 +365,14 @@ ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL
             return 0;
         node = stack[--sp];
     }
+}
+
+/* st_intersect4_any_hit without the hit. */
+ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL st_triangle *tris,
+                            const st_ray *ray)
+{
+    st_hit hit;
+    return st_intersect4_any_hit(nodes, tris, ray, &hit);
 }
 
 #endif

@@ -990,3 +990,11 @@ void st_bvh_destroy(st_bvh *bvh)
     free(bvh->order);
     free(bvh);
 }
+
+void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials)
+{
+    for (st_u32 i = 0; i < bvh->tri_count; ++i) {
+        st_u32 flags = materials[tri_material[bvh->order[i]]].flags;
+        bvh->tris[i].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
+    }
+}

@@ -6,7 +6,7 @@
  * and accessors, §3.7.2 mesh primitives, §3.8 textures, images and samplers,
  * §3.9 materials, §3.10 cameras, §4.4 the GLB container; and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
- * KHR_materials_unlit and KHR_texture_transform.
+ * KHR_materials_unlit, KHR_texture_transform and KHR_mesh_quantization.
  *
  * Invariants: no byte of a buffer is read before the accessor and bufferView
  * ranges that cover it were checked against the buffer's real size, and no
@@ -33,6 +33,7 @@
 #include <stb/stb_image.h> /* Debian's libstb holds the implementation */
 #include <cjson/cJSON.h>    /* Debian libcjson-dev: extensionsRequired, before tinygltf */
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
 #include <cmath>
@@ -233,7 +234,7 @@ void check_glb(const unsigned char *b, size_t size)
  * error, any other in extensionsUsed a warning. */
 const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
-    "KHR_materials_unlit", "KHR_texture_transform"};
+    "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization"};
 
 bool supported(const char *ext)
 {
@@ -663,22 +664,102 @@ void densify_sparse(Model &m)
     }
 }
 
-/* Reads a float VEC3 accessor (POSITION, NORMAL) into xyz triples. glTF
- * accessors must not hold NaN or infinity (glTF-Validator's
+/* The (componentType, normalized) pairs an attribute may use, one bit each:
+ * float, then the signed and unsigned bytes and shorts, plain or normalised. */
+enum : unsigned {
+    Q_F = 1u, Q_B = 2u, Q_UB = 4u, Q_S = 8u, Q_US = 16u,
+    Q_BN = 32u, Q_UBN = 64u, Q_SN = 128u, Q_USN = 256u,
+    Q_INT = Q_B | Q_UB | Q_S | Q_US | Q_BN | Q_UBN | Q_SN | Q_USN
+};
+
+unsigned type_bit(int ct, bool normalized)
+{
+    switch (ct) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return normalized ? 0u : Q_F;
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return normalized ? Q_BN : Q_B;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? Q_UBN : Q_UB;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return normalized ? Q_SN : Q_S;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return normalized ? Q_USN : Q_US;
+    default: return 0u;
+    }
+}
+
+/* Component k of the element at p as a float: a float as stored; an
+ * integer as its value or, normalised, as §3.11 maps it: c / 255,
+ * c / 65535, max(c / 127, -1), max(c / 32767, -1). */
+float component(const unsigned char *p, int ct, bool normalized, int k)
+{
+    float v;
+    switch (ct) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        memcpy(&v, p + 4 * k, 4);
+        return v;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+        v = float(int8_t(p[k]));
+        return normalized ? std::max(v / 127.0f, -1.0f) : v;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        v = float(p[k]);
+        return normalized ? v / 255.0f : v;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t h;
+        memcpy(&h, p + 2 * k, 2);
+        return normalized ? std::max(float(h) / 32767.0f, -1.0f) : float(h);
+    }
+    default: {
+        uint16_t h;
+        memcpy(&h, p + 2 * k, 2);
+        return normalized ? float(h) / 65535.0f : float(h);
+    }
+    }
+}
+
+/* The types an attribute may use: the core's (§3.7.2.1), widened by
+ * KHR_mesh_quantization's table where the file uses that extension. */
+unsigned allowed_types(const Model &m, const char *attr)
+{
+    bool quantized = false;
+    for (const std::string &ext : m.extensionsUsed)
+        quantized = quantized || ext == "KHR_mesh_quantization";
+    const bool uv = strncmp(attr, "TEXCOORD", 8) == 0;
+    if (!quantized)
+        return uv ? Q_F | Q_UBN | Q_USN : Q_F;
+    if (strcmp(attr, "NORMAL") == 0 || strcmp(attr, "TANGENT") == 0)
+        return Q_F | Q_BN | Q_SN;
+    return Q_F | Q_INT; /* POSITION, TEXCOORD_n */
+}
+
+/* Reads attribute accessor a (`attr`: POSITION, NORMAL, TANGENT,
+ * TEXCOORD_n) of n components per element into floats, of a type that
+ * allowed_types permits; vertices > 0: the element count it must have.
+ * glTF accessors must not hold NaN or infinity (glTF-Validator's
  * ACCESSOR_INVALID_FLOAT), so one is a format error, not a dropped triangle. */
-void read_vec3(const Model &m, int a, std::vector<float> &out)
+void read_attribute(const Model &m, int a, const char *attr, int n, size_t vertices,
+                    std::vector<float> &out)
 {
     const tinygltf::Accessor &acc = m.accessors[size_t(a)];
-    if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || acc.type != TINYGLTF_TYPE_VEC3)
-        fail("accessor %d: must be float VEC3 (componentType %d, type %d)", a,
-             acc.componentType, acc.type);
+    const int ct = acc.componentType;
+    const int type = n == 2 ? TINYGLTF_TYPE_VEC2 : n == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
+    if (acc.type != type || !(type_bit(ct, acc.normalized) & allowed_types(m, attr)))
+        fail("accessor %d: %s must be %s VEC%d (componentType %d%s, type %d)", a, attr,
+             allowed_types(m, attr) == Q_F ? "float" : "float or a permitted integer", n, ct,
+             acc.normalized ? " normalized" : "", acc.type);
     const span s = accessor_span(m, a);
-    out.resize(3 * s.count);
+    if (vertices > 0 && s.count != vertices)
+        fail("accessor %d: %s has %zu elements, POSITION %zu", a, attr, s.count, vertices);
+    out.resize(size_t(n) * s.count);
     for (size_t i = 0; i < s.count; i++)
-        memcpy(&out[3 * i], s.data + i * s.stride, 3 * sizeof(float));
-    for (size_t k = 0; k < out.size(); k++)
-        if (!std::isfinite(out[k]))
-            fail("accessor %d: non-finite value in element %zu", a, k / 3);
+        for (int k = 0; k < n; k++) {
+            const float v = component(s.data + i * s.stride, ct, acc.normalized, k);
+            if (!std::isfinite(v))
+                fail("accessor %d: non-finite value in element %zu", a, i);
+            out[size_t(n) * i + size_t(k)] = v;
+        }
+}
+
+/* Reads POSITION or NORMAL into xyz triples. */
+void read_vec3(const Model &m, int a, const char *attr, std::vector<float> &out)
+{
+    read_attribute(m, a, attr, 3, 0, out);
 }
 
 /* Reads an index accessor (unsigned byte, short or int scalars), checking
@@ -713,40 +794,10 @@ void read_indices(const Model &m, int a, size_t vertices, std::vector<uint32_t> 
 }
 
 /* Reads TEXCOORD_0 (§3.7.2.1: float, or normalised unsigned byte or short,
- * VEC2) into (u, v) pairs, one per vertex. */
+ * VEC2; more with KHR_mesh_quantization) into (u, v) pairs, one per vertex. */
 void read_uv(const Model &m, int a, size_t vertices, std::vector<float> &out)
 {
-    const tinygltf::Accessor &acc = m.accessors[size_t(a)];
-    const int ct = acc.componentType;
-    const bool ok = ct == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                    ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-    if (acc.type != TINYGLTF_TYPE_VEC2 || !ok)
-        fail("accessor %d: TEXCOORD_0 must be float, unsigned byte or unsigned short VEC2 "
-             "(componentType %d, type %d)",
-             a, ct, acc.type);
-    const span s = accessor_span(m, a);
-    if (s.count != vertices)
-        fail("accessor %d: TEXCOORD_0 has %zu elements, POSITION %zu", a, s.count, vertices);
-    out.resize(2 * s.count);
-    for (size_t i = 0; i < s.count; i++) {
-        const unsigned char *p = s.data + i * s.stride;
-        for (int k = 0; k < 2; k++) {
-            float v;
-            if (ct == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-                memcpy(&v, p + 4 * k, 4);
-            } else if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
-                v = float(p[k]) / 255.0f;
-            } else {
-                uint16_t h;
-                memcpy(&h, p + 2 * k, 2);
-                v = float(h) / 65535.0f;
-            }
-            if (!std::isfinite(v))
-                fail("accessor %d: non-finite value in element %zu", a, i);
-            out[2 * i + size_t(k)] = v;
-        }
-    }
+    read_attribute(m, a, "TEXCOORD_0", 2, vertices, out);
 }
 
 /* ---- primitives -------------------------------------------------------------- */
@@ -886,21 +937,11 @@ void read_colors(const Model &m, int a, size_t vertices, std::vector<float> &out
     }
 }
 
-/* Reads TANGENT (§3.7.2.1: float VEC4, xyz unit, w = ±1 the handedness). */
+/* Reads TANGENT (§3.7.2.1: float VEC4, xyz unit, w = ±1 the handedness;
+ * normalised bytes or shorts with KHR_mesh_quantization). */
 void read_tangents(const Model &m, int a, size_t vertices, std::vector<float> &out)
 {
-    const tinygltf::Accessor &acc = m.accessors[size_t(a)];
-    if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || acc.type != TINYGLTF_TYPE_VEC4)
-        fail("accessor %d: TANGENT must be float VEC4", a);
-    const span s = accessor_span(m, a);
-    if (s.count != vertices)
-        fail("accessor %d: TANGENT has %zu elements, POSITION %zu", a, s.count, vertices);
-    out.resize(4 * s.count);
-    for (size_t i = 0; i < s.count; i++)
-        memcpy(&out[4 * i], s.data + i * s.stride, 4 * sizeof(float));
-    for (size_t k = 0; k < out.size(); k++)
-        if (!std::isfinite(out[k]))
-            fail("accessor %d: non-finite value in element %zu", a, k / 4);
+    read_attribute(m, a, "TANGENT", 4, vertices, out);
 }
 
 /* Per-vertex tangents from the texture coordinates, in object space: each
@@ -1062,11 +1103,11 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     if (prim.material != -1)
         check_index(prim.material, m.materials.size(), "mesh %d primitive %zu: material", mesh, p);
     const uint32_t material = prim.material == -1 ? ST_GLTF_NO_MATERIAL : uint32_t(prim.material);
-    read_vec3(m, pos, s.p);
+    read_vec3(m, pos, "POSITION", s.p);
     const size_t nv = s.p.size() / 3;
     const int nrm = attribute(m, mesh, p, "NORMAL");
     if (nrm >= 0) {
-        read_vec3(m, nrm, s.n);
+        read_vec3(m, nrm, "NORMAL", s.n);
         if (s.n.size() != s.p.size())
             fail("mesh %d primitive %zu: NORMAL has %zu elements, POSITION %zu", mesh, p,
                  s.n.size() / 3, nv);
@@ -1369,6 +1410,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.metallic = float(pbr.metallicFactor);
     o.roughness = float(pbr.roughnessFactor);
     o.alpha_cutoff = float(mat.alphaCutoff);
+    o.double_sided = mat.doubleSided ? 1 : 0;
     const float check[10] = {o.base_color[0], o.base_color[1], o.base_color[2], o.base_color[3],
                              o.emission[0],   o.emission[1],   o.emission[2],   o.metallic,
                              o.roughness,     o.alpha_cutoff};

@@ -37,6 +37,7 @@ typedef struct st_gltf_material {
     float specular[4];     /* KHR_materials_specular: specularColorFactor RGB, specularFactor */
     float ior;             /* KHR_materials_ior, 1.5 by default */
     int unlit;             /* KHR_materials_unlit */
+    int double_sided;      /* doubleSided (false by default: one-sided) */
     int specular_tex, specular_color_tex; /* specularTexture (A), specularColorTexture */
     int normal_tex;        /* normalTexture */
     float normal_scale;    /* normalTexture.scale, 1 by default */

@@ -155,6 +155,7 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     double t0 = st_render_now();
     if (st_bvh_build(scene->positions, scene->tri_count, &bvh, err) != ST_OK)
         goto fail;
+    st_bvh_set_sides(bvh, scene->tri_material, scene->materials);
     r->bvh_seconds = st_render_now() - t0;
     if (upload_scene(r, bvh, err) != ST_OK || st_device_build(dev, NULL, err) != ST_OK)
         goto fail;

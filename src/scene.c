@@ -456,7 +456,7 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->metallic_roughness_tex = texture_index(in->metallic_roughness_tex);
         memcpy(m->specular, in->specular, sizeof m->specular);
         m->ior = in->ior;
-        m->flags = in->unlit ? ST_MAT_UNLIT : 0u;
+        m->flags = (in->unlit ? ST_MAT_UNLIT : 0u) | (in->double_sided ? ST_MAT_DOUBLE_SIDED : 0u);
         m->specular_tex = texture_index(in->specular_tex);
         m->specular_color_tex = texture_index(in->specular_color_tex);
         m->normal_tex = texture_index(in->normal_tex);

@@ -138,13 +138,31 @@ static st_triangle *prepare(const float *p, uint32_t n)
     return t;
 }
 
-/* The definition: the smallest t over all input triangles. */
+/* Whether a one-sided triangle turns its back to the ray: d . (e1 x e2) >= 0
+ * (glTF's front is where v0, v1, v2 run counter-clockwise), computed here in
+ * double, apart from trace.h's sign of Moller-Trumbore's determinant. */
+static int culled(const st_triangle *t, const st_ray *ray)
+{
+    if (t->v0[3] == 0.0f)
+        return 0;
+    double n[3] = {(double)t->e1[1] * t->e2[2] - (double)t->e1[2] * t->e2[1],
+                   (double)t->e1[2] * t->e2[0] - (double)t->e1[0] * t->e2[2],
+                   (double)t->e1[0] * t->e2[1] - (double)t->e1[1] * t->e2[0]};
+    return ray->d[0] * n[0] + ray->d[1] * n[1] + ray->d[2] * n[2] >= 0.0;
+}
+
+/* The definition: the smallest t over all input triangles that face the ray
+ * or are two-sided (each tested as two-sided once it passes the cull). */
 static int brute_closest(const st_triangle *tris, uint32_t n, const st_ray *ray, st_hit *hit)
 {
     hit->t = ray->tmax;
     hit->prim = ST_NO_HIT;
-    for (uint32_t i = 0; i < n; ++i)
-        st_intersect_triangle(&tris[i], ray, i, hit);
+    for (uint32_t i = 0; i < n; ++i) {
+        st_triangle two_sided = tris[i];
+        two_sided.v0[3] = 0.0f;
+        if (!culled(&tris[i], ray))
+            st_intersect_triangle(&two_sided, ray, i, hit);
+    }
     return hit->prim != ST_NO_HIT;
 }
 
@@ -383,7 +401,8 @@ static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st
 /* Builds, checks the structure, then compares `rays` random rays with the
  * brute-force closest hit, and any-hit with the closest hit's existence.
  * Returns the number of rays that hit (to check the test is not vacuous). */
-static uint32_t check_scene(const float *p, uint32_t n, uint32_t rays, uint64_t seed)
+static uint32_t check_scene_sided(const float *p, uint32_t n, uint32_t rays, uint64_t seed,
+                                  int one_sided)
 {
     st_bvh *bvh = NULL;
     st_error err = {0};
@@ -395,6 +414,10 @@ static uint32_t check_scene(const float *p, uint32_t n, uint32_t rays, uint64_t 
     st_triangle *input = prepare(p, n);
     check_structure(bvh, p, n);
     check_tris_match_order(bvh, input);
+    for (uint32_t i = 0; one_sided && i < bvh->tri_count; ++i) { /* every other one-sided */
+        input[i].v0[3] = (i & 1u) ? ST_TRI_ONE_SIDED : 0.0f;
+        bvh->tris[i].v0[3] = (bvh->order[i] & 1u) ? ST_TRI_ONE_SIDED : 0.0f;
+    }
     scene_bounds(p, n, lo, hi);
     for (uint32_t k = 0; k < rays; ++k) {
         st_ray ray = random_ray(&r, p, n, lo, hi);
@@ -429,6 +452,11 @@ static uint32_t check_scene(const float *p, uint32_t n, uint32_t rays, uint64_t 
     free(input);
     st_bvh_destroy(bvh);
     return hits;
+}
+
+static uint32_t check_scene(const float *p, uint32_t n, uint32_t rays, uint64_t seed)
+{
+    return check_scene_sided(p, n, rays, seed, 0);
 }
 
 /* ---- tests: closest hit = brute force ---------------------------------------- */
@@ -466,6 +494,19 @@ static void closest_equals_brute_force_10000(void **state)
     rng r = {4};
     float *p = soup(&r, 10000, 0.05f);
     assert_true(check_scene(p, 10000, 5000, 14) > 2000);
+    free(p);
+}
+
+/* Half the triangles one-sided: every traversal culls as the definition
+ * does (brute_closest's own test of the facing); fewer hits than two-sided. */
+static void closest_equals_brute_force_one_sided(void **state)
+{
+    (void)state;
+    rng r = {4};
+    float *p = soup(&r, 10000, 0.05f);
+    uint32_t culled_hits = check_scene_sided(p, 10000, 5000, 14, 1);
+    assert_true(culled_hits > 1000);
+    assert_true(culled_hits < check_scene(p, 10000, 5000, 14));
     free(p);
 }
 
@@ -734,6 +775,13 @@ static void triangle_hit_excludes_t_zero(void **state)
     ray.o[2] = -1.0f;
     assert_true(st_intersect_triangle(&tri, &ray, 0, &hit));
     assert_true(hit.t == 1.0f && hit.u == 0.25f && hit.v == 0.25f);
+    st_triangle one_sided = tri; /* e1 x e2 = +z: its front faces +z */
+    one_sided.v0[3] = ST_TRI_ONE_SIDED;
+    hit.t = INFINITY;
+    assert_false(st_intersect_triangle(&one_sided, &ray, 0, &hit)); /* from behind (-z) */
+    st_ray front = {{0.25f, 0.25f, 1.0f}, {0, 0, -1}, INFINITY};
+    assert_true(st_intersect_triangle(&one_sided, &front, 0, &hit));
+    assert_true(hit.t == 1.0f);
     st_triangle degenerate = {{0, 0, 0, 0}, {1, 0, 0, 0}, {2, 0, 0, 0}};
     hit.t = INFINITY;
     hit.prim = ST_NO_HIT;
@@ -781,6 +829,7 @@ int main(void)
         cmocka_unit_test(closest_equals_brute_force_2),
         cmocka_unit_test(closest_equals_brute_force_100),
         cmocka_unit_test(closest_equals_brute_force_10000),
+        cmocka_unit_test(closest_equals_brute_force_one_sided),
         cmocka_unit_test(closest_equals_brute_force_100000),
         cmocka_unit_test(closest_equals_brute_force_coincident_centroids),
         cmocka_unit_test(closest_equals_brute_force_flat_axis_aligned),

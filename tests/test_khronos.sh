@@ -26,10 +26,9 @@ if [ -f "$K/INDEX.md" ]; then
         status=$?
         rmse=$(rmse_of "$T/m.exr" "$T/black.exr")
         if [ "$f" = VC/VC.gltf ] && [ $status -eq 0 ] && [ -n "$rmse" ]; then
-            # VC encloses its city in a one-sided sky box (mesh "skbox",
-            # normals inward) that rasterisers draw with back faces culled
-            # (glTF doubleSided false); strata's rays do not cull, so the
-            # environment cannot get in and the view is black
+            # VC encloses its city in an unlit sky box (mesh "skbox") whose
+            # fronts face inward: a closed room that no light gets into,
+            # culled backs or not, so the view is black
             ok "$f renders finite (black: its closed sky box keeps the environment out)"
         elif [ $status -eq 0 ] && [ -s "$T/m.exr" ] && [ -n "$rmse" ] &&
             awk -v r="$rmse" 'BEGIN { exit !(r > 0) }'; then

@@ -700,6 +700,7 @@ static void malformed_files_return_format_error_naming_file(void **state)
         {"bad_image_index.gltf", "source image 9 out of range"},
         {"bad_sampler_wrap.gltf", "wrapS 1234"},
         {"bad_texcoord_type.gltf", "TEXCOORD_0 must be"},
+        {"bad_quantized_undeclared.gltf", "POSITION must be float VEC3"},
         {"bad_alpha_mode.gltf", "alphaMode"},
         {"bad_camera_ymag.gltf", "ymag"},
     };
@@ -804,6 +805,27 @@ static void sparse_accessors_substitute_values(void **state)
         near3(s->positions + 6, 2.0, 3.0, 0.0, 0, "vertex 2, sparse");
         st_scene_destroy(s);
     }
+}
+
+/* KHR_mesh_quantization: the pyramid stored as shorts and bytes (plain and
+ * normalised) loads to the same triangles, normals, tangents and texture
+ * coordinates, bit for bit, as its float twin, which holds the values that
+ * the extension's decoding gives, computed in Python; without the extension
+ * the same integer types are refused. */
+static void quantized_attributes_equal_their_float_twin(void **state)
+{
+    (void)state;
+    st_scene *q = load_ok(SCENES "quantized.gltf"), *f = load_ok(SCENES "quantized_float.gltf");
+    assert_int_equal(q->tri_count, 4);
+    assert_int_equal(f->tri_count, 4);
+    size_t t = q->tri_count;
+    assert_memory_equal(q->positions, f->positions, 9 * t * sizeof(float));
+    assert_memory_equal(q->normals, f->normals, 9 * t * sizeof(float));
+    assert_memory_equal(q->tangents, f->tangents, 12 * t * sizeof(float));
+    assert_memory_equal(q->uvs, f->uvs, 6 * t * sizeof(float));
+    near3(f->positions + 6, 1.0, 0.0, 0.375, 1e-6, "apex (0, 0, 3) under the node's scale");
+    st_scene_destroy(q);
+    st_scene_destroy(f);
 }
 
 /* KHR_materials_specular, KHR_materials_ior and normalTexture reach the
@@ -1013,6 +1035,7 @@ int main(void)
         cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(sparse_accessors_substitute_values),
         cmocka_unit_test(material_extensions_are_read),
+        cmocka_unit_test(quantized_attributes_equal_their_float_twin),
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),

@@ -43,9 +43,12 @@ static st_scene *white_metal(float roughness)
     return s;
 }
 
-static st_image render_furnace(const st_scene *s, st_u32 spp)
+/* A render of s from its camera `camera` (-1: the default) inside a uniform
+ * environment of radiance 1. */
+static st_image render_view(const st_scene *s, st_u32 spp, st_i32 camera)
 {
     st_render_options o = st_render_defaults();
+    o.camera = camera;
     o.env_given = 1;
     o.env[0] = o.env[1] = o.env[2] = 1.0f;
     o.width = 16;
@@ -60,6 +63,11 @@ static st_image render_furnace(const st_scene *s, st_u32 spp)
         fail_msg("render: %s", err.msg);
     st_renderer_destroy(r);
     return img;
+}
+
+static st_image render_furnace(const st_scene *s, st_u32 spp)
+{
+    return render_view(s, spp, -1);
 }
 
 /* The directional albedo at normal incidence by the midpoint rule in
@@ -194,6 +202,114 @@ static void unlit_shows_base_colour(void **state)
     st_scene_destroy(s);
 }
 
+/* Every pixel of img equals want to 1e-5. */
+static void assert_every_pixel(const st_image *img, const double want[3], const char *what)
+{
+    for (size_t p = 0; p < (size_t)img->width * img->height; p++)
+        for (int c = 0; c < 3; c++)
+            if (fabs(img->data[4 * p + (size_t)c] - want[c]) > 1e-5)
+                fail_msg("%s: pixel %zu channel %d: %g, want %g", what, p, c,
+                         img->data[4 * p + (size_t)c], want[c]);
+}
+
+/* doubleSided: a cube whose fronts face out, unlit (0.3, 0.6, 0.9), in an
+ * environment of 1. From outside (camera 1) both kinds show their colour in
+ * every pixel; from inside (camera 0) the one-sided cube's backs are culled,
+ * so every ray leaves and sees the environment, while the two-sided one
+ * shows its colour. */
+static void double_sided_culls_backs_of_one_sided(void **state)
+{
+    (void)state;
+    const double colour[3] = {0.3, 0.6, 0.9}, env[3] = {1.0, 1.0, 1.0};
+    const char *file[2] = {"tests/scenes/sided_one.gltf", "tests/scenes/sided_two.gltf"};
+    for (int two = 0; two < 2; two++) {
+        st_error err = {0};
+        st_scene *s = NULL;
+        if (st_scene_load(file[two], &s, &err) != ST_OK)
+            fail_msg("load: %s", err.msg);
+        assert_int_equal((s->materials[0].flags & ST_MAT_DOUBLE_SIDED) != 0u, two);
+        st_image in = render_view(s, 2, 0), out = render_view(s, 2, 1);
+        assert_every_pixel(&in, two ? colour : env, two ? "two-sided, inside" : "one-sided, inside");
+        assert_every_pixel(&out, colour, "outside");
+        st_image_free(&in);
+        st_image_free(&out);
+        st_scene_destroy(s);
+    }
+}
+
+/* The mean of the pixels of img's first `cols` columns, all three channels. */
+static double columns_mean(const st_image *img, int cols)
+{
+    double sum = 0.0;
+    for (size_t y = 0; y < img->height; y++)
+        for (size_t x = 0; x < (size_t)cols; x++)
+            for (int c = 0; c < 3; c++)
+                sum += img->data[4 * (y * img->width + x) + (size_t)c];
+    return sum / (3.0 * cols * img->height);
+}
+
+/* The ground's mean over the left (x < 0) columns of tests/scenes/shadow_NAME,
+ * under a uniform environment 1, nearest-texel textures. */
+static st_u32 ground_seed = 5;
+static double ground_left(const char *name, st_u32 spp)
+{
+    char path[96];
+    snprintf(path, sizeof path, "tests/scenes/shadow_%s.gltf", name);
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load(path, &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    st_render_options o = st_render_defaults();
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    o.width = 16;
+    o.height = 12;
+    o.spp = spp;
+    o.seed = ground_seed;
+    o.integrator = ST_INTEGRATOR_PATH;
+    o.texture_filter = ST_TEXFILTER_NONE;
+    st_renderer *r = NULL;
+    st_image img = {0};
+    if (st_renderer_create(dev, s, &r, &err) || st_render(r, &o, &img, NULL, NULL, NULL, NULL, &err))
+        fail_msg("render: %s", err.msg);
+    double m = columns_mean(&img, 6); /* x < -0.1: clear of the filter's reach across x = 0 */
+    st_renderer_destroy(r);
+    st_image_free(&img);
+    st_scene_destroy(s);
+    return m;
+}
+
+/* A cut-out casts a cut-out shadow: the ground under the MASK quad whose
+ * left half is alpha 0 is lit as under an opaque quad of the right half
+ * alone. The two renders draw the same samples (rays through a cut-out go on
+ * with the same sample dimensions), so they differ only by the rounding of
+ * hit points: 1e-3 relative. Shadow rays that took the whole quad as opaque
+ * would darken the ground as much as shadow_opaque does, far more. */
+static void alpha_cutout_casts_cutout_shadow(void **state)
+{
+    (void)state;
+    double cut = ground_left("cutout", 16), half = ground_left("half", 16),
+           opaque = ground_left("opaque", 16);
+    print_message("ground x < 0: cut-out %.5f, right half %.5f, whole quad %.5f\n", cut, half,
+                  opaque);
+    assert_true(fabs(cut - half) <= 1e-3 * half);
+    assert_true(half - opaque > 0.1 * half);
+}
+
+/* BLEND alpha 0.5 on the shadow rays: each passes the black quad with
+ * probability 1/2, so the ground, albedo 0.5 under the environment 1, shows
+ * in expectation the mean of the opaque quad's shadow and the open sky's
+ * 0.5 (a flat ground sees no other surface). Tolerance 0.007: four standard
+ * deviations (0.0017) of blend - want, measured over seeds 1 to 20. */
+static void alpha_blend_shadow_passes_half(void **state)
+{
+    (void)state;
+    double blend = ground_left("blend", 64), opaque = ground_left("opaque", 64);
+    double want = 0.5 * (opaque + 0.5);
+    print_message("ground x < 0: blend %.5f, whole quad %.5f, want %.5f\n", blend, opaque, want);
+    assert_true(fabs(blend - want) <= 0.007);
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
@@ -201,6 +317,9 @@ int main(void)
         cmocka_unit_test(normal_map_tilts_by_its_angle),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
         cmocka_unit_test(unlit_shows_base_colour),
+        cmocka_unit_test(double_sided_culls_backs_of_one_sided),
+        cmocka_unit_test(alpha_cutout_casts_cutout_shadow),
+        cmocka_unit_test(alpha_blend_shadow_passes_half),
     };
     return cmocka_run_group_tests_name("shading", device, device_setup, device_teardown);
 }

@@ -118,6 +118,7 @@ static st_u64 host_hits(const st_scene *s, const st_wave_ray *w, size_t n)
     st_bvh *bvh = NULL;
     if (st_bvh_build(s->positions, s->tri_count, &bvh, &err) != ST_OK)
         fail_msg("bvh: %s", err.msg);
+    st_bvh_set_sides(bvh, s->tri_material, s->materials); /* cull as the renderer does */
     st_u64 hits = 0;
     for (size_t i = 0; i < n; i++) {
         st_ray r;

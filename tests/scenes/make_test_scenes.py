@@ -51,6 +51,20 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
               normalTexture of scale 0.5.
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
+sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
+              seen from outside (its fronts face out), KHR_materials_unlit
+              (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
+              at the centre looking down -Z, camera 1 orthographic outside on +Z.
+quantized, quantized_float  a pyramid under a scaled node, once with
+              KHR_mesh_quantization (positions as plain shorts; normals as normalised bytes; tangents as normalised
+              shorts; texcoords as plain unsigned bytes) and once as floats holding the values the extension's
+              decoding gives (c, max(c / 127, -1), max(c / 32767, -1), ...).
+shadow_*      a grey (0.5) Lambertian ground at z = -1 under a black occluder at
+              z = 0 facing down (one-sided: the camera above sees through it to
+              the ground; shadow rays meet it), orthographic: shadow_cutout's occluder is
+              the 2 x 2 quad, alpha MASK with its left half (x < 0) at alpha 0;
+              shadow_half's is only the right half, opaque; shadow_opaque's the
+              whole quad, opaque; shadow_blend's the whole quad, BLEND alpha 0.5.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -623,6 +637,129 @@ def write_lighting():
     write_json("material_extensions.gltf", g)
 
 
+def write_sided():
+    # face (axis a, sign sg): corners c -+ u -+ v with u x v = the outward normal
+    pos, ind = [], []
+    for a in range(3):
+        for sg in (1.0, -1.0):
+            c = [0.0, 0.0, 0.0]
+            c[a] = sg
+            u, v = [0.0] * 3, [0.0] * 3
+            u[(a + 1) % 3], v[(a + 2) % 3] = 1.0, 1.0
+            if sg < 0:
+                u, v = v, u
+            base = len(pos) // 3
+            for du, dv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                pos += [c[k] + du * u[k] + dv * v[k] for k in range(3)]
+            ind += [base, base + 1, base + 2, base, base + 2, base + 3]
+    b = Blob()
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, 24, "VEC3",
+                                               min=[-1.0] * 3, max=[1.0] * 3)},
+         "indices": b.accessor(struct.pack("<36H", *ind), 5123, 36, "SCALAR"), "material": 0}
+    cameras = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.01}}, ORTHO[0]]
+    for name, two in (("sided_one.gltf", False), ("sided_two.gltf", True)):
+        mat = {"pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.6, 0.9, 1.0]},
+               "doubleSided": two, "extensions": {"KHR_materials_unlit": {}}}
+        g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                nodes=[{"mesh": 0}, {"camera": 0}, dict(ortho_camera_node(), camera=1)],
+                scenes=[{"nodes": [0, 1, 2]}], cameras=cameras, materials=[mat],
+                extensionsUsed=["KHR_materials_unlit"])
+        write_json(name, g)
+
+
+def write_quantized():
+    pos = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0), (0, 0, 3)]
+    nrm = [(0, -127, 0), (127, 0, 0), (0, 127, 0), (-128, 0, 0), (0, 0, 127)]  # -128: -1
+    tan = [(32767, 0, 0, 32767), (0, 32767, 0, -32767), (-32768, 0, 0, 32767),
+           (0, -32767, 0, 32767), (16384, 0, 0, 32767)]
+    uv = [(0, 0), (1, 0), (2, 1), (0, 3), (255, 7)]
+    ind = [0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4]
+
+    def sn(c, m):
+        return max(c / m, -1.0)
+    variants = [  # (attribute, float values, packed element, stride, componentType, normalized)
+        ("POSITION", pos, lambda e: struct.pack("<3hxx", *e), 8, 5122, False, "VEC3"),
+        ("NORMAL", [[sn(c, 127) for c in e] for e in nrm], lambda e: struct.pack("<3bx", *e),
+         4, 5120, True, "VEC3"),
+        ("TANGENT", [[sn(c, 32767) for c in e] for e in tan], lambda e: struct.pack("<4h", *e),
+         8, 5122, True, "VEC4"),
+        ("TEXCOORD_0", uv, lambda e: struct.pack("<2Bxx", *e), 4, 5121, False, "VEC2"),
+    ]
+    quant_src = {"POSITION": pos, "NORMAL": nrm, "TANGENT": tan, "TEXCOORD_0": uv}
+    for name, quantized in (("quantized.gltf", True), ("quantized_float.gltf", False)):
+        blob, views, accessors, attrs = bytearray(), [], [], {}
+        for attr, floats, pack, stride, ct, normalized, kind in variants:
+            n = {"VEC2": 2, "VEC3": 3, "VEC4": 4}[kind]
+            if quantized:
+                data = b"".join(pack(e) for e in quant_src[attr])
+                view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data),
+                        "byteStride": stride}
+                acc = {"componentType": ct, "count": 5, "type": kind}
+                if normalized:
+                    acc["normalized"] = True
+            else:
+                data = struct.pack("<%df" % (5 * n), *[float(c) for e in floats for c in e])
+                view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)}
+                acc = {"componentType": 5126, "count": 5, "type": kind}
+            if attr == "POSITION":
+                acc["min"], acc["max"] = [-2, -2, 0], [2, 2, 3]
+            blob += data
+            views.append(view)
+            acc["bufferView"] = len(views) - 1
+            accessors.append(acc)
+            attrs[attr] = len(accessors) - 1
+        data = struct.pack("<12H", *ind)
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)})
+        blob += data
+        accessors.append({"bufferView": len(views) - 1, "componentType": 5123, "count": 12,
+                          "type": "SCALAR"})
+        g = doc([{"primitives": [{"attributes": attrs, "indices": len(accessors) - 1}]}],
+                accessors, views, [{"byteLength": len(blob), "uri": data_uri(bytes(blob))}],
+                nodes=[{"mesh": 0, "scale": [0.25, 0.5, 0.125], "translation": [1.0, 0.0, 0.0]}])
+        if quantized:
+            write_json("bad_quantized_undeclared.gltf", g)  # the types, without the extension
+            g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_mesh_quantization"]
+        write_json(name, g)
+
+
+def write_shadows():
+    half = [[0, 0, 0, 0] * 2 + [255, 255, 255, 255] * 2] * 4  # left half alpha 0
+    lambert = {"extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    black = [0.0, 0.0, 0.0, 1.0]  # the occluder reflects nothing onto the ground
+    variants = {
+        "shadow_cutout.gltf": (-1.0, {"alphaMode": "MASK", "pbrMetallicRoughness": {
+            "baseColorFactor": black, "baseColorTexture": {"index": 0}, "metallicFactor": 0.0}}),
+        "shadow_half.gltf": (0.0, {"pbrMetallicRoughness": {"baseColorFactor": black,
+                                                            "metallicFactor": 0.0}}),
+        "shadow_opaque.gltf": (-1.0, {"pbrMetallicRoughness": {"baseColorFactor": black,
+                                                               "metallicFactor": 0.0}}),
+        "shadow_blend.gltf": (-1.0, {"alphaMode": "BLEND", "pbrMetallicRoughness": {
+            "baseColorFactor": [0.0, 0.0, 0.0, 0.5], "metallicFactor": 0.0}}),
+    }
+    for name, (left, occluder) in variants.items():
+        b = Blob()
+        ground, top = b.quad(-1.0), b.quad(0.0, QUAD_UV)
+        if left != -1.0:  # only x in [left, 1]
+            pos = list(QUAD_POS)
+            pos[0] = pos[9] = left
+            top["attributes"]["POSITION"] = b.accessor(f32(pos), 5126, 4, "VEC3",
+                                                       min=[left, -1.0, 0.0], max=[1.0, 1.0, 0.0])
+        # the occluder faces down (one-sided): shadow rays from the ground meet
+        # its front, camera rays from above pass through its back
+        top["indices"] = b.accessor(struct.pack("<6H", 0, 2, 1, 0, 3, 2), 5123, 6, "SCALAR")
+        top["attributes"]["NORMAL"] = b.accessor(f32([0.0, 0.0, -1.0] * 4), 5126, 4, "VEC3")
+        ground["material"], top["material"] = 0, 1
+        occluder = dict(occluder, **lambert)
+        g = doc([{"primitives": [ground, top]}], b.accessors, b.views, b.buffers(),
+                nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+                cameras=ORTHO, materials=[dict(lambert, pbrMetallicRoughness={
+                    "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0}),
+                                          occluder],
+                images=[{"uri": png_uri(png(4, 4, 4, half))}],
+                samplers=[{"magFilter": 9728}], textures=[{"source": 0, "sampler": 0}])
+        write_json(name, g)
+
+
 def write_bad():
     # One valid base (u16 layout with a data: URI), then one fault per file.
     def base():
@@ -738,6 +875,9 @@ def main():
     write_lighting()
     write_strip_fan()
     write_sparse()
+    write_sided()
+    write_shadows()
+    write_quantized()
     write_bad()
 
 

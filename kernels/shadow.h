@@ -1,0 +1,47 @@
+/* shadow.h — shadow rays through alpha cut-outs and blended surfaces: a
+ * shadow ray sees a material's alpha as a camera ray does (integrator.h's
+ * alpha_passes), so a cut-out casts a cut-out shadow. OpenCL only; needs
+ * trace.h and integrator.h. Test: tests/test_shading.c
+ * (alpha_cutout_casts_cutout_shadow). */
+#ifndef ST_SHADOW_H
+#define ST_SHADOW_H
+
+/* Random key of the shadow rays' BLEND coverage, apart from the camera
+ * rays' (alpha_passes), so the two decisions at one triangle are independent. */
+#define ST_SHADOW_ALPHA_KEY 0x5ad0a1fau
+
+/* Whether something blocks shadow ray r of the path at depth `depth`.
+ * Any hit on a triangle of an opaque material blocks it at once, so a scene
+ * without alpha pays one any-hit query as before. A hit on a MASK or BLEND
+ * material instead walks the hits front to back: each is alpha-tested (its
+ * texture and vertex colour included, through surface_at), the first that
+ * does not let the ray pass blocks it, and one that does sends it on from
+ * just beyond (ray_eps, as alpha_passes' camera rays go on). Each step
+ * moves the origin forward, so the walk ends. */
+static int shadow_blocked(__global const st_bvh4_node *nodes, const st_scene_refs *s,
+                          const st_params *p, const st_shading *sh, st_ray r, st_sample smp,
+                          st_u32 depth)
+{
+    st_hit h;
+    if (!st_intersect4_any_hit(nodes, s->tris, &r, &h))
+        return 0;
+    if (s->materials[s->tri_material[h.prim]].alpha_mode == ST_ALPHA_OPAQUE)
+        return 1;
+    float travelled = 0.0f;
+    while (st_intersect4_closest(nodes, s->tris, &r, &h)) {
+        st_wave_ray w = {{r.o[0], r.o[1], r.o[2]}, r.tmax, {r.d[0], r.d[1], r.d[2]}, travelled};
+        st_surface v = surface_at(s, p, sh, &w, h);
+        if (!alpha_passes_keyed(s, p, &v, smp, h.prim, depth, ST_SHADOW_ALPHA_KEY))
+            return 1;
+        float step = h.t + p->ray_eps;
+        for (int a = 0; a < 3; ++a)
+            r.o[a] += r.d[a] * step;
+        r.tmax -= step;
+        travelled += step;
+        if (!(r.tmax > 0.0f))
+            return 0;
+    }
+    return 0;
+}
+
+#endif
