@@ -408,7 +408,7 @@ static int same_film_both_splats(const char *name, st_render_options o)
     st_render_stats st[2];
     for (int k = 0; k < 2; k++) {
         st_image img = {0};
-        o.splat_per_sample = k;
+        o.splat_path = k ? ST_SPLAT_PER_SAMPLE : ST_SPLAT_TILES;
         if (st_render(r, &o, &img, &sums[k], &st[k], NULL, NULL, &err))
             fail_msg("render %s: %s", name, err.msg);
         st_image_free(&img);
