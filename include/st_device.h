@@ -26,6 +26,7 @@ typedef struct st_device_info {
     int has_int64_atomics; /* cl_khr_int64_base_atomics */
     unsigned compute_units;
     unsigned long long global_mem;
+    unsigned long long local_mem; /* CL_DEVICE_LOCAL_MEM_SIZE: one work-group's __local bytes */
 } st_device_info;
 
 typedef struct st_device st_device;

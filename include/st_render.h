@@ -53,6 +53,7 @@ typedef struct st_render_options {
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
+    int splat_path;    /* internal (tests, measurements): ST_SPLAT_* */
 } st_render_options;
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
@@ -68,8 +69,14 @@ st_render_options st_render_defaults(void);
  * offending field ("spp", "sample range", "filter radius", ...). */
 st_status st_render_check(const st_render_options *o, st_error *err);
 
+/* Reconstruction is one of two paths, same film bit for bit: splat_samples
+ * (one work-item per sample; filter importance sampling, and the reference)
+ * or bin_samples then splat_tiles (a work-group per image tile, film.cl). */
+/* Which path (splat_path): the device type's (tiles on GPUs, per sample on
+ * CPUs, where binning measured slower: README), or one of them. */
+enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
-       ST_STAGE_SPLAT, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
+       ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
 
 typedef struct st_render_stats {

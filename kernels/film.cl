@@ -8,14 +8,37 @@
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 
-/* Adds w L and w to one pixel's four sums. */
-static void add_splat(__global st_film_pixel *px, float w, float3 L, st_u32 *clamped)
+/* Where a sample's splats go: the film, or a work-group's window of
+ * side x side pixels from (ox, oy) in local memory (acc; NULL: none), four
+ * sums per pixel, added to the film later (splat_tiles). */
+typedef struct splat_dest {
+    __global st_film_pixel *film, *half_film;
+    int to_half;
+    __local long *acc;
+    int ox, oy, side;
+} splat_dest;
+
+/* Adds w L and w to pixel (x, y)'s four sums (and its half film's), the
+ * integers of st_fixed_splat, wherever they are accumulated. */
+static void add_splat(const st_params *p, const splat_dest *d, int x, int y, float w, float3 L,
+                      st_u32 *clamped)
 {
-    __global long *a = px->sum;
     st_i64 v[4];
     st_fixed_splat(w, L.x, L.y, L.z, v, clamped);
-    for (int k = 0; k < 4; k++)
-        atom_add(a + k, v[k]);
+    int lx = x - d->ox, ly = y - d->oy;
+    size_t i = (size_t)y * p->width + x;
+    if (d->acc && lx >= 0 && ly >= 0 && lx < d->side && ly < d->side) {
+        __local long *a = d->acc + 4 * (ly * d->side + lx);
+        for (int k = 0; k < 4; k++)
+            atom_add(a + k, v[k]);
+    } else {
+        __global long *a = d->film[i].sum;
+        for (int k = 0; k < 4; k++)
+            atom_add(a + k, v[k]);
+    }
+    if (d->to_half)
+        for (int k = 0; k < 4; k++)
+            atom_add(d->half_film[i].sum + k, v[k]);
 }
 
 /* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */
@@ -32,24 +55,22 @@ static int2 taps(float x, float r, st_u32 n)
 /* Filter importance sampling: the offset was drawn from |f|, so the weight
  * f / pdf = sign(f) x ∫|f|, and the constant cancels in Σ w L / Σ w; the
  * sample goes to its own pixel only. Returns the splats made (1). */
-static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, __global st_film_pixel *film,
-                        __global st_film_pixel *half_film, int to_half, st_u32 *clamped)
+static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+                        st_u32 *clamped)
 {
     st_filter flt = p->filter;
     st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
     float w = st_filter_eval_1d(&flt, s.film[0] - (float)px - 0.5f) *
               st_filter_eval_1d(&flt, s.film[1] - (float)py - 0.5f);
     w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
-    add_splat(film + s.pixel, w, L, clamped);
-    if (to_half)
-        add_splat(half_film + s.pixel, w, L, clamped);
+    add_splat(p, d, (int)px, (int)py, w, L, clamped);
     return 1u;
 }
 
 /* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
  * with the separable weights f(dx) f(dy). Returns the splats made. */
-static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, __global st_film_pixel *film,
-                         __global st_film_pixel *half_film, int to_half, st_u32 *clamped)
+static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+                         st_u32 *clamped)
 {
     st_filter flt = p->filter;
     int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
@@ -58,27 +79,20 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, __global st_
         wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - s.film[0]);
     for (int y = ys.x; y <= ys.y; y++) {
         float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - s.film[1]);
-        for (int x = xs.x; x <= xs.y; x++) {
-            float w = wx[x - xs.x] * wy;
-            add_splat(film + ((size_t)y * p->width + x), w, L, clamped);
-            if (to_half)
-                add_splat(half_film + ((size_t)y * p->width + x), w, L, clamped);
-        }
+        for (int x = xs.x; x <= xs.y; x++)
+            add_splat(p, d, x, y, wx[x - xs.x] * wy, L, clamped);
     }
     return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
 }
 
-/* Reads sample and path; adds to film (and, for even samples of an
- * adaptive render's first round, half_film); adds the splats made and the
- * path's rays to tally[i]. */
-__kernel void splat_samples(ST_STAGE_PARAMS)
+/* Item i's sample (on the film) to d: adds the splats made and the path's
+ * rays to tally[i]; counts a non-finite radiance, and the sample once if
+ * any of its splats clamped. */
+static void splat_item(const st_params *p, st_u32 i, __global const st_sample *sample,
+                       __global const st_path *path, __global st_tally *tally,
+                       __global st_film_stats *stats, splat_dest *d)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
     st_sample s = sample[i];
-    if (!st_sample_on_film(&p, s))
-        return; /* a tile point outside the image (generate.cl) */
     __global const st_path *pa = &path[i];
     float3 L = vload3(0, pa->radiance);
     st_tally t = tally[i];
@@ -89,13 +103,112 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         L = (float3)(0.0f);
     }
     st_u32 clamped = 0u;
-    int to_half = p.half_buffer && (s.index & 1u) == 0u;
-    t.splats += p.reconstruction == ST_RECON_FIS
-                    ? splat_fis(&p, s, L, film, half_film, to_half, &clamped)
-                    : splat_taps(&p, s, L, film, half_film, to_half, &clamped);
+    d->to_half = p->half_buffer && (s.index & 1u) == 0u;
+    t.splats += p->reconstruction == ST_RECON_FIS ? splat_fis(p, s, L, d, &clamped)
+                                                  : splat_taps(p, s, L, d, &clamped);
     tally[i] = t;
     if (clamped)
         atomic_inc(&stats->clamped);
+}
+
+/* Reads sample and path; adds to film (and, for even samples of an
+ * adaptive render's first round, half_film); adds the splats made and the
+ * path's rays to tally[i]. The per-sample path: filter importance sampling,
+ * and the reference for splat_tiles. */
+__kernel void splat_samples(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count)
+        return;
+    if (!st_sample_on_film(&p, sample[i]))
+        return; /* a tile point outside the image (generate.cl) */
+    splat_dest d = {film, half_film, 0, (__local long *)0, 0, 0, 0};
+    splat_item(&p, i, sample, path, tally, stats, &d);
+}
+
+/* ---- tile-owned reconstruction ---------------------------------------------
+ * A counting sort of the wave's items by the image tile (bin) their sample
+ * lies in: bin_samples counts, bin_scan turns counts into starts, bin_scatter
+ * places the items; then splat_tiles gives each bin a work-group, which adds
+ * its samples' splats into a local window (the tile plus the filter's apron)
+ * and the window to the film once per pixel. The integers are those of
+ * splat_samples and integer sums commute, so the film is the same bit for
+ * bit; a sample is still counted clamped once. The order of items within a
+ * bin is the order of bin_scatter's atomics and may differ from run to run;
+ * nothing depends on it. */
+
+/* The bin of a sample on the film. */
+static st_u32 sample_bin(const st_params *p, st_sample s)
+{
+    int x = clamp((int)floor(s.film[0]), 0, (int)p->width - 1);
+    int y = clamp((int)floor(s.film[1]), 0, (int)p->height - 1);
+    return (st_u32)y / p->bin_side * p->bins_x + (st_u32)x / p->bin_side;
+}
+
+/* Counts the wave's items per bin (bin_count is 0 before: wave.c, splat_tiles). */
+__kernel void bin_samples(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i < p.item_count && st_sample_on_film(&p, sample[i]))
+        atomic_inc(&bin_count[sample_bin(&p, sample[i])]);
+}
+
+/* One work-item: bin_start = the exclusive prefix sums of bin_count, whose
+ * entries become bin_scatter's cursors (0). */
+__kernel void bin_scan(ST_STAGE_PARAMS)
+{
+    if (get_global_id(0) != 0)
+        return;
+    st_u32 sum = 0;
+    for (st_u32 b = 0; b < p.bins; b++) {
+        bin_start[b] = sum;
+        sum += bin_count[b];
+        bin_count[b] = 0;
+    }
+    bin_start[p.bins] = sum;
+}
+
+/* Places each item on the film in its bin's range of bin_item. */
+__kernel void bin_scatter(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count || !st_sample_on_film(&p, sample[i]))
+        return;
+    st_u32 b = sample_bin(&p, sample[i]);
+    bin_item[bin_start[b] + atomic_inc(&bin_count[b])] = i;
+}
+
+/* Work-group b owns bin b: its samples' splats go into acc, the window of
+ * the tile and an apron of ceil(r) + 1 pixels on each side (which holds every
+ * tap: taps() stays within r + 0.5 of the sample), then each window pixel's
+ * nonzero sums go to the film with one atomic add each. acc holds
+ * (bin_side + 2 apron)^2 pixels of four longs (render.c sizes it from
+ * CL_DEVICE_LOCAL_MEM_SIZE). */
+__kernel void splat_tiles(ST_STAGE_PARAMS, __local long *acc)
+{
+    st_u32 b = get_group_id(0), lid = get_local_id(0), n = get_local_size(0);
+    if (b >= p.bins || bin_start[b] == bin_start[b + 1])
+        return; /* the whole group */
+    int apron = (int)ceil(p.filter.radius) + 1, side = (int)p.bin_side + 2 * apron;
+    int ox = (int)(b % p.bins_x * p.bin_side) - apron, oy = (int)(b / p.bins_x * p.bin_side) - apron;
+    for (int j = (int)lid; j < 4 * side * side; j += (int)n)
+        acc[j] = 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    splat_dest d = {film, half_film, 0, acc, ox, oy, side};
+    for (st_u32 j = bin_start[b] + lid; j < bin_start[b + 1]; j += n)
+        splat_item(&p, bin_item[j], sample, path, tally, stats, &d);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int j = (int)lid; j < side * side; j += (int)n) {
+        int x = ox + j % side, y = oy + j / side;
+        if (x < 0 || y < 0 || x >= (int)p.width || y >= (int)p.height)
+            continue;
+        __global long *a = film[(size_t)y * p.width + x].sum;
+        for (int k = 0; k < 4; k++)
+            if (acc[4 * j + k] != 0)
+                atom_add(a + k, acc[4 * j + k]);
+    }
+    if (lid == 0)
+        bin_count[b] = 0; /* for the next wave's bin_samples */
 }
 
 /* Reads film; writes image: I = Σ f L / Σ f wherever Σ f != 0 (the

@@ -311,6 +311,10 @@ typedef struct st_params {
     st_f32 adaptive_threshold;
     st_u32 adaptive_max_spp, adaptive_batch;
     st_u32 sobol_log2; /* sobol, zsobol: 2^sobol_log2 >= width, height */
+    /* tile-owned splat (film.cl): bins of bin_side^2 pixels, bins_x across,
+     * bins in all; bins 0: the per-sample splat */
+    st_u32 bin_side, bins_x, bins;
+    st_u32 pad; /* filter and camera start at a multiple of 16 bytes */
     st_filter filter;
     st_camera camera;
     /* the pixels this launch covers, a rectangle of the width x height image
@@ -417,6 +421,7 @@ typedef struct st_tile_point {
 #define ST_PER_ITEM 0     /* one per work-item of a wave */
 #define ST_PER_PIXEL 1    /* one per image pixel */
 #define ST_PER_ADAPTIVE 2 /* one per pixel in an adaptive render, else one */
+#define ST_PER_BIN 4      /* one per pixel, plus one: a bin's count or start (bins <= pixels) */
 #define ST_ONE 3          /* one */
 
 /* The per-render state: X(name, element type, extent). */
@@ -427,6 +432,9 @@ typedef struct st_tile_point {
     X(path, st_path, ST_PER_ITEM)                                                           \
     X(shadow, st_shadow_ray, ST_PER_ITEM)                                                   \
     X(tally, st_tally, ST_PER_ITEM)                                                         \
+    X(bin_count, st_u32, ST_PER_BIN) /* samples per bin; 0 between waves (film.cl) */      \
+    X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
+    X(bin_item, st_u32, ST_PER_ITEM) /* the wave's items, ordered by bin */                \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
     X(half_film, st_film_pixel, ST_PER_ADAPTIVE) /* even samples only (adaptive.cl) */      \
     X(pixel_spp, st_u32, ST_PER_ADAPTIVE)        /* samples booked, | ST_ADAPTIVE_STOPPED */ \
@@ -524,6 +532,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
     X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
     X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, sobol_log2)   \
+    X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
     X(st_params, filter)        \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h)                                           \
@@ -555,9 +564,9 @@ ST_STATIC_ASSERT(sizeof(st_tri_colors) == 48, "st_tri_colors: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_shading) == 32, "st_shading: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
-ST_STATIC_ASSERT(offsetof(st_params, filter) == 128, "st_params.filter moved");
-ST_STATIC_ASSERT(offsetof(st_params, camera) == 160, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 240, "st_params: 240 bytes");
+ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
+ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
+ST_STATIC_ASSERT(sizeof(st_params) == 256, "st_params: 256 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 16, "st_sample: 16 bytes");
 ST_STATIC_ASSERT(sizeof(st_wave_ray) == 32, "st_wave_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");

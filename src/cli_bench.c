@@ -81,7 +81,9 @@ static double stage_count(const st_render_stats *s, int k, const char **unit)
     case ST_STAGE_TRACE: *unit = "rays/s"; return (double)s->closest_rays;
     case ST_STAGE_SHADE: *unit = "hits/s"; return (double)s->closest_rays;
     case ST_STAGE_SHADOW: *unit = "rays/s"; return (double)s->shadow_rays;
-    case ST_STAGE_SPLAT: *unit = "splats/s"; return (double)s->splats;
+    case ST_STAGE_BIN: *unit = "samples/s"; return (double)s->samples;
+    case ST_STAGE_SPLAT:
+    case ST_STAGE_SPLAT_TILES: *unit = "splats/s"; return (double)s->splats;
     default: *unit = "pixels/s"; return 0.0;
     }
 }

@@ -93,6 +93,9 @@ static void fill_info(cl_platform_id p, cl_device_id d, unsigned pi, unsigned di
     cl_ulong mem = 0;
     clGetDeviceInfo(d, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof mem, &mem, NULL);
     info->global_mem = mem;
+    mem = 0;
+    clGetDeviceInfo(d, CL_DEVICE_LOCAL_MEM_SIZE, sizeof mem, &mem, NULL);
+    info->local_mem = mem;
     size_t n = 0;
     if (clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, 0, NULL, &n) == CL_SUCCESS && n > 0) {
         char *ext = malloc(n + 1);

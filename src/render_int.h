@@ -15,6 +15,7 @@ struct st_renderer {
     cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
     cl_kernel k[ST_STAGE_COUNT];
     cl_kernel mark; /* adaptive_mark */
+    cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     st_u32 light_count;
     float ray_eps;
     double bvh_seconds;

@@ -393,6 +393,80 @@ static void splat_clamp_trips_above_limit(void **state)
     st_image_free(&one);
 }
 
+/* Renders `name` with o once by each reconstruction path, profiled; the
+ * films (raw sums) and counts must be equal bit for bit, and each path must
+ * have run only its own kernels. Returns whether the tile path was used. */
+static int same_film_both_splats(const char *name, st_render_options o)
+{
+    st_error err = {0};
+    st_scene *scene = NULL;
+    st_renderer *r = NULL;
+    if (st_scene_load(name, &scene, &err) || st_renderer_create(dev, scene, &r, &err))
+        fail_msg("load %s: %s", name, err.msg);
+    o.profile = 1;
+    st_i64 *sums[2];
+    st_render_stats st[2];
+    for (int k = 0; k < 2; k++) {
+        st_image img = {0};
+        o.splat_path = k ? ST_SPLAT_PER_SAMPLE : ST_SPLAT_TILES;
+        if (st_render(r, &o, &img, &sums[k], &st[k], NULL, NULL, &err))
+            fail_msg("render %s: %s", name, err.msg);
+        st_image_free(&img);
+        free(st[k].spp_map);
+    }
+    size_t n = (size_t)o.width * o.height * 4;
+    assert_memory_equal(sums[0], sums[1], n * sizeof(st_i64));
+    assert_true(st[0].splats == st[1].splats && st[0].rays == st[1].rays);
+    assert_int_equal(st[0].clamped, st[1].clamped);
+    assert_int_equal(st[0].nonfinite, st[1].nonfinite);
+    assert_true(st[1].stage_seconds[ST_STAGE_SPLAT] > 0.0);
+    assert_true(st[1].stage_seconds[ST_STAGE_SPLAT_TILES] == 0.0);
+    int tiles = st[0].stage_seconds[ST_STAGE_SPLAT_TILES] > 0.0;
+    assert_true(tiles == (st[0].stage_seconds[ST_STAGE_BIN] > 0.0));
+    assert_true(tiles == (st[0].stage_seconds[ST_STAGE_SPLAT] == 0.0));
+    free(sums[0]);
+    free(sums[1]);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+    return tiles;
+}
+
+/* The tile-owned splat (bin_samples, splat_tiles) adds the integers of the
+ * per-sample splat (splat_samples), so the films are equal bit for bit: for
+ * box, mitchell and lanczos, over several waves (small waves: the bins are
+ * reset between them), on an image that is not a whole number of tiles, for
+ * a split part, a tiled sampler (points off the image), clamped splats (the
+ * hot furnace: a sample counts once however many taps clamp); filter
+ * importance sampling and adaptive renders always take the per-sample path. */
+static void tile_splat_equals_per_sample(void **state)
+{
+    (void)state;
+    static const st_u32 filters[] = {ST_FILTER_BOX, ST_FILTER_MITCHELL, ST_FILTER_LANCZOS};
+    for (size_t f = 0; f < sizeof filters / sizeof filters[0]; f++) {
+        st_render_options o = small(70, 45, 4);
+        o.filter = st_filter_default(filters[f]);
+        o.wave = 1000;
+        assert_true(same_film_both_splats("cornell-box", o));
+    }
+    st_render_options part = small(70, 45, 8);
+    part.sample_begin = 3;
+    part.sample_end = 6;
+    assert_true(same_film_both_splats("cornell-box", part));
+    st_render_options tiled = small(70, 45, 4);
+    tiled.sampler = ST_SAMPLER_POISSON;
+    tiled.filter = st_filter_default(ST_FILTER_LANCZOS);
+    assert_true(same_film_both_splats("cornell-box", tiled));
+    st_render_options hot = small(20, 12, 2);
+    hot.filter = st_filter_default(ST_FILTER_LANCZOS);
+    hot.max_depth = 0;
+    assert_true(same_film_both_splats("tests/scenes/hot-furnace.gltf", hot));
+    st_render_options adaptive = small(24, 20, 16);
+    adaptive.adaptive = 1;
+    adaptive.reconstruction = ST_RECON_FIS;
+    adaptive.min_spp = 4;
+    assert_false(same_film_both_splats("cornell-box", adaptive));
+}
+
 /* A constant image has error estimate 0: every pixel stops at min_spp (box
  * filter: every weight is +1; with negative lobes a half film whose few
  * weights cancel has no estimate yet, and its pixel rightly goes on). */
@@ -564,6 +638,7 @@ int main(void)
         cmocka_unit_test(fis_constant_radiance),
         cmocka_unit_test(every_sampler_gives_every_pixel_spp),
         cmocka_unit_test(splat_clamp_trips_above_limit),
+        cmocka_unit_test(tile_splat_equals_per_sample),
         cmocka_unit_test(adaptive_constant_scene_stops_at_min),
         cmocka_unit_test(adaptive_edge_gets_more_samples),
         cmocka_unit_test(adaptive_deterministic_and_close_to_uniform),
