@@ -28,6 +28,31 @@ st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv 
                           st_lights *out, st_error *err);
 void st_lights_free(st_lights *l);
 
+/* Radius of the scene's bounding sphere (half the bounds' diagonal). */
+double st_scene_radius(const st_scene *s);
+
+/* The power a punctual light emits (W, the mean over RGB): a point light
+ * 4π I; a spot 2π I ((1 - cos_inner) + (cos_inner - cos_outer) / 3), the
+ * integral over the sphere of the extension's falloff t², t linear in the
+ * cosine from the outer cone (0) to the inner one (1); a directional light
+ * its irradiance times the area of the disk of the scene's bounding sphere,
+ * π radius² (pbrt-v4's choice: what it sends through the scene). */
+double st_punctual_power(const st_punctual *l, double radius);
+
+/* Next-event estimation's choice among the punctual lights (st_params
+ * punct_count, punct_share; the punct_cdf buffer): each with probability
+ * proportional to its power. cdf has count entries, cdf[count - 1] = 1
+ * (all zero when none emits); the return value is their total power. */
+double st_punctual_cdf(const st_punctual *l, st_u32 count, double radius, float *cdf);
+
+/* The probability that next-event estimation picks a punctual light rather
+ * than the area lights and the environment: their share of the power, the
+ * environment's taken as pbrt-v4 takes a uniform infinite light's,
+ * 4π² radius² x its mean radiance. 0 when the punctual lights emit nothing,
+ * 1 when only they emit. */
+float st_punctual_share(double punct_power, double area_power, const float env[3],
+                        double radius);
+
 /* |e1 x e2| (twice the triangle's area), the cross product taken in float as
  * the light table and the texture level of detail have always taken it. */
 double st_triangle_cross_norm(const st_triangle *t);

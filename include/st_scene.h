@@ -12,7 +12,8 @@
  * colour, emissive (with KHR_materials_emissive_strength) and
  * metallic-roughness factors and textures (with KHR_texture_transform),
  * alphaMode and alphaCutoff; images decoded by stb_image (PNG, JPEG, ...).
- * Cameras: every perspective or orthographic camera node.
+ * Cameras: every perspective or orthographic camera node. Lights: every
+ * KHR_lights_punctual light of a node (point, spot, directional).
  *
  * Invariants of a loaded scene: tri_count >= 1; every triangle is finite and
  * has non-zero area (the others are dropped and counted in `dropped`); shading
@@ -72,11 +73,15 @@ typedef struct st_scene {
                                        through their largest face, a little from above */
     st_u32 camera_count;   /* camera nodes, depth first in scene order */
     st_scene_camera *cameras;
+    st_u32 punctual_count; /* KHR_lights_punctual lights, depth first in scene order */
+    st_punctual *punctual; /* world space (st_shared.h) */
     float bounds_min[3], bounds_max[3];
     st_u32 dropped;        /* degenerate (zero-area) or non-finite triangles dropped */
     /* Power radiated by the emissive surfaces (W in the renderer's units:
-     * π x area x mean of emissive factor x the emissive texture's mean). */
-    double emitted_power;
+     * π x area x mean of emissive factor x the emissive texture's mean) and
+     * by the punctual lights (st_punctual_power), which punctual_power
+     * holds alone. */
+    double emitted_power, punctual_power;
     /* Uniform environment radiance (linear RGB) of a render that asks for
      * none (st_render_options.env): (1, 1, 1) when nothing emits
      * (emitted_power 0, so that any model renders visibly), else 0. */
@@ -100,7 +105,7 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err);
 void st_scene_destroy(st_scene *scene);           /* NULL: does nothing */
 
 /* A hash of what was loaded (triangles, normals, uvs, tangents, colours, materials, textures and
- * their texels, cameras, the default environment), not of the path that named
+ * their texels, cameras, punctual lights, the default environment), not of the path that named
  * it: `strata merge` compares it, so one scene reached by two paths is one
  * scene, and an edited file is another. zlib's CRC-32 (ISO 3309) over the
  * arrays' bytes in that order; every array the renderer reads belongs here.

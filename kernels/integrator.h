@@ -168,24 +168,68 @@ static int alpha_passes(const st_scene_refs *s, const st_params *p, const st_sur
  * for a camera ray, and for a ray made by a BSDF sample (depth > 0) the MIS
  * weight against sampling the same light. The caller adds beta x le x w in
  * one expression, as the compiler may fuse it. */
-static float emission_weight(const st_scene_refs *s, const st_surface *v, const st_path *pa,
-                             st_hit h, float cos_o)
+static float emission_weight(const st_scene_refs *s, const st_shading *sh, const st_surface *v,
+                             const st_path *pa, st_hit h, float cos_o)
 {
     float3 le = v->le;
     if (!(cos_o > 0.0f && (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f)))
         return 0.0f;
     if (pa->depth == 0u)
         return 1.0f;
-    float pdf_light = s->light_pdf[h.prim] * h.t * h.t / cos_o;
+    float pdf_light = s->light_pdf[h.prim] * (1.0f - sh->punct_share) * h.t * h.t / cos_o;
     return power_heuristic(pa->bsdf_pdf, pdf_light);
 }
 
-/* Next-event estimation: the environment (a cosine-distributed direction)
+/* The shadow ray `out` towards the point (origin, wi, tmax), adding c when
+ * unoccluded. */
+static st_shadow_ray shadow_towards(st_shadow_ray out, float3 origin, float3 wi, float tmax,
+                                    float3 c)
+{
+    vstore3(origin, 0, out.o);
+    out.tmax = tmax;
+    vstore3(wi, 0, out.d);
+    vstore3(c, 0, out.contribution);
+    return out;
+}
+
+/* Next-event estimation towards a punctual light, picked by power with u
+ * (probability punct_share x its share of their power): a delta light,
+ * which no BSDF sample can hit, so its sample takes weight 1 (no MIS). The
+ * shadow ray ends at the light, or for a directional one goes to infinity
+ * against its direction; it adds beta f cos I / (d² P(pick)) (d = 1 and I
+ * the irradiance for a directional light). */
+static st_shadow_ray punctual_event(const st_scene_refs *s, const st_params *p,
+                                    const st_shading *sh, const st_surface *v, float3 beta, float3 origin, float u,
+                                    st_shadow_ray out)
+{
+    st_u32 k = pick_light(s->punct_cdf, sh->punct_count, &u);
+    float prob = sh->punct_share * (s->punct_cdf[k] - (k ? s->punct_cdf[k - 1u] : 0.0f));
+    __global const st_punctual *l = &s->punctual[k];
+    float3 wi;
+    float tmax = INFINITY, dist2 = 1.0f, pdf_bsdf;
+    if ((st_u32)l->pos[3] == ST_PUNCT_DIRECTIONAL) {
+        wi = -vload4(0, l->dir).xyz;
+    } else {
+        wi = vload4(0, l->pos).xyz - origin;
+        dist2 = dot(wi, wi);
+        float dist = sqrt(dist2);
+        wi /= dist;
+        tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
+    }
+    if (!(prob > 0.0f && tmax > 0.0f && dot(v->ns, wi) > 0.0f && dot(v->ng, wi) > 0.0f))
+        return out;
+    float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
+    return shadow_towards(out, origin, wi, tmax,
+                          beta * fc * punctual_intensity(l, wi) / (dist2 * prob));
+}
+
+/* Next-event estimation: a punctual light (with probability punct_share:
+ * punctual_event), else the environment (a cosine-distributed direction)
  * or one point on one emissive triangle, as a shadow ray with what it adds
  * when unoccluded; tmax stays 0 when the sample cannot contribute.
  * `choice` is the probability of the strategy taken. In the path
- * integrator each is weighted by the power heuristic against the BSDF
- * sample (surface_f_cos's pdf). */
+ * integrator the environment and area samples are weighted by the power
+ * heuristic against the BSDF sample (surface_f_cos's pdf). */
 static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                                 const st_surface *v, const st_path *pa, float3 origin,
                                 st_sample_id *id, st_u32 dim)
@@ -195,26 +239,32 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
     float3 env = vload4(0, sh->env).xyz, beta = vload3(0, pa->beta);
     int has_env = env.x > 0.0f || env.y > 0.0f || env.z > 0.0f;
     int path = p->integrator == ST_INTEGRATOR_PATH;
-    float choice = 1.0f, w = 1.0f, pdf_bsdf;
+    float choice = 1.0f, w = 1.0f, pdf_bsdf, u = st_sample_dim(p, id, dim);
+    if (sh->punct_count > 0u) { /* u both chooses and stays stratified (pick_light) */
+        if (u < sh->punct_share)
+            return punctual_event(s, p, sh, v, beta, origin, u / sh->punct_share, out);
+        choice = 1.0f - sh->punct_share;
+        u = fmin((u - sh->punct_share) / choice, 0.99999994f);
+    }
     int take_env = has_env && p->light_count == 0u;
     if (has_env && p->light_count > 0u && !path) {
         take_env = st_sample_dim(p, id, dim + 4u) < 0.5f;
-        choice = 0.5f;
+        choice *= 0.5f;
     }
     float3 wi, c;
     float tmax;
     if (take_env) {
-        float cz, u1 = st_sample_dim(p, id, dim), u2 = st_sample_dim(p, id, dim + 1u);
-        wi = cosine_direction(v->ns, u1, u2, &cz);
+        float cz, u2 = st_sample_dim(p, id, dim + 1u);
+        wi = cosine_direction(v->ns, u, u2, &cz);
         if (!(cz > 0.0f && dot(wi, v->ng) > 0.0f))
             return out;
         float pdf_env = cz / ST_PI_F;
         float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
-        w = path ? power_heuristic(pdf_env, pdf_bsdf) : 1.0f;
+        w = path ? power_heuristic(pdf_env * choice, pdf_bsdf) : 1.0f;
         c = beta * fc * env * (w / (pdf_env * choice));
         tmax = INFINITY;
     } else if (p->light_count > 0u) {
-        float u = st_sample_dim(p, id, dim), u2 = st_sample_dim(p, id, dim + 1u);
+        float u2 = st_sample_dim(p, id, dim + 1u);
         st_u32 lt = s->light_tri[pick_light(s->light_cdf, p->light_count, &u)];
         float3 q = triangle_point(s->tris, lt, u, u2), nl = facing_normal(s->normals, lt);
         wi = q - origin;
@@ -225,18 +275,14 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
             return out;
         float pdf_light = s->light_pdf[lt] * dist2 / cos_l;
         float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
-        w = path ? power_heuristic(pdf_light, pdf_bsdf) : 1.0f;
+        w = path ? power_heuristic(pdf_light * choice, pdf_bsdf) : 1.0f;
         float3 lel = light_emission(s, lt, u, u2, sh->texture_filter);
         c = beta * fc * lel * (w / pdf_light) / choice;
         tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
     } else {
         return out;
     }
-    vstore3(origin, 0, out.o);
-    out.tmax = tmax;
-    vstore3(wi, 0, out.d);
-    vstore3(c, 0, out.contribution);
-    return out;
+    return shadow_towards(out, origin, wi, tmax, c);
 }
 
 /* The BSDF sample: a cosine-weighted direction for a Lambertian surface,

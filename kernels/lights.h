@@ -15,12 +15,20 @@ typedef struct st_scene_refs {
     __global const uint *light_tri;
     __global const float *light_cdf;
     __global const float *light_pdf;
+    __global const st_punctual *punctual;
+    __global const float *punct_cdf;
     __global const st_tri_uv *tri_uv;
     __global const st_tri_tangents *tangents;
     __global const st_tri_colors *colors;
     __global const st_texture *textures;
     __global const uint *texels;
 } st_scene_refs;
+
+/* The refs of a stage kernel, from its parameters (ST_STAGE_PARAMS): the one
+ * initialiser, so that a new field cannot be left out of one kernel. */
+#define ST_SCENE_REFS_INIT                                                                  \
+    {tris,     normals,   tri_material, materials, light_tri, light_cdf, light_pdf,         \
+     punctual, punct_cdf, tri_uv,       tangents,  colors,    textures,  texels}
 
 /* Index of the light whose CDF interval holds *u (first cdf[i] > *u), and *u
  * rescaled to [0, 1) within that interval, so that one stratified dimension
@@ -93,4 +101,18 @@ static float3 light_emission(const st_scene_refs *s, st_u32 lt, float u1, float 
     return le * tex_lookup(s, m->emission_tex, uv, 0.0f, 0.0f, 1.0f, filter).xyz;
 }
 
+/* The radiant intensity (or a directional light's irradiance) that
+ * punctual light l sends along wi from the shading point towards it (wi:
+ * from the point to the light): a spot's falls off as the extension
+ * defines, t² with t = (cos - cos_outer) / max(1e-3, cos_inner - cos_outer)
+ * clamped to [0, 1], cos measured from its axis. */
+static float3 punctual_intensity(__global const st_punctual *l, float3 wi)
+{
+    float3 i = vload4(0, l->intensity).xyz;
+    if ((st_u32)l->pos[3] != ST_PUNCT_SPOT)
+        return i;
+    float co = l->dir[3], ci = l->intensity[3];
+    float t = clamp((dot(-wi, vload4(0, l->dir).xyz) - co) / fmax(1e-3f, ci - co), 0.0f, 1.0f);
+    return i * (t * t);
+}
 #endif

@@ -29,6 +29,11 @@
  * area lights too, the direct integrator picks the environment or the area
  * lights with probability 1/2 each (dimension 4) and divides by it; the path
  * integrator leaves the environment to BSDF samples (weight 1).
+ * Punctual lights (KHR_lights_punctual; st_shading.punct_count): with
+ * probability punct_share next-event estimation takes one of them instead
+ * (chosen by power from punct_cdf, dimension 0 rescaled), as a delta light
+ * without MIS; the environment and area-light pdfs that MIS weighs are then
+ * scaled by 1 - punct_share, the probability of the strategies that make them.
  * Texture level of detail: ray cones (texture.h) of the pixel's spread angle
  * 2 tan(yfov/2) / height (Akenine-Moller et al. 2019, eq. 30, small-angle
  * form), widening along the path's unfolded length, kept as the ray's
@@ -55,7 +60,7 @@ static void shade_miss(const st_params *p, const st_shading *sh, st_path *pa)
     float3 env = vload4(0, sh->env).xyz;
     if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f) {
         float w = pa->depth > 0u && p->integrator == ST_INTEGRATOR_PATH && p->light_count == 0u
-                      ? power_heuristic(pa->bsdf_pdf, pa->env_pdf)
+                      ? power_heuristic(pa->bsdf_pdf, pa->env_pdf * (1.0f - sh->punct_share))
                       : 1.0f;
         vstore3(vload3(0, pa->radiance) + vload3(0, pa->beta) * env * w, 0, pa->radiance);
     }
@@ -82,8 +87,7 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         path[i] = pa;
         return;
     }
-    st_scene_refs s = {tris, normals, tri_material, materials, light_tri, light_cdf,
-                       light_pdf, tri_uv, tangents, colors, textures, texels};
+    st_scene_refs s = ST_SCENE_REFS_INIT;
     st_wave_ray r = ray[i];
     st_sample smp = sample[i];
     st_surface v = surface_at(&s, &p, &sh, &r, h);
@@ -103,7 +107,7 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         return;
     }
     float cos_o = dot(v.ng, v.wo);
-    float we = emission_weight(&s, &v, &pa, h, cos_o);
+    float we = emission_weight(&s, &sh, &v, &pa, h, cos_o);
     if (we > 0.0f)
         vstore3(vload3(0, pa.radiance) + vload3(0, pa.beta) * v.le * we, 0, pa.radiance);
     if (cos_o < 0.0f) /* shade the side the ray arrived on */

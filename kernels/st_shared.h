@@ -201,6 +201,18 @@ typedef struct st_material {
     st_u32 pad[3];
 } st_material;
 
+/* A KHR_lights_punctual light in world space (st_lights.h). */
+#define ST_PUNCT_POINT 0u
+#define ST_PUNCT_SPOT 1u
+#define ST_PUNCT_DIRECTIONAL 2u
+typedef struct st_punctual {
+    st_f32 pos[4];       /* xyz: position (point, spot); [3]: ST_PUNCT_* as a float */
+    st_f32 dir[4];       /* xyz: unit direction it shines along (the node's -Z; spot,
+                            directional); [3]: cos of the spot's outer cone angle */
+    st_f32 intensity[4]; /* rgb: colour x intensity, radiant intensity (W/sr; point, spot)
+                            or irradiance (directional); [3]: cos of the inner cone angle */
+} st_punctual;
+
 /* A texture as a material samples it: one image's mip chain (RGBA8 texels
  * packed R | G << 8 | B << 16 | A << 24 in one array; level 0 at `offset`,
  * each next level, max(1, w/2) x max(1, h/2), right after the previous one),
@@ -252,7 +264,11 @@ typedef struct st_shading {
     st_f32 env[4];          /* uniform environment radiance RGB (0: none); [3] = 0 */
     st_u32 texture_filter;  /* ST_TEXFILTER_* */
     st_u32 texture_count;
-    st_u32 pad[2];
+    /* KHR_lights_punctual: how many, and the probability that next-event
+     * estimation picks one of them (their share of the emitted power;
+     * 0 without them) rather than the area lights and environment */
+    st_u32 punct_count;
+    st_f32 punct_share;
 } st_shading;
 
 /* Pinhole perspective camera: image-plane x maps to right * tan(fov/2) * aspect,
@@ -456,6 +472,8 @@ typedef struct st_tile_point {
     X(light_tri, st_u32)                                                                    \
     X(light_cdf, st_f32)                                                                    \
     X(light_pdf, st_f32) /* P(choose the triangle) / its area; 0: not a light */           \
+    X(punctual, st_punctual)                                                                \
+    X(punct_cdf, st_f32) /* CDF of choosing among the punctual lights, by power */          \
     X(tri_uv, st_tri_uv)                                                                    \
     X(tangents, st_tri_tangents)                                                            \
     X(colors, st_tri_colors)                                                                \
@@ -498,7 +516,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_bvh_node) X(st_bvh4_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
     X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
-    X(st_tri_tangents) X(st_tri_colors)                                                     \
+    X(st_tri_tangents) X(st_tri_colors) X(st_punctual)                                      \
     X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
@@ -533,6 +551,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
     X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, sobol_log2)   \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
+    X(st_shading, punct_count) X(st_shading, punct_share)                                   \
+    X(st_punctual, pos) X(st_punctual, dir) X(st_punctual, intensity)                       \
     X(st_params, filter)        \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h)                                           \

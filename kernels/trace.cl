@@ -44,8 +44,7 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
     r.o[0] = s.o[0]; r.o[1] = s.o[1]; r.o[2] = s.o[2];
     r.d[0] = s.d[0]; r.d[1] = s.d[1]; r.d[2] = s.d[2];
     r.tmax = s.tmax;
-    st_scene_refs sc = {tris, normals, tri_material, materials, light_tri, light_cdf,
-                        light_pdf, tri_uv, tangents, colors, textures, texels};
+    st_scene_refs sc = ST_SCENE_REFS_INIT;
     __global st_path *pa = &path[i];
     int blocked = shadow_blocked(nodes, &sc, &p, &sh, r, sample[i], pa->depth);
     float3 l = blocked ? (float3)(0.0f) : vload3(0, s.contribution);

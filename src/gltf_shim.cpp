@@ -234,7 +234,8 @@ void check_glb(const unsigned char *b, size_t size)
  * error, any other in extensionsUsed a warning. */
 const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
-    "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization"};
+    "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
+    "KHR_lights_punctual"};
 
 bool supported(const char *ext)
 {
@@ -465,6 +466,72 @@ void take_camera(const Model &m, int node, int cam, const mat4 &world,
     out.push_back(pick);
 }
 
+/* The KHR_lights_punctual light a node names (its extension's "light"),
+ * or -1. */
+int node_light(const tinygltf::Node &node, int index, size_t light_count)
+{
+    auto ext = node.extensions.find("KHR_lights_punctual");
+    if (ext == node.extensions.end())
+        return -1;
+    const tinygltf::Value &v = ext->second.Get("light");
+    if (!v.IsInt() && !v.IsNumber())
+        fail("node %d: KHR_lights_punctual has no light index", index);
+    const int i = v.IsInt() ? v.Get<int>() : int(v.GetNumberAsDouble());
+    if (i < 0 || size_t(i) >= light_count)
+        fail("node %d: light %d out of range (have %zu)", index, i, light_count);
+    return i;
+}
+
+/* A punctual light (KHR_lights_punctual) at its node's world translation,
+ * shining down the node's world -Z; the colour and intensity as the file
+ * gives them (range, a culling hint, is not read). A spot's cone angles must
+ * satisfy 0 <= inner < outer <= pi/2; a negative intensity or colour is an
+ * error; a node whose transform collapses -Z drops a spot or directional
+ * light with a warning. */
+void take_light(const Model &m, int node, int li, const mat4 &world,
+                std::vector<st_gltf_light> &out, notes &warn)
+{
+    const tinygltf::Light &l = m.lights[size_t(li)];
+    st_gltf_light pick = {};
+    if (l.type == "point")
+        pick.type = 0;
+    else if (l.type == "spot")
+        pick.type = 1;
+    else if (l.type == "directional")
+        pick.type = 2;
+    else
+        fail("light %d: type \"%s\" is not point, spot or directional", li, l.type.c_str());
+    if (!(l.intensity >= 0.0 && l.intensity < 1e30))
+        fail("light %d: intensity %g must be finite and not negative", li, l.intensity);
+    for (int i = 0; i < 3; i++) {
+        const double c = l.color.size() == 3 ? l.color[size_t(i)] : 1.0;
+        if (!(c >= 0.0 && c < 1e30))
+            fail("light %d: color must be three finite values, not negative", li);
+        pick.color[i] = float(c);
+    }
+    pick.intensity = float(l.intensity);
+    pick.inner_cone = float(l.spot.innerConeAngle);
+    pick.outer_cone = float(l.spot.outerConeAngle);
+    if (pick.type == 1 && !(l.spot.innerConeAngle >= 0.0 &&
+                            l.spot.innerConeAngle < l.spot.outerConeAngle &&
+                            l.spot.outerConeAngle <= M_PI / 2.0))
+        fail("light %d: spot cone angles %g, %g not 0 <= inner < outer <= pi/2", li,
+             l.spot.innerConeAngle, l.spot.outerConeAngle);
+    double f[3] = {0.0 - world.m[8], 0.0 - world.m[9], 0.0 - world.m[10]};
+    if (!normalize3(f)) {
+        if (pick.type != 0) {
+            note(warn, "node %d: light %d passed over (its transform collapses -Z)", node, li);
+            return;
+        }
+        f[2] = -1.0;
+    }
+    for (int i = 0; i < 3; i++) {
+        pick.pos[i] = float(world.m[12 + i]);
+        pick.dir[i] = float(f[i]);
+    }
+    out.push_back(pick);
+}
+
 /* Fails with "<context> I out of range (have N)" unless 0 <= i < n; the
  * context is printf-formatted ("node %d: mesh"). */
 void check_index(int i, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -484,7 +551,7 @@ void check_index(int i, size_t n, const char *fmt, ...)
  * not overflow the C stack). The node graph must be disjoint trees (§3.5.2),
  * so a node reached twice (a cycle, or two parents) is an error. */
 void walk_scene(const Model &m, std::vector<instance> &out, std::vector<st_gltf_camera> &cams,
-                notes &warn)
+                std::vector<st_gltf_light> &lights, notes &warn)
 {
     if (m.scenes.empty())
         fail("no scenes: nothing to render");
@@ -517,6 +584,9 @@ void walk_scene(const Model &m, std::vector<instance> &out, std::vector<st_gltf_
             check_index(node.camera, m.cameras.size(), "node %d: camera", it.node);
             take_camera(m, it.node, node.camera, world, cams, warn);
         }
+        const int li = node_light(node, it.node, m.lights.size());
+        if (li >= 0)
+            take_light(m, it.node, li, world, lights, warn);
         for (size_t i = node.children.size(); i-- > 0;) {
             check_index(node.children[i], m.nodes.size(), "node %d: child", it.node);
             stack.push_back({node.children[i], world});
@@ -1481,7 +1551,8 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
 {
     std::vector<instance> inst;
     std::vector<st_gltf_camera> cams;
-    walk_scene(m, inst, cams, warn);
+    std::vector<st_gltf_light> lights;
+    walk_scene(m, inst, cams, lights, warn);
     std::vector<char> mesh_noted(m.meshes.size(), 0);
     size_t bound = 0;
     for (const instance &in : inst) {
@@ -1530,6 +1601,8 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
             out.images[size_t(t.image)] = decode_or_white(m, t.image, bytes, warn);
     out.camera_count = cams.size();
     out.cameras = copy_out(cams);
+    out.light_count = lights.size();
+    out.lights = copy_out(lights);
 }
 
 /* The warnings as malloc'd C strings (a last line counts those left out). */
@@ -1597,6 +1670,7 @@ extern "C" void st_gltf_shim_release(st_gltf_data *data)
         stbi_image_free(data->images[i].rgba);
     free(data->images);
     free(data->cameras);
+    free(data->lights);
     for (size_t i = 0; i < data->warning_count; i++)
         free(data->warnings[i]);
     free(data->warnings);

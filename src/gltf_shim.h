@@ -71,6 +71,17 @@ typedef struct st_gltf_camera {
     float ymag;                         /* orthographic: half the view's height */
 } st_gltf_camera;
 
+/* A KHR_lights_punctual light on a node of the scene: type 0 point, 1 spot,
+ * 2 directional (st_shared.h's ST_PUNCT_*); at its node's world translation,
+ * shining along the node's world -Z (unit); colour x intensity as in the
+ * file; the spot's cone angles in radians. `range` is not read. */
+typedef struct st_gltf_light {
+    int type;
+    float pos[3], dir[3];
+    float color[3], intensity;
+    float inner_cone, outer_cone;
+} st_gltf_light;
+
 /* The flattened default scene. Every array is malloc'd (free() releases it;
  * st_gltf_shim_release frees them all). Triangles that survive are finite
  * and have non-zero area; their shading normals are unit length. */
@@ -92,6 +103,8 @@ typedef struct st_gltf_data {
     st_gltf_image *images;
     size_t camera_count;    /* camera nodes, depth first in scene order */
     st_gltf_camera *cameras;
+    size_t light_count;     /* KHR_lights_punctual lights of nodes, depth first in scene order */
+    st_gltf_light *lights;
     size_t warning_count;   /* things skipped, one line each (no file name) */
     char **warnings;
 } st_gltf_data;

@@ -7,6 +7,8 @@
 
 #include "texture.h"
 
+#define PI 3.14159265358979323846
+
 double st_triangle_cross_norm(const st_triangle *tr)
 {
     double cx = tr->e1[1] * tr->e2[2] - tr->e1[2] * tr->e2[1];
@@ -99,6 +101,54 @@ st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv 
     out->pdf_area = pdf;
     out->count = k;
     return ST_OK;
+}
+
+double st_scene_radius(const st_scene *s)
+{
+    double d2 = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double d = (double)s->bounds_max[k] - s->bounds_min[k];
+        d2 += d * d;
+    }
+    return 0.5 * sqrt(d2);
+}
+
+double st_punctual_power(const st_punctual *l, double radius)
+{
+    double i = ((double)l->intensity[0] + l->intensity[1] + l->intensity[2]) / 3.0;
+    switch ((st_u32)l->pos[3]) {
+    case ST_PUNCT_SPOT: {
+        double ci = l->intensity[3], co = l->dir[3];
+        return 2.0 * PI * i * ((1.0 - ci) + (ci - co) / 3.0);
+    }
+    case ST_PUNCT_DIRECTIONAL:
+        return PI * radius * radius * i;
+    default:
+        return 4.0 * PI * i;
+    }
+}
+
+double st_punctual_cdf(const st_punctual *l, st_u32 count, double radius, float *cdf)
+{
+    double total = 0.0;
+    for (st_u32 k = 0; k < count; k++)
+        total += st_punctual_power(&l[k], radius);
+    double acc = 0.0;
+    for (st_u32 k = 0; k < count; k++) {
+        acc += st_punctual_power(&l[k], radius);
+        cdf[k] = total > 0.0 ? (k + 1 == count ? 1.0f : (float)(acc / total)) : 0.0f;
+    }
+    return total;
+}
+
+float st_punctual_share(double punct_power, double area_power, const float env[3],
+                        double radius)
+{
+    double env_mean = ((double)env[0] + env[1] + env[2]) / 3.0;
+    double rest = area_power + 4.0 * PI * PI * radius * radius * env_mean;
+    if (!(punct_power > 0.0))
+        return 0.0f;
+    return rest > 0.0 ? (float)(punct_power / (punct_power + rest)) : 1.0f;
 }
 
 void st_lights_free(st_lights *l)

@@ -12,6 +12,7 @@
 
 #include "st_sampling.h"
 #include "filters.h"
+#include "st_lights.h"
 
 
 const char *const st_stage_names[ST_STAGE_COUNT] = {
@@ -302,6 +303,12 @@ static st_shading make_shading(const st_renderer *r, const st_render_options *o)
     st_render_env(r->scene, o, sh.env);
     sh.texture_filter = o->texture_filter;
     sh.texture_count = r->scene->texture_count;
+    sh.punct_count = r->punct_count;
+    if (r->punct_count) {
+        const st_scene *s = r->scene;
+        sh.punct_share = st_punctual_share(s->punctual_power, s->emitted_power - s->punctual_power,
+                                           sh.env, st_scene_radius(s));
+    }
     return sh;
 }
 

@@ -17,6 +17,7 @@ struct st_renderer {
     cl_kernel mark; /* adaptive_mark */
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     st_u32 light_count;
+    st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
     float ray_eps;
     double bvh_seconds;
     /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],

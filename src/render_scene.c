@@ -87,10 +87,13 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     st_tri_tangents *tan = calloc(n ? n : 1, sizeof *tan);
     st_tri_colors *col = calloc(n ? n : 1, sizeof *col);
     st_lights lights = {0};
+    st_u32 np = s->punctual_count;
+    float *punct_cdf = calloc(np ? np : 1, sizeof *punct_cdf);
+    static const st_punctual no_punctual;
     st_status rc = ST_OK;
     static const st_texture no_texture; /* device buffers are never empty */
     static const st_u32 no_texel;
-    if (!nrm || !mat || !uv || !tan || !col) {
+    if (!nrm || !mat || !uv || !tan || !col || !punct_cdf) {
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
         goto done;
     }
@@ -105,6 +108,8 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         goto done;
     }
     r->light_count = lights.count;
+    r->punct_count = np;
+    st_punctual_cdf(s->punctual, np, st_scene_radius(s), punct_cdf);
     /* the scene's buffers by name (ST_SCENE_BUFFERS); tile, fis_cdf and
      * pmj02 are made per render (render.c) */
     struct { size_t bytes; const void *data; } up[ST_SCENE_tile] = {
@@ -116,6 +121,9 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
         [ST_SCENE_light_tri] = {sizeof(st_u32) * (r->light_count ? r->light_count : 1), lights.tri},
         [ST_SCENE_light_cdf] = {sizeof(float) * (r->light_count ? r->light_count : 1), lights.cdf},
         [ST_SCENE_light_pdf] = {sizeof(float) * (n ? n : 1), lights.pdf_area},
+        [ST_SCENE_punctual] = {sizeof(st_punctual) * (np ? np : 1),
+         np ? (const void *)s->punctual : (const void *)&no_punctual},
+        [ST_SCENE_punct_cdf] = {sizeof(float) * (np ? np : 1), punct_cdf},
         [ST_SCENE_tri_uv] = {sizeof(st_tri_uv) * (n ? n : 1), uv},
         [ST_SCENE_tangents] = {sizeof(st_tri_tangents) * (n ? n : 1), tan},
         [ST_SCENE_colors] = {sizeof(st_tri_colors) * (n ? n : 1), col},
@@ -132,6 +140,7 @@ done:
     free(uv);
     free(tan);
     free(col);
+    free(punct_cdf);
     st_lights_free(&lights);
     return rc;
 }

@@ -27,6 +27,7 @@
 #include "scene_fs.h"
 #include "gltf_shim.h"
 #include "texture.h"
+#include "st_lights.h"
 
 #define DEFAULT_SCENE "cornell-box"
 #define DEFAULT_YFOV_DEGREES 40.0
@@ -533,6 +534,10 @@ static void emitted_power(st_scene *s)
             le += (double)m->emission[k] * mean[k] / 3.0;
         power += ST_PI_F * area * le;
     }
+    s->punctual_power = 0.0;
+    for (st_u32 i = 0; i < s->punctual_count; i++)
+        s->punctual_power += st_punctual_power(&s->punctual[i], st_scene_radius(s));
+    power += s->punctual_power;
     s->emitted_power = power;
     for (int k = 0; k < 3; k++)
         s->default_env[k] = power > 0.0 ? 0.0f : 1.0f;
@@ -566,6 +571,34 @@ static st_status take_cameras(const st_gltf_data *g, st_scene *s, const char *la
         copy_camera(&g->cameras[i], &s->cameras[i]);
     s->camera_count = (st_u32)g->camera_count;
     s->default_camera = s->cameras[0];
+    return ST_OK;
+}
+
+/* The shim's KHR_lights_punctual lights as the device reads them: colour x
+ * intensity, and the spot's cone angles as cosines. */
+static st_status take_lights(const st_gltf_data *g, st_scene *s, const char *label,
+                             st_error *err)
+{
+    if (g->light_count == 0)
+        return ST_OK;
+    if (g->light_count > UINT32_MAX)
+        return st_fail(err, ST_ERR_FORMAT, "%s: too many lights", label);
+    s->punctual = calloc(g->light_count, sizeof *s->punctual);
+    if (!s->punctual)
+        return st_fail(err, ST_ERR_NOMEM, "%s: out of memory", label);
+    for (size_t i = 0; i < g->light_count; i++) {
+        const st_gltf_light *l = &g->lights[i];
+        st_punctual *p = &s->punctual[i];
+        for (int k = 0; k < 3; k++) {
+            p->pos[k] = l->pos[k];
+            p->dir[k] = l->dir[k];
+            p->intensity[k] = l->color[k] * l->intensity;
+        }
+        p->pos[3] = (float)l->type;
+        p->dir[3] = l->type == ST_PUNCT_SPOT ? cosf(l->outer_cone) : -1.0f;
+        p->intensity[3] = l->type == ST_PUNCT_SPOT ? cosf(l->inner_cone) : -1.0f;
+    }
+    s->punctual_count = (st_u32)g->light_count;
     return ST_OK;
 }
 
@@ -624,6 +657,7 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     g->tri_material = NULL;
     compute_bounds(s);
     if ((status = take_cameras(g, s, label, err)) != ST_OK ||
+        (status = take_lights(g, s, label, err)) != ST_OK ||
         (status = take_warnings(g, s, label, err)) != ST_OK)
         return status;
     emitted_power(s);
@@ -709,6 +743,8 @@ st_u32 st_scene_content_hash(const st_scene *s)
     crc = crc_of(crc, s->textures, s->texture_count * sizeof *s->textures);
     crc = crc_of(crc, s->texels, s->texel_count * sizeof *s->texels);
     crc = crc_of(crc, s->cameras, s->camera_count * sizeof *s->cameras);
+    /* no lights: no bytes, so the hashes of scenes without them stay as they were */
+    crc = crc_of(crc, s->punctual, s->punctual_count * sizeof *s->punctual);
     return crc_of(crc, s->default_env, sizeof s->default_env);
 }
 
@@ -726,6 +762,7 @@ void st_scene_destroy(st_scene *scene)
     free(scene->textures);
     free(scene->texels);
     free(scene->cameras);
+    free(scene->punctual);
     for (st_u32 i = 0; i < scene->warning_count; i++)
         free(scene->warnings[i]);
     free(scene->warnings);

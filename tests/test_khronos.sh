@@ -41,6 +41,18 @@ else
     echo "# note: $K not found; Khronos model renders skipped"
 fi
 
+# ---- KHR_lights_punctual: the lamp lit by its own lights alone ----------------
+L="$K/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf"
+if [ -f "$L" ]; then
+    "$S" render "$L" $R --env 0 -o "$T/lamp.exr" 2> "$T/err"
+    rmse=$(rmse_of "$T/lamp.exr" "$T/black.exr")
+    check "LightsPunctualLamp is lit by its punctual lights (--env 0: RMS above 0.01)" \
+        '[ -n "$rmse" ] && ! grep -q "no light at all" "$T/err" && awk -v r="$rmse" "BEGIN { exit !(r > 0.01) }"' \
+        "(RMS $rmse)"
+else
+    echo "# note: $L not found; the punctual-light lamp skipped"
+fi
+
 # ---- built-in scenes -----------------------------------------------------------
 for s in checkerboard soft-shadows zone-plate; do
     rm -f "$T/b.exr"

@@ -22,4 +22,12 @@ check "an emitting scene gets neither note nor warning" "! grep -q 'note:\|warni
 
 "$S" render tests/scenes/black_emitter.gltf $R --env 0.5 -o "$T/e.exr" 2> "$T/err3"
 check "an --env given is no note" "! grep -q 'note:\|warning:' '$T/err3'"
+"$S" render tests/scenes/punctual.gltf $R -o "$T/p.exr" 2> "$T/err4"
+check "a scene lit by punctual lights alone gets neither note nor warning" \
+    "! grep -q 'note:\\|warning:' '$T/err4'"
+"$S" render tests/scenes/punctual.gltf $R --env 0 -o "$T/p0.exr" 2> /dev/null
+rmse=$(mean_of "$T/p.exr" "$T/p0.exr")
+check "its default environment is off (the same image as --env 0)" "[ '$rmse' = 0 ]" "(rmse $rmse)"
+rmse=$(mean_of "$T/p.exr" "$T/black.exr")
+check "and it is lit" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.05) }'" "(rmse $rmse)"
 echo "1..$n"
