@@ -15,6 +15,7 @@
 #include "cli_error.h"
 #include "st_version.h"
 #include "cli_session.h"
+#include "cli_text.h"
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
 {
@@ -193,15 +194,11 @@ static int json_stages(cJSON *root, const st_cli_render_args *a, const bench_res
 static st_status print_json(const st_cli_render_args *a, const bench_result *b, st_error *err)
 {
     cJSON *root = cJSON_CreateObject();
-    char *text = root && json_head(root, a, b) && json_stages(root, a, b)
-                     ? cJSON_PrintUnformatted(root)
-                     : NULL;
-    cJSON_Delete(root);
-    if (!text)
-        return st_fail(err, ST_ERR_NOMEM, "bench: cannot build the JSON report");
-    int bad = puts(text) == EOF || fflush(stdout) != 0;
-    cJSON_free(text);
-    return bad ? st_fail(err, ST_ERR_IO, "stdout: write failed") : ST_OK;
+    if (root && !(json_head(root, a, b) && json_stages(root, a, b))) {
+        cJSON_Delete(root);
+        root = NULL;
+    }
+    return st_cli_put_json(root, err);
 }
 
 int st_cli_bench(int argc, char **argv)

@@ -7,6 +7,7 @@
 #include "cli_commands.h"
 #include "cli_error.h"
 #include "cli_session.h"
+#include "cli_text.h"
 #include "st_trace_bench.h"
 #include "st_version.h"
 
@@ -52,13 +53,11 @@ static st_status print_json(const trace_report *r, st_error *err)
              cJSON_AddNumberToObject(bvh, "seconds", r->bvh_seconds) &&
              cJSON_AddNumberToObject(bvh, "triangles_per_second",
                                      per_second(r->triangles, r->bvh_seconds));
-    char *text = ok ? cJSON_PrintUnformatted(root) : NULL;
-    cJSON_Delete(root);
-    if (!text)
-        return st_fail(err, ST_ERR_NOMEM, "bench: cannot build the JSON report");
-    int bad = puts(text) == EOF || fflush(stdout) != 0;
-    cJSON_free(text);
-    return bad ? st_fail(err, ST_ERR_IO, "stdout: write failed") : ST_OK;
+    if (!ok) {
+        cJSON_Delete(root);
+        root = NULL;
+    }
+    return st_cli_put_json(root, err);
 }
 
 int st_cli_bench_trace(const st_cli_render_args *a)

@@ -1,5 +1,5 @@
 /* cli_text.h — the text writer of the CSV outputs (pattern, filter,
- * signal, converge). */
+ * signal, converge) and of the bench JSON reports. */
 #ifndef ST_CLI_TEXT_H
 #define ST_CLI_TEXT_H
 
@@ -12,5 +12,11 @@
  * Errors: ST_ERR_IO naming path. */
 st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *), const void *ctx,
                             st_error *err);
+
+/* Prints a JSON report (root, from cJSON; NULL when building it failed) as
+ * one line on stdout and deletes it. Errors: ST_ERR_NOMEM when root is NULL
+ * or cannot be printed, ST_ERR_IO when stdout cannot be written. */
+struct cJSON;
+st_status st_cli_put_json(struct cJSON *root, st_error *err);
 
 #endif

@@ -29,26 +29,14 @@ static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
     }
 }
 
-/* Tangents in BVH order (st_tri_tangents). */
-static void make_tangents(const st_scene *s, const st_bvh *bvh, st_tri_tangents *out)
+/* Per-vertex 4-vectors of each triangle (12 floats: tangents, colours) in BVH
+ * order, into an array of 48-byte triangle records (st_tri_tangents,
+ * st_tri_colors). */
+static void reorder_vertex4(const float *src, const st_bvh *bvh, void *out)
 {
-    for (st_u32 t = 0; t < bvh->tri_count; t++) {
-        const float *tan = s->tangents + 12 * (size_t)bvh->order[t];
-        memcpy(out[t].t0, tan, 4 * sizeof(float));
-        memcpy(out[t].t1, tan + 4, 4 * sizeof(float));
-        memcpy(out[t].t2, tan + 8, 4 * sizeof(float));
-    }
-}
-
-/* Vertex colours in BVH order (st_tri_colors). */
-static void make_colors(const st_scene *s, const st_bvh *bvh, st_tri_colors *out)
-{
-    for (st_u32 t = 0; t < bvh->tri_count; t++) {
-        const float *c = s->colors + 12 * (size_t)bvh->order[t];
-        memcpy(out[t].c0, c, 4 * sizeof(float));
-        memcpy(out[t].c1, c + 4, 4 * sizeof(float));
-        memcpy(out[t].c2, c + 8, 4 * sizeof(float));
-    }
+    for (st_u32 t = 0; t < bvh->tri_count; t++)
+        memcpy((char *)out + 12 * sizeof(float) * t, src + 12 * (size_t)bvh->order[t],
+               12 * sizeof(float));
 }
 
 /* Shading normals in BVH order, each triangle's fourth floats holding its
@@ -101,8 +89,8 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     for (st_u32 t = 0; t < n; t++)
         mat[t] = s->tri_material[bvh->order[t]];
     make_tri_uv(s, bvh, uv);
-    make_tangents(s, bvh, tan);
-    make_colors(s, bvh, col);
+    reorder_vertex4(s->tangents, bvh, tan);
+    reorder_vertex4(s->colors, bvh, col);
     if (st_lights_build(s, bvh, uv, &lights, err) != ST_OK) {
         rc = err->status;
         goto done;
