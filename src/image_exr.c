@@ -462,6 +462,9 @@ static st_status exr_prepare(exr_context_t ctx, const char *path, st_image *img,
     if ((uint64_t)w * (uint64_t)h * (uint64_t)n > ST_IMAGE_MAX_SAMPLES) /* a header's claim */
         return st_fail(err, ST_ERR_FORMAT, "%s: %lld x %lld pixels x %d channels: more than 2^30 "
                        "samples, the limit", path, (long long)w, (long long)h, n);
+    if ((uint64_t)w * (uint64_t)n * 4u > INT32_MAX) /* the decoder's line stride is an int32 */
+        return st_fail(err, ST_ERR_FORMAT, "%s: rows of %lld pixels x %d channels: more than "
+                       "2^31 bytes, the limit", path, (long long)w, n);
     const char *names[ST_IMAGE_MAX_CHANNELS];
     for (int c = 0; c < n; c++) {
         const exr_attr_chlist_entry_t *e = &chl->entries[c];

@@ -181,6 +181,10 @@ rm -f "$T/big.png"
 # found by tests/fuzz/fuzz_exr.c: 1.7 kB whose header claims 8 x 134217981 pixels (12 GB)
 expect "an EXR claiming 12 GB is refused before allocating" 1 "fuzz-exr-12gb-window.exr: 8 x 134217981 pixels x 3 channels: more than 2^30 samples" \
     $S diff tests/data/fuzz-exr-12gb-window.exr tests/data/fuzz-exr-12gb-window.exr
+# found by tests/fuzz/fuzz_exr.c: 1.8 kB whose rows of 285212680 pixels overflow the decoder's
+# 32-bit line stride (undefined behaviour before the check)
+expect "an EXR whose rows pass 2^31 bytes is refused" 1 "fuzz-exr-wide-row.exr: rows of 285212680 pixels x 3 channels: more than 2^31 bytes" \
+    $S diff tests/data/fuzz-exr-wide-row.exr tests/data/fuzz-exr-wide-row.exr
 rm -f "$T/datauri.gltf" "$T/sparse.gltf" "$T/cf/sub/huge.bin"
 
 echo "1..$n"
