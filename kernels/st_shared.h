@@ -537,6 +537,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_texture, wrap_s) X(st_texture, wrap_t)                                             \
     X(st_tri_uv, uv) X(st_tri_uv, lod)                                                      \
     X(st_shading, env) X(st_shading, texture_filter) X(st_shading, texture_count)           \
+    X(st_shading, punct_count) X(st_shading, punct_share)                                   \
+    X(st_punctual, pos) X(st_punctual, dir) X(st_punctual, intensity)                       \
     X(st_camera, origin) X(st_camera, right) X(st_camera, up) X(st_camera, forward)         \
     X(st_filter, kind) X(st_filter, radius) X(st_filter, b) X(st_filter, c)                 \
     X(st_filter, sigma) X(st_filter, tau)                                                   \
@@ -551,9 +553,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
     X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, sobol_log2)   \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
-    X(st_shading, punct_count) X(st_shading, punct_share)                                   \
-    X(st_punctual, pos) X(st_punctual, dir) X(st_punctual, intensity)                       \
-    X(st_params, filter)        \
+    X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h)                                           \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index)                              \

@@ -158,6 +158,16 @@ static void normal_map_tilts_by_its_angle(void **state)
     }
 }
 
+/* Every pixel of img equals want to 1e-5. */
+static void assert_every_pixel(const st_image *img, const double want[3], const char *what)
+{
+    for (size_t p = 0; p < (size_t)img->width * img->height; p++)
+        for (int c = 0; c < 3; c++)
+            if (fabs(img->data[4 * p + (size_t)c] - want[c]) > 1e-5)
+                fail_msg("%s: pixel %zu channel %d: %g, want %g", what, p, c,
+                         img->data[4 * p + (size_t)c], want[c]);
+}
+
 /* COLOR_0 multiplies the base colour: a white Lambertian quad whose vertex
  * colour is (128, 64, 255) / 255, under a uniform environment 1, shows
  * that colour in every pixel (exactly: for a Lambertian surface open to the
@@ -171,11 +181,7 @@ static void vertex_color_multiplies_base_colour(void **state)
         fail_msg("load: %s", err.msg);
     st_image img = render_furnace(s, 4);
     const double want[3] = {128.0 / 255.0, 64.0 / 255.0, 1.0};
-    for (size_t p = 0; p < (size_t)img.width * img.height; p++)
-        for (int c = 0; c < 3; c++)
-            if (fabs(img.data[4 * p + (size_t)c] - want[c]) > 1e-5)
-                fail_msg("pixel %zu channel %d: %g, want %g", p, c, img.data[4 * p + (size_t)c],
-                         want[c]);
+    assert_every_pixel(&img, want, "vertex colour");
     st_image_free(&img);
     st_scene_destroy(s);
 }
@@ -193,23 +199,9 @@ static void unlit_shows_base_colour(void **state)
     assert_true(s->materials[0].flags & ST_MAT_UNLIT);
     st_image img = render_furnace(s, 4);
     const double want[3] = {0.3, 0.6, 0.9};
-    for (size_t p = 0; p < (size_t)img.width * img.height; p++)
-        for (int c = 0; c < 3; c++)
-            if (fabs(img.data[4 * p + (size_t)c] - want[c]) > 1e-5)
-                fail_msg("pixel %zu channel %d: %g, want %g", p, c, img.data[4 * p + (size_t)c],
-                         want[c]);
+    assert_every_pixel(&img, want, "unlit");
     st_image_free(&img);
     st_scene_destroy(s);
-}
-
-/* Every pixel of img equals want to 1e-5. */
-static void assert_every_pixel(const st_image *img, const double want[3], const char *what)
-{
-    for (size_t p = 0; p < (size_t)img->width * img->height; p++)
-        for (int c = 0; c < 3; c++)
-            if (fabs(img->data[4 * p + (size_t)c] - want[c]) > 1e-5)
-                fail_msg("%s: pixel %zu channel %d: %g, want %g", what, p, c,
-                         img->data[4 * p + (size_t)c], want[c]);
 }
 
 /* doubleSided: a cube whose fronts face out, unlit (0.3, 0.6, 0.9), in an
