@@ -174,9 +174,18 @@ $(ICOSPHERE): $(BUILD)/make_icosphere
 	@mkdir -p $(BUILD)/bench
 	$(BUILD)/make_icosphere $(BUILD)/bench/icosphere 7
 
+# Environment maps (tools/make_envmap.c): the sky of the README's model
+# pictures and the compass that shows the map's orientation.
+ENVMAPS := build/envmaps/sky.hdr build/envmaps/compass.hdr
+$(BUILD)/make_envmap: tools/make_envmap.c | $(BUILD)
+	$(CC) -std=c11 -O2 $(WARN) -o $@ $< -lstb -lm
+build/envmaps/%.hdr: $(BUILD)/make_envmap
+	@mkdir -p build/envmaps
+	$(BUILD)/make_envmap $* $@
+
 # The README's pictures, each made by its one line in tools/make_pictures.sh
 # (tests/test_pictures.sh checks that a few of them are up to date).
-pictures: deps strata
+pictures: deps strata $(ENVMAPS)
 	sh tools/make_pictures.sh
 	@echo "pictures: the README's discrepancy table (paste it in where it differs):"
 	@sh tools/discrepancy_table.sh

@@ -47,11 +47,17 @@ double st_punctual_cdf(const st_punctual *l, st_u32 count, double radius, float 
 
 /* The probability that next-event estimation picks a punctual light rather
  * than the area lights and the environment: their share of the power, the
- * environment's taken as pbrt-v4 takes a uniform infinite light's,
- * 4π² radius² x its mean radiance. 0 when the punctual lights emit nothing,
- * 1 when only they emit. */
-float st_punctual_share(double punct_power, double area_power, const float env[3],
-                        double radius);
+ * environment's as st_env_power gives it (st_envmap.h). 0 when the
+ * punctual lights emit nothing, 1 when only they emit. */
+float st_punctual_share(double punct_power, double area_power, double env_power);
+
+/* The probability that next-event estimation, having taken no punctual
+ * light, samples the environment rather than the area lights
+ * (st_shading.env_pick): its share of their power; 0 without an
+ * environment, 1 without area lights (light_count emissive triangles). So
+ * each of the three kinds is chosen with probability proportional to its
+ * power. */
+float st_env_pick(double area_power, double env_power, st_u32 light_count);
 
 /* |e1 x e2| (twice the triangle's area), the cross product taken in float as
  * the light table and the texture level of detail have always taken it. */

@@ -43,7 +43,9 @@ typedef struct st_render_options {
     st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera;
                           ST_CAMERA_AUTO: scene->auto_camera */
     int env_given;     /* 1: env below; 0: scene->default_env */
-    float env[3];      /* uniform environment radiance, linear RGB */
+    float env[3];      /* uniform environment radiance, linear RGB (a map set with
+                          st_renderer_set_env_map replaces it) */
+    float env_rotate;  /* the environment's turn about +Y, degrees (kernels/envmap.h) */
     st_u32 texture_filter; /* ST_TEXFILTER_* (default trilinear) */
     /* --crop: only the window [crop_x, crop_x + crop_w) x [crop_y, crop_y +
      * crop_h) of the image, each pixel equal to the full render's bit for
@@ -96,6 +98,11 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
 void st_renderer_destroy(st_renderer *r); /* NULL: does nothing */
 double st_renderer_bvh_seconds(const st_renderer *r);
 st_u32 st_renderer_light_count(const st_renderer *r);
+/* Makes the equirectangular map m the environment of the renders that
+ * follow (replacing the uniform st_render_options.env; NULL: back to it)
+ * and uploads it. m is borrowed and must outlive those renders. */
+struct st_envmap;
+st_status st_renderer_set_env_map(st_renderer *r, const struct st_envmap *m, st_error *err);
 
 /* The environment radiance a render of scene with options o sees. */
 void st_render_env(const st_scene *scene, const st_render_options *o, float env[3]);

@@ -164,6 +164,69 @@ static int alpha_passes(const st_scene_refs *s, const st_params *p, const st_sur
     return alpha_passes_keyed(s, p, v, smp, prim, depth, 0xa1fa0000u);
 }
 
+/* The probabilities with which next-event estimation samples the
+ * environment and the area lights (next_event): both take what the punctual
+ * lights leave, split by power (st_shading.env_pick). The MIS weights at an
+ * emitter and at a miss use these same numbers. */
+static float env_choice(const st_shading *sh)
+{
+    return (1.0f - sh->punct_share) * sh->env_pick;
+}
+
+static float area_choice(const st_shading *sh)
+{
+    return (1.0f - sh->punct_share) * (1.0f - sh->env_pick);
+}
+
+/* The environment map's radiance at map coordinates (u, v) (nearest
+ * texel: kernels/envmap.h) times the env factor, and in *pdf the density in
+ * solid angle with which env_sample picks that direction. */
+static float3 env_map_at(const st_scene_refs *s, const st_shading *sh, float u, float v,
+                         float *pdf)
+{
+    st_u32 w = sh->env_size[0], h = sh->env_size[1], i, j;
+    st_env_texel(w, h, u, v, &i, &j);
+    *pdf = st_env_solid_angle_pdf(st_env_texel_pdf(s->env_cdf, w, h, i, j), v);
+    return vload4(0, sh->env).xyz * vload4(j * w + i, s->env_texels).xyz;
+}
+
+/* The environment's radiance arriving against the world direction d; with a
+ * map, *pdf becomes env_sample's density of d (a uniform environment leaves
+ * *pdf alone: its density depends on the surface, st_path.env_pdf). */
+static float3 env_radiance(const st_scene_refs *s, const st_shading *sh, float3 d, float *pdf)
+{
+    if (sh->env_size[0] == 0u)
+        return vload4(0, sh->env).xyz;
+    float dw[3] = {d.x, d.y, d.z}, dm[3], u, v;
+    st_env_rotate(sh->env_rot, 0, dw, dm);
+    st_env_coords(dm, &u, &v);
+    return env_map_at(s, sh, u, v, pdf);
+}
+
+/* A direction *wi towards the environment from (u1, u2), its density *pdf
+ * in solid angle (0: none usable) and the radiance along it: the map's
+ * importance sampling by luminance, or for a uniform environment a
+ * cosine-distributed direction about the shading normal. */
+static float3 env_sample(const st_scene_refs *s, const st_shading *sh, const st_surface *v,
+                         float u1, float u2, float3 *wi, float *pdf)
+{
+    if (sh->env_size[0] == 0u) {
+        float cz;
+        *wi = cosine_direction(v->ns, u1, u2, &cz);
+        *pdf = cz > 0.0f ? cz / ST_PI_F : 0.0f;
+        return vload4(0, sh->env).xyz;
+    }
+    float u, w, dm[3], dw[3];
+    st_env_sample(s->env_cdf, sh->env_size[0], sh->env_size[1], u1, u2, &u, &w);
+    st_env_direction(u, w, dm);
+    st_env_rotate(sh->env_rot, 1, dm, dw);
+    *wi = (float3)(dw[0], dw[1], dw[2]);
+    float3 le = env_map_at(s, sh, u, w, pdf);
+    if (!(dot(*wi, v->ns) > 0.0f))
+        *pdf = 0.0f;
+    return le;
+}
+
 /* The weight of the emission seen along the ray (one-sided; 0: none): 1
  * for a camera ray, and for a ray made by a BSDF sample (depth > 0) the MIS
  * weight against sampling the same light. The caller adds beta x le x w in
@@ -176,7 +239,7 @@ static float emission_weight(const st_scene_refs *s, const st_shading *sh, const
         return 0.0f;
     if (pa->depth == 0u)
         return 1.0f;
-    float pdf_light = s->light_pdf[h.prim] * (1.0f - sh->punct_share) * h.t * h.t / cos_o;
+    float pdf_light = s->light_pdf[h.prim] * area_choice(sh) * h.t * h.t / cos_o;
     return power_heuristic(pa->bsdf_pdf, pdf_light);
 }
 
@@ -224,10 +287,11 @@ static st_shadow_ray punctual_event(const st_scene_refs *s, const st_params *p,
 }
 
 /* Next-event estimation: a punctual light (with probability punct_share:
- * punctual_event), else the environment (a cosine-distributed direction)
- * or one point on one emissive triangle, as a shadow ray with what it adds
- * when unoccluded; tmax stays 0 when the sample cannot contribute.
- * `choice` is the probability of the strategy taken. In the path
+ * punctual_event), else the environment (env_sample) or one point on one
+ * emissive triangle, chosen by power (env_choice, area_choice), as a
+ * shadow ray with what it adds when unoccluded; tmax stays 0 when the
+ * sample cannot contribute. One stratified dimension makes each choice
+ * and then the sample's first coordinate (pick_light). In the path
  * integrator the environment and area samples are weighted by the power
  * heuristic against the BSDF sample (surface_f_cos's pdf). */
 static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
@@ -236,35 +300,30 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
 {
     st_shadow_ray out = {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, 0.0f,
                          {0.0f, 0.0f, 0.0f}, 0.0f};
-    float3 env = vload4(0, sh->env).xyz, beta = vload3(0, pa->beta);
-    int has_env = env.x > 0.0f || env.y > 0.0f || env.z > 0.0f;
+    float3 beta = vload3(0, pa->beta);
     int path = p->integrator == ST_INTEGRATOR_PATH;
-    float choice = 1.0f, w = 1.0f, pdf_bsdf, u = st_sample_dim(p, id, dim);
+    float w = 1.0f, pdf_bsdf, u = st_sample_dim(p, id, dim), pe = sh->env_pick;
     if (sh->punct_count > 0u) { /* u both chooses and stays stratified (pick_light) */
         if (u < sh->punct_share)
             return punctual_event(s, p, sh, v, beta, origin, u / sh->punct_share, out);
-        choice = 1.0f - sh->punct_share;
-        u = fmin((u - sh->punct_share) / choice, 0.99999994f);
+        u = fmin((u - sh->punct_share) / (1.0f - sh->punct_share), 0.99999994f);
     }
-    int take_env = has_env && p->light_count == 0u;
-    if (has_env && p->light_count > 0u && !path) {
-        take_env = st_sample_dim(p, id, dim + 4u) < 0.5f;
-        choice *= 0.5f;
-    }
+    int take_env = u < pe;
+    if (pe > 0.0f && pe < 1.0f)
+        u = take_env ? u / pe : fmin((u - pe) / (1.0f - pe), 0.99999994f);
     float3 wi, c;
-    float tmax;
+    float tmax, u2 = st_sample_dim(p, id, dim + 1u);
     if (take_env) {
-        float cz, u2 = st_sample_dim(p, id, dim + 1u);
-        wi = cosine_direction(v->ns, u, u2, &cz);
-        if (!(cz > 0.0f && dot(wi, v->ng) > 0.0f))
+        float pdf_env, choice = env_choice(sh);
+        float3 le = env_sample(s, sh, v, u, u2, &wi, &pdf_env);
+        if (!(pdf_env > 0.0f && dot(wi, v->ng) > 0.0f))
             return out;
-        float pdf_env = cz / ST_PI_F;
         float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
         w = path ? power_heuristic(pdf_env * choice, pdf_bsdf) : 1.0f;
-        c = beta * fc * env * (w / (pdf_env * choice));
+        c = beta * fc * le * (w / (pdf_env * choice));
         tmax = INFINITY;
     } else if (p->light_count > 0u) {
-        float u2 = st_sample_dim(p, id, dim + 1u);
+        float choice = area_choice(sh);
         st_u32 lt = s->light_tri[pick_light(s->light_cdf, p->light_count, &u)];
         float3 q = triangle_point(s->tris, lt, u, u2), nl = facing_normal(s->normals, lt);
         wi = q - origin;

@@ -5,6 +5,8 @@
 #ifndef ST_LIGHTS_H
 #define ST_LIGHTS_H
 
+#include "envmap.h"
+
 /* The scene buffers the shading steps read, gathered so that each step
  * takes one argument for them. */
 typedef struct st_scene_refs {
@@ -22,13 +24,16 @@ typedef struct st_scene_refs {
     __global const st_tri_colors *colors;
     __global const st_texture *textures;
     __global const uint *texels;
+    __global const float *env_texels;
+    __global const float *env_cdf;
 } st_scene_refs;
 
 /* The refs of a stage kernel, from its parameters (ST_STAGE_PARAMS): the one
  * initialiser, so that a new field cannot be left out of one kernel. */
 #define ST_SCENE_REFS_INIT                                                                  \
     {tris,     normals,   tri_material, materials, light_tri, light_cdf, light_pdf,         \
-     punctual, punct_cdf, tri_uv,       tangents,  colors,    textures,  texels}
+     punctual, punct_cdf, tri_uv,       tangents,  colors,    textures,  texels,           \
+     env_texels, env_cdf}
 
 /* Index of the light whose CDF interval holds *u (first cdf[i] > *u), and *u
  * rescaled to [0, 1) within that interval, so that one stratified dimension
@@ -37,17 +42,7 @@ typedef struct st_scene_refs {
  * would scatter each light's points and lose the stratification). */
 static st_u32 pick_light(__global const float *cdf, st_u32 n, float *u)
 {
-    st_u32 lo = 0, hi = n - 1u;
-    while (lo < hi) {
-        st_u32 mid = (lo + hi) / 2u;
-        if (cdf[mid] > *u)
-            hi = mid;
-        else
-            lo = mid + 1u;
-    }
-    float c0 = lo ? cdf[lo - 1u] : 0.0f, c1 = cdf[lo];
-    *u = c1 > c0 ? fmin((*u - c0) / (c1 - c0), 0.99999994f) : 0.0f;
-    return lo;
+    return st_cdf_pick(cdf, n, u);
 }
 
 /* Point of triangle t at barycentrics from (u1, u2), uniform in area. */

@@ -18,17 +18,16 @@
  * let the ray go on through the surface without a bounce: the path keeps its
  * depth but spends one of the wave's trace iterations; shadow rays treat
  * such surfaces as opaque.
- * Environment (st_shading.env, uniform radiance): a path that leaves the
- * scene adds beta x env. Where there are no area lights it is also sampled
- * by next-event estimation: a cosine-distributed direction (dimensions 0, 1)
- * and a shadow ray to infinity, adding beta x f cos / pdf x env when
- * unoccluded; in the path integrator that sample and the BSDF sample are
- * weighted by the power heuristic (st_path.env_pdf keeps the environment
- * sample's pdf of the BSDF sample's direction for the weight at a miss; for
- * a Lambertian surface both pdfs are equal and each weighs 1/2). With
- * area lights too, the direct integrator picks the environment or the area
- * lights with probability 1/2 each (dimension 4) and divides by it; the path
- * integrator leaves the environment to BSDF samples (weight 1).
+ * Environment (st_shading.env: a uniform radiance, or a map, --env FILE:
+ * envmap.h): a path that leaves the scene adds beta x its radiance. Next-
+ * event estimation samples it too, choosing between it and the area lights
+ * by power (st_shading.env_pick; dimension 0 rescaled): a uniform one by a
+ * cosine-distributed direction, a map by its luminance (envmap.h), and a
+ * shadow ray to infinity adds beta x f cos / (pdf x choice) x radiance when
+ * unoccluded. In the path integrator that sample and the BSDF sample are
+ * weighted by the power heuristic (at a miss the map gives its pdf of the
+ * ray's direction; for a uniform one st_path.env_pdf keeps the cosine pdf
+ * of the BSDF sample's direction); the area-light samples likewise.
  * Punctual lights (KHR_lights_punctual; st_shading.punct_count): with
  * probability punct_share next-event estimation takes one of them instead
  * (chosen by power from punct_cdf, dimension 0 rescaled), as a delta light
@@ -41,8 +40,8 @@
  * camera's cone has the pixel's width and no spread.
  * Sample dimensions of vertex k: 2 + 6k + {0: light choice and first
  * coordinate on it (or the environment direction's first), 1: second
- * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: environment or area lights (direct
- * integrator with both), 5: Russian roulette}. BLEND coverage draws from
+ * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: unused,
+ * 5: Russian roulette}. BLEND coverage draws from
  * the counter hash, keyed by the triangle. */
 #include "st_shared.h"
 #include "rng.h"
@@ -53,16 +52,19 @@
 #include "bsdf.h"
 #include "integrator.h"
 
-/* A path that left the scene sees the environment, halved where next-event
- * estimation sampled it too (see the top). */
-static void shade_miss(const st_params *p, const st_shading *sh, st_path *pa)
+/* A path that left the scene along d sees the environment, weighted by MIS
+ * where next-event estimation samples it too (see the top). */
+static void shade_miss(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                       st_path *pa, __global const st_wave_ray *r)
 {
     float3 env = vload4(0, sh->env).xyz;
     if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f) {
-        float w = pa->depth > 0u && p->integrator == ST_INTEGRATOR_PATH && p->light_count == 0u
-                      ? power_heuristic(pa->bsdf_pdf, pa->env_pdf * (1.0f - sh->punct_share))
+        float pdf_env = pa->env_pdf, choice = env_choice(sh);
+        float3 le = env_radiance(s, sh, vload3(0, r->d), &pdf_env);
+        float w = pa->depth > 0u && p->integrator == ST_INTEGRATOR_PATH && choice > 0.0f
+                      ? power_heuristic(pa->bsdf_pdf, pdf_env * choice)
                       : 1.0f;
-        vstore3(vload3(0, pa->radiance) + vload3(0, pa->beta) * env * w, 0, pa->radiance);
+        vstore3(vload3(0, pa->radiance) + vload3(0, pa->beta) * le * w, 0, pa->radiance);
     }
     pa->depth = ST_PATH_DEAD;
 }
@@ -82,12 +84,12 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         return;
     pa.closest_rays++;
     st_hit h = hit[i];
+    st_scene_refs s = ST_SCENE_REFS_INIT;
     if (h.prim == ST_NO_HIT) {
-        shade_miss(&p, &sh, &pa);
+        shade_miss(&s, &p, &sh, &pa, &ray[i]);
         path[i] = pa;
         return;
     }
-    st_scene_refs s = ST_SCENE_REFS_INIT;
     st_wave_ray r = ray[i];
     st_sample smp = sample[i];
     st_surface v = surface_at(&s, &p, &sh, &r, h);

@@ -269,6 +269,16 @@ typedef struct st_shading {
      * 0 without them) rather than the area lights and environment */
     st_u32 punct_count;
     st_f32 punct_share;
+    /* the environment map (--env FILE; kernels/envmap.h), env_size 0 x 0
+     * without one (env is then the uniform radiance, else (1, 1, 1)); its
+     * rotation about +Y as (cos, sin); and env_pick, the probability that
+     * next-event estimation samples the environment rather than the area
+     * lights when it takes no punctual light (by power; 1 without area
+     * lights, 0 without an environment) */
+    st_u32 env_size[2];
+    st_f32 env_rot[2];
+    st_f32 env_pick;
+    st_u32 pad[3];
 } st_shading;
 
 /* Pinhole perspective camera: image-plane x maps to right * tan(fov/2) * aspect,
@@ -481,7 +491,9 @@ typedef struct st_tile_point {
     X(texels, st_u32)                                                                       \
     X(tile, st_tile_point)                                                                  \
     X(fis_cdf, st_f32)                                                                      \
-    X(pmj02, st_u32) /* pmj02's tables: x, y words of each point (st_sampling_pmj02) */
+    X(pmj02, st_u32) /* pmj02's tables: x, y words of each point (st_sampling_pmj02) */    \
+    X(env_texels, st_f32) /* the environment map's RGB0 texels (st_renderer_set_env_map) */ \
+    X(env_cdf, st_f32)    /* its sampling table (kernels/envmap.h) */
 
 #ifdef __OPENCL_VERSION__
 /* Whether a sample lies on the image (a tiled sampler's point may not: its
@@ -538,6 +550,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_tri_uv, uv) X(st_tri_uv, lod)                                                      \
     X(st_shading, env) X(st_shading, texture_filter) X(st_shading, texture_count)           \
     X(st_shading, punct_count) X(st_shading, punct_share)                                   \
+    X(st_shading, env_size) X(st_shading, env_rot) X(st_shading, env_pick)                  \
     X(st_punctual, pos) X(st_punctual, dir) X(st_punctual, intensity)                       \
     X(st_camera, origin) X(st_camera, right) X(st_camera, up) X(st_camera, forward)         \
     X(st_filter, kind) X(st_filter, radius) X(st_filter, b) X(st_filter, c)                 \
@@ -581,7 +594,7 @@ ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");
 ST_STATIC_ASSERT(sizeof(st_tri_uv) == 32, "st_tri_uv: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_tangents) == 48, "st_tri_tangents: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_colors) == 48, "st_tri_colors: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_shading) == 32, "st_shading: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_shading) == 64, "st_shading: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");

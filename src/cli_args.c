@@ -47,6 +47,10 @@ static const char render_help[] =
     "  --spp-map FILE.png     the samples each pixel received, colour-mapped with a legend\n"
     "  --env R,G,B | --env X  uniform environment light (linear radiance; 0: none). Default:\n"
     "                         white (1), with a note, for a scene that emits no light, else none\n"
+    "  --env FILE.exr|FILE.hdr   equirectangular environment map (linear RGB, +Y up; the image's\n"
+    "                         centre looks along -Z, its right quarter along +X), sampled by its\n"
+    "                         luminance\n"
+    "  --env-rotate DEGREES   turn the environment about +Y, from +Z towards +X (default 0)\n"
     "  --texture-filter none|bilinear|trilinear   texture lookups: nearest texel, bilinear,\n"
     "                         or mip-mapped trilinear with ray-cone footprints (default)\n"
     "  --camera N|auto        the scene's N-th camera node (0 = the first, in scene order), or\n"
@@ -71,7 +75,7 @@ enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
-    O_SPP_MAP, O_ENV, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP
+    O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP
 };
 
 static const struct option options[] = {
@@ -102,6 +106,7 @@ static const struct option options[] = {
     {"noise-threshold", required_argument, 0, O_THRESHOLD},
     {"spp-map", required_argument, 0, O_SPP_MAP},
     {"env", required_argument, 0, O_ENV},
+    {"env-rotate", required_argument, 0, O_ENV_ROTATE},
     {"texture-filter", required_argument, 0, O_TEXFILTER},
     {"camera", required_argument, 0, O_CAMERA},
     {"threads", required_argument, 0, O_THREADS},
@@ -204,9 +209,18 @@ int st_cli_apply_filter_args(const st_cli_filter_args *fa, st_filter *f)
     return ST_CLI_OK;
 }
 
-/* --env: three non-negative finite numbers R,G,B, or one for all three. */
+/* --env: three non-negative finite numbers R,G,B, or one for all three, or
+ * an environment map's file (.exr or .hdr: read when the session opens). */
 static int parse_env(const char *v, st_cli_render_args *a)
 {
+    a->env_file = NULL;
+    size_t len = strlen(v);
+    if (len > 4 && (!strcasecmp(v + len - 4, ".exr") || !strcasecmp(v + len - 4, ".hdr"))) {
+        a->env_file = v;
+        a->opt.env_given = 1;
+        a->opt.env[0] = a->opt.env[1] = a->opt.env[2] = 1.0f;
+        return ST_CLI_OK;
+    }
     float c[3];
     int n = 0;
     const char *s = v;
@@ -223,8 +237,8 @@ static int parse_env(const char *v, st_cli_render_args *a)
         s++;
     }
     if (*s != '\0' || (n != 1 && n != 3))
-        return st_cli_usage_error("--env %s: expected R,G,B or one value, each finite and >= 0",
-                                  v);
+        return st_cli_usage_error("--env %s: expected R,G,B or one value, each finite and >= 0, "
+                                  "or a .exr or .hdr file", v);
     for (int k = 0; k < 3; k++)
         a->opt.env[k] = n == 1 ? c[0] : c[k];
     a->opt.env_given = 1;
@@ -272,6 +286,7 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
         a->recon_given = 1;
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_ENV: return parse_env(v, a);
+    case O_ENV_ROTATE: return st_cli_parse_float("--env-rotate", v, &o->env_rotate);
     case O_TEXFILTER: {
         static const char *const names[3] = {"none", "bilinear", "trilinear"};
         return parse_name("--texture-filter", names, 3, v, &o->texture_filter);
@@ -430,6 +445,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
         return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "
                                   "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->opt.sampler]);
+    if (a->opt.env_rotate != 0.0f && !a->env_file)
+        return st_cli_usage_error("--env-rotate turns an environment map: add --env FILE.exr|FILE.hdr");
     if (a->ray_count && !a->rays)
         return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
     if (a->opt.adaptive && !a->recon_given) /* see st_render_check */

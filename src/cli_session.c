@@ -31,6 +31,8 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     double t0 = st_cli_now();
     if (st_scene_load(a->scene, &s->scene, err) != ST_OK)
         return err->status;
+    if (a->env_file && st_envmap_load(a->env_file, &s->env_map, err) != ST_OK)
+        return err->status;
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; i < s->scene->warning_count; i++)
         fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
@@ -52,7 +54,9 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     if (st_device_build(s->dev, NULL, err) != ST_OK)
         return err->status;
     s->build_seconds = st_cli_now() - t0;
-    return st_renderer_create(s->dev, s->scene, &s->renderer, err);
+    if (st_renderer_create(s->dev, s->scene, &s->renderer, err) != ST_OK)
+        return err->status;
+    return s->env_map ? st_renderer_set_env_map(s->renderer, s->env_map, err) : ST_OK;
 }
 
 void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
@@ -92,6 +96,7 @@ int st_cli_session_fail(const st_cli_session *s, const st_error *err)
 void st_cli_session_close(st_cli_session *s)
 {
     st_renderer_destroy(s->renderer);
+    st_envmap_free(s->env_map);
     st_scene_destroy(s->scene);
     st_device_destroy(s->dev);
     memset(s, 0, sizeof *s);
@@ -157,7 +162,12 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     TYPED("max_depth", ST_ATTR_INT, "%u", o->max_depth);
     float env[3];
     st_render_env(s->scene, o, env);
-    ATTR("env", "%.9g,%.9g,%.9g", (double)env[0], (double)env[1], (double)env[2]);
+    if (a->env_file) {
+        ATTR("env", "%s", a->env_file);
+        TYPED("env_rotate", ST_ATTR_FLOAT, "%.9g", (double)o->env_rotate);
+    } else {
+        ATTR("env", "%.9g,%.9g,%.9g", (double)env[0], (double)env[1], (double)env[2]);
+    }
     ATTR("texture_filter", "%s", o->texture_filter == ST_TEXFILTER_NONE ? "none"
                                  : o->texture_filter == ST_TEXFILTER_BILINEAR
                                      ? "bilinear"

@@ -8,6 +8,7 @@
 
 #include "cli_args.h"
 #include "st_device.h"
+#include "st_envmap.h"
 #include "st_image.h"
 #include "st_render.h"
 #include "st_scene.h"
@@ -18,6 +19,7 @@ typedef struct st_cli_session {
     st_device *dev;
     st_scene *scene;
     st_renderer *renderer;
+    st_envmap *env_map; /* --env FILE; NULL: none */
     double load_seconds, build_seconds;
 } st_cli_session;
 

@@ -141,14 +141,21 @@ double st_punctual_cdf(const st_punctual *l, st_u32 count, double radius, float 
     return total;
 }
 
-float st_punctual_share(double punct_power, double area_power, const float env[3],
-                        double radius)
+float st_punctual_share(double punct_power, double area_power, double env_power)
 {
-    double env_mean = ((double)env[0] + env[1] + env[2]) / 3.0;
-    double rest = area_power + 4.0 * PI * PI * radius * radius * env_mean;
+    double rest = area_power + env_power;
     if (!(punct_power > 0.0))
         return 0.0f;
     return rest > 0.0 ? (float)(punct_power / (punct_power + rest)) : 1.0f;
+}
+
+float st_env_pick(double area_power, double env_power, st_u32 light_count)
+{
+    if (!(env_power > 0.0))
+        return 0.0f;
+    if (light_count == 0u || !(area_power > 0.0))
+        return 1.0f;
+    return (float)(env_power / (env_power + area_power));
 }
 
 void st_lights_free(st_lights *l)

@@ -300,15 +300,24 @@ static st_shading make_shading(const st_renderer *r, const st_render_options *o)
 {
     st_shading sh;
     memset(&sh, 0, sizeof sh);
-    st_render_env(r->scene, o, sh.env);
-    sh.texture_filter = o->texture_filter;
-    sh.texture_count = r->scene->texture_count;
-    sh.punct_count = r->punct_count;
-    if (r->punct_count) {
-        const st_scene *s = r->scene;
-        sh.punct_share = st_punctual_share(s->punctual_power, s->emitted_power - s->punctual_power,
-                                           sh.env, st_scene_radius(s));
+    const st_scene *s = r->scene;
+    st_render_env(s, o, sh.env);
+    if (r->env_map) { /* the map replaces the uniform radiance (st_renderer_set_env_map) */
+        sh.env[0] = sh.env[1] = sh.env[2] = 1.0f;
+        sh.env_size[0] = r->env_map->width;
+        sh.env_size[1] = r->env_map->height;
     }
+    double a = o->env_rotate * (3.14159265358979323846 / 180.0);
+    sh.env_rot[0] = (float)cos(a);
+    sh.env_rot[1] = (float)sin(a);
+    sh.texture_filter = o->texture_filter;
+    sh.texture_count = s->texture_count;
+    sh.punct_count = r->punct_count;
+    double area = s->emitted_power - s->punctual_power;
+    double env = st_env_power(r->env_map, sh.env, st_scene_radius(s));
+    if (r->punct_count)
+        sh.punct_share = st_punctual_share(s->punctual_power, area, env);
+    sh.env_pick = st_env_pick(area, env, r->light_count);
     return sh;
 }
 

@@ -4,6 +4,7 @@
 #ifndef ST_RENDER_INT_H
 #define ST_RENDER_INT_H
 
+#include "st_envmap.h"
 #include "st_render.h"
 #include "wave.h"
 
@@ -11,13 +12,15 @@ struct st_renderer {
     st_device *dev;
     const st_scene *scene;
     /* ST_SCENE_BUFFERS: the scene, uploaded once; tile, fis_cdf and pmj02
-     * are the per-render inputs (render.c) */
+     * are the per-render inputs (render.c), env_texels and env_cdf the
+     * environment map's (st_renderer_set_env_map) */
     cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
     cl_kernel k[ST_STAGE_COUNT];
     cl_kernel mark; /* adaptive_mark */
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
+    const st_envmap *env_map; /* borrowed (st_renderer_set_env_map); NULL: none */
     float ray_eps;
     double bvh_seconds;
     /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],

@@ -10,9 +10,10 @@
 #include "st_bvh.h"
 #include "st_lights.h"
 
-_Static_assert(ST_SCENE_tile + 3 == ST_SCENE_BUFFER_COUNT && ST_SCENE_fis_cdf == ST_SCENE_tile + 1 &&
-                   ST_SCENE_pmj02 == ST_SCENE_tile + 2,
-               "the per-render inputs come last in ST_SCENE_BUFFERS");
+_Static_assert(ST_SCENE_tile + 5 == ST_SCENE_BUFFER_COUNT && ST_SCENE_fis_cdf == ST_SCENE_tile + 1 &&
+                   ST_SCENE_pmj02 == ST_SCENE_tile + 2 && ST_SCENE_env_texels == ST_SCENE_tile + 3 &&
+                   ST_SCENE_env_cdf == ST_SCENE_tile + 4,
+               "the per-render inputs and the environment map come last in ST_SCENE_BUFFERS");
 
 /* Texture coordinates in BVH order and the triangle's part of the ray-cone
  * level of detail, lod = 1/2 log2(uv area / world area) (st_tri_uv). */
@@ -154,7 +155,8 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
         goto fail;
     st_bvh_set_sides(bvh, scene->tri_material, scene->materials);
     r->bvh_seconds = st_render_now() - t0;
-    if (upload_scene(r, bvh, err) != ST_OK || st_device_build(dev, NULL, err) != ST_OK)
+    if (upload_scene(r, bvh, err) != ST_OK || st_renderer_set_env_map(r, NULL, err) != ST_OK ||
+        st_device_build(dev, NULL, err) != ST_OK)
         goto fail;
     for (int k = 0; k < ST_STAGE_COUNT; k++)
         if (st_device_kernel(dev, st_stage_names[k], &r->k[k], err) != ST_OK)
@@ -179,6 +181,25 @@ void st_renderer_destroy(st_renderer *r)
     for (int b = 0; b < ST_SCENE_BUFFER_COUNT; b++)
         st_device_buffer_destroy(r->scene_buf[b]);
     free(r);
+}
+
+st_status st_renderer_set_env_map(st_renderer *r, const st_envmap *m, st_error *err)
+{
+    static const float none[4]; /* device buffers are never empty */
+    size_t n = m ? (size_t)m->width * m->height : 0;
+    st_device_buffer_destroy(r->scene_buf[ST_SCENE_env_texels]);
+    st_device_buffer_destroy(r->scene_buf[ST_SCENE_env_cdf]);
+    r->scene_buf[ST_SCENE_env_texels] = r->scene_buf[ST_SCENE_env_cdf] = NULL;
+    r->env_map = NULL;
+    st_status rc = st_device_buffer_create(r->dev, m ? sizeof(float) * 4 * n : sizeof none,
+                                           m ? m->texels : none,
+                                           &r->scene_buf[ST_SCENE_env_texels], err);
+    if (rc == ST_OK)
+        rc = st_device_buffer_create(r->dev, m ? sizeof(float) * (m->height + n) : sizeof none,
+                                     m ? m->cdf : none, &r->scene_buf[ST_SCENE_env_cdf], err);
+    if (rc == ST_OK)
+        r->env_map = m;
+    return rc;
 }
 
 double st_renderer_bvh_seconds(const st_renderer *r) { return r->bvh_seconds; }

@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include "device_fixture.h"
+#include "st_envmap.h"
 #include "st_lights.h"
 #include "st_render.h"
 #include "st_scene.h"
@@ -261,10 +262,12 @@ static void table_picks_by_power(void **state)
     assert_float_equal(cdf[1] - cdf[0], power[1] / total, 1e-5);
     assert_float_equal(cdf[2], 1.0f, 0.0);
     const float env[3] = {0.5f, 0.5f, 0.5f}, none[3] = {0.0f, 0.0f, 0.0f};
-    double rest = 7.0 + 4.0 * PI * PI * radius * radius * 0.5;
-    assert_float_equal(st_punctual_share(total, 7.0, env, radius), total / (total + rest), 1e-6);
-    assert_float_equal(st_punctual_share(total, 0.0, none, radius), 1.0f, 0.0);
-    assert_float_equal(st_punctual_share(0.0, 7.0, env, radius), 0.0f, 0.0);
+    double env_power = 4.0 * PI * PI * radius * radius * 0.5, rest = 7.0 + env_power;
+    assert_float_equal(st_env_power(NULL, env, radius), env_power, 1e-9 * env_power);
+    assert_float_equal(st_env_power(NULL, none, radius), 0.0, 0.0);
+    assert_float_equal(st_punctual_share(total, 7.0, env_power), total / (total + rest), 1e-6);
+    assert_float_equal(st_punctual_share(total, 0.0, 0.0), 1.0f, 0.0);
+    assert_float_equal(st_punctual_share(0.0, 7.0, env_power), 0.0f, 0.0);
     memset(l, 0, sizeof l); /* lights that emit nothing are never picked */
     st_punctual_cdf(l, 3, radius, cdf);
     assert_float_equal(cdf[2], 0.0f, 0.0);

@@ -1,0 +1,194 @@
+/* envmap.c — environment maps: reading, the sampling tables, the power (see
+ * st_envmap.h; the convention and sampling: kernels/envmap.h). */
+#include "st_envmap.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <stb/stb_image.h> /* Debian: implementations live in libstb (-lstb) */
+
+#include "envmap.h"
+#include "st_image.h"
+
+#define PI 3.14159265358979323846
+
+/* Luminance of linear Rec. 709 RGB (ITU-R BT.709 weights). */
+static double luminance(const float *c)
+{
+    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+}
+
+/* The marginal and conditional CDFs of f_ij = luminance x sin θ_j (the
+ * layout of kernels/envmap.h); a row that is black everywhere (probability
+ * 0, never chosen) gets a uniform CDF. Returns Σ f, 0 when all are black. */
+static double build_cdf(const float *texels, st_u32 w, st_u32 h, float *cdf)
+{
+    double total = 0.0;
+    float *marg = cdf;
+    double *rows = malloc(sizeof *rows * h);
+    if (!rows)
+        return -1.0;
+    for (st_u32 j = 0; j < h; j++) {
+        double s = sin(PI * (j + 0.5) / h), acc = 0.0;
+        float *cond = cdf + h + (size_t)j * w;
+        for (st_u32 i = 0; i < w; i++) {
+            acc += luminance(&texels[4 * ((size_t)j * w + i)]) * s;
+            cond[i] = (float)acc; /* normalised below */
+        }
+        for (st_u32 i = 0; i < w; i++)
+            cond[i] = acc > 0.0 ? (i + 1 == w ? 1.0f : (float)(cond[i] / acc))
+                                : (float)(i + 1) / (float)w;
+        if (acc > 0.0)
+            cond[w - 1] = 1.0f;
+        rows[j] = acc;
+        total += acc;
+    }
+    double acc = 0.0;
+    for (st_u32 j = 0; j < h; j++) {
+        acc += rows[j];
+        marg[j] = total > 0.0 ? (j + 1 == h ? 1.0f : (float)(acc / total)) : 0.0f;
+    }
+    free(rows);
+    return total;
+}
+
+st_status st_envmap_make(const float *rgb, st_u32 w, st_u32 h, const char *name,
+                         st_envmap **out, st_error *err)
+{
+    *out = NULL;
+    if (w == 0 || h == 0 || (st_u64)w * h > ST_ENV_MAX_TEXELS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: %u x %u texels: an environment map has 1 to 2^26",
+                       name, w, h);
+    size_t n = (size_t)w * h;
+    for (size_t k = 0; k < 3 * n; k++)
+        if (!isfinite(rgb[k]))
+            return st_fail(err, ST_ERR_FORMAT, "%s: texel (%zu, %zu) is not finite", name,
+                           k / 3 % w, k / 3 / w);
+    st_envmap *m = calloc(1, sizeof *m);
+    if (m) {
+        m->texels = malloc(sizeof(float) * 4 * n);
+        m->cdf = malloc(sizeof(float) * (h + n));
+    }
+    if (!m || !m->texels || !m->cdf) {
+        st_envmap_free(m);
+        return st_fail(err, ST_ERR_NOMEM, "%s: out of memory for the environment map", name);
+    }
+    m->width = w;
+    m->height = h;
+    double integral = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        st_u32 j = (st_u32)(k / w);
+        /* the cell's solid angle: 2π / w (cos θ0 - cos θ1) */
+        double omega = 2.0 * PI / w * (cos(PI * j / h) - cos(PI * (j + 1) / h));
+        for (int c = 0; c < 3; c++)
+            m->texels[4 * k + c] = fmaxf(rgb[3 * k + c], 0.0f);
+        m->texels[4 * k + 3] = 0.0f;
+        integral += omega * (m->texels[4 * k] + m->texels[4 * k + 1] + m->texels[4 * k + 2]) / 3.0;
+    }
+    m->integral = integral;
+    double total = build_cdf(m->texels, w, h, m->cdf);
+    if (total < 0.0) {
+        st_envmap_free(m);
+        return st_fail(err, ST_ERR_NOMEM, "%s: out of memory for the environment map", name);
+    }
+    if (!(total > 0.0) || !(integral > 0.0)) {
+        st_envmap_free(m);
+        return st_fail(err, ST_ERR_FORMAT, "%s: the environment map is black (no light)", name);
+    }
+    *out = m;
+    return ST_OK;
+}
+
+/* R, G, B of an EXR's channels, 3 floats a texel (malloc'ed). */
+static st_status exr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st_error *err)
+{
+    st_image img;
+    if (st_image_load_exr(path, &img, NULL, NULL, err) != ST_OK)
+        return err->status;
+    int ch[3] = {st_image_find_channel(&img, "R"), st_image_find_channel(&img, "G"),
+                 st_image_find_channel(&img, "B")};
+    st_status rc = ST_OK;
+    for (int c = 0; c < 3 && rc == ST_OK; c++) {
+        if (ch[c] < 0)
+            rc = st_fail(err, ST_ERR_FORMAT, "%s: no %c channel (an environment map needs R, G, B)",
+                         path, "RGB"[c]);
+        else if (img.types[ch[c]] != ST_PIXEL_FLOAT)
+            rc = st_fail(err, ST_ERR_FORMAT, "%s: channel %c is not float or half", path, "RGB"[c]);
+    }
+    size_t n = (size_t)img.width * img.height;
+    *rgb = rc == ST_OK ? malloc(sizeof(float) * 3 * n) : NULL;
+    if (rc == ST_OK && !*rgb)
+        rc = st_fail(err, ST_ERR_NOMEM, "%s: out of memory", path);
+    for (size_t k = 0; rc == ST_OK && k < n; k++)
+        for (int c = 0; c < 3; c++)
+            (*rgb)[3 * k + c] = img.data[k * img.channels + (size_t)ch[c]];
+    *w = img.width;
+    *h = img.height;
+    st_image_free(&img);
+    return rc;
+}
+
+/* R, G, B of a Radiance .hdr (stb_image; an 8-bit image is refused). */
+static st_status hdr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
+    int is_hdr = stbi_is_hdr_from_file(f), iw = 0, ih = 0, n = 0;
+    /* the size from the header first: the cap holds before any decoding */
+    int sized = is_hdr && stbi_info_from_file(f, &iw, &ih, &n) &&
+                (st_u64)iw * (st_u64)ih <= ST_ENV_MAX_TEXELS;
+    float *px = sized ? stbi_loadf_from_file(f, &iw, &ih, &n, 3) : NULL;
+    fclose(f);
+    if (!is_hdr)
+        return st_fail(err, ST_ERR_FORMAT, "%s: not a Radiance HDR (float) image", path);
+    if (!sized && iw > 0 && ih > 0)
+        return st_fail(err, ST_ERR_FORMAT, "%s: %d x %d texels: an environment map has 1 to 2^26",
+                       path, iw, ih);
+    if (!px) {
+        const char *why = stbi_failure_reason();
+        return st_fail(err, ST_ERR_FORMAT, "%s: cannot decode (%s)", path, why ? why : "unknown");
+    }
+    *rgb = px; /* stb allocates with malloc (STBI_MALLOC's default) */
+    *w = (st_u32)iw;
+    *h = (st_u32)ih;
+    return ST_OK;
+}
+
+st_status st_envmap_load(const char *path, st_envmap **out, st_error *err)
+{
+    *out = NULL;
+    size_t len = strlen(path);
+    int exr = len > 4 && !strcasecmp(path + len - 4, ".exr");
+    int hdr = len > 4 && !strcasecmp(path + len - 4, ".hdr");
+    if (!exr && !hdr)
+        return st_fail(err, ST_ERR_USAGE, "%s: an environment map is a .exr or .hdr file", path);
+    float *rgb = NULL;
+    st_u32 w = 0, h = 0;
+    if ((exr ? exr_rgb(path, &rgb, &w, &h, err) : hdr_rgb(path, &rgb, &w, &h, err)) != ST_OK) {
+        free(rgb);
+        return err->status;
+    }
+    st_status rc = st_envmap_make(rgb, w, h, path, out, err);
+    free(rgb);
+    return rc;
+}
+
+void st_envmap_free(st_envmap *m)
+{
+    if (!m)
+        return;
+    free(m->texels);
+    free(m->cdf);
+    free(m);
+}
+
+double st_env_power(const st_envmap *m, const float env[3], double radius)
+{
+    double integral = m ? m->integral : 4.0 * PI * ((double)env[0] + env[1] + env[2]) / 3.0;
+    return PI * radius * radius * integral;
+}

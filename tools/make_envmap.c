@@ -1,0 +1,101 @@
+/* make_envmap.c — writes an equirectangular environment map as a Radiance
+ * .hdr (stb_image_write), in strata's convention (kernels/envmap.h: +Y up,
+ * the centre column looking along -Z, the right quarter along +X):
+ *   sky      an outdoor sky: a gradient from a pale horizon to a blue zenith,
+ *            a sun disc of 2.5 degrees radius (radiance 1000) at 40 degrees
+ *            elevation towards (+X, +Z) (behind a camera that looks along -Z,
+ *            over its right shoulder), a dim brown ground (`make` puts it in
+ *            build/envmaps/sky.hdr for the README's pictures)
+ *   compass  the convention made visible: the quarter of the sphere around
+ *            -Z red, +X green, +Z blue, -X yellow, bright above the horizon
+ *            and dark below, with a dark line every 30 degrees of azimuth and
+ *            elevation and a white horizon
+ * Usage: make_envmap sky|compass OUT.hdr [WIDTH HEIGHT]   (default 512 x 256) */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <stb/stb_image_write.h> /* Debian: implementations live in libstb (-lstb) */
+
+#define PI 3.14159265358979323846
+
+/* The direction of map coordinates (u, v): kernels/envmap.h's formula,
+ * written out here so that the tool does not depend on the renderer. */
+static void direction(double u, double v, double d[3])
+{
+    double phi = 2.0 * PI * (u - 0.5), theta = PI * v;
+    d[0] = sin(theta) * sin(phi);
+    d[1] = cos(theta);
+    d[2] = -sin(theta) * cos(phi);
+}
+
+static void sky(const double d[3], float c[3])
+{
+    static const double sun_elev = 40.0 * PI / 180.0, sun_radius = 2.5 * PI / 180.0;
+    double s[3] = {cos(sun_elev) * sqrt(0.5), sin(sun_elev), cos(sun_elev) * sqrt(0.5)};
+    double cos_sun = d[0] * s[0] + d[1] * s[1] + d[2] * s[2];
+    if (cos_sun > cos(sun_radius)) {
+        c[0] = 1000.0f, c[1] = 950.0f, c[2] = 850.0f;
+        return;
+    }
+    static const double horizon[3] = {0.95, 0.97, 1.0}, zenith[3] = {0.25, 0.45, 0.95},
+                        ground[3] = {0.16, 0.13, 0.10};
+    double t = d[1] > 0.0 ? pow(d[1], 0.5) : 0.0;
+    for (int k = 0; k < 3; k++)
+        c[k] = (float)(d[1] >= 0.0 ? horizon[k] + t * (zenith[k] - horizon[k]) : ground[k]);
+}
+
+static void compass(const double d[3], float c[3])
+{
+    static const float quarter[4][3] = {{1, 0.1f, 0.1f}, {0.1f, 1, 0.1f}, {0.1f, 0.2f, 1},
+                                        {1, 0.9f, 0.1f}}; /* -Z, +X, +Z, -X */
+    double az = atan2(d[0], -d[2]) * 180.0 / PI; /* 0 at -Z, 90 at +X */
+    double el = asin(d[1] < -1.0 ? -1.0 : d[1] > 1.0 ? 1.0 : d[1]) * 180.0 / PI;
+    int q = (int)floor((az + 45.0 + 360.0) / 90.0) % 4;
+    double scale = el >= 0.0 ? 1.0 : 0.25;
+    if (fabs(el) < 1.0)
+        scale = 4.0; /* the horizon, white */
+    else if (fabs(fmod(az + 360.0, 30.0)) < 0.7 || fabs(fmod(el + 90.0, 30.0)) < 0.7)
+        scale = 0.05;
+    for (int k = 0; k < 3; k++)
+        c[k] = fabs(el) < 1.0 ? 1.0f : (float)(quarter[q][k] * scale);
+    if (fabs(el) < 1.0)
+        c[0] = c[1] = c[2] = (float)scale;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 3 && argc != 5) {
+        fprintf(stderr, "usage: make_envmap sky|compass OUT.hdr [WIDTH HEIGHT]\n");
+        return 2;
+    }
+    int is_sky = !strcmp(argv[1], "sky");
+    if (!is_sky && strcmp(argv[1], "compass")) {
+        fprintf(stderr, "make_envmap: unknown map '%s' (sky or compass)\n", argv[1]);
+        return 2;
+    }
+    int w = argc == 5 ? atoi(argv[3]) : 512, h = argc == 5 ? atoi(argv[4]) : 256;
+    if (w < 1 || h < 1 || w > 16384 || h > 8192) {
+        fprintf(stderr, "make_envmap: size %d x %d out of 1..16384 x 1..8192\n", w, h);
+        return 2;
+    }
+    float *px = malloc(sizeof *px * 3 * (size_t)w * h);
+    if (!px) {
+        fprintf(stderr, "make_envmap: out of memory\n");
+        return 1;
+    }
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            double d[3];
+            direction((i + 0.5) / w, (j + 0.5) / h, d);
+            (is_sky ? sky : compass)(d, px + 3 * ((size_t)j * w + i));
+        }
+    int ok = stbi_write_hdr(argv[2], w, h, 3, px);
+    free(px);
+    if (!ok) {
+        fprintf(stderr, "make_envmap: cannot write %s\n", argv[2]);
+        return 1;
+    }
+    return 0;
+}
