@@ -62,6 +62,8 @@ st_status st_render_check(const st_render_options *o, st_error *err)
                        o->height);
     if (o->spp < 1)
         return st_fail(err, ST_ERR_USAGE, "spp must be at least 1");
+    if (!isfinite(o->env_rotate))
+        return st_fail(err, ST_ERR_USAGE, "env rotate %g: not a finite angle", (double)o->env_rotate);
     if (o->texture_filter > ST_TEXFILTER_TRILINEAR)
         return st_fail(err, ST_ERR_USAGE, "texture filter %u: unknown", o->texture_filter);
     st_u32 end = o->sample_end ? o->sample_end : o->spp;

@@ -163,6 +163,10 @@ static void convention_and_rotation(void **state)
     st_env_rotate(rot30, 0, out, back); /* to the map's frame: the inverse */
     for (int a = 0; a < 3; a++)
         assert_float_equal(back[a], d[a], 1e-6);
+    st_render_options o = st_render_defaults();
+    st_error err = {0};
+    o.env_rotate = INFINITY;
+    assert_int_equal(st_render_check(&o, &err), ST_ERR_USAGE);
 }
 
 /* A 16 x 8 map of random positive radiance and a bright texel. */

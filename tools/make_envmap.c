@@ -2,15 +2,18 @@
  * .hdr (stb_image_write), in strata's convention (kernels/envmap.h: +Y up,
  * the centre column looking along -Z, the right quarter along +X):
  *   sky      an outdoor sky: a gradient from a pale horizon to a blue zenith,
- *            a sun disc of 2.5 degrees radius (radiance 1000) at 40 degrees
+ *            a sun disc of 2.5 degrees radius (radiance 250) at 40 degrees
  *            elevation towards (+X, +Z) (behind a camera that looks along -Z,
- *            over its right shoulder), a dim brown ground (`make` puts it in
- *            build/envmaps/sky.hdr for the README's pictures)
+ *            over its right shoulder), a dim brown ground; a white surface
+ *            facing the sun gets about π (sun 1.5, sky 1.4), as under a
+ *            uniform environment of 1 (`make` puts it in build/envmaps/sky.hdr
+ *            for the README's pictures)
  *   compass  the convention made visible: the quarter of the sphere around
  *            -Z red, +X green, +Z blue, -X yellow, bright above the horizon
  *            and dark below, with a dark line every 30 degrees of azimuth and
  *            elevation and a white horizon
- * Usage: make_envmap sky|compass OUT.hdr [WIDTH HEIGHT]   (default 512 x 256) */
+ * OUT.png writes an 8-bit preview instead (radiance clamped to 1, sRGB).
+ * Usage: make_envmap sky|compass OUT.hdr|OUT.png [WIDTH HEIGHT]   (default 512 x 256) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,11 +39,11 @@ static void sky(const double d[3], float c[3])
     double s[3] = {cos(sun_elev) * sqrt(0.5), sin(sun_elev), cos(sun_elev) * sqrt(0.5)};
     double cos_sun = d[0] * s[0] + d[1] * s[1] + d[2] * s[2];
     if (cos_sun > cos(sun_radius)) {
-        c[0] = 1000.0f, c[1] = 950.0f, c[2] = 850.0f;
+        c[0] = 250.0f, c[1] = 237.5f, c[2] = 212.5f;
         return;
     }
-    static const double horizon[3] = {0.95, 0.97, 1.0}, zenith[3] = {0.25, 0.45, 0.95},
-                        ground[3] = {0.16, 0.13, 0.10};
+    static const double horizon[3] = {0.55, 0.57, 0.6}, zenith[3] = {0.15, 0.27, 0.6},
+                        ground[3] = {0.12, 0.10, 0.08};
     double t = d[1] > 0.0 ? pow(d[1], 0.5) : 0.0;
     for (int k = 0; k < 3; k++)
         c[k] = (float)(d[1] >= 0.0 ? horizon[k] + t * (zenith[k] - horizon[k]) : ground[k]);
@@ -64,10 +67,27 @@ static void compass(const double d[3], float c[3])
         c[0] = c[1] = c[2] = (float)scale;
 }
 
+/* An 8-bit sRGB preview (IEC 61966-2-1 encoding of the clamped radiance). */
+static int write_png(const char *path, int w, int h, const float *px)
+{
+    size_t n = 3 * (size_t)w * h;
+    unsigned char *b = malloc(n);
+    if (!b)
+        return 0;
+    for (size_t k = 0; k < n; k++) {
+        double l = px[k] < 0.0f ? 0.0 : px[k] > 1.0f ? 1.0 : px[k];
+        double v = l <= 0.0031308 ? 12.92 * l : 1.055 * pow(l, 1.0 / 2.4) - 0.055;
+        b[k] = (unsigned char)(v * 255.0 + 0.5);
+    }
+    int ok = stbi_write_png(path, w, h, 3, b, 3 * w);
+    free(b);
+    return ok;
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 3 && argc != 5) {
-        fprintf(stderr, "usage: make_envmap sky|compass OUT.hdr [WIDTH HEIGHT]\n");
+        fprintf(stderr, "usage: make_envmap sky|compass OUT.hdr|OUT.png [WIDTH HEIGHT]\n");
         return 2;
     }
     int is_sky = !strcmp(argv[1], "sky");
@@ -91,7 +111,9 @@ int main(int argc, char **argv)
             direction((i + 0.5) / w, (j + 0.5) / h, d);
             (is_sky ? sky : compass)(d, px + 3 * ((size_t)j * w + i));
         }
-    int ok = stbi_write_hdr(argv[2], w, h, 3, px);
+    size_t len = strlen(argv[2]);
+    int ok = len > 4 && !strcmp(argv[2] + len - 4, ".png") ? write_png(argv[2], w, h, px)
+                                                            : stbi_write_hdr(argv[2], w, h, 3, px);
     free(px);
     if (!ok) {
         fprintf(stderr, "make_envmap: cannot write %s\n", argv[2]);

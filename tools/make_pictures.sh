@@ -6,13 +6,19 @@
 #   ONLY="A B"  make only these names (tests/test_pictures.sh re-renders a few
 #               this way and requires them equal to the committed files)
 #   S=BINARY    the strata to run (default ./strata)
+#   E=DIR       the environment maps and their tool (default build/envmaps and
+#               build/release/make_envmap: `make pictures` makes them)
 set -e
 S=${S:-./strata}
 P=${P:-scenes/pictures}
+E=${E:-build/envmaps}
+M=${M:-build/release/make_envmap}
 
-pic() {
-    name=$1
-    shift
+# pic_with PROGRAM NAME ARGS...: runs PROGRAM ARGS with @ as the picture's path
+pic_with() {
+    prog=$1
+    name=$2
+    shift 2
     if [ -n "$ONLY" ]; then
         case " $ONLY " in *" $name "*) ;; *) return 0 ;; esac
     fi
@@ -25,8 +31,10 @@ pic() {
         n=$((n - 1))
     done
     mkdir -p "$(dirname "$P/$name")"
-    "$S" "$@"
+    "$prog" "$@"
 }
+
+pic() { pic_with "$S" "$@"; }
 
 pic cornell-box.png render --width 512 --height 512 --spp 64 --quiet -o @
 for s in random uniform stratified halton hammersley poisson best-candidate paddedsobol sobol zsobol \
@@ -83,10 +91,19 @@ for f in none trilinear; do
         --spp 1 --texture-filter $f --sampler uniform --quiet -o @
 done
 pic textures/soft-shadows.png render soft-shadows --width 384 --height 288 --spp 256 --quiet -o @
+# the environment maps' orientation: the compass map itself, and seen through a
+# camera looking along -Z (metal spheres reflect it), then turned by 90 degrees
+pic_with "$M" envmap/compass.png compass @ 256 128
+pic_with "$M" envmap/sky.png sky @ 256 128
 K=../shared/scenes/khronos
 if [ -d $K ]; then
+    SPHERES=$K/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.gltf
+    for deg in 0 90; do
+        pic envmap/compass-rotate-$deg.png render $SPHERES --width 160 --height 120 --spp 16 \
+            --env $E/compass.hdr --env-rotate $deg --quiet -o @
+    done
     for f in $(sed -n 's/^| [A-Za-z]* | `\([^`]*\.gl[tb]f*\)` |.*/\1/p' $K/INDEX.md); do
-        pic models/$(dirname $f).png render $K/$f --width 160 --height 120 --spp 64 --env 1 \
-            --quiet -o @
+        pic models/$(dirname $f).png render $K/$f --width 160 --height 120 --spp 64 \
+            --env $E/sky.hdr --quiet -o @
     done
 fi
