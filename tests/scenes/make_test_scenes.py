@@ -74,6 +74,13 @@ two_uv        the quad, unlit white, seen as textured_quad is: TEXCOORD_0 consta
               TEXCOORD_1 are +x (u grows with x) with w = -1 (v falls with y).
               two_uv_transform names texCoord 0 and KHR_texture_transform's
               texCoord 1 (identity transform); two_uv_coord2 names texCoord 2.
+              two_uv_light: a white Lambertian ground (the quad, z = 0) under a
+              one-sided emitter (the quad turned to face -z at z = 1, so the
+              camera above sees through its back): emissiveFactor 1 times a
+              2 x 1 texture black | white (NEAREST) on TEXCOORD_1 (its own uv;
+              TEXCOORD_0 constant on the white texel), so only its half x > 0
+              emits; half_light: the same with that half alone as the emitter,
+              untextured.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -677,6 +684,40 @@ def write_two_uv():
     write_json("two_uv_coord2.gltf", g)
 
 
+def write_two_uv_light():
+    lambert = {"pbrMetallicRoughness": {"metallicFactor": 0.0},
+               "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    emitter = {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                        "metallicFactor": 0.0},
+               "emissiveFactor": [1.0, 1.0, 1.0],
+               "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    nodes = [{"mesh": 0}, {"mesh": 1, "translation": [0.0, 0.0, 1.0],
+                           "rotation": [1.0, 0.0, 0.0, 0.0]}, ortho_camera_node()]
+    for name in ("two_uv_light.gltf", "half_light.gltf"):
+        b = Blob()
+        ground = b.quad(0.0, QUAD_UV)
+        ground["material"] = 0
+        light = b.quad(0.0, [0.75, 0.5] * 4)
+        light["material"] = 1
+        extra = {}
+        if name == "two_uv_light.gltf":
+            light["attributes"]["TEXCOORD_1"] = b.accessor(f32(QUAD_UV), 5126, 4, "VEC2")
+            emitter["emissiveTexture"] = {"index": 0, "texCoord": 1}
+            extra = {"images": [{"uri": png_uri(png(2, 1, 3, [[0, 0, 0, 255, 255, 255]]))}],
+                     "samplers": [{"magFilter": 9728}],
+                     "textures": [{"source": 0, "sampler": 0}]}
+        else:  # the emitter's half x > 0 alone
+            half = [0.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0]
+            light["attributes"]["POSITION"] = b.accessor(f32(half), 5126, 4, "VEC3",
+                                                         min=[0.0, -1.0, 0.0],
+                                                         max=[1.0, 1.0, 0.0])
+            emitter.pop("emissiveTexture")
+        g = doc([{"primitives": [ground]}, {"primitives": [light]}], b.accessors, b.views,
+                b.buffers(), nodes=nodes, scenes=[{"nodes": [0, 1, 2]}], cameras=ORTHO,
+                materials=[lambert, emitter], **extra)
+        write_json(name, g)
+
+
 def write_sided():
     # face (axis a, sign sg): corners c -+ u -+ v with u x v = the outward normal
     pos, ind = [], []
@@ -922,6 +963,7 @@ def main():
     write_sparse()
     write_sided()
     write_two_uv()
+    write_two_uv_light()
     write_shadows()
     write_quantized()
     write_bad()
