@@ -21,10 +21,11 @@ typedef struct st_lights {
     float *pdf_area; /* one per triangle: P(choose it) / its area; 0: not a light */
 } st_lights;
 
-/* Builds the table for the scene's triangles in BVH order (uv: their
- * st_tri_uv, for emissive textures). Arrays are never empty (one entry at
- * least, for the device). ST_ERR_NOMEM. */
-st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv *uv,
+/* Builds the table for the scene's triangles in BVH order (uv[k]: their
+ * st_tri_uv of TEXCOORD_k, for emissive textures; uv[1] is read only where
+ * a texture's uv_set is 1). Arrays are never empty (one entry at least, for
+ * the device). ST_ERR_NOMEM. */
+st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv *const uv[2],
                           st_lights *out, st_error *err);
 void st_lights_free(st_lights *l);
 

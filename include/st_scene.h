@@ -6,8 +6,8 @@
  * every node reachable from it through `children`, with TRS and matrix
  * transforms composed down the tree; of each mesh, the TRIANGLES (strips, fans) primitives
  * (mode 4, the default), indexed (u8/u16/u32) or not, with any byteStride,
- * POSITION, NORMAL (flat normals where missing) and TEXCOORD_0 (float or
- * normalised integers). .gltf with external .bin files or data: URIs, and
+ * POSITION, NORMAL (flat normals where missing), TEXCOORD_0 and TEXCOORD_1
+ * (float or normalised integers; each texture reads the set it names). .gltf with external .bin files or data: URIs, and
  * .glb. Other primitive modes are skipped with a warning. Materials: base
  * colour, emissive (with KHR_materials_emissive_strength) and
  * metallic-roughness factors and textures (with KHR_texture_transform),
@@ -57,6 +57,8 @@ typedef struct st_scene {
     float *positions;      /* 9 floats per triangle: v0 v1 v2, world space */
     float *normals;        /* 9 floats per triangle: unit shading normals per vertex, world space */
     float *uvs;            /* 6 floats per triangle: TEXCOORD_0 (u, v) per vertex, 0 without */
+    float *uvs1;           /* 6 floats per triangle: TEXCOORD_1 per vertex, 0 without; NULL
+                              when no texture reads it (st_texture.uv_set 1) */
     float *tangents;       /* 12 floats per triangle: tangent xyz, handedness w per vertex
                               (st_tri_tangents; 0 without texture coordinates) */
     float *colors;         /* 12 floats per triangle: COLOR_0 RGBA per vertex (1 without) */

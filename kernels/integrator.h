@@ -71,21 +71,20 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
     if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
         m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
         m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE) {
-        float2 uv = tri_uv_at(s->tri_uv, t, h.u, h.v);
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * v->travelled;
-        float cos_nd = dot(v->ng, v->wo), lod = s->tri_uv[t].lod;
+        float cos_nd = dot(v->ng, v->wo), b1 = h.u, b2 = h.v;
         st_u32 f = sh->texture_filter;
-        v->base *= tex_lookup(s, m->base_color_tex, uv, lod, width, cos_nd, f);
-        v->le *= tex_lookup(s, m->emission_tex, uv, lod, width, cos_nd, f).xyz;
-        float4 mr = tex_lookup(s, m->metallic_roughness_tex, uv, lod, width, cos_nd, f);
+        v->base *= tex_lookup(s, m->base_color_tex, t, b1, b2, width, cos_nd, f);
+        v->le *= tex_lookup(s, m->emission_tex, t, b1, b2, width, cos_nd, f).xyz;
+        float4 mr = tex_lookup(s, m->metallic_roughness_tex, t, b1, b2, width, cos_nd, f);
         metallic *= mr.z;
         roughness *= mr.y;
-        spec.w *= tex_lookup(s, m->specular_tex, uv, lod, width, cos_nd, f).w;
-        spec.xyz *= tex_lookup(s, m->specular_color_tex, uv, lod, width, cos_nd, f).xyz;
+        spec.w *= tex_lookup(s, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
+        spec.xyz *= tex_lookup(s, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
         if (m->normal_tex != ST_NO_TEXTURE)
             v->ns = normal_mapped(s, h, v->ns, v->ng,
-                                  tex_lookup(s, m->normal_tex, uv, lod, width, cos_nd, f),
+                                  tex_lookup(s, m->normal_tex, t, b1, b2, width, cos_nd, f),
                                   m->normal_scale);
     }
     v->lambert = !(metallic > 0.0f || spec.w > 0.0f); /* no specular lobe: the cheap path */

@@ -26,6 +26,7 @@ typedef struct st_scene_refs {
     __global const uint *texels;
     __global const float *env_texels;
     __global const float *env_cdf;
+    __global const st_tri_uv *tri_uv1;
 } st_scene_refs;
 
 /* The refs of a stage kernel, from its parameters (ST_STAGE_PARAMS): the one
@@ -33,7 +34,7 @@ typedef struct st_scene_refs {
 #define ST_SCENE_REFS_INIT                                                                  \
     {tris,     normals,   tri_material, materials, light_tri, light_cdf, light_pdf,         \
      punctual, punct_cdf, tri_uv,       tangents,  colors,    textures,  texels,           \
-     env_texels, env_cdf}
+     env_texels, env_cdf, tri_uv1}
 
 /* Index of the light whose CDF interval holds *u (first cdf[i] > *u), and *u
  * rescaled to [0, 1) within that interval, so that one stratified dimension
@@ -61,25 +62,29 @@ static float3 facing_normal(__global const st_tri_normals *normals, st_u32 t)
     return (float3)(normals[t].n0[3], normals[t].n1[3], normals[t].n2[3]);
 }
 
-/* Texture `tex` (ST_NO_TEXTURE: white) at uv with the ray-cone level of
- * detail of a cone of width `width` meeting the surface at cos_nd. */
-static float4 tex_lookup(const st_scene_refs *s, st_u32 tex, float2 uv, float tri_lod,
-                         float width, float cos_nd, st_u32 filter)
-{
-    if (tex == ST_NO_TEXTURE)
-        return (float4)(1.0f);
-    float c[4];
-    float lod = st_tex_lod(tri_lod, &s->textures[tex], width, cos_nd);
-    st_tex_sample(&s->textures[tex], s->texels, uv.x, uv.y, lod, filter, c);
-    return (float4)(c[0], c[1], c[2], c[3]);
-}
-
 /* Texture coordinates at barycentrics (b1, b2) of triangle t. */
 static float2 tri_uv_at(__global const st_tri_uv *tri_uv, st_u32 t, float b1, float b2)
 {
     __global const float *u = tri_uv[t].uv;
     return (1.0f - b1 - b2) * (float2)(u[0], u[1]) + b1 * (float2)(u[2], u[3]) +
            b2 * (float2)(u[4], u[5]);
+}
+
+/* Texture `tex` (ST_NO_TEXTURE: white) at barycentrics (b1, b2) of triangle
+ * t, in the coordinate set it reads (st_texture.uv_set; tri_uv1 holds data
+ * only when some texture reads it), with the ray-cone level of detail of a
+ * cone of width `width` meeting the surface at cos_nd. */
+static float4 tex_lookup(const st_scene_refs *s, st_u32 tex, st_u32 t, float b1, float b2,
+                         float width, float cos_nd, st_u32 filter)
+{
+    if (tex == ST_NO_TEXTURE)
+        return (float4)(1.0f);
+    __global const st_texture *x = &s->textures[tex];
+    __global const st_tri_uv *set = x->uv_set ? s->tri_uv1 : s->tri_uv;
+    float2 uv = tri_uv_at(set, t, b1, b2);
+    float c[4];
+    st_tex_sample(x, s->texels, uv.x, uv.y, st_tex_lod(set[t].lod, x, width, cos_nd), filter, c);
+    return (float4)(c[0], c[1], c[2], c[3]);
 }
 
 /* Emitted radiance of light triangle lt at the point triangle_point(u1, u2)
@@ -91,9 +96,8 @@ static float3 light_emission(const st_scene_refs *s, st_u32 lt, float u1, float 
     float3 le = vload4(0, m->emission).xyz;
     if (m->emission_tex == ST_NO_TEXTURE)
         return le;
-    float su = sqrt(u1);
-    float2 uv = tri_uv_at(s->tri_uv, lt, 1.0f - su, u2 * su);
-    return le * tex_lookup(s, m->emission_tex, uv, 0.0f, 0.0f, 1.0f, filter).xyz;
+    float su = sqrt(u1); /* width 0: level 0 */
+    return le * tex_lookup(s, m->emission_tex, lt, 1.0f - su, u2 * su, 0.0f, 1.0f, filter).xyz;
 }
 
 /* The radiant intensity (or a directional light's irradiance) that

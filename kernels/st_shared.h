@@ -227,7 +227,9 @@ typedef struct st_texture {
     st_u32 width, height, levels;
     st_u32 flags; /* ST_TEX_* */
     st_u32 wrap_s, wrap_t; /* ST_WRAP_* */
-    st_u32 pad[2];
+    st_u32 uv_set; /* the texture coordinates it reads: 0 TEXCOORD_0 (tri_uv), 1 TEXCOORD_1
+                      (tri_uv1) */
+    st_u32 pad;
 } st_texture;
 
 /* Per-vertex tangents of a triangle, in BVH order: xyz the unit tangent
@@ -248,8 +250,8 @@ typedef struct st_tri_colors {
     st_f32 c2[4];
 } st_tri_colors;
 
-/* Texture coordinates (TEXCOORD_0) of a triangle's vertices, in BVH order,
- * and lod = 1/2 log2(uv area / world area) (Akenine-Moller et al., "Texture
+/* Texture coordinates of a triangle's vertices (tri_uv: TEXCOORD_0, tri_uv1:
+ * TEXCOORD_1), in BVH order, and lod = 1/2 log2(uv area / world area) (Akenine-Moller et al., "Texture
  * Level of Detail Strategies for Real-Time Ray Tracing", Ray Tracing Gems
  * 2019, eq. 34's Delta without the texture size; -64 for a triangle whose
  * UVs have no area). */
@@ -485,6 +487,7 @@ typedef struct st_tile_point {
     X(punctual, st_punctual)                                                                \
     X(punct_cdf, st_f32) /* CDF of choosing among the punctual lights, by power */          \
     X(tri_uv, st_tri_uv)                                                                    \
+    X(tri_uv1, st_tri_uv) /* TEXCOORD_1 (one entry when no texture reads it) */            \
     X(tangents, st_tri_tangents)                                                            \
     X(colors, st_tri_colors)                                                                \
     X(textures, st_texture)                                                                 \
@@ -546,7 +549,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_tri_colors, c0) X(st_tri_colors, c1) X(st_tri_colors, c2)                          \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
     X(st_texture, width) X(st_texture, height) X(st_texture, levels) X(st_texture, flags)    \
-    X(st_texture, wrap_s) X(st_texture, wrap_t)                                             \
+    X(st_texture, wrap_s) X(st_texture, wrap_t) X(st_texture, uv_set)                       \
     X(st_tri_uv, uv) X(st_tri_uv, lod)                                                      \
     X(st_shading, env) X(st_shading, texture_filter) X(st_shading, texture_count)           \
     X(st_shading, punct_count) X(st_shading, punct_share)                                   \

@@ -863,11 +863,12 @@ void read_indices(const Model &m, int a, size_t vertices, std::vector<uint32_t> 
     }
 }
 
-/* Reads TEXCOORD_0 (§3.7.2.1: float, or normalised unsigned byte or short,
- * VEC2; more with KHR_mesh_quantization) into (u, v) pairs, one per vertex. */
-void read_uv(const Model &m, int a, size_t vertices, std::vector<float> &out)
+/* Reads TEXCOORD_n (`attr`; §3.7.2.1: float, or normalised unsigned byte or
+ * short, VEC2; more with KHR_mesh_quantization) into (u, v) pairs, one per
+ * vertex. */
+void read_uv(const Model &m, int a, const char *attr, size_t vertices, std::vector<float> &out)
 {
-    read_attribute(m, a, "TEXCOORD_0", 2, vertices, out);
+    read_attribute(m, a, attr, 2, vertices, out);
 }
 
 /* ---- primitives -------------------------------------------------------------- */
@@ -960,14 +961,23 @@ size_t primitive_bound(const Model &m, int mesh, size_t p)
 /* Where triangles go: arrays sized by the bound, filled in scene order. */
 struct sink {
     float *pos, *nrm, *uv, *tan, *col;
+    float *uv1; /* nullptr: no texture reads TEXCOORD_1 */
     uint32_t *mat;
     size_t count, dropped;
 };
 
 /* Per-primitive scratch, reused so that big scenes allocate once. */
 struct scratch {
-    std::vector<float> p, n, uv, wp, wn, t, wt, c;
+    std::vector<float> p, n, uv, uv1, wp, wn, t, wt, c;
     std::vector<uint32_t> idx;
+};
+
+/* What a material's textures read: bit k of `sets` for TEXCOORD_k, and
+ * the set of its normal map, the one its generated tangents follow (0
+ * without a normal map). */
+struct uv_use {
+    unsigned sets = 0;
+    int normal_set = 0;
 };
 
 /* Reads COLOR_0 (§3.7.2.1: float, or normalised unsigned byte or short,
@@ -1020,7 +1030,7 @@ void read_tangents(const Model &m, int a, size_t vertices, std::vector<float> &o
  * (the unnormalised solution carries it), then made orthogonal to the
  * vertex normal (or the summed face normal); w = +1 where (t, b, n) is
  * right-handed, else -1. A vertex whose uvs are degenerate gets 0. */
-void generate_tangents(scratch &s, bool normals)
+void generate_tangents(scratch &s, const std::vector<float> &uv, bool normals)
 {
     const size_t nv = s.p.size() / 3;
     std::vector<double> tu(3 * nv, 0.0), tv(3 * nv, 0.0), fn(3 * nv, 0.0);
@@ -1031,10 +1041,10 @@ void generate_tangents(scratch &s, bool normals)
             e1[k] = double(s.p[3 * i[1] + k]) - s.p[3 * i[0] + k];
             e2[k] = double(s.p[3 * i[2] + k]) - s.p[3 * i[0] + k];
         }
-        const double du1 = double(s.uv[2 * i[1]]) - s.uv[2 * i[0]],
-                     dv1 = double(s.uv[2 * i[1] + 1]) - s.uv[2 * i[0] + 1],
-                     du2 = double(s.uv[2 * i[2]]) - s.uv[2 * i[0]],
-                     dv2 = double(s.uv[2 * i[2] + 1]) - s.uv[2 * i[0] + 1];
+        const double du1 = double(uv[2 * i[1]]) - uv[2 * i[0]],
+                     dv1 = double(uv[2 * i[1] + 1]) - uv[2 * i[0] + 1],
+                     du2 = double(uv[2 * i[2]]) - uv[2 * i[0]],
+                     dv2 = double(uv[2 * i[2] + 1]) - uv[2 * i[0] + 1];
         const double det = du1 * dv2 - du2 * dv1, sgn = det < 0.0 ? -1.0 : 1.0;
         cross(e1, e2, g);
         if (det == 0.0 || !std::isfinite(det))
@@ -1113,11 +1123,12 @@ void transform_vertices(const mat4 &w, const normal_xform &nx, scratch &s, bool 
     }
 }
 
-/* Appends triangle (i0, i1, i2) unless it is non-finite or has zero area.
+/* Appends triangle (i0, i1, i2) unless it is non-finite or has zero area;
+ * `sets`: bit k when the primitive has TEXCOORD_k (0s where it has not).
  * The face normal g = (p1 - p0) x (p2 - p0) / |...| is computed in double,
  * where float inputs cannot overflow, so |g| is finite exactly when the three
  * positions are; g stands in for missing or unusable vertex normals. */
-void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, bool uvs,
+void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, unsigned sets,
                    uint32_t material, sink &out)
 {
     const float *p[3] = {&s.wp[3 * size_t(i[0])], &s.wp[3 * size_t(i[1])], &s.wp[3 * size_t(i[2])]};
@@ -1145,8 +1156,12 @@ void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, bool uvs
             dp[3 * v + k] = p[v][k];
             dn[3 * v + k] = usable ? n[k] : float(g[k]);
         }
-        for (int k = 0; k < 2; k++)
-            duv[2 * v + k] = uvs ? s.uv[2 * size_t(i[v]) + size_t(k)] : 0.0f;
+        for (int k = 0; k < 2; k++) {
+            const size_t at = 2 * size_t(i[v]) + size_t(k);
+            duv[2 * v + k] = sets & 1u ? s.uv[at] : 0.0f;
+            if (out.uv1)
+                out.uv1[6 * out.count + 2 * size_t(v) + size_t(k)] = sets & 2u ? s.uv1[at] : 0.0f;
+        }
     }
     out.mat[out.count++] = material;
 }
@@ -1164,7 +1179,8 @@ int attribute(const Model &m, int mesh, size_t p, const char *name)
 }
 
 void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
-                    const normal_xform &nx, scratch &s, sink &out)
+                    const normal_xform &nx, const std::vector<uv_use> &use, scratch &s,
+                    sink &out)
 {
     const int pos = position_accessor(m, mesh, p);
     if (pos < 0)
@@ -1184,7 +1200,10 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     }
     const int uv = attribute(m, mesh, p, "TEXCOORD_0");
     if (uv >= 0)
-        read_uv(m, uv, nv, s.uv);
+        read_uv(m, uv, "TEXCOORD_0", nv, s.uv);
+    const int uv1 = out.uv1 ? attribute(m, mesh, p, "TEXCOORD_1") : -1;
+    if (uv1 >= 0)
+        read_uv(m, uv1, "TEXCOORD_1", nv, s.uv1);
     if (prim.indices != -1) {
         check_index(prim.indices, m.accessors.size(), "mesh %d primitive %zu: indices accessor",
                     mesh, p);
@@ -1201,11 +1220,12 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     if (col >= 0)
         read_colors(m, col, nv, s.c);
     const int tan = attribute(m, mesh, p, "TANGENT");
+    const bool set1 = material != ST_GLTF_NO_MATERIAL && use[material].normal_set == 1;
     s.t.clear();
     if (tan >= 0 && nrm >= 0) /* §3.7.2.1: TANGENT is used with NORMAL only */
         read_tangents(m, tan, nv, s.t);
-    else if (uv >= 0)
-        generate_tangents(s, nrm >= 0);
+    else if ((set1 ? uv1 : uv) >= 0) /* from the normal map's own set */
+        generate_tangents(s, set1 ? s.uv1 : s.uv, nrm >= 0);
     transform_tangents(world, nx.det, s);
     const bool flip = nx.det < 0.0;
     for (size_t t = 0; t + 3 <= s.idx.size(); t += 3) { /* a trailing 1 or 2 are ignored */
@@ -1214,7 +1234,8 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
             tri[1] = s.idx[t + 2];
             tri[2] = s.idx[t + 1];
         }
-        emit_triangle(s, tri, nrm >= 0, uv >= 0, material, out);
+        emit_triangle(s, tri, nrm >= 0, (uv >= 0 ? 1u : 0u) | (uv1 >= 0 ? 2u : 0u), material,
+                      out);
     }
 }
 
@@ -1234,6 +1255,16 @@ double ext_number(const tinygltf::Value &obj, const char *key, double fallback, 
     if (!v.IsNumber())
         fail("%s: %s is not a number", what, key);
     return v.GetNumberAsDouble();
+}
+
+/* A texCoord of a JSON object (a textureInfo of an extension, or
+ * KHR_texture_transform's), `fallback` when absent: a non-negative integer. */
+int tex_coord_number(const tinygltf::Value &obj, int fallback, const char *what)
+{
+    const double c = ext_number(obj, "texCoord", fallback, what);
+    if (!(c >= 0.0 && c <= 65535.0) || c != std::floor(c))
+        fail("%s: texCoord %g is not a non-negative integer", what, c);
+    return int(c);
 }
 
 /* Two numbers of a JSON array (offset, scale); out unchanged when absent. */
@@ -1261,7 +1292,7 @@ int texture_transform(const tinygltf::ExtensionMap &ext, int tex_coord, float t[
         ext_pair(it->second, "offset", offset, what);
         ext_pair(it->second, "scale", scale, what);
         rotation = ext_number(it->second, "rotation", 0.0, what);
-        tex_coord = int(ext_number(it->second, "texCoord", tex_coord, what));
+        tex_coord = tex_coord_number(it->second, tex_coord, what);
     }
     const double c = std::cos(rotation), s = std::sin(rotation);
     const double m[6] = {c * scale[0], s * scale[1], offset[0], -s * scale[0], c * scale[1], offset[1]};
@@ -1295,11 +1326,15 @@ int texture_ref(const Model &m, const tinygltf::TextureInfo &info, bool srgb, si
     st_gltf_texture ref = {};
     const int coord = texture_transform(info.extensions, info.texCoord, ref.transform, what);
     const tinygltf::Texture &tex = m.textures[size_t(info.index)];
-    if (coord != 0) {
-        note(warn, "%s uses TEXCOORD_%d; strata reads TEXCOORD_0 only: texture ignored", what,
-             coord);
+    if (coord < 0)
+        fail("%s: texCoord %d is negative", what, coord);
+    if (coord > 1) { /* as an unreadable image: the factor alone, a neutral texture */
+        note(warn, "%s uses TEXCOORD_%d; strata reads TEXCOORD_0 and TEXCOORD_1 only: "
+                   "texture ignored, its factor kept",
+             what, coord);
         return -1;
     }
+    ref.tex_coord = coord;
     if (tex.source == -1) {
         note(warn, "%s: texture %d has no image strata can decode (source only in an "
                    "extension?): texture ignored",
@@ -1401,7 +1436,7 @@ tinygltf::TextureInfo ext_texture_info(const tinygltf::Value &obj, const char *k
     if (!v.IsObject() || !v.Has("index") || !v.Get("index").IsInt())
         fail("%s: %s needs an integer index", what, key);
     info.index = v.Get("index").GetNumberAsInt();
-    info.texCoord = int(ext_number(v, "texCoord", 0.0, what));
+    info.texCoord = tex_coord_number(v, 0, what);
     if (v.Has("extensions") && v.Get("extensions").IsObject()) {
         const tinygltf::Value &e = v.Get("extensions");
         for (const std::string &name : e.Keys())
@@ -1547,47 +1582,92 @@ template <typename T> T *copy_out(const std::vector<T> &v)
     return p;
 }
 
+/* The sets each material's textures read, from its texture references. */
+std::vector<uv_use> uv_uses(const std::vector<st_gltf_material> &mats, const texture_table &table)
+{
+    std::vector<uv_use> use(mats.size());
+    for (size_t i = 0; i < mats.size(); i++) {
+        const st_gltf_material &o = mats[i];
+        const int slots[] = {o.base_color_tex, o.emission_tex,       o.metallic_roughness_tex,
+                             o.specular_tex,   o.specular_color_tex, o.normal_tex};
+        for (int t : slots)
+            if (t >= 0)
+                use[i].sets |= 1u << table.refs[size_t(t)].tex_coord;
+        if (o.normal_tex >= 0)
+            use[i].normal_set = table.refs[size_t(o.normal_tex)].tex_coord;
+    }
+    return use;
+}
+
+/* One warning per primitive whose material reads a texture coordinate set
+ * that the primitive lacks (glTF-Validator's MESH_PRIMITIVE_TOO_FEW_TEXCOORDS):
+ * its coordinates are 0 there, so those textures read at uv (0, 0). */
+void note_missing_uvs(const Model &m, int mesh, const std::vector<uv_use> &use, notes &warn)
+{
+    const tinygltf::Mesh &me = m.meshes[size_t(mesh)];
+    for (size_t p = 0; p < me.primitives.size(); p++) {
+        const tinygltf::Primitive &prim = me.primitives[p];
+        if (!is_triangles(prim) || !prim.attributes.count("POSITION") || prim.material < 0 ||
+            size_t(prim.material) >= use.size()) /* a bad index fails in emit_primitive */
+            continue;
+        for (unsigned k = 0; k < 2; k++)
+            if (use[size_t(prim.material)].sets >> k & 1u &&
+                !prim.attributes.count(k ? "TEXCOORD_1" : "TEXCOORD_0"))
+                note(warn, "mesh %d (%s) primitive %zu: material %d reads TEXCOORD_%u, which the "
+                           "primitive lacks: its textures read at uv (0, 0)",
+                     mesh, me.name.c_str(), p, prim.material, k);
+    }
+}
+
 void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data &out)
 {
     std::vector<instance> inst;
     std::vector<st_gltf_camera> cams;
     std::vector<st_gltf_light> lights;
     walk_scene(m, inst, cams, lights, warn);
+    /* materials first: the geometry keeps TEXCOORD_1 only where a texture reads it */
+    texture_table table;
+    std::vector<st_gltf_material> mats;
+    for (size_t i = 0; i < m.materials.size(); i++)
+        mats.push_back(read_material(m, i, table, warn));
+    const std::vector<uv_use> use = uv_uses(mats, table);
+    bool any_uv1 = false;
+    for (const st_gltf_texture &t : table.refs)
+        any_uv1 = any_uv1 || t.tex_coord == 1;
     std::vector<char> mesh_noted(m.meshes.size(), 0);
     size_t bound = 0;
     for (const instance &in : inst) {
-        if (!mesh_noted[size_t(in.mesh)]++)
+        if (!mesh_noted[size_t(in.mesh)]++) {
             note_skipped_primitives(m, in.mesh, warn);
+            note_missing_uvs(m, in.mesh, use, warn);
+        }
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
             bound += primitive_bound(m, in.mesh, p); /* each <= its accessor's elements */
     }
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);
     out.uvs = alloc_array<float>(bound, 6);
+    out.uvs1 = any_uv1 ? alloc_array<float>(bound, 6) : nullptr;
     out.tangents = alloc_array<float>(bound, 12);
     out.colors = alloc_array<float>(bound, 12);
     out.tri_material = alloc_array<uint32_t>(bound, 1);
-    sink s = {out.positions, out.normals, out.uvs, out.tangents, out.colors, out.tri_material,
-              0, 0};
+    sink s = {out.positions, out.normals, out.uvs, out.tangents, out.colors, out.uvs1,
+              out.tri_material, 0, 0};
     scratch tmp;
     for (const instance &in : inst) {
         const normal_xform nx = normal_matrix(in.world);
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            emit_primitive(m, in.mesh, p, in.world, nx, tmp, s);
+            emit_primitive(m, in.mesh, p, in.world, nx, use, tmp, s);
     }
     out.tri_count = s.count;
     out.dropped = s.dropped;
     out.positions = shrink(out.positions, s.count, 9);
     out.normals = shrink(out.normals, s.count, 9);
     out.uvs = shrink(out.uvs, s.count, 6);
+    out.uvs1 = any_uv1 ? shrink(out.uvs1, s.count, 6) : nullptr;
     out.tangents = shrink(out.tangents, s.count, 12);
     out.colors = shrink(out.colors, s.count, 12);
     out.tri_material = shrink(out.tri_material, s.count, 1);
-
-    texture_table table;
-    std::vector<st_gltf_material> mats;
-    for (size_t i = 0; i < m.materials.size(); i++)
-        mats.push_back(read_material(m, i, table, warn));
     out.material_count = mats.size();
     out.materials = copy_out(mats);
     out.texture_count = table.refs.size();
@@ -1661,6 +1741,7 @@ extern "C" void st_gltf_shim_release(st_gltf_data *data)
     free(data->positions);
     free(data->normals);
     free(data->uvs);
+    free(data->uvs1);
     free(data->tangents);
     free(data->colors);
     free(data->tri_material);

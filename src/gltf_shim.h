@@ -53,6 +53,8 @@ typedef struct st_gltf_texture {
     int wrap_s, wrap_t; /* glTF codes: 10497 REPEAT, 33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT */
     int mag_nearest;    /* magFilter is NEAREST (9728) */
     float transform[6];
+    int tex_coord;      /* the set it reads: 0 TEXCOORD_0, 1 TEXCOORD_1 (texCoord, or
+                           KHR_texture_transform's texCoord where that names one) */
 } st_gltf_texture;
 
 /* A decoded image (only those a texture above uses): RGBA8, rows from the
@@ -91,8 +93,11 @@ typedef struct st_gltf_data {
     float *positions;       /* 9 floats per triangle, world space */
     float *normals;         /* 9 floats per triangle, unit, world space */
     float *uvs;             /* 6 floats per triangle: TEXCOORD_0, 0 where a primitive has none */
+    float *uvs1;            /* 6 floats per triangle: TEXCOORD_1, 0 where a primitive has none;
+                               NULL when no texture reads TEXCOORD_1 */
     float *tangents;        /* 12 floats per triangle: world tangent xyz and handedness w per
-                               vertex (TANGENT, or generated from TEXCOORD_0; 0 without it) */
+                               vertex (TANGENT, or generated from the set the material's normal
+                               map reads, TEXCOORD_0 without one; 0 without that set) */
     float *colors;          /* 12 floats per triangle: COLOR_0 RGBA per vertex, 1 without it */
     uint32_t *tri_material; /* index into materials, or ST_GLTF_NO_MATERIAL */
     size_t material_count;  /* the file's materials, all of them */

@@ -37,13 +37,15 @@ static double texture_max(const st_scene *s, st_u32 t)
  * plus 1/256 of the texture's brightest texel, which keeps the weight
  * positive wherever the texture may emit (the direct integrator needs that
  * to stay unbiased; MIS in the path integrator would not). */
-static double emission_weight(const st_scene *s, const st_material *m, const st_tri_uv *uv,
-                              double area, const double *tex_max)
+static double emission_weight(const st_scene *s, const st_material *m,
+                              const st_tri_uv *const sets[2], st_u32 t, double area,
+                              const double *tex_max)
 {
     double le = (m->emission[0] + m->emission[1] + m->emission[2]) / 3.0;
     if (!(le > 0.0) || m->emission_tex == ST_NO_TEXTURE)
         return le;
     const st_texture *tex = &s->textures[m->emission_tex];
+    const st_tri_uv *uv = &sets[tex->uv_set ? 1 : 0][t]; /* the set it reads */
     float u = (uv->uv[0] + uv->uv[2] + uv->uv[4]) / 3.0f;
     float v = (uv->uv[1] + uv->uv[3] + uv->uv[5]) / 3.0f;
     float lod = uv->lod + tex->lod_bias + 0.5f * log2f((float)(2.0 * area));
@@ -57,7 +59,7 @@ static double emission_weight(const st_scene *s, const st_material *m, const st_
 
 /* Emissive triangles (in BVH order), chosen with probability proportional to
  * area x emission weight (emission_weight); pdf_area[t] = P(choose t) / area(t). */
-st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv *uv,
+st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv *const uv[2],
                           st_lights *out, st_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -81,7 +83,7 @@ st_status st_lights_build(const st_scene *s, const st_bvh *bvh, const st_tri_uv 
     for (st_u32 t = 0; t < n; t++) {
         double area = 0.5 * st_triangle_cross_norm(&bvh->tris[t]);
         const st_material *m = &s->materials[s->tri_material[bvh->order[t]]];
-        double le = area > 0.0 ? emission_weight(s, m, &uv[t], area, tex_max) : 0.0;
+        double le = area > 0.0 ? emission_weight(s, m, uv, t, area, tex_max) : 0.0;
         if (le > 0.0 && area > 0.0) {
             total += area * le;
             tri[k] = t;

@@ -15,12 +15,13 @@ _Static_assert(ST_SCENE_tile + 5 == ST_SCENE_BUFFER_COUNT && ST_SCENE_fis_cdf ==
                    ST_SCENE_env_cdf == ST_SCENE_tile + 4,
                "the per-render inputs and the environment map come last in ST_SCENE_BUFFERS");
 
-/* Texture coordinates in BVH order and the triangle's part of the ray-cone
- * level of detail, lod = 1/2 log2(uv area / world area) (st_tri_uv). */
-static void make_tri_uv(const st_scene *s, const st_bvh *bvh, st_tri_uv *out)
+/* One set of texture coordinates (6 floats per triangle: s->uvs, s->uvs1)
+ * in BVH order and the triangle's part of the ray-cone level of detail,
+ * lod = 1/2 log2(uv area / world area) (st_tri_uv). */
+static void make_tri_uv(const float *uvs, const st_bvh *bvh, st_tri_uv *out)
 {
     for (st_u32 t = 0; t < bvh->tri_count; t++) {
-        const float *uv = s->uvs + 6 * (size_t)bvh->order[t];
+        const float *uv = uvs + 6 * (size_t)bvh->order[t];
         memcpy(out[t].uv, uv, 6 * sizeof(float));
         double world = st_triangle_cross_norm(&bvh->tris[t]);
         double tex = fabs(((double)uv[2] - uv[0]) * ((double)uv[5] - uv[1]) -
@@ -73,6 +74,9 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     st_tri_normals *nrm = malloc(sizeof *nrm * (n ? n : 1));
     st_u32 *mat = malloc(sizeof *mat * (n ? n : 1));
     st_tri_uv *uv = calloc(n ? n : 1, sizeof *uv);
+    /* TEXCOORD_1 only where a texture reads it: 32 bytes a triangle */
+    st_u32 n1 = s->uvs1 && n ? n : 1;
+    st_tri_uv *uv1 = calloc(n1, sizeof *uv1);
     st_tri_tangents *tan = calloc(n ? n : 1, sizeof *tan);
     st_tri_colors *col = calloc(n ? n : 1, sizeof *col);
     st_lights lights = {0};
@@ -82,17 +86,19 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     st_status rc = ST_OK;
     static const st_texture no_texture; /* device buffers are never empty */
     static const st_u32 no_texel;
-    if (!nrm || !mat || !uv || !tan || !col || !punct_cdf) {
+    if (!nrm || !mat || !uv || !uv1 || !tan || !col || !punct_cdf) {
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory preparing the scene");
         goto done;
     }
     make_normals(s, bvh, nrm);
     for (st_u32 t = 0; t < n; t++)
         mat[t] = s->tri_material[bvh->order[t]];
-    make_tri_uv(s, bvh, uv);
+    make_tri_uv(s->uvs, bvh, uv);
+    if (s->uvs1)
+        make_tri_uv(s->uvs1, bvh, uv1);
     reorder_vertex4(s->tangents, bvh, tan);
     reorder_vertex4(s->colors, bvh, col);
-    if (st_lights_build(s, bvh, uv, &lights, err) != ST_OK) {
+    if (st_lights_build(s, bvh, (const st_tri_uv *const[2]){uv, uv1}, &lights, err) != ST_OK) {
         rc = err->status;
         goto done;
     }
@@ -114,6 +120,7 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
          np ? (const void *)s->punctual : (const void *)&no_punctual},
         [ST_SCENE_punct_cdf] = {sizeof(float) * (np ? np : 1), punct_cdf},
         [ST_SCENE_tri_uv] = {sizeof(st_tri_uv) * (n ? n : 1), uv},
+        [ST_SCENE_tri_uv1] = {sizeof(st_tri_uv) * n1, uv1},
         [ST_SCENE_tangents] = {sizeof(st_tri_tangents) * (n ? n : 1), tan},
         [ST_SCENE_colors] = {sizeof(st_tri_colors) * (n ? n : 1), col},
         [ST_SCENE_textures] = {sizeof(st_texture) * (s->texture_count ? s->texture_count : 1),
@@ -127,6 +134,7 @@ done:
     free(nrm);
     free(mat);
     free(uv);
+    free(uv1);
     free(tan);
     free(col);
     free(punct_cdf);

@@ -413,6 +413,7 @@ static st_status take_textures(const st_gltf_data *g, st_scene *s, const char *l
         t->flags = (r->srgb ? ST_TEX_SRGB : 0u) | (r->mag_nearest ? ST_TEX_MAG_NEAREST : 0u);
         t->wrap_s = wrap_mode(r->wrap_s);
         t->wrap_t = wrap_mode(r->wrap_t);
+        t->uv_set = (st_u32)r->tex_coord;
         /* texel area of a unit of uv area: width x height x |det transform| */
         double det = fabs((double)r->transform[0] * r->transform[4] -
                           (double)r->transform[1] * r->transform[3]);
@@ -649,11 +650,12 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     s->positions = g->positions;
     s->normals = g->normals;
     s->uvs = g->uvs;
+    s->uvs1 = g->uvs1;
     s->tangents = g->tangents;
     s->colors = g->colors;
     g->tangents = g->colors = NULL;
     s->tri_material = g->tri_material;
-    g->positions = g->normals = g->uvs = NULL;
+    g->positions = g->normals = g->uvs = g->uvs1 = NULL;
     g->tri_material = NULL;
     compute_bounds(s);
     if ((status = take_cameras(g, s, label, err)) != ST_OK ||
@@ -736,6 +738,7 @@ st_u32 st_scene_content_hash(const st_scene *s)
     crc = crc_of(crc, s->positions, 9 * t * sizeof(float));
     crc = crc_of(crc, s->normals, 9 * t * sizeof(float));
     crc = crc_of(crc, s->uvs, 6 * t * sizeof(float));
+    crc = crc_of(crc, s->uvs1, 6 * t * sizeof(float)); /* NULL: no bytes */
     crc = crc_of(crc, s->tangents, 12 * t * sizeof(float));
     crc = crc_of(crc, s->colors, 12 * t * sizeof(float));
     crc = crc_of(crc, s->tri_material, t * sizeof(st_u32));
@@ -755,6 +758,7 @@ void st_scene_destroy(st_scene *scene)
     free(scene->positions);
     free(scene->normals);
     free(scene->uvs);
+    free(scene->uvs1);
     free(scene->tangents);
     free(scene->colors);
     free(scene->tri_material);

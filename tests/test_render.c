@@ -196,6 +196,8 @@ static uint64_t scene_hash(const st_scene *s)
     h = fnv(h, s->positions, 9 * sizeof(float) * s->tri_count);
     h = fnv(h, s->normals, 9 * sizeof(float) * s->tri_count);
     h = fnv(h, s->uvs, 6 * sizeof(float) * s->tri_count);
+    if (s->uvs1)
+        h = fnv(h, s->uvs1, 6 * sizeof(float) * s->tri_count);
     h = fnv(h, s->tri_material, sizeof(st_u32) * s->tri_count);
     h = fnv(h, s->materials, sizeof(st_material) * s->material_count);
     h = fnv(h, s->textures, sizeof(st_texture) * s->texture_count);

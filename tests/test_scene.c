@@ -549,13 +549,14 @@ static void texcoords_float_u8_u16_read_as_file_says(void **state)
  * KHR_texture_transform (offset (0.5, 0.25), rotation pi/2, scale (2, 3):
  * [cos 2, sin 3, 0.5; -sin 2, cos 3, 0.25]), and image 0 again, as linear
  * metallic-roughness data (its own chain). Material 2 shares material 0's
- * base colour reference; material 1's texture is on TEXCOORD_1 (ignored,
- * with a warning), as is the LINES primitive. */
+ * base colour reference; material 1's texture reads TEXCOORD_1, which its
+ * primitive lacks (a warning; the coordinates are 0 there), and the LINES
+ * primitive is skipped with a warning. */
 static void texture_references_follow_the_file(void **state)
 {
     (void)state;
     st_scene *s = load_ok(SCENES "textures.gltf");
-    assert_int_equal(s->texture_count, 3);
+    assert_int_equal(s->texture_count, 4);
     const st_material *m = s->materials;
     assert_int_equal(m[0].alpha_mode, ST_ALPHA_MASK);
     near(m[0].alpha_cutoff, 0.3, 1e-7, "alphaCutoff");
@@ -564,7 +565,10 @@ static void texture_references_follow_the_file(void **state)
     near(m[2].roughness, 1.0, 0, "roughnessFactor default");
     assert_int_equal(m[1].alpha_mode, ST_ALPHA_BLEND);
     assert_int_equal(m[2].alpha_mode, ST_ALPHA_OPAQUE);
-    assert_int_equal(m[1].base_color_tex, ST_NO_TEXTURE);
+    assert_int_equal(s->textures[m[1].base_color_tex].uv_set, 1);
+    assert_int_equal(s->textures[m[0].base_color_tex].uv_set, 0);
+    for (int k = 0; k < 6; k++) /* the u16 quad, triangles 4 and 5: no TEXCOORD_1 */
+        assert_true(s->uvs1[24 + k] == 0.0f && s->uvs1[30 + k] == 0.0f);
     assert_int_equal(m[2].base_color_tex, m[0].base_color_tex);
     const st_texture *base = &s->textures[m[0].base_color_tex];
     const st_texture *emit = &s->textures[m[0].emission_tex];
@@ -592,7 +596,8 @@ static void texture_references_follow_the_file(void **state)
     /* image 1 (bufferView): red, green / blue, white */
     assert_int_equal(s->texels[emit->offset + 2], 0u | 0u << 8 | 255u << 16 | 255u << 24);
     assert_true(has_warning(s, "mesh 0 (quads) primitive 3: mode 1 (LINES) skipped"));
-    assert_true(has_warning(s, "material 1: baseColorTexture uses TEXCOORD_1"));
+    assert_true(has_warning(s, "primitive 2: material 1 reads TEXCOORD_1, which the primitive "
+                               "lacks"));
     assert_int_equal(s->warning_count, 2);
     st_scene_destroy(s);
 }
@@ -700,6 +705,7 @@ static void malformed_files_return_format_error_naming_file(void **state)
         {"bad_image_index.gltf", "source image 9 out of range"},
         {"bad_sampler_wrap.gltf", "wrapS 1234"},
         {"bad_texcoord_type.gltf", "TEXCOORD_0 must be"},
+        {"bad_texcoord1_type.gltf", "TEXCOORD_1 must be"},
         {"bad_quantized_undeclared.gltf", "POSITION must be float VEC3"},
         {"bad_alpha_mode.gltf", "alphaMode"},
         {"bad_camera_ymag.gltf", "ymag"},

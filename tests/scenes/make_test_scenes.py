@@ -65,6 +65,22 @@ shadow_*      a grey (0.5) Lambertian ground at z = -1 under a black occluder at
               the 2 x 2 quad, alpha MASK with its left half (x < 0) at alpha 0;
               shadow_half's is only the right half, opaque; shadow_opaque's the
               whole quad, opaque; shadow_blend's the whole quad, BLEND alpha 0.5.
+two_uv        the quad, unlit white, seen as textured_quad is: TEXCOORD_0 constant
+              (0.25, 0.5), TEXCOORD_1 the quad's own uv as normalised unsigned
+              shorts; its base colour texture, a 2 x 1 PNG (red | blue, NEAREST
+              magnification), and its normal map (flat) read TEXCOORD_1, so the
+              view's left half (x < 0, u < 0.5) is red and its right half blue,
+              where TEXCOORD_0 would make all of it red; tangents generated from
+              TEXCOORD_1 are +x (u grows with x) with w = -1 (v falls with y).
+              two_uv_transform names texCoord 0 and KHR_texture_transform's
+              texCoord 1 (identity transform); two_uv_coord2 names texCoord 2.
+              two_uv_light: a white Lambertian ground (the quad, z = 0) under a
+              one-sided emitter (the quad turned to face -z at z = 1, so the
+              camera above sees through its back): emissiveFactor 1 times a
+              2 x 1 texture black | white (NEAREST) on TEXCOORD_1 (its own uv;
+              TEXCOORD_0 constant on the white texel), so only its half x > 0
+              emits; half_light: the same with that half alone as the emitter,
+              untextured.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -637,6 +653,71 @@ def write_lighting():
     write_json("material_extensions.gltf", g)
 
 
+def write_two_uv():
+    b = Blob()
+    p = b.quad(0.0, [0.25, 0.5] * 4)
+    uv1 = [round(x * 65535) for x in QUAD_UV]
+    p["attributes"]["TEXCOORD_1"] = b.accessor(struct.pack("<8H", *uv1), 5123, 4, "VEC2",
+                                               normalized=True)
+    p["material"] = 0
+    images = [{"uri": png_uri(png(2, 1, 3, [[255, 0, 0, 0, 0, 255]]))},
+              {"uri": png_uri(constant_png((128, 128, 255)))}]
+    material = {"name": "second set",
+                "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}},
+                "normalTexture": {"index": 1, "texCoord": 1},
+                "extensions": {"KHR_materials_unlit": {}}}
+    g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+            cameras=ORTHO, materials=[material], images=images,
+            samplers=[{"magFilter": 9728}], textures=[{"source": 0, "sampler": 0},
+                                                      {"source": 1}],
+            extensionsUsed=["KHR_materials_unlit"])
+    write_json("two_uv.gltf", g)
+    base = g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]
+    base["texCoord"] = 0
+    base["extensions"] = {"KHR_texture_transform": {"texCoord": 1}}
+    g["extensionsUsed"] = ["KHR_materials_unlit", "KHR_texture_transform"]
+    write_json("two_uv_transform.gltf", g)
+    del base["extensions"]
+    base["texCoord"] = 2
+    g["extensionsUsed"] = ["KHR_materials_unlit"]
+    write_json("two_uv_coord2.gltf", g)
+
+
+def write_two_uv_light():
+    lambert = {"pbrMetallicRoughness": {"metallicFactor": 0.0},
+               "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    emitter = {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                        "metallicFactor": 0.0},
+               "emissiveFactor": [1.0, 1.0, 1.0],
+               "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    nodes = [{"mesh": 0}, {"mesh": 1, "translation": [0.0, 0.0, 1.0],
+                           "rotation": [1.0, 0.0, 0.0, 0.0]}, ortho_camera_node()]
+    for name in ("two_uv_light.gltf", "half_light.gltf"):
+        b = Blob()
+        ground = b.quad(0.0, QUAD_UV)
+        ground["material"] = 0
+        light = b.quad(0.0, [0.75, 0.5] * 4)
+        light["material"] = 1
+        extra = {}
+        if name == "two_uv_light.gltf":
+            light["attributes"]["TEXCOORD_1"] = b.accessor(f32(QUAD_UV), 5126, 4, "VEC2")
+            emitter["emissiveTexture"] = {"index": 0, "texCoord": 1}
+            extra = {"images": [{"uri": png_uri(png(2, 1, 3, [[0, 0, 0, 255, 255, 255]]))}],
+                     "samplers": [{"magFilter": 9728}],
+                     "textures": [{"source": 0, "sampler": 0}]}
+        else:  # the emitter's half x > 0 alone
+            half = [0.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0]
+            light["attributes"]["POSITION"] = b.accessor(f32(half), 5126, 4, "VEC3",
+                                                         min=[0.0, -1.0, 0.0],
+                                                         max=[1.0, 1.0, 0.0])
+            emitter.pop("emissiveTexture")
+        g = doc([{"primitives": [ground]}, {"primitives": [light]}], b.accessors, b.views,
+                b.buffers(), nodes=nodes, scenes=[{"nodes": [0, 1, 2]}], cameras=ORTHO,
+                materials=[lambert, emitter], **extra)
+        write_json(name, g)
+
+
 def write_sided():
     # face (axis a, sign sg): corners c -+ u -+ v with u x v = the outward normal
     pos, ind = [], []
@@ -859,6 +940,11 @@ def write_bad():
     def bad_uv(g):
         g["accessors"][2]["type"] = "VEC3"
     variant("bad_texcoord_type.gltf", bad_uv)
+
+    def bad_uv1(g):  # TEXCOORD_1 (read: a texture names it) is the VEC3 POSITION accessor
+        g["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 0
+        g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1
+    variant("bad_texcoord1_type.gltf", bad_uv1)
     variant("bad_alpha_mode.gltf", lambda g: g["materials"][0].update(alphaMode="SOMETIMES"))
     variant("bad_camera_ymag.gltf", lambda g: g["cameras"][0]["orthographic"].update(ymag=0.0))
 
@@ -876,6 +962,8 @@ def main():
     write_strip_fan()
     write_sparse()
     write_sided()
+    write_two_uv()
+    write_two_uv_light()
     write_shadows()
     write_quantized()
     write_bad()
