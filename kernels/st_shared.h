@@ -502,7 +502,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
  * render's values, the scene, then the wavefront state. */
 #define ST_STAGE_PARAMS \
     const st_params p, const st_shading sh ST_SCENE_BUFFERS(ST_SCENE_PARAM) ST_WAVE_BUFFERS(ST_WAVE_PARAM)
-/* The film kernels' (resolve, adaptive decision): values and the state. */
+/* The film kernels' (resolve, adaptive.cl): values and the state. */
 #define ST_FILM_PARAMS const st_params p ST_WAVE_BUFFERS(ST_WAVE_PARAM)
 #endif
 

@@ -154,7 +154,7 @@ static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_re
 
 /* Steps 2 and 3: the estimates read back and the counts m chosen. */
 static st_status plan(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
-                      st_u32 pilot, st_u32 *m, st_error *err)
+                      st_u32 pilot, st_u32 max_spp, st_u32 *m, st_error *err)
 {
     size_t n = w->pixels;
     float *e = malloc(n * sizeof *e);
@@ -164,8 +164,6 @@ static st_status plan(st_renderer *r, st_params *p, st_wave *w, const st_render_
     if (rc == ST_OK)
         rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *e, e, err);
     if (rc == ST_OK) {
-        st_u32 unused, max_spp;
-        st_render_adaptive_counts(o, &unused, &max_spp);
         double x = o->noise_threshold;
         allocation a = {e, n, 0, (double)(max_spp - pilot), x * x, pilot, m};
         allocate(&a, (double)(o->spp - pilot) * (double)n);
@@ -217,7 +215,7 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
         rc = run_pilot(r, p, w, o, total, pr, st, err);
     st->samples = total;
     if (rc == ST_OK)
-        rc = plan(r, p, w, o, pilot, m, err);
+        rc = plan(r, p, w, o, pilot, max_spp, m, err);
     if (rc == ST_OK)
         rc = upload_plan(r, w, m, pilot, &rk, err);
     if (rc == ST_OK)
