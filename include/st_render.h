@@ -33,10 +33,13 @@ typedef struct st_render_options {
     st_u32 max_depth;
     st_filter filter;
     st_u32 reconstruction; /* ST_RECON_SPLAT or ST_RECON_FIS */
-    /* adaptive sampling (adaptive.cl): min_spp samples everywhere, then up to
-     * spp where the error estimate is above noise_threshold */
+    /* adaptive sampling (adaptive.c): spp samples per pixel on average, a
+     * pilot of min_spp everywhere, then more where the error estimate is
+     * larger, at most max_spp in a pixel and, with noise_threshold > 0, no
+     * more than bring the estimate to the threshold; 0: the defaults of
+     * st_render_adaptive_counts */
     int adaptive;
-    st_u32 min_spp;
+    st_u32 min_spp, max_spp;
     float noise_threshold;
     /* the view: which of the scene's cameras, what environment, how
      * textures are filtered (the scene itself is never changed) */
@@ -66,6 +69,9 @@ extern const char *const st_reconstruction_names[2];
 
 /* The defaults of `strata render`. */
 st_render_options st_render_defaults(void);
+/* An adaptive render's pilot (min_spp, or spp / 4 within 2 .. 16) and cap
+ * per pixel (max_spp, or 8 spp). */
+void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32 *max_spp);
 /* Checks sizes, limits, the sampler (st_sampler_check), the filter
  * (st_filter_check) and the fixed-point headroom; ST_ERR_USAGE naming the
  * offending field ("spp", "sample range", "filter radius", ...). */

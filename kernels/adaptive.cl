@@ -1,60 +1,108 @@
-/* adaptive.cl — adaptive sampling's decision, made on the device so that the
- * film never returns to the host between rounds.
+/* adaptive.cl — adaptive sampling's device side (the plan: src/adaptive.c).
  *
- * Error estimate (after Cycles and LuxCore): besides the film I (every
- * sample), a half film H takes only the even-numbered samples. Both estimate
- * the same pixel value, so their difference measures the noise of the mean:
- *   err = (|I_r - H_r| + |I_g - H_g| + |I_b - H_b|) / sqrt(1e-4 + I_r + I_g + I_b)
- * (the square root makes the threshold relative, with more tolerance in bright
- * pixels, where the eye sees noise less). A constant image has err = 0.
- * A pixel keeps sampling while err > threshold and it has fewer than max_spp
- * samples; once it stops it never restarts, so every pixel's samples are a
- * prefix 0 .. n-1 of its own sequence. */
+ * A pilot of N0 samples per pixel is splatted as usual; adaptive_moments
+ * keeps, per pixel, the sums of Y = (r + g + b) / 3 and Y² of its own
+ * samples; adaptive_estimate turns them into each pixel's error estimate
+ * and moves the pilot's film aside. The host then gives pixel q m(q) more
+ * samples; they are splatted into the emptied film with weight 1 / m(q)
+ * (splat_scale), so that every pixel's later samples weigh 1 in all, as if
+ * they had the same density everywhere: the filter's weights Σ f stay
+ * balanced between sparse and dense pixels, and Σ f L / Σ f stays the
+ * filtered image (with plain weights, a pixel next to a dense one would
+ * mostly show its neighbour's samples). adaptive_blend combines the two
+ * films, each a consistent estimate of the same pixel. */
 #include "st_shared.h"
+#include "fixed.h"
 
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+/* The criterion: per-sample standard deviation over (μ² + ε²)^(γ / 2).
+ * γ = 0 would minimise the summed squared error, γ = 1 the relative squared
+ * error (x − r)² / (r² + ε²); γ = ½ is between (README: measured). */
+#define ADAPTIVE_GAMMA 0.75f
+#define ADAPTIVE_EPS 0.1f
 
-static float3 pixel_mean(__global const st_film_pixel *px)
+/* Item i of the pilot is pixel i mod N, sample i / N (N pixels: generate.cl);
+ * this wave holds items first_item .. first_item + item_count - 1. For each
+ * pixel, adds its samples in this wave to moments: rgb[0] += Y, rgb[1] +=
+ * Y², weight += 1. One work-item per pixel, in sample order: the float sums
+ * are the same from run to run. */
+__kernel void adaptive_moments(ST_FILM_PARAMS)
 {
-    __global const long *a = px->sum;
-    float w = (float)a[3]; /* defined wherever the weight sum is not 0, as resolve_film */
-    return w != 0.0f ? (float3)((float)a[0], (float)a[1], (float)a[2]) / w : (float3)(INFINITY);
+    st_u32 i = get_global_id(0), n = p.width * p.height;
+    if (i >= n)
+        return;
+    st_pixel m = moments[i];
+    for (st_u32 k = 0; k < p.adaptive_pilot; k++) {
+        st_u64 g = (st_u64)k * n + i;
+        if (g < p.first_item || g >= p.first_item + p.item_count)
+            continue;
+        float3 L = vload3(0, path[g - p.first_item].radiance);
+        float y = (L.x + L.y + L.z) / 3.0f;
+        if (!isfinite(y))
+            continue; /* counted by the splat */
+        m.rgb[0] += y;
+        m.rgb[1] += y * y;
+        m.weight += 1.0f;
+    }
+    moments[i] = m;
 }
 
-/* err of pixel i (see the file comment); INFINITY before it has a weight. */
-static float pixel_error(__global const st_film_pixel *film, __global const st_film_pixel *half_film,
-                         st_u32 i)
-{
-    float3 full = pixel_mean(film + i), part = pixel_mean(half_film + i);
-    float3 d = fabs(full - part);
-    return (d.x + d.y + d.z) / sqrt(1e-4f + fmax(full.x + full.y + full.z, 0.0f));
-}
-
-/* Reads both films; for every pixel still sampling, either stops it (flag in
- * pixel_spp) or appends it to the active list and books adaptive_batch more
- * samples. A pixel stops only when it and its 8 neighbours are all below
- * the threshold (as Cycles dilates its active mask): one estimate from a few
- * samples is often lucky, and a pixel that stops never restarts.
- * *active_count ends as the number of active pixels (the list's order
- * varies from run to run; the set of (pixel, sample) pairs it makes does
- * not). */
-__kernel void adaptive_mark(ST_FILM_PARAMS)
+/* Pixel i's error estimate into splat_scale[i] (the host reads it and puts
+ * the weights there): the pilot's samples of the 3 x 3 pixels round i
+ * pooled (one pixel's N0 samples are too few to judge by; the pool also
+ * sees an edge between neighbours, which the filter blends), then
+ * sqrt(var) / (mean² + ε²)^(γ/2). The pilot's film moves to pilot_film and
+ * the film starts again from 0 for the later samples. */
+__kernel void adaptive_estimate(ST_FILM_PARAMS)
 {
     st_u32 i = get_global_id(0);
     if (i >= p.width * p.height)
         return;
-    st_u32 n = pixel_spp[i];
-    if (n & ST_ADAPTIVE_STOPPED)
-        return;
     int x = (int)(i % p.width), y = (int)(i / p.width);
-    float err = 0.0f;
+    float s = 0.0f, s2 = 0.0f, n = 0.0f;
     for (int dy = max(y - 1, 0); dy <= min(y + 1, (int)p.height - 1); dy++)
-        for (int dx = max(x - 1, 0); dx <= min(x + 1, (int)p.width - 1); dx++)
-            err = fmax(err, pixel_error(film, half_film, (st_u32)dy * p.width + (st_u32)dx));
-    if (n >= p.adaptive_max_spp || (isfinite(err) && err <= p.adaptive_threshold)) {
-        pixel_spp[i] = n | ST_ADAPTIVE_STOPPED;
+        for (int dx = max(x - 1, 0); dx <= min(x + 1, (int)p.width - 1); dx++) {
+            st_pixel m = moments[(st_u32)dy * p.width + (st_u32)dx];
+            s += m.rgb[0];
+            s2 += m.rgb[1];
+            n += m.weight;
+        }
+    float mean = n > 0.0f ? s / n : 0.0f, var = n > 1.0f ? fmax(s2 / n - mean * mean, 0.0f) : 0.0f;
+    splat_scale[i] = sqrt(var) / pow(mean * mean + ADAPTIVE_EPS * ADAPTIVE_EPS, 0.5f * ADAPTIVE_GAMMA);
+    pilot_film[i] = film[i];
+    for (int k = 0; k < ST_FILM_SUMS; k++)
+        film[i].sum[k] = 0;
+}
+
+/* Σ f L / Σ f of one film's sums, and whether Σ f != 0 (as resolve_film). */
+static int film_value(__global const st_film_pixel *px, float3 *v)
+{
+    __global const long *a = px->sum;
+    if (a[3] == 0)
+        return 0;
+    *v = (float3)((float)a[0], (float)a[1], (float)a[2]) / (float)a[3];
+    return 1;
+}
+
+/* Pixel i of the film becomes α P + (1 − α) F, P the pilot's value, F the
+ * later samples', α = N0 / n(i) (each weighted by its pixel's share of the
+ * samples, as inverse variances would be), as sums of weight 1; where one
+ * film has no weight the other alone; where neither, 0 (resolve counts it). */
+__kernel void adaptive_blend(ST_FILM_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.width * p.height)
         return;
-    }
-    active[atomic_inc(active_count)] = i;
-    pixel_spp[i] = n + p.adaptive_batch;
+    float3 P = (float3)(0.0f), F = (float3)(0.0f);
+    int has_p = film_value(pilot_film + i, &P), has_f = film_value(film + i, &F);
+    if (!has_p && !has_f)
+        return;
+    float a = !has_f ? 1.0f : !has_p ? 0.0f : (float)p.adaptive_pilot / (float)pixel_spp[i];
+    float3 v = a * P + (1.0f - a) * F;
+    st_u32 clamped = 0;
+    st_i64 sums[4];
+    st_fixed_splat(1.0f, v.x, v.y, v.z, sums, &clamped);
+    for (int k = 0; k < ST_FILM_SUMS; k++)
+        film[i].sum[k] = sums[k];
+    if (clamped)
+        atomic_inc(&stats->clamped);
 }

@@ -12,19 +12,19 @@
  * side x side pixels from (ox, oy) in local memory (acc; NULL: none), four
  * sums per pixel, added to the film later (splat_tiles). */
 typedef struct splat_dest {
-    __global st_film_pixel *film, *half_film;
-    int to_half;
+    __global st_film_pixel *film;
+    float scale; /* every weight's factor (1; adaptive.cl's splat_scale) */
     __local long *acc;
     int ox, oy, side;
 } splat_dest;
 
-/* Adds w L and w to pixel (x, y)'s four sums (and its half film's), the
+/* Adds w L and w (w times d->scale) to pixel (x, y)'s four sums, the
  * integers of st_fixed_splat, wherever they are accumulated. */
 static void add_splat(const st_params *p, const splat_dest *d, int x, int y, float w, float3 L,
                       st_u32 *clamped)
 {
     st_i64 v[4];
-    st_fixed_splat(w, L.x, L.y, L.z, v, clamped);
+    st_fixed_splat(w * d->scale, L.x, L.y, L.z, v, clamped);
     int lx = x - d->ox, ly = y - d->oy;
     size_t i = (size_t)y * p->width + x;
     if (d->acc && lx >= 0 && ly >= 0 && lx < d->side && ly < d->side) {
@@ -36,9 +36,6 @@ static void add_splat(const st_params *p, const splat_dest *d, int x, int y, flo
         for (int k = 0; k < 4; k++)
             atom_add(a + k, v[k]);
     }
-    if (d->to_half)
-        for (int k = 0; k < 4; k++)
-            atom_add(d->half_film[i].sum + k, v[k]);
 }
 
 /* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */
@@ -90,7 +87,8 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_
  * any of its splats clamped. */
 static void splat_item(const st_params *p, st_u32 i, __global const st_sample *sample,
                        __global const st_path *path, __global st_tally *tally,
-                       __global st_film_stats *stats, splat_dest *d)
+                       __global st_film_stats *stats, __global const st_f32 *splat_scale,
+                       splat_dest *d)
 {
     st_sample s = sample[i];
     __global const st_path *pa = &path[i];
@@ -103,7 +101,7 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
         L = (float3)(0.0f);
     }
     st_u32 clamped = 0u;
-    d->to_half = p->half_buffer && (s.index & 1u) == 0u;
+    d->scale = p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
     t.splats += p->reconstruction == ST_RECON_FIS ? splat_fis(p, s, L, d, &clamped)
                                                   : splat_taps(p, s, L, d, &clamped);
     tally[i] = t;
@@ -111,8 +109,8 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
         atomic_inc(&stats->clamped);
 }
 
-/* Reads sample and path; adds to film (and, for even samples of an
- * adaptive render's first round, half_film); adds the splats made and the
+/* Reads sample and path; adds to film (weighted by splat_scale in an
+ * adaptive render's later rounds); adds the splats made and the
  * path's rays to tally[i]. The per-sample path: filter importance sampling,
  * and the reference for splat_tiles. */
 __kernel void splat_samples(ST_STAGE_PARAMS)
@@ -122,8 +120,8 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         return;
     if (!st_sample_on_film(&p, sample[i]))
         return; /* a tile point outside the image (generate.cl) */
-    splat_dest d = {film, half_film, 0, (__local long *)0, 0, 0, 0};
-    splat_item(&p, i, sample, path, tally, stats, &d);
+    splat_dest d = {film, 1.0f, (__local long *)0, 0, 0, 0};
+    splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
 }
 
 /* ---- tile-owned reconstruction ---------------------------------------------
@@ -194,9 +192,9 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long *acc)
     for (int j = (int)lid; j < 4 * side * side; j += (int)n)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    splat_dest d = {film, half_film, 0, acc, ox, oy, side};
+    splat_dest d = {film, 1.0f, acc, ox, oy, side};
     for (st_u32 j = bin_start[b] + lid; j < bin_start[b + 1]; j += n)
-        splat_item(&p, bin_item[j], sample, path, tally, stats, &d);
+        splat_item(&p, bin_item[j], sample, path, tally, stats, splat_scale, &d);
     barrier(CLK_LOCAL_MEM_FENCE);
     for (int j = (int)lid; j < side * side; j += (int)n) {
         int x = ox + j % side, y = oy + j / side;

@@ -330,14 +330,13 @@ typedef struct st_params {
      * tile_begin + tile_count - 1 of every repetition (see generate.cl) */
     st_u32 tile_size, tile_begin, tile_count, tiles_x;
     st_u32 reconstruction; /* ST_RECON_* */
-    /* adaptive sampling: nonzero during a round over the active-pixel list
-     * (item g: pixel active[g mod adaptive_count], sample adaptive_base +
-     * g / adaptive_count); half_buffer: even samples also go to the half film */
-    st_u32 adaptive_count, adaptive_base, half_buffer;
-    /* adaptive_mark: a pixel stops when its error is at most the threshold
-     * or it has max_spp samples; otherwise it is booked `batch` more */
-    st_f32 adaptive_threshold;
-    st_u32 adaptive_max_spp, adaptive_batch;
+    /* adaptive sampling (adaptive.cl): nonzero during a round over the
+     * active-pixel list (item g: pixel active[g mod adaptive_count], sample
+     * adaptive_base + g / adaptive_count); adaptive_scaled: each splat's
+     * weight is multiplied by splat_scale[its pixel]; adaptive_pilot: the
+     * pilot's samples per pixel */
+    st_u32 adaptive_count, adaptive_base, adaptive_scaled, adaptive_pilot;
+    st_u32 adaptive_pad[2];
     st_u32 sobol_log2; /* sobol, zsobol: 2^sobol_log2 >= width, height */
     /* tile-owned splat (film.cl): bins of bin_side^2 pixels, bins_x across,
      * bins in all; bins 0: the per-sample splat */
@@ -362,8 +361,6 @@ typedef struct st_params {
 
 #define ST_PATH_DEAD 0xffffffffu /* st_path.depth of a path that has ended */
 #define ST_NO_HIT 0xffffffffu    /* st_hit.prim of a ray that left the scene */
-/* st_pixel_spp flag of an adaptive pixel that has stopped sampling */
-#define ST_ADAPTIVE_STOPPED 0x80000000u
 /* The largest filter radius, in pixels, and the most pixel columns (or
  * rows) one sample reaches with it: |k + 0.5 - x| < r holds for at most
  * 2r + 1 integers k. */
@@ -464,10 +461,11 @@ typedef struct st_tile_point {
     X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
     X(bin_item, st_u32, ST_PER_ITEM) /* the wave's items, ordered by bin */                \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
-    X(half_film, st_film_pixel, ST_PER_ADAPTIVE) /* even samples only (adaptive.cl) */      \
-    X(pixel_spp, st_u32, ST_PER_ADAPTIVE)        /* samples booked, | ST_ADAPTIVE_STOPPED */ \
-    X(active, st_u32, ST_PER_ADAPTIVE)           /* pixels of the adaptive round */         \
-    X(active_count, st_u32, ST_ONE)                                                         \
+    X(pilot_film, st_film_pixel, ST_PER_ADAPTIVE) /* the adaptive pilot's splats */        \
+    X(moments, st_pixel, ST_PER_ADAPTIVE) /* pilot: Σ Y, Σ Y², samples (adaptive.cl) */    \
+    X(splat_scale, st_f32, ST_PER_ADAPTIVE) /* adaptive: weight of the pixel's samples */  \
+    X(pixel_spp, st_u32, ST_PER_ADAPTIVE)   /* an adaptive render's samples per pixel */   \
+    X(active, st_u32, ST_PER_ADAPTIVE)      /* pixels by falling sample count */           \
     X(stats, st_film_stats, ST_ONE)                                                         \
     X(image, st_pixel, ST_PER_PIXEL)
 
@@ -519,7 +517,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
  * render's values, the scene, then the wavefront state. */
 #define ST_STAGE_PARAMS \
     const st_params p, const st_shading sh ST_SCENE_BUFFERS(ST_SCENE_PARAM) ST_WAVE_BUFFERS(ST_WAVE_PARAM)
-/* The film kernels' (resolve, adaptive decision): values and the state. */
+/* The film kernels' (resolve, adaptive.cl): values and the state. */
 #define ST_FILM_PARAMS const st_params p ST_WAVE_BUFFERS(ST_WAVE_PARAM)
 #endif
 
@@ -566,8 +564,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, halton_inv3) X(st_params, ray_eps) X(st_params, tile_size)                 \
     X(st_params, tile_begin) X(st_params, tile_count) X(st_params, tiles_x)                 \
     X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
-    X(st_params, half_buffer) X(st_params, adaptive_threshold)                              \
-    X(st_params, adaptive_max_spp) X(st_params, adaptive_batch) X(st_params, sobol_log2)   \
+    X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, sobol_log2)     \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \

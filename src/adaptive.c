@@ -1,60 +1,228 @@
-/* adaptive.c — adaptive sampling's rounds (see st_render.h and
- * kernels/adaptive.cl): after the first min_spp samples everywhere,
- * adaptive_mark picks the pixels whose error estimate is above the
- * threshold, and each round gives every one of them the next `batch`
- * samples of its own sequence. Only the active count returns to the host.
- * Rounds grow with the samples taken (batch = half of them, so a pixel's
- * sample count roughly follows 1.5^k). */
+/* adaptive.c — adaptive sampling at a budget of spp samples per pixel on
+ * average (kernels/adaptive.cl has the device side):
+ *  1. a pilot: N0 samples per pixel, splatted, and each pixel's moments;
+ *  2. each pixel's error estimate e(q) (adaptive_estimate), read back;
+ *  3. one allocation: pixel q gets m(q) >= 1 more samples, m ∝ e + β ē
+ *     (the count that minimises Σ e² / m at a fixed Σ m; β ē is a
+ *     defensive share for pixels whose few pilot samples looked calm),
+ *     capped by --max-spp and, with a threshold X, by (e / X)² in all;
+ *     the scale is the largest whose counts fit the budget;
+ *  4. samples N0 .. N0 + m(q) - 1 of every pixel, a prefix of its own
+ *     sequence, splatted with weight 1 / m(q) into an emptied film;
+ *  5. adaptive_blend combines the pilot's film and the later one.
+ * Every sample traced counts in the cost (the pilot is part of the image). */
 #include "render_int.h"
 
+#include <math.h>
 #include <stdlib.h>
 
-/* One decision: books p->adaptive_batch more samples for every pixel still
- * above the threshold; *count gets how many. */
-static st_status mark_round(st_renderer *r, const st_params *p, st_wave *w, size_t pixels,
-                            st_u32 *count, st_error *err)
+const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS] = {
+    "adaptive_moments", "adaptive_estimate", "adaptive_blend"};
+
+/* β above: the share of the mean estimate every pixel is given. */
+#define ADAPTIVE_DEFENSIVE 0.1
+
+void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32 *max_spp)
 {
-    st_u32 zero = 0;
-    *count = 0;
-    if (st_device_buffer_write(r->dev, w->b[ST_WAVE_active_count], sizeof zero, &zero, err) ||
-        st_wave_set_params(r->mark, p, err) ||
-        st_device_launch(r->dev, r->mark, pixels, 0, err) ||
-        st_device_buffer_read(r->dev, w->b[ST_WAVE_active_count], sizeof *count, count, err))
+    st_u32 n0 = o->spp / 4 < 2 ? 2 : o->spp / 4 > 16 ? 16 : o->spp / 4;
+    *pilot = o->min_spp ? o->min_spp : n0;
+    *max_spp = o->max_spp ? o->max_spp : 8 * o->spp;
+}
+
+/* The allocation's inputs and its result: m[q] more samples for pixel q. */
+typedef struct allocation {
+    const float *e;  /* error estimates */
+    size_t pixels;
+    double floor;    /* β ē */
+    double cap;      /* most more samples per pixel */
+    double x2;       /* threshold², 0: none */
+    st_u32 pilot;
+    st_u32 *m;
+} allocation;
+
+/* Pixel q's count at scale c: round(c (e + β ē)) within [1, cap], and
+ * with a threshold X at most (e / X)² - N0 (at least 1). */
+static st_u32 count_at(const allocation *a, size_t q, double c)
+{
+    double n = floor(c * (a->e[q] + a->floor) + 0.5), cap = a->cap;
+    if (a->x2 > 0) {
+        double need = ceil((double)a->e[q] * a->e[q] / a->x2) - a->pilot;
+        cap = need < cap ? need : cap;
+    }
+    n = n < cap ? n : cap;
+    return n < 1 ? 1u : (st_u32)n;
+}
+
+static double total_at(const allocation *a, double c)
+{
+    double sum = 0;
+    for (size_t q = 0; q < a->pixels; q++)
+        sum += count_at(a, q, c);
+    return sum;
+}
+
+/* Fills a->m at the largest scale whose total is at most budget (found by
+ * bisection: the total grows with the scale). */
+static void allocate(allocation *a, double budget)
+{
+    double mean = 0;
+    for (size_t q = 0; q < a->pixels; q++)
+        mean += a->e[q];
+    mean /= (double)a->pixels;
+    a->floor = mean > 0 ? ADAPTIVE_DEFENSIVE * mean : 1.0; /* all calm: even counts */
+    double lo = 0, hi = 1;
+    while (total_at(a, hi) <= budget && hi < 1e30)
+        lo = hi, hi *= 2;
+    for (int k = 0; k < 64 && hi < 1e30; k++) {
+        double mid = 0.5 * (lo + hi);
+        *(total_at(a, mid) <= budget ? &lo : &hi) = mid;
+    }
+    for (size_t q = 0; q < a->pixels; q++)
+        a->m[q] = count_at(a, q, hi < 1e30 ? lo : hi);
+}
+
+typedef struct ranked {
+    st_u32 m, pixel;
+} ranked;
+
+/* More samples first, then by pixel: the same order every run. */
+static int by_count(const void *x, const void *y)
+{
+    const ranked *a = x, *b = y;
+    if (a->m != b->m)
+        return a->m > b->m ? -1 : 1;
+    return a->pixel < b->pixel ? -1 : a->pixel > b->pixel;
+}
+
+/* The pixels by falling count into active; n(q) into pixel_spp and 1 / m(q)
+ * into splat_scale on the device; *order gets the ranking. */
+static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32 pilot,
+                             ranked **order, st_error *err)
+{
+    size_t n = w->pixels;
+    ranked *rk = malloc(n * sizeof *rk);
+    st_u32 *u = malloc(n * sizeof *u);
+    float *f = malloc(n * sizeof *f);
+    st_status rc = rk && u && f ? ST_OK
+                                : st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
+    for (size_t q = 0; rc == ST_OK && q < n; q++) {
+        rk[q] = (ranked){m[q], (st_u32)q};
+        u[q] = pilot + m[q];
+        f[q] = 1.0f / (float)m[q];
+    }
+    if (rc == ST_OK) {
+        qsort(rk, n, sizeof *rk, by_count);
+        rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_pixel_spp], n * sizeof *u, u, err);
+    }
+    if (rc == ST_OK)
+        rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *f, f, err);
+    for (size_t q = 0; rc == ST_OK && q < n; q++)
+        u[q] = rk[q].pixel;
+    if (rc == ST_OK)
+        rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_active], n * sizeof *u, u, err);
+    free(u);
+    free(f);
+    if (rc != ST_OK)
+        free(rk);
+    *order = rc == ST_OK ? rk : NULL;
+    return rc;
+}
+
+/* Launches adaptive kernel k (ST_ADAPTIVE_*) over every pixel with p. */
+static st_status launch(st_renderer *r, int k, const st_params *p, st_wave *w, st_error *err)
+{
+    if (st_wave_set_params(r->adaptive[k], p, err) ||
+        st_device_launch(r->dev, r->adaptive[k], w->pixels, 0, err))
         return err->status;
     return ST_OK;
 }
 
-st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
-                             const st_render_options *o, st_progress_state *pr,
-                             st_render_stats *st, st_error *err)
+/* Step 1: the pilot's `total` items in waves, each wave's moments taken. */
+static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+                           st_u64 total, st_progress_state *pr, st_render_stats *st,
+                           st_error *err)
 {
-    size_t pixels = (size_t)o->width * o->height;
-    st_u32 *init = malloc(pixels * sizeof *init);
-    if (!init)
-        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive state");
-    for (size_t i = 0; i < pixels; i++)
-        init[i] = o->min_spp;
-    st_status rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_pixel_spp], pixels * sizeof *init,
-                                          init, err);
-    free(init);
+    st_status rc = ST_OK;
+    for (st_u64 first = 0; rc == ST_OK && first < total; first += w->items) {
+        st_u64 n = total - first < w->items ? total - first : w->items;
+        rc = st_render_items(r, p, w, o, first, n, pr, st, err);
+        if (rc == ST_OK)
+            rc = launch(r, ST_ADAPTIVE_MOMENTS, p, w, err);
+    }
+    return rc;
+}
+
+/* Steps 2 and 3: the estimates read back and the counts m chosen. */
+static st_status plan(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+                      st_u32 pilot, st_u32 max_spp, st_u32 *m, st_error *err)
+{
+    size_t n = w->pixels;
+    float *e = malloc(n * sizeof *e);
+    if (!e)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive estimates");
+    st_status rc = launch(r, ST_ADAPTIVE_ESTIMATE, p, w, err);
     if (rc == ST_OK)
-        rc = st_wave_bind_film(r->mark, p, w, err);
-    p->adaptive_threshold = o->noise_threshold;
-    p->adaptive_max_spp = o->spp;
-    for (st_u32 done = o->min_spp; rc == ST_OK && done < o->spp;) {
-        st_u32 batch = done / 2 > 1 ? done / 2 : 1, count;
-        if (batch > o->spp - done)
-            batch = o->spp - done;
-        p->adaptive_count = 0;
-        p->adaptive_batch = batch;
-        if ((rc = mark_round(r, p, w, pixels, &count, err)) != ST_OK || count == 0)
-            break;
+        rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *e, e, err);
+    if (rc == ST_OK) {
+        double x = o->noise_threshold;
+        allocation a = {e, n, 0, (double)(max_spp - pilot), x * x, pilot, m};
+        allocate(&a, (double)(o->spp - pilot) * (double)n);
+    }
+    free(e);
+    return rc;
+}
+
+/* Step 4: rounds over the ranking. A round gives the first `count` pixels
+ * (all with m >= hi) their samples lo .. hi - 1 past the pilot; a pixel
+ * leaves the list once its m is reached. */
+static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+                            const ranked *rk, st_u32 pilot, st_progress_state *pr,
+                            st_render_stats *st, st_error *err)
+{
+    st_status rc = ST_OK;
+    st_u32 lo = 0;
+    p->adaptive_scaled = 1;
+    for (size_t j = w->pixels; rc == ST_OK && j-- > 0;) {
+        st_u32 hi = rk[j].m, count = (st_u32)(j + 1);
+        if (hi == lo)
+            continue;
         p->adaptive_count = count;
-        p->adaptive_base = done;
-        rc = st_render_items(r, p, w, o, 0, (st_u64)count * batch, pr, st, err);
-        st->samples += (st_u64)count * batch;
-        done += batch;
+        p->adaptive_base = pilot + lo;
+        rc = st_render_items(r, p, w, o, 0, (st_u64)count * (hi - lo), pr, st, err);
+        st->samples += (st_u64)count * (hi - lo);
+        lo = hi;
     }
     p->adaptive_count = 0;
+    p->adaptive_scaled = 0;
+    return rc;
+}
+
+st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
+                             const st_render_options *o, st_u64 total, st_progress_state *pr,
+                             st_render_stats *st, st_error *err)
+{
+    st_u32 pilot, max_spp;
+    st_render_adaptive_counts(o, &pilot, &max_spp);
+    p->adaptive_pilot = pilot;
+    st_u32 *m = malloc(w->pixels * sizeof *m);
+    if (!m)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
+    ranked *rk = NULL;
+    st_status rc = ST_OK;
+    for (int k = 0; k < ST_ADAPTIVE_KERNELS && rc == ST_OK; k++)
+        rc = st_wave_bind_film(r->adaptive[k], p, w, err);
+    if (rc == ST_OK)
+        rc = run_pilot(r, p, w, o, total, pr, st, err);
+    st->samples = total;
+    if (rc == ST_OK)
+        rc = plan(r, p, w, o, pilot, max_spp, m, err);
+    if (rc == ST_OK)
+        rc = upload_plan(r, w, m, pilot, &rk, err);
+    if (rc == ST_OK)
+        rc = run_rounds(r, p, w, o, rk, pilot, pr, st, err);
+    if (rc == ST_OK)
+        rc = launch(r, ST_ADAPTIVE_BLEND, p, w, err);
+    free(rk);
+    free(m);
     return rc;
 }

@@ -36,14 +36,16 @@ static const char render_help[] =
     "  --filter-sigma S       gaussian's standard deviation, 1/64..16 (default 0.5)\n"
     "  --filter-tau T         lanczos' window scale, 1/16..64 (default: the radius)\n"
     "  --reconstruction splat|fis   splat each sample into every pixel within the filter\n"
-    "                         radius (default; fis for --adaptive), or filter importance\n"
+    "                         radius (default), or filter importance\n"
     "                         sampling: offsets drawn\n"
     "                         from |f|, each sample in one pixel weighted by the sign of f\n"
-    "  --adaptive             adaptive sampling: --min-spp everywhere, then more samples only\n"
-    "                         where the error estimate (full vs half film) is above the threshold\n"
-    "  --min-spp N            samples every pixel gets first (default 16)\n"
-    "  --max-spp N            the most samples a pixel gets (same as --spp)\n"
-    "  --noise-threshold X    relative error at which a pixel stops (default 0.01, as Cycles)\n"
+    "  --adaptive             adaptive sampling at the cost of --spp on average: a pilot of\n"
+    "                         --min-spp everywhere, then more samples where its error estimate\n"
+    "                         is larger (each weighted by its pixel's density in the splat)\n"
+    "  --min-spp N            the pilot's samples per pixel (default spp/4 within 2..16)\n"
+    "  --max-spp N            the most samples a pixel gets (default 8 x --spp)\n"
+    "  --noise-threshold X    also stop a pixel once its estimated relative error is X\n"
+    "                         (default: none; the render may then cost less than --spp)\n"
     "  --spp-map FILE.png     the samples each pixel received, colour-mapped with a legend\n"
     "  --env R,G,B | --env X  uniform environment light (linear radiance; 0: none). Default:\n"
     "                         white (1), with a note, for a scene that emits no light, else none\n"
@@ -272,7 +274,7 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     switch (c) {
     case O_ADAPTIVE: o->adaptive = 1; return ST_CLI_OK;
     case O_MIN_SPP: a->adaptive_opt = "--min-spp"; return st_cli_parse_u32("--min-spp", v, 1, 1u << 24, &o->min_spp);
-    case O_MAX_SPP: a->adaptive_opt = "--max-spp"; return st_cli_parse_u32("--max-spp", v, 1, 1u << 24, &o->spp);
+    case O_MAX_SPP: a->adaptive_opt = "--max-spp"; return st_cli_parse_u32("--max-spp", v, 1, 1u << 24, &o->max_spp);
     case O_THRESHOLD:
         a->adaptive_opt = "--noise-threshold";
         return st_cli_parse_float("--noise-threshold", v, &o->noise_threshold);
@@ -283,7 +285,6 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
         a->spp_map = v;
         return ST_CLI_OK;
     case O_RECON:
-        a->recon_given = 1;
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_ENV: return parse_env(v, a);
     case O_ENV_ROTATE: return st_cli_parse_float("--env-rotate", v, &o->env_rotate);
@@ -449,8 +450,6 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         return st_cli_usage_error("--env-rotate turns an environment map: add --env FILE.exr|FILE.hdr");
     if (a->ray_count && !a->rays)
         return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
-    if (a->opt.adaptive && !a->recon_given) /* see st_render_check */
-        a->opt.reconstruction = ST_RECON_FIS;
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);

@@ -23,7 +23,6 @@ typedef struct st_cli_render_args {
     int scene_list;     /* --scene-list */
     int quiet;          /* --quiet: no progress bar, no summary */
     int scramble_given; /* --scramble seen (for its error) */
-    int recon_given;    /* --reconstruction seen (adaptive renders default to fis) */
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
     st_u32 threads;           /* --threads N; 0: every compute unit */

@@ -38,8 +38,9 @@ static const char converge_help[] =
     "  --error-spectrum FILE power spectrum of the per-pixel error (mean of R, G, B minus the\n"
     "                        reference) at the first --spp-list count, one panel per sampler,\n"
     "                        mean over seeds (PNG): white error is flat, blue noise dark inside\n"
-    "  --adaptive            also each sampler with adaptive sampling (--min-spp max(N/4, 8),\n"
-    "                        --max-spp 4N, --noise-threshold), at its mean spp\n"
+    "  --adaptive            also each sampler with adaptive sampling at the same cost (N spp\n"
+    "                        on average, the default pilot and cap; --noise-threshold), at\n"
+    "                        its mean spp\n"
     "  render options: --width, --height, --filter..., --integrator, --max-depth, --device, ...\n"
     "  (not --spp, --max-spp, --min-spp, --sample-range, --spp-map: the study sets them)\n"
     "relative MSE: the mean of (x - r)^2 / (r^2 + 0.01) over pixels and R, G, B\n";
@@ -322,12 +323,7 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
     st_render_options o = c->r.opt;
     o.sampler = se->sampler;
     o.adaptive = se->adaptive;
-    o.spp = se->adaptive ? 4 * c->spp[k] : c->spp[k];
-    /* at least 8 samples before the first estimate: with fewer, the half film
-     * is too noisy to judge and pixels stop too early */
-    o.min_spp = c->spp[k] / 4 > 8 ? c->spp[k] / 4 : 8;
-    if (o.min_spp > o.spp)
-        o.min_spp = o.spp;
+    o.spp = c->spp[k]; /* adaptive: the mean, so both cost the same */
     st_u32 runs = st_pattern_is_random(o.sampler, o.scramble) || o.adaptive ? c->seeds : 1;
     double sum = 0, sum2 = 0, rel = 0, samples = 0;
     for (st_u32 r = 0; r < runs; r++) {

@@ -22,12 +22,14 @@ static st_status save_spp_map(const char *path, const st_render_options *o,
     for (st_u32 y = 0; y < o->height; y++) /* the plot's row 0 is the bottom */
         for (st_u32 x = 0; x < o->width; x++)
             v[(size_t)(o->height - 1 - y) * o->width + x] = st->spp_map[(size_t)y * o->width + x];
-    char title[128];
-    snprintf(title, sizeof title, "samples per pixel: %u..%u, threshold %g", o->min_spp, o->spp,
-             (double)o->noise_threshold);
+    char title[160];
+    st_u32 pilot, max_spp;
+    st_render_adaptive_counts(o, &pilot, &max_spp);
+    snprintf(title, sizeof title, "samples per pixel: mean %.2f, pilot %u, at most %u",
+             (double)st->samples / (double)n, pilot, max_spp);
     st_plot_heatmap h = {.title = title, .colorbar_label = "samples per pixel", .values = v,
-                         .width = o->width, .height = o->height, .vmin = o->min_spp,
-                         .vmax = o->spp};
+                         .width = o->width, .height = o->height, .vmin = pilot + 1,
+                         .vmax = max_spp};
     st_u32 pw = o->width + 160 < 640 ? 640 : o->width + 160;
     st_u32 ph = o->height + 120 < 480 ? 480 : o->height + 120;
     st_status rc = st_plot_save_heatmap(path, &h, pw > 8192 ? 8192 : pw, ph > 8192 ? 8192 : ph, err);

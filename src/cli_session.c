@@ -154,8 +154,10 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
         TYPED("filter_tau", ST_ATTR_FLOAT, "%.9g", (double)f->tau);
     TYPED("seed", ST_ATTR_DOUBLE, "%u", o->seed); /* 32 bits: exact in a double */
     if (o->adaptive) {
-        ATTR("adaptive", "min_spp %u, max_spp %u, noise_threshold %.9g", o->min_spp, o->spp,
-             (double)o->noise_threshold);
+        st_u32 pilot, max_spp;
+        st_render_adaptive_counts(o, &pilot, &max_spp);
+        ATTR("adaptive", "mean_spp %u, min_spp %u, max_spp %u, noise_threshold %.9g", o->spp,
+             pilot, max_spp, (double)o->noise_threshold);
         TYPED("samples_total", ST_ATTR_DOUBLE, "%llu", (unsigned long long)st->samples);
     }
     ATTR("integrator", "%s", st_integrator_names[o->integrator]);
@@ -230,9 +232,11 @@ void st_cli_print_summary(const char *what, const st_render_options *o, const st
     printf(" in %.3f s: %.2f M samples/s, %.2f M rays/s", st->seconds, st->samples / t * 1e-6,
            st->rays / t * 1e-6);
     if (o->adaptive) {
-        double uniform = (double)o->width * o->height * o->spp;
-        printf("; adaptive: %llu samples in all, %.2fx fewer than uniform at %u spp",
-               (unsigned long long)st->samples, uniform / (double)st->samples, o->spp);
+        st_u32 pilot, max_spp;
+        st_render_adaptive_counts(o, &pilot, &max_spp);
+        printf("; adaptive: %llu samples in all, %.2f per pixel (pilot %u, at most %u)",
+               (unsigned long long)st->samples,
+               (double)st->samples / ((double)o->width * o->height), pilot, max_spp);
     }
     if (st->clamped || st->nonfinite || st->zero_weight)
         printf(" (%u splats clamped, %u non-finite, %u pixels without weight)", st->clamped,

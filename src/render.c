@@ -41,8 +41,6 @@ st_render_options st_render_defaults(void)
     o.integrator = ST_INTEGRATOR_PATH;
     o.max_depth = 5;
     o.filter = st_filter_default(ST_FILTER_MITCHELL);
-    o.min_spp = 16;
-    o.noise_threshold = 0.01f;
     o.camera = -1;
     o.texture_filter = ST_TEXFILTER_TRILINEAR;
     /* a fixed work-group size: PoCL compiles a kernel again for every new
@@ -50,6 +48,41 @@ st_render_options st_render_defaults(void)
      * from wave to wave in adaptive rounds (measured: 15 s against 1.9 s) */
     o.local_size = 64;
     return o;
+}
+
+/* The samples per pixel the sampler is made for: an adaptive render's
+ * pixels draw sample indices up to its cap. */
+static st_u32 sampler_spp(const st_render_options *o)
+{
+    st_u32 pilot, max_spp;
+    if (!o->adaptive)
+        return o->spp;
+    st_render_adaptive_counts(o, &pilot, &max_spp);
+    return max_spp;
+}
+
+/* An adaptive render's options: a per-pixel sampler, a pilot of at least
+ * one sample below the mean, a cap at or above it, the whole sample range. */
+static st_status check_adaptive(const st_render_options *o, st_error *err)
+{
+    st_u32 pilot, max_spp;
+    st_render_adaptive_counts(o, &pilot, &max_spp);
+    if (st_sampler_is_tiled(o->sampler))
+        return st_fail(err, ST_ERR_USAGE, "adaptive needs a per-pixel sampler, not %s",
+                       st_sampler_names[o->sampler]);
+    if (pilot >= o->spp)
+        return st_fail(err, ST_ERR_USAGE,
+                       "min spp %u: the pilot must be below the mean spp %u (every pixel gets "
+                       "at least one sample more)", pilot, o->spp);
+    if (max_spp < o->spp)
+        return st_fail(err, ST_ERR_USAGE, "max spp %u: must be at least the mean spp %u",
+                       max_spp, o->spp);
+    if (!(o->noise_threshold >= 0.0f))
+        return st_fail(err, ST_ERR_USAGE, "noise threshold %g: must be positive (or 0: none)",
+                       (double)o->noise_threshold);
+    if (o->sample_begin || o->sample_end)
+        return st_fail(err, ST_ERR_USAGE, "adaptive renders cannot be split by sample range");
+    return ST_OK;
 }
 
 st_status st_render_check(const st_render_options *o, st_error *err)
@@ -70,38 +103,19 @@ st_status st_render_check(const st_render_options *o, st_error *err)
     if (o->sample_begin >= end || end > o->spp)
         return st_fail(err, ST_ERR_USAGE, "sample range %u:%u: must satisfy 0 <= K < M <= spp (%u)",
                        o->sample_begin, o->sample_end, o->spp);
-    st_status rc = st_sampler_check(o->sampler, o->width, o->height, o->spp, err);
+    st_status rc = st_sampler_check(o->sampler, o->width, o->height, sampler_spp(o), err);
     if (rc != ST_OK)
         return rc;
     if (o->reconstruction > ST_RECON_FIS)
         return st_fail(err, ST_ERR_USAGE, "reconstruction %u: unknown", o->reconstruction);
     /* both draw per pixel: FIS offsets each pixel's own samples, adaptive
-     * rounds add samples to chosen pixels */
+     * sampling adds samples to chosen pixels */
     if (o->reconstruction == ST_RECON_FIS && st_sampler_is_tiled(o->sampler))
         return st_fail(err, ST_ERR_USAGE,
                        "reconstruction fis needs a per-pixel sampler; %s places its points "
                        "across pixels", st_sampler_names[o->sampler]);
-    if (o->adaptive) {
-        if (st_sampler_is_tiled(o->sampler))
-            return st_fail(err, ST_ERR_USAGE, "adaptive needs a per-pixel sampler, not %s",
-                           st_sampler_names[o->sampler]);
-        /* splatted across pixels, the dense samples of busy pixels swamp (and
-         * with negative lobes cancel) the filter weight of the sparse ones
-         * next to them: measured, the RMSE then grew with the sample count */
-        if (o->reconstruction != ST_RECON_FIS)
-            return st_fail(err, ST_ERR_USAGE,
-                           "adaptive needs reconstruction fis (each sample in its own pixel): "
-                           "splatting samples of uneven density unbalances the filter weights");
-        if (o->min_spp < 2 || o->min_spp > o->spp)
-            return st_fail(err, ST_ERR_USAGE,
-                           "min spp %u: must be at least 2 (the half film needs two samples) "
-                           "and at most max spp %u", o->min_spp, o->spp);
-        if (!(o->noise_threshold > 0.0f))
-            return st_fail(err, ST_ERR_USAGE, "noise threshold %g: must be positive",
-                           (double)o->noise_threshold);
-        if (o->sample_begin || o->sample_end)
-            return st_fail(err, ST_ERR_USAGE, "adaptive renders cannot be split by sample range");
-    }
+    if (o->adaptive && (rc = check_adaptive(o, err)) != ST_OK)
+        return rc;
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "max depth %u: at most 64", o->max_depth);
     if ((o->crop_w || o->crop_h || o->crop_x || o->crop_y) &&
@@ -113,13 +127,17 @@ st_status st_render_check(const st_render_options *o, st_error *err)
     const st_filter *f = &o->filter;
     if ((rc = st_filter_check(f, ST_FILTER_MAX_RADIUS, err)) != ST_OK)
         return rc;
-    /* fixed-point headroom (fixed.h): splats one pixel can receive */
+    /* fixed-point headroom (fixed.h): splats one pixel can receive (an
+     * adaptive pixel's weights are at most 1, as a uniform render's) */
     double reach = ceil(2.0 * f->radius) + 1.0;
-    if ((double)o->spp * reach * reach > ST_FIXED_MAX_SPLATS)
+    st_u32 most = o->spp, pilot;
+    if (o->adaptive)
+        st_render_adaptive_counts(o, &pilot, &most);
+    if ((double)most * reach * reach > ST_FIXED_MAX_SPLATS)
         return st_fail(err, ST_ERR_USAGE,
                        "spp %u with filter radius %g could overflow the 64-bit film "
                        "(limit: spp x (ceil(2r)+1)^2 <= 2^23 - 1)",
-                       o->spp, (double)f->radius);
+                       most, (double)f->radius);
     return ST_OK;
 }
 
@@ -497,12 +515,8 @@ static st_status read_results(st_renderer *r, st_wave *w, const st_render_option
     }
     if (!o->adaptive)
         return ST_OK;
-    if (read_new(r->dev, w->b[ST_WAVE_pixel_spp], st_wave_bytes(w, ST_WAVE_pixel_spp),
-                 (void **)&st->spp_map, err) != ST_OK)
-        return err->status;
-    for (size_t i = 0; i < w->pixels; i++)
-        st->spp_map[i] &= ~ST_ADAPTIVE_STOPPED;
-    return ST_OK;
+    return read_new(r->dev, w->b[ST_WAVE_pixel_spp], st_wave_bytes(w, ST_WAVE_pixel_spp),
+                    (void **)&st->spp_map, err);
 }
 
 /* read_results, leaving nothing allocated when it fails. */
@@ -574,8 +588,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
 
 /* The items of the first pass: sample range K:M of every pixel; for a
  * tiled sampler, tile points [K N / spp, M N / spp) of every repetition of
- * the tile; for an adaptive render, min_spp samples everywhere (with the
- * half film). */
+ * the tile; for an adaptive render, its pilot everywhere. */
 static void plan_items(const st_renderer *r, const st_render_options *o, st_params *p,
                        st_u64 *first, st_u64 *total)
 {
@@ -593,8 +606,9 @@ static void plan_items(const st_renderer *r, const st_render_options *o, st_para
         *total = (st_u64)p->tiles_x * ((o->height + side - 1) / side) * p->tile_count;
     }
     if (o->adaptive) {
-        *total = (st_u64)o->min_spp * pixels;
-        p->half_buffer = 1;
+        st_u32 pilot, max_spp;
+        st_render_adaptive_counts(o, &pilot, &max_spp);
+        *total = (st_u64)pilot * pixels;
     }
 }
 
@@ -611,11 +625,13 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
         return err->status;
     size_t pixels = (size_t)o->width * o->height;
     st_scene_camera cam;
+    st_render_options so = *o; /* what the sampler is made for */
+    so.spp = sampler_spp(o);
     if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
-        prepare_pmj02(r, o, err) != ST_OK)
+        prepare_pmj02(r, &so, err) != ST_OK)
         return err->status;
-    st_params p = make_params(r, o, &cam);
+    st_params p = make_params(r, &so, &cam);
     st_u64 first, total;
     plan_items(r, o, &p, &first, &total);
     plan_bins(r, o, &p);
@@ -632,11 +648,12 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (rc != ST_OK)
         return rc;
     rc = bind_stages(r, &p, &sh, &w, err);
-    if (rc == ST_OK)
-        rc = st_render_items(r, &p, &w, o, first, total, &pr, st, err);
-    st->samples = total;
     if (rc == ST_OK && o->adaptive)
-        rc = st_render_adaptive(r, &p, &w, o, &pr, st, err);
+        rc = st_render_adaptive(r, &p, &w, o, total, &pr, st, err);
+    else if (rc == ST_OK)
+        rc = st_render_items(r, &p, &w, o, first, total, &pr, st, err);
+    if (!o->adaptive)
+        st->samples = total;
     st_u32 win[4];
     crop_window(o, win);
     set_region(&p, win); /* resolve the window alone: its counts are the window's */

@@ -8,6 +8,10 @@
 #include "st_render.h"
 #include "wave.h"
 
+/* adaptive.cl's kernels, in the order of st_adaptive_kernel_names */
+enum { ST_ADAPTIVE_MOMENTS, ST_ADAPTIVE_ESTIMATE, ST_ADAPTIVE_BLEND, ST_ADAPTIVE_KERNELS };
+extern const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS];
+
 struct st_renderer {
     st_device *dev;
     const st_scene *scene;
@@ -16,7 +20,7 @@ struct st_renderer {
      * environment map's (st_renderer_set_env_map) */
     cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
     cl_kernel k[ST_STAGE_COUNT];
-    cl_kernel mark; /* adaptive_mark */
+    cl_kernel adaptive[ST_ADAPTIVE_KERNELS]; /* adaptive.cl, by ST_ADAPTIVE_* */
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
@@ -44,9 +48,10 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
                           st_u64 first, st_u64 total, st_progress_state *pr,
                           st_render_stats *st, st_error *err);
 
-/* The adaptive rounds after the first min_spp samples (adaptive.c). */
+/* An adaptive render (adaptive.c): the pilot's `total` items (its plan
+ * from render.c), the allocation, the later samples and the blend. */
 st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
-                             const st_render_options *o, st_progress_state *pr,
+                             const st_render_options *o, st_u64 total, st_progress_state *pr,
                              st_render_stats *st, st_error *err);
 
 /* The camera basis of a view at an image aspect (render_scene.c). */

@@ -169,8 +169,10 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     for (int k = 0; k < ST_STAGE_COUNT; k++)
         if (st_device_kernel(dev, st_stage_names[k], &r->k[k], err) != ST_OK)
             goto fail;
-    if (st_device_kernel(dev, "adaptive_mark", &r->mark, err) != ST_OK ||
-        st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
+    for (int k = 0; k < ST_ADAPTIVE_KERNELS; k++)
+        if (st_device_kernel(dev, st_adaptive_kernel_names[k], &r->adaptive[k], err) != ST_OK)
+            goto fail;
+    if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
         st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK)
         goto fail;
     st_bvh_destroy(bvh);

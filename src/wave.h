@@ -24,7 +24,7 @@ typedef struct st_wave {
 size_t st_wave_count(const st_wave *w, int b);
 size_t st_wave_bytes(const st_wave *w, int b);
 
-/* Allocates every buffer; the film, the half film, the tallies and the
+/* Allocates every buffer; the film, the pilot's film and moments, the tallies and the
  * counters start at zero. On error what was made is released. */
 st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adaptive, st_wave *w,
                          st_error *err);
@@ -35,7 +35,7 @@ void st_wave_destroy(st_wave *w);
 st_status st_wave_bind_stage(cl_kernel k, const st_params *p, const st_shading *sh,
                              const cl_mem scene[ST_SCENE_BUFFER_COUNT], const st_wave *w,
                              st_error *err);
-/* Binds a film kernel (resolve_film, adaptive_mark): p, then the wave's buffers. */
+/* Binds a film kernel (resolve_film, adaptive.cl's): p, then the wave's buffers. */
 st_status st_wave_bind_film(cl_kernel k, const st_params *p, const st_wave *w, st_error *err);
 /* Sets only the st_params argument (argument 0), which changes per wave. */
 st_status st_wave_set_params(cl_kernel k, const st_params *p, st_error *err);

@@ -53,12 +53,12 @@ static void wave_sizes_follow_the_list(void **state)
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_ray), 100 * sizeof(st_wave_ray));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_path), 100 * sizeof(st_path));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_film), 12 * sizeof(st_film_pixel));
-    assert_int_equal(st_wave_bytes(&w, ST_WAVE_half_film), sizeof(st_film_pixel));
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_pilot_film), sizeof(st_film_pixel));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_stats), sizeof(st_film_stats));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_bin_start), 13 * sizeof(st_u32));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_bin_item), 100 * sizeof(st_u32));
     w.adaptive = 1;
-    assert_int_equal(st_wave_bytes(&w, ST_WAVE_half_film), 12 * sizeof(st_film_pixel));
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_pilot_film), 12 * sizeof(st_film_pixel));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_pixel_spp), 12 * sizeof(st_u32));
     assert_int_equal(sizeof(st_film_pixel), ST_FILM_SUMS * sizeof(st_i64));
 }

@@ -59,7 +59,7 @@ pic signal/gibbs-lanczos.png signal --function step --filter lanczos --png @ > /
 pic signal/blur-gaussian.png signal --function step --filter gaussian --png @ > /dev/null
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-pic adaptive/spp-map.png render --adaptive --spp 256 --min-spp 16 --width 256 --height 256 \
+pic adaptive/spp-map.png render --adaptive --spp 64 --width 256 --height 256 \
     --quiet --spp-map @ -o "$tmp/adaptive.exr"
 ALL=random,uniform,stratified,halton,hammersley,poisson,best-candidate,sobol
 pic adaptive/converge-smooth.png converge --sampler $ALL --spp-list 4,16,64,256 --width 64 \

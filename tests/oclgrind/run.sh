@@ -39,7 +39,7 @@ run "sobol, lanczos" render $D --spp 2 --sampler sobol --filter lanczos -o "$T/d
 run "best-candidate (tiled), triangle" render $D --spp 2 --sampler best-candidate --filter triangle -o "$T/e.exr"
 run "poisson (tiled), blackman-harris" render $D --spp 2 --sampler poisson --filter blackman-harris -o "$T/f.exr"
 run "filter importance sampling" render $D --spp 2 --sampler halton --reconstruction fis -o "$T/g.exr"
-run "adaptive sampling" render $D --adaptive --min-spp 2 --max-spp 4 --sampler random -o "$T/h.exr"
+run "adaptive sampling" render $D --adaptive --spp 3 --min-spp 2 --max-spp 4 --sampler random -o "$T/h.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
