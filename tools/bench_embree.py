@@ -8,15 +8,21 @@ beside the .gltf), makes the same rays as strata's src/trace_bench.c (the
 same hash, lowbias32, of the seed and the ray's index; camera: the first
 camera node, through uniformly random points of the WIDTH x HEIGHT image;
 random: origins uniform in the bounding box of the vertices, directions
-uniform on the sphere), builds Embree's BVH (timed) and traces the rays with
-embreex's EmbreeScene.run (rtcIntersect1 per ray, one thread; timed), and
-prints one JSON line with strata's keys, so the hit fraction can be checked
-against strata's (it should agree to about 1e-3).
+uniform on the sphere), builds Embree's BVH (timed, Embree's own threads, alone) and traces the
+rays with embreex's EmbreeScene.run (rtcIntersect1 per ray) in THREADS
+processes at once (default 2, the cores strata's PoCL uses), each over its
+share of the rays on a BVH of its own, started together at a barrier; the
+time is from the first start to the last end (embreex holds the GIL, so
+threads would run one at a time). It prints one JSON line with strata's
+keys, so the hit fraction can be checked against strata's (it should agree
+to about 1e-3).
 Usage: python3 tools/bench_embree.py SCENE.gltf camera|random [COUNT] [WIDTH HEIGHT] [SEED]
+       (environment: THREADS, default 2)
 """
 import base64
 import json
 import math
+import multiprocessing
 import os
 import sys
 import time
@@ -123,6 +129,46 @@ def make_rays(kind, n, tris, camera, width, height, seed):
     return np.repeat(m[None, :3, 3], n, 0).astype(np.float32), d.astype(np.float32)
 
 
+def build(tris):
+    """An Embree scene of the triangles, committed; returns it and the seconds."""
+    scene = rtcore_scene.EmbreeScene()
+    t0 = time.perf_counter()
+    TriangleMesh(scene, tris)
+    z = np.zeros((1, 3), np.float32)
+    scene.run(z, z + np.float32(1))  # embreex commits the scene (builds the BVH) at the first query
+    return scene, time.perf_counter() - t0
+
+
+def trace_share(cpu, tris, o, d, barrier, out):
+    """One process, pinned to one CPU (so that Embree's task scheduler starts
+    no worker threads to spin beside the others): its own BVH, then, once all
+    are ready, its rays (timed)."""
+    os.sched_setaffinity(0, {cpu})
+    scene, _ = build(tris)
+    barrier.wait()
+    t0 = time.perf_counter()
+    prim = scene.run(o, d)
+    out.put((t0, time.perf_counter(), int(np.count_nonzero(prim >= 0))))
+
+
+def trace_parallel(tris, o, d, threads):
+    """Seconds from the first process's start to the last one's end, hits."""
+    ctx = multiprocessing.get_context("fork")
+    barrier, out = ctx.Barrier(threads), ctx.Queue()
+    cpus = sorted(os.sched_getaffinity(0))
+    parts = np.array_split(np.arange(len(o)), threads)
+    procs = [ctx.Process(target=trace_share, args=(cpus[k % len(cpus)], tris, o[p], d[p], barrier, out))
+             for k, p in enumerate(parts)]
+    for p in procs:
+        p.start()
+    res = [out.get() for _ in procs]
+    for p in procs:
+        p.join()
+    if any(p.exitcode != 0 for p in procs):
+        sys.exit("bench_embree: a tracing process failed")
+    return max(r[1] for r in res) - min(r[0] for r in res), sum(r[2] for r in res)
+
+
 def main():
     a = sys.argv[1:]
     if len(a) < 2 or a[1] not in ("camera", "random"):
@@ -130,23 +176,18 @@ def main():
     count = int(a[2]) if len(a) > 2 else 1 << 21
     width, height = (int(a[3]), int(a[4])) if len(a) > 4 else (512, 512)
     seed = int(a[5]) if len(a) > 5 else 0
+    threads = int(os.environ.get("THREADS", "2"))
     kind = 1 if a[1] == "random" else 0
     tris, camera = load(a[0])
     o, d = make_rays(kind, count, tris, camera, width, height, seed)
-    scene = rtcore_scene.EmbreeScene()
-    t0 = time.perf_counter()
-    TriangleMesh(scene, tris)
-    scene.run(o[:1], d[:1])  # embreex commits the scene (builds the BVH) at the first query
-    build = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    prim = scene.run(o, d)
-    seconds = time.perf_counter() - t0
-    print(json.dumps({"device": "embree (embreex, 1 thread)", "scene": a[0],
+    seconds, hits = trace_parallel(tris, o, d, threads)
+    _, build_seconds = build(tris)  # after the tracers, so it has the cores alone
+    print(json.dumps({"device": "embree (embreex, %d processes)" % threads, "scene": a[0],
                       "rays": {"kind": a[1], "count": count, "seconds": seconds,
                                "rays_per_second": count / seconds,
-                               "hit_fraction": float(np.mean(prim >= 0))},
-                      "bvh": {"triangles": len(tris), "seconds": build,
-                              "triangles_per_second": len(tris) / build}}))
+                               "hit_fraction": hits / count},
+                      "bvh": {"triangles": len(tris), "seconds": build_seconds,
+                              "triangles_per_second": len(tris) / build_seconds}}))
 
 
 if __name__ == "__main__":
