@@ -2,24 +2,22 @@
 """bench_embree.py - the trace benchmark of `strata bench SCENE --rays KIND`
 with Embree (pip install embreex numpy), for comparison; not a test.
 
-It reads the glTF scene itself (triangle meshes under the default scene's
-nodes: translation/rotation/scale or matrix; buffers as data: URIs or files
-beside the .gltf), makes the same rays as strata's src/trace_bench.c (the
-same hash, lowbias32, of the seed and the ray's index; camera: the first
-camera node, through uniformly random points of the WIDTH x HEIGHT image;
-random: origins uniform in the bounding box of the vertices, directions
-uniform on the sphere), builds Embree's BVH (timed, Embree's own threads, alone) and traces the
-rays with embreex's EmbreeScene.run (rtcIntersect1 per ray) in THREADS
-processes at once (default 2, the cores strata's PoCL uses), each over its
+It reads the glTF scene with tools/gltf_scene.py, makes the same rays as
+strata's src/trace_bench.c (the same hash, lowbias32, of the seed and the
+ray's index; camera: the first camera node, through uniformly random points
+of the WIDTH x HEIGHT image; random: origins uniform in the bounding box of
+the vertices, directions uniform on the sphere), builds Embree's BVH (timed,
+alone, on Embree's own threads) and traces the rays with embreex's
+EmbreeScene.run (rtcIntersect1 per ray) in THREADS processes at once
+(default 2, the cores strata's PoCL uses), each pinned to one CPU over its
 share of the rays on a BVH of its own, started together at a barrier; the
 time is from the first start to the last end (embreex holds the GIL, so
-threads would run one at a time). It prints one JSON line with strata's
-keys, so the hit fraction can be checked against strata's (it should agree
-to about 1e-3).
+threads would take turns). It prints one JSON line with strata's keys, so
+the hit fraction can be checked against strata's (it should agree to about
+1e-3).
 Usage: python3 tools/bench_embree.py SCENE.gltf camera|random [COUNT] [WIDTH HEIGHT] [SEED]
        (environment: THREADS, default 2)
 """
-import base64
 import json
 import math
 import multiprocessing
@@ -30,6 +28,8 @@ import time
 import numpy as np
 from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
+
+import gltf_scene
 
 M32 = np.uint32(0xFFFFFFFF)
 
@@ -58,55 +58,10 @@ def ray_keys(seed, kind, n):
     return h32((i >> np.uint64(32)) ^ h32((i & np.uint64(0xFFFFFFFF)) ^ inner))
 
 
-def quat_matrix(q):
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
-def node_matrix(n):
-    if "matrix" in n:
-        return np.array(n["matrix"], dtype=np.float64).reshape(4, 4).T
-    m = np.eye(4)
-    m[:3, :3] = quat_matrix(n.get("rotation", [0, 0, 0, 1])) * np.array(n.get("scale", [1, 1, 1]))
-    m[:3, 3] = n.get("translation", [0, 0, 0])
-    return m
-
-
 def load(path):
-    g = json.load(open(path))
-    folder = os.path.dirname(path)
-    bufs = []
-    for b in g["buffers"]:
-        uri = b["uri"]
-        bufs.append(base64.b64decode(uri.split(",", 1)[1]) if uri.startswith("data:")
-                    else open(os.path.join(folder, uri), "rb").read())
-
-    def accessor(i):
-        a = g["accessors"][i]
-        v = g["bufferViews"][a["bufferView"]]
-        dt = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
-        k = {"SCALAR": 1, "VEC3": 3}[a["type"]]
-        off = v.get("byteOffset", 0) + a.get("byteOffset", 0)
-        return np.frombuffer(bufs[v["buffer"]], dt, a["count"] * k, off).reshape(-1, k)
-
-    tris, camera = [], None
-    stack = [(n, np.eye(4)) for n in g["scenes"][g.get("scene", 0)]["nodes"]]
-    while stack:
-        i, parent = stack.pop()
-        n = g["nodes"][i]
-        m = parent @ node_matrix(n)
-        for c in n.get("children", []):
-            stack.append((c, m))
-        if "camera" in n and camera is None:
-            camera = (m, g["cameras"][n["camera"]]["perspective"]["yfov"])
-        for p in g["meshes"][n["mesh"]]["primitives"] if "mesh" in n else []:
-            pos = accessor(p["attributes"]["POSITION"]).astype(np.float64)
-            pos = pos @ m[:3, :3].T + m[:3, 3]
-            idx = accessor(p["indices"]).ravel() if "indices" in p else np.arange(len(pos))
-            tris.append(pos[idx].reshape(-1, 3, 3))
-    return np.concatenate(tris).astype(np.float32), camera
+    """All triangles of the scene, world space (float32, n x 3 x 3), and its camera."""
+    prims, camera = gltf_scene.load(path)
+    return np.concatenate([p.triangles for p in prims]).astype(np.float32), camera
 
 
 def make_rays(kind, n, tris, camera, width, height, seed):
