@@ -1,8 +1,9 @@
 #!/bin/sh
 # bench_peers.sh — the trace benchmark of strata beside Embree, same rays,
 # same scenes: the 327,680-triangle icosphere (`make bench` writes it) and the
-# bench Cornell box, camera and random rays; prints one line per run with
-# rays/s, the hit fraction (which should agree) and the BVH build rate.
+# bench Cornell box, camera and random rays, strata and Embree alternating;
+# prints one line per renderer with rays/s, the hit fraction (which should
+# agree) and the BVH build rate.
 # Then the whole pass beside Mitsuba 3 (tools/bench_mitsuba.py): the bench
 # Cornell box, 512x512, 64 spp, independent samples, box filter, paths of max
 # depth 4 and direct lighting; runs interleaved (strata, Mitsuba, strata, ...),
@@ -23,29 +24,41 @@ CORNELL=../shared/scenes/bench/cornell.gltf
 [ -f "$ICO" ] || make "$ICO" > /dev/null || exit 1
 "$PY" -c "import embreex" 2> /dev/null || echo "bench_peers: embreex missing (pip install embreex numpy); strata only"
 
-# Median of RUNS runs of a command printing strata's JSON; one summary line.
-median_of() {
-    name=$1
-    shift
-    i=0
-    while [ $i -lt "$RUNS" ]; do "$@" || return 1; i=$((i + 1)); done | python3 -c '
+# One summary line per renderer (strata, or Embree by its "device") from the
+# JSON lines on stdin: medians of rays/s and of the BVH build rate.
+summarise() {
+    python3 -c '
 import json, statistics, sys
-runs = [json.loads(l) for l in sys.stdin if l.startswith("{")]
-rps = statistics.median(r["rays"]["rays_per_second"] for r in runs)
-tps = statistics.median(r["bvh"]["triangles_per_second"] for r in runs)
-r = runs[0]
-print("%-8s %-40s %-6s %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s  (%d tris, %d runs)" % (
-    sys.argv[1], r["scene"][-40:], r["rays"]["kind"], rps * 1e-6, r["rays"]["hit_fraction"],
-    tps * 1e-6, r["bvh"]["triangles"], len(runs)))' "$name"
+runs = {}
+for line in sys.stdin:
+    if line.startswith("{"):
+        r = json.loads(line)
+        runs.setdefault("embree" if r["device"].startswith("embree") else "strata", []).append(r)
+for name, rs in runs.items():
+    rps = statistics.median(r["rays"]["rays_per_second"] for r in rs)
+    tps = statistics.median(r["bvh"]["triangles_per_second"] for r in rs)
+    r = rs[0]
+    print("%-8s %-40s %-6s %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s  (%d tris, %d runs)" % (
+        name, r["scene"][-40:], r["rays"]["kind"], rps * 1e-6, r["rays"]["hit_fraction"],
+        tps * 1e-6, r["bvh"]["triangles"], len(rs)))'
+}
+
+# RUNS runs of strata's trace benchmark and Embree's, alternating.
+trace_pair() {
+    scene=$1 kind=$2 i=0
+    while [ $i -lt "$RUNS" ]; do
+        "$STRATA" bench "$scene" --rays "$kind" --count "$COUNT" --json 2> /dev/null || return 1
+        if "$PY" -c "import embreex" 2> /dev/null; then
+            "$PY" tools/bench_embree.py "$scene" "$kind" "$COUNT" || return 1
+        fi
+        i=$((i + 1))
+    done | summarise
 }
 
 for scene in "$ICO" "$CORNELL"; do
     [ -f "$scene" ] || { echo "bench_peers: $scene not found, skipped"; continue; }
     for kind in camera random; do
-        median_of strata "$STRATA" bench "$scene" --rays "$kind" --count "$COUNT" --json
-        if "$PY" -c "import embreex" 2> /dev/null; then
-            median_of embree "$PY" tools/bench_embree.py "$scene" "$kind" "$COUNT"
-        fi
+        trace_pair "$scene" "$kind"
     done
 done
 
