@@ -53,7 +53,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/test_*.c)
 TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
 
-.PHONY: all deps test test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
+.PHONY: all deps bench-deps test test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -166,6 +166,19 @@ bench: deps strata $(ICOSPHERE)
 	else echo "bench: $(BENCH_SCENE) not found; the comparison workload is skipped"; fi
 	@for s in $(ICOSPHERE) $(wildcard $(BENCH_SCENE)); do for k in camera random; do \
 	  echo "./strata bench $$s --rays $$k"; ./strata bench $$s --rays $$k || exit 1; done; done
+
+# The peers of tools/bench_peers.sh, only for benchmarks (no test needs
+# them): Embree (embreex) and Mitsuba 3 from PyPI in a venv of their own, and
+# Debian's libllvm19 for Mitsuba's LLVM variant (bench_mitsuba.py points
+# DRJIT_LIBLLVM_PATH at it).
+BENCH_DEB := libllvm19
+BENCH_PY  := build/bench-py/bin/python
+bench-deps: deps
+	@dpkg-query -W -f='$${Status}' $(BENCH_DEB) 2>/dev/null | grep -q "ok installed" || { \
+	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(BENCH_DEB); }
+	@[ -x $(BENCH_PY) ] || python3 -m venv build/bench-py
+	$(BENCH_PY) -m pip install -q mitsuba embreex numpy
 
 # The trace benchmark's large mesh: a 327,680-triangle icosphere (level 7).
 $(BUILD)/make_icosphere: tools/make_icosphere.c | $(BUILD)

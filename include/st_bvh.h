@@ -5,7 +5,7 @@
  * the traversals that read it are kernels/trace.h's, shared by host and device:
  * st_intersect_closest and st_intersect_any on the binary tree (the host's
  * reference), st_intersect4_closest and st_intersect4_any on the same tree
- * collapsed 4-wide (the kernels'). Guarantees of a built tree:
+ * collapsed ST_BVH_WIDTH-wide (the kernels'). Guarantees of a built tree:
  *   - nodes[0] is the root; an interior node's first child is the next node,
  *     its second child is nodes[offset]; meta = count << 2 | split axis;
  *   - a leaf holds 1..4 triangles, tris[offset .. offset + count);
@@ -31,7 +31,7 @@ typedef struct st_bvh {
     st_triangle *tris;      /* triangles in BVH order, prepared for Moller-Trumbore (v0, e1, e2) */
     st_u32 *order;          /* order[i] = index in the input of BVH triangle i */
     st_u32 depth;           /* deepest leaf, root = 1 */
-    /* The same tree collapsed 4-wide (st_bvh4_node; what the kernels trace):
+    /* The same tree collapsed ST_BVH_WIDTH-wide (st_bvh4_node; what the kernels trace):
      * wide[0] is the root, depth first; every binary interior node is either
      * a wide node or opened into its parent; leaves and triangles as above. */
     st_u32 wide_count;
@@ -59,8 +59,11 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
 
 /* Collapses bvh->nodes into bvh->wide (src/bvh_wide.c; st_bvh_build calls
  * it): each wide node takes its binary node's two children and, while it has
- * fewer than four, opens the interior child of largest surface area (the one
- * a ray is likeliest to enter). ST_ERR_NOMEM on allocation failure. */
+ * fewer than ST_BVH_WIDTH, opens the interior child of largest surface area
+ * (the one a ray is likeliest to enter). A tree so deep that the traversal
+ * stack could overflow at that width (7 x depth > ST_BVH4_STACK, depth > 27)
+ * is made of nodes of at most four children instead. ST_ERR_NOMEM on
+ * allocation failure. */
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
 
 /* Frees the tree and its arrays. NULL is a no-op. */

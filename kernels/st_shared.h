@@ -118,17 +118,19 @@ typedef struct st_bvh_node {
     st_u32 meta;
 } st_bvh_node;
 
-/* Wide BVH node: four children of the binary tree collapsed into one
- * (src/bvh_wide.c), their boxes as structure of arrays, lo[axis][child] and
- * hi[axis][child], so that one node is one 4-wide slab test (trace.h).
+/* Wide BVH node: ST_BVH_WIDTH children of the binary tree collapsed into
+ * one (src/bvh_wide.c), their boxes as structure of arrays, lo[axis][child]
+ * and hi[axis][child], so that one node is one vector slab test (trace.h:
+ * float8 for 8, float4 for 4; the type keeps its first width's name).
  * count[k] == 0: child[k] is an interior node's index; count[k] = 1..4:
  * child k is a leaf of that many triangles from tris[child[k]]. An unused
  * slot has an inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray enters. */
+#define ST_BVH_WIDTH 8
 typedef struct st_bvh4_node {
-    st_f32 lo[3][4];
-    st_f32 hi[3][4];
-    st_u32 child[4];
-    st_u32 count[4];
+    st_f32 lo[3][ST_BVH_WIDTH];
+    st_f32 hi[3][ST_BVH_WIDTH];
+    st_u32 child[ST_BVH_WIDTH];
+    st_u32 count[ST_BVH_WIDTH];
 } st_bvh4_node;
 
 /* A triangle prepared for Moller-Trumbore: v0 and the two edges e1 = v1 - v0,
@@ -584,7 +586,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
 #ifndef __OPENCL_VERSION__
 ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
-ST_STATIC_ASSERT(sizeof(st_bvh4_node) == 128, "st_bvh4_node: two 64-byte lines");
+ST_STATIC_ASSERT(sizeof(st_bvh4_node) == 32 * ST_BVH_WIDTH, "st_bvh4_node: W/2 64-byte lines");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");

@@ -13,8 +13,8 @@
  * returns whether any exists (shadow rays). Both agree with a brute-force loop
  * of st_intersect_triangle over all triangles: the box test is conservative
  * for the rounding of the slab test and of Moller-Trumbore's t (see
- * ST_TRACE_SLAB_WIDEN). The kernels trace the 4-wide tree
- * (st_intersect4_closest, st_intersect4_any: one float4 slab test per node);
+ * ST_TRACE_SLAB_WIDEN). The kernels trace the wide tree (8 children)
+ * (st_intersect4_closest, st_intersect4_any: one float8 slab test per node);
  * the binary tree's traversal stays as the host's reference, and both are
  * tested against brute force. The BVH is the one st_bvh_build writes
  * (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH. On the
@@ -64,10 +64,15 @@ ST_FN st_f32 st_trace_near(st_f32 t, st_f32 acc) { return t > acc ? t : acc; }
 ST_FN st_f32 st_trace_far(st_f32 t, st_f32 acc) { return t < acc ? t : acc; }
 
 /* Per-ray constants of the slab test. neg: bit a set when inv[a] < 0 (the
- * sign of 1/d, so -0 counts as negative), the near plane then being bmax. */
+ * sign of 1/d, so -0 counts as negative), the near plane then being bmax.
+ * plane[a], plane[3 + a]: where a wide node's near and far planes on axis a
+ * start, in floats from its lo[0] (lo[a] at W a, hi[a] at 3 W + W a, W =
+ * ST_BVH_WIDTH), so that the wide slab test loads them without choosing per
+ * node. */
 typedef struct st_trace_ray {
     st_f32 o[3], inv[3];
     st_u32 neg;
+    st_u32 plane[6];
 } st_trace_ray;
 
 ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
@@ -77,6 +82,11 @@ ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
         r->inv[a] = 1.0f / ray->d[a];
     }
     r->neg = (r->inv[0] < 0.0f ? 1u : 0u) | (r->inv[1] < 0.0f ? 2u : 0u) | (r->inv[2] < 0.0f ? 4u : 0u);
+    for (st_u32 a = 0u; a < 3u; ++a) {
+        st_u32 flip = ((r->neg >> a) & 1u) * 3u * ST_BVH_WIDTH;
+        r->plane[a] = ST_BVH_WIDTH * a + flip;
+        r->plane[3u + a] = ST_BVH_WIDTH * (a + 3u) - flip;
+    }
 }
 
 /* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
@@ -223,30 +233,49 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
 
 /* ---- the wide BVH (st_bvh4_node): what the kernels trace ----------------- */
 
-/* Stack of the wide traversals: a node pushes at most three of its children
- * (it goes on with the fourth), and a wide tree is no deeper than the binary
- * one it was collapsed from. */
+/* Stack of the wide traversals. A node pushes at most all but one of its
+ * children (it goes on with the last), so the stack holds at most (children
+ * per node - 1) x depth entries. A wide tree is no deeper than the binary one
+ * (ST_BVH_MAX_DEPTH), so nodes of 4 children need 3 x 64; for nodes of 8 the
+ * collapse keeps 7 x depth within the same bound, or falls back to 4 children
+ * (src/bvh_wide.c), so that the private memory per work-item stays that of
+ * the 4-wide tree (PoCL allots it to every work-item of a group, up to 4096). */
 #define ST_BVH4_STACK (3 * ST_BVH_MAX_DEPTH)
 
-/* The slab test of st_trace_box for a wide node's four boxes at once, lane k
- * computed with the same operations in the same order as st_trace_box would
- * for child k (so host and device agree to the bit). Returns a mask, bit k
- * set when the ray meets child k's box at some t in [0, tmax]; tn[k] is that
- * box's entry distance. In OpenCL C an explicit float4 test (one SSE/AVX
- * instruction per step on PoCL, native on GPUs); on the host a loop over the
- * lanes, which gcc vectorises. */
+/* The slab test of st_trace_box for a wide node's ST_BVH_WIDTH boxes at
+ * once, lane k computed with the same operations in the same order as
+ * st_trace_box would for child k (so host and device agree to the bit).
+ * Returns a mask, bit k set when the ray meets child k's box at some t in
+ * [0, tmax]; tn[k] is that box's entry distance. In OpenCL C an explicit
+ * float8 (or float4) test: one AVX (SSE) instruction per step on PoCL, native
+ * on GPUs; on the host a loop over the lanes, which gcc vectorises. */
 #ifdef __OPENCL_VERSION__
+#if ST_BVH_WIDTH == 8
+typedef float8 st_wfloat;
+typedef int8 st_wint;
+#define st_wload vload8
+#define st_wstore vstore8
+#define ST_WMASK(in)                                                                            \
+    ((st_u32)(((in).s0 & 1) | ((in).s1 & 2) | ((in).s2 & 4) | ((in).s3 & 8) | ((in).s4 & 16) |   \
+              ((in).s5 & 32) | ((in).s6 & 64) | ((in).s7 & 128)))
+#else
+typedef float4 st_wfloat;
+typedef int4 st_wint;
+#define st_wload vload4
+#define st_wstore vstore4
+#define ST_WMASK(in) ((st_u32)(((in).s0 & 1) | ((in).s1 & 2) | ((in).s2 & 4) | ((in).s3 & 8)))
+#endif
 ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh4_node *n, const st_trace_ray *r, st_f32 tmax,
                            st_f32 *tn)
 {
-    st_u32 neg = r->neg;
-    float4 nx = vload4(0, (neg & 1u) ? n->hi[0] : n->lo[0]);
-    float4 fx = vload4(0, (neg & 1u) ? n->lo[0] : n->hi[0]);
-    float4 ny = vload4(0, (neg & 2u) ? n->hi[1] : n->lo[1]);
-    float4 fy = vload4(0, (neg & 2u) ? n->lo[1] : n->hi[1]);
-    float4 nz = vload4(0, (neg & 4u) ? n->hi[2] : n->lo[2]);
-    float4 fz = vload4(0, (neg & 4u) ? n->lo[2] : n->hi[2]);
-    float4 t, t0 = (float4)(0.0f), t1 = (float4)(tmax);
+    const ST_GLOBAL st_f32 *b = n->lo[0];
+    st_wfloat nx = st_wload(0, b + r->plane[0]);
+    st_wfloat fx = st_wload(0, b + r->plane[3]);
+    st_wfloat ny = st_wload(0, b + r->plane[1]);
+    st_wfloat fy = st_wload(0, b + r->plane[4]);
+    st_wfloat nz = st_wload(0, b + r->plane[2]);
+    st_wfloat fz = st_wload(0, b + r->plane[5]);
+    st_wfloat t, t0 = (st_wfloat)(0.0f), t1 = (st_wfloat)(tmax);
     /* select(acc, t, t > acc): st_trace_near, lane-wise (NaN t keeps acc) */
     t = (nx - r->o[0]) * r->inv[0];
     t0 = select(t0, t, t > t0);
@@ -260,15 +289,15 @@ ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh4_node *n, const st_trace_ray *
     t0 = select(t0, t, t > t0);
     t = (fz - r->o[2]) * r->inv[2];
     t1 = select(t1, t, t < t1);
-    vstore4(t0, 0, tn);
-    int4 in = t0 <= t1 * ST_TRACE_SLAB_WIDEN;
-    return (st_u32)((in.x & 1) | (in.y & 2) | (in.z & 4) | (in.w & 8));
+    st_wstore(t0, 0, tn);
+    st_wint in = t0 <= t1 * ST_TRACE_SLAB_WIDEN;
+    return ST_WMASK(in);
 }
 #else
 ST_FN st_u32 st_trace_box4(const st_bvh4_node *n, const st_trace_ray *r, st_f32 tmax, st_f32 *tn)
 {
     st_u32 mask = 0u;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < ST_BVH_WIDTH; ++k) {
         st_f32 t0 = 0.0f, t1 = tmax;
         for (int a = 0; a < 3; ++a) {
             int flip = (r->neg >> a) & 1u;
@@ -282,6 +311,13 @@ ST_FN st_u32 st_trace_box4(const st_bvh4_node *n, const st_trace_ray *r, st_f32 
     }
     return mask;
 }
+#endif
+
+/* Index of the lowest set bit of m != 0 (OpenCL C 1.2 has clz, not ctz). */
+#ifdef __OPENCL_VERSION__
+ST_FN st_u32 st_trace_lowest(st_u32 m) { return 31u - clz(m & (0u - m)); }
+#else
+ST_FN st_u32 st_trace_lowest(st_u32 m) { return (st_u32)__builtin_ctz(m); }
 #endif
 
 /* Closest hit through the wide tree; same contract as st_intersect_closest
@@ -305,11 +341,10 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
     hit->prim = ST_NO_HIT;
     for (;;) {
         const ST_GLOBAL st_bvh4_node *n = nodes + node;
-        st_f32 tn[4];
+        st_f32 tn[ST_BVH_WIDTH];
         st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp;
-        for (int k = 0; k < 4; ++k) {
-            if (!((mask >> k) & 1u))
-                continue;
+        for (; mask != 0u; mask &= mask - 1u) {
+            st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k], count = n->count[k];
             for (st_u32 i = first; i < first + count; ++i)
                 st_intersect_triangle(tris + i, ray, i, hit);
@@ -349,11 +384,10 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh4_node *nodes,
     hit->t = ray->tmax;
     for (;;) {
         const ST_GLOBAL st_bvh4_node *n = nodes + node;
-        st_f32 tn[4];
+        st_f32 tn[ST_BVH_WIDTH];
         st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn);
-        for (int k = 0; k < 4; ++k) {
-            if (!((mask >> k) & 1u))
-                continue;
+        for (; mask != 0u; mask &= mask - 1u) {
+            st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k], count = n->count[k];
             for (st_u32 i = first; i < first + count; ++i)
                 if (st_intersect_triangle(tris + i, ray, i, hit))

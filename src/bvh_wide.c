@@ -1,12 +1,14 @@
-/* bvh_wide.c — the binary BVH collapsed into a 4-wide one (st_bvh4_node),
- * as Embree and pbrt-v4's GPU path trace (Wald et al., "Getting Rid of
- * Packets", RT 2008; Dammertz et al., "Shallow Bounding Volume Hierarchies
- * for Fast SIMD Ray Tracing of Incoherent Rays", EGSR 2008): a node's four
- * boxes meet the ray in one vector slab test, and the tree is half as deep. */
+/* bvh_wide.c — the binary BVH collapsed into an ST_BVH_WIDTH-wide one
+ * (st_bvh4_node), as Embree and pbrt-v4's GPU path trace (Wald et al.,
+ * "Getting Rid of Packets", RT 2008; Dammertz et al., "Shallow Bounding
+ * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR
+ * 2008): a node's boxes meet the ray in one vector slab test, and the tree is
+ * a third as deep as the binary one for 8 children (half for 4). */
 #include <float.h>
 #include <stdlib.h>
 
 #include "st_bvh.h"
+#include "trace.h"
 
 static int is_leaf(const st_bvh_node *n) { return (n->meta >> 2) != 0u; }
 
@@ -17,15 +19,15 @@ static float half_area(const st_bvh_node *n)
 }
 
 /* The binary nodes that become the children of a wide node made from
- * interior node i: its two children, then, while fewer than four, the
+ * interior node i: its two children, then, while fewer than ST_BVH_WIDTH, the
  * interior one of largest area replaced by its own two (the first of equal
  * areas, so the result is a function of the tree). Returns their number. */
-static int gather(const st_bvh_node *nodes, st_u32 i, st_u32 kids[4])
+static int gather(const st_bvh_node *nodes, st_u32 i, int width, st_u32 kids[ST_BVH_WIDTH])
 {
     int c = 2;
     kids[0] = i + 1u;
     kids[1] = nodes[i].offset;
-    while (c < 4) {
+    while (c < width) {
         int best = -1;
         float area = -1.0f;
         for (int k = 0; k < c; k++)
@@ -46,6 +48,7 @@ typedef struct wide_builder {
     const st_bvh_node *nodes;
     st_bvh4_node *wide;
     st_u32 count, depth;
+    int width; /* children per node: ST_BVH_WIDTH, or 4 (see collapse) */
 } wide_builder;
 
 static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth);
@@ -69,7 +72,7 @@ static void set_slot(wide_builder *b, st_u32 w, int k, st_u32 child, st_u32 dept
 
 static void clear_slots(st_bvh4_node *w)
 {
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < ST_BVH_WIDTH; k++) {
         for (int a = 0; a < 3; a++) {
             w->lo[a][k] = FLT_MAX;
             w->hi[a][k] = -FLT_MAX;
@@ -85,11 +88,25 @@ static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth)
     st_u32 w = b->count++;
     b->depth = depth > b->depth ? depth : b->depth;
     clear_slots(&b->wide[w]);
-    st_u32 kids[4];
-    int c = gather(b->nodes, i, kids);
+    st_u32 kids[ST_BVH_WIDTH];
+    int c = gather(b->nodes, i, b->width, kids);
     for (int k = 0; k < c; k++)
         set_slot(b, w, k, kids[k], depth);
     return w;
+}
+
+/* The wide tree of nodes of up to b->width children into b->wide. */
+static void collapse(wide_builder *b)
+{
+    b->count = 0u;
+    b->depth = 1u;
+    if (is_leaf(&b->nodes[0])) {
+        b->count = 1u;
+        clear_slots(&b->wide[0]);
+        set_slot(b, 0u, 0, 0u, 1u);
+    } else {
+        emit(b, 0u, 1u);
+    }
 }
 
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
@@ -97,15 +114,16 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
     /* every wide node consumes at least one binary interior node; a leaf
      * root (a small or empty scene) gets one wide node over it */
     size_t cap = bvh->node_count;
-    wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u};
+    wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
     if (!b.wide)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
-    if (is_leaf(&bvh->nodes[0])) {
-        b.count = 1u;
-        clear_slots(&b.wide[0]);
-        set_slot(&b, 0u, 0, 0u, 1u);
-    } else {
-        emit(&b, 0u, 1u);
+    collapse(&b);
+    /* the traversal stack holds (width - 1) x depth entries at most: a tree
+     * too deep for ST_BVH4_STACK at full width is made of 4-child nodes,
+     * whose depth <= ST_BVH_MAX_DEPTH keeps it within (trace.h) */
+    if ((st_u32)(b.width - 1) * b.depth > ST_BVH4_STACK) {
+        b.width = 4;
+        collapse(&b);
     }
     st_bvh4_node *shrunk = realloc(b.wide, (size_t)b.count * sizeof *b.wide);
     bvh->wide = shrunk ? shrunk : b.wide;

@@ -244,7 +244,7 @@ static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, c
 {
     const st_bvh4_node *node = &bvh->wide[w];
     uint32_t deepest = 1, used = 0;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < ST_BVH_WIDTH; ++k) {
         float lo[3] = {node->lo[0][k], node->lo[1][k], node->lo[2][k]};
         float hi[3] = {node->hi[0][k], node->hi[1][k], node->hi[2][k]};
         uint32_t c = node->count[k], first = node->child[k];
@@ -277,6 +277,19 @@ static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, c
     return deepest;
 }
 
+/* The most children (used slots) of any wide node. */
+static uint32_t wide_children_max(const st_bvh *bvh)
+{
+    uint32_t most = 0;
+    for (uint32_t w = 0; w < bvh->wide_count; ++w) {
+        uint32_t used = 0;
+        for (int k = 0; k < ST_BVH_WIDTH; ++k)
+            used += bvh->wide[w].lo[0][k] <= bvh->wide[w].hi[0][k];
+        most = used > most ? used : most;
+    }
+    return most;
+}
+
 static void check_wide_structure(const st_bvh *bvh, const float *p, uint32_t n)
 {
     uint32_t *covered = calloc(n ? n : 1, sizeof *covered);
@@ -286,6 +299,10 @@ static void check_wide_structure(const st_bvh *bvh, const float *p, uint32_t n)
     uint32_t depth = check_wide_node(bvh, p, 0, lo, hi, covered);
     assert_int_equal(depth, bvh->wide_depth);
     assert_true(depth <= bvh->depth);
+    /* the traversal's stack bound: all but one child pushed per level */
+    uint32_t most = wide_children_max(bvh);
+    assert_true(most <= ST_BVH_WIDTH);
+    assert_true((most ? most - 1 : 0) * depth <= ST_BVH4_STACK);
     for (uint32_t k = 0; k < n; ++k)
         assert_int_equal(covered[k], 1);
     free(covered);
@@ -609,6 +626,67 @@ static void closest_equals_brute_force_unbalanced_geometric(void **state)
 
 /* ---- tests: structure and the empty scene ------------------------------------- */
 
+/* A binary node of box [0, size]^3 at nodes[*n]: a leaf of one triangle
+ * (numbered by *leaves), or interior with its first child next. */
+static uint32_t add_node(st_bvh_node *nodes, uint32_t *n, uint32_t *leaves, float size, int leaf)
+{
+    uint32_t i = (*n)++;
+    for (int a = 0; a < 3; ++a) {
+        nodes[i].bmin[a] = 0.0f;
+        nodes[i].bmax[a] = size;
+    }
+    nodes[i].offset = leaf ? (*leaves)++ : 0u;
+    nodes[i].meta = leaf ? 1u << 2 : 0u;
+    return i;
+}
+
+/* A complete binary subtree of `levels` interior levels over big boxes. */
+static void add_bushy(st_bvh_node *nodes, uint32_t *n, uint32_t *leaves, int levels)
+{
+    uint32_t i = add_node(nodes, n, leaves, 10.0f, levels == 0);
+    if (levels == 0)
+        return;
+    add_bushy(nodes, n, leaves, levels - 1);
+    nodes[i].offset = *n;
+    add_bushy(nodes, n, leaves, levels - 1);
+}
+
+/* A chain whose every node has a small interior child (the chain goes on)
+ * and a bushy sibling: the collapse opens the bushy side first (larger
+ * area), so each wide node takes seven of its pieces and the chain's next
+ * node, and at full width the wide tree is as deep as the chain: 7 x 40 >
+ * ST_BVH4_STACK. It must fall back to nodes of four children, whose stack
+ * bound 3 x depth holds. */
+static void collapse_keeps_stack_bound_on_a_deep_chain(void **state)
+{
+    (void)state;
+    enum { CHAIN = 40, BUSHY = 3 };
+    st_bvh *bvh = calloc(1, sizeof *bvh);
+    assert_non_null(bvh);
+    bvh->nodes = calloc(CHAIN * (2u << BUSHY) + 1, sizeof *bvh->nodes);
+    assert_non_null(bvh->nodes);
+    /* depth first: the spine (each node's first child is the next), the
+     * chain's end leaf, then the bushy second children, deepest first */
+    uint32_t n = 0, leaves = 0;
+    uint32_t spine[CHAIN];
+    for (int level = 0; level < CHAIN; ++level)
+        spine[level] = add_node(bvh->nodes, &n, &leaves, 1.0f, 0);
+    add_node(bvh->nodes, &n, &leaves, 1.0f, 1);
+    for (int level = CHAIN - 1; level >= 0; --level) {
+        bvh->nodes[spine[level]].offset = n;
+        add_bushy(bvh->nodes, &n, &leaves, BUSHY);
+    }
+    bvh->node_count = n;
+    bvh->depth = CHAIN + BUSHY + 1; /* the deepest bushy subtree's leaves */
+    st_error err = {0};
+    assert_int_equal(st_bvh_collapse_wide(bvh, &err), ST_OK);
+    uint32_t most = wide_children_max(bvh);
+    assert_true(most >= 2 && most <= 4);
+    assert_true(bvh->wide_depth >= CHAIN && bvh->wide_depth <= bvh->depth);
+    assert_true((most - 1) * bvh->wide_depth <= ST_BVH4_STACK);
+    st_bvh_destroy(bvh);
+}
+
 static void build_empty_scene_has_no_hits(void **state)
 {
     (void)state;
@@ -836,6 +914,7 @@ int main(void)
         cmocka_unit_test(closest_equals_brute_force_duplicates),
         cmocka_unit_test(closest_equals_brute_force_rays_in_box_planes),
         cmocka_unit_test(closest_equals_brute_force_unbalanced_geometric),
+        cmocka_unit_test(collapse_keeps_stack_bound_on_a_deep_chain),
         cmocka_unit_test(build_empty_scene_has_no_hits),
         cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
         cmocka_unit_test(build_is_deterministic),

@@ -2,21 +2,25 @@
 """bench_embree.py - the trace benchmark of `strata bench SCENE --rays KIND`
 with Embree (pip install embreex numpy), for comparison; not a test.
 
-It reads the glTF scene itself (triangle meshes under the default scene's
-nodes: translation/rotation/scale or matrix; buffers as data: URIs or files
-beside the .gltf), makes the same rays as strata's src/trace_bench.c (the
-same hash, lowbias32, of the seed and the ray's index; camera: the first
-camera node, through uniformly random points of the WIDTH x HEIGHT image;
-random: origins uniform in the bounding box of the vertices, directions
-uniform on the sphere), builds Embree's BVH (timed) and traces the rays with
-embreex's EmbreeScene.run (rtcIntersect1 per ray, one thread; timed), and
-prints one JSON line with strata's keys, so the hit fraction can be checked
-against strata's (it should agree to about 1e-3).
+It reads the glTF scene with tools/gltf_scene.py, makes the same rays as
+strata's src/trace_bench.c (the same hash, lowbias32, of the seed and the
+ray's index; camera: the first camera node, through uniformly random points
+of the WIDTH x HEIGHT image; random: origins uniform in the bounding box of
+the vertices, directions uniform on the sphere), builds Embree's BVH (timed,
+alone, on Embree's own threads) and traces the rays with embreex's
+EmbreeScene.run (rtcIntersect1 per ray) in THREADS processes at once
+(default 2, the cores strata's PoCL uses), each pinned to one CPU over its
+share of the rays on a BVH of its own, started together at a barrier; the
+time is from the first start to the last end (embreex holds the GIL, so
+threads would take turns). It prints one JSON line with strata's keys, so
+the hit fraction can be checked against strata's (it should agree to about
+1e-3).
 Usage: python3 tools/bench_embree.py SCENE.gltf camera|random [COUNT] [WIDTH HEIGHT] [SEED]
+       (environment: THREADS, default 2)
 """
-import base64
 import json
 import math
+import multiprocessing
 import os
 import sys
 import time
@@ -24,6 +28,8 @@ import time
 import numpy as np
 from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
+
+import gltf_scene
 
 M32 = np.uint32(0xFFFFFFFF)
 
@@ -52,55 +58,10 @@ def ray_keys(seed, kind, n):
     return h32((i >> np.uint64(32)) ^ h32((i & np.uint64(0xFFFFFFFF)) ^ inner))
 
 
-def quat_matrix(q):
-    x, y, z, w = q
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
-def node_matrix(n):
-    if "matrix" in n:
-        return np.array(n["matrix"], dtype=np.float64).reshape(4, 4).T
-    m = np.eye(4)
-    m[:3, :3] = quat_matrix(n.get("rotation", [0, 0, 0, 1])) * np.array(n.get("scale", [1, 1, 1]))
-    m[:3, 3] = n.get("translation", [0, 0, 0])
-    return m
-
-
 def load(path):
-    g = json.load(open(path))
-    folder = os.path.dirname(path)
-    bufs = []
-    for b in g["buffers"]:
-        uri = b["uri"]
-        bufs.append(base64.b64decode(uri.split(",", 1)[1]) if uri.startswith("data:")
-                    else open(os.path.join(folder, uri), "rb").read())
-
-    def accessor(i):
-        a = g["accessors"][i]
-        v = g["bufferViews"][a["bufferView"]]
-        dt = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
-        k = {"SCALAR": 1, "VEC3": 3}[a["type"]]
-        off = v.get("byteOffset", 0) + a.get("byteOffset", 0)
-        return np.frombuffer(bufs[v["buffer"]], dt, a["count"] * k, off).reshape(-1, k)
-
-    tris, camera = [], None
-    stack = [(n, np.eye(4)) for n in g["scenes"][g.get("scene", 0)]["nodes"]]
-    while stack:
-        i, parent = stack.pop()
-        n = g["nodes"][i]
-        m = parent @ node_matrix(n)
-        for c in n.get("children", []):
-            stack.append((c, m))
-        if "camera" in n and camera is None:
-            camera = (m, g["cameras"][n["camera"]]["perspective"]["yfov"])
-        for p in g["meshes"][n["mesh"]]["primitives"] if "mesh" in n else []:
-            pos = accessor(p["attributes"]["POSITION"]).astype(np.float64)
-            pos = pos @ m[:3, :3].T + m[:3, 3]
-            idx = accessor(p["indices"]).ravel() if "indices" in p else np.arange(len(pos))
-            tris.append(pos[idx].reshape(-1, 3, 3))
-    return np.concatenate(tris).astype(np.float32), camera
+    """All triangles of the scene, world space (float32, n x 3 x 3), and its camera."""
+    prims, camera = gltf_scene.load(path)
+    return np.concatenate([p.triangles for p in prims]).astype(np.float32), camera
 
 
 def make_rays(kind, n, tris, camera, width, height, seed):
@@ -123,6 +84,46 @@ def make_rays(kind, n, tris, camera, width, height, seed):
     return np.repeat(m[None, :3, 3], n, 0).astype(np.float32), d.astype(np.float32)
 
 
+def build(tris):
+    """An Embree scene of the triangles, committed; returns it and the seconds."""
+    scene = rtcore_scene.EmbreeScene()
+    t0 = time.perf_counter()
+    TriangleMesh(scene, tris)
+    z = np.zeros((1, 3), np.float32)
+    scene.run(z, z + np.float32(1))  # embreex commits the scene (builds the BVH) at the first query
+    return scene, time.perf_counter() - t0
+
+
+def trace_share(cpu, tris, o, d, barrier, out):
+    """One process, pinned to one CPU (so that Embree's task scheduler starts
+    no worker threads to spin beside the others): its own BVH, then, once all
+    are ready, its rays (timed)."""
+    os.sched_setaffinity(0, {cpu})
+    scene, _ = build(tris)
+    barrier.wait()
+    t0 = time.perf_counter()
+    prim = scene.run(o, d)
+    out.put((t0, time.perf_counter(), int(np.count_nonzero(prim >= 0))))
+
+
+def trace_parallel(tris, o, d, threads):
+    """Seconds from the first process's start to the last one's end, hits."""
+    ctx = multiprocessing.get_context("fork")
+    barrier, out = ctx.Barrier(threads), ctx.Queue()
+    cpus = sorted(os.sched_getaffinity(0))
+    parts = np.array_split(np.arange(len(o)), threads)
+    procs = [ctx.Process(target=trace_share, args=(cpus[k % len(cpus)], tris, o[p], d[p], barrier, out))
+             for k, p in enumerate(parts)]
+    for p in procs:
+        p.start()
+    res = [out.get() for _ in procs]
+    for p in procs:
+        p.join()
+    if any(p.exitcode != 0 for p in procs):
+        sys.exit("bench_embree: a tracing process failed")
+    return max(r[1] for r in res) - min(r[0] for r in res), sum(r[2] for r in res)
+
+
 def main():
     a = sys.argv[1:]
     if len(a) < 2 or a[1] not in ("camera", "random"):
@@ -130,23 +131,18 @@ def main():
     count = int(a[2]) if len(a) > 2 else 1 << 21
     width, height = (int(a[3]), int(a[4])) if len(a) > 4 else (512, 512)
     seed = int(a[5]) if len(a) > 5 else 0
+    threads = int(os.environ.get("THREADS", "2"))
     kind = 1 if a[1] == "random" else 0
     tris, camera = load(a[0])
     o, d = make_rays(kind, count, tris, camera, width, height, seed)
-    scene = rtcore_scene.EmbreeScene()
-    t0 = time.perf_counter()
-    TriangleMesh(scene, tris)
-    scene.run(o[:1], d[:1])  # embreex commits the scene (builds the BVH) at the first query
-    build = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    prim = scene.run(o, d)
-    seconds = time.perf_counter() - t0
-    print(json.dumps({"device": "embree (embreex, 1 thread)", "scene": a[0],
+    seconds, hits = trace_parallel(tris, o, d, threads)
+    _, build_seconds = build(tris)  # after the tracers, so it has the cores alone
+    print(json.dumps({"device": "embree (embreex, %d processes)" % threads, "scene": a[0],
                       "rays": {"kind": a[1], "count": count, "seconds": seconds,
                                "rays_per_second": count / seconds,
-                               "hit_fraction": float(np.mean(prim >= 0))},
-                      "bvh": {"triangles": len(tris), "seconds": build,
-                              "triangles_per_second": len(tris) / build}}))
+                               "hit_fraction": hits / count},
+                      "bvh": {"triangles": len(tris), "seconds": build_seconds,
+                              "triangles_per_second": len(tris) / build_seconds}}))
 
 
 if __name__ == "__main__":

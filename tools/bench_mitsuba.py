@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""bench_mitsuba.py - the whole-pass workload of `strata bench SCENE` rendered
+by Mitsuba 3, for comparison; not a test.
+
+  render SCENE.gltf path|direct [OUT.exr]   renders and times the scene
+  compare A.exr B.exr                        says whether two renders agree
+
+render reads the glTF scene with tools/gltf_scene.py and builds the same
+scene for Mitsuba (the glTF is not Mitsuba's format): each primitive a mesh
+with flat (face) normals and a `diffuse` BSDF of its base colour (the bench
+scene's materials are Lambertian: specularFactor 0, roughness 1), an
+emissive one an `area` emitter of radiance emissiveFactor x emissiveStrength
+(one-sided, on the side the vertices run counter-clockwise, as glTF's and
+Mitsuba's front); the camera node's `perspective` sensor of the same
+vertical field of view; WIDTH x HEIGHT (512), SPP (64), the `independent`
+sampler and the `box` filter, as strata's bench workload
+(--sampler random --filter box). Integrators: `path` with max_depth 5
+(strata's --max-depth 4 counts vertices that gather light, pbrt's
+convention; Mitsuba counts one more) and Russian roulette from rr_depth 3,
+which is strata's (from the third vertex on, survival min(0.95, max
+throughput) in both); `direct` with one emitter sample and no BSDF sample,
+as strata's direct lighting (emission seen directly plus one light
+sample). It renders once untimed (Dr.Jit compiles its kernels), then RUNS
+times (default 3), each timed from the call to the evaluated image, and
+prints one JSON line: {"renderer", "variant", "threads", "integrator",
+"samples", "seconds": [...], "samples_per_second" (of the median)}.
+Variant: VARIANT (default llvm_ad_rgb; its LLVM backend needs Debian's
+libllvm19: DRJIT_LIBLLVM_PATH is set to /usr/lib/x86_64-linux-gnu/libLLVM-19.so
+when unset and that file exists). Threads: Dr.Jit's pool, all cores.
+
+compare prints each image's mean per channel and their relative difference,
+the RMSE of the per-pixel difference (mostly the two renders' noise), and
+the RMSE of 16 x 16 block means, where the noise falls 16-fold and a bias
+would remain; it exits 1 when a channel's mean differs by more than TOL
+(default 0.01, 1 %: far above the noise of 2^24 samples, far below any
+wrong light or material) or when the block RMSE exceeds twice the noise's
+share (per-pixel RMSE / 16; a moved or mirrored camera keeps the means).
+Usage: python3 tools/bench_mitsuba.py render SCENE.gltf path|direct [OUT.exr]
+       python3 tools/bench_mitsuba.py compare A.exr B.exr
+       (environment: WIDTH, HEIGHT, SPP, RUNS, SEED, VARIANT, TOL)
+"""
+import json
+import math
+import os
+import statistics
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import gltf_scene
+
+LIBLLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
+
+
+def write_ply(path, triangles):
+    """Binary PLY of unshared vertices (3 per triangle), as Mitsuba reads it."""
+    n = len(triangles)
+    head = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\n"
+            "property float x\nproperty float y\nproperty float z\n"
+            "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (3 * n, n))
+    faces = np.zeros(n, dtype=[("k", "u1"), ("i", "<i4", 3)])
+    faces["k"] = 3
+    faces["i"] = np.arange(3 * n, dtype=np.int32).reshape(n, 3)
+    with open(path, "wb") as f:
+        f.write(head.encode())
+        f.write(triangles.astype("<f4").tobytes())
+        f.write(faces.tobytes())
+
+
+def material_dict(m):
+    """A glTF material as Mitsuba's BSDF (and area emitter, if it emits)."""
+    pbr = m.get("pbrMetallicRoughness", {})
+    rgb = pbr.get("baseColorFactor", [1, 1, 1, 1])[:3]
+    shape = {"bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": rgb}}}
+    strength = m.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get(
+        "emissiveStrength", 1.0)
+    emit = [c * strength for c in m.get("emissiveFactor", [0, 0, 0])]
+    if max(emit) > 0:
+        shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": emit}}
+    return shape
+
+
+def sensor_dict(mi, camera, width, height, spp):
+    m = camera.matrix
+    origin, forward, up = m[:3, 3], -m[:3, 2], m[:3, 1]
+    return {"type": "perspective", "fov_axis": "y", "fov": math.degrees(camera.yfov),
+            "to_world": mi.ScalarTransform4f().look_at(origin=origin.tolist(),
+                                                       target=(origin + forward).tolist(),
+                                                       up=up.tolist()),
+            "sampler": {"type": "independent", "sample_count": spp},
+            "film": {"type": "hdrfilm", "width": width, "height": height,
+                     "pixel_format": "rgb", "rfilter": {"type": "box"}}}
+
+
+def integrator_dict(kind):
+    if kind == "path":
+        return {"type": "path", "max_depth": 5, "rr_depth": 3}
+    return {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0}
+
+
+def scene_dict(mi, path, kind, folder, width, height, spp):
+    prims, camera = gltf_scene.load(path)
+    if camera is None:
+        sys.exit("bench_mitsuba: %s: no camera node" % path)
+    d = {"type": "scene", "integrator": integrator_dict(kind),
+         "sensor": sensor_dict(mi, camera, width, height, spp)}
+    for k, p in enumerate(prims):
+        ply = os.path.join(folder, "mesh%d.ply" % k)
+        write_ply(ply, p.triangles)
+        d["mesh%d" % k] = {"type": "ply", "filename": ply, "face_normals": True,
+                           **material_dict(p.material)}
+    return d
+
+
+def render(a):
+    if len(a) < 2 or a[1] not in ("path", "direct"):
+        sys.exit(__doc__.split("Usage: ")[1])
+    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(LIBLLVM):
+        os.environ["DRJIT_LIBLLVM_PATH"] = LIBLLVM
+    import drjit as dr
+    import mitsuba as mi
+    variant = os.environ.get("VARIANT", "llvm_ad_rgb")
+    mi.set_variant(variant)
+    width, height = int(os.environ.get("WIDTH", 512)), int(os.environ.get("HEIGHT", 512))
+    spp, runs = int(os.environ.get("SPP", 64)), int(os.environ.get("RUNS", 3))
+    seed = int(os.environ.get("SEED", 0))
+    with tempfile.TemporaryDirectory() as folder:
+        scene = mi.load_dict(scene_dict(mi, a[0], a[1], folder, width, height, spp))
+    image = mi.render(scene, seed=seed)  # untimed: Dr.Jit compiles here
+    dr.eval(image)
+    dr.sync_thread()
+    seconds = []
+    for r in range(runs):
+        t0 = time.perf_counter()
+        image = mi.render(scene, seed=seed + 1 + r)
+        dr.eval(image)
+        dr.sync_thread()
+        seconds.append(time.perf_counter() - t0)
+    if len(a) > 2:
+        mi.Bitmap(image).write(a[2])
+    samples = width * height * spp
+    threads = dr.thread_count() if hasattr(dr, "thread_count") else os.cpu_count()
+    print(json.dumps({"renderer": "mitsuba %s" % mi.__version__, "variant": variant,
+                      "threads": threads, "scene": a[0], "integrator": a[1],
+                      "samples": samples, "seconds": seconds,
+                      "samples_per_second": samples / statistics.median(seconds)}))
+
+
+def read_exr(path):
+    import mitsuba as mi
+    mi.set_variant("scalar_rgb")
+    b = mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, False)
+    return np.array(b, dtype=np.float64)
+
+
+def compare(a):
+    if len(a) != 2:
+        sys.exit(__doc__.split("Usage: ")[1])
+    x, y = read_exr(a[0]), read_exr(a[1])
+    if x.shape != y.shape:
+        sys.exit("bench_mitsuba: %s and %s differ in size" % (a[0], a[1]))
+    tol = float(os.environ.get("TOL", 0.01))
+    mx, my = x.mean(axis=(0, 1)), y.mean(axis=(0, 1))
+    rel = np.abs(mx - my) / np.maximum(np.abs(my), 1e-12)
+    h, w = (x.shape[0] // 16) * 16, (x.shape[1] // 16) * 16
+    blocks = (x - y)[:h, :w].reshape(h // 16, 16, w // 16, 16, 3).mean(axis=(1, 3))
+    print("mean A %s  B %s  relative difference %s (tolerance %g)" % (
+        np.array2string(mx, precision=5), np.array2string(my, precision=5),
+        np.array2string(rel, precision=5), tol))
+    pixel, block = math.sqrt(np.mean((x - y) ** 2)), math.sqrt(np.mean(blocks ** 2))
+    print("RMSE per pixel %.5f, of 16x16 block means %.5f (noise alone: about %.5f)" % (
+        pixel, block, pixel / 16))
+    # independent noise falls 16-fold over 256 pixels; twice that leaves room
+    # for its spread, and a moved camera or a mirrored image exceeds it
+    if np.any(rel > tol) or block > 2 * pixel / 16:
+        print("bench_mitsuba: the images disagree")
+        sys.exit(1)
+    print("the images agree")
+
+
+def main():
+    a = sys.argv[1:]
+    if a[:1] == ["render"]:
+        render(a[1:])
+    elif a[:1] == ["compare"]:
+        compare(a[1:])
+    else:
+        sys.exit(__doc__.split("Usage: ")[1])
+
+
+if __name__ == "__main__":
+    main()
