@@ -94,26 +94,37 @@ static int by_count(const void *x, const void *y)
     return a->pixel < b->pixel ? -1 : a->pixel > b->pixel;
 }
 
-/* The pixels by falling count into active; n(q) into pixel_spp and 1 / m(q)
- * into splat_scale on the device; *order gets the ranking. */
+/* The pixels by falling count (malloc'ed; NULL: out of memory). */
+static ranked *rank_pixels(const st_u32 *m, size_t n)
+{
+    ranked *rk = malloc(n * sizeof *rk);
+    if (!rk)
+        return NULL;
+    for (size_t q = 0; q < n; q++)
+        rk[q] = (ranked){m[q], (st_u32)q};
+    qsort(rk, n, sizeof *rk, by_count);
+    return rk;
+}
+
+/* The plan to the device: n(q) into pixel_spp, 1 / m(q) into splat_scale,
+ * the ranking into active. */
 static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32 pilot,
-                             ranked **order, st_error *err)
+                             const ranked *rk, st_error *err)
 {
     size_t n = w->pixels;
-    ranked *rk = malloc(n * sizeof *rk);
     st_u32 *u = malloc(n * sizeof *u);
     float *f = malloc(n * sizeof *f);
-    st_status rc = rk && u && f ? ST_OK
-                                : st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
-    for (size_t q = 0; rc == ST_OK && q < n; q++) {
-        rk[q] = (ranked){m[q], (st_u32)q};
+    if (!u || !f) {
+        free(u);
+        free(f);
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
+    }
+    for (size_t q = 0; q < n; q++) {
         u[q] = pilot + m[q];
         f[q] = 1.0f / (float)m[q];
     }
-    if (rc == ST_OK) {
-        qsort(rk, n, sizeof *rk, by_count);
-        rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_pixel_spp], n * sizeof *u, u, err);
-    }
+    st_status rc =
+        st_device_buffer_write(r->dev, w->b[ST_WAVE_pixel_spp], n * sizeof *u, u, err);
     if (rc == ST_OK)
         rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *f, f, err);
     for (size_t q = 0; rc == ST_OK && q < n; q++)
@@ -122,9 +133,6 @@ static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32
         rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_active], n * sizeof *u, u, err);
     free(u);
     free(f);
-    if (rc != ST_OK)
-        free(rk);
-    *order = rc == ST_OK ? rk : NULL;
     return rc;
 }
 
@@ -216,8 +224,10 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
     st->samples = total;
     if (rc == ST_OK)
         rc = plan(r, p, w, o, pilot, max_spp, m, err);
+    if (rc == ST_OK && !(rk = rank_pixels(m, w->pixels)))
+        rc = st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
     if (rc == ST_OK)
-        rc = upload_plan(r, w, m, pilot, &rk, err);
+        rc = upload_plan(r, w, m, pilot, rk, err);
     if (rc == ST_OK)
         rc = run_rounds(r, p, w, o, rk, pilot, pr, st, err);
     if (rc == ST_OK)

@@ -78,7 +78,7 @@ static st_status check_adaptive(const st_render_options *o, st_error *err)
         return st_fail(err, ST_ERR_USAGE, "max spp %u: must be at least the mean spp %u",
                        max_spp, o->spp);
     if (!(o->noise_threshold >= 0.0f))
-        return st_fail(err, ST_ERR_USAGE, "noise threshold %g: must be positive (or 0: none)",
+        return st_fail(err, ST_ERR_USAGE, "noise threshold %g: must not be negative (0: none)",
                        (double)o->noise_threshold);
     if (o->sample_begin || o->sample_end)
         return st_fail(err, ST_ERR_USAGE, "adaptive renders cannot be split by sample range");
@@ -127,8 +127,8 @@ st_status st_render_check(const st_render_options *o, st_error *err)
     const st_filter *f = &o->filter;
     if ((rc = st_filter_check(f, ST_FILTER_MAX_RADIUS, err)) != ST_OK)
         return rc;
-    /* fixed-point headroom (fixed.h): splats one pixel can receive (an
-     * adaptive pixel's weights are at most 1, as a uniform render's) */
+    /* fixed-point headroom (fixed.h): splats one pixel can receive (from an
+     * adaptive render's neighbours, up to their cap each) */
     double reach = ceil(2.0 * f->radius) + 1.0;
     st_u32 most = o->spp, pilot;
     if (o->adaptive)

@@ -1,0 +1,25 @@
+#!/bin/sh
+# test_adaptive_cli.sh — `strata render --adaptive` from the command line:
+# --spp is the mean (the summary and the EXR header say the samples taken,
+# at most spp per pixel on average), the spp map is written, the pilot and
+# the cap are checked against the mean, the adaptive options need
+# --adaptive. TAP output.
+. tests/tap.sh
+P="--width 16 --height 16 --quiet"
+$S render $P --adaptive --spp 8 --spp-map "$T/map.png" -o "$T/a.exr" > "$T/sum" 2>&1
+check "an adaptive render writes its image and spp map" '[ -s "$T/a.exr" ] && [ -s "$T/map.png" ]'
+check "the EXR header names the mean, the pilot and the cap" \
+    'grep -a -q "mean_spp 8, min_spp 2, max_spp 64, noise_threshold 0" "$T/a.exr"'
+$S render --width 16 --height 16 --adaptive --spp 8 -o "$T/b.exr" > "$T/sum" 2>&1
+check "the summary gives the samples per pixel on average, at most --spp" \
+    'grep -q "adaptive: [0-9]* samples in all, [0-8]\.[0-9]* per pixel (pilot 2, at most 64)" "$T/sum"' \
+    "($(tail -1 "$T/sum"))"
+expect "a cap below the mean exits 2" 2 "^strata: error: --max-spp 15: must be at least the mean spp 16" \
+    $S render $P --adaptive --spp 16 --max-spp 15 -o "$T/x.exr"
+expect "a pilot of the whole budget exits 2" 2 "^strata: error: --min-spp 16: the pilot must be below" \
+    $S render $P --adaptive --spp 16 --min-spp 16 -o "$T/x.exr"
+expect "a negative threshold exits 2" 2 "^strata: error: --noise-threshold -1: must not be negative" \
+    $S render $P --adaptive --noise-threshold -1 -o "$T/x.exr"
+expect "--max-spp without --adaptive exits 2" 2 "^strata: error: --max-spp applies to adaptive renders only" \
+    $S render $P --max-spp 32 -o "$T/x.exr"
+echo "1..$n"
