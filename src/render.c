@@ -133,12 +133,16 @@ static size_t tile_window_bytes(st_u32 side, float radius)
 /* Chooses the reconstruction path: bins for splat_tiles, the largest side of
  * 32, 16 or 8 pixels whose window fits the device's local memory; bins 0
  * (splat_samples) for filter importance sampling (one tap per sample: no
- * window to share), when asked, and when no window fits. */
+ * window to share), when asked, when no window fits, and by default on a
+ * CPU device for a filter of radius 1/2 or less (a box's one tap per
+ * sample: there binning and the window's flush cost more than the atomics
+ * they save, measured: README). */
 static void plan_bins(const st_renderer *r, const st_render_options *o, st_params *p)
 {
     p->bins = p->bin_side = p->bins_x = 0;
     const st_device_info *info = st_device_get_info(r->dev);
-    if (o->reconstruction == ST_RECON_FIS || o->splat_path == ST_SPLAT_PER_SAMPLE)
+    if (o->reconstruction == ST_RECON_FIS || o->splat_path == ST_SPLAT_PER_SAMPLE ||
+        (o->splat_path == ST_SPLAT_AUTO && info->is_cpu && o->filter.radius <= 0.5f))
         return;
     unsigned long long local = info->local_mem;
     for (st_u32 side = 32; side >= 8; side /= 2)
