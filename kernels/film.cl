@@ -46,7 +46,7 @@ static void add_splat(const st_params *p, const splat_dest *d, int x, int y, flo
 }
 
 /* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */
-ST_HOT int2 taps(float x, float r, st_u32 n)
+static int2 taps(float x, float r, st_u32 n)
 {
     int lo = (int)ceil(x - r - 0.5f), hi = (int)floor(x + r - 0.5f);
     if ((float)lo + 0.5f - x <= -r)

@@ -27,7 +27,7 @@
  * (st_shared.h derives both from ST_FILTER_MAX_RADIUS_PX). */
 #define ST_FILTER_MAX_RADIUS ((st_f32)ST_FILTER_MAX_RADIUS_PX)
 
-ST_HOT st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
+ST_FN st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
 {
     if (t < 1.0f)
         return ((12.0f - 9.0f * b - 6.0f * c) * t * t * t +
@@ -44,7 +44,7 @@ ST_HOT st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
     return 0.0f;
 }
 
-ST_HOT st_f32 st_sinc(st_f32 x)
+ST_FN st_f32 st_sinc(st_f32 x)
 {
     if (fabs(x) < 1e-5f)
         return 1.0f;
@@ -52,7 +52,7 @@ ST_HOT st_f32 st_sinc(st_f32 x)
 }
 
 /* f(x) of filter f, one axis. */
-ST_HOT st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
+ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
 {
     st_f32 ax = fabs(x), r = f->radius;
     if (!(ax < r))

@@ -14,7 +14,7 @@
 /* Clamps v to [-ST_SPLAT_MAX, ST_SPLAT_MAX]; *clamped is set when it had to.
  * NaN (from 0 x inf) becomes 0 and counts as clamped: converting it to an
  * integer is undefined. */
-ST_HOT st_f32 st_fixed_clamp(st_f32 v, st_u32 *clamped)
+ST_FN st_f32 st_fixed_clamp(st_f32 v, st_u32 *clamped)
 {
     if (v != v) {
         *clamped = 1u;
@@ -32,7 +32,7 @@ ST_HOT st_f32 st_fixed_clamp(st_f32 v, st_u32 *clamped)
 }
 
 /* round(v * 2^24), ties to even, for |v| <= ST_SPLAT_MAX. */
-ST_HOT st_i64 st_fixed_from_float(st_f32 v)
+ST_FN st_i64 st_fixed_from_float(st_f32 v)
 {
 #ifdef __OPENCL_VERSION__
     return convert_long_rte(v * ST_FIXED_SCALE);
@@ -47,7 +47,7 @@ ST_HOT st_i64 st_fixed_from_float(st_f32 v)
  * wrapped the 64-bit sum. Every splat path (film.cl, and any tile-owned
  * accumulation) adds exactly these integers, so all give the same film.
  * Tests: test_fixed.c fixed_splat_*. */
-ST_HOT void st_fixed_splat(st_f32 w, st_f32 r, st_f32 g, st_f32 b, st_i64 *sums,
+ST_FN void st_fixed_splat(st_f32 w, st_f32 r, st_f32 g, st_f32 b, st_i64 *sums,
                           st_u32 *clamped)
 {
     sums[0] = st_fixed_from_float(st_fixed_clamp(w * r, clamped));
