@@ -78,9 +78,10 @@ st_status st_render_check(const st_render_options *o, st_error *err);
  * owned by one work-item, which adds without atomics: README), or one of
  * them. */
 enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE };
-/* Where shadow rays are traced (shadow_path), same film bit for bit: the
- * device type's (inside shade_hits on CPUs, measured faster: README; a stage
- * of their own, trace_shadow_rays, on GPUs), or one of them. */
+/* Where shadow rays are traced (shadow_path), same film bit for bit: by
+ * default (AUTO) a stage of their own, trace_shadow_rays, on every device
+ * type (inside shade_hits measured no faster on PoCL's CPU device: README),
+ * or one of them. */
 enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
