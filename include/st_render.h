@@ -59,6 +59,7 @@ typedef struct st_render_options {
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
     int splat_path;    /* internal (tests, measurements): ST_SPLAT_* */
+    int shadow_path;   /* internal (tests, measurements): ST_SHADOW_* */
 } st_render_options;
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
@@ -80,9 +81,16 @@ st_status st_render_check(const st_render_options *o, st_error *err);
 /* Reconstruction is one of two paths, same film bit for bit: splat_samples
  * (one work-item per sample; filter importance sampling, and the reference)
  * or bin_samples then splat_tiles (a work-group per image tile, film.cl). */
-/* Which path (splat_path): the device type's (tiles on GPUs, per sample on
- * CPUs, where binning measured slower: README), or one of them. */
-enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES };
+/* Which path (splat_path): the device type's (on GPUs tiles, each a
+ * work-group sharing its window through local atomics; on CPUs tiles each
+ * owned by one work-item, which adds without atomics: README), or one of
+ * them. */
+enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE };
+/* Where shadow rays are traced (shadow_path), same film bit for bit: by
+ * default (AUTO) a stage of their own, trace_shadow_rays, on every device
+ * type (inside shade_hits measured no faster on PoCL's CPU device: README),
+ * or one of them. */
+enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */

@@ -7,6 +7,9 @@
 #include "fixed.h"
 
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
 
 /* Where a sample's splats go: the film, or a work-group's window of
  * side x side pixels from (ox, oy) in local memory (acc; NULL: none), four
@@ -14,8 +17,9 @@
 typedef struct splat_dest {
     __global st_film_pixel *film;
     float scale; /* every weight's factor (1; adaptive.cl's splat_scale) */
-    __local long *acc;
+    __local long4 *acc;
     int ox, oy, side;
+    int alone; /* the work-group is one work-item: acc is its own, plain adds */
 } splat_dest;
 
 /* Adds w L and w (w times d->scale) to pixel (x, y)'s four sums, the
@@ -28,7 +32,7 @@ static void add_splat(const st_params *p, const splat_dest *d, int x, int y, flo
     int lx = x - d->ox, ly = y - d->oy;
     size_t i = (size_t)y * p->width + x;
     if (d->acc && lx >= 0 && ly >= 0 && lx < d->side && ly < d->side) {
-        __local long *a = d->acc + 4 * (ly * d->side + lx);
+        __local long *a = (__local long *)(d->acc + ly * d->side + lx);
         for (int k = 0; k < 4; k++)
             atom_add(a + k, v[k]);
     } else {
@@ -82,6 +86,69 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_
     return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
 }
 
+/* st_fixed_from_float of four values |v| <= ST_SPLAT_MAX at once. With
+ * doubles: x = v 2^24 (exact) plus 1.5 2^52 is rounded to an integer, ties
+ * to even (the default rounding), and as |x| <= 2^40 < 2^51 the sum's low
+ * mantissa bits are that integer in two's complement: a few vector
+ * instructions, where PoCL emulates convert_long4_rte channel by channel. */
+ST_HOT long4 fixed_from_float4(float4 v)
+{
+#ifdef cl_khr_fp64
+    double4 x = convert_double4(v * ST_FIXED_SCALE) + 6755399441055744.0;
+    return as_long4(x) - (long4)(0x4338000000000000L);
+#else
+    return convert_long4_rte(v * ST_FIXED_SCALE);
+#endif
+}
+
+/* The four sums of st_fixed_splat(w, L), as one vector (L1 = (L, 1)): the
+ * products and conversions of all four channels at once when none needs
+ * clamping (the same integers: w 1 = w), else st_fixed_splat's own path,
+ * which clamps and counts. */
+ST_HOT long4 fixed_splat4(float w, float4 L1, st_u32 *clamped)
+{
+    float4 v = w * L1;
+    if (all(islessequal(fabs(v), (float4)(ST_SPLAT_MAX))))
+        return fixed_from_float4(v);
+    st_i64 sums[4];
+    st_fixed_splat(w, L1.x, L1.y, L1.z, sums, clamped);
+    return (long4)(sums[0], sums[1], sums[2], sums[3]);
+}
+
+/* splat_taps into a work-group's window (d->acc), which holds every tap:
+ * the 1-D weights once per sample and axis, then per tap one product, one
+ * vector conversion and one add of four sums, plain when the window is this
+ * work-item's alone (d->alone), else atomic per sum. Returns the splats
+ * made. */
+ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+                           st_u32 *clamped)
+{
+    st_filter flt = p->filter;
+    int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
+    int nx = xs.y - xs.x + 1, ny = ys.y - ys.x + 1;
+    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
+    for (int k = 0; k < nx; k++)
+        wx[k] = st_filter_eval_1d(&flt, (float)(xs.x + k) + 0.5f - s.film[0]);
+    for (int k = 0; k < ny; k++)
+        wy[k] = st_filter_eval_1d(&flt, (float)(ys.x + k) + 0.5f - s.film[1]);
+    float4 L1 = (float4)(L, 1.0f);
+    __local long4 *row = d->acc + (ys.x - d->oy) * d->side + (xs.x - d->ox);
+    for (int j = 0; j < ny; j++, row += d->side)
+        for (int k = 0; k < nx; k++) {
+            long4 v = fixed_splat4(wx[k] * wy[j] * d->scale, L1, clamped);
+            if (d->alone) {
+                row[k] += v;
+            } else {
+                __local long *a = (__local long *)(row + k);
+                atom_add(a, v.x);
+                atom_add(a + 1, v.y);
+                atom_add(a + 2, v.z);
+                atom_add(a + 3, v.w);
+            }
+        }
+    return (st_u32)max(nx, 0) * (st_u32)max(ny, 0);
+}
+
 /* Item i's sample (on the film) to d: adds the splats made and the path's
  * rays to tally[i]; counts a non-finite radiance, and the sample once if
  * any of its splats clamped. */
@@ -102,8 +169,12 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
     }
     st_u32 clamped = 0u;
     d->scale = p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
-    t.splats += p->reconstruction == ST_RECON_FIS ? splat_fis(p, s, L, d, &clamped)
-                                                  : splat_taps(p, s, L, d, &clamped);
+    if (p->reconstruction == ST_RECON_FIS)
+        t.splats += splat_fis(p, s, L, d, &clamped);
+    else if (d->acc)
+        t.splats += splat_window(p, s, L, d, &clamped);
+    else
+        t.splats += splat_taps(p, s, L, d, &clamped);
     tally[i] = t;
     if (clamped)
         atomic_inc(&stats->clamped);
@@ -120,7 +191,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         return;
     if (!st_sample_on_film(&p, sample[i]))
         return; /* a tile point outside the image (generate.cl) */
-    splat_dest d = {film, 1.0f, (__local long *)0, 0, 0, 0};
+    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0};
     splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
 }
 
@@ -181,18 +252,19 @@ __kernel void bin_scatter(ST_STAGE_PARAMS)
  * tap: taps() stays within r + 0.5 of the sample), then each window pixel's
  * nonzero sums go to the film with one atomic add each. acc holds
  * (bin_side + 2 apron)^2 pixels of four longs (render.c sizes it from
- * CL_DEVICE_LOCAL_MEM_SIZE). */
-__kernel void splat_tiles(ST_STAGE_PARAMS, __local long *acc)
+ * CL_DEVICE_LOCAL_MEM_SIZE). A work-group of one work-item (CPU devices:
+ * render.c) adds into its window without atomics. */
+__kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 {
     st_u32 b = get_group_id(0), lid = get_local_id(0), n = get_local_size(0);
     if (b >= p.bins || bin_start[b] == bin_start[b + 1])
         return; /* the whole group */
     int apron = (int)ceil(p.filter.radius) + 1, side = (int)p.bin_side + 2 * apron;
     int ox = (int)(b % p.bins_x * p.bin_side) - apron, oy = (int)(b / p.bins_x * p.bin_side) - apron;
-    for (int j = (int)lid; j < 4 * side * side; j += (int)n)
+    for (int j = (int)lid; j < side * side; j += (int)n)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    splat_dest d = {film, 1.0f, acc, ox, oy, side};
+    splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u};
     for (st_u32 j = bin_start[b] + lid; j < bin_start[b + 1]; j += n)
         splat_item(&p, bin_item[j], sample, path, tally, stats, splat_scale, &d);
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -201,9 +273,15 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long *acc)
         if (x < 0 || y < 0 || x >= (int)p.width || y >= (int)p.height)
             continue;
         __global long *a = film[(size_t)y * p.width + x].sum;
-        for (int k = 0; k < 4; k++)
-            if (acc[4 * j + k] != 0)
-                atom_add(a + k, acc[4 * j + k]);
+        long4 v = acc[j];
+        if (v.x != 0)
+            atom_add(a, v.x);
+        if (v.y != 0)
+            atom_add(a + 1, v.y);
+        if (v.z != 0)
+            atom_add(a + 2, v.z);
+        if (v.w != 0)
+            atom_add(a + 3, v.w);
     }
     if (lid == 0)
         bin_count[b] = 0; /* for the next wave's bin_samples */

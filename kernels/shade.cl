@@ -51,6 +51,7 @@
 #include "lights.h"
 #include "bsdf.h"
 #include "integrator.h"
+#include "shadow.h"
 
 /* A path that left the scene along d sees the environment, weighted by MIS
  * where next-event estimation samples it too (see the top). */
@@ -69,15 +70,13 @@ static void shade_miss(const st_scene_refs *s, const st_params *p, const st_shad
     pa->depth = ST_PATH_DEAD;
 }
 
-/* One vertex of every live path: reads hit, ray, path and sample; adds the
- * emission it sees to the path's radiance, writes the shadow ray of
+/* One vertex of item i's path, if live: reads hit, ray, path and sample;
+ * adds the emission it sees to the path's radiance, writes the shadow ray of
  * next-event estimation (tmax 0: none) and the next ray, or ends the path
- * (depth ST_PATH_DEAD). */
-__kernel void shade_hits(ST_STAGE_PARAMS)
+ * (depth ST_PATH_DEAD). Takes the stage's parameters (forced inline: no
+ * copies). */
+ST_HOT void shade_item(st_u32 i, ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
     shadow[i].tmax = 0.0f;
     st_path pa = path[i];
     if (pa.depth == ST_PATH_DEAD)
@@ -138,4 +137,30 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
         }
     }
     path[i] = pa;
+}
+
+/* The stage's arguments, passed on to shade_item. */
+#define ST_ARG(name, ...) , name
+#define ST_STAGE_ARGS p, sh ST_SCENE_BUFFERS(ST_ARG) ST_WAVE_BUFFERS(ST_ARG)
+
+/* One vertex of every live path (shade_item); its shadow ray is traced by
+ * the next stage, trace_shadow_rays (GPU devices: render.c). */
+__kernel void shade_hits(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i < p.item_count)
+        shade_item(i, ST_STAGE_ARGS);
+}
+
+/* shade_hits and trace_shadow_rays in one work-item: the shadow ray is
+ * traced at once, while the vertex is fresh (CPU devices: render.c). The
+ * same floats are added in the same order, so the film is the same. */
+__kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count)
+        return;
+    shade_item(i, ST_STAGE_ARGS);
+    st_scene_refs sc = ST_SCENE_REFS_INIT;
+    trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
 }

@@ -44,4 +44,28 @@ static int shadow_blocked(__global const st_bvh4_node *nodes, const st_scene_ref
     return 0;
 }
 
+/* Item i's shadow ray (tmax 0: none): adds its contribution to the path's
+ * radiance when nothing blocks it, and counts the ray. One body for both
+ * places a shadow ray is traced: the stage trace_shadow_rays (trace.cl) and
+ * shade_hits_shadowed (shade.cl), so both add the same floats in the same
+ * order. */
+ST_HOT void trace_shadow_item(__global const st_bvh4_node *nodes, const st_scene_refs *sc,
+                              const st_params *p, const st_shading *sh,
+                              __global const st_shadow_ray *shadow, __global st_path *path,
+                              __global const st_sample *sample, st_u32 i)
+{
+    st_shadow_ray s = shadow[i];
+    if (!(s.tmax > 0.0f))
+        return;
+    st_ray r;
+    r.o[0] = s.o[0]; r.o[1] = s.o[1]; r.o[2] = s.o[2];
+    r.d[0] = s.d[0]; r.d[1] = s.d[1]; r.d[2] = s.d[2];
+    r.tmax = s.tmax;
+    __global st_path *pa = &path[i];
+    int blocked = shadow_blocked(nodes, sc, p, sh, r, sample[i], pa->depth);
+    float3 l = blocked ? (float3)(0.0f) : vload3(0, s.contribution);
+    vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
+    pa->shadow_rays++;
+}
+
 #endif

@@ -37,17 +37,6 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
     st_u32 i = get_global_id(0);
     if (i >= p.item_count)
         return;
-    st_shadow_ray s = shadow[i];
-    if (!(s.tmax > 0.0f))
-        return;
-    st_ray r;
-    r.o[0] = s.o[0]; r.o[1] = s.o[1]; r.o[2] = s.o[2];
-    r.d[0] = s.d[0]; r.d[1] = s.d[1]; r.d[2] = s.d[2];
-    r.tmax = s.tmax;
     st_scene_refs sc = ST_SCENE_REFS_INIT;
-    __global st_path *pa = &path[i];
-    int blocked = shadow_blocked(nodes, &sc, &p, &sh, r, sample[i], pa->depth);
-    float3 l = blocked ? (float3)(0.0f) : vload3(0, s.contribution);
-    vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
-    pa->shadow_rays++;
+    trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
 }

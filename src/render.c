@@ -153,15 +153,16 @@ static size_t tile_window_bytes(st_u32 side, float radius)
 /* Chooses the reconstruction path: bins for splat_tiles, the largest side of
  * 32, 16 or 8 pixels whose window fits the device's local memory; bins 0
  * (splat_samples) for filter importance sampling (one tap per sample: no
- * window to share), when asked, when no window fits, and by default on a CPU
- * device (PoCL: binning and the window cost 21 % more instructions than they
- * save with Mitchell, 38 % with box; README). */
+ * window to share), when asked, when no window fits, and by default on a
+ * CPU device for a filter of radius 1/2 or less (a box's one tap per
+ * sample: there binning and the window's flush cost more than the atomics
+ * they save, measured: README). */
 static void plan_bins(const st_renderer *r, const st_render_options *o, st_params *p)
 {
     p->bins = p->bin_side = p->bins_x = 0;
     const st_device_info *info = st_device_get_info(r->dev);
     if (o->reconstruction == ST_RECON_FIS || o->splat_path == ST_SPLAT_PER_SAMPLE ||
-        (o->splat_path == ST_SPLAT_AUTO && info->is_cpu))
+        (o->splat_path == ST_SPLAT_AUTO && info->is_cpu && o->filter.radius <= 0.5f))
         return;
     unsigned long long local = info->local_mem;
     for (st_u32 side = 32; side >= 8; side /= 2)
@@ -173,6 +174,17 @@ static void plan_bins(const st_renderer *r, const st_render_options *o, st_param
         }
 }
 
+/* Work-items per splat_tiles work-group: one on a CPU device (PoCL runs a
+ * group's items in turn on one thread, so the window is that thread's alone
+ * and takes plain adds, film.cl; measured: README), else the render's
+ * work-group size, the items sharing the window through local atomics. */
+static size_t tile_group(const st_renderer *r, const st_render_options *o)
+{
+    int alone = o->splat_path == ST_SPLAT_TILES_ALONE ||
+                (o->splat_path == ST_SPLAT_AUTO && st_device_get_info(r->dev)->is_cpu);
+    return alone ? 1 : o->local_size ? o->local_size : 64;
+}
+
 /* Binds every stage kernel to this render's values, scene and state; per
  * wave only the st_params argument changes. */
 static st_status bind_stages(st_renderer *r, const st_params *p, const st_shading *sh,
@@ -182,7 +194,8 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
         if (st_wave_bind_stage(r->k[k], p, sh, r->scene_buf, w, err) != ST_OK)
             return err->status;
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err))
+        st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err))
         return err->status;
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
     size_t window = p->bins ? tile_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
@@ -220,11 +233,11 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
 
 /* Reconstruction of a wave: splat_samples, or the counting sort by bin
  * (three kernels, timed as the stage bin_samples) and splat_tiles, one
- * work-group per bin. */
+ * work-group per bin (tile_group). */
 static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_options *o,
                             st_render_stats *st, st_error *err)
 {
-    size_t n = p->item_count, group = o->local_size ? o->local_size : 64;
+    size_t n = p->item_count, group = tile_group(r, o);
     if (!p->bins)
         return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
     if (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
@@ -406,6 +419,16 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     return p;
 }
 
+/* Whether shade_hits traces its shadow rays itself (shade_hits_shadowed):
+ * only when asked. On PoCL's CPU device it measured no faster than the
+ * stage (4 % more instructions, paired whole passes no faster: README); on
+ * a GPU it is not measured (none was lent). */
+static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
+{
+    (void)r;
+    return o->shadow_path == ST_SHADOW_IN_SHADE;
+}
+
 /* One wave: items [first, first + n) of the render's item space. */
 static st_status run_wave(st_renderer *r, st_params *p, const st_render_options *o,
                           st_render_stats *st, st_error *err)
@@ -415,13 +438,16 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
         run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
-     * max_depth vertices; the last one only adds emission (MIS). */
+     * max_depth vertices; the last one only adds emission (MIS). Shadow
+     * rays in shade: timed as its stage. */
     st_u32 vertices = p->integrator == ST_INTEGRATOR_DIRECT ? 1u : p->max_depth + 1u;
+    int in_shade = shadows_in_shade(r, o);
+    cl_kernel shade = in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
     for (st_u32 v = 0; v < vertices; v++) {
         if (run_stage(r, ST_STAGE_TRACE, p, n, o, st, err) ||
-            run_stage(r, ST_STAGE_SHADE, p, n, o, st, err))
+            run_kernel(r, shade, ST_STAGE_SHADE, p, n, o->local_size, o, st, err))
             return err->status;
-        if (v < p->max_depth && run_stage(r, ST_STAGE_SHADOW, p, n, o, st, err))
+        if (!in_shade && v < p->max_depth && run_stage(r, ST_STAGE_SHADOW, p, n, o, st, err))
             return err->status;
     }
     return splat_wave(r, p, o, st, err);

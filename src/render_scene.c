@@ -173,7 +173,8 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
         if (st_device_kernel(dev, st_adaptive_kernel_names[k], &r->adaptive[k], err) != ST_OK)
             goto fail;
     if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
-        st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK)
+        st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK ||
+        st_device_kernel(dev, "shade_hits_shadowed", &r->shade_shadowed, err) != ST_OK)
         goto fail;
     st_bvh_destroy(bvh);
     *out = r;

@@ -53,6 +53,22 @@ static st_image render_stats(const char *name, const st_render_options *o, st_re
     return img;
 }
 
+/* render with both the raw sums and the stats. */
+static st_image render_sums_stats(const char *name, const st_render_options *o, st_i64 **sums,
+                                  st_render_stats *st)
+{
+    st_error err = {0};
+    st_scene *scene = NULL;
+    st_renderer *r = NULL;
+    st_image img = {0};
+    if (st_scene_load(name, &scene, &err) || st_renderer_create(dev, scene, &r, &err) ||
+        st_render(r, o, &img, sums, st, NULL, NULL, &err))
+        fail_msg("render %s: %s", name, err.msg);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+    return img;
+}
+
 static st_render_options small(st_u32 w, st_u32 h, st_u32 spp)
 {
     st_render_options o = st_render_defaults();
@@ -395,46 +411,53 @@ static void splat_clamp_trips_above_limit(void **state)
     st_image_free(&one);
 }
 
-/* Renders `name` with o once by each reconstruction path, profiled; the
- * films (raw sums) and counts must be equal bit for bit, and each path must
- * have run only its own kernels. Returns whether the tile path was used. */
+/* Renders `name` with o once by each reconstruction path, profiled: per
+ * sample (the reference), tiles whose work-group shares the window (local
+ * atomics) and tiles each owned by one work-item (plain adds); the films
+ * (raw sums) and counts must be equal bit for bit, and each path must have
+ * run only its own kernels. Returns whether the tile paths were used. */
 static int same_film_both_splats(const char *name, st_render_options o)
 {
+    static const int paths[3] = {ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE};
     st_error err = {0};
     st_scene *scene = NULL;
     st_renderer *r = NULL;
     if (st_scene_load(name, &scene, &err) || st_renderer_create(dev, scene, &r, &err))
         fail_msg("load %s: %s", name, err.msg);
     o.profile = 1;
-    st_i64 *sums[2];
-    st_render_stats st[2];
-    for (int k = 0; k < 2; k++) {
+    st_i64 *sums[3];
+    st_render_stats st[3];
+    for (int k = 0; k < 3; k++) {
         st_image img = {0};
-        o.splat_path = k ? ST_SPLAT_PER_SAMPLE : ST_SPLAT_TILES;
+        o.splat_path = paths[k];
         if (st_render(r, &o, &img, &sums[k], &st[k], NULL, NULL, &err))
             fail_msg("render %s: %s", name, err.msg);
         st_image_free(&img);
         free(st[k].spp_map);
     }
     size_t n = (size_t)o.width * o.height * 4;
-    assert_memory_equal(sums[0], sums[1], n * sizeof(st_i64));
-    assert_true(st[0].splats == st[1].splats && st[0].rays == st[1].rays);
-    assert_int_equal(st[0].clamped, st[1].clamped);
-    assert_int_equal(st[0].nonfinite, st[1].nonfinite);
-    assert_true(st[1].stage_seconds[ST_STAGE_SPLAT] > 0.0);
-    assert_true(st[1].stage_seconds[ST_STAGE_SPLAT_TILES] == 0.0);
-    int tiles = st[0].stage_seconds[ST_STAGE_SPLAT_TILES] > 0.0;
-    assert_true(tiles == (st[0].stage_seconds[ST_STAGE_BIN] > 0.0));
-    assert_true(tiles == (st[0].stage_seconds[ST_STAGE_SPLAT] == 0.0));
-    free(sums[0]);
-    free(sums[1]);
+    assert_true(st[0].stage_seconds[ST_STAGE_SPLAT] > 0.0);
+    assert_true(st[0].stage_seconds[ST_STAGE_SPLAT_TILES] == 0.0);
+    int tiles = st[1].stage_seconds[ST_STAGE_SPLAT_TILES] > 0.0;
+    for (int k = 1; k < 3; k++) {
+        assert_memory_equal(sums[0], sums[k], n * sizeof(st_i64));
+        assert_true(st[0].splats == st[k].splats && st[0].rays == st[k].rays);
+        assert_int_equal(st[0].clamped, st[k].clamped);
+        assert_int_equal(st[0].nonfinite, st[k].nonfinite);
+        assert_true(tiles == (st[k].stage_seconds[ST_STAGE_SPLAT_TILES] > 0.0));
+        assert_true(tiles == (st[k].stage_seconds[ST_STAGE_BIN] > 0.0));
+        assert_true(tiles == (st[k].stage_seconds[ST_STAGE_SPLAT] == 0.0));
+    }
+    for (int k = 0; k < 3; k++)
+        free(sums[k]);
     st_renderer_destroy(r);
     st_scene_destroy(scene);
     return tiles;
 }
 
-/* The tile-owned splat (bin_samples, splat_tiles) adds the integers of the
- * per-sample splat (splat_samples), so the films are equal bit for bit: for
+/* The tile-owned splat (bin_samples, splat_tiles), shared by a work-group
+ * or owned by one work-item, adds the integers of the per-sample splat
+ * (splat_samples), so the films are equal bit for bit: for
  * box, mitchell and lanczos, over several waves (small waves: the bins are
  * reset between them), on an image that is not a whole number of tiles, for
  * a split part, a tiled sampler (points off the image), clamped splats (the
@@ -469,6 +492,39 @@ static void tile_splat_equals_per_sample(void **state)
     assert_true(same_film_both_splats("cornell-box", adaptive));
     adaptive.reconstruction = ST_RECON_FIS;
     assert_false(same_film_both_splats("cornell-box", adaptive));
+}
+
+/* Shadow rays traced inside shade_hits (shade_hits_shadowed, selected by
+ * shadow_path) and as a stage of their own (trace_shadow_rays) give the
+ * same film bit for bit and the same counts, and each runs only its own
+ * kernels: paths and direct lighting in the Cornell box, and shadows
+ * through alpha cut-outs and blended surfaces (shadow.h's walk). */
+static void shadows_in_shade_equal_stage(void **state)
+{
+    (void)state;
+    static const char *scenes[] = {"cornell-box", "cornell-box", "tests/scenes/shadow_cutout.gltf",
+                                   "tests/scenes/shadow_blend.gltf"};
+    for (size_t c = 0; c < sizeof scenes / sizeof scenes[0]; c++) {
+        st_render_options o = small(40, 30, 4);
+        o.integrator = c == 1 ? ST_INTEGRATOR_DIRECT : ST_INTEGRATOR_PATH;
+        o.profile = 1;
+        st_i64 *sums[2];
+        st_render_stats st[2];
+        for (int k = 0; k < 2; k++) {
+            o.shadow_path = k ? ST_SHADOW_IN_SHADE : ST_SHADOW_STAGE;
+            st_image img = render_sums_stats(scenes[c], &o, &sums[k], &st[k]);
+            st_image_free(&img);
+            free(st[k].spp_map);
+        }
+        assert_memory_equal(sums[0], sums[1], (size_t)o.width * o.height * 4 * sizeof(st_i64));
+        assert_true(st[0].shadow_rays > 0 && st[0].shadow_rays == st[1].shadow_rays);
+        assert_true(st[0].rays == st[1].rays && st[0].splats == st[1].splats);
+        assert_true(st[0].stage_seconds[ST_STAGE_SHADOW] > 0.0);
+        assert_true(st[1].stage_seconds[ST_STAGE_SHADOW] == 0.0);
+        assert_true(st[1].stage_seconds[ST_STAGE_SHADE] > 0.0);
+        free(sums[0]);
+        free(sums[1]);
+    }
 }
 
 /* Furnace: emission 1 and albedo 1/2 on every wall of a closed cube, so the
@@ -533,6 +589,7 @@ int main(void)
         cmocka_unit_test(every_sampler_gives_every_pixel_spp),
         cmocka_unit_test(splat_clamp_trips_above_limit),
         cmocka_unit_test(tile_splat_equals_per_sample),
+        cmocka_unit_test(shadows_in_shade_equal_stage),
         cmocka_unit_test(golden_cornell_box),
     };
     return cmocka_run_group_tests_name("render", tests, device_setup, device_teardown);
