@@ -124,8 +124,12 @@ ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st
  * face, §3.7.2.1); so culling costs one compare, no extra arithmetic.
  * det = 0 (ray parallel to the plane, or a degenerate triangle) needs no test
  * of its own: 1/det is infinite, so u and v are infinite or NaN and fail the
- * barycentric tests. On a hit, fills hit->t, u, v and hit->prim = prim and
- * returns 1; otherwise leaves hit unchanged and returns 0. */
+ * barycentric tests. A u outside [0, 1] (or NaN) is a miss whatever v is
+ * (v >= 0 makes u + v >= u > 1 in floats too), so the test stops there, and
+ * again after v when v or u + v fails: the result is the full test's, without
+ * q, v and t (or t) for such triangles. On a hit, fills hit->t, u, v and
+ * hit->prim = prim and returns 1; otherwise leaves hit unchanged and returns
+ * 0. */
 ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *ray, st_u32 prim,
                                 st_hit *hit)
 {
@@ -141,10 +145,14 @@ ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *
     st_f32 sy = ray->o[1] - tri->v0[1];
     st_f32 sz = ray->o[2] - tri->v0[2];
     st_f32 u = (sx * px + sy * py + sz * pz) * inv_det;
+    if (!(u >= 0.0f && u <= 1.0f))
+        return 0;
     st_f32 qx = sy * e1z - sz * e1y;
     st_f32 qy = sz * e1x - sx * e1z;
     st_f32 qz = sx * e1y - sy * e1x;
     st_f32 v = (dx * qx + dy * qy + dz * qz) * inv_det;
+    if (!(v >= 0.0f && u + v <= 1.0f))
+        return 0;
     st_f32 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
     int ok = (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < hit->t) &
              ((det > 0.0f) | (tri->v0[3] == 0.0f));

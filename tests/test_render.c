@@ -91,9 +91,12 @@ static float frand(uint64_t *s)
  * t scales with the coordinates, not with t); where two triangles are that
  * close either may win. */
 #define TOL(t) (1e-5f * ((t) + 10.0f))
-static void bvh_device_closest_equals_brute_force(void **state)
+/* With one_sided, every odd triangle is culled from behind (v0[3], which the
+ * kernels' four-triangle leaf test reads lane by lane); the brute force's
+ * st_intersect_triangle applies the same rule. Where both find the same
+ * triangle, u and v agree within 1e-3 (contracted multiply-adds again). */
+static void device_closest_check(int one_sided)
 {
-    (void)state;
     enum { TRIS = 2000, RAYS = 8192 };
     uint64_t seed = 42;
     float *pos = malloc(sizeof(float) * 9 * TRIS);
@@ -106,6 +109,8 @@ static void bvh_device_closest_equals_brute_force(void **state)
     st_error err = {0};
     st_bvh *bvh;
     assert_int_equal(st_bvh_build(pos, TRIS, &bvh, &err), ST_OK);
+    for (int t = 1; one_sided && t < TRIS; t += 2)
+        bvh->tris[t].v0[3] = ST_TRI_ONE_SIDED;
     st_wave_ray *rays = calloc(RAYS, sizeof *rays);
     st_hit *hit = calloc(RAYS, sizeof *hit);
     for (int i = 0; i < RAYS; i++) {
@@ -162,6 +167,9 @@ static void bvh_device_closest_equals_brute_force(void **state)
         if (!(fabsf(hit[i].t - best.t) <= TOL(best.t)))
             fail_msg("ray %d: device t %.9g (triangle %u), host t %.9g (triangle %u)", i,
                      (double)hit[i].t, prim, (double)best.t, best.prim);
+        if (prim == best.prim && !(fabsf(hit[i].u - best.u) <= 1e-3f && fabsf(hit[i].v - best.v) <= 1e-3f))
+            fail_msg("ray %d: device u, v %.9g %.9g, host %.9g %.9g", i, (double)hit[i].u,
+                     (double)hit[i].v, (double)best.u, (double)best.v);
         if (prim != best.prim) { /* a near tie: the device's triangle must be as close */
             st_hit h = {INFINITY, 0, 0, ST_NO_HIT};
             st_ray rr = r;
@@ -176,6 +184,18 @@ static void bvh_device_closest_equals_brute_force(void **state)
     st_wave_destroy(&w);
     st_bvh_destroy(bvh);
     free(pos); free(rays); free(hit);
+}
+
+static void bvh_device_closest_equals_brute_force(void **state)
+{
+    (void)state;
+    device_closest_check(0);
+}
+
+static void bvh_device_closest_equals_brute_force_one_sided(void **state)
+{
+    (void)state;
+    device_closest_check(1);
 }
 
 static void assert_same_bits(const st_image *a, const st_image *b)
@@ -579,6 +599,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bvh_device_closest_equals_brute_force),
+        cmocka_unit_test(bvh_device_closest_equals_brute_force_one_sided),
         cmocka_unit_test(render_same_bits_twice),
         cmocka_unit_test(one_renderer_many_views),
         cmocka_unit_test(render_same_bits_any_wave_and_group_size),
