@@ -102,6 +102,10 @@ st_status st_image_save_exr(const char *path, const st_image *img, const st_attr
 st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, int *nattrs,
                             st_error *err);
 
+/* The data window's width and height of the first part of an OpenEXR file, from its header
+ * alone (no pixel is decoded), so a caller can refuse a size before reading it. */
+st_status st_image_exr_size(const char *path, uint64_t *width, uint64_t *height, st_error *err);
+
 /* sRGB transfer functions (IEC 61966-2-1:1999, "Default RGB colour space - sRGB", section 5.2):
  *   encode (OETF): V = 12.92 L                  for L <= 0.0031308
  *                  V = 1.055 L^(1/2.4) - 0.055  otherwise

@@ -107,6 +107,12 @@ st_status st_envmap_make(const float *rgb, st_u32 w, st_u32 h, const char *name,
 static st_status exr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st_error *err)
 {
     st_image img;
+    uint64_t hw, hh; /* the size from the header first: the cap holds before any decoding */
+    if (st_image_exr_size(path, &hw, &hh, err) != ST_OK)
+        return err->status;
+    if (hw * hh > ST_ENV_MAX_TEXELS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: %llu x %llu texels: an environment map has 1 to 2^26",
+                       path, (unsigned long long)hw, (unsigned long long)hh);
     if (st_image_load_exr(path, &img, NULL, NULL, err) != ST_OK)
         return err->status;
     int ch[3] = {st_image_find_channel(&img, "R"), st_image_find_channel(&img, "G"),

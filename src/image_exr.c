@@ -569,6 +569,40 @@ static exr_result_t exr_read_tiles(exr_context_t ctx, st_image *img)
     return rc;
 }
 
+/* Opens path for reading (its header parsed), or fails naming it. */
+static st_status exr_open(const char *path, exr_context_t *ctx, st_error *err)
+{
+    exr_reset();
+    exr_context_initializer_t init = exr_init();
+    exr_result_t rc = exr_start_read(ctx, path, &init);
+    if (rc == EXR_ERR_SUCCESS)
+        return ST_OK;
+    exr_finish(ctx);
+    if (rc == EXR_ERR_FILE_ACCESS)
+        return st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path,
+                       exr_last.err_no ? strerror(exr_last.err_no) : exr_reason(rc));
+    return st_fail(err, ST_ERR_FORMAT, "%s: not a readable OpenEXR file (%s)", path,
+                   exr_reason(rc));
+}
+
+st_status st_image_exr_size(const char *path, uint64_t *width, uint64_t *height, st_error *err)
+{
+    exr_context_t ctx = NULL;
+    if (exr_open(path, &ctx, err) != ST_OK)
+        return err->status;
+    exr_attr_box2i_t dw;
+    exr_result_t rc = exr_get_data_window(ctx, 0, &dw);
+    exr_finish(&ctx);
+    if (rc != EXR_ERR_SUCCESS)
+        return st_fail(err, ST_ERR_FORMAT, "%s: incomplete header (%s)", path, exr_reason(rc));
+    int64_t w = (int64_t)dw.max.x - dw.min.x + 1, h = (int64_t)dw.max.y - dw.min.y + 1;
+    if (w <= 0 || h <= 0)
+        return st_fail(err, ST_ERR_FORMAT, "%s: empty or invalid data window", path);
+    *width = (uint64_t)w;
+    *height = (uint64_t)h;
+    return ST_OK;
+}
+
 st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, int *nattrs,
                             st_error *err)
 {
@@ -577,18 +611,10 @@ st_status st_image_load_exr(const char *path, st_image *img, st_attr **attrs, in
         *attrs = NULL;
     if (nattrs)
         *nattrs = 0;
-    exr_reset();
-    exr_context_initializer_t init = exr_init();
     exr_context_t ctx = NULL;
-    exr_result_t rc = exr_start_read(&ctx, path, &init);
-    if (rc != EXR_ERR_SUCCESS) {
-        exr_finish(&ctx);
-        if (rc == EXR_ERR_FILE_ACCESS)
-            return st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path,
-                           exr_last.err_no ? strerror(exr_last.err_no) : exr_reason(rc));
-        return st_fail(err, ST_ERR_FORMAT, "%s: not a readable OpenEXR file (%s)", path,
-                       exr_reason(rc));
-    }
+    if (exr_open(path, &ctx, err) != ST_OK)
+        return err->status;
+    exr_result_t rc;
     st_error local = {ST_OK, ""};
     exr_attr_box2i_t dw;
     exr_storage_t storage = EXR_STORAGE_SCANLINE;

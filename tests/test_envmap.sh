@@ -3,7 +3,8 @@
 # map read from an EXR (a render of strata's own, float RGB) lights a scene
 # and names itself in the output's header; the rotation changes the image;
 # bad maps are one `strata: error:` line naming the file, exit 1 (missing,
-# not a float image, black everywhere, an impossible size), and bad options
+# not a float image, black everywhere, an impossible size, refused from an
+# EXR's or .hdr's header before decoding), and bad options
 # exit 2. TAP output.
 . tests/tap.sh
 R="--width 16 --height 12 --spp 2 --quiet"
@@ -39,6 +40,17 @@ expect "a black map exits 1" 1 "^strata: error: $T/black.exr: the environment ma
 expect "an impossible size exits 1 before decoding" 1 \
     "^strata: error: $T/huge.hdr: 100000 x 100000 texels: an environment map has 1 to 2^26" \
     "$S" render cornell-box $R --env "$T/huge.hdr" -o "$T/o.exr"
+# the small map's header, its data window claiming 16384 x 16384 (3 GiB of floats)
+python3 - "$T/map.exr" "$T/huge.exr" << 'EOF'
+import struct, sys
+b = bytearray(open(sys.argv[1], "rb").read())
+k = b.index(b"dataWindow\0box2i\0") + len(b"dataWindow\0box2i\0")
+struct.pack_into("<4i", b, k + 4, 0, 0, 16383, 16383)
+open(sys.argv[2], "wb").write(b)
+EOF
+expect "an EXR map of impossible size exits 1 before decoding (in 1 GB of memory)" 1 \
+    "^strata: error: $T/huge.exr: 16384 x 16384 texels: an environment map has 1 to 2^26" \
+    sh -c "ulimit -v 1000000; exec '$S' render cornell-box $R --env '$T/huge.exr' -o '$T/o.exr'"
 expect "another extension is a usage error" 2 "^strata: error: --env sky.png: expected R,G,B" \
     "$S" render cornell-box $R --env sky.png -o "$T/o.exr"
 expect "--env-rotate without a map exits 2" 2 "^strata: error: --env-rotate turns an environment map" \
