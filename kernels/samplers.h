@@ -467,7 +467,7 @@ ST_FN st_u32 st_oa_symbol(const st_params *p, const st_sample_id *id, st_u32 dim
 }
 
 /* Dimension `dim` of sample id, in [0, 1), for every sampler (st_sample_dim). */
-ST_FN st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_u32 dim)
+ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
 /* per pixel and pair of dimensions: computed only by the samplers that use it */
 #define ST_PAIR_KEY (st_hash32(id->pixel_key ^ st_hash32(dim >> 1)))
