@@ -146,7 +146,7 @@ ST_HOT void shade_item(st_u32 i, const st_params *p,
 #define ST_STAGE_ARGS &p, &sh ST_SCENE_BUFFERS(ST_ARG) ST_WAVE_BUFFERS(ST_ARG)
 
 /* One vertex of every live path (shade_item); its shadow ray is traced by
- * the next stage, trace_shadow_rays (GPU devices: render.c). */
+ * the next stage, trace_shadow_rays (the default: render.c). */
 __kernel void shade_hits(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -155,8 +155,9 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
 }
 
 /* shade_hits and trace_shadow_rays in one work-item: the shadow ray is
- * traced at once, while the vertex is fresh (CPU devices: render.c). The
- * same floats are added in the same order, so the film is the same. */
+ * traced at once, while the vertex is fresh (only when asked: on PoCL it ran
+ * more instructions than the two stages; render.c, README). The same floats
+ * are added in the same order, so the film is the same. */
 __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
