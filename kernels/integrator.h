@@ -75,16 +75,17 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
         float width = p->camera.forward[3] > 0.5f ? px : px * v->travelled;
         float cos_nd = dot(v->ng, v->wo), b1 = h.u, b2 = h.v;
         st_u32 f = sh->texture_filter;
-        v->base *= tex_lookup(s, m->base_color_tex, t, b1, b2, width, cos_nd, f);
-        v->le *= tex_lookup(s, m->emission_tex, t, b1, b2, width, cos_nd, f).xyz;
-        float4 mr = tex_lookup(s, m->metallic_roughness_tex, t, b1, b2, width, cos_nd, f);
+        st_tex_refs x = tex_refs(s);
+        v->base *= tex_lookup(x, m->base_color_tex, t, b1, b2, width, cos_nd, f);
+        v->le *= tex_lookup(x, m->emission_tex, t, b1, b2, width, cos_nd, f).xyz;
+        float4 mr = tex_lookup(x, m->metallic_roughness_tex, t, b1, b2, width, cos_nd, f);
         metallic *= mr.z;
         roughness *= mr.y;
-        spec.w *= tex_lookup(s, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
-        spec.xyz *= tex_lookup(s, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
+        spec.w *= tex_lookup(x, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
+        spec.xyz *= tex_lookup(x, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
         if (m->normal_tex != ST_NO_TEXTURE)
             v->ns = normal_mapped(s, h, v->ns, v->ng,
-                                  tex_lookup(s, m->normal_tex, t, b1, b2, width, cos_nd, f),
+                                  tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f),
                                   m->normal_scale);
     }
     v->lambert = !(metallic > 0.0f || spec.w > 0.0f); /* no specular lobe: the cheap path */
@@ -138,8 +139,9 @@ static float3 surface_f_cos(const st_surface *v, float3 wi, float *pdf)
     }
     st_dir li = {dot(wi, v->tu), dot(wi, v->tv), c};
     float f[3];
-    st_brdf_eval(&v->brdf, v->wo_local, li, f);
-    *pdf = st_brdf_pdf(&v->brdf, v->wo_local, li);
+    st_brdf b = v->brdf; /* the calls get a copy: with v's own, v would live in memory */
+    st_brdf_eval(&b, v->wo_local, li, f);
+    *pdf = st_brdf_pdf(&b, v->wo_local, li);
     return (float3)(f[0], f[1], f[2]) * c;
 }
 
@@ -180,13 +182,13 @@ static float area_choice(const st_shading *sh)
 /* The environment map's radiance at map coordinates (u, v) (nearest
  * texel: kernels/envmap.h) times the env factor, and in *pdf the density in
  * solid angle with which env_sample picks that direction. */
-static float3 env_map_at(const st_scene_refs *s, const st_shading *sh, float u, float v,
-                         float *pdf)
+static float3 env_map_at(__global const float *env_cdf, __global const float *env_texels,
+                         const st_shading *sh, float u, float v, float *pdf)
 {
     st_u32 w = sh->env_size[0], h = sh->env_size[1], i, j;
     st_env_texel(w, h, u, v, &i, &j);
-    *pdf = st_env_solid_angle_pdf(st_env_texel_pdf(s->env_cdf, w, h, i, j), v);
-    return vload4(0, sh->env).xyz * vload4(j * w + i, s->env_texels).xyz;
+    *pdf = st_env_solid_angle_pdf(st_env_texel_pdf(env_cdf, w, h, i, j), v);
+    return vload4(0, sh->env).xyz * vload4(j * w + i, env_texels).xyz;
 }
 
 /* The environment's radiance arriving against the world direction d; with a
@@ -199,7 +201,7 @@ static float3 env_radiance(const st_scene_refs *s, const st_shading *sh, float3 
     float dw[3] = {d.x, d.y, d.z}, dm[3], u, v;
     st_env_rotate(sh->env_rot, 0, dw, dm);
     st_env_coords(dm, &u, &v);
-    return env_map_at(s, sh, u, v, pdf);
+    return env_map_at(s->env_cdf, s->env_texels, sh, u, v, pdf);
 }
 
 /* A direction *wi towards the environment from (u1, u2), its density *pdf
@@ -220,7 +222,7 @@ static float3 env_sample(const st_scene_refs *s, const st_shading *sh, const st_
     st_env_direction(u, w, dm);
     st_env_rotate(sh->env_rot, 1, dm, dw);
     *wi = (float3)(dw[0], dw[1], dw[2]);
-    float3 le = env_map_at(s, sh, u, w, pdf);
+    float3 le = env_map_at(s->env_cdf, s->env_texels, sh, u, w, pdf);
     if (!(dot(*wi, v->ns) > 0.0f))
         *pdf = 0.0f;
     return le;
@@ -357,11 +359,12 @@ static int bsdf_bounce(const st_params *p, const st_surface *v, st_path *pa, st_
         weight = v->albedo;
         pa->bsdf_pdf = cz / ST_PI_F;
     } else {
-        st_dir li = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
+        st_brdf b = v->brdf; /* a copy, as in surface_f_cos */
+        st_dir li = st_brdf_sample(&b, v->wo_local, u1, u2);
         cz = li.z;
         *wi = normalize(li.x * v->tu + li.y * v->tv + li.z * v->ns);
-        float f[3], pdf = st_brdf_pdf(&v->brdf, v->wo_local, li);
-        st_brdf_eval(&v->brdf, v->wo_local, li, f);
+        float f[3], pdf = st_brdf_pdf(&b, v->wo_local, li);
+        st_brdf_eval(&b, v->wo_local, li, f);
         if (!(pdf > 0.0f))
             return 0;
         weight = (float3)(f[0], f[1], f[2]) * (cz / pdf);

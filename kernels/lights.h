@@ -70,20 +70,35 @@ static float2 tri_uv_at(__global const st_tri_uv *tri_uv, st_u32 t, float b1, fl
            b2 * (float2)(u[4], u[5]);
 }
 
+/* The buffers a texture lookup reads, passed by value: tex_lookup stays a
+ * call on PoCL, and a pointer to the caller's st_scene_refs would keep all
+ * of that in memory, stored for every work-item, textured or not. */
+typedef struct st_tex_refs {
+    __global const st_texture *textures;
+    __global const uint *texels;
+    __global const st_tri_uv *tri_uv, *tri_uv1;
+} st_tex_refs;
+
+ST_HOT st_tex_refs tex_refs(const st_scene_refs *s)
+{
+    st_tex_refs r = {s->textures, s->texels, s->tri_uv, s->tri_uv1};
+    return r;
+}
+
 /* Texture `tex` (ST_NO_TEXTURE: white) at barycentrics (b1, b2) of triangle
  * t, in the coordinate set it reads (st_texture.uv_set; tri_uv1 holds data
  * only when some texture reads it), with the ray-cone level of detail of a
  * cone of width `width` meeting the surface at cos_nd. */
-static float4 tex_lookup(const st_scene_refs *s, st_u32 tex, st_u32 t, float b1, float b2,
-                         float width, float cos_nd, st_u32 filter)
+static float4 tex_lookup(st_tex_refs s, st_u32 tex, st_u32 t, float b1, float b2, float width,
+                         float cos_nd, st_u32 filter)
 {
     if (tex == ST_NO_TEXTURE)
         return (float4)(1.0f);
-    __global const st_texture *x = &s->textures[tex];
-    __global const st_tri_uv *set = x->uv_set ? s->tri_uv1 : s->tri_uv;
+    __global const st_texture *x = &s.textures[tex];
+    __global const st_tri_uv *set = x->uv_set ? s.tri_uv1 : s.tri_uv;
     float2 uv = tri_uv_at(set, t, b1, b2);
     float c[4];
-    st_tex_sample(x, s->texels, uv.x, uv.y, st_tex_lod(set[t].lod, x, width, cos_nd), filter, c);
+    st_tex_sample(x, s.texels, uv.x, uv.y, st_tex_lod(set[t].lod, x, width, cos_nd), filter, c);
     return (float4)(c[0], c[1], c[2], c[3]);
 }
 
@@ -97,7 +112,8 @@ static float3 light_emission(const st_scene_refs *s, st_u32 lt, float u1, float 
     if (m->emission_tex == ST_NO_TEXTURE)
         return le;
     float su = sqrt(u1); /* width 0: level 0 */
-    return le * tex_lookup(s, m->emission_tex, lt, 1.0f - su, u2 * su, 0.0f, 1.0f, filter).xyz;
+    return le *
+           tex_lookup(tex_refs(s), m->emission_tex, lt, 1.0f - su, u2 * su, 0.0f, 1.0f, filter).xyz;
 }
 
 /* The radiant intensity (or a directional light's irradiance) that

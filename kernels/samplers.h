@@ -382,7 +382,10 @@ ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_
     id.pixel = py * p->width + px;
     id.sample = s;
     id.key = st_rng_key(p->seed, id.pixel, s);
-    id.pixel_key = st_hash32(st_rng_key(p->seed, id.pixel, 0xffffffffu));
+    /* the random sampler reads the key alone: no per-pixel key (four hashes) */
+    id.pixel_key = p->sampler == ST_SAMPLER_RANDOM
+                       ? 0u
+                       : st_hash32(st_rng_key(p->seed, id.pixel, 0xffffffffu));
     id.index = p->sampler == ST_SAMPLER_HALTON  ? st_halton_index(p, px, py, s)
                : p->sampler == ST_SAMPLER_SOBOL ? st_sobol_global_index(p->sobol_log2, px, py, s)
                                                 : s;
@@ -463,8 +466,8 @@ ST_FN st_u32 st_oa_symbol(const st_params *p, const st_sample_id *id, st_u32 dim
     return st_permute(c, q, st_hash32(id->pixel_key ^ 0x0a0a0a0au ^ dim));
 }
 
-/* Dimension `dim` of sample id, in [0, 1). */
-ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+/* Dimension `dim` of sample id, in [0, 1), for every sampler (st_sample_dim). */
+ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
 /* per pixel and pair of dimensions: computed only by the samplers that use it */
 #define ST_PAIR_KEY (st_hash32(id->pixel_key ^ st_hash32(dim >> 1)))
@@ -571,5 +574,17 @@ ST_FN st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 di
     return st_rng_unit(id->key, dim);
 }
 #undef ST_PAIR_KEY
+
+/* Dimension `dim` of sample id, in [0, 1): the random sampler's hash inline,
+ * the others through st_sample_dim_any with a copy of id. On PoCL the call
+ * stays a call, and handing it the caller's own id would keep that id in
+ * memory, stored per work-item, even where the call is never made. */
+ST_HOT st_f32 st_sample_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (p->sampler == ST_SAMPLER_RANDOM)
+        return st_rng_unit(id->key, dim);
+    st_sample_id copy = *id;
+    return st_sample_dim_any(p, &copy, dim);
+}
 
 #endif

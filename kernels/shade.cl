@@ -73,9 +73,11 @@ static void shade_miss(const st_scene_refs *s, const st_params *p, const st_shad
 /* One vertex of item i's path, if live: reads hit, ray, path and sample;
  * adds the emission it sees to the path's radiance, writes the shadow ray of
  * next-event estimation (tmax 0: none) and the next ray, or ends the path
- * (depth ST_PATH_DEAD). Takes the stage's parameters (forced inline: no
- * copies). */
-ST_HOT void shade_item(st_u32 i, ST_STAGE_PARAMS)
+ * (depth ST_PATH_DEAD). Forced inline; the values p and sh by pointer: as
+ * by-value parameters PoCL copied them for every work-item (callgrind). */
+ST_HOT void shade_item(st_u32 i, const st_params *p,
+                       const st_shading *sh ST_SCENE_BUFFERS(ST_SCENE_PARAM)
+                           ST_WAVE_BUFFERS(ST_WAVE_PARAM))
 {
     shadow[i].tmax = 0.0f;
     st_path pa = path[i];
@@ -85,15 +87,15 @@ ST_HOT void shade_item(st_u32 i, ST_STAGE_PARAMS)
     st_hit h = hit[i];
     st_scene_refs s = ST_SCENE_REFS_INIT;
     if (h.prim == ST_NO_HIT) {
-        shade_miss(&s, &p, &sh, &pa, &ray[i]);
+        shade_miss(&s, p, sh, &pa, &ray[i]);
         path[i] = pa;
         return;
     }
     st_wave_ray r = ray[i];
     st_sample smp = sample[i];
-    st_surface v = surface_at(&s, &p, &sh, &r, h);
-    if (alpha_passes(&s, &p, &v, smp, h.prim, pa.depth)) { /* go on through */
-        vstore3(v.pos - v.wo * p.ray_eps, 0, r.o);
+    st_surface v = surface_at(&s, p, sh, &r, h);
+    if (alpha_passes(&s, p, &v, smp, h.prim, pa.depth)) { /* go on through */
+        vstore3(v.pos - v.wo * p->ray_eps, 0, r.o);
         r.tmax = INFINITY;
         vstore3(-v.wo, 0, r.d);
         r.path_length = v.travelled;
@@ -108,7 +110,7 @@ ST_HOT void shade_item(st_u32 i, ST_STAGE_PARAMS)
         return;
     }
     float cos_o = dot(v.ng, v.wo);
-    float we = emission_weight(&s, &sh, &v, &pa, h, cos_o);
+    float we = emission_weight(&s, sh, &v, &pa, h, cos_o);
     if (we > 0.0f)
         vstore3(vload3(0, pa.radiance) + vload3(0, pa.beta) * v.le * we, 0, pa.radiance);
     if (cos_o < 0.0f) /* shade the side the ray arrived on */
@@ -116,18 +118,18 @@ ST_HOT void shade_item(st_u32 i, ST_STAGE_PARAMS)
     if (dot(v.ns, v.ng) < 0.0f)
         v.ns = -v.ns;
     surface_frame(&v);
-    st_sample_id id = st_sample_begin(&p, smp.pixel % p.width, smp.pixel / p.width, smp.index);
+    st_sample_id id = st_sample_begin(p, smp.pixel % p->width, smp.pixel / p->width, smp.index);
     id.pmj02 = pmj02;
     st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa.depth;
-    float3 origin = v.pos + v.ng * p.ray_eps, wi;
-    if (pa.depth >= p.max_depth) {
+    float3 origin = v.pos + v.ng * p->ray_eps, wi;
+    if (pa.depth >= p->max_depth) {
         pa.depth = ST_PATH_DEAD;
     } else {
-        st_shadow_ray sr = next_event(&s, &p, &sh, &v, &pa, origin, &id, dim);
+        st_shadow_ray sr = next_event(&s, p, sh, &v, &pa, origin, &id, dim);
         if (sr.tmax > 0.0f)
             shadow[i] = sr;
-        if (p.integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(&p, &v, &pa, &id, dim, &wi) ||
-            !roulette(&p, &pa, &id, dim)) {
+        if (p->integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(p, &v, &pa, &id, dim, &wi) ||
+            !roulette(p, &pa, &id, dim)) {
             pa.depth = ST_PATH_DEAD;
         } else {
             st_wave_ray next = {{origin.x, origin.y, origin.z}, INFINITY, {wi.x, wi.y, wi.z},
@@ -141,10 +143,10 @@ ST_HOT void shade_item(st_u32 i, ST_STAGE_PARAMS)
 
 /* The stage's arguments, passed on to shade_item. */
 #define ST_ARG(name, ...) , name
-#define ST_STAGE_ARGS p, sh ST_SCENE_BUFFERS(ST_ARG) ST_WAVE_BUFFERS(ST_ARG)
+#define ST_STAGE_ARGS &p, &sh ST_SCENE_BUFFERS(ST_ARG) ST_WAVE_BUFFERS(ST_ARG)
 
 /* One vertex of every live path (shade_item); its shadow ray is traced by
- * the next stage, trace_shadow_rays (GPU devices: render.c). */
+ * the next stage, trace_shadow_rays (the default: render.c). */
 __kernel void shade_hits(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -153,8 +155,9 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
 }
 
 /* shade_hits and trace_shadow_rays in one work-item: the shadow ray is
- * traced at once, while the vertex is fresh (CPU devices: render.c). The
- * same floats are added in the same order, so the film is the same. */
+ * traced at once, while the vertex is fresh (only when asked: on PoCL it ran
+ * more instructions than the two stages; render.c, README). The same floats
+ * are added in the same order, so the film is the same. */
 __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);

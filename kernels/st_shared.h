@@ -51,6 +51,13 @@ typedef float st_f32;
 #else
 #define ST_HOT static inline
 #endif
+/* A large helper kept a call on the device, so that its callers' many call
+ * sites do not each get a copy (PoCL's build time). */
+#ifdef __OPENCL_VERSION__
+#define ST_COLD static __attribute__((noinline))
+#else
+#define ST_COLD static inline
+#endif
 
 /* ---- constants ------------------------------------------------------------ */
 
