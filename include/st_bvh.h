@@ -1,7 +1,7 @@
 /* st_bvh.h — bounding volume hierarchy over a triangle soup, built on the host
  * with binned SAH and flattened depth first for the kernels.
  *
- * The layout (st_bvh_node, st_bvh4_node, st_triangle) is kernels/st_shared.h's;
+ * The layout (st_bvh_node, st_bvh_wide_node, st_triangle) is kernels/st_shared.h's;
  * the traversals that read it are kernels/trace.h's, shared by host and device:
  * st_intersect_closest and st_intersect_any on the binary tree (the host's
  * reference), st_intersect4_closest and st_intersect4_any on the same tree
@@ -31,11 +31,11 @@ typedef struct st_bvh {
     st_triangle *tris;      /* triangles in BVH order, prepared for Moller-Trumbore (v0, e1, e2) */
     st_u32 *order;          /* order[i] = index in the input of BVH triangle i */
     st_u32 depth;           /* deepest leaf, root = 1 */
-    /* The same tree collapsed ST_BVH_WIDTH-wide (st_bvh4_node; what the kernels trace):
+    /* The same tree collapsed ST_BVH_WIDTH-wide (st_bvh_wide_node; what the kernels trace):
      * wide[0] is the root, depth first; every binary interior node is either
      * a wide node or opened into its parent; leaves and triangles as above. */
     st_u32 wide_count;
-    st_bvh4_node *wide;
+    st_bvh_wide_node *wide;
     st_u32 wide_depth;      /* deepest wide node, root = 1 */
 } st_bvh;
 

@@ -18,7 +18,7 @@
  * does not let the ray pass blocks it, and one that does sends it on from
  * just beyond (ray_eps, as alpha_passes' camera rays go on). Each step
  * moves the origin forward, so the walk ends. */
-static int shadow_blocked(__global const st_bvh4_node *nodes, const st_scene_refs *s,
+static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene_refs *s,
                           const st_params *p, const st_shading *sh, st_ray r, st_sample smp,
                           st_u32 depth)
 {
@@ -49,7 +49,7 @@ static int shadow_blocked(__global const st_bvh4_node *nodes, const st_scene_ref
  * places a shadow ray is traced: the stage trace_shadow_rays (trace.cl) and
  * shade_hits_shadowed (shade.cl), so both add the same floats in the same
  * order. */
-ST_HOT void trace_shadow_item(__global const st_bvh4_node *nodes, const st_scene_refs *sc,
+ST_HOT void trace_shadow_item(__global const st_bvh_wide_node *nodes, const st_scene_refs *sc,
                               const st_params *p, const st_shading *sh,
                               __global const st_shadow_ray *shadow, __global st_path *path,
                               __global const st_sample *sample, st_u32 i)

@@ -139,17 +139,17 @@ typedef struct st_bvh_node {
 /* Wide BVH node: ST_BVH_WIDTH children of the binary tree collapsed into
  * one (src/bvh_wide.c), their boxes as structure of arrays, lo[axis][child]
  * and hi[axis][child], so that one node is one vector slab test (trace.h:
- * float8 for 8, float4 for 4; the type keeps its first width's name).
+ * float8 for 8, float4 for 4).
  * count[k] == 0: child[k] is an interior node's index; count[k] = 1..4:
  * child k is a leaf of that many triangles from tris[child[k]]. An unused
  * slot has an inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray enters. */
 #define ST_BVH_WIDTH 8
-typedef struct st_bvh4_node {
+typedef struct st_bvh_wide_node {
     st_f32 lo[3][ST_BVH_WIDTH];
     st_f32 hi[3][ST_BVH_WIDTH];
     st_u32 child[ST_BVH_WIDTH];
     st_u32 count[ST_BVH_WIDTH];
-} st_bvh4_node;
+} st_bvh_wide_node;
 
 /* A triangle prepared for Moller-Trumbore: v0 and the two edges e1 = v1 - v0,
  * e2 = v2 - v0. v0[3] is ST_TRI_ONE_SIDED when rays hit it only from the
@@ -494,7 +494,7 @@ typedef struct st_tile_point {
  * pmj02's tables):
  * X(name, element type). */
 #define ST_SCENE_BUFFERS(X)                                                                 \
-    X(nodes, st_bvh4_node)                                                                  \
+    X(nodes, st_bvh_wide_node)                                                                  \
     X(tris, st_triangle)                                                                    \
     X(normals, st_tri_normals)                                                              \
     X(tri_material, st_u32)                                                                 \
@@ -546,7 +546,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
  * reports the device's sizes and offsets; tests/test_layout.c compares them
  * with the host's). */
 #define ST_LAYOUT_STRUCTS(X)                                                                \
-    X(st_bvh_node) X(st_bvh4_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
+    X(st_bvh_node) X(st_bvh_wide_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
     X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
     X(st_tri_tangents) X(st_tri_colors) X(st_punctual)                                      \
@@ -554,7 +554,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
     X(st_bvh_node, bmin) X(st_bvh_node, offset) X(st_bvh_node, bmax) X(st_bvh_node, meta)   \
-    X(st_bvh4_node, lo) X(st_bvh4_node, hi) X(st_bvh4_node, child) X(st_bvh4_node, count)   \
+    X(st_bvh_wide_node, lo) X(st_bvh_wide_node, hi)                                         \
+    X(st_bvh_wide_node, child) X(st_bvh_wide_node, count)                                   \
     X(st_triangle, v0) X(st_triangle, e1) X(st_triangle, e2)                                \
     X(st_tri_normals, n0) X(st_tri_normals, n1) X(st_tri_normals, n2)                       \
     X(st_material, base_color) X(st_material, emission) X(st_material, metallic)            \
@@ -604,7 +605,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
 #ifndef __OPENCL_VERSION__
 ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
-ST_STATIC_ASSERT(sizeof(st_bvh4_node) == 32 * ST_BVH_WIDTH, "st_bvh4_node: W/2 64-byte lines");
+ST_STATIC_ASSERT(sizeof(st_bvh_wide_node) == 32 * ST_BVH_WIDTH,
+                 "st_bvh_wide_node: W/2 64-byte lines");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");

@@ -239,7 +239,7 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
     }
 }
 
-/* ---- the wide BVH (st_bvh4_node): what the kernels trace ----------------- */
+/* ---- the wide BVH (st_bvh_wide_node): what the kernels trace ----------------- */
 
 /* Stack of the wide traversals. A node pushes at most all but one of its
  * children (it goes on with the last), so the stack holds at most (children
@@ -273,7 +273,7 @@ typedef int4 st_wint;
 #define st_wstore vstore4
 #define ST_WMASK(in) ((st_u32)(((in).s0 & 1) | ((in).s1 & 2) | ((in).s2 & 4) | ((in).s3 & 8)))
 #endif
-ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh4_node *n, const st_trace_ray *r, st_f32 tmax,
+ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_trace_ray *r, st_f32 tmax,
                            st_f32 *tn)
 {
     const ST_GLOBAL st_f32 *b = n->lo[0];
@@ -302,7 +302,8 @@ ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh4_node *n, const st_trace_ray *
     return ST_WMASK(in);
 }
 #else
-ST_FN st_u32 st_trace_box4(const st_bvh4_node *n, const st_trace_ray *r, st_f32 tmax, st_f32 *tn)
+ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_trace_ray *r, st_f32 tmax,
+                           st_f32 *tn)
 {
     st_u32 mask = 0u;
     for (int k = 0; k < ST_BVH_WIDTH; ++k) {
@@ -353,7 +354,7 @@ ST_FN st_u32 st_trace_lowest(st_u32 m) { return (st_u32)__builtin_ctz(m); }
  * child is visited unless a nearer hit turns up first, so the hint is seldom
  * wasted; on the Cornell box, whose tree lives in the caches, it costs its
  * instructions alone. */
-ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh4_node *node)
+ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
 {
     const ST_GLOBAL char *b = (const ST_GLOBAL char *)node;
     ST_PREFETCH(b);
@@ -369,7 +370,7 @@ ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh4_node *node)
  * visited next (Wald et al. 2008 order children front to back the same way);
  * a popped child whose entry lies beyond the closest hit so far is skipped
  * with the same widening as the box test. */
-ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
+ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes,
                                 const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
 {
     st_trace_ray r;
@@ -382,7 +383,7 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
     hit->v = 0.0f;
     hit->prim = ST_NO_HIT;
     for (;;) {
-        const ST_GLOBAL st_bvh4_node *n = nodes + node;
+        const ST_GLOBAL st_bvh_wide_node *n = nodes + node;
         st_f32 tn[ST_BVH_WIDTH];
         st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp;
         for (; mask != 0u; mask &= mask - 1u) {
@@ -417,7 +418,7 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh4_node *nodes,
  * stops at the first (no ordering: any occluder will do), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/shadow.h: its material's alpha). */
-ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh4_node *nodes,
+ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes,
                                 const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
 {
     st_trace_ray r;
@@ -426,7 +427,7 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh4_node *nodes,
     st_trace_setup(&r, ray);
     hit->t = ray->tmax;
     for (;;) {
-        const ST_GLOBAL st_bvh4_node *n = nodes + node;
+        const ST_GLOBAL st_bvh_wide_node *n = nodes + node;
         st_f32 tn[ST_BVH_WIDTH];
         st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn);
         for (; mask != 0u; mask &= mask - 1u) {
@@ -447,8 +448,8 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh4_node *nodes,
 }
 
 /* st_intersect4_any_hit without the hit. */
-ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh4_node *nodes, const ST_GLOBAL st_triangle *tris,
-                            const st_ray *ray)
+ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh_wide_node *nodes,
+                            const ST_GLOBAL st_triangle *tris, const st_ray *ray)
 {
     st_hit hit;
     return st_intersect4_any_hit(nodes, tris, ray, &hit);

@@ -1,5 +1,5 @@
 /* bvh_wide.c — the binary BVH collapsed into an ST_BVH_WIDTH-wide one
- * (st_bvh4_node), as Embree and pbrt-v4's GPU path trace (Wald et al.,
+ * (st_bvh_wide_node), as Embree and pbrt-v4's GPU path trace (Wald et al.,
  * "Getting Rid of Packets", RT 2008; Dammertz et al., "Shallow Bounding
  * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR
  * 2008): a node's boxes meet the ray in one vector slab test, and the tree is
@@ -46,7 +46,7 @@ static int gather(const st_bvh_node *nodes, st_u32 i, int width, st_u32 kids[ST_
 
 typedef struct wide_builder {
     const st_bvh_node *nodes;
-    st_bvh4_node *wide;
+    st_bvh_wide_node *wide;
     st_u32 count, depth;
     int width; /* children per node: ST_BVH_WIDTH, or 4 (see collapse) */
 } wide_builder;
@@ -70,7 +70,7 @@ static void set_slot(wide_builder *b, st_u32 w, int k, st_u32 child, st_u32 dept
     }
 }
 
-static void clear_slots(st_bvh4_node *w)
+static void clear_slots(st_bvh_wide_node *w)
 {
     for (int k = 0; k < ST_BVH_WIDTH; k++) {
         for (int a = 0; a < 3; a++) {
@@ -125,7 +125,7 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
         b.width = 4;
         collapse(&b);
     }
-    st_bvh4_node *shrunk = realloc(b.wide, (size_t)b.count * sizeof *b.wide);
+    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)b.count * sizeof *b.wide);
     bvh->wide = shrunk ? shrunk : b.wide;
     bvh->wide_count = b.count;
     bvh->wide_depth = b.depth;

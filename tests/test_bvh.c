@@ -235,14 +235,14 @@ static int box_contains(const st_bvh_node *outer, const float lo[3], const float
     return 1;
 }
 
-/* The wide tree (st_bvh4_node): nodes numbered depth first (a child after
+/* The wide tree (st_bvh_wide_node): nodes numbered depth first (a child after
  * its parent), each used slot's box containing its subtree's triangles,
  * unused slots inverted, leaves of 1..4 covering every triangle once, no
  * deeper than the binary tree. Recursive: returns the subtree's depth. */
 static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, const float *plo,
                                 const float *phi, uint32_t *covered)
 {
-    const st_bvh4_node *node = &bvh->wide[w];
+    const st_bvh_wide_node *node = &bvh->wide[w];
     uint32_t deepest = 1, used = 0;
     for (int k = 0; k < ST_BVH_WIDTH; ++k) {
         float lo[3] = {node->lo[0][k], node->lo[1][k], node->lo[2][k]};
