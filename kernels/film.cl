@@ -61,8 +61,10 @@ static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_d
 {
     st_filter flt = p->filter;
     st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
-    float w = st_filter_eval_1d(&flt, s.film[0] - (float)px - 0.5f) *
-              st_filter_eval_1d(&flt, s.film[1] - (float)py - 0.5f);
+    float wx, wy;
+    st_filter_taps_1d(&flt, (int)px, 1, s.film[0], &wx);
+    st_filter_taps_1d(&flt, (int)py, 1, s.film[1], &wy);
+    float w = wx * wy;
     w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
     add_splat(p, d, (int)px, (int)py, w, L, clamped);
     return 1u;
@@ -75,14 +77,12 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_
 {
     st_filter flt = p->filter;
     int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
-    float wx[ST_MAX_TAPS];
-    for (int x = xs.x; x <= xs.y; x++)
-        wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - s.film[0]);
-    for (int y = ys.x; y <= ys.y; y++) {
-        float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - s.film[1]);
+    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
+    st_filter_taps_1d(&flt, xs.x, xs.y - xs.x + 1, s.film[0], wx);
+    st_filter_taps_1d(&flt, ys.x, ys.y - ys.x + 1, s.film[1], wy);
+    for (int y = ys.x; y <= ys.y; y++)
         for (int x = xs.x; x <= xs.y; x++)
-            add_splat(p, d, x, y, wx[x - xs.x] * wy, L, clamped);
-    }
+            add_splat(p, d, x, y, wx[x - xs.x] * wy[y - ys.x], L, clamped);
     return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
 }
 
@@ -127,10 +127,8 @@ ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const spla
     int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
     int nx = xs.y - xs.x + 1, ny = ys.y - ys.x + 1;
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    for (int k = 0; k < nx; k++)
-        wx[k] = st_filter_eval_1d(&flt, (float)(xs.x + k) + 0.5f - s.film[0]);
-    for (int k = 0; k < ny; k++)
-        wy[k] = st_filter_eval_1d(&flt, (float)(ys.x + k) + 0.5f - s.film[1]);
+    st_filter_taps_1d(&flt, xs.x, nx, s.film[0], wx);
+    st_filter_taps_1d(&flt, ys.x, ny, s.film[1], wy);
     float4 L1 = (float4)(L, 1.0f);
     __local long4 *row = d->acc + (ys.x - d->oy) * d->side + (xs.x - d->ox);
     for (int j = 0; j < ny; j++, row += d->side)

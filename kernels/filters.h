@@ -83,6 +83,62 @@ ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
     }
 }
 
+/* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at the taps x_k = x_c + j of
+ * one axis (taps_1d), j = k - c, from the tap c nearest 0: sin(π x_k) =
+ * (-1)^j sin(π x_c), and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ,
+ * δ = π / τ, turning (sin, cos) through ±δ once per tap. Five sines per axis
+ * where two per tap were (PoCL's sin, its argument reduction, was most of
+ * the splat). Starting at the tap nearest 0 keeps the relative accuracy
+ * where sinc divides by a small x; the turns' rounding adds about an ulp per
+ * tap (test_filters.c: within 1e-5 of the formula). */
+ST_FN st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
+{
+    st_f32 ax = fabs(x), y = x / f->tau;
+    if (!(ax < f->radius))
+        return 0.0f;
+    st_f32 a = ax < 1e-5f ? 1.0f : s1 / (ST_PI_F * x);
+    st_f32 b = fabs(y) < 1e-5f ? 1.0f : s2 / (ST_PI_F * y);
+    return a * b;
+}
+
+ST_FN void st_lanczos_taps(const st_filter *f, const st_f32 *x, int n, st_f32 *w)
+{
+    int c = 0;
+    for (int k = 1; k < n; k++)
+        if (fabs(x[k]) < fabs(x[c]))
+            c = k;
+    st_f32 s1 = sin(ST_PI_F * x[c]), a = ST_PI_F * x[c] / f->tau, d = ST_PI_F / f->tau;
+    st_f32 sd = sin(d), cd = cos(d), sa = sin(a), ca = cos(a);
+    for (int dir = -1; dir <= 1; dir += 2) {
+        st_f32 s2 = sa, c2 = ca, sk = s1;
+        for (int k = c; k >= 0 && k < n; k += dir) {
+            w[k] = st_lanczos_tap(f, x[k], sk, s2);
+            st_f32 next = s2 * cd + (st_f32)dir * c2 * sd;
+            c2 = c2 * cd - (st_f32)dir * s2 * sd;
+            s2 = next;
+            sk = -sk;
+        }
+    }
+}
+
+/* The 1-D weights of all n taps of one axis: w[k] = f(x_k) at the pixel
+ * centres lo + k + 1/2 of a sample at s, x_k = lo + k + 1/2 - s (n <=
+ * ST_MAX_TAPS). Every splat path (film.cl) takes its weights from here, so
+ * the paths add the same integers. The same values as st_filter_eval_1d
+ * per tap, but for lanczos (st_lanczos_taps: within float rounding). */
+ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32 *w)
+{
+    st_f32 x[ST_MAX_TAPS];
+    for (int k = 0; k < n; k++)
+        x[k] = (st_f32)(lo + k) + 0.5f - s;
+    if (f->kind == ST_FILTER_LANCZOS && n > 0) {
+        st_lanczos_taps(f, x, n, w);
+        return;
+    }
+    for (int k = 0; k < n; k++)
+        w[k] = st_filter_eval_1d(f, x[k]);
+}
+
 ST_FN st_f32 st_filter_eval(const st_filter *f, st_f32 x, st_f32 y)
 {
     return st_filter_eval_1d(f, x) * st_filter_eval_1d(f, y);
