@@ -83,15 +83,31 @@ ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
     }
 }
 
+/* sin(π x) and cos(π x): OpenCL's sinpi and cospi, whose argument
+ * reduction is exact and cheap (PoCL's sin reduces by a multiple-precision
+ * π: most of a lanczos splat's cost); on the host, in double. */
+#ifdef __OPENCL_VERSION__
+#define st_sinpi(x) sinpi(x)
+#define st_cospi(x) cospi(x)
+#else
+static inline st_f32 st_sinpi(st_f32 x)
+{
+    return (st_f32)sin(3.14159265358979323846 * (double)x);
+}
+static inline st_f32 st_cospi(st_f32 x)
+{
+    return (st_f32)cos(3.14159265358979323846 * (double)x);
+}
+#endif
+
 /* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at the taps x_k = x_c + j of
  * one axis (taps_1d), j = k - c, from the tap c nearest 0: sin(π x_k) =
  * (-1)^j sin(π x_c), and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ,
  * δ = π / τ, turning (sin, cos) through ±δ once per tap. Five sines per axis
- * where two per tap were (PoCL's sin, its argument reduction, was most of
- * the splat). Starting at the tap nearest 0 keeps the relative accuracy
- * where sinc divides by a small x; the turns' rounding adds about an ulp per
- * tap (test_filters.c: within 1e-5 of the formula). */
-ST_FN st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
+ * where two per tap were. Starting at the tap nearest 0 keeps the relative
+ * accuracy where sinc divides by a small x; the turns' rounding adds about
+ * an ulp per tap (test_filters.c: within 1e-5 of the formula). */
+ST_HOT st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
 {
     st_f32 ax = fabs(x), y = x / f->tau;
     if (!(ax < f->radius))
@@ -107,8 +123,8 @@ ST_FN void st_lanczos_taps(const st_filter *f, const st_f32 *x, int n, st_f32 *w
     for (int k = 1; k < n; k++)
         if (fabs(x[k]) < fabs(x[c]))
             c = k;
-    st_f32 s1 = sin(ST_PI_F * x[c]), a = ST_PI_F * x[c] / f->tau, d = ST_PI_F / f->tau;
-    st_f32 sd = sin(d), cd = cos(d), sa = sin(a), ca = cos(a);
+    st_f32 a = x[c] / f->tau, d = 1.0f / f->tau, s1 = st_sinpi(x[c]);
+    st_f32 sd = st_sinpi(d), cd = st_cospi(d), sa = st_sinpi(a), ca = st_cospi(a);
     for (int dir = -1; dir <= 1; dir += 2) {
         st_f32 s2 = sa, c2 = ca, sk = s1;
         for (int k = c; k >= 0 && k < n; k += dir) {
