@@ -27,7 +27,7 @@
  * (st_shared.h derives both from ST_FILTER_MAX_RADIUS_PX). */
 #define ST_FILTER_MAX_RADIUS ((st_f32)ST_FILTER_MAX_RADIUS_PX)
 
-ST_FN st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
+ST_HOT st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
 {
     if (t < 1.0f)
         return ((12.0f - 9.0f * b - 6.0f * c) * t * t * t +
@@ -149,6 +149,16 @@ ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32
         x[k] = (st_f32)(lo + k) + 0.5f - s;
     if (f->kind == ST_FILTER_LANCZOS && n > 0) {
         st_lanczos_taps(f, x, n, w);
+        return;
+    }
+    if (f->kind == ST_FILTER_MITCHELL || f->kind == ST_FILTER_CATMULL_ROM) {
+        /* st_filter_eval_1d's expression, without its call and switch per tap */
+        int m = f->kind == ST_FILTER_MITCHELL;
+        st_f32 b = m ? f->b : 0.0f, c = m ? f->c : 0.5f, r = f->radius;
+        for (int k = 0; k < n; k++) {
+            st_f32 ax = fabs(x[k]);
+            w[k] = ax < r ? st_mitchell_1d(2.0f * ax / r, b, c) : 0.0f;
+        }
         return;
     }
     for (int k = 0; k < n; k++)
