@@ -144,25 +144,35 @@ ST_FN void st_lanczos_taps(const st_filter *f, const st_f32 *x, int n, st_f32 *w
  * per tap, but for lanczos (st_lanczos_taps: within float rounding). */
 ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32 *w)
 {
-    st_f32 x[ST_MAX_TAPS];
-    for (int k = 0; k < n; k++)
-        x[k] = (st_f32)(lo + k) + 0.5f - s;
-    if (f->kind == ST_FILTER_LANCZOS && n > 0) {
-        st_lanczos_taps(f, x, n, w);
+    st_f32 r = f->radius;
+    switch (f->kind) {
+    case ST_FILTER_BOX: /* st_filter_eval_1d's box, without its call per tap */
+        for (int k = 0; k < n; k++)
+            w[k] = fabs((st_f32)(lo + k) + 0.5f - s) < r ? 1.0f : 0.0f;
         return;
-    }
-    if (f->kind == ST_FILTER_MITCHELL || f->kind == ST_FILTER_CATMULL_ROM) {
+    case ST_FILTER_MITCHELL:
+    case ST_FILTER_CATMULL_ROM: {
         /* st_filter_eval_1d's expression, without its call and switch per tap */
         int m = f->kind == ST_FILTER_MITCHELL;
-        st_f32 b = m ? f->b : 0.0f, c = m ? f->c : 0.5f, r = f->radius;
+        st_f32 b = m ? f->b : 0.0f, c = m ? f->c : 0.5f;
         for (int k = 0; k < n; k++) {
-            st_f32 ax = fabs(x[k]);
+            st_f32 ax = fabs((st_f32)(lo + k) + 0.5f - s);
             w[k] = ax < r ? st_mitchell_1d(2.0f * ax / r, b, c) : 0.0f;
         }
         return;
     }
-    for (int k = 0; k < n; k++)
-        w[k] = st_filter_eval_1d(f, x[k]);
+    case ST_FILTER_LANCZOS: {
+        st_f32 x[ST_MAX_TAPS];
+        for (int k = 0; k < n; k++)
+            x[k] = (st_f32)(lo + k) + 0.5f - s;
+        if (n > 0)
+            st_lanczos_taps(f, x, n, w);
+        return;
+    }
+    default:
+        for (int k = 0; k < n; k++)
+            w[k] = st_filter_eval_1d(f, (st_f32)(lo + k) + 0.5f - s);
+    }
 }
 
 ST_FN st_f32 st_filter_eval(const st_filter *f, st_f32 x, st_f32 y)
