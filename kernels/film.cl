@@ -61,8 +61,10 @@ static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_d
 {
     st_filter flt = p->filter;
     st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
-    float w = st_filter_eval_1d(&flt, s.film[0] - (float)px - 0.5f) *
-              st_filter_eval_1d(&flt, s.film[1] - (float)py - 0.5f);
+    float wx, wy;
+    st_filter_taps_1d(&flt, (int)px, 1, s.film[0], &wx);
+    st_filter_taps_1d(&flt, (int)py, 1, s.film[1], &wy);
+    float w = wx * wy;
     w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
     add_splat(p, d, (int)px, (int)py, w, L, clamped);
     return 1u;
@@ -75,30 +77,35 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_
 {
     st_filter flt = p->filter;
     int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
-    float wx[ST_MAX_TAPS];
-    for (int x = xs.x; x <= xs.y; x++)
-        wx[x - xs.x] = st_filter_eval_1d(&flt, (float)x + 0.5f - s.film[0]);
-    for (int y = ys.x; y <= ys.y; y++) {
-        float wy = st_filter_eval_1d(&flt, (float)y + 0.5f - s.film[1]);
+    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
+    st_filter_taps_1d(&flt, xs.x, xs.y - xs.x + 1, s.film[0], wx);
+    st_filter_taps_1d(&flt, ys.x, ys.y - ys.x + 1, s.film[1], wy);
+    for (int y = ys.x; y <= ys.y; y++)
         for (int x = xs.x; x <= xs.y; x++)
-            add_splat(p, d, x, y, wx[x - xs.x] * wy, L, clamped);
-    }
+            add_splat(p, d, x, y, wx[x - xs.x] * wy[y - ys.x], L, clamped);
     return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
 }
 
-/* st_fixed_from_float of four values |v| <= ST_SPLAT_MAX at once. With
- * doubles: x = v 2^24 (exact) plus 1.5 2^52 is rounded to an integer, ties
- * to even (the default rounding), and as |x| <= 2^40 < 2^51 the sum's low
- * mantissa bits are that integer in two's complement: a few vector
- * instructions, where PoCL emulates convert_long4_rte channel by channel. */
-ST_HOT long4 fixed_from_float4(float4 v)
+/* round(x) of four values |x| <= ST_SPLAT_MAX 2^24 at once (x = v 2^24,
+ * st_fixed_from_float's v scaled). With doubles: x (exact) plus 1.5 2^52 is
+ * rounded to an integer, ties to even (the default rounding), and as
+ * |x| <= 2^40 < 2^51 the sum's low mantissa bits are that integer in two's
+ * complement: a few vector instructions, where PoCL emulates
+ * convert_long4_rte channel by channel. */
+ST_HOT long4 fixed_from_scaled4(float4 x)
 {
 #ifdef cl_khr_fp64
-    double4 x = convert_double4(v * ST_FIXED_SCALE) + 6755399441055744.0;
-    return as_long4(x) - (long4)(0x4338000000000000L);
+    double4 d = convert_double4(x) + 6755399441055744.0;
+    return as_long4(d) - (long4)(0x4338000000000000L);
 #else
-    return convert_long4_rte(v * ST_FIXED_SCALE);
+    return convert_long4_rte(x);
 #endif
+}
+
+/* st_fixed_from_float of four values |v| <= ST_SPLAT_MAX at once. */
+ST_HOT long4 fixed_from_float4(float4 v)
+{
+    return fixed_from_scaled4(v * ST_FIXED_SCALE);
 }
 
 /* The four sums of st_fixed_splat(w, L), as one vector (L1 = (L, 1)): the
@@ -115,6 +122,42 @@ ST_HOT long4 fixed_splat4(float w, float4 L1, st_u32 *clamped)
     return (long4)(sums[0], sums[1], sums[2], sums[3]);
 }
 
+/* Largest |w[k]| of n weights. */
+ST_HOT float max_abs(const float *w, int n)
+{
+    float m = 0.0f;
+    for (int k = 0; k < n; k++)
+        m = fmax(m, fabs(w[k]));
+    return m;
+}
+
+/* Whether no tap of a sample needs clamping: every tap's products
+ * (wx[k] wy[j]) scale L1 are at most, in magnitude, the same products of
+ * the largest |wx|, |wy| and |L1| (float rounding is monotone), so a bound
+ * within ST_SPLAT_MAX (and L1 2^24 finite) lets each tap skip
+ * fixed_splat4's test with the same integers. NaN fails the test. */
+ST_HOT int window_fits(const float *wx, int nx, const float *wy, int ny, float scale, float4 L1)
+{
+    float4 a = fabs(L1);
+    float l = fmax(fmax(a.x, a.y), fmax(a.z, a.w));
+    float bound = max_abs(wx, nx) * max_abs(wy, ny) * fabs(scale) * l;
+    return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
+}
+
+/* The taps of a sample that fits (window_fits) into a window of this
+ * work-item's alone: per tap one product, one vector conversion and one
+ * add. (w L) 2^24 = w (L 2^24) exactly (a power of two, no overflow: tested
+ * in window_fits; an underflow rounds to the integer 0 either way), so the
+ * integers are fixed_splat4's. */
+ST_HOT void splat_window_unclamped(__local long4 *row, int side, const float *wx, int nx,
+                                   const float *wy, int ny, float scale, float4 L1)
+{
+    float4 Ls = L1 * ST_FIXED_SCALE;
+    for (int j = 0; j < ny; j++, row += side)
+        for (int k = 0; k < nx; k++)
+            row[k] += fixed_from_scaled4(wx[k] * wy[j] * scale * Ls);
+}
+
 /* splat_taps into a work-group's window (d->acc), which holds every tap:
  * the 1-D weights once per sample and axis, then per tap one product, one
  * vector conversion and one add of four sums, plain when the window is this
@@ -127,12 +170,14 @@ ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const spla
     int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
     int nx = xs.y - xs.x + 1, ny = ys.y - ys.x + 1;
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    for (int k = 0; k < nx; k++)
-        wx[k] = st_filter_eval_1d(&flt, (float)(xs.x + k) + 0.5f - s.film[0]);
-    for (int k = 0; k < ny; k++)
-        wy[k] = st_filter_eval_1d(&flt, (float)(ys.x + k) + 0.5f - s.film[1]);
+    st_filter_taps_1d(&flt, xs.x, nx, s.film[0], wx);
+    st_filter_taps_1d(&flt, ys.x, ny, s.film[1], wy);
     float4 L1 = (float4)(L, 1.0f);
     __local long4 *row = d->acc + (ys.x - d->oy) * d->side + (xs.x - d->ox);
+    if (d->alone && window_fits(wx, nx, wy, ny, d->scale, L1)) {
+        splat_window_unclamped(row, d->side, wx, nx, wy, ny, d->scale, L1);
+        return (st_u32)max(nx, 0) * (st_u32)max(ny, 0);
+    }
     for (int j = 0; j < ny; j++, row += d->side)
         for (int k = 0; k < nx; k++) {
             long4 v = fixed_splat4(wx[k] * wy[j] * d->scale, L1, clamped);

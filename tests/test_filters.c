@@ -326,6 +326,62 @@ static void catmull_rom_interpolates(void **state)
     assert_true(fabs(st_filter_eval_1d(&mn, 1.0f) - 1.0 / 18.0) <= TOL);
 }
 
+/* st_filter_taps_1d, the weights of all taps of one axis that every splat
+ * path takes: for samples s across a pixel (and near the image's left edge,
+ * where x_k = lo + k + 1/2 - s rounds), at the taps the splat kernel uses
+ * plus one outside on each side, each weight is the formula at that tap's
+ * float x_k: exactly st_filter_eval_1d's value for every filter but lanczos,
+ * and for lanczos (sines turned from the tap nearest 0) within TAPS_TOL.
+ * TAPS_TOL: each turn rounds four products and two sums, a few 2^-24 ≈
+ * 6e-8 per tap, so at most 16 turns give ~4e-6 on sin(π x / τ), divided by
+ * π |x| / τ >= π / (2 τ) away from the centre tap (τ <= 8 here: x 2.6), and
+ * the centre tap's own sines are relatively accurate: 1e-5 in all. A wrong
+ * sign, phase or step is off by far more (and the exact checks
+ * filters_* above keep guarding st_filter_eval_1d). */
+#define TAPS_TOL 1e-5
+
+static void taps_1d_match_formulas(void **state)
+{
+    (void)state;
+    size_t count;
+    const st_filter *fs = filters(&count);
+    double worst = 0.0;
+    for (size_t i = 0; i < count; i++) {
+        const st_filter *f = &fs[i];
+        for (int j = 0; j < 400; j++) {
+            float s = j < 200 ? 100.0f + (float)j / 199.0f : (float)(j - 200) / 97.0f;
+            if (j == 17)
+                s = 100.5f; /* the centre tap at exactly 0: sinc's limit, 1 */
+            int lo = (int)ceilf(s - f->radius - 0.5f) - 1;
+            int n = (int)floorf(s + f->radius - 0.5f) + 1 - lo + 1;
+            if (n > ST_MAX_TAPS) { /* r = 8: keep the taps inside the radius */
+                lo++;
+                n = ST_MAX_TAPS;
+            }
+            float w[ST_MAX_TAPS];
+            st_filter_taps_1d(f, lo, n, s, w);
+            for (int k = 0; k < n; k++) {
+                float x = (float)(lo + k) + 0.5f - s;
+                double want = filter_ref(f, x), err = fabs(w[k] - want);
+                if (f->kind != ST_FILTER_LANCZOS && w[k] != st_filter_eval_1d(f, x))
+                    fail_msg("%s r=%g s=%.9g tap %d: %.9g, st_filter_eval_1d %.9g",
+                             kind_name(f->kind), f->radius, s, k, w[k], st_filter_eval_1d(f, x));
+                if (!(err <= TAPS_TOL))
+                    fail_msg("%s r=%g tau=%g s=%.9g tap %d (x=%.9g): %.9g, formula %.9g",
+                             kind_name(f->kind), f->radius, f->tau, s, k, x, w[k], want);
+                if (fabs(x) >= f->radius && w[k] != 0.0f)
+                    fail_msg("%s r=%g at x=%g: %g, expected 0", kind_name(f->kind), f->radius,
+                             x, w[k]);
+                if (f->kind == ST_FILTER_LANCZOS && err > worst)
+                    worst = err;
+            }
+            if (j == 17 && f->kind == ST_FILTER_LANCZOS)
+                assert_true(w[(int)floorf(s) - lo] == 1.0f);
+        }
+    }
+    printf("# lanczos taps: largest difference from the formula %.3g\n", worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -336,6 +392,7 @@ int main(void)
         cmocka_unit_test(filters_separable_exactly),
         cmocka_unit_test(mitchell_integrates_to_one),
         cmocka_unit_test(catmull_rom_interpolates),
+        cmocka_unit_test(taps_1d_match_formulas),
     };
     return cmocka_run_group_tests_name("filters", tests, NULL, NULL);
 }
