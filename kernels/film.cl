@@ -77,6 +77,12 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_
 {
     st_filter flt = p->filter;
     int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
+    if (flt.kind == ST_FILTER_BOX) { /* every tap within the radius weighs 1 (taps) */
+        for (int y = ys.x; y <= ys.y; y++)
+            for (int x = xs.x; x <= xs.y; x++)
+                add_splat(p, d, x, y, 1.0f, L, clamped);
+        return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
+    }
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
     st_filter_taps_1d(&flt, xs.x, xs.y - xs.x + 1, s.film[0], wx);
     st_filter_taps_1d(&flt, ys.x, ys.y - ys.x + 1, s.film[1], wy);
