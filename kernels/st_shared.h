@@ -45,8 +45,10 @@ typedef float st_f32;
  * vectoriser); the host's compiler inlines by itself. Only where it pays: a
  * build with every helper forced inline took PoCL's cold build from 12.6 s
  * to 30.2 s (issue 15), and with the filter and fixed-point helpers forced
- * inline splat_samples ran 26 % more instructions (README). */
-#ifdef __OPENCL_VERSION__
+ * inline splat_samples ran 26 % more instructions (README). Oclgrind's
+ * build defines ST_NO_FORCED_INLINE (device.c): it cannot run the
+ * llvm.experimental.noalias.scope.decl that forced inlining leaves. */
+#if defined(__OPENCL_VERSION__) && !defined(ST_NO_FORCED_INLINE)
 #define ST_HOT static inline __attribute__((always_inline))
 #else
 #define ST_HOT static inline

@@ -368,11 +368,19 @@ static void keep_log(st_device *dev)
 
 /* Oclgrind 21.10 (`make test-oclgrind`), a device checker rather than a device, has two known
  * limits: it cannot run the llvm.bitreverse that clang makes of a bit-reversal loop unless the
- * program is built without optimisation, and it does not count clEnqueueFillBuffer as
+ * program is built without optimisation (nor the noalias scopes of forced inlining, so
+ * ST_HOT inlines nothing there: st_shared.h), and it does not count clEnqueueFillBuffer as
  * initialising memory. On its platform strata works around both; nothing else changes. */
 static int is_oclgrind(const st_device *dev)
 {
     return strstr(dev->info.platform_name, "Oclgrind") != NULL;
+}
+
+/* PoCL on a CPU: the kernels' prefetch hints (trace.h, ST_PREFETCH_HINTS) were measured to pay
+ * there; no other compiler is asked to take clang's __builtin_prefetch. */
+static int is_pocl_cpu(const st_device *dev)
+{
+    return dev->info.is_cpu && strstr(dev->info.platform_name, "Portable Computing Language");
 }
 
 st_status st_device_build(st_device *dev, double *seconds, st_error *err)
@@ -400,7 +408,9 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
     if (dir && *dir)
         snprintf(options, sizeof options, "-cl-std=CL1.2 -I%s", dir);
     if (is_oclgrind(dev))
-        strcat(options, " -cl-opt-disable");
+        strcat(options, " -cl-opt-disable -DST_NO_FORCED_INLINE");
+    if (is_pocl_cpu(dev))
+        strcat(options, " -DST_PREFETCH_HINTS");
     double t0 = now_seconds();
     cl_int code;
     dev->program = clCreateProgramWithSource(dev->context, n, src, NULL, &code);
