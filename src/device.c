@@ -391,7 +391,7 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
     unsigned n = st_embedded_kernel_count;
     const char *src[MAX_KERNELS];
     char *owned[MAX_KERNELS] = {0};
-    char options[1200] = "-cl-std=CL1.2";
+    char options[1200];
     st_status rc = ST_OK;
     for (unsigned i = 0; i < n && i < MAX_KERNELS; i++) {
         src[i] = (const char *)st_embedded_kernels[i].data;
@@ -405,12 +405,11 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
             src[i] = owned[i];
         }
     }
-    if (dir && *dir)
-        snprintf(options, sizeof options, "-cl-std=CL1.2 -I%s", dir);
-    if (is_oclgrind(dev))
-        strcat(options, " -cl-opt-disable -DST_NO_FORCED_INLINE");
-    if (is_pocl_cpu(dev))
-        strcat(options, " -DST_PREFETCH_HINTS");
+    /* the kernel directory (its path already fits in 1024 bytes: read above) */
+    int own_dir = dir && *dir;
+    snprintf(options, sizeof options, "-cl-std=CL1.2%s%s%s%s", own_dir ? " -I" : "",
+             own_dir ? dir : "", is_oclgrind(dev) ? " -cl-opt-disable -DST_NO_FORCED_INLINE" : "",
+             is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "");
     double t0 = now_seconds();
     cl_int code;
     dev->program = clCreateProgramWithSource(dev->context, n, src, NULL, &code);
