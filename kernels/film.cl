@@ -20,6 +20,7 @@ typedef struct splat_dest {
     __local long4 *acc;
     int ox, oy, side;
     int alone; /* the work-group is one work-item: acc is its own, plain adds */
+    st_lanczos_turn turn; /* st_lanczos_turn_of(the filter), made once */
 } splat_dest;
 
 /* round(x) of four values |x| <= ST_SPLAT_MAX 2^24 at once (x = v 2^24,
@@ -127,8 +128,8 @@ static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_d
     st_filter flt = p->filter;
     st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
     float wx, wy;
-    st_filter_taps_1d(&flt, (int)px, 1, s.film[0], &wx);
-    st_filter_taps_1d(&flt, (int)py, 1, s.film[1], &wy);
+    st_filter_taps(&flt, d->turn, (int)px, 1, s.film[0], &wx);
+    st_filter_taps(&flt, d->turn, (int)py, 1, s.film[1], &wy);
     float w = wx * wy;
     w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
     add_fixed(p, d, (int)px, (int)py, fixed_splat4(w * d->scale, (float4)(L, 1.0f), clamped));
@@ -157,20 +158,24 @@ static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_
         return (st_u32)nx * (st_u32)ny;
     }
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    st_filter_taps_1d(&flt, t.x, nx, s.film[0], wx);
-    st_filter_taps_1d(&flt, t.z, ny, s.film[1], wy);
+    st_filter_taps(&flt, d->turn, t.x, nx, s.film[0], wx);
+    st_filter_taps(&flt, d->turn, t.z, ny, s.film[1], wy);
     for (int y = t.z; y <= t.w; y++)
         for (int x = t.x; x <= t.y; x++)
             add_fixed(p, d, x, y, fixed_splat4(wx[x - t.x] * wy[y - t.z] * d->scale, L1, clamped));
     return (st_u32)nx * (st_u32)ny;
 }
 
-/* Largest |w[k]| of n weights. */
+/* Largest |w[k]| of n weights, a NaN passed over as fmax would (a
+ * comparison, which compiles to one maxss, where fmax's NaN rule took four
+ * instructions per weight). */
 ST_HOT float max_abs(const float *w, int n)
 {
     float m = 0.0f;
-    for (int k = 0; k < n; k++)
-        m = fmax(m, fabs(w[k]));
+    for (int k = 0; k < n; k++) {
+        float a = fabs(w[k]);
+        m = a > m ? a : m;
+    }
     return m;
 }
 
@@ -187,6 +192,20 @@ ST_HOT int window_fits(const float *wx, int nx, const float *wy, int ny, float s
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
 
+/* One row of splat_window_unclamped's taps with scale 1, two at a time
+ * (the loop's own work halved): row[k] += round(wx[k] wy Ls). */
+ST_HOT void splat_row(__local long4 *row, const float *wx, int nx, float wy, float4 Ls)
+{
+    int k = 0;
+    for (; k + 2 <= nx; k += 2) {
+        float2 w = vload2(0, wx + k) * wy;
+        row[k] += fixed_from_scaled4(w.x * Ls);
+        row[k + 1] += fixed_from_scaled4(w.y * Ls);
+    }
+    if (k < nx)
+        row[k] += fixed_from_scaled4(wx[k] * wy * Ls);
+}
+
 /* The taps of a sample that fits (window_fits) into a window of this
  * work-item's alone: per tap one product, one vector conversion and one
  * add. (w L) 2^24 = w (L 2^24) exactly (a power of two, no overflow: tested
@@ -196,6 +215,11 @@ ST_HOT void splat_window_unclamped(__local long4 *row, int side, const float *wx
                                    const float *wy, int ny, float scale, float4 L1)
 {
     float4 Ls = L1 * ST_FIXED_SCALE;
+    if (scale == 1.0f) { /* w 1 = w: the same integers without the product */
+        for (int j = 0; j < ny; j++, row += side)
+            splat_row(row, wx, nx, wy[j], Ls);
+        return;
+    }
     for (int j = 0; j < ny; j++, row += side)
         for (int k = 0; k < nx; k++)
             row[k] += fixed_from_scaled4(wx[k] * wy[j] * scale * Ls);
@@ -238,8 +262,8 @@ ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const spla
         return (st_u32)nx * (st_u32)ny;
     }
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    st_filter_taps_1d(&flt, t.x, nx, s.film[0], wx);
-    st_filter_taps_1d(&flt, t.z, ny, s.film[1], wy);
+    st_filter_taps(&flt, d->turn, t.x, nx, s.film[0], wx);
+    st_filter_taps(&flt, d->turn, t.z, ny, s.film[1], wy);
     if (d->alone && window_fits(wx, nx, wy, ny, d->scale, L1)) {
         splat_window_unclamped(row, d->side, wx, nx, wy, ny, d->scale, L1);
         return (st_u32)nx * (st_u32)ny;
@@ -264,7 +288,7 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
     st_tally t = tally[i];
     t.closest_rays += pa->closest_rays;
     t.shadow_rays += pa->shadow_rays;
-    if (!(isfinite(L.x) && isfinite(L.y) && isfinite(L.z))) {
+    if (!all(isfinite(L))) {
         atomic_inc(&stats->nonfinite);
         L = (float3)(0.0f);
     }
@@ -292,7 +316,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         return;
     if (!st_sample_on_film(&p, sample[i]))
         return; /* a tile point outside the image (generate.cl) */
-    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0};
+    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
     splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
 }
 
@@ -307,12 +331,14 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
  * bin is the order of bin_scatter's atomics and may differ from run to run;
  * nothing depends on it. */
 
-/* The bin of a sample on the film. */
+/* The bin of a sample on the film: of the pixel floor(film) clamped to the
+ * image, where truncation serves as floor (the two differ below 0 only,
+ * which the clamp takes to 0 either way). */
 static st_u32 sample_bin(const st_params *p, st_sample s)
 {
-    int x = clamp((int)floor(s.film[0]), 0, (int)p->width - 1);
-    int y = clamp((int)floor(s.film[1]), 0, (int)p->height - 1);
-    return (st_u32)y / p->bin_side * p->bins_x + (st_u32)x / p->bin_side;
+    int2 xy = clamp(convert_int2((float2)(s.film[0], s.film[1])), (int2)(0),
+                    (int2)((int)p->width - 1, (int)p->height - 1));
+    return (st_u32)xy.y / p->bin_side * p->bins_x + (st_u32)xy.x / p->bin_side;
 }
 
 /* Counts the wave's items per bin (bin_count is 0 before: wave.c, splat_tiles). */
@@ -365,7 +391,7 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
     for (int j = (int)lid; j < side * side; j += (int)n)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u};
+    splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
     for (st_u32 j = bin_start[b] + lid; j < bin_start[b + 1]; j += n)
         splat_item(&p, bin_item[j], sample, path, tally, stats, splat_scale, &d);
     barrier(CLK_LOCAL_MEM_FENCE);
