@@ -20,77 +20,8 @@ typedef struct splat_dest {
     __local long4 *acc;
     int ox, oy, side;
     int alone; /* the work-group is one work-item: acc is its own, plain adds */
+    st_lanczos_turn turn; /* st_lanczos_turn_of(the filter), made once */
 } splat_dest;
-
-/* Adds w L and w (w times d->scale) to pixel (x, y)'s four sums, the
- * integers of st_fixed_splat, wherever they are accumulated. */
-static void add_splat(const st_params *p, const splat_dest *d, int x, int y, float w, float3 L,
-                      st_u32 *clamped)
-{
-    st_i64 v[4];
-    st_fixed_splat(w * d->scale, L.x, L.y, L.z, v, clamped);
-    int lx = x - d->ox, ly = y - d->oy;
-    size_t i = (size_t)y * p->width + x;
-    if (d->acc && lx >= 0 && ly >= 0 && lx < d->side && ly < d->side) {
-        __local long *a = (__local long *)(d->acc + ly * d->side + lx);
-        for (int k = 0; k < 4; k++)
-            atom_add(a + k, v[k]);
-    } else {
-        __global long *a = d->film[i].sum;
-        for (int k = 0; k < 4; k++)
-            atom_add(a + k, v[k]);
-    }
-}
-
-/* Range of pixel indices whose centre k + 0.5 satisfies |k + 0.5 - x| < r. */
-static int2 taps(float x, float r, st_u32 n)
-{
-    int lo = (int)ceil(x - r - 0.5f), hi = (int)floor(x + r - 0.5f);
-    if ((float)lo + 0.5f - x <= -r)
-        lo++;
-    if ((float)hi + 0.5f - x >= r)
-        hi--;
-    return (int2)(max(lo, 0), min(hi, (int)n - 1));
-}
-
-/* Filter importance sampling: the offset was drawn from |f|, so the weight
- * f / pdf = sign(f) x ∫|f|, and the constant cancels in Σ w L / Σ w; the
- * sample goes to its own pixel only. Returns the splats made (1). */
-static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_dest *d,
-                        st_u32 *clamped)
-{
-    st_filter flt = p->filter;
-    st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
-    float wx, wy;
-    st_filter_taps_1d(&flt, (int)px, 1, s.film[0], &wx);
-    st_filter_taps_1d(&flt, (int)py, 1, s.film[1], &wy);
-    float w = wx * wy;
-    w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
-    add_splat(p, d, (int)px, (int)py, w, L, clamped);
-    return 1u;
-}
-
-/* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
- * with the separable weights f(dx) f(dy). Returns the splats made. */
-static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_dest *d,
-                         st_u32 *clamped)
-{
-    st_filter flt = p->filter;
-    int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
-    if (flt.kind == ST_FILTER_BOX) { /* every tap within the radius weighs 1 (taps) */
-        for (int y = ys.x; y <= ys.y; y++)
-            for (int x = xs.x; x <= xs.y; x++)
-                add_splat(p, d, x, y, 1.0f, L, clamped);
-        return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
-    }
-    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    st_filter_taps_1d(&flt, xs.x, xs.y - xs.x + 1, s.film[0], wx);
-    st_filter_taps_1d(&flt, ys.x, ys.y - ys.x + 1, s.film[1], wy);
-    for (int y = ys.x; y <= ys.y; y++)
-        for (int x = xs.x; x <= xs.y; x++)
-            add_splat(p, d, x, y, wx[x - xs.x] * wy[y - ys.x], L, clamped);
-    return (st_u32)max(xs.y - xs.x + 1, 0) * (st_u32)max(ys.y - ys.x + 1, 0);
-}
 
 /* round(x) of four values |x| <= ST_SPLAT_MAX 2^24 at once (x = v 2^24,
  * st_fixed_from_float's v scaled). With doubles: x (exact) plus 1.5 2^52 is
@@ -128,12 +59,123 @@ ST_HOT long4 fixed_splat4(float w, float4 L1, st_u32 *clamped)
     return (long4)(sums[0], sums[1], sums[2], sums[3]);
 }
 
-/* Largest |w[k]| of n weights. */
+/* Adds the four sums v to pixel (x, y), wherever they are accumulated (a
+ * window pixel outside d's window goes to the film). A zero sum (a channel of
+ * black radiance) is left out: it would not change the integer. */
+ST_HOT void add_fixed(const st_params *p, const splat_dest *d, int x, int y, long4 v)
+{
+    int lx = x - d->ox, ly = y - d->oy;
+    if (d->acc && lx >= 0 && ly >= 0 && lx < d->side && ly < d->side) {
+        __local long *a = (__local long *)(d->acc + ly * d->side + lx);
+        atom_add(a, v.x);
+        atom_add(a + 1, v.y);
+        atom_add(a + 2, v.z);
+        atom_add(a + 3, v.w);
+        return;
+    }
+    __global long *a = d->film[(size_t)y * p->width + x].sum;
+    if (v.x != 0)
+        atom_add(a, v.x);
+    if (v.y != 0)
+        atom_add(a + 1, v.y);
+    if (v.z != 0)
+        atom_add(a + 2, v.z);
+    if (v.w != 0)
+        atom_add(a + 3, v.w);
+}
+
+/* floor(v) and ceil(v), exactly, for v within int's range: truncate, then
+ * step by one where truncation went the wrong way (a vector comparison is -1
+ * where true). A few vector instructions, where PoCL's floor and ceil test
+ * each channel for large and special values. */
+ST_HOT int2 floor_int2(float2 v)
+{
+    int2 t = convert_int2(v);
+    return t + (convert_float2(t) > v);
+}
+
+ST_HOT int2 ceil_int2(float2 v)
+{
+    int2 t = convert_int2(v);
+    return t - (convert_float2(t) < v);
+}
+
+/* The pixels k of each axis whose centre satisfies |k + 0.5 - s| < r, within
+ * the image's n: (first x, last x, first y, last y), both axes at once. */
+ST_HOT int4 taps(float2 s, float r, int2 n)
+{
+    int2 lo = ceil_int2(s - r - 0.5f), hi = floor_int2(s + r - 0.5f);
+    lo -= convert_float2(lo) + 0.5f - s <= -r; /* true is -1: one up */
+    hi += convert_float2(hi) + 0.5f - s >= r;
+    lo = max(lo, 0);
+    hi = min(hi, n - 1);
+    return (int4)(lo.x, hi.x, lo.y, hi.y);
+}
+
+/* taps() of sample s on p's image. */
+ST_HOT int4 sample_taps(const st_params *p, st_sample s)
+{
+    return taps((float2)(s.film[0], s.film[1]), p->filter.radius,
+                (int2)((int)p->width, (int)p->height));
+}
+
+/* Filter importance sampling: the offset was drawn from |f|, so the weight
+ * f / pdf = sign(f) x ∫|f|, and the constant cancels in Σ w L / Σ w; the
+ * sample goes to its own pixel only. Returns the splats made (1). */
+static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+                        st_u32 *clamped)
+{
+    st_filter flt = p->filter;
+    st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
+    float wx, wy;
+    st_filter_taps(&flt, d->turn, (int)px, 1, s.film[0], &wx);
+    st_filter_taps(&flt, d->turn, (int)py, 1, s.film[1], &wy);
+    float w = wx * wy;
+    w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
+    add_fixed(p, d, (int)px, (int)py, fixed_splat4(w * d->scale, (float4)(L, 1.0f), clamped));
+    return 1u;
+}
+
+/* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
+ * with the separable weights f(dx) f(dy): the integers of st_fixed_splat(f
+ * d->scale, L) (fixed_splat4). Box weighs 1 at every tap within the radius
+ * (taps), so its sums are the same at every tap: made once. Returns the
+ * splats made. */
+static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+                         st_u32 *clamped)
+{
+    st_filter flt = p->filter;
+    int4 t = sample_taps(p, s);
+    int nx = t.y - t.x + 1, ny = t.w - t.z + 1;
+    if (nx <= 0 || ny <= 0)
+        return 0u;
+    float4 L1 = (float4)(L, 1.0f);
+    if (flt.kind == ST_FILTER_BOX) {
+        long4 v = fixed_splat4(d->scale, L1, clamped);
+        for (int y = t.z; y <= t.w; y++)
+            for (int x = t.x; x <= t.y; x++)
+                add_fixed(p, d, x, y, v);
+        return (st_u32)nx * (st_u32)ny;
+    }
+    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
+    st_filter_taps(&flt, d->turn, t.x, nx, s.film[0], wx);
+    st_filter_taps(&flt, d->turn, t.z, ny, s.film[1], wy);
+    for (int y = t.z; y <= t.w; y++)
+        for (int x = t.x; x <= t.y; x++)
+            add_fixed(p, d, x, y, fixed_splat4(wx[x - t.x] * wy[y - t.z] * d->scale, L1, clamped));
+    return (st_u32)nx * (st_u32)ny;
+}
+
+/* Largest |w[k]| of n weights, a NaN passed over as fmax would (a
+ * comparison, which compiles to one maxss, where fmax's NaN rule took four
+ * instructions per weight). */
 ST_HOT float max_abs(const float *w, int n)
 {
     float m = 0.0f;
-    for (int k = 0; k < n; k++)
-        m = fmax(m, fabs(w[k]));
+    for (int k = 0; k < n; k++) {
+        float a = fabs(w[k]);
+        m = a > m ? a : m;
+    }
     return m;
 }
 
@@ -150,6 +192,20 @@ ST_HOT int window_fits(const float *wx, int nx, const float *wy, int ny, float s
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
 
+/* One row of splat_window_unclamped's taps with scale 1, two at a time
+ * (the loop's own work halved): row[k] += round(wx[k] wy Ls). */
+ST_HOT void splat_row(__local long4 *row, const float *wx, int nx, float wy, float4 Ls)
+{
+    int k = 0;
+    for (; k + 2 <= nx; k += 2) {
+        float2 w = vload2(0, wx + k) * wy;
+        row[k] += fixed_from_scaled4(w.x * Ls);
+        row[k + 1] += fixed_from_scaled4(w.y * Ls);
+    }
+    if (k < nx)
+        row[k] += fixed_from_scaled4(wx[k] * wy * Ls);
+}
+
 /* The taps of a sample that fits (window_fits) into a window of this
  * work-item's alone: per tap one product, one vector conversion and one
  * add. (w L) 2^24 = w (L 2^24) exactly (a power of two, no overflow: tested
@@ -159,45 +215,63 @@ ST_HOT void splat_window_unclamped(__local long4 *row, int side, const float *wx
                                    const float *wy, int ny, float scale, float4 L1)
 {
     float4 Ls = L1 * ST_FIXED_SCALE;
+    if (scale == 1.0f) { /* w 1 = w: the same integers without the product */
+        for (int j = 0; j < ny; j++, row += side)
+            splat_row(row, wx, nx, wy[j], Ls);
+        return;
+    }
     for (int j = 0; j < ny; j++, row += side)
         for (int k = 0; k < nx; k++)
             row[k] += fixed_from_scaled4(wx[k] * wy[j] * scale * Ls);
 }
 
+/* Adds v to window pixel a: plainly when the window is this work-item's
+ * alone, else atomically per sum. */
+ST_HOT void add_window(__local long4 *a, long4 v, int alone)
+{
+    if (alone) {
+        *a += v;
+        return;
+    }
+    __local long *l = (__local long *)a;
+    atom_add(l, v.x);
+    atom_add(l + 1, v.y);
+    atom_add(l + 2, v.z);
+    atom_add(l + 3, v.w);
+}
+
 /* splat_taps into a work-group's window (d->acc), which holds every tap:
  * the 1-D weights once per sample and axis, then per tap one product, one
- * vector conversion and one add of four sums, plain when the window is this
- * work-item's alone (d->alone), else atomic per sum. Returns the splats
- * made. */
+ * vector conversion and one add of four sums (add_window); box's sums are
+ * made once (splat_taps). Returns the splats made. */
 ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const splat_dest *d,
                            st_u32 *clamped)
 {
     st_filter flt = p->filter;
-    int2 xs = taps(s.film[0], flt.radius, p->width), ys = taps(s.film[1], flt.radius, p->height);
-    int nx = xs.y - xs.x + 1, ny = ys.y - ys.x + 1;
-    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    st_filter_taps_1d(&flt, xs.x, nx, s.film[0], wx);
-    st_filter_taps_1d(&flt, ys.x, ny, s.film[1], wy);
+    int4 t = sample_taps(p, s);
+    int nx = t.y - t.x + 1, ny = t.w - t.z + 1;
+    if (nx <= 0 || ny <= 0)
+        return 0u;
     float4 L1 = (float4)(L, 1.0f);
-    __local long4 *row = d->acc + (ys.x - d->oy) * d->side + (xs.x - d->ox);
+    __local long4 *row = d->acc + (t.z - d->oy) * d->side + (t.x - d->ox);
+    if (flt.kind == ST_FILTER_BOX) {
+        long4 v = fixed_splat4(d->scale, L1, clamped);
+        for (int j = 0; j < ny; j++, row += d->side)
+            for (int k = 0; k < nx; k++)
+                add_window(row + k, v, d->alone);
+        return (st_u32)nx * (st_u32)ny;
+    }
+    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
+    st_filter_taps(&flt, d->turn, t.x, nx, s.film[0], wx);
+    st_filter_taps(&flt, d->turn, t.z, ny, s.film[1], wy);
     if (d->alone && window_fits(wx, nx, wy, ny, d->scale, L1)) {
         splat_window_unclamped(row, d->side, wx, nx, wy, ny, d->scale, L1);
-        return (st_u32)max(nx, 0) * (st_u32)max(ny, 0);
+        return (st_u32)nx * (st_u32)ny;
     }
     for (int j = 0; j < ny; j++, row += d->side)
-        for (int k = 0; k < nx; k++) {
-            long4 v = fixed_splat4(wx[k] * wy[j] * d->scale, L1, clamped);
-            if (d->alone) {
-                row[k] += v;
-            } else {
-                __local long *a = (__local long *)(row + k);
-                atom_add(a, v.x);
-                atom_add(a + 1, v.y);
-                atom_add(a + 2, v.z);
-                atom_add(a + 3, v.w);
-            }
-        }
-    return (st_u32)max(nx, 0) * (st_u32)max(ny, 0);
+        for (int k = 0; k < nx; k++)
+            add_window(row + k, fixed_splat4(wx[k] * wy[j] * d->scale, L1, clamped), d->alone);
+    return (st_u32)nx * (st_u32)ny;
 }
 
 /* Item i's sample (on the film) to d: adds the splats made and the path's
@@ -214,7 +288,7 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
     st_tally t = tally[i];
     t.closest_rays += pa->closest_rays;
     t.shadow_rays += pa->shadow_rays;
-    if (!(isfinite(L.x) && isfinite(L.y) && isfinite(L.z))) {
+    if (!all(isfinite(L))) {
         atomic_inc(&stats->nonfinite);
         L = (float3)(0.0f);
     }
@@ -242,7 +316,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         return;
     if (!st_sample_on_film(&p, sample[i]))
         return; /* a tile point outside the image (generate.cl) */
-    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0};
+    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
     splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
 }
 
@@ -257,12 +331,14 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
  * bin is the order of bin_scatter's atomics and may differ from run to run;
  * nothing depends on it. */
 
-/* The bin of a sample on the film. */
+/* The bin of a sample on the film: of the pixel floor(film) clamped to the
+ * image, where truncation serves as floor (the two differ below 0 only,
+ * which the clamp takes to 0 either way). */
 static st_u32 sample_bin(const st_params *p, st_sample s)
 {
-    int x = clamp((int)floor(s.film[0]), 0, (int)p->width - 1);
-    int y = clamp((int)floor(s.film[1]), 0, (int)p->height - 1);
-    return (st_u32)y / p->bin_side * p->bins_x + (st_u32)x / p->bin_side;
+    int2 xy = clamp(convert_int2((float2)(s.film[0], s.film[1])), (int2)(0),
+                    (int2)((int)p->width - 1, (int)p->height - 1));
+    return (st_u32)xy.y / p->bin_side * p->bins_x + (st_u32)xy.x / p->bin_side;
 }
 
 /* Counts the wave's items per bin (bin_count is 0 before: wave.c, splat_tiles). */
@@ -315,7 +391,7 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
     for (int j = (int)lid; j < side * side; j += (int)n)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
-    splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u};
+    splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
     for (st_u32 j = bin_start[b] + lid; j < bin_start[b + 1]; j += n)
         splat_item(&p, bin_item[j], sample, path, tally, stats, splat_scale, &d);
     barrier(CLK_LOCAL_MEM_FENCE);

@@ -100,13 +100,32 @@ static inline st_f32 st_cospi(st_f32 x)
 }
 #endif
 
+/* Lanczos' turn from one tap to the next of sin(π x / τ): the sine and
+ * cosine of δ = π / τ, the same for every sample of a render, so a splat
+ * kernel makes them once (st_lanczos_turn_of); zero for other filters,
+ * which do not use it. */
+typedef struct st_lanczos_turn {
+    st_f32 s, c;
+} st_lanczos_turn;
+
+ST_FN st_lanczos_turn st_lanczos_turn_of(const st_filter *f)
+{
+    st_lanczos_turn t = {0.0f, 0.0f};
+    if (f->kind == ST_FILTER_LANCZOS) {
+        st_f32 d = 1.0f / f->tau;
+        t.s = st_sinpi(d);
+        t.c = st_cospi(d);
+    }
+    return t;
+}
+
 /* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at the taps x_k = x_c + j of
- * one axis (taps_1d), j = k - c, from the tap c nearest 0: sin(π x_k) =
+ * one axis (st_filter_taps), j = k - c, from the tap c nearest 0: sin(π x_k) =
  * (-1)^j sin(π x_c), and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ,
- * δ = π / τ, turning (sin, cos) through ±δ once per tap. Five sines per axis
- * where two per tap were. Starting at the tap nearest 0 keeps the relative
- * accuracy where sinc divides by a small x; the turns' rounding adds about
- * an ulp per tap (test_filters.c: within 1e-5 of the formula). */
+ * δ = π / τ, turning (sin, cos) through ±δ (t) once per tap. Three sines
+ * per axis where two per tap were. Starting at the tap nearest 0 keeps the
+ * relative accuracy where sinc divides by a small x; the turns' rounding
+ * adds about an ulp per tap (test_filters.c: within 1e-5 of the formula). */
 ST_HOT st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
 {
     st_f32 ax = fabs(x), y = x / f->tau;
@@ -117,32 +136,31 @@ ST_HOT st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
     return a * b;
 }
 
-ST_FN void st_lanczos_taps(const st_filter *f, const st_f32 *x, int n, st_f32 *w)
+ST_FN void st_lanczos_taps(const st_filter *f, st_lanczos_turn t, const st_f32 *x, int n, int c,
+                           st_f32 *w)
 {
-    int c = 0;
-    for (int k = 1; k < n; k++)
-        if (fabs(x[k]) < fabs(x[c]))
-            c = k;
-    st_f32 a = x[c] / f->tau, d = 1.0f / f->tau, s1 = st_sinpi(x[c]);
-    st_f32 sd = st_sinpi(d), cd = st_cospi(d), sa = st_sinpi(a), ca = st_cospi(a);
+    st_f32 a = x[c] / f->tau, s1 = st_sinpi(x[c]);
+    st_f32 sa = st_sinpi(a), ca = st_cospi(a);
     for (int dir = -1; dir <= 1; dir += 2) {
         st_f32 s2 = sa, c2 = ca, sk = s1;
         for (int k = c; k >= 0 && k < n; k += dir) {
             w[k] = st_lanczos_tap(f, x[k], sk, s2);
-            st_f32 next = s2 * cd + (st_f32)dir * c2 * sd;
-            c2 = c2 * cd - (st_f32)dir * s2 * sd;
+            st_f32 next = s2 * t.c + (st_f32)dir * c2 * t.s;
+            c2 = c2 * t.c - (st_f32)dir * s2 * t.s;
             s2 = next;
             sk = -sk;
         }
     }
 }
 
-/* The 1-D weights of all n taps of one axis: w[k] = f(x_k) at the pixel
+/* The 1-D weights of all n > 0 taps of one axis: w[k] = f(x_k) at the pixel
  * centres lo + k + 1/2 of a sample at s, x_k = lo + k + 1/2 - s (n <=
- * ST_MAX_TAPS). Every splat path (film.cl) takes its weights from here, so
- * the paths add the same integers. The same values as st_filter_eval_1d
- * per tap, but for lanczos (st_lanczos_taps: within float rounding). */
-ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32 *w)
+ * ST_MAX_TAPS), with lanczos' turn t (st_lanczos_turn_of(f)). Every splat
+ * path (film.cl) takes its weights from here, so the paths add the same
+ * integers. The same values as st_filter_eval_1d per tap, but for lanczos
+ * (st_lanczos_taps: within float rounding). */
+ST_FN void st_filter_taps(const st_filter *f, st_lanczos_turn t, int lo, int n, st_f32 s,
+                          st_f32 *w)
 {
     st_f32 r = f->radius;
     switch (f->kind) {
@@ -165,14 +183,27 @@ ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32
         st_f32 x[ST_MAX_TAPS];
         for (int k = 0; k < n; k++)
             x[k] = (st_f32)(lo + k) + 0.5f - s;
-        if (n > 0)
-            st_lanczos_taps(f, x, n, w);
+        /* the tap nearest 0 (of two, the first): the pixel whose centre is
+         * nearest s, ceil(s) - 1, or the end of the range nearest it (x_k
+         * is exact there; only a pixel left of 0 could round into a tie);
+         * ceil(s) as truncation, plus one where that fell below s (a call
+         * with tests of large and special values on the device) */
+        int c = (int)s + ((st_f32)(int)s < s) - 1 - lo;
+        c = c < 0 ? 0 : c >= n ? n - 1 : c;
+        st_lanczos_taps(f, t, x, n, c, w);
         return;
     }
     default:
         for (int k = 0; k < n; k++)
             w[k] = st_filter_eval_1d(f, (st_f32)(lo + k) + 0.5f - s);
     }
+}
+
+/* st_filter_taps with the filter's own turn (a caller with a single sample). */
+ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32 *w)
+{
+    if (n > 0)
+        st_filter_taps(f, st_lanczos_turn_of(f), lo, n, s, w);
 }
 
 ST_FN st_f32 st_filter_eval(const st_filter *f, st_f32 x, st_f32 y)
