@@ -52,6 +52,23 @@ static st_sample tile_sample(const st_params *p, __global const st_tile_point *t
     return out;
 }
 
+/* Render item g of a per-pixel sampler over the region (see the top): its
+ * pixel (px, py) and sample index, as st_region_pixel and g mod n, g / n
+ * give them, with two divides (one 64-bit, which x86 compilers run as a
+ * 32-bit one while g < 2^32), no longer a third that split the pixel's
+ * index back into (px, py). A multiply by a per-launch reciprocal was
+ * tried (mul_hi(ulong)): PoCL emulates that with four multiplies, and
+ * could not hoist the reciprocal's own divide out of its work-item loop,
+ * so it ran 11.3 M instructions against 6.5 M (callgrind, README). */
+static void region_item(const st_params *p, st_u64 g, st_u32 *px, st_u32 *py, st_u32 *s)
+{
+    st_u32 npix = p->region_w * p->region_h; /* the image, or a crop's window and apron */
+    st_u32 j = (st_u32)(g % npix), row = j / p->region_w;
+    *s = (st_u32)(g / npix);
+    *px = p->region_x + (j - row * p->region_w);
+    *py = p->region_y + row;
+}
+
 /* Writes sample[i]: the film position and (pixel, sample index). With
  * filter importance sampling the sampler's two pixel dimensions are warped
  * through the CDF of |f| (their stratification carries over) into an offset
@@ -66,14 +83,17 @@ __kernel void generate_samples(ST_STAGE_PARAMS)
         sample[i] = tile_sample(&p, tile, g);
         return;
     }
-    st_u32 npix = p.region_w * p.region_h; /* the image, or a crop's window and apron */
-    st_u32 pixel = st_region_pixel(&p, (st_u32)(g % npix)), s = (st_u32)(g / npix);
+    st_u32 px, py, s;
     if (p.adaptive_count) { /* a round of adaptive sampling (adaptive.cl) */
-        pixel = active[g % p.adaptive_count];
+        st_u32 pixel = active[g % p.adaptive_count];
         s = p.adaptive_base + (st_u32)(g / p.adaptive_count);
+        px = pixel % p.width;
+        py = pixel / p.width;
+    } else {
+        region_item(&p, g, &px, &py, &s);
     }
-    st_u32 px = pixel % p.width, py = pixel / p.width;
-    st_sample_id sid = st_sample_begin(&p, px, py, s);
+    st_u32 pixel = py * p.width + px;
+    st_sample_id sid = st_sample_begin_at(&p, pixel, px, py, s);
     sid.pmj02 = pmj02;
     float u = st_sample_dim(&p, &sid, 0u), v = st_sample_dim(&p, &sid, 1u);
     if (p.reconstruction == ST_RECON_FIS) {

@@ -9,6 +9,34 @@
 #define ST_DIMS_PER_VERTEX 6u
 #define ST_RR_START_DEPTH 3u
 
+/* The part of a path (st_path) that a vertex reads and changes, held in
+ * private values for the vertex: PoCL kept a private st_path, whose fields
+ * are arrays that vload3 and vstore3 address, in memory per work-item
+ * (callgrind: a third of shade's instructions were movs). */
+typedef struct st_walk {
+    float3 beta, radiance;
+    float bsdf_pdf, env_pdf;
+    st_u32 depth;
+} st_walk;
+
+/* Path gp's st_walk. */
+static st_walk walk_load(__global const st_path *gp)
+{
+    st_walk w = {vload3(0, gp->beta), vload3(0, gp->radiance), gp->bsdf_pdf, gp->env_pdf,
+                 gp->depth};
+    return w;
+}
+
+/* Writes w back to path gp. */
+static void walk_store(__global st_path *gp, const st_walk *w)
+{
+    vstore3(w->beta, 0, gp->beta);
+    vstore3(w->radiance, 0, gp->radiance);
+    gp->bsdf_pdf = w->bsdf_pdf;
+    gp->env_pdf = w->env_pdf;
+    gp->depth = w->depth;
+}
+
 /* What the steps know of the surface point a ray reached. */
 typedef struct st_surface {
     float3 pos, wo;  /* the point, and the direction back along the ray */
@@ -98,21 +126,30 @@ static void surface_material(const st_scene_refs *s, const st_params *p, const s
     v->unlit = (m->flags & ST_MAT_UNLIT) != 0u;
 }
 
-/* The surface at hit h of ray r: position, normals (ng on the side its
- * shading normals face) and the material (surface_material). */
-static st_surface surface_at(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                             const st_wave_ray *r, st_hit h)
+/* The surface at hit h of the ray from o along d, which starts path_length
+ * along the path: position, normals (ng on the side its shading normals
+ * face) and the material (surface_material). Forced inline: as a call it
+ * kept the caller's st_surface and st_scene_refs in memory per work-item. */
+ST_HOT st_surface surface_at_ray(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                                 float3 o, float3 d, float path_length, st_hit h)
 {
     st_surface v;
     st_u32 t = h.prim;
-    v.wo = -vload3(0, r->d);
-    v.pos = vload3(0, r->o) - v.wo * h.t;
-    v.travelled = r->path_length + h.t;
+    v.wo = -d;
+    v.pos = o - v.wo * h.t;
+    v.travelled = path_length + h.t;
     v.ng = facing_normal(s->normals, t);
     v.ns = normalize((1.0f - h.u - h.v) * vload4(0, s->normals[t].n0).xyz +
                      h.u * vload4(0, s->normals[t].n1).xyz + h.v * vload4(0, s->normals[t].n2).xyz);
     surface_material(s, p, sh, h, &v);
     return v;
+}
+
+/* surface_at_ray for the ray r. */
+static st_surface surface_at(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                             const st_wave_ray *r, st_hit h)
+{
+    return surface_at_ray(s, p, sh, vload3(0, r->o), vload3(0, r->d), r->path_length, h);
 }
 
 /* The shading frame around ns (once ns faces the ray's side) and wo in it;
@@ -147,8 +184,9 @@ static float3 surface_f_cos(const st_surface *v, float3 wi, float *pdf)
 
 /* Whether the ray goes on through the surface: an alpha MASK cut-out, or
  * BLEND coverage (passes with probability 1 - alpha, drawn from the counter
- * hash keyed by the seed ^ key, the sample, the triangle and depth). */
-static int alpha_passes_keyed(const st_scene_refs *s, const st_params *p, const st_surface *v,
+ * hash keyed by the seed ^ key, the sample, the triangle and depth).
+ * Forced inline, as surface_at_ray. */
+ST_HOT int alpha_passes_keyed(const st_scene_refs *s, const st_params *p, const st_surface *v,
                               st_sample smp, st_u32 prim, st_u32 depth, st_u32 key)
 {
     __global const st_material *m = &s->materials[s->tri_material[prim]];
@@ -233,7 +271,7 @@ static float3 env_sample(const st_scene_refs *s, const st_shading *sh, const st_
  * weight against sampling the same light. The caller adds beta x le x w in
  * one expression, as the compiler may fuse it. */
 static float emission_weight(const st_scene_refs *s, const st_shading *sh, const st_surface *v,
-                             const st_path *pa, st_hit h, float cos_o)
+                             const st_walk *pa, st_hit h, float cos_o)
 {
     float3 le = v->le;
     if (!(cos_o > 0.0f && (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f)))
@@ -244,16 +282,19 @@ static float emission_weight(const st_scene_refs *s, const st_shading *sh, const
     return power_heuristic(pa->bsdf_pdf, pdf_light);
 }
 
-/* The shadow ray `out` towards the point (origin, wi, tmax), adding c when
- * unoccluded. */
-static st_shadow_ray shadow_towards(st_shadow_ray out, float3 origin, float3 wi, float tmax,
-                                    float3 c)
+/* Writes the shadow ray *out towards the point (origin, wi, tmax), adding c
+ * when unoccluded; none (*out left alone) unless tmax > 0. Straight to the
+ * wave's buffer: a private st_shadow_ray returned by value stayed in memory
+ * per work-item on PoCL. */
+static void shadow_towards(__global st_shadow_ray *out, float3 origin, float3 wi, float tmax,
+                           float3 c)
 {
-    vstore3(origin, 0, out.o);
-    out.tmax = tmax;
-    vstore3(wi, 0, out.d);
-    vstore3(c, 0, out.contribution);
-    return out;
+    if (!(tmax > 0.0f))
+        return;
+    vstore3(origin, 0, out->o);
+    out->tmax = tmax;
+    vstore3(wi, 0, out->d);
+    vstore3(c, 0, out->contribution);
 }
 
 /* Next-event estimation towards a punctual light, picked by power with u
@@ -262,9 +303,9 @@ static st_shadow_ray shadow_towards(st_shadow_ray out, float3 origin, float3 wi,
  * shadow ray ends at the light, or for a directional one goes to infinity
  * against its direction; it adds beta f cos I / (d² P(pick)) (d = 1 and I
  * the irradiance for a directional light). */
-static st_shadow_ray punctual_event(const st_scene_refs *s, const st_params *p,
-                                    const st_shading *sh, const st_surface *v, float3 beta, float3 origin, float u,
-                                    st_shadow_ray out)
+static void punctual_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                           const st_surface *v, float3 beta, float3 origin, float u,
+                           __global st_shadow_ray *out)
 {
     st_u32 k = pick_light(s->punct_cdf, sh->punct_count, &u);
     float prob = sh->punct_share * (s->punct_cdf[k] - (k ? s->punct_cdf[k - 1u] : 0.0f));
@@ -281,32 +322,31 @@ static st_shadow_ray punctual_event(const st_scene_refs *s, const st_params *p,
         tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
     }
     if (!(prob > 0.0f && tmax > 0.0f && dot(v->ns, wi) > 0.0f && dot(v->ng, wi) > 0.0f))
-        return out;
+        return;
     float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
-    return shadow_towards(out, origin, wi, tmax,
-                          beta * fc * punctual_intensity(l, wi) / (dist2 * prob));
+    shadow_towards(out, origin, wi, tmax, beta * fc * punctual_intensity(l, wi) / (dist2 * prob));
 }
 
 /* Next-event estimation: a punctual light (with probability punct_share:
  * punctual_event), else the environment (env_sample) or one point on one
  * emissive triangle, chosen by power (env_choice, area_choice), as a
- * shadow ray with what it adds when unoccluded; tmax stays 0 when the
- * sample cannot contribute. One stratified dimension makes each choice
+ * shadow ray *out with what it adds when unoccluded; *out is left alone
+ * (tmax 0) when the sample cannot contribute. One stratified dimension makes each choice
  * and then the sample's first coordinate (pick_light). In the path
  * integrator the environment and area samples are weighted by the power
  * heuristic against the BSDF sample (surface_f_cos's pdf). */
-static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                                const st_surface *v, const st_path *pa, float3 origin,
-                                st_sample_id *id, st_u32 dim)
+static void next_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                       const st_surface *v, const st_walk *pa, float3 origin, st_sample_id *id,
+                       st_u32 dim, __global st_shadow_ray *out)
 {
-    st_shadow_ray out = {{0.0f, 0.0f, 0.0f}, 0.0f, {0.0f, 0.0f, 0.0f}, 0.0f,
-                         {0.0f, 0.0f, 0.0f}, 0.0f};
-    float3 beta = vload3(0, pa->beta);
+    float3 beta = pa->beta;
     int path = p->integrator == ST_INTEGRATOR_PATH;
     float w = 1.0f, pdf_bsdf, u = st_sample_dim(p, id, dim), pe = sh->env_pick;
     if (sh->punct_count > 0u) { /* u both chooses and stays stratified (pick_light) */
-        if (u < sh->punct_share)
-            return punctual_event(s, p, sh, v, beta, origin, u / sh->punct_share, out);
+        if (u < sh->punct_share) {
+            punctual_event(s, p, sh, v, beta, origin, u / sh->punct_share, out);
+            return;
+        }
         u = fmin((u - sh->punct_share) / (1.0f - sh->punct_share), 0.99999994f);
     }
     int take_env = u < pe;
@@ -318,7 +358,7 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
         float pdf_env, choice = env_choice(sh);
         float3 le = env_sample(s, sh, v, u, u2, &wi, &pdf_env);
         if (!(pdf_env > 0.0f && dot(wi, v->ng) > 0.0f))
-            return out;
+            return;
         float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
         w = path ? power_heuristic(pdf_env * choice, pdf_bsdf) : 1.0f;
         c = beta * fc * le * (w / (pdf_env * choice));
@@ -332,7 +372,7 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
         wi /= dist;
         float cos_l = -dot(nl, wi), cos_s = dot(v->ns, wi);
         if (!(cos_l > 0.0f && cos_s > 0.0f && dot(v->ng, wi) > 0.0f))
-            return out;
+            return;
         float pdf_light = s->light_pdf[lt] * dist2 / cos_l;
         float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
         w = path ? power_heuristic(pdf_light * choice, pdf_bsdf) : 1.0f;
@@ -340,16 +380,16 @@ static st_shadow_ray next_event(const st_scene_refs *s, const st_params *p, cons
         c = beta * fc * lel * (w / pdf_light) / choice;
         tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
     } else {
-        return out;
+        return;
     }
-    return shadow_towards(out, origin, wi, tmax, c);
+    shadow_towards(out, origin, wi, tmax, c);
 }
 
 /* The BSDF sample: a cosine-weighted direction for a Lambertian surface,
  * else one from the BRDF's mixture (bsdf.h); beta *= f cos / pdf, bsdf_pdf
  * = pdf and env_pdf = cos / π for MIS where the ray ends. Returns 0 when the
  * direction is below the geometric surface (the path ends). */
-static int bsdf_bounce(const st_params *p, const st_surface *v, st_path *pa, st_sample_id *id,
+static int bsdf_bounce(const st_params *p, const st_surface *v, st_walk *pa, st_sample_id *id,
                        st_u32 dim, float3 *wi)
 {
     float cz, u1 = st_sample_dim(p, id, dim + 2u), u2 = st_sample_dim(p, id, dim + 3u);
@@ -372,7 +412,7 @@ static int bsdf_bounce(const st_params *p, const st_surface *v, st_path *pa, st_
     }
     if (!(cz > 0.0f) || dot(*wi, v->ng) <= 0.0f)
         return 0;
-    vstore3(vload3(0, pa->beta) * weight, 0, pa->beta);
+    pa->beta *= weight;
     pa->env_pdf = cz / ST_PI_F;
     return 1;
 }
@@ -380,15 +420,15 @@ static int bsdf_bounce(const st_params *p, const st_surface *v, st_path *pa, st_
 /* Russian roulette from the ST_RR_START_DEPTH-th vertex on: the path ends
  * with probability q = max(0.05, 1 - max beta) and survivors divide by
  * 1 - q. Returns 0 when it ends. */
-static int roulette(const st_params *p, st_path *pa, st_sample_id *id, st_u32 dim)
+static int roulette(const st_params *p, st_walk *pa, st_sample_id *id, st_u32 dim)
 {
     if (pa->depth + 1u < ST_RR_START_DEPTH)
         return 1;
-    float3 beta = vload3(0, pa->beta);
+    float3 beta = pa->beta;
     float q = fmax(0.05f, 1.0f - fmax(beta.x, fmax(beta.y, beta.z)));
     if (st_sample_dim(p, id, dim + 5u) < q)
         return 0;
-    vstore3(beta / (1.0f - q), 0, pa->beta);
+    pa->beta = beta / (1.0f - q);
     return 1;
 }
 

@@ -376,10 +376,12 @@ ST_FN st_u32 st_halton_index(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
     return (st_u32)(h % stride) + s * stride;
 }
 
-ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
+/* Sample s of the pixel with index pixel = py * width + px. */
+ST_FN st_sample_id st_sample_begin_at(const st_params *p, st_u32 pixel, st_u32 px, st_u32 py,
+                                      st_u32 s)
 {
     st_sample_id id;
-    id.pixel = py * p->width + px;
+    id.pixel = pixel;
     id.sample = s;
     id.key = st_rng_key(p->seed, id.pixel, s);
     /* the random sampler reads the key alone: no per-pixel key (four hashes) */
@@ -393,6 +395,27 @@ ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_
     id.py = py;
     id.pmj02 = 0;
     return id;
+}
+
+/* Sample s of pixel (px, py). */
+ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
+{
+    return st_sample_begin_at(p, py * p->width + px, px, py, s);
+}
+
+/* Sample s of the pixel with index `pixel`: the division that splits the
+ * index into (px, py) only for the samplers that read them (Halton, global
+ * Sobol', ZSobol); the others get (0, 0), which they never read. Shade
+ * knows the index alone, and a 32-bit divide per hit was measurable. */
+ST_FN st_sample_id st_sample_begin_pixel(const st_params *p, st_u32 pixel, st_u32 s)
+{
+    st_u32 px = 0u, py = 0u;
+    if (p->sampler == ST_SAMPLER_HALTON || p->sampler == ST_SAMPLER_SOBOL ||
+        p->sampler == ST_SAMPLER_ZSOBOL) {
+        px = pixel % p->width;
+        py = pixel / p->width;
+    }
+    return st_sample_begin_at(p, pixel, px, py, s);
 }
 
 /* Position cell + jitter of [0, 1) cut in n equal cells, kept inside the cell. */

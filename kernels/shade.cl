@@ -56,89 +56,104 @@
 /* A path that left the scene along d sees the environment, weighted by MIS
  * where next-event estimation samples it too (see the top). */
 static void shade_miss(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                       st_path *pa, __global const st_wave_ray *r)
+                       st_walk *pa, float3 d)
 {
     float3 env = vload4(0, sh->env).xyz;
     if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f) {
         float pdf_env = pa->env_pdf, choice = env_choice(sh);
-        float3 le = env_radiance(s, sh, vload3(0, r->d), &pdf_env);
+        float3 le = env_radiance(s, sh, d, &pdf_env);
         float w = pa->depth > 0u && p->integrator == ST_INTEGRATOR_PATH && choice > 0.0f
                       ? power_heuristic(pa->bsdf_pdf, pdf_env * choice)
                       : 1.0f;
-        vstore3(vload3(0, pa->radiance) + vload3(0, pa->beta) * le * w, 0, pa->radiance);
+        pa->radiance = pa->radiance + pa->beta * le * w;
     }
     pa->depth = ST_PATH_DEAD;
+}
+
+/* The ray item i follows next: from o along d, path_length along the path. */
+static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_length)
+{
+    vstore3(o, 0, r->o);
+    r->tmax = INFINITY;
+    vstore3(d, 0, r->d);
+    r->path_length = path_length;
+}
+
+/* The rest of a vertex on surface v after emission, alpha and unlit (see
+ * shade_item): next-event estimation's shadow ray and the bounce, or the
+ * path's end. */
+static void shade_scatter(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                          st_surface *v, st_walk *pa, st_u32 pixel, st_u32 index,
+                          __global const st_u32 *pmj02, __global st_shadow_ray *shadow,
+                          __global st_wave_ray *ray)
+{
+    if (pa->depth >= p->max_depth) {
+        pa->depth = ST_PATH_DEAD;
+        return;
+    }
+    surface_frame(v);
+    st_sample_id id = st_sample_begin_pixel(p, pixel, index);
+    id.pmj02 = pmj02;
+    st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa->depth;
+    float3 origin = v->pos + v->ng * p->ray_eps, wi;
+    next_event(s, p, sh, v, pa, origin, &id, dim, shadow);
+    if (p->integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(p, v, pa, &id, dim, &wi) ||
+        !roulette(p, pa, &id, dim)) {
+        pa->depth = ST_PATH_DEAD;
+    } else {
+        ray_store(ray, origin, wi, v->travelled);
+        pa->depth++;
+    }
 }
 
 /* One vertex of item i's path, if live: reads hit, ray, path and sample;
  * adds the emission it sees to the path's radiance, writes the shadow ray of
  * next-event estimation (tmax 0: none) and the next ray, or ends the path
  * (depth ST_PATH_DEAD). Forced inline; the values p and sh by pointer: as
- * by-value parameters PoCL copied them for every work-item (callgrind). */
+ * by-value parameters PoCL copied them for every work-item (callgrind). The
+ * path, ray and sample are read field by field where used, never copied
+ * whole into private structs (see st_walk). */
 ST_HOT void shade_item(st_u32 i, const st_params *p,
                        const st_shading *sh ST_SCENE_BUFFERS(ST_SCENE_PARAM)
                            ST_WAVE_BUFFERS(ST_WAVE_PARAM))
 {
     shadow[i].tmax = 0.0f;
-    st_path pa = path[i];
-    if (pa.depth == ST_PATH_DEAD)
+    __global st_path *gp = &path[i];
+    if (gp->depth == ST_PATH_DEAD)
         return;
-    pa.closest_rays++;
+    gp->closest_rays++;
+    st_walk pa = walk_load(gp);
     st_hit h = hit[i];
     st_scene_refs s = ST_SCENE_REFS_INIT;
+    __global st_wave_ray *r = &ray[i];
+    float3 d = vload3(0, r->d);
     if (h.prim == ST_NO_HIT) {
-        shade_miss(&s, p, sh, &pa, &ray[i]);
-        path[i] = pa;
+        shade_miss(&s, p, sh, &pa, d);
+        walk_store(gp, &pa);
         return;
     }
-    st_wave_ray r = ray[i];
     st_sample smp = sample[i];
-    st_surface v = surface_at(&s, p, sh, &r, h);
+    st_surface v = surface_at_ray(&s, p, sh, vload3(0, r->o), d, r->path_length, h);
     if (alpha_passes(&s, p, &v, smp, h.prim, pa.depth)) { /* go on through */
-        vstore3(v.pos - v.wo * p->ray_eps, 0, r.o);
-        r.tmax = INFINITY;
-        vstore3(-v.wo, 0, r.d);
-        r.path_length = v.travelled;
-        ray[i] = r;
-        path[i] = pa;
+        ray_store(r, v.pos - v.wo * p->ray_eps, -v.wo, v.travelled);
         return;
     }
     if (v.unlit) { /* KHR_materials_unlit: its colour, from either side, and no more */
-        vstore3(vload3(0, pa.radiance) + vload3(0, pa.beta) * v.base.xyz, 0, pa.radiance);
+        pa.radiance = pa.radiance + pa.beta * v.base.xyz;
         pa.depth = ST_PATH_DEAD;
-        path[i] = pa;
+        walk_store(gp, &pa);
         return;
     }
     float cos_o = dot(v.ng, v.wo);
     float we = emission_weight(&s, sh, &v, &pa, h, cos_o);
     if (we > 0.0f)
-        vstore3(vload3(0, pa.radiance) + vload3(0, pa.beta) * v.le * we, 0, pa.radiance);
+        pa.radiance = pa.radiance + pa.beta * v.le * we;
     if (cos_o < 0.0f) /* shade the side the ray arrived on */
         v.ng = -v.ng;
     if (dot(v.ns, v.ng) < 0.0f)
         v.ns = -v.ns;
-    surface_frame(&v);
-    st_sample_id id = st_sample_begin(p, smp.pixel % p->width, smp.pixel / p->width, smp.index);
-    id.pmj02 = pmj02;
-    st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa.depth;
-    float3 origin = v.pos + v.ng * p->ray_eps, wi;
-    if (pa.depth >= p->max_depth) {
-        pa.depth = ST_PATH_DEAD;
-    } else {
-        st_shadow_ray sr = next_event(&s, p, sh, &v, &pa, origin, &id, dim);
-        if (sr.tmax > 0.0f)
-            shadow[i] = sr;
-        if (p->integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(p, &v, &pa, &id, dim, &wi) ||
-            !roulette(p, &pa, &id, dim)) {
-            pa.depth = ST_PATH_DEAD;
-        } else {
-            st_wave_ray next = {{origin.x, origin.y, origin.z}, INFINITY, {wi.x, wi.y, wi.z},
-                                v.travelled};
-            ray[i] = next;
-            pa.depth++;
-        }
-    }
-    path[i] = pa;
+    shade_scatter(&s, p, sh, &v, &pa, smp.pixel, smp.index, pmj02, &shadow[i], r);
+    walk_store(gp, &pa);
 }
 
 /* The stage's arguments, passed on to shade_item. */
