@@ -95,8 +95,8 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 /* Which rays are traced in packets of 8 per work-item (packet_path;
  * kernels/packet.h), same film bit for bit but for ties between triangles:
  * AUTO the device type's (src/render.c: trace_packets), NONE one ray per
- * work-item, COHERENT the camera rays and the shadow rays (these only in
- * scenes whose materials are all opaque), ALL every closest-hit ray too. */
+ * work-item, COHERENT the camera rays and the shadow rays from their hits,
+ * ALL every ray. Shadow rays only in scenes whose materials are all opaque. */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,

@@ -443,16 +443,17 @@ static int trace_packets(const st_renderer *r, const st_render_options *o)
     return st_device_get_info(r->dev)->is_cpu ? ST_PACKET_COHERENT : ST_PACKET_NONE;
 }
 
-/* Stage k (ST_STAGE_TRACE at vertex v, or ST_STAGE_SHADOW) over the wave's
- * n items: in packets (ceil(n / 8) work-items) where trace_packets says so. */
+/* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the wave's
+ * items: in packets (ceil(n / 8) work-items) where trace_packets says so;
+ * coherent are the rays of vertex 0 (camera rays, and shadow rays from
+ * where they hit), a bounce's scatter (paths measured slower in packets). */
 static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    int packets = trace_packets(r, o), n = 0;
-    if (k == ST_STAGE_TRACE)
-        n = packets == ST_PACKET_ALL || (packets == ST_PACKET_COHERENT && v == 0u);
-    else
-        n = packets != ST_PACKET_NONE && r->all_opaque;
+    int packets = trace_packets(r, o);
+    int n = packets == ST_PACKET_ALL || (packets == ST_PACKET_COHERENT && v == 0u);
+    if (k == ST_STAGE_SHADOW)
+        n &= r->all_opaque;
     if (!n)
         return run_stage(r, k, p, p->item_count, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
