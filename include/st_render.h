@@ -60,6 +60,7 @@ typedef struct st_render_options {
     int profile;       /* time every stage (slower: waits after each launch) */
     int splat_path;    /* internal (tests, measurements): ST_SPLAT_* */
     int shadow_path;   /* internal (tests, measurements): ST_SHADOW_* */
+    st_u32 packet_path; /* ST_PACKET_* (--packets) */
 } st_render_options;
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
@@ -91,6 +92,13 @@ enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE 
  * type (inside shade_hits measured no faster on PoCL's CPU device: README),
  * or one of them. */
 enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
+/* Which rays are traced in packets of 8 per work-item (packet_path;
+ * kernels/packet.h), same film bit for bit but for ties between triangles:
+ * AUTO the device type's (src/render.c: trace_packets), NONE one ray per
+ * work-item, COHERENT the camera rays and the shadow rays from their hits,
+ * ALL every ray. Shadow rays only in scenes whose materials are all opaque. */
+enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
+extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */

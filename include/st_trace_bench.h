@@ -32,4 +32,17 @@ typedef struct st_trace_bench_result {
 st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st_u64 count,
                          st_trace_bench_result *out, st_error *err);
 
+/* Rays traced alone, in one launch of one kernel, for the tests that
+ * compare the single-ray and the packet kernels (kernels/packet.h) with
+ * each other and with the host: st_trace_closest gives the closest hits of
+ * rays[0 .. n) through trace_rays, or trace_rays_packet when packets;
+ * st_trace_shadow whether each ray (o, d, tmax; tmax <= 0: no ray) is
+ * blocked through trace_shadow_rays, or trace_shadow_rays_packet:
+ * blocked[i] 1 blocked, 0 clear, -1 not traced. Launched with
+ * o->local_size. */
+st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packets,
+                           const st_wave_ray *rays, size_t n, st_hit *hits, st_error *err);
+st_status st_trace_shadow(st_renderer *r, const st_render_options *o, int packets,
+                          const st_wave_ray *rays, size_t n, int *blocked, st_error *err);
+
 #endif

@@ -10,6 +10,7 @@
 #include "bsdf.h"
 #include "integrator.h"
 #include "shadow.h"
+#include "packet.h"
 
 /* Reads ray and path (depth ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT
  * on a miss). */
@@ -39,4 +40,77 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
         return;
     st_scene_refs sc = ST_SCENE_REFS_INIT;
     trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
+}
+
+/* Packets (packet.h): work-item g takes items 8 g .. 8 g + 7 of the wave,
+ * lane j item 8 g + j; the host launches ceil(item_count / 8) work-items
+ * (src/render.c), so the last packet's lanes past item_count are masked. */
+static st_u32 packet_first(void) { return (st_u32)get_global_id(0) * ST_PACKET; }
+
+/* trace_rays over a packet: the same hits, written for the same items (the
+ * live ones: below item_count, path alive). */
+__kernel void trace_rays_packet(ST_STAGE_PARAMS)
+{
+    st_u32 first = packet_first(), live = 0u;
+    st_ray r[ST_PACKET];
+    float tmax[ST_PACKET];
+    for (st_u32 j = 0u; j < ST_PACKET; ++j) {
+        st_u32 i = first + j;
+        int take = i < p.item_count && path[i].depth != ST_PATH_DEAD;
+        st_wave_ray w = ray[take ? i : 0u];
+        r[j].o[0] = w.o[0]; r[j].o[1] = w.o[1]; r[j].o[2] = w.o[2];
+        r[j].d[0] = w.d[0]; r[j].d[1] = w.d[1]; r[j].d[2] = w.d[2];
+        r[j].tmax = tmax[j] = take ? w.tmax : -1.0f;
+        live |= (st_u32)take << j;
+    }
+    if (live == 0u)
+        return;
+    st_packet pk;
+    st_packet_hits h;
+    st_packet_setup(&pk, r, live);
+    st_packet_closest(nodes, tris, &pk, vload8(0, tmax), &h);
+    float t[ST_PACKET], u[ST_PACKET], v[ST_PACKET];
+    uint prim[ST_PACKET];
+    vstore8(h.t, 0, t);
+    vstore8(h.u, 0, u);
+    vstore8(h.v, 0, v);
+    vstore8(h.prim, 0, prim);
+    for (st_u32 j = 0u; j < ST_PACKET; ++j)
+        if ((live >> j) & 1u) {
+            st_hit o = {t[j], u[j], v[j], prim[j]};
+            hit[first + j] = o;
+        }
+}
+
+/* trace_shadow_rays over a packet, for scenes whose materials are all
+ * opaque (the host's choice: any hit then blocks, so no lane needs
+ * shadow_blocked's walk through alpha): the same radiance and counts as
+ * trace_shadow_item, lane by lane. */
+__kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
+{
+    st_u32 first = packet_first(), live = 0u;
+    st_ray r[ST_PACKET];
+    float tmax[ST_PACKET];
+    for (st_u32 j = 0u; j < ST_PACKET; ++j) {
+        st_u32 i = first + j;
+        st_shadow_ray s = shadow[i < p.item_count ? i : 0u];
+        int take = i < p.item_count && s.tmax > 0.0f;
+        r[j].o[0] = s.o[0]; r[j].o[1] = s.o[1]; r[j].o[2] = s.o[2];
+        r[j].d[0] = s.d[0]; r[j].d[1] = s.d[1]; r[j].d[2] = s.d[2];
+        r[j].tmax = tmax[j] = take ? s.tmax : -1.0f;
+        live |= (st_u32)take << j;
+    }
+    if (live == 0u)
+        return;
+    st_packet pk;
+    st_packet_setup(&pk, r, live);
+    st_u32 blocked = st_packet_occluded(nodes, tris, &pk, vload8(0, tmax));
+    for (st_u32 j = 0u; j < ST_PACKET; ++j) {
+        if (!((live >> j) & 1u))
+            continue;
+        __global st_path *pa = &path[first + j];
+        float3 l = (blocked >> j) & 1u ? (float3)(0.0f) : vload3(0, shadow[first + j].contribution);
+        vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
+        pa->shadow_rays++;
+    }
 }

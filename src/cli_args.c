@@ -65,6 +65,10 @@ static const char render_help[] =
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
     "  --local-size N         OpenCL work-group size (default 64; the image does not change;\n"
     "                         a CPU device's tile splat keeps one work-item per group)\n"
+    "  --packets auto|none|coherent|all   rays traced 8 to a work-item: coherent = camera rays\n"
+    "                         and the shadow rays from their hits, all = every ray (shadow rays\n"
+    "                         only in scenes without alpha); auto: coherent on CPU devices, none\n"
+    "                         on GPUs (the image does not change; `bench --rays`: with all only)\n"
     "  --threads N            run on N of a CPU device's compute units (an OpenCL sub-device;\n"
     "                         default all; the image does not change)\n"
     "  --exposure EV          PNG only: scale by 2^EV before the tone curve (default 0)\n"
@@ -78,7 +82,8 @@ enum {
     O_WIDTH = 256, O_HEIGHT, O_SPP, O_SAMPLE_RANGE, O_SAMPLER, O_SCRAMBLE, O_FILTER, O_RADIUS,
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
-    O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP
+    O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
+    O_PACKETS
 };
 
 static const struct option options[] = {
@@ -101,6 +106,7 @@ static const struct option options[] = {
     {"device", required_argument, 0, O_DEVICE},
     {"wave", required_argument, 0, O_WAVE},
     {"local-size", required_argument, 0, O_LOCAL},
+    {"packets", required_argument, 0, O_PACKETS},
     {"scene-list", no_argument, 0, O_SCENE_LIST},
     {"reconstruction", required_argument, 0, O_RECON},
     {"adaptive", no_argument, 0, O_ADAPTIVE},
@@ -389,6 +395,7 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_DEVICE: a->device = v; return ST_CLI_OK;
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);
+    case O_PACKETS: return parse_name("--packets", st_packet_names, 4, v, &o->packet_path);
     case O_SCENE_LIST: a->scene_list = 1; return ST_CLI_OK;
     case O_QUIET:
     case 'q': a->quiet = 1; return ST_CLI_OK;

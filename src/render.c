@@ -21,6 +21,7 @@ const char *const st_stage_names[ST_STAGE_COUNT] = {
 
 const char *const st_integrator_names[2] = {"direct", "path"};
 const char *const st_reconstruction_names[2] = {"splat", "fis"};
+const char *const st_packet_names[4] = {"auto", "none", "coherent", "all"};
 
 double st_render_now(void)
 {
@@ -195,7 +196,9 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
             return err->status;
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err))
+        st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
         return err->status;
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
     size_t window = p->bins ? tile_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
@@ -430,6 +433,33 @@ static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
     return o->shadow_path == ST_SHADOW_IN_SHADE;
 }
 
+/* Which rays go in packets (ST_PACKET_*): on a CPU device the coherent
+ * ones, measured faster (README); elsewhere none (a GPU's work-items already
+ * run in lockstep, and none was lent to measure on). */
+static int trace_packets(const st_renderer *r, const st_render_options *o)
+{
+    if (o->packet_path != ST_PACKET_AUTO)
+        return o->packet_path;
+    return st_device_get_info(r->dev)->is_cpu ? ST_PACKET_COHERENT : ST_PACKET_NONE;
+}
+
+/* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the wave's
+ * items: in packets (ceil(n / 8) work-items) where trace_packets says so;
+ * coherent are the rays of vertex 0 (camera rays, and shadow rays from
+ * where they hit), a bounce's scatter (paths measured slower in packets). */
+static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
+                           const st_render_options *o, st_render_stats *st, st_error *err)
+{
+    int packets = trace_packets(r, o);
+    int n = packets == ST_PACKET_ALL || (packets == ST_PACKET_COHERENT && v == 0u);
+    if (k == ST_STAGE_SHADOW)
+        n &= r->all_opaque;
+    if (!n)
+        return run_stage(r, k, p, p->item_count, o, st, err);
+    cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
+    return run_kernel(r, kl, k, p, (p->item_count + 7u) / 8u, o->local_size, o, st, err);
+}
+
 /* One wave: items [first, first + n) of the render's item space. */
 static st_status run_wave(st_renderer *r, st_params *p, const st_render_options *o,
                           st_render_stats *st, st_error *err)
@@ -445,10 +475,10 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
     int in_shade = shadows_in_shade(r, o);
     cl_kernel shade = in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
     for (st_u32 v = 0; v < vertices; v++) {
-        if (run_stage(r, ST_STAGE_TRACE, p, n, o, st, err) ||
+        if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) ||
             run_kernel(r, shade, ST_STAGE_SHADE, p, n, o->local_size, o, st, err))
             return err->status;
-        if (!in_shade && v < p->max_depth && run_stage(r, ST_STAGE_SHADOW, p, n, o, st, err))
+        if (!in_shade && v < p->max_depth && run_trace(r, ST_STAGE_SHADOW, v, p, o, st, err))
             return err->status;
     }
     return splat_wave(r, p, o, st, err);

@@ -84,13 +84,15 @@ static st_status trace_wave(st_renderer *r, const st_render_options *o, int set,
     st_params p;
     memset(&p, 0, sizeof p);
     p.item_count = (st_u32)n;
-    cl_kernel k = r->k[ST_STAGE_TRACE];
+    int packets = o->packet_path == ST_PACKET_ALL;
+    cl_kernel k = packets ? r->trace_packet : r->k[ST_STAGE_TRACE];
     if (st_trace_bench_rays(r->scene, o, set, first, n, rays, err) ||
         st_device_buffer_write(r->dev, w->b[ST_WAVE_ray], n * sizeof *rays, rays, err) ||
         st_wave_set_params(k, &p, err) || st_device_finish(r->dev, err))
         return err->status;
     double t0 = st_render_now();
-    if (st_device_launch(r->dev, k, n, o->local_size, err) || st_device_finish(r->dev, err))
+    if (st_device_launch(r->dev, k, packets ? (n + 7) / 8 : n, o->local_size, err) ||
+        st_device_finish(r->dev, err))
         return err->status;
     res->seconds += st_render_now() - t0;
     if (st_device_buffer_read(r->dev, w->b[ST_WAVE_hit], n * sizeof *hits, hits, err))
@@ -122,7 +124,8 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
     /* every path alive (depth 0): trace_rays skips dead ones */
     if (!rc && (st_wave_create(r->dev, wave, 1, 0, &w, err) ||
                 st_device_buffer_zero(r->dev, w.b[ST_WAVE_path], st_wave_bytes(&w, ST_WAVE_path), err) ||
-                st_wave_bind_stage(r->k[ST_STAGE_TRACE], &p, &sh, r->scene_buf, &w, err)))
+                st_wave_bind_stage(r->k[ST_STAGE_TRACE], &p, &sh, r->scene_buf, &w, err) ||
+                st_wave_bind_stage(r->trace_packet, &p, &sh, r->scene_buf, &w, err)))
         rc = err->status;
     /* PoCL compiles a kernel at its first launch: one untimed wave first */
     st_trace_bench_result warm = {0};
@@ -135,5 +138,73 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
     st_wave_destroy(&w);
     free(rays);
     free(hits);
+    return rc;
+}
+
+/* Launches k over the n rays of wave w (ceil(n / 8) work-items for a
+ * packet kernel) with every path alive, and waits. */
+static st_status launch_alone(st_renderer *r, const st_render_options *o, cl_kernel k, int packets,
+                              size_t n, st_wave *w, st_error *err)
+{
+    st_params p;
+    st_shading sh;
+    memset(&p, 0, sizeof p);
+    memset(&sh, 0, sizeof sh);
+    p.item_count = (st_u32)n;
+    p.ray_eps = r->ray_eps;
+    if (st_device_buffer_zero(r->dev, w->b[ST_WAVE_path], st_wave_bytes(w, ST_WAVE_path), err) ||
+        st_wave_bind_stage(k, &p, &sh, r->scene_buf, w, err) ||
+        st_device_launch(r->dev, k, packets ? (n + 7) / 8 : n, o->local_size, err))
+        return err->status;
+    return st_device_finish(r->dev, err);
+}
+
+st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packets,
+                           const st_wave_ray *rays, size_t n, st_hit *hits, st_error *err)
+{
+    st_wave w;
+    memset(&w, 0, sizeof w);
+    st_status rc = st_wave_create(r->dev, n, 1, 0, &w, err);
+    if (!rc)
+        rc = st_device_buffer_write(r->dev, w.b[ST_WAVE_ray], n * sizeof *rays, rays, err);
+    if (!rc)
+        rc = launch_alone(r, o, packets ? r->trace_packet : r->k[ST_STAGE_TRACE], packets, n, &w,
+                          err);
+    if (!rc)
+        rc = st_device_buffer_read(r->dev, w.b[ST_WAVE_hit], n * sizeof *hits, hits, err);
+    st_wave_destroy(&w);
+    return rc;
+}
+
+/* Shadow rays of contribution (1, 1, 1): radiance 1 clear, 0 blocked, and
+ * shadow_rays 1 where traced. */
+st_status st_trace_shadow(st_renderer *r, const st_render_options *o, int packets,
+                          const st_wave_ray *rays, size_t n, int *blocked, st_error *err)
+{
+    st_wave w;
+    memset(&w, 0, sizeof w);
+    st_shadow_ray *s = calloc(n ? n : 1, sizeof *s);
+    st_path *path = malloc((n ? n : 1) * sizeof *path);
+    st_status rc = s && path ? ST_OK : st_fail(err, ST_ERR_NOMEM, "out of memory for %zu rays", n);
+    for (size_t i = 0; !rc && i < n; i++) {
+        memcpy(s[i].o, rays[i].o, sizeof s[i].o);
+        memcpy(s[i].d, rays[i].d, sizeof s[i].d);
+        s[i].tmax = rays[i].tmax;
+        s[i].contribution[0] = s[i].contribution[1] = s[i].contribution[2] = 1.0f;
+    }
+    if (!rc)
+        rc = st_wave_create(r->dev, n, 1, 0, &w, err);
+    if (!rc)
+        rc = st_device_buffer_write(r->dev, w.b[ST_WAVE_shadow], n * sizeof *s, s, err);
+    if (!rc)
+        rc = launch_alone(r, o, packets ? r->shadow_packet : r->k[ST_STAGE_SHADOW], packets, n,
+                          &w, err);
+    if (!rc)
+        rc = st_device_buffer_read(r->dev, w.b[ST_WAVE_path], n * sizeof *path, path, err);
+    for (size_t i = 0; !rc && i < n; i++)
+        blocked[i] = path[i].shadow_rays == 0u ? -1 : path[i].radiance[0] == 0.0f;
+    st_wave_destroy(&w);
+    free(s);
+    free(path);
     return rc;
 }

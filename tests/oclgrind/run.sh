@@ -40,6 +40,9 @@ run "best-candidate (tiled), triangle" render $D --spp 2 --sampler best-candidat
 run "poisson (tiled), blackman-harris" render $D --spp 2 --sampler poisson --filter blackman-harris -o "$T/f.exr"
 run "filter importance sampling" render $D --spp 2 --sampler halton --reconstruction fis -o "$T/g.exr"
 run "adaptive sampling" render $D --adaptive --spp 3 --min-spp 2 --max-spp 4 --sampler random -o "$T/h.exr"
+# Oclgrind is a "gpu", where --packets auto is none: the packet kernels asked for
+run "packets of 8 rays (camera, shadow), direct" render $D --spp 2 --integrator direct --packets coherent -o "$T/k.exr"
+run "packets of 8 rays (every closest hit), path" render $D --spp 2 --max-depth 2 --packets all -o "$T/l.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
