@@ -118,7 +118,7 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libstrata.a | $(BUILD)
 $(BUILD):
 	mkdir -p $(BUILD)
 
-test: deps strata $(TEST_BIN)
+test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere
 	@BUILD=$(BUILD) sh tests/run.sh $(TEST_BIN) $(wildcard tests/test_*.sh)
 
 # The scene import and the malformed-file suite under AddressSanitizer and

@@ -94,7 +94,7 @@ enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE 
 enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 /* Which rays are traced in packets of 8 per work-item (packet_path;
  * kernels/packet.h), same film bit for bit but for ties between triangles:
- * AUTO the device type's (src/render.c: trace_packets), NONE one ray per
+ * AUTO the device type's and scene size's (st_renderer_packets), NONE one ray per
  * work-item, COHERENT the camera rays and the shadow rays from their hits,
  * ALL every ray. Shadow rays only in scenes whose materials are all opaque. */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
@@ -120,6 +120,8 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
 void st_renderer_destroy(st_renderer *r); /* NULL: does nothing */
 double st_renderer_bvh_seconds(const st_renderer *r);
 st_u32 st_renderer_light_count(const st_renderer *r);
+/* The ST_PACKET_* a render of o uses on r's device and scene (AUTO resolved). */
+int st_renderer_packets(const st_renderer *r, const st_render_options *o);
 /* Makes the equirectangular map m the environment of the renders that
  * follow (replacing the uniform st_render_options.env; NULL: back to it)
  * and uploads it. m is borrowed and must outlive those renders. */

@@ -71,6 +71,7 @@ typedef struct bench_result {
     double cold, cached, bvh, load;
     st_u32 triangles, lights;
     const char *device, *scene;
+    const char *packets; /* the rays traced in packets (--packets, auto resolved) */
     st_cli_check check;
 } bench_result;
 
@@ -94,10 +95,11 @@ static void print_text(const st_cli_render_args *a, const bench_result *b)
     const st_render_options *o = &a->opt;
     printf("device     %s\nscene      %s (%u triangles, %u emissive)\n", b->device, b->scene,
            b->triangles, b->lights);
-    printf("settings   %ux%u, %u spp, %s sampler, %s filter r=%g, %s integrator, max depth %u\n",
+    printf("settings   %ux%u, %u spp, %s sampler, %s filter r=%g, %s integrator, max depth %u, "
+           "packets %s\n",
            o->width, o->height, o->spp, st_sampler_names[o->sampler],
            st_filter_names[o->filter.kind], (double)o->filter.radius,
-           st_integrator_names[o->integrator], o->max_depth);
+           st_integrator_names[o->integrator], o->max_depth, b->packets);
     printf("check      %s\n", b->check.message);
     printf("bvh build  %.4f s (%.2f M triangles/s)\n", b->bvh,
            b->bvh > 0 ? b->triangles / b->bvh * 1e-6 : 0.0);
@@ -155,7 +157,7 @@ static int json_head(cJSON *root, const st_cli_render_args *a, const bench_resul
              put_str(root, "filter", st_filter_names[o->filter.kind]) &&
              put_num(root, "filter_radius", shown("%g", (double)o->filter.radius)) &&
              put_str(root, "integrator", st_integrator_names[o->integrator]) &&
-             put_num(root, "max_depth", o->max_depth);
+             put_num(root, "max_depth", o->max_depth) && put_str(root, "packets", b->packets);
     cJSON *check = ok ? cJSON_AddObjectToObject(root, "check") : NULL;
     return check && cJSON_AddTrueToObject(check, "passed") &&
            put_str(check, "message", b->check.message) &&
@@ -234,6 +236,7 @@ int st_cli_bench(int argc, char **argv)
     b.lights = st_renderer_light_count(s.renderer);
     b.device = st_device_get_info(s.dev)->name;
     b.scene = s.scene->name;
+    b.packets = st_packet_names[st_renderer_packets(s.renderer, &a.opt)];
     if (a.json) {
         if (print_json(&a, &b, &err) != ST_OK)
             rc = st_cli_fail(&err);

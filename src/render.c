@@ -445,7 +445,7 @@ static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
 /* Which rays go in packets (ST_PACKET_*): on a CPU device the coherent
  * ones of a large scene, measured faster (above); elsewhere none (a GPU's
  * work-items already run in lockstep, and none was lent to measure on). */
-static int trace_packets(const st_renderer *r, const st_render_options *o)
+int st_renderer_packets(const st_renderer *r, const st_render_options *o)
 {
     if (o->packet_path != ST_PACKET_AUTO)
         return o->packet_path;
@@ -454,13 +454,13 @@ static int trace_packets(const st_renderer *r, const st_render_options *o)
 }
 
 /* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the wave's
- * items: in packets (ceil(n / 8) work-items) where trace_packets says so;
+ * items: in packets (ceil(n / 8) work-items) where st_renderer_packets says so;
  * coherent are the rays of vertex 0 (camera rays, and shadow rays from
  * where they hit), a bounce's scatter (paths measured slower in packets). */
 static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    int packets = trace_packets(r, o);
+    int packets = st_renderer_packets(r, o);
     int n = packets == ST_PACKET_ALL || (packets == ST_PACKET_COHERENT && v == 0u);
     if (k == ST_STAGE_SHADOW)
         n &= r->all_opaque;
