@@ -1,12 +1,13 @@
 /* device_fixture.h — the one device fixture of the tests that run kernels:
  * the default OpenCL device (PoCL's CPU) with the program built, as cmocka
- * group setup and teardown. Include after <cmocka.h>. */
+ * group setup and teardown; and a scene loader. Include after <cmocka.h>. */
 #ifndef ST_DEVICE_FIXTURE_H
 #define ST_DEVICE_FIXTURE_H
 
 #include <stdio.h>
 
 #include "st_device.h"
+#include "st_scene.h"
 
 static st_device *dev;
 
@@ -27,6 +28,16 @@ static int device_teardown(void **state)
     st_device_destroy(dev);
     dev = NULL;
     return 0;
+}
+
+/* Scene `name` (a file or a built-in scene), or the test fails. */
+static inline st_scene *fixture_scene(const char *name)
+{
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load(name, &s, &err) != ST_OK)
+        fail_msg("load %s: %s", name, err.msg);
+    return s;
 }
 
 #endif

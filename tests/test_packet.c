@@ -24,15 +24,6 @@
 
 #define N_RAYS 12003 /* 1500 packets and a tail of 3 */
 
-static st_scene *load(const char *name)
-{
-    st_error err = {0};
-    st_scene *s = NULL;
-    if (st_scene_load(name, &s, &err) != ST_OK)
-        fail_msg("load %s: %s", name, err.msg);
-    return s;
-}
-
 /* The rays of one kind: 0 coherent (packets of 8 directions within about
  * 0.01 rad of a random camera ray, as neighbouring pixels are), 1 random,
  * 2 camera rays turned round (most leave the scene), 3 random rays whose
@@ -174,7 +165,7 @@ static void packets_equal_single_rays(void **state)
     static const char *const kinds[] = {"coherent", "random", "away", "tmax"};
     static const size_t counts[] = {N_RAYS, 13, 3}; /* 3: a packet of 3 lanes alone */
     for (int sc = 0; sc < 2; sc++) {
-        st_scene *s = load(scenes[sc]);
+        st_scene *s = fixture_scene(scenes[sc]);
         st_bvh *bvh = host_bvh(s);
         st_renderer *r = NULL;
         st_error err = {0};
@@ -207,7 +198,7 @@ static void renders_with_packets_equal_without(void **state)
     static const char *const scenes[] = {"cornell-box", "cornell-box", "soft-shadows",
                                          "tests/scenes/shadow_cutout.gltf"};
     for (int c = 0; c < 4; c++) {
-        st_scene *s = load(scenes[c]);
+        st_scene *s = fixture_scene(scenes[c]);
         st_renderer *r = NULL;
         st_error err = {0};
         assert_int_equal(st_renderer_create(dev, s, &r, &err), ST_OK);

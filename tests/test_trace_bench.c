@@ -21,15 +21,6 @@
 
 #define N_RAYS 20000
 
-static st_scene *load(const char *name)
-{
-    st_error err = {0};
-    st_scene *s = NULL;
-    if (st_scene_load(name, &s, &err) != ST_OK)
-        fail_msg("load %s: %s", name, err.msg);
-    return s;
-}
-
 static st_wave_ray *make_rays(const st_scene *s, const st_render_options *o, int set, size_t n)
 {
     st_error err = {0};
@@ -46,7 +37,7 @@ static st_wave_ray *make_rays(const st_scene *s, const st_render_options *o, int
 static void random_rays_are_uniform(void **state)
 {
     (void)state;
-    st_scene *s = load("cornell-box");
+    st_scene *s = fixture_scene("cornell-box");
     st_render_options o = st_render_defaults();
     st_wave_ray *r = make_rays(s, &o, ST_RAYS_RANDOM, N_RAYS);
     double mean[3] = {0, 0, 0};
@@ -71,7 +62,7 @@ static void random_rays_are_uniform(void **state)
 static void camera_rays_start_at_the_camera(void **state)
 {
     (void)state;
-    st_scene *s = load("cornell-box");
+    st_scene *s = fixture_scene("cornell-box");
     st_render_options o = st_render_defaults();
     o.width = 64;
     o.height = 32;
@@ -98,7 +89,7 @@ static void camera_rays_start_at_the_camera(void **state)
 static void rays_are_a_function_of_the_index(void **state)
 {
     (void)state;
-    st_scene *s = load("cornell-box");
+    st_scene *s = fixture_scene("cornell-box");
     st_render_options o = st_render_defaults();
     st_error err = {0};
     for (int set = 0; set < ST_RAYS_COUNT; set++) {
@@ -141,7 +132,7 @@ static void device_hits_match_the_host(void **state)
     (void)state;
     static const char *const scenes[] = {"cornell-box", "soft-shadows"};
     for (int k = 0; k < 2; k++) {
-        st_scene *s = load(scenes[k]);
+        st_scene *s = fixture_scene(scenes[k]);
         st_renderer *r = NULL;
         st_error err = {0};
         assert_int_equal(st_renderer_create(dev, s, &r, &err), ST_OK);
