@@ -363,15 +363,28 @@ ST_FN const ST_GLOBAL st_bvh_leaf *st_trace_leaf(const ST_GLOBAL st_bvh_wide_nod
 }
 
 #ifdef __OPENCL_VERSION__
+/* Lane mask as bits (lane j -> bit j), and back. */
+ST_HOT st_u32 st_leaf_bits(int4 m)
+{
+    int4 b = m & (int4)(1, 2, 4, 8);
+    int2 o = b.lo | b.hi;
+    return (st_u32)(o.x | o.y);
+}
+ST_HOT int4 st_leaf_lanes(st_u32 bits)
+{
+    return ((int4)((int)bits) & (int4)(1, 2, 4, 8)) != (int4)(0);
+}
+
 /* st_intersect_triangle on a leaf's four lanes at once, lane j = triangle
  * first + j: the same operations in the same statements, so that the
  * compiler contracts them into fma alike (OpenCL contracts within a
  * statement) and each lane's t, u, v is the scalar test's bit for bit
  * (tests/test_leaf.c checks it on the device). Returns the lanes that hit at
- * t in (0, tmax). The scalar test's early exits become one: when no lane has
- * u in [0, 1], q, v and t are not computed. */
-ST_HOT int4 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_f32 tmax,
-                         float4 *tt, float4 *uu, float4 *vv)
+ * t in (0, tmax) as bits (lane j -> bit j), and their t, u, v. The scalar
+ * test's early exits become one: when no lane has u in [0, 1], q, v and t
+ * are not computed (and the callers, seeing 0, exit at once). */
+ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_f32 tmax,
+                           float4 *tt, float4 *uu, float4 *vv)
 {
     float4 e1x = vload4(0, l->e1[0]), e1y = vload4(0, l->e1[1]), e1z = vload4(0, l->e1[2]);
     float4 e2x = vload4(0, l->e2[0]), e2y = vload4(0, l->e2[1]), e2z = vload4(0, l->e2[2]);
@@ -386,8 +399,8 @@ ST_HOT int4 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_f
     float4 sz = ray->o[2] - vload4(0, l->v0[2]);
     float4 u = (sx * px + sy * py + sz * pz) * inv_det;
     int4 in_u = (u >= 0.0f) & (u <= 1.0f);
-    if (!any(in_u))
-        return (int4)(0);
+    if (st_leaf_bits(in_u) == 0u)
+        return 0u;
     float4 qx = sy * e1z - sz * e1y;
     float4 qy = sz * e1x - sx * e1z;
     float4 qz = sx * e1y - sy * e1x;
@@ -397,13 +410,7 @@ ST_HOT int4 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_f
     *tt = t;
     *uu = u;
     *vv = v;
-    return in_u & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < tmax) & front;
-}
-
-/* Lane mask as bits (lane j -> bit j). */
-ST_HOT st_u32 st_leaf_bits(int4 m)
-{
-    return (st_u32)((m.s0 & 1) | (m.s1 & 2) | (m.s2 & 4) | (m.s3 & 8));
+    return st_leaf_bits(in_u & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < tmax) & front);
 }
 
 /* Lane j's hit into *hit. */
@@ -426,13 +433,15 @@ ST_HOT void st_leaf_take(const ST_GLOBAL st_bvh_leaf *l, st_u32 j, float4 t, flo
 ST_HOT void st_leaf_closest(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
 {
     float4 t, u, v;
-    int4 ok = st_leaf_test(l, ray, hit->t, &t, &u, &v);
-    if (!any(ok))
+    st_u32 ok = st_leaf_test(l, ray, hit->t, &t, &u, &v);
+    if (ok == 0u)
         return;
-    float4 hits = select((float4)(INFINITY), t, ok); /* a hit's t is finite: t < hit->t */
-    float2 m = fmin(hits.lo, hits.hi);
-    st_f32 best = fmin(m.x, m.y);
-    st_leaf_take(l, st_trace_lowest(st_leaf_bits(hits == best)), t, u, v, hit);
+    if ((ok & (ok - 1u)) != 0u) { /* more than one lane: the least t's */
+        float4 hits = select((float4)(INFINITY), t, st_leaf_lanes(ok)); /* hits: t < hit->t */
+        float2 m = fmin(hits.lo, hits.hi);
+        ok = st_leaf_bits(hits == fmin(m.x, m.y));
+    }
+    st_leaf_take(l, st_trace_lowest(ok), t, u, v, hit);
 }
 
 /* Whether a lane hits at t in (0, ray->tmax); the lowest such lane's hit
@@ -440,7 +449,7 @@ ST_HOT void st_leaf_closest(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, s
 ST_HOT int st_leaf_any(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
 {
     float4 t, u, v;
-    st_u32 ok = st_leaf_bits(st_leaf_test(l, ray, ray->tmax, &t, &u, &v));
+    st_u32 ok = st_leaf_test(l, ray, ray->tmax, &t, &u, &v);
     if (ok != 0u)
         st_leaf_take(l, st_trace_lowest(ok), t, u, v, hit);
     return ok != 0u;
