@@ -35,8 +35,9 @@ typedef struct st_bvh {
      * wide[0] is the root, depth first; every binary interior node is either
      * a wide node or opened into its parent; leaves and triangles as above. */
     st_u32 wide_count;
-    st_bvh_wide_node *wide;
+    st_bvh_wide_node *wide; /* wide_count nodes, then leaf_count st_bvh_leaf */
     st_u32 wide_depth;      /* deepest wide node, root = 1 */
+    st_u32 leaf_count;      /* the leaves' blocks after the nodes (st_bvh_pack_leaves) */
 } st_bvh;
 
 /* positions: 9 floats per triangle (v0 v1 v2). tri_count may be 0 (an empty leaf root: no hits). Returns ST_ERR_NOMEM on
@@ -54,7 +55,8 @@ st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, s
  * two-sided from its material's ST_MAT_DOUBLE_SIDED flag: tri_material[i]
  * is input triangle i's index into materials. st_bvh_build leaves every
  * triangle two-sided; every traversal of a scene's triangles (the renderer's
- * and the host's references) marks them so, to cull alike. */
+ * and the host's references) marks them so, to cull alike. Repacks the
+ * leaves (st_bvh_pack_leaves). */
 void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials);
 
 /* Collapses bvh->nodes into bvh->wide (src/bvh_wide.c; st_bvh_build calls
@@ -62,9 +64,16 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
  * fewer than ST_BVH_WIDTH, opens the interior child of largest surface area
  * (the one a ray is likeliest to enter). A tree so deep that the traversal
  * stack could overflow at that width (7 x depth > ST_BVH4_STACK, depth > 27)
- * is made of nodes of at most four children instead. ST_ERR_NOMEM on
- * allocation failure. */
+ * is made of nodes of at most four children instead. The leaves' blocks
+ * follow the nodes (st_bvh_leaf; their lanes left zero, see
+ * st_bvh_pack_leaves). ST_ERR_NOMEM on allocation failure. */
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
+
+/* Fills every st_bvh_leaf of bvh->wide from bvh->tris (their first
+ * triangles and counts as the collapse placed them): st_bvh_build calls it,
+ * st_bvh_set_sides again for the sides; whoever changes bvh->tris after
+ * (tests) calls it before tracing the wide tree. */
+void st_bvh_pack_leaves(st_bvh *bvh);
 
 /* Frees the tree and its arrays. NULL is a no-op. */
 void st_bvh_destroy(st_bvh *bvh);

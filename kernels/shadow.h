@@ -23,12 +23,12 @@ static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene
                           st_u32 depth)
 {
     st_hit h;
-    if (!st_intersect4_any_hit(nodes, s->tris, &r, &h))
+    if (!st_intersect4_any_hit(nodes, &r, &h))
         return 0;
     if (s->materials[s->tri_material[h.prim]].alpha_mode == ST_ALPHA_OPAQUE)
         return 1;
     float travelled = 0.0f;
-    while (st_intersect4_closest(nodes, s->tris, &r, &h)) {
+    while (st_intersect4_closest(nodes, &r, &h)) {
         st_wave_ray w = {{r.o[0], r.o[1], r.o[2]}, r.tmax, {r.d[0], r.d[1], r.d[2]}, travelled};
         st_surface v = surface_at(s, p, sh, &w, h);
         if (!alpha_passes_keyed(s, p, &v, smp, h.prim, depth, ST_SHADOW_ALPHA_KEY))

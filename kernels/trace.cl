@@ -25,7 +25,7 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
     r.d[0] = w.d[0]; r.d[1] = w.d[1]; r.d[2] = w.d[2];
     r.tmax = w.tmax;
     st_hit h;
-    if (!st_intersect4_closest(nodes, tris, &r, &h))
+    if (!st_intersect4_closest(nodes, &r, &h))
         h.prim = ST_NO_HIT;
     hit[i] = h;
 }
@@ -68,7 +68,7 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
     st_packet pk;
     st_packet_hits h;
     st_packet_setup(&pk, r, live);
-    st_packet_closest(nodes, tris, &pk, vload8(0, tmax), &h);
+    st_packet_closest(nodes, &pk, vload8(0, tmax), &h);
     float t[ST_PACKET], u[ST_PACKET], v[ST_PACKET];
     uint prim[ST_PACKET];
     vstore8(h.t, 0, t);
@@ -104,7 +104,7 @@ __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
         return;
     st_packet pk;
     st_packet_setup(&pk, r, live);
-    st_u32 blocked = st_packet_occluded(nodes, tris, &pk, vload8(0, tmax));
+    st_u32 blocked = st_packet_occluded(nodes, &pk, vload8(0, tmax));
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         if (!((live >> j) & 1u))
             continue;

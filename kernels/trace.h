@@ -14,7 +14,8 @@
  * of st_intersect_triangle over all triangles: the box test is conservative
  * for the rounding of the slab test and of Moller-Trumbore's t (see
  * ST_TRACE_SLAB_WIDEN). The kernels trace the wide tree (8 children)
- * (st_intersect4_closest, st_intersect4_any: one float8 slab test per node);
+ * (st_intersect4_closest, st_intersect4_any: one float8 slab test per node,
+ * one float4 Moller-Trumbore test per leaf of up to four triangles);
  * the binary tree's traversal stays as the host's reference, and both are
  * tested against brute force. The BVH is the one st_bvh_build writes
  * (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH. On the
@@ -352,6 +353,142 @@ ST_FN st_u32 st_trace_lowest(st_u32 m) { return 31u - clz(m & (0u - m)); }
 ST_FN st_u32 st_trace_lowest(st_u32 m) { return (st_u32)__builtin_ctz(m); }
 #endif
 
+/* ---- a leaf's triangles together (st_bvh_leaf) ------------------------------ */
+
+/* The st_bvh_leaf of a leaf slot's child index (count[k] != 0). */
+ST_FN const ST_GLOBAL st_bvh_leaf *st_trace_leaf(const ST_GLOBAL st_bvh_wide_node *nodes,
+                                                 st_u32 child)
+{
+    return (const ST_GLOBAL st_bvh_leaf *)(nodes + child);
+}
+
+#ifdef __OPENCL_VERSION__
+/* Lane mask as bits (lane j -> bit j), and back. */
+ST_HOT st_u32 st_leaf_bits(int4 m)
+{
+    int4 b = m & (int4)(1, 2, 4, 8);
+    int2 o = b.lo | b.hi;
+    return (st_u32)(o.x | o.y);
+}
+ST_HOT int4 st_leaf_lanes(st_u32 bits)
+{
+    return ((int4)((int)bits) & (int4)(1, 2, 4, 8)) != (int4)(0);
+}
+
+/* st_intersect_triangle on a leaf's four lanes at once, lane j = triangle
+ * first + j: the same operations in the same statements, so that the
+ * compiler contracts them into fma alike (OpenCL contracts within a
+ * statement) and each lane's t, u, v is the scalar test's bit for bit
+ * (tests/test_leaf.c checks it on the device). Returns the lanes that hit at
+ * t in (0, tmax) as bits (lane j -> bit j), and their t, u, v. The scalar
+ * test's early exits become one: when no lane has u in [0, 1], q, v and t
+ * are not computed (and the callers, seeing 0, exit at once). */
+ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_f32 tmax,
+                           float4 *tt, float4 *uu, float4 *vv)
+{
+    float4 e1x = vload4(0, l->e1[0]), e1y = vload4(0, l->e1[1]), e1z = vload4(0, l->e1[2]);
+    float4 e2x = vload4(0, l->e2[0]), e2y = vload4(0, l->e2[1]), e2z = vload4(0, l->e2[2]);
+    st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
+    float4 px = dy * e2z - dz * e2y;
+    float4 py = dz * e2x - dx * e2z;
+    float4 pz = dx * e2y - dy * e2x;
+    float4 det = e1x * px + e1y * py + e1z * pz;
+    float4 inv_det = 1.0f / det;
+    float4 sx = ray->o[0] - vload4(0, l->v0[0]);
+    float4 sy = ray->o[1] - vload4(0, l->v0[1]);
+    float4 sz = ray->o[2] - vload4(0, l->v0[2]);
+    float4 u = (sx * px + sy * py + sz * pz) * inv_det;
+    int4 in_u = (u >= 0.0f) & (u <= 1.0f);
+    if (st_leaf_bits(in_u) == 0u)
+        return 0u;
+    float4 qx = sy * e1z - sz * e1y;
+    float4 qy = sz * e1x - sx * e1z;
+    float4 qz = sx * e1y - sy * e1x;
+    float4 v = (dx * qx + dy * qy + dz * qz) * inv_det;
+    float4 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
+    int4 front = (det > 0.0f) | (vload4(0, l->one_sided) == 0.0f);
+    *tt = t;
+    *uu = u;
+    *vv = v;
+    return st_leaf_bits(in_u & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < tmax) & front);
+}
+
+/* Lane j's hit into *hit. */
+ST_HOT void st_leaf_take(const ST_GLOBAL st_bvh_leaf *l, st_u32 j, float4 t, float4 u, float4 v,
+                         st_hit *hit)
+{
+    st_f32 tj[4], uj[4], vj[4];
+    vstore4(t, 0, tj);
+    vstore4(u, 0, uj);
+    vstore4(v, 0, vj);
+    hit->t = tj[j];
+    hit->u = uj[j];
+    hit->v = vj[j];
+    hit->prim = l->first + j;
+}
+
+/* The leaf's closest hit below hit->t, as the scalar loop over its
+ * triangles in order finds it: the least t among the lanes that hit and, on
+ * a tie, the lowest lane (the loop's strict t < best keeps the first). */
+ST_HOT void st_leaf_closest(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+{
+    float4 t, u, v;
+    st_u32 ok = st_leaf_test(l, ray, hit->t, &t, &u, &v);
+    if (ok == 0u)
+        return;
+    if ((ok & (ok - 1u)) != 0u) { /* more than one lane: the least t's */
+        float4 hits = select((float4)(INFINITY), t, st_leaf_lanes(ok)); /* hits: t < hit->t */
+        float2 m = fmin(hits.lo, hits.hi);
+        ok = st_leaf_bits(hits == fmin(m.x, m.y));
+    }
+    st_leaf_take(l, st_trace_lowest(ok), t, u, v, hit);
+}
+
+/* Whether a lane hits at t in (0, ray->tmax); the lowest such lane's hit
+ * into *hit (the scalar loop stops at the first). */
+ST_HOT int st_leaf_any(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+{
+    float4 t, u, v;
+    st_u32 ok = st_leaf_test(l, ray, ray->tmax, &t, &u, &v);
+    if (ok != 0u)
+        st_leaf_take(l, st_trace_lowest(ok), t, u, v, hit);
+    return ok != 0u;
+}
+#else
+/* On the host, the scalar loop itself: st_intersect_triangle lane by lane,
+ * in order (the empty lanes miss), which the device's vector test matches. */
+ST_FN st_triangle st_leaf_lane(const st_bvh_leaf *l, st_u32 j)
+{
+    st_triangle tri = {{0}, {0}, {0}};
+    for (int a = 0; a < 3; ++a) {
+        tri.v0[a] = l->v0[a][j];
+        tri.e1[a] = l->e1[a][j];
+        tri.e2[a] = l->e2[a][j];
+    }
+    tri.v0[3] = l->one_sided[j];
+    return tri;
+}
+
+ST_FN void st_leaf_closest(const st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+{
+    for (st_u32 j = 0u; j < 4u; ++j) {
+        st_triangle tri = st_leaf_lane(l, j);
+        st_intersect_triangle(&tri, ray, l->first + j, hit);
+    }
+}
+
+/* hit->t is ray->tmax on entry (st_intersect4_any_hit). */
+ST_FN int st_leaf_any(const st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+{
+    for (st_u32 j = 0u; j < 4u; ++j) {
+        st_triangle tri = st_leaf_lane(l, j);
+        if (st_intersect_triangle(&tri, ray, l->first + j, hit))
+            return 1;
+    }
+    return 0;
+}
+#endif
+
 /* Asks for a wide node's four cache lines (boxes and links) when the
  * traversal pushes it, so that the misses of the children it takes later
  * overlap with the work on the nearer ones instead of following it. A pushed
@@ -374,8 +511,8 @@ ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
  * visited next (Wald et al. 2008 order children front to back the same way);
  * a popped child whose entry lies beyond the closest hit so far is skipped
  * with the same widening as the box test. */
-ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes,
-                                const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
+ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
+                                st_hit *hit)
 {
     st_trace_ray r;
     st_u32 stack[ST_BVH4_STACK];
@@ -392,11 +529,11 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes,
         st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp;
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
-            st_u32 first = n->child[k], count = n->count[k];
-            for (st_u32 i = first; i < first + count; ++i)
-                st_intersect_triangle(tris + i, ray, i, hit);
-            if (count != 0u)
+            st_u32 first = n->child[k];
+            if (n->count[k] != 0u) {
+                st_leaf_closest(st_trace_leaf(nodes, first), ray, hit);
                 continue;
+            }
             st_trace_prefetch_node(nodes + first);
             /* insertion: entries above base stay sorted far to near */
             st_u32 j = sp++;
@@ -422,8 +559,8 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes,
  * stops at the first (no ordering: any occluder will do), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/shadow.h: its material's alpha). */
-ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes,
-                                const ST_GLOBAL st_triangle *tris, const st_ray *ray, st_hit *hit)
+ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
+                                st_hit *hit)
 {
     st_trace_ray r;
     st_u32 stack[ST_BVH4_STACK];
@@ -436,14 +573,14 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes,
         st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn);
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
-            st_u32 first = n->child[k], count = n->count[k];
-            for (st_u32 i = first; i < first + count; ++i)
-                if (st_intersect_triangle(tris + i, ray, i, hit))
+            st_u32 first = n->child[k];
+            if (n->count[k] != 0u) {
+                if (st_leaf_any(st_trace_leaf(nodes, first), ray, hit))
                     return 1;
-            if (count == 0u) {
-                st_trace_prefetch_node(nodes + first);
-                stack[sp++] = first;
+                continue;
             }
+            st_trace_prefetch_node(nodes + first);
+            stack[sp++] = first;
         }
         if (sp == 0u)
             return 0;
@@ -452,11 +589,10 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes,
 }
 
 /* st_intersect4_any_hit without the hit. */
-ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh_wide_node *nodes,
-                            const ST_GLOBAL st_triangle *tris, const st_ray *ray)
+ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray)
 {
     st_hit hit;
-    return st_intersect4_any_hit(nodes, tris, ray, &hit);
+    return st_intersect4_any_hit(nodes, ray, &hit);
 }
 
 #endif

@@ -972,6 +972,8 @@ st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, s
         s = build_tree(positions, bvh, err);
     if (s == ST_OK)
         s = st_bvh_collapse_wide(bvh, err);
+    if (s == ST_OK)
+        st_bvh_pack_leaves(bvh);
     if (s != ST_OK) {
         st_bvh_destroy(bvh);
         return s;
@@ -997,4 +999,5 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
         st_u32 flags = materials[tri_material[bvh->order[i]]].flags;
         bvh->tris[i].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
     }
+    st_bvh_pack_leaves(bvh);
 }

@@ -3,9 +3,12 @@
  * "Getting Rid of Packets", RT 2008; Dammertz et al., "Shallow Bounding
  * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR
  * 2008): a node's boxes meet the ray in one vector slab test, and the tree is
- * a third as deep as the binary one for 8 children (half for 4). */
+ * a third as deep as the binary one for 8 children (half for 4). Each leaf's
+ * triangles follow the nodes as one st_bvh_leaf (structure of arrays), so
+ * that the kernels test them together, as Embree's Triangle4 leaves are. */
 #include <float.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "st_bvh.h"
 #include "trace.h"
@@ -109,11 +112,53 @@ static void collapse(wide_builder *b)
     }
 }
 
+/* Gives every leaf slot its st_bvh_leaf, after the b->count nodes in slot
+ * order: lane 0 at the slot's first triangle, the lanes zero until
+ * st_bvh_pack_leaves fills them. Returns the number of leaves. */
+static st_u32 place_leaves(wide_builder *b)
+{
+    st_u32 leaves = 0u;
+    for (st_u32 w = 0u; w < b->count; w++)
+        for (int k = 0; k < ST_BVH_WIDTH; k++) {
+            if (b->wide[w].count[k] == 0u)
+                continue;
+            st_u32 at = b->count + leaves++;
+            st_bvh_leaf *leaf = (st_bvh_leaf *)(void *)&b->wide[at];
+            memset(leaf, 0, sizeof *leaf);
+            leaf->first = b->wide[w].child[k];
+            b->wide[w].child[k] = at;
+        }
+    return leaves;
+}
+
+void st_bvh_pack_leaves(st_bvh *bvh)
+{
+    for (st_u32 w = 0u; w < bvh->wide_count; w++)
+        for (int k = 0; k < ST_BVH_WIDTH; k++) {
+            st_u32 count = bvh->wide[w].count[k];
+            if (count == 0u)
+                continue;
+            st_bvh_leaf *leaf = (st_bvh_leaf *)(void *)&bvh->wide[bvh->wide[w].child[k]];
+            for (st_u32 j = 0u; j < 4u; j++) {
+                static const st_triangle none;
+                const st_triangle *t = j < count ? &bvh->tris[leaf->first + j] : &none;
+                for (int a = 0; a < 3; a++) {
+                    leaf->v0[a][j] = t->v0[a];
+                    leaf->e1[a][j] = t->e1[a];
+                    leaf->e2[a][j] = t->e2[a];
+                }
+                leaf->one_sided[j] = t->v0[3];
+            }
+        }
+}
+
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
 {
-    /* every wide node consumes at least one binary interior node; a leaf
-     * root (a small or empty scene) gets one wide node over it */
-    size_t cap = bvh->node_count;
+    /* every wide node consumes at least one binary interior node and every
+     * binary leaf becomes one st_bvh_leaf: at most node_count entries in a
+     * full binary tree, one more for a leaf root (a small or empty scene),
+     * which gets one wide node over it */
+    size_t cap = (size_t)bvh->node_count + 1u;
     wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
     if (!b.wide)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
@@ -125,9 +170,11 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
         b.width = 4;
         collapse(&b);
     }
-    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)b.count * sizeof *b.wide);
+    st_u32 leaves = place_leaves(&b);
+    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)(b.count + leaves) * sizeof *b.wide);
     bvh->wide = shrunk ? shrunk : b.wide;
     bvh->wide_count = b.count;
+    bvh->leaf_count = leaves;
     bvh->wide_depth = b.depth;
     return ST_OK;
 }

@@ -235,6 +235,24 @@ static int box_contains(const st_bvh_node *outer, const float lo[3], const float
     return 1;
 }
 
+/* Leaf slot child (count c) of the wide tree: its st_bvh_leaf lies after
+ * the nodes, and lane j holds triangle first + j exactly (st_triangle's
+ * floats, v0[3] as one_sided), the lanes past c zero. Returns first. */
+static uint32_t check_leaf(const st_bvh *bvh, uint32_t child, uint32_t c)
+{
+    assert_true(child >= bvh->wide_count && child < bvh->wide_count + bvh->leaf_count);
+    const st_bvh_leaf *l = st_trace_leaf(bvh->wide, child);
+    assert_true(l->first + c <= (bvh->tri_count ? bvh->tri_count : 1u));
+    for (uint32_t j = 0; j < 4; ++j) {
+        st_triangle want = {{0}, {0}, {0}}, got = st_leaf_lane(l, j);
+        if (j < c)
+            want = bvh->tris[l->first + j];
+        want.e1[3] = want.e2[3] = 0.0f; /* padding, not packed */
+        assert_memory_equal(&got, &want, sizeof got);
+    }
+    return l->first;
+}
+
 /* The wide tree (st_bvh_wide_node): nodes numbered depth first (a child after
  * its parent), each used slot's box containing its subtree's triangles,
  * unused slots inverted, leaves of 1..4 covering every triangle once, no
@@ -263,7 +281,8 @@ static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, c
             deepest = d > deepest ? d : deepest;
             continue;
         }
-        assert_true(c <= 4 && first + c <= bvh->tri_count);
+        assert_true(c <= 4);
+        first = check_leaf(bvh, first, c);
         for (uint32_t t = first; t < first + c; ++t) {
             covered[t]++;
             for (int v = 0; v < 3; ++v)
@@ -395,8 +414,8 @@ static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st
                            int exists, const st_hit *want)
 {
     st_hit got;
-    assert_int_equal(st_intersect4_closest(bvh->wide, bvh->tris, ray, &got), exists);
-    assert_int_equal(st_intersect4_any(bvh->wide, bvh->tris, ray), exists);
+    assert_int_equal(st_intersect4_closest(bvh->wide, ray, &got), exists);
+    assert_int_equal(st_intersect4_any(bvh->wide, ray), exists);
     if (!exists) {
         assert_int_equal(got.prim, ST_NO_HIT);
         return;
@@ -410,9 +429,9 @@ static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st
     }
     st_ray shorter = *ray;
     shorter.tmax = want->t;
-    assert_false(st_intersect4_any(bvh->wide, bvh->tris, &shorter));
+    assert_false(st_intersect4_any(bvh->wide, &shorter));
     shorter.tmax = nextafterf(want->t, INFINITY);
-    assert_true(st_intersect4_any(bvh->wide, bvh->tris, &shorter));
+    assert_true(st_intersect4_any(bvh->wide, &shorter));
 }
 
 /* Builds, checks the structure, then compares `rays` random rays with the
@@ -435,6 +454,7 @@ static uint32_t check_scene_sided(const float *p, uint32_t n, uint32_t rays, uin
         input[i].v0[3] = (i & 1u) ? ST_TRI_ONE_SIDED : 0.0f;
         bvh->tris[i].v0[3] = (bvh->order[i] & 1u) ? ST_TRI_ONE_SIDED : 0.0f;
     }
+    st_bvh_pack_leaves(bvh);
     scene_bounds(p, n, lo, hi);
     for (uint32_t k = 0; k < rays; ++k) {
         st_ray ray = random_ray(&r, p, n, lo, hi);
@@ -706,8 +726,8 @@ static void build_empty_scene_has_no_hits(void **state)
         assert_false(st_intersect_closest(bvh->nodes, bvh->tris, &ray, &hit));
         assert_int_equal(hit.prim, ST_NO_HIT);
         assert_false(st_intersect_any(bvh->nodes, bvh->tris, &ray));
-        assert_false(st_intersect4_closest(bvh->wide, bvh->tris, &ray, &hit));
-        assert_false(st_intersect4_any(bvh->wide, bvh->tris, &ray));
+        assert_false(st_intersect4_closest(bvh->wide, &ray, &hit));
+        assert_false(st_intersect4_any(bvh->wide, &ray));
     }
     check_wide_structure(bvh, NULL, 0);
     st_bvh_destroy(bvh);
@@ -741,7 +761,8 @@ static void build_is_deterministic(void **state)
     assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
     assert_memory_equal(a->order, b->order, a->tri_count * sizeof *a->order);
     assert_int_equal(a->wide_count, b->wide_count);
-    assert_memory_equal(a->wide, b->wide, a->wide_count * sizeof *a->wide);
+    assert_int_equal(a->leaf_count, b->leaf_count);
+    assert_memory_equal(a->wide, b->wide, (a->wide_count + a->leaf_count) * sizeof *a->wide);
     st_bvh_destroy(a);
     st_bvh_destroy(b);
     free(p);
