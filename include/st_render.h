@@ -1,7 +1,7 @@
 /* st_render.h — the render: a scene's BVH and buffers uploaded once to a
  * device, then waves of samples pushed through the kernels
- * (generate_samples -> generate_camera_rays -> [trace_rays -> shade_hits ->
- * trace_shadow_rays] per path vertex -> splat_samples), and resolve_film at the
+ * (generate_rays -> [trace_rays -> shade_hits -> trace_shadow_rays] per path
+ * vertex -> splat_samples), and resolve_film at the
  * end. Nothing returns to the host inside a wave; between waves only a
  * progress count.
  *
@@ -60,6 +60,7 @@ typedef struct st_render_options {
     int profile;       /* time every stage (slower: waits after each launch) */
     int splat_path;    /* internal (tests, measurements): ST_SPLAT_* */
     int shadow_path;   /* internal (tests, measurements): ST_SHADOW_* */
+    int generate_path; /* internal (tests, measurements): ST_GENERATE_* */
     st_u32 packet_path; /* ST_PACKET_* (--packets) */
 } st_render_options;
 
@@ -86,7 +87,10 @@ st_status st_render_check(const st_render_options *o, st_error *err);
  * work-group sharing its window through local atomics; on CPUs tiles each
  * owned by one work-item, which adds without atomics: README), or one of
  * them. */
-enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE };
+/* PIXELS: the box filter's splat gathered by pixel (splat_pixels, film.cl)
+ * where the render allows it (radius <= 1/2, a per-pixel sampler, no filter
+ * importance sampling, outside adaptive rounds), else per sample. */
+enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE, ST_SPLAT_PIXELS };
 /* Where shadow rays are traced (shadow_path), same film bit for bit: by
  * default (AUTO) a stage of their own, trace_shadow_rays, on every device
  * type (inside shade_hits measured no faster on PoCL's CPU device: README),
@@ -99,8 +103,13 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
  * ALL every ray. Shadow rays only in scenes whose materials are all opaque. */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
-enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
-       ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
+/* How the first stages run (generate_path), same film bit for bit: by
+ * default (AUTO) one kernel, generate_rays, which writes each item's sample,
+ * camera ray and fresh path; SPLIT the reference, generate_samples then
+ * generate_camera_rays (which reads the sample back). */
+enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT };
+enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
+       ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
 
 typedef struct st_render_stats {

@@ -320,6 +320,61 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
     splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
 }
 
+/* ---- the box filter's splat gathered by pixel ------------------------------
+ * With a box of radius 1/2 or less a sample in pixel k reaches k alone (a
+ * tap's centre lies within r of the sample: |k' + 0.5 - x| < 1/2 leaves
+ * k' = k), or none (on the pixel's edge). With a per-pixel sampler outside
+ * adaptive rounds, render item g lies in region pixel g mod npix
+ * (generate.cl's region_item), so a wave's items of one pixel are every
+ * npix-th: one work-item per pixel the wave touches sums its items'
+ * integers (fixed_splat4, scale 1, as splat_samples makes them) and adds
+ * the sum to the film with plain adds, as no other work-item of the launch
+ * touches that pixel. Integer sums commute: the film is splat_samples' bit
+ * for bit, and so are the tallies and counts (render.c chooses the path,
+ * test_render_paths.c compares them). */
+
+/* Item i's share of splat_pixels: its tally, its counts, and the sums it
+ * adds to *acc (none when the sample lies on its pixel's edge). */
+ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *sample,
+                        __global const st_path *path, __global st_tally *tally,
+                        __global st_film_stats *stats, long4 *acc)
+{
+    __global const st_path *pa = &path[i];
+    float3 L = vload3(0, pa->radiance);
+    st_tally t = tally[i];
+    t.closest_rays += pa->closest_rays;
+    t.shadow_rays += pa->shadow_rays;
+    if (!all(isfinite(L))) {
+        atomic_inc(&stats->nonfinite);
+        L = (float3)(0.0f);
+    }
+    int4 k = sample_taps(p, sample[i]);
+    if (k.y >= k.x && k.w >= k.z) { /* its own pixel, one tap */
+        st_u32 clamped = 0u;
+        *acc += fixed_splat4(1.0f, (float4)(L, 1.0f), &clamped);
+        t.splats += 1u;
+        if (clamped)
+            atomic_inc(&stats->clamped);
+    }
+    tally[i] = t;
+}
+
+/* Work-item j of min(item_count, npix): the region's pixel of item j, which
+ * also holds items j + npix, j + 2 npix, ... of the wave. */
+__kernel void splat_pixels(ST_STAGE_PARAMS)
+{
+    st_u32 j = get_global_id(0), npix = p.region_w * p.region_h;
+    if (j >= min(p.item_count, npix))
+        return;
+    long4 acc = (long4)(0);
+    for (st_u32 i = j; i < p.item_count; i += npix)
+        gather_item(&p, i, sample, path, tally, stats, &acc);
+    if (!any(acc != 0))
+        return;
+    __global long *a = film[sample[j].pixel].sum;
+    vstore4(vload4(0, a) + acc, 0, a);
+}
+
 /* ---- tile-owned reconstruction ---------------------------------------------
  * A counting sort of the wave's items by the image tile (bin) their sample
  * lies in: bin_samples counts, bin_scan turns counts into starts, bin_scatter

@@ -1,5 +1,6 @@
-/* generate.cl — the first stages of a wave: sample positions on the film, then
- * camera rays.
+/* generate.cl — the first stages of a wave: sample positions on the film,
+ * camera rays and fresh paths, in one kernel (generate_rays) or, as the
+ * reference, two (generate_samples, generate_camera_rays).
  *
  * Item i of a wave is render item g = first_item + i. Per-pixel samplers:
  * pixel = g mod n, sample = g / n over the n pixels of the region (the whole
@@ -69,55 +70,48 @@ static void region_item(const st_params *p, st_u64 g, st_u32 *px, st_u32 *py, st
     *py = p->region_y + row;
 }
 
-/* Writes sample[i]: the film position and (pixel, sample index). With
+/* Render item g's sample: the film position and (pixel, sample index). With
  * filter importance sampling the sampler's two pixel dimensions are warped
  * through the CDF of |f| (their stratification carries over) into an offset
  * from the pixel centre. */
-__kernel void generate_samples(ST_STAGE_PARAMS)
+ST_HOT st_sample item_sample(const st_params *p, __global const st_tile_point *tile,
+                             __global const st_u32 *active, __global const st_u32 *pmj02,
+                             __global const float *fis_cdf, st_u64 g)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
-    st_u64 g = p.first_item + i;
-    if (ST_SAMPLER_IS_TILED(p.sampler)) {
-        sample[i] = tile_sample(&p, tile, g);
-        return;
-    }
+    if (ST_SAMPLER_IS_TILED(p->sampler))
+        return tile_sample(p, tile, g);
     st_u32 px, py, s;
-    if (p.adaptive_count) { /* a round of adaptive sampling (adaptive.cl) */
-        st_u32 pixel = active[g % p.adaptive_count];
-        s = p.adaptive_base + (st_u32)(g / p.adaptive_count);
-        px = pixel % p.width;
-        py = pixel / p.width;
+    if (p->adaptive_count) { /* a round of adaptive sampling (adaptive.cl) */
+        st_u32 pixel = active[g % p->adaptive_count];
+        s = p->adaptive_base + (st_u32)(g / p->adaptive_count);
+        px = pixel % p->width;
+        py = pixel / p->width;
     } else {
-        region_item(&p, g, &px, &py, &s);
+        region_item(p, g, &px, &py, &s);
     }
-    st_u32 pixel = py * p.width + px;
-    st_sample_id sid = st_sample_begin_at(&p, pixel, px, py, s);
+    st_u32 pixel = py * p->width + px;
+    st_sample_id sid = st_sample_begin_at(p, pixel, px, py, s);
     sid.pmj02 = pmj02;
-    float u = st_sample_dim(&p, &sid, 0u), v = st_sample_dim(&p, &sid, 1u);
-    if (p.reconstruction == ST_RECON_FIS) {
-        u = 0.5f + fis_offset(fis_cdf, p.filter.radius, u);
-        v = 0.5f + fis_offset(fis_cdf, p.filter.radius, v);
+    float u = st_sample_dim(p, &sid, 0u), v = st_sample_dim(p, &sid, 1u);
+    if (p->reconstruction == ST_RECON_FIS) {
+        u = 0.5f + fis_offset(fis_cdf, p->filter.radius, u);
+        v = 0.5f + fis_offset(fis_cdf, p->filter.radius, v);
     }
     st_sample out = {{(float)px + u, (float)py + v}, pixel, s};
-    sample[i] = out;
+    return out;
 }
 
-/* Reads sample; writes the camera ray and resets the path: beta = 1, bsdf
- * pdf 0, radiance 0, depth 0 (ST_PATH_DEAD for a dropped point outside the
- * image), no rays traced. */
-__kernel void generate_camera_rays(ST_STAGE_PARAMS)
+/* Writes item i's camera ray through smp's film position and resets its
+ * path: beta = 1, bsdf pdf 0, radiance 0, depth 0 (ST_PATH_DEAD for a
+ * dropped point outside the image), no rays traced. */
+ST_HOT void start_path(const st_params *p, st_sample smp, st_u32 i, __global st_wave_ray *ray,
+                       __global st_path *path)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
-    st_sample smp = sample[i];
     float2 f = (float2)(smp.film[0], smp.film[1]);
-    float4 o = vload4(0, p.camera.origin), r = vload4(0, p.camera.right);
-    float4 u = vload4(0, p.camera.up), fw = vload4(0, p.camera.forward);
-    float sx = (2.0f * f.x / (float)p.width - 1.0f) * o.w * r.w;
-    float sy = (1.0f - 2.0f * f.y / (float)p.height) * o.w;
+    float4 o = vload4(0, p->camera.origin), r = vload4(0, p->camera.right);
+    float4 u = vload4(0, p->camera.up), fw = vload4(0, p->camera.forward);
+    float sx = (2.0f * f.x / (float)p->width - 1.0f) * o.w * r.w;
+    float sy = (1.0f - 2.0f * f.y / (float)p->height) * o.w;
     /* orthographic (forward.w = 1): parallel rays from the image plane,
      * o.w = ymag, the half height */
     int ortho = fw.w > 0.5f;
@@ -126,6 +120,40 @@ __kernel void generate_camera_rays(ST_STAGE_PARAMS)
     st_wave_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
     ray[i] = ray_out;
     st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
-                     st_sample_on_film(&p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, 0.0f, 0u};
+                     st_sample_on_film(p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, 0.0f, 0u};
     path[i] = fresh;
+}
+
+/* The first stages in one work-item: item i's sample (written for shade and
+ * splat), its camera ray and fresh path, the sample kept in registers
+ * rather than written and read back by a second kernel. The film, rays and
+ * paths are those of generate_samples then generate_camera_rays, which
+ * stay as the reference (test_render.c). */
+__kernel void generate_rays(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count)
+        return;
+    st_sample smp = item_sample(&p, tile, active, pmj02, fis_cdf, p.first_item + i);
+    sample[i] = smp;
+    start_path(&p, smp, i, ray, path);
+}
+
+/* Writes sample[i] (item_sample): the reference's first stage. */
+__kernel void generate_samples(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count)
+        return;
+    sample[i] = item_sample(&p, tile, active, pmj02, fis_cdf, p.first_item + i);
+}
+
+/* Reads sample; writes the camera ray and the fresh path (start_path): the
+ * reference's second stage. */
+__kernel void generate_camera_rays(ST_STAGE_PARAMS)
+{
+    st_u32 i = get_global_id(0);
+    if (i >= p.item_count)
+        return;
+    start_path(&p, sample[i], i, ray, path);
 }

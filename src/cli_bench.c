@@ -80,12 +80,14 @@ static double stage_count(const st_render_stats *s, int k, const char **unit)
     switch (k) {
     case ST_STAGE_GENERATE: *unit = "samples/s"; return (double)s->samples;
     case ST_STAGE_CAMERA: *unit = "rays/s"; return (double)s->samples;
+    case ST_STAGE_GENERATE_RAYS: *unit = "samples/s"; return (double)s->samples;
     case ST_STAGE_TRACE: *unit = "rays/s"; return (double)s->closest_rays;
     case ST_STAGE_SHADE: *unit = "hits/s"; return (double)s->closest_rays;
     case ST_STAGE_SHADOW: *unit = "rays/s"; return (double)s->shadow_rays;
     case ST_STAGE_BIN: *unit = "samples/s"; return (double)s->samples;
     case ST_STAGE_SPLAT:
-    case ST_STAGE_SPLAT_TILES: *unit = "splats/s"; return (double)s->splats;
+    case ST_STAGE_SPLAT_TILES:
+    case ST_STAGE_SPLAT_PIXELS: *unit = "splats/s"; return (double)s->splats;
     default: *unit = "pixels/s"; return 0.0;
     }
 }

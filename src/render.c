@@ -16,8 +16,8 @@
 
 
 const char *const st_stage_names[ST_STAGE_COUNT] = {
-    "generate_samples", "generate_camera_rays", "trace_rays", "shade_hits",
-    "trace_shadow_rays", "bin_samples", "splat_samples", "splat_tiles", "resolve_film"};
+    "generate_samples", "generate_camera_rays", "generate_rays", "trace_rays", "shade_hits",
+    "trace_shadow_rays", "bin_samples", "splat_samples", "splat_tiles", "splat_pixels", "resolve_film"};
 
 const char *const st_integrator_names[2] = {"direct", "path"};
 const char *const st_reconstruction_names[2] = {"splat", "fis"};
@@ -163,6 +163,7 @@ static void plan_bins(const st_renderer *r, const st_render_options *o, st_param
     p->bins = p->bin_side = p->bins_x = 0;
     const st_device_info *info = st_device_get_info(r->dev);
     if (o->reconstruction == ST_RECON_FIS || o->splat_path == ST_SPLAT_PER_SAMPLE ||
+        o->splat_path == ST_SPLAT_PIXELS ||
         (o->splat_path == ST_SPLAT_AUTO && info->is_cpu && o->filter.radius <= 0.5f))
         return;
     unsigned long long local = info->local_mem;
@@ -234,6 +235,20 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
     return run_kernel(r, r->k[k], k, p, items, o->local_size, o, st, err);
 }
 
+/* Whether a wave's splat gathers by pixel (splat_pixels): where asked, and
+ * where a CPU device's default takes neither tiles nor filter importance
+ * sampling, if the render allows it: a box of radius 1/2 or less (a sample
+ * reaches its own pixel only), a per-pixel sampler and not an adaptive
+ * round (item g lies in region pixel g mod npix). */
+static int gather_pixels(const st_params *p, const st_render_options *o)
+{
+    if (o->splat_path != ST_SPLAT_PIXELS && (o->splat_path != ST_SPLAT_AUTO || p->bins))
+        return 0;
+    return p->reconstruction == ST_RECON_SPLAT && p->filter.kind == ST_FILTER_BOX &&
+           p->filter.radius <= 0.5f && !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count &&
+           !p->adaptive_scaled;
+}
+
 /* Reconstruction of a wave: splat_samples, or the counting sort by bin
  * (three kernels, timed as the stage bin_samples) and splat_tiles, one
  * work-group per bin (tile_group). */
@@ -241,6 +256,9 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
                             st_render_stats *st, st_error *err)
 {
     size_t n = p->item_count, group = tile_group(r, o);
+    size_t npix = (size_t)p->region_w * p->region_h;
+    if (gather_pixels(p, o))
+        return run_stage(r, ST_STAGE_SPLAT_PIXELS, p, n < npix ? n : npix, o, st, err);
     if (!p->bins)
         return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
     if (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
@@ -475,8 +493,10 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
                           st_render_stats *st, st_error *err)
 {
     size_t n = p->item_count;
-    if (run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
-        run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
+    if (o->generate_path == ST_GENERATE_SPLIT
+            ? run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
+                  run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err)
+            : run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS). Shadow

@@ -1,0 +1,259 @@
+/* test_render_paths.c — the first stages in one kernel (generate_rays) and
+ * the box filter's splat gathered by pixel (splat_pixels) against the
+ * kernels they replace on the same render: the films (raw 64-bit sums), the
+ * counts (splats, rays, clamped, non-finite) and the images equal bit for
+ * bit, over wave sizes below, at and above the region's pixel count, crops,
+ * odd image sizes, spp 1 and spp that divide nothing, several samplers and
+ * both integrators; and each path runs only its own kernels. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "st_device.h"
+#include "st_image.h"
+#include "st_render.h"
+#include "st_scene.h"
+#include "device_fixture.h"
+
+/* One profiled render's results. */
+typedef struct run {
+    st_i64 *sums;
+    st_image img;
+    st_render_stats st;
+} run;
+
+static run render_run(st_renderer *r, st_render_options o)
+{
+    run out;
+    memset(&out, 0, sizeof out);
+    st_error err = {0};
+    o.profile = 1;
+    if (st_render(r, &o, &out.img, &out.sums, &out.st, NULL, NULL, &err) != ST_OK)
+        fail_msg("render: %s", err.msg);
+    return out;
+}
+
+static void run_free(run *a)
+{
+    free(a->sums);
+    free(a->st.spp_map);
+    st_image_free(&a->img);
+}
+
+/* a and b (renders of o's window) are the same bit for bit: sums, image and counts. */
+static void assert_same_run(const run *a, const run *b, const st_render_options *o)
+{
+    size_t px = o->crop_w ? (size_t)o->crop_w * o->crop_h : (size_t)o->width * o->height;
+    assert_memory_equal(a->sums, b->sums, px * 4 * sizeof(st_i64));
+    assert_int_equal(a->img.width, b->img.width);
+    assert_memory_equal(a->img.data, b->img.data, px * 4 * sizeof(float));
+    assert_true(a->st.samples == b->st.samples && a->st.splats == b->st.splats);
+    assert_true(a->st.closest_rays == b->st.closest_rays);
+    assert_true(a->st.shadow_rays == b->st.shadow_rays);
+    assert_int_equal(a->st.clamped, b->st.clamped);
+    assert_int_equal(a->st.nonfinite, b->st.nonfinite);
+    assert_int_equal(a->st.zero_weight, b->st.zero_weight);
+}
+
+static st_render_options small(st_u32 w, st_u32 h, st_u32 spp)
+{
+    st_render_options o = st_render_defaults();
+    o.width = w;
+    o.height = h;
+    o.spp = spp;
+    o.seed = 11;
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    return o;
+}
+
+/* The variations both comparisons run: (wave, crop, size, spp, sampler,
+ * integrator). 37 x 23 = 851 pixels; a crop's region is its window with a
+ * one-pixel apron. */
+typedef struct variant {
+    st_u32 w, h, spp, wave, sampler, integrator;
+    st_u32 crop[4];
+} variant;
+
+static const variant variants[] = {
+    {37, 23, 4, 0, ST_SAMPLER_RANDOM, ST_INTEGRATOR_DIRECT, {0}},     /* one wave */
+    {37, 23, 5, 333, ST_SAMPLER_RANDOM, ST_INTEGRATOR_PATH, {0}},     /* waves < npix */
+    {37, 23, 7, 851, ST_SAMPLER_HALTON, ST_INTEGRATOR_DIRECT, {0}},   /* wave = npix */
+    {37, 23, 3, 2000, ST_SAMPLER_SOBOL, ST_INTEGRATOR_PATH, {0}},     /* 2.35 npix */
+    {37, 23, 1, 0, ST_SAMPLER_STRATIFIED, ST_INTEGRATOR_DIRECT, {0}}, /* 1 spp */
+    {41, 29, 6, 500, ST_SAMPLER_PMJ02, ST_INTEGRATOR_DIRECT, {5, 7, 13, 9}},  /* crop */
+    {41, 29, 9, 0, ST_SAMPLER_ZSOBOL, ST_INTEGRATOR_PATH, {0, 20, 41, 9}},    /* crop, 1 wave */
+};
+
+static st_render_options variant_options(const variant *v)
+{
+    st_render_options o = small(v->w, v->h, v->spp);
+    o.wave = v->wave;
+    o.sampler = v->sampler;
+    o.integrator = v->integrator;
+    o.crop_x = v->crop[0];
+    o.crop_y = v->crop[1];
+    o.crop_w = v->crop[2];
+    o.crop_h = v->crop[3];
+    return o;
+}
+
+/* Renders o with generate_path = ST_GENERATE_SPLIT and AUTO: the same film,
+ * image and counts; the split run timed generate_samples and
+ * generate_camera_rays only, the other generate_rays only. */
+static void same_first_stages(st_renderer *r, st_render_options o)
+{
+    o.generate_path = ST_GENERATE_SPLIT;
+    run a = render_run(r, o);
+    o.generate_path = ST_GENERATE_AUTO;
+    run b = render_run(r, o);
+    assert_same_run(&a, &b, &o);
+    assert_true(a.st.stage_seconds[ST_STAGE_GENERATE] > 0.0);
+    assert_true(a.st.stage_seconds[ST_STAGE_CAMERA] > 0.0);
+    assert_true(a.st.stage_seconds[ST_STAGE_GENERATE_RAYS] == 0.0);
+    assert_true(b.st.stage_seconds[ST_STAGE_GENERATE] == 0.0);
+    assert_true(b.st.stage_seconds[ST_STAGE_CAMERA] == 0.0);
+    assert_true(b.st.stage_seconds[ST_STAGE_GENERATE_RAYS] > 0.0);
+    run_free(&a);
+    run_free(&b);
+}
+
+/* generate_rays against the two kernels: the variants, and the paths that
+ * generate differently: a tiled sampler (points off the image), filter
+ * importance sampling, an adaptive render (its rounds draw from the active
+ * pixels), a Mitchell filter's wider apron around a crop. */
+static void generate_rays_equals_two_kernels(void **state)
+{
+    (void)state;
+    st_scene *scene = fixture_scene("cornell-box");
+    st_renderer *r = NULL;
+    st_error err = {0};
+    if (st_renderer_create(dev, scene, &r, &err) != ST_OK)
+        fail_msg("renderer: %s", err.msg);
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
+        same_first_stages(r, variant_options(&variants[v]));
+    st_render_options tiled = small(45, 30, 4);
+    tiled.sampler = ST_SAMPLER_POISSON;
+    tiled.wave = 1000;
+    same_first_stages(r, tiled);
+    st_render_options fis = small(33, 21, 5);
+    fis.filter = st_filter_default(ST_FILTER_GAUSSIAN);
+    fis.reconstruction = ST_RECON_FIS;
+    same_first_stages(r, fis);
+    st_render_options adaptive = small(24, 20, 16);
+    adaptive.adaptive = 1;
+    adaptive.min_spp = 4;
+    adaptive.wave = 700;
+    same_first_stages(r, adaptive);
+    st_render_options crop = small(40, 30, 3);
+    crop.filter = st_filter_default(ST_FILTER_MITCHELL);
+    crop.crop_x = 10;
+    crop.crop_y = 4;
+    crop.crop_w = 17;
+    crop.crop_h = 11;
+    same_first_stages(r, crop);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+}
+
+/* Renders o with splat_path = ST_SPLAT_PER_SAMPLE (the atomics) and
+ * `other`: the same film, image and counts. Returns the other run's seconds
+ * in splat_pixels; the reference ran splat_samples alone. *clamped (if
+ * given): the samples clamped. */
+static double same_splat_counted(st_renderer *r, st_render_options o, int other, st_u32 *clamped)
+{
+    o.splat_path = ST_SPLAT_PER_SAMPLE;
+    run a = render_run(r, o);
+    o.splat_path = other;
+    run b = render_run(r, o);
+    assert_same_run(&a, &b, &o);
+    assert_true(a.st.stage_seconds[ST_STAGE_SPLAT] > 0.0);
+    assert_true(a.st.stage_seconds[ST_STAGE_SPLAT_PIXELS] == 0.0);
+    double gathered = b.st.stage_seconds[ST_STAGE_SPLAT_PIXELS];
+    if (clamped)
+        *clamped = a.st.clamped;
+    run_free(&a);
+    run_free(&b);
+    return gathered;
+}
+
+static double same_splat(st_renderer *r, st_render_options o, int other)
+{
+    return same_splat_counted(r, o, other, NULL);
+}
+
+/* splat_pixels against splat_samples with the box filter: the variants
+ * (each asked for and by default, where a CPU device gathers), a box of
+ * radius 0.3 (samples near a pixel's edge reach no pixel), clamped splats
+ * (the hot furnace: every sample counts once). Where the render does not
+ * allow the gather (a tiled sampler, filter importance sampling, a wider
+ * box, Mitchell) a request falls back to the per-sample path; an adaptive
+ * render gathers its pilot only (its rounds run splat_samples too). */
+static void splat_pixels_equals_per_sample(void **state)
+{
+    (void)state;
+    st_scene *scene = fixture_scene("cornell-box");
+    st_renderer *r = NULL;
+    st_error err = {0};
+    if (st_renderer_create(dev, scene, &r, &err) != ST_OK)
+        fail_msg("renderer: %s", err.msg);
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+        st_render_options o = variant_options(&variants[v]);
+        assert_true(same_splat(r, o, ST_SPLAT_PIXELS) > 0.0);
+        int cpu = st_device_get_info(dev)->is_cpu;
+        assert_true((same_splat(r, o, ST_SPLAT_AUTO) > 0.0) == cpu);
+    }
+    st_render_options narrow = small(30, 20, 6);
+    narrow.filter.radius = 0.3f;
+    narrow.wave = 1500;
+    assert_true(same_splat(r, narrow, ST_SPLAT_PIXELS) > 0.0);
+    st_render_options no[4] = {small(30, 20, 3), small(30, 20, 3), small(30, 20, 3),
+                               small(30, 20, 3)};
+    no[0].sampler = ST_SAMPLER_POISSON;
+    no[1].reconstruction = ST_RECON_FIS;
+    no[2].filter.radius = 1.0f;
+    no[3].filter = st_filter_default(ST_FILTER_MITCHELL);
+    for (int k = 0; k < 4; k++)
+        assert_true(same_splat(r, no[k], ST_SPLAT_PIXELS) == 0.0);
+    st_render_options adaptive = small(24, 20, 16);
+    adaptive.adaptive = 1;
+    adaptive.min_spp = 4;
+    st_render_options ref = adaptive;
+    ref.splat_path = ST_SPLAT_PER_SAMPLE;
+    ref.profile = 1;
+    adaptive.splat_path = ST_SPLAT_PIXELS;
+    run a = render_run(r, ref), b = render_run(r, adaptive);
+    assert_same_run(&a, &b, &adaptive);
+    assert_memory_equal(a.st.spp_map, b.st.spp_map, 24 * 20 * sizeof(st_u32));
+    assert_true(b.st.stage_seconds[ST_STAGE_SPLAT_PIXELS] > 0.0);
+    assert_true(b.st.stage_seconds[ST_STAGE_SPLAT] > 0.0);
+    run_free(&a);
+    run_free(&b);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+
+    scene = fixture_scene("tests/scenes/hot-furnace.gltf");
+    if (st_renderer_create(dev, scene, &r, &err) != ST_OK)
+        fail_msg("renderer: %s", err.msg);
+    st_render_options hot = small(20, 12, 3);
+    hot.max_depth = 0;
+    hot.wave = 500;
+    st_u32 clamped = 0;
+    assert_true(same_splat_counted(r, hot, ST_SPLAT_PIXELS, &clamped) > 0.0);
+    assert_int_equal(clamped, 20 * 12 * 3);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(generate_rays_equals_two_kernels),
+        cmocka_unit_test(splat_pixels_equals_per_sample),
+    };
+    return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
+}
