@@ -399,7 +399,7 @@ ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st
     float4 sz = ray->o[2] - vload4(0, l->v0[2]);
     float4 u = (sx * px + sy * py + sz * pz) * inv_det;
     int4 in_u = (u >= 0.0f) & (u <= 1.0f);
-    if (st_leaf_bits(in_u) == 0u)
+    if (!any(in_u))
         return 0u;
     float4 qx = sy * e1z - sz * e1y;
     float4 qy = sz * e1x - sx * e1z;
