@@ -108,7 +108,7 @@ extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
  * generate_samples then generate_camera_rays (which reads the sample back),
  * FUSED one kernel, generate_rays, which writes each item's sample, camera
  * ray and fresh path. AUTO: SPLIT on CPU devices, where PoCL's build of the
- * one kernel spills more and ran 5.6 % more instructions (README), FUSED
+ * one kernel spills more and gained nothing measurable (README), FUSED
  * elsewhere (one launch and one re-read fewer; no GPU was lent to measure). */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,

@@ -490,8 +490,8 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
 
 /* Whether the first stages run as one kernel, generate_rays (st_render.h,
  * ST_GENERATE_*): where asked, and by default off CPU devices. On PoCL's
- * CPU device it measured 5.6 % more instructions than the two kernels
- * together (the fused body spills more) and no faster whole passes: README. */
+ * CPU device it ran as many instructions as the two kernels together (the
+ * fused body spills more) and no faster whole passes: README. */
 static int fused_generate(const st_renderer *r, const st_render_options *o)
 {
     if (o->generate_path != ST_GENERATE_AUTO)
