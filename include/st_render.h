@@ -1,7 +1,8 @@
 /* st_render.h — the render: a scene's BVH and buffers uploaded once to a
  * device, then waves of samples pushed through the kernels
- * (generate_rays -> [trace_rays -> shade_hits -> trace_shadow_rays] per path
- * vertex -> splat_samples), and resolve_film at the
+ * (generate_samples -> generate_camera_rays, or generate_rays -> [trace_rays ->
+ * shade_hits -> trace_shadow_rays] per path vertex -> splat_samples), and
+ * resolve_film at the
  * end. Nothing returns to the host inside a wave; between waves only a
  * progress count.
  *
@@ -103,11 +104,13 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
  * ALL every ray. Shadow rays only in scenes whose materials are all opaque. */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
-/* How the first stages run (generate_path), same film bit for bit: by
- * default (AUTO) one kernel, generate_rays, which writes each item's sample,
- * camera ray and fresh path; SPLIT the reference, generate_samples then
- * generate_camera_rays (which reads the sample back). */
-enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT };
+/* How the first stages run (generate_path), same film bit for bit: SPLIT
+ * generate_samples then generate_camera_rays (which reads the sample back),
+ * FUSED one kernel, generate_rays, which writes each item's sample, camera
+ * ray and fresh path. AUTO: SPLIT on CPU devices, where PoCL's build of the
+ * one kernel spills more and gained nothing measurable (README), FUSED
+ * elsewhere (one launch and one re-read fewer; no GPU was lent to measure). */
+enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */

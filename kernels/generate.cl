@@ -1,6 +1,6 @@
 /* generate.cl — the first stages of a wave: sample positions on the film,
- * camera rays and fresh paths, in one kernel (generate_rays) or, as the
- * reference, two (generate_samples, generate_camera_rays).
+ * camera rays and fresh paths, in one kernel (generate_rays) or two
+ * (generate_samples, generate_camera_rays; render.c chooses).
  *
  * Item i of a wave is render item g = first_item + i. Per-pixel samplers:
  * pixel = g mod n, sample = g / n over the n pixels of the region (the whole
@@ -126,9 +126,9 @@ ST_HOT void start_path(const st_params *p, st_sample smp, st_u32 i, __global st_
 
 /* The first stages in one work-item: item i's sample (written for shade and
  * splat), its camera ray and fresh path, the sample kept in registers
- * rather than written and read back by a second kernel. The film, rays and
- * paths are those of generate_samples then generate_camera_rays, which
- * stay as the reference (test_render.c). */
+ * rather than written and read back by a second kernel. The samples, rays
+ * and paths are those of generate_samples then generate_camera_rays, which
+ * CPU devices run instead (render.c; test_render_paths.c). */
 __kernel void generate_rays(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -139,7 +139,7 @@ __kernel void generate_rays(ST_STAGE_PARAMS)
     start_path(&p, smp, i, ray, path);
 }
 
-/* Writes sample[i] (item_sample): the reference's first stage. */
+/* Writes sample[i] (item_sample): the first of the two kernels. */
 __kernel void generate_samples(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);
@@ -149,7 +149,7 @@ __kernel void generate_samples(ST_STAGE_PARAMS)
 }
 
 /* Reads sample; writes the camera ray and the fresh path (start_path): the
- * reference's second stage. */
+ * second of the two kernels. */
 __kernel void generate_camera_rays(ST_STAGE_PARAMS)
 {
     st_u32 i = get_global_id(0);

@@ -488,15 +488,25 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
     return run_kernel(r, kl, k, p, (p->item_count + 7u) / 8u, o->local_size, o, st, err);
 }
 
+/* Whether the first stages run as one kernel, generate_rays (st_render.h,
+ * ST_GENERATE_*): where asked, and by default off CPU devices. On PoCL's
+ * CPU device it ran as many instructions as the two kernels together (the
+ * fused body spills more) and no faster whole passes: README. */
+static int fused_generate(const st_renderer *r, const st_render_options *o)
+{
+    if (o->generate_path != ST_GENERATE_AUTO)
+        return o->generate_path == ST_GENERATE_FUSED;
+    return !st_device_get_info(r->dev)->is_cpu;
+}
+
 /* One wave: items [first, first + n) of the render's item space. */
 static st_status run_wave(st_renderer *r, st_params *p, const st_render_options *o,
                           st_render_stats *st, st_error *err)
 {
     size_t n = p->item_count;
-    if (o->generate_path == ST_GENERATE_SPLIT
-            ? run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
-                  run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err)
-            : run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err))
+    if (fused_generate(r, o) ? run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err)
+                             : run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
+                                   run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS). Shadow

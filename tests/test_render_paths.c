@@ -102,16 +102,24 @@ static st_render_options variant_options(const variant *v)
     return o;
 }
 
-/* Renders o with generate_path = ST_GENERATE_SPLIT and AUTO: the same film,
- * image and counts; the split run timed generate_samples and
- * generate_camera_rays only, the other generate_rays only. */
+/* Renders o with generate_path = ST_GENERATE_SPLIT and FUSED: the same
+ * film, image and counts; the split run timed generate_samples and
+ * generate_camera_rays only, the other generate_rays only; AUTO is SPLIT on
+ * a CPU device, FUSED elsewhere. */
 static void same_first_stages(st_renderer *r, st_render_options o)
 {
     o.generate_path = ST_GENERATE_SPLIT;
     run a = render_run(r, o);
-    o.generate_path = ST_GENERATE_AUTO;
+    o.generate_path = ST_GENERATE_FUSED;
     run b = render_run(r, o);
+    o.generate_path = ST_GENERATE_AUTO;
+    run c = render_run(r, o);
     assert_same_run(&a, &b, &o);
+    assert_same_run(&a, &c, &o);
+    int cpu = st_device_get_info(dev)->is_cpu;
+    assert_true((c.st.stage_seconds[ST_STAGE_GENERATE_RAYS] > 0.0) == !cpu);
+    assert_true((c.st.stage_seconds[ST_STAGE_GENERATE] > 0.0) == cpu);
+    run_free(&c);
     assert_true(a.st.stage_seconds[ST_STAGE_GENERATE] > 0.0);
     assert_true(a.st.stage_seconds[ST_STAGE_CAMERA] > 0.0);
     assert_true(a.st.stage_seconds[ST_STAGE_GENERATE_RAYS] == 0.0);
