@@ -274,6 +274,24 @@ ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const spla
     return (st_u32)nx * (st_u32)ny;
 }
 
+/* Item i's radiance (0 where it is not finite, which is counted) and its
+ * tally *t with the path's rays added: what every splat path starts from. */
+ST_HOT float3 item_radiance(st_u32 i, __global const st_path *path,
+                            __global const st_tally *tally, __global st_film_stats *stats,
+                            st_tally *t)
+{
+    __global const st_path *pa = &path[i];
+    float3 L = vload3(0, pa->radiance);
+    *t = tally[i];
+    t->closest_rays += pa->closest_rays;
+    t->shadow_rays += pa->shadow_rays;
+    if (!all(isfinite(L))) {
+        atomic_inc(&stats->nonfinite);
+        L = (float3)(0.0f);
+    }
+    return L;
+}
+
 /* Item i's sample (on the film) to d: adds the splats made and the path's
  * rays to tally[i]; counts a non-finite radiance, and the sample once if
  * any of its splats clamped. */
@@ -283,15 +301,8 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
                        splat_dest *d)
 {
     st_sample s = sample[i];
-    __global const st_path *pa = &path[i];
-    float3 L = vload3(0, pa->radiance);
-    st_tally t = tally[i];
-    t.closest_rays += pa->closest_rays;
-    t.shadow_rays += pa->shadow_rays;
-    if (!all(isfinite(L))) {
-        atomic_inc(&stats->nonfinite);
-        L = (float3)(0.0f);
-    }
+    st_tally t;
+    float3 L = item_radiance(i, path, tally, stats, &t);
     st_u32 clamped = 0u;
     d->scale = p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
     if (p->reconstruction == ST_RECON_FIS)
@@ -339,15 +350,8 @@ ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *
                         __global const st_path *path, __global st_tally *tally,
                         __global st_film_stats *stats, long4 *acc)
 {
-    __global const st_path *pa = &path[i];
-    float3 L = vload3(0, pa->radiance);
-    st_tally t = tally[i];
-    t.closest_rays += pa->closest_rays;
-    t.shadow_rays += pa->shadow_rays;
-    if (!all(isfinite(L))) {
-        atomic_inc(&stats->nonfinite);
-        L = (float3)(0.0f);
-    }
+    st_tally t;
+    float3 L = item_radiance(i, path, tally, stats, &t);
     int4 k = sample_taps(p, sample[i]);
     if (k.y >= k.x && k.w >= k.z) { /* its own pixel, one tap */
         st_u32 clamped = 0u;
