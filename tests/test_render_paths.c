@@ -130,6 +130,18 @@ static void same_first_stages(st_renderer *r, st_render_options o)
     run_free(&b);
 }
 
+/* A renderer on the device for fixture scene `name` (*scene: the scene, for
+ * the caller to destroy after the renderer). */
+static st_renderer *renderer_for(const char *name, st_scene **scene)
+{
+    st_renderer *r = NULL;
+    st_error err = {0};
+    *scene = fixture_scene(name);
+    if (st_renderer_create(dev, *scene, &r, &err) != ST_OK)
+        fail_msg("renderer %s: %s", name, err.msg);
+    return r;
+}
+
 /* generate_rays against the two kernels: the variants, and the paths that
  * generate differently: a tiled sampler (points off the image), filter
  * importance sampling, an adaptive render (its rounds draw from the active
@@ -137,11 +149,8 @@ static void same_first_stages(st_renderer *r, st_render_options o)
 static void generate_rays_equals_two_kernels(void **state)
 {
     (void)state;
-    st_scene *scene = fixture_scene("cornell-box");
-    st_renderer *r = NULL;
-    st_error err = {0};
-    if (st_renderer_create(dev, scene, &r, &err) != ST_OK)
-        fail_msg("renderer: %s", err.msg);
+    st_scene *scene = NULL;
+    st_renderer *r = renderer_for("cornell-box", &scene);
     for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
         same_first_stages(r, variant_options(&variants[v]));
     st_render_options tiled = small(45, 30, 4);
@@ -204,11 +213,8 @@ static double same_splat(st_renderer *r, st_render_options o, int other)
 static void splat_pixels_equals_per_sample(void **state)
 {
     (void)state;
-    st_scene *scene = fixture_scene("cornell-box");
-    st_renderer *r = NULL;
-    st_error err = {0};
-    if (st_renderer_create(dev, scene, &r, &err) != ST_OK)
-        fail_msg("renderer: %s", err.msg);
+    st_scene *scene = NULL;
+    st_renderer *r = renderer_for("cornell-box", &scene);
     for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
         st_render_options o = variant_options(&variants[v]);
         assert_true(same_splat(r, o, ST_SPLAT_PIXELS) > 0.0);
@@ -244,9 +250,7 @@ static void splat_pixels_equals_per_sample(void **state)
     st_renderer_destroy(r);
     st_scene_destroy(scene);
 
-    scene = fixture_scene("tests/scenes/hot-furnace.gltf");
-    if (st_renderer_create(dev, scene, &r, &err) != ST_OK)
-        fail_msg("renderer: %s", err.msg);
+    r = renderer_for("tests/scenes/hot-furnace.gltf", &scene);
     st_render_options hot = small(20, 12, 3);
     hot.max_depth = 0;
     hot.wave = 500;
