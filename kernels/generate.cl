@@ -41,7 +41,8 @@ static float in_pixel(st_u32 px, float t)
 
 /* Render item g of a tiled sampler: point j = tile_begin + g mod tile_count
  * of repetition g / tile_count; the tile's point j lies in its pixel
- * j mod side^2 as that pixel's sample j / side^2 (st_sampling_pixel_tile). */
+ * j mod side^2 as that pixel's sample j / side^2 (st_sampling_pixel_tile).
+ * Its later dimensions are the random sampler's, from the key alone. */
 static st_sample tile_sample(const st_params *p, __global const st_tile_point *tile, st_u64 g)
 {
     st_u32 rep = (st_u32)(g / p->tile_count), j = p->tile_begin + (st_u32)(g % p->tile_count);
@@ -49,7 +50,8 @@ static st_sample tile_sample(const st_params *p, __global const st_tile_point *t
     st_u32 px = rep % p->tiles_x * side + tx, py = rep / p->tiles_x * side + ty;
     float fx = in_pixel(px, tile[j].x - (float)tx), fy = in_pixel(py, tile[j].y - (float)ty);
     st_u32 pixel = min(py, p->height - 1u) * p->width + min(px, p->width - 1u);
-    st_sample out = {{fx, fy}, pixel, j / (side * side)};
+    st_u32 s = j / (side * side);
+    st_sample out = {{fx, fy}, pixel, s, st_rng_key(p->seed, pixel, s), 0u};
     return out;
 }
 
@@ -70,7 +72,8 @@ static void region_item(const st_params *p, st_u64 g, st_u32 *px, st_u32 *py, st
     *py = p->region_y + row;
 }
 
-/* Render item g's sample: the film position and (pixel, sample index). With
+/* Render item g's sample: the film position, (pixel, sample index) and the
+ * sampler's key and word for shade (st_sample_resume). With
  * filter importance sampling the sampler's two pixel dimensions are warped
  * through the CDF of |f| (their stratification carries over) into an offset
  * from the pixel centre. */
@@ -97,7 +100,7 @@ ST_HOT st_sample item_sample(const st_params *p, __global const st_tile_point *t
         u = 0.5f + fis_offset(fis_cdf, p->filter.radius, u);
         v = 0.5f + fis_offset(fis_cdf, p->filter.radius, v);
     }
-    st_sample out = {{(float)px + u, (float)py + v}, pixel, s};
+    st_sample out = {{(float)px + u, (float)py + v}, pixel, s, sid.key, st_sample_word(p, &sid)};
     return out;
 }
 

@@ -339,10 +339,27 @@ ST_FN void st_stratified_grid(st_u32 n, st_u32 *nx, st_u32 *ny)
 /* The sampler fields of st_params (stratified grid, Halton scales) are
  * filled on the host by st_sampler_prepare (src/sampler.c). */
 
+/* The samplers that read a per-pixel scramble key in every dimension
+ * (st_sample_id.pixel_key); Halton and global Sobol' read one only in the
+ * two pixel dimensions, and derive it there (st_pixel_key). */
+#define ST_SAMPLER_KEYED_PER_PIXEL(s)                                                      \
+    ((s) == ST_SAMPLER_STRATIFIED || (s) == ST_SAMPLER_HAMMERSLEY ||                        \
+     (s) == ST_SAMPLER_PADDED_SOBOL || (s) == ST_SAMPLER_JOINT_STRATIFIED ||                \
+     (s) == ST_SAMPLER_PMJ02)
+/* The samplers whose sample s of a pixel is another index of one sequence
+ * across the image (st_sample_id.index). */
+#define ST_SAMPLER_GLOBAL_INDEX(s) ((s) == ST_SAMPLER_HALTON || (s) == ST_SAMPLER_SOBOL)
+
+/* The per-pixel scramble key of pixel `pixel`. */
+ST_FN st_u32 st_pixel_key(const st_params *p, st_u32 pixel)
+{
+    return st_hash32(st_rng_key(p->seed, pixel, 0xffffffffu));
+}
+
 /* One sample's identity, computed once and passed to st_sample_dim. */
 typedef struct st_sample_id {
     st_u32 pixel, sample, key; /* key: st_rng_key(seed, pixel, sample) */
-    st_u32 pixel_key;          /* per-pixel scramble key */
+    st_u32 pixel_key;          /* st_pixel_key where ST_SAMPLER_KEYED_PER_PIXEL, else 0 */
     st_u32 index;              /* Halton, global Sobol': index of this sample in the sequence */
     st_u32 px, py;             /* the pixel (ZSobol's Morton code) */
     const ST_GLOBAL st_u32 *pmj02; /* pmj02's tables (st_sampling_pmj02); NULL: none given */
@@ -384,10 +401,8 @@ ST_FN st_sample_id st_sample_begin_at(const st_params *p, st_u32 pixel, st_u32 p
     id.pixel = pixel;
     id.sample = s;
     id.key = st_rng_key(p->seed, id.pixel, s);
-    /* the random sampler reads the key alone: no per-pixel key (four hashes) */
-    id.pixel_key = p->sampler == ST_SAMPLER_RANDOM
-                       ? 0u
-                       : st_hash32(st_rng_key(p->seed, id.pixel, 0xffffffffu));
+    /* only for the samplers that read it: a per-pixel key is four hashes */
+    id.pixel_key = ST_SAMPLER_KEYED_PER_PIXEL(p->sampler) ? st_pixel_key(p, pixel) : 0u;
     id.index = p->sampler == ST_SAMPLER_HALTON  ? st_halton_index(p, px, py, s)
                : p->sampler == ST_SAMPLER_SOBOL ? st_sobol_global_index(p->sobol_log2, px, py, s)
                                                 : s;
@@ -403,19 +418,37 @@ ST_FN st_sample_id st_sample_begin(const st_params *p, st_u32 px, st_u32 py, st_
     return st_sample_begin_at(p, py * p->width + px, px, py, s);
 }
 
-/* Sample s of the pixel with index `pixel`: the division that splits the
- * index into (px, py) only for the samplers that read them (Halton, global
- * Sobol', ZSobol); the others get (0, 0), which they never read. Shade
- * knows the index alone, and a 32-bit divide per hit was measurable. */
-ST_FN st_sample_id st_sample_begin_pixel(const st_params *p, st_u32 pixel, st_u32 s)
+/* What the sample record carries of id besides its key (st_sample.word):
+ * the index in the sequence, or the pixel key, whichever the sampler reads
+ * (no sampler reads both). */
+ST_FN st_u32 st_sample_word(const st_params *p, const st_sample_id *id)
 {
-    st_u32 px = 0u, py = 0u;
-    if (p->sampler == ST_SAMPLER_HALTON || p->sampler == ST_SAMPLER_SOBOL ||
-        p->sampler == ST_SAMPLER_ZSOBOL) {
-        px = pixel % p->width;
-        py = pixel / p->width;
+    return ST_SAMPLER_GLOBAL_INDEX(p->sampler) ? id->index : id->pixel_key;
+}
+
+/* Sample s of the pixel with index `pixel` again, from the key and word
+ * that st_sample_begin made (carried in st_sample): nothing is hashed or
+ * solved again; only ZSobol, which reads (px, py), splits the pixel's index
+ * (the others get (0, 0), which they never read: a 32-bit divide per hit
+ * was measurable). The same identity as st_sample_begin's (test_samplers.c);
+ * pmj02 is not set. Forced inline: a returned struct stayed in memory. */
+ST_HOT st_sample_id st_sample_resume(const st_params *p, st_u32 pixel, st_u32 s, st_u32 key,
+                                     st_u32 word)
+{
+    st_sample_id id;
+    id.pixel = pixel;
+    id.sample = s;
+    id.key = key;
+    id.pixel_key = ST_SAMPLER_KEYED_PER_PIXEL(p->sampler) ? word : 0u;
+    id.index = ST_SAMPLER_GLOBAL_INDEX(p->sampler) ? word : s;
+    id.px = 0u;
+    id.py = 0u;
+    if (p->sampler == ST_SAMPLER_ZSOBOL) {
+        id.px = pixel % p->width;
+        id.py = pixel / p->width;
     }
-    return st_sample_begin_at(p, pixel, px, py, s);
+    id.pmj02 = 0;
+    return id;
 }
 
 /* Position cell + jitter of [0, 1) cut in n equal cells, kept inside the cell. */
@@ -492,8 +525,10 @@ ST_FN st_u32 st_oa_symbol(const st_params *p, const st_sample_id *id, st_u32 dim
 /* Dimension `dim` of sample id, in [0, 1), for every sampler (st_sample_dim). */
 ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
-/* per pixel and pair of dimensions: computed only by the samplers that use it */
-#define ST_PAIR_KEY (st_hash32(id->pixel_key ^ st_hash32(dim >> 1)))
+/* per pixel and pair of dimensions: computed only by the samplers that use it
+ * (Halton's and global Sobol's pixel dimensions from the pixel's key made here) */
+#define ST_PAIR_KEY_OF(pixel_key) (st_hash32((pixel_key) ^ st_hash32(dim >> 1)))
+#define ST_PAIR_KEY ST_PAIR_KEY_OF(id->pixel_key)
     switch (p->sampler) {
     case ST_SAMPLER_UNIFORM:
         if (dim < 2u)
@@ -513,7 +548,8 @@ ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_
         if (!p->scramble)
             return st_radical_inverse(st_primes[dim], n);
         /* pixel dimensions scrambled per pixel, the others per render */
-        st_u32 key = dim < 2u ? ST_PAIR_KEY ^ dim : st_hash32(p->seed ^ st_hash32(dim));
+        st_u32 key = dim < 2u ? ST_PAIR_KEY_OF(st_pixel_key(p, id->pixel)) ^ dim
+                              : st_hash32(p->seed ^ st_hash32(dim));
         return st_radical_inverse_scrambled(st_primes[dim], n, key);
     }
     case ST_SAMPLER_HAMMERSLEY: {
@@ -554,7 +590,7 @@ ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_
             /* Owen-scrambled per pixel (pbrt leaves them: its box filter
              * takes the edge, ours does not, and index 0 sits on it) */
             if (p->scramble)
-                bits = st_owen_scramble(bits, ST_PAIR_KEY ^ dim);
+                bits = st_owen_scramble(bits, ST_PAIR_KEY_OF(st_pixel_key(p, id->pixel)) ^ dim);
             return st_bits_to_unit(bits);
         }
         if (p->scramble)
@@ -597,6 +633,7 @@ ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_
     return st_rng_unit(id->key, dim);
 }
 #undef ST_PAIR_KEY
+#undef ST_PAIR_KEY_OF
 
 /* Dimension `dim` of sample id, in [0, 1): the random sampler's hash inline,
  * the others through st_sample_dim_any with a copy of id. On PoCL the call

@@ -83,7 +83,7 @@ static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_le
  * shade_item): next-event estimation's shadow ray and the bounce, or the
  * path's end. */
 static void shade_scatter(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                          st_surface *v, st_walk *pa, st_u32 pixel, st_u32 index,
+                          st_surface *v, st_walk *pa, __global const st_sample *smp,
                           __global const st_u32 *pmj02, __global st_shadow_ray *shadow,
                           __global st_wave_ray *ray)
 {
@@ -92,7 +92,7 @@ static void shade_scatter(const st_scene_refs *s, const st_params *p, const st_s
         return;
     }
     surface_frame(v);
-    st_sample_id id = st_sample_begin_pixel(p, pixel, index);
+    st_sample_id id = st_sample_resume(p, smp->pixel, smp->index, smp->key, smp->word);
     id.pmj02 = pmj02;
     st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa->depth;
     float3 origin = v->pos + v->ng * p->ray_eps, wi;
@@ -152,7 +152,7 @@ ST_HOT void shade_item(st_u32 i, const st_params *p,
         v.ng = -v.ng;
     if (dot(v.ns, v.ng) < 0.0f)
         v.ns = -v.ns;
-    shade_scatter(&s, p, sh, &v, &pa, smp.pixel, smp.index, pmj02, &shadow[i], r);
+    shade_scatter(&s, p, sh, &v, &pa, &sample[i], pmj02, &shadow[i], r);
     walk_store(gp, &pa);
 }
 

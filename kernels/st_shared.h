@@ -409,10 +409,16 @@ typedef struct st_params {
 
 /* A sample's place: film position in pixels (x right, y down; outside the
  * image for a dropped tile point), its pixel and its index in that pixel's
- * sequence (tiled samplers: its point in the tile). */
+ * sequence (tiled samplers: its point in the tile); and the sampler's state
+ * that generate made, so that shade resumes the sample without deriving it
+ * again (samplers.h, st_sample_resume): key = st_rng_key(seed, pixel, index),
+ * and word, what the sampler reads besides (st_sample_word: the index in
+ * the sequence for Halton and global Sobol', the pixel's scramble key for
+ * the samplers keyed per pixel, else 0). */
 typedef struct st_sample {
     st_f32 film[2];
     st_u32 pixel, index;
+    st_u32 key, word;
 } st_sample;
 
 /* A ray of the wavefront. path_length: the distance the path travelled
@@ -612,7 +618,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h)                                           \
-    X(st_sample, film) X(st_sample, pixel) X(st_sample, index)                              \
+    X(st_sample, film) X(st_sample, pixel) X(st_sample, index) X(st_sample, key)           \
+    X(st_sample, word)                                                                      \
     X(st_wave_ray, o) X(st_wave_ray, tmax) X(st_wave_ray, d) X(st_wave_ray, path_length)    \
     X(st_hit, t) X(st_hit, u) X(st_hit, v) X(st_hit, prim)                                  \
     X(st_path, beta) X(st_path, bsdf_pdf) X(st_path, radiance) X(st_path, depth)            \
@@ -646,7 +653,7 @@ ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
 ST_STATIC_ASSERT(sizeof(st_params) == 256, "st_params: 256 bytes");
-ST_STATIC_ASSERT(sizeof(st_sample) == 16, "st_sample: 16 bytes");
+ST_STATIC_ASSERT(sizeof(st_sample) == 24, "st_sample: 24 bytes");
 ST_STATIC_ASSERT(sizeof(st_wave_ray) == 32, "st_wave_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
 ST_STATIC_ASSERT(sizeof(st_path) == 48, "st_path: 48 bytes");

@@ -36,6 +36,7 @@
 #include "rng.h"
 #include "samplers.h"
 #include "st_sampler.h"
+#include "st_sampling.h"
 
 typedef unsigned __int128 u128;
 
@@ -1131,28 +1132,40 @@ static void samplers_values_in_unit_interval(void **state)
             }
 }
 
-/* st_sample_begin_pixel, which splits the pixel index only for the samplers
- * that read (px, py), starts every sampler's sample where st_sample_begin
- * does: the same identity and the same value in every dimension. */
-static void sample_begin_pixel_matches_begin(void **state)
+/* st_sample_resume, which shade uses, resumes every sampler's sample from
+ * the key and word that generate carried in the sample record (st_sample):
+ * the same identity as st_sample_begin's, and the same value in every
+ * dimension, the two pixel dimensions included, with and without
+ * scrambling (pmj02 with its tables). */
+static void sample_resume_matches_begin(void **state)
 {
     (void)state;
     const uint32_t w = 5, h = 3, spp = 16;
-    for (uint32_t sampler = 0; sampler < ST_SAMPLER_COUNT; sampler++) {
-        st_params p = image_params(sampler, w, h, spp, 1, 7);
-        for (uint32_t pix = 0; pix < w * h; pix++)
-            for (uint32_t s = 0; s < spp; s++) {
-                st_sample_id a = st_sample_begin(&p, pix % w, pix / w, s);
-                st_sample_id b = st_sample_begin_pixel(&p, pix, s);
-                assert_int_equal(a.pixel, b.pixel);
-                assert_int_equal(a.key, b.key);
-                assert_int_equal(a.pixel_key, b.pixel_key);
-                assert_int_equal(a.index, b.index);
-                for (uint32_t d = 0; d < 24; d++)
-                    if (st_sample_dim(&p, &a, d) != st_sample_dim(&p, &b, d))
-                        fail_msg("sampler %u pixel %u sample %u dim %u", sampler, pix, s, d);
-            }
-    }
+    st_u32 *pmj02 = NULL;
+    st_error err = {0};
+    if (st_sampling_pmj02(4, ST_PMJ02_SETS, 7, &pmj02, &err) != ST_OK)
+        fail_msg("%s", err.msg);
+    for (uint32_t sampler = 0; sampler < ST_SAMPLER_COUNT; sampler++)
+        for (uint32_t scramble = 0; scramble < 2; scramble++) {
+            st_params p = image_params(sampler, w, h, spp, scramble, 7);
+            for (uint32_t pix = 0; pix < w * h; pix++)
+                for (uint32_t s = 0; s < spp; s++) {
+                    st_sample_id a = st_sample_begin(&p, pix % w, pix / w, s);
+                    st_sample_id b =
+                        st_sample_resume(&p, pix, s, a.key, st_sample_word(&p, &a));
+                    a.pmj02 = b.pmj02 = pmj02;
+                    assert_int_equal(a.pixel, b.pixel);
+                    assert_int_equal(a.sample, b.sample);
+                    assert_int_equal(a.key, b.key);
+                    assert_int_equal(a.pixel_key, b.pixel_key);
+                    assert_int_equal(a.index, b.index);
+                    for (uint32_t d = 0; d < 24; d++)
+                        if (st_sample_dim(&p, &a, d) != st_sample_dim(&p, &b, d))
+                            fail_msg("sampler %u scramble %u pixel %u sample %u dim %u",
+                                     sampler, scramble, pix, s, d);
+                }
+        }
+    free(pmj02);
 }
 
 /* ---- rng ------------------------------------------------------------------------------ */
@@ -1369,7 +1382,7 @@ int main(void)
         cmocka_unit_test(hammersley_rotation_one_point_per_interval),
         cmocka_unit_test(halton_hammersley_scrambled_differ_by_seed_and_pixel),
         cmocka_unit_test(samplers_values_in_unit_interval),
-        cmocka_unit_test(sample_begin_pixel_matches_begin),
+        cmocka_unit_test(sample_resume_matches_begin),
         cmocka_unit_test(rng_unit_in_range),
         cmocka_unit_test(rng_chi_square_uniform),
         cmocka_unit_test(rng_streams_uncorrelated),
