@@ -62,6 +62,7 @@ typedef struct st_render_options {
     int splat_path;    /* internal (tests, measurements): ST_SPLAT_* */
     int shadow_path;   /* internal (tests, measurements): ST_SHADOW_* */
     int generate_path; /* internal (tests, measurements): ST_GENERATE_* */
+    int shade_path;    /* internal (tests, measurements): ST_SHADE_* */
     st_u32 packet_path; /* ST_PACKET_* (--packets) */
 } st_render_options;
 
@@ -111,6 +112,12 @@ extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
  * one kernel spills more and gained nothing measurable (README), FUSED
  * elsewhere (one launch and one re-read fewer; no GPU was lent to measure). */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
+/* How shade runs (shade_path), same film bit for bit: ITEM shade_hits, one
+ * item per work-item; EIGHT shade_hits8, eight per work-item, the common
+ * case of direct lighting in float8 lanes (kernels/shade8.h). AUTO: EIGHT
+ * on CPU devices, where it measured faster (README), ITEM elsewhere (not
+ * measured: no GPU was lent). Shadow rays traced in shade take ITEM. */
+enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */

@@ -52,6 +52,7 @@
 #include "bsdf.h"
 #include "integrator.h"
 #include "shadow.h"
+#include "shade8.h"
 
 /* A path that left the scene along d sees the environment, weighted by MIS
  * where next-event estimation samples it too (see the top). */
@@ -181,4 +182,82 @@ __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
     shade_item(i, ST_STAGE_ARGS);
     st_scene_refs sc = ST_SCENE_REFS_INIT;
     trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
+}
+
+/* Fast lane k's results into item i: what shade_item leaves at a direct
+ * render's first vertex (the shadow ray or none, the radiance, the path
+ * ended, one more closest ray). */
+ST_HOT void shade8_store(st_u32 i, st_u32 k, float (*rad)[8], float (*org)[8], float (*dir)[8],
+                         float (*con)[8], const float *tmax, __global st_shadow_ray *shadow,
+                         __global st_path *path)
+{
+    __global st_shadow_ray *sr = &shadow[i];
+    sr->tmax = 0.0f;
+    if (tmax[k] > 0.0f) {
+        vstore3((float3)(org[0][k], org[1][k], org[2][k]), 0, sr->o);
+        sr->tmax = tmax[k];
+        vstore3((float3)(dir[0][k], dir[1][k], dir[2][k]), 0, sr->d);
+        vstore3((float3)(con[0][k], con[1][k], con[2][k]), 0, sr->contribution);
+    }
+    __global st_path *gp = &path[i];
+    gp->closest_rays++;
+    vstore3((float3)(rad[0][k], rad[1][k], rad[2][k]), 0, gp->radiance);
+    gp->depth = ST_PATH_DEAD;
+}
+
+/* The fast lanes (bit k of `fast`: item first + k) of one work-item of
+ * shade_hits8 in float8 (shade8.h); returns the lanes it shaded (those
+ * whose normal PoCL's normalize would not rescale). */
+ST_HOT st_u32 shade8_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                           st_u32 first, st_u32 n, st_u32 fast, __global const st_sample *sample,
+                           __global const st_wave_ray *ray, __global const st_hit *hit,
+                           __global st_path *path, __global st_shadow_ray *shadow,
+                           __global const st_u32 *pmj02)
+{
+    st_lanes8 l;
+    for (st_u32 k = 0; k < ST_LANES; k++)
+        shade8_gather(s, p, sh, first + (k < n ? k : 0u), (fast >> k) & 1u, k, sample, ray, hit,
+                      path, pmj02, &l);
+    st_shade8_out o;
+    st_v8 ns, ng;
+    shade8_surface(&l, p->ray_eps, &ns, &ng, &o);
+    shade8_light(&l, p, sh, ns, ng, &o);
+    float rad[3][8], org[3][8], dir[3][8], con[3][8], tmax[8];
+    int ok[8];
+    vstore8(o.radiance.x, 0, rad[0]), vstore8(o.radiance.y, 0, rad[1]);
+    vstore8(o.radiance.z, 0, rad[2]);
+    vstore8(o.origin.x, 0, org[0]), vstore8(o.origin.y, 0, org[1]), vstore8(o.origin.z, 0, org[2]);
+    vstore8(o.wi.x, 0, dir[0]), vstore8(o.wi.y, 0, dir[1]), vstore8(o.wi.z, 0, dir[2]);
+    vstore8(o.contribution.x, 0, con[0]), vstore8(o.contribution.y, 0, con[1]);
+    vstore8(o.contribution.z, 0, con[2]);
+    vstore8(o.tmax, 0, tmax);
+    vstore8(o.fast, 0, ok);
+    for (st_u32 k = 0; k < ST_LANES; k++) {
+        if (!ok[k])
+            fast &= ~(1u << k);
+        if ((fast >> k) & 1u)
+            shade8_store(first + k, k, rad, org, dir, con, tmax, shadow, path);
+    }
+    return fast;
+}
+
+/* shade_hits for eight items per work-item (global size item_count / 8
+ * rounded up): work-item g shades items 8g .. 8g + 7, the fast lanes in
+ * float8 (shade8.h), every other by shade_item, so the film is
+ * shade_hits' (render.c chooses; tests/test_shade8.c). */
+__kernel void shade_hits8(ST_STAGE_PARAMS)
+{
+    st_u32 first = ST_LANES * get_global_id(0);
+    if (first >= p.item_count)
+        return;
+    st_u32 n = min(ST_LANES, p.item_count - first), fast = 0u;
+    st_scene_refs s = ST_SCENE_REFS_INIT;
+    if (shade8_render_fast(&p, &sh))
+        for (st_u32 k = 0; k < n; k++)
+            fast |= (st_u32)shade8_item_fast(&s, first + k, path, hit) << k;
+    if (fast)
+        fast = shade8_lanes(&s, &p, &sh, first, n, fast, sample, ray, hit, path, shadow, pmj02);
+    for (st_u32 k = 0; k < n; k++)
+        if (!((fast >> k) & 1u))
+            shade_item(first + k, ST_STAGE_ARGS);
 }

@@ -198,6 +198,7 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->shade8, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
         return err->status;
@@ -499,6 +500,33 @@ static int fused_generate(const st_renderer *r, const st_render_options *o)
     return !st_device_get_info(r->dev)->is_cpu;
 }
 
+/* Whether shade runs eight items per work-item (shade_hits8; st_render.h,
+ * ST_SHADE_*), unless shadow rays are traced in shade: where asked, and by
+ * default on CPU devices, where PoCL keeps its float8 lanes SIMD and it
+ * measured faster (README, "Shade eight items per work-item"); elsewhere a
+ * GPU's work-items already run in lockstep (none was lent to measure). */
+static int shade_eight(const st_renderer *r, const st_render_options *o)
+{
+    if (shadows_in_shade(r, o))
+        return 0;
+    if (o->shade_path != ST_SHADE_AUTO)
+        return o->shade_path == ST_SHADE_EIGHT;
+    return st_device_get_info(r->dev)->is_cpu;
+}
+
+/* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits8
+ * (ceil(n / 8) work-items) or shade_hits. */
+static st_status run_shade(st_renderer *r, const st_params *p, size_t n,
+                           const st_render_options *o, st_render_stats *st, st_error *err)
+{
+    if (shadows_in_shade(r, o))
+        return run_kernel(r, r->shade_shadowed, ST_STAGE_SHADE, p, n, o->local_size, o, st, err);
+    if (shade_eight(r, o))
+        return run_kernel(r, r->shade8, ST_STAGE_SHADE, p, (n + 7u) / 8u, o->local_size, o, st,
+                          err);
+    return run_stage(r, ST_STAGE_SHADE, p, n, o, st, err);
+}
+
 /* One wave: items [first, first + n) of the render's item space. */
 static st_status run_wave(st_renderer *r, st_params *p, const st_render_options *o,
                           st_render_stats *st, st_error *err)
@@ -513,10 +541,8 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
      * rays in shade: timed as its stage. */
     st_u32 vertices = p->integrator == ST_INTEGRATOR_DIRECT ? 1u : p->max_depth + 1u;
     int in_shade = shadows_in_shade(r, o);
-    cl_kernel shade = in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
     for (st_u32 v = 0; v < vertices; v++) {
-        if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) ||
-            run_kernel(r, shade, ST_STAGE_SHADE, p, n, o->local_size, o, st, err))
+        if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) || run_shade(r, p, n, o, st, err))
             return err->status;
         if (!in_shade && v < p->max_depth && run_trace(r, ST_STAGE_SHADOW, v, p, o, st, err))
             return err->status;

@@ -175,6 +175,7 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
         st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK ||
         st_device_kernel(dev, "shade_hits_shadowed", &r->shade_shadowed, err) != ST_OK ||
+        st_device_kernel(dev, "shade_hits8", &r->shade8, err) != ST_OK ||
         st_device_kernel(dev, "trace_rays_packet", &r->trace_packet, err) != ST_OK ||
         st_device_kernel(dev, "trace_shadow_rays_packet", &r->shadow_packet, err) != ST_OK)
         goto fail;

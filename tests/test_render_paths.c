@@ -1,6 +1,7 @@
-/* test_render_paths.c — the first stages in one kernel (generate_rays) and
- * the box filter's splat gathered by pixel (splat_pixels) against the
- * kernels they replace on the same render: the films (raw 64-bit sums), the
+/* test_render_paths.c — the first stages in one kernel (generate_rays),
+ * the box filter's splat gathered by pixel (splat_pixels) and shade eight
+ * items per work-item (shade_hits8) against the kernels they replace on the
+ * same render: the films (raw 64-bit sums), the
  * counts (splats, rays, clamped, non-finite) and the images equal bit for
  * bit, over wave sizes below, at and above the region's pixel count, crops,
  * odd image sizes, spp 1 and spp that divide nothing, several samplers and
@@ -12,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <cmocka.h>
 
 #include "st_device.h"
@@ -261,11 +263,80 @@ static void splat_pixels_equals_per_sample(void **state)
     st_scene_destroy(scene);
 }
 
+/* Renders o with shade_path = ST_SHADE_ITEM and EIGHT: the same film,
+ * image and counts. */
+static void same_shade(st_renderer *r, st_render_options o)
+{
+    o.shade_path = ST_SHADE_ITEM;
+    run a = render_run(r, o);
+    o.shade_path = ST_SHADE_EIGHT;
+    run b = render_run(r, o);
+    assert_same_run(&a, &b, &o);
+    run_free(&a);
+    run_free(&b);
+}
+
+/* The bench Cornell box (where ../shared holds it) and the built-in one,
+ * all fast lanes but for misses; tests/scenes/shade_mix.gltf, fast lanes
+ * beside textured, alpha, vertex-coloured and metallic ones and misses, lit
+ * by an emitter with an emissive texture too; textures.gltf (alpha MASK and
+ * BLEND, textures, no Lambertian material), punctual.gltf (punctual lights)
+ * and the Khronos models with emitters (none Lambertian), where shade_item
+ * takes every lane: direct lighting over wave sizes that are and are not
+ * multiples of 8; the variants (paths take shade_item throughout); a tiled
+ * sampler, an adaptive render and shadow rays traced in shade (which
+ * takes shade_hits_shadowed either way), direct. */
+static void shade_hits8_equals_shade_hits(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {
+        "../shared/scenes/bench/cornell.gltf", "cornell-box", "tests/scenes/shade_mix.gltf",
+        "tests/scenes/textures.gltf", "tests/scenes/punctual.gltf",
+        "../shared/scenes/khronos/VC/VC.gltf",
+        "../shared/scenes/khronos/EmissiveStrengthTest/EmissiveStrengthTest.gltf"};
+    static const st_u32 waves[] = {0, 8, 333, 851, 1000, 1001};
+    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
+        if (strncmp(scenes[k], "../shared", 9) == 0 && access(scenes[k], R_OK) != 0) {
+            print_message("note: %s not found; skipped\n", scenes[k]);
+            continue;
+        }
+        st_scene *scene = NULL;
+        st_renderer *r = renderer_for(scenes[k], &scene);
+        for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
+            st_render_options o = small(37, 23, 3);
+            o.integrator = ST_INTEGRATOR_DIRECT;
+            o.sampler = w % 2 ? ST_SAMPLER_RANDOM : ST_SAMPLER_HALTON;
+            o.wave = waves[w];
+            same_shade(r, o);
+        }
+        st_renderer_destroy(r);
+        st_scene_destroy(scene);
+    }
+    st_scene *scene = NULL;
+    st_renderer *r = renderer_for("cornell-box", &scene);
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
+        same_shade(r, variant_options(&variants[v]));
+    st_render_options more[3] = {small(30, 20, 4), small(24, 20, 16), small(30, 20, 3)};
+    more[0].sampler = ST_SAMPLER_POISSON;
+    more[0].wave = 1000;
+    more[1].adaptive = 1;
+    more[1].min_spp = 4;
+    more[1].wave = 700;
+    more[2].shadow_path = ST_SHADOW_IN_SHADE;
+    for (int k = 0; k < 3; k++) {
+        more[k].integrator = ST_INTEGRATOR_DIRECT;
+        same_shade(r, more[k]);
+    }
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generate_rays_equals_two_kernels),
         cmocka_unit_test(splat_pixels_equals_per_sample),
+        cmocka_unit_test(shade_hits8_equals_shade_hits),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
 }

@@ -81,6 +81,13 @@ two_uv        the quad, unlit white, seen as textured_quad is: TEXCOORD_0 consta
               TEXCOORD_0 constant on the white texel), so only its half x > 0
               emits; half_light: the same with that half alone as the emitter,
               untextured.
+shade_mix     six 1 x 1 quads of a 3 x 2 ground (z = 0) under two one-sided
+              emitters facing down at z = 1.5 (the camera above, orthographic and
+              wider than the ground, sees through their backs and past the
+              ground's edges): white and red Lambertian quads (shade_hits8's fast
+              lanes), and a textured, an alpha MASK, a vertex-coloured and a
+              metallic one (shade_item's); the emitter over x > 0 has an
+              emissive texture (grey | white), the one over x < 0 none.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -803,6 +810,51 @@ def write_quantized():
         write_json(name, g)
 
 
+def write_shade_mix():
+    spec0 = {"KHR_materials_specular": {"specularFactor": 0.0}}
+
+    def lambert(rgb, **extra):
+        m = {"pbrMetallicRoughness": {"baseColorFactor": list(rgb) + [1.0], "metallicFactor": 0.0},
+             "extensions": spec0}
+        m.update(extra)
+        return m
+    materials = [lambert((0.8, 0.8, 0.8)), lambert((0.8, 0.2, 0.1)),
+                 lambert((1.0, 1.0, 1.0)), lambert((0.2, 0.8, 0.2), alphaMode="MASK",
+                                                   alphaCutoff=0.5),
+                 lambert((1.0, 1.0, 1.0)), {"pbrMetallicRoughness": {"metallicFactor": 0.5}},
+                 lambert((0.0, 0.0, 0.0), emissiveFactor=[4.0, 4.0, 4.0]),
+                 lambert((0.0, 0.0, 0.0), emissiveFactor=[4.0, 3.0, 2.0],
+                         emissiveTexture={"index": 1})]
+    materials[2]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+    b = Blob()
+    meshes, nodes = [], []
+    for k in range(6):
+        p = b.quad(0.0, QUAD_UV)
+        p["material"] = k
+        if k == 4:
+            p["attributes"]["COLOR_0"] = b.accessor(bytes([255, 128, 64, 255] * 4), 5121, 4,
+                                                    "VEC4", normalized=True)
+        meshes.append({"primitives": [p]})
+        nodes.append({"mesh": k, "translation": [k % 3 - 1.0, k // 3 - 0.5, 0.0],
+                      "scale": [0.5, 0.5, 1.0]})
+    for k, x in ((6, -0.75), (7, 0.75)):
+        p = b.quad(0.0, QUAD_UV)
+        p["material"] = k
+        meshes.append({"primitives": [p]})
+        nodes.append({"mesh": k, "translation": [x, 0.0, 1.5], "scale": [0.5, 0.5, 1.0],
+                      "rotation": [1.0, 0.0, 0.0, 0.0]})
+    nodes.append(ortho_camera_node())
+    camera = [{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.4,
+                                                        "zfar": 100.0, "znear": 0.01}}]
+    images = [{"uri": png_uri(png(2, 2, 3, [[255, 0, 0, 0, 255, 0], [0, 0, 255, 255, 255, 255]]))},
+              {"uri": png_uri(png(2, 1, 3, [[128, 128, 128, 255, 255, 255]]))}]
+    g = doc(meshes, b.accessors, b.views, b.buffers(), nodes=nodes,
+            scenes=[{"nodes": list(range(len(nodes)))}], cameras=camera, materials=materials,
+            images=images, textures=[{"source": 0}, {"source": 1}],
+            extensionsUsed=["KHR_materials_specular"])
+    write_json("shade_mix.gltf", g)
+
+
 def write_shadows():
     half = [[0, 0, 0, 0] * 2 + [255, 255, 255, 255] * 2] * 4  # left half alpha 0
     lambert = {"extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
@@ -965,6 +1017,7 @@ def main():
     write_two_uv()
     write_two_uv_light()
     write_shadows()
+    write_shade_mix()
     write_quantized()
     write_bad()
 
