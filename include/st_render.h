@@ -115,8 +115,10 @@ enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
 /* How shade runs (shade_path), same film bit for bit: ITEM shade_hits, one
  * item per work-item; EIGHT shade_hits8, eight per work-item, the common
  * case of direct lighting in float8 lanes (kernels/shade8.h). AUTO: EIGHT
- * on CPU devices, where it measured faster (README), ITEM elsewhere (not
- * measured: no GPU was lent). Shadow rays traced in shade take ITEM. */
+ * on CPU devices in renders that may take its fast lanes (direct lighting
+ * by area lights alone: st_shade8_render_fast), where it measured faster
+ * (README), ITEM elsewhere (GPUs: not measured, none was lent). Shadow rays
+ * traced in shade take ITEM. */
 enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };

@@ -252,7 +252,7 @@ __kernel void shade_hits8(ST_STAGE_PARAMS)
         return;
     st_u32 n = min(ST_LANES, p.item_count - first), fast = 0u;
     st_scene_refs s = ST_SCENE_REFS_INIT;
-    if (shade8_render_fast(&p, &sh))
+    if (st_shade8_render_fast(&p, &sh))
         for (st_u32 k = 0; k < n; k++)
             fast |= (st_u32)shade8_item_fast(&s, first + k, path, hit) << k;
     if (fast)

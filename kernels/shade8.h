@@ -69,13 +69,6 @@ typedef struct st_lanes8 {
     float lpdf[8], lr[8], lg[8], lb[8];             /* its pdf per area, emission */
 } st_lanes8;
 
-/* Whether the render lets shade_hits8 take fast lanes at all (see the top). */
-ST_HOT int shade8_render_fast(const st_params *p, const st_shading *sh)
-{
-    return p->integrator == ST_INTEGRATOR_DIRECT && p->max_depth > 0u &&
-           p->light_count > 0u && sh->punct_count == 0u && sh->env_pick == 0.0f;
-}
-
 /* Whether item i may take a fast lane (see the top): a live first vertex
  * that hit a material shade_item would treat as opaque, untextured,
  * lit Lambertian without vertex colours. */

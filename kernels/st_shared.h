@@ -391,6 +391,16 @@ typedef struct st_params {
     st_u32 region_x, region_y, region_w, region_h;
 } st_params;
 
+/* Whether shade_hits8 may shade items of a render in float8 lanes
+ * (kernels/shade8.h): direct lighting whose next-event estimation takes
+ * only area lights (no punctual lights, no environment). The host runs
+ * shade_hits8 by default only then (render.c). */
+ST_FN int st_shade8_render_fast(const st_params *p, const st_shading *sh)
+{
+    return p->integrator == ST_INTEGRATOR_DIRECT && p->max_depth > 0u && p->light_count > 0u &&
+           sh->punct_count == 0u && sh->env_pick == 0.0f;
+}
+
 
 /* ---- the wavefront state and the film --------------------------------------
  * Every buffer the stage kernels share, declared once. The lists below

@@ -202,6 +202,7 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
         return err->status;
+    r->shade8_fast = st_shade8_render_fast(p, sh);
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
     size_t window = p->bins ? tile_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
     if (st_device_set_arg(r->k[ST_STAGE_SPLAT_TILES], 2 + ST_SCENE_BUFFER_COUNT +
@@ -502,7 +503,8 @@ static int fused_generate(const st_renderer *r, const st_render_options *o)
 
 /* Whether shade runs eight items per work-item (shade_hits8; st_render.h,
  * ST_SHADE_*), unless shadow rays are traced in shade: where asked, and by
- * default on CPU devices, where PoCL keeps its float8 lanes SIMD and it
+ * default on CPU devices in renders where it may take fast lanes
+ * (st_shade8_render_fast), where PoCL keeps its float8 lanes SIMD and it
  * measured faster (README, "Shade eight items per work-item"); elsewhere a
  * GPU's work-items already run in lockstep (none was lent to measure). */
 static int shade_eight(const st_renderer *r, const st_render_options *o)
@@ -511,7 +513,7 @@ static int shade_eight(const st_renderer *r, const st_render_options *o)
         return 0;
     if (o->shade_path != ST_SHADE_AUTO)
         return o->shade_path == ST_SHADE_EIGHT;
-    return st_device_get_info(r->dev)->is_cpu;
+    return st_device_get_info(r->dev)->is_cpu && r->shade8_fast;
 }
 
 /* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits8

@@ -24,6 +24,7 @@ struct st_renderer {
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
     cl_kernel shade8; /* shade_hits8: ST_STAGE_SHADE, eight items per work-item */
+    int shade8_fast;  /* the render bound last may take shade_hits8's fast lanes */
     /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of 8 rays (trace.cl) */
     cl_kernel trace_packet, shadow_packet;
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
