@@ -116,7 +116,8 @@ enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
  * item per work-item; EIGHT shade_hits8, eight per work-item, the common
  * case of direct lighting in float8 lanes (kernels/shade8.h). AUTO: EIGHT
  * on CPU devices in renders that may take its fast lanes (direct lighting
- * by area lights alone: st_shade8_render_fast), where it measured faster
+ * by area lights alone, st_shade8_render_fast, of a scene with a material
+ * that takes them, st_shade8_material), where it measured faster
  * (README), ITEM elsewhere (GPUs: not measured, none was lent). Shadow rays
  * traced in shade take ITEM. */
 enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };

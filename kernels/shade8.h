@@ -70,20 +70,13 @@ typedef struct st_lanes8 {
 } st_lanes8;
 
 /* Whether item i may take a fast lane (see the top): a live first vertex
- * that hit a material shade_item would treat as opaque, untextured,
- * lit Lambertian without vertex colours. */
+ * that hit a material of st_shade8_material. */
 ST_HOT int shade8_item_fast(const st_scene_refs *s, st_u32 i, __global const st_path *path,
                             __global const st_hit *hit)
 {
     if (path[i].depth != 0u || hit[i].prim == ST_NO_HIT)
         return 0;
-    __global const st_material *m = &s->materials[s->tri_material[hit[i].prim]];
-    return m->alpha_mode == ST_ALPHA_OPAQUE &&
-           (m->flags & (ST_MAT_UNLIT | ST_MAT_VERTEX_COLOR)) == 0u &&
-           m->base_color_tex == ST_NO_TEXTURE && m->emission_tex == ST_NO_TEXTURE &&
-           m->metallic_roughness_tex == ST_NO_TEXTURE && m->specular_tex == ST_NO_TEXTURE &&
-           m->specular_color_tex == ST_NO_TEXTURE && m->normal_tex == ST_NO_TEXTURE &&
-           !(m->metallic > 0.0f || m->specular[3] > 0.0f);
+    return st_shade8_material(&s->materials[s->tri_material[hit[i].prim]]);
 }
 
 /* Lane k's values from item i (any valid item for a lane that is not

@@ -391,6 +391,20 @@ typedef struct st_params {
     st_u32 region_x, region_y, region_w, region_h;
 } st_params;
 
+/* Whether shade_hits8 shades a hit on material m in float8 lanes
+ * (kernels/shade8.h): what shade_item treats as opaque, untextured, lit
+ * Lambertian without vertex colours. The host runs shade_hits8 by default
+ * only for scenes with such a material (render.c). */
+ST_FN int st_shade8_material(const ST_GLOBAL st_material *m)
+{
+    return m->alpha_mode == ST_ALPHA_OPAQUE &&
+           (m->flags & (ST_MAT_UNLIT | ST_MAT_VERTEX_COLOR)) == 0u &&
+           m->base_color_tex == ST_NO_TEXTURE && m->emission_tex == ST_NO_TEXTURE &&
+           m->metallic_roughness_tex == ST_NO_TEXTURE && m->specular_tex == ST_NO_TEXTURE &&
+           m->specular_color_tex == ST_NO_TEXTURE && m->normal_tex == ST_NO_TEXTURE &&
+           !(m->metallic > 0.0f || m->specular[3] > 0.0f);
+}
+
 /* Whether shade_hits8 may shade items of a render in float8 lanes
  * (kernels/shade8.h): direct lighting whose next-event estimation takes
  * only area lights (no punctual lights, no environment). The host runs

@@ -503,17 +503,20 @@ static int fused_generate(const st_renderer *r, const st_render_options *o)
 
 /* Whether shade runs eight items per work-item (shade_hits8; st_render.h,
  * ST_SHADE_*), unless shadow rays are traced in shade: where asked, and by
- * default on CPU devices in renders where it may take fast lanes
- * (st_shade8_render_fast), where PoCL keeps its float8 lanes SIMD and it
- * measured faster (README, "Shade eight items per work-item"); elsewhere a
- * GPU's work-items already run in lockstep (none was lent to measure). */
+ * default on CPU devices in renders where it may take fast lanes (direct
+ * lighting by area lights, st_shade8_render_fast, of a scene with a
+ * material that takes them, st_shade8_material), where PoCL keeps its float8
+ * lanes SIMD and it measured faster (README, "Shade eight items per
+ * work-item"; with no fast lane it runs 5 % more instructions than
+ * shade_hits); elsewhere a GPU's work-items already run in lockstep (none
+ * was lent to measure). */
 static int shade_eight(const st_renderer *r, const st_render_options *o)
 {
     if (shadows_in_shade(r, o))
         return 0;
     if (o->shade_path != ST_SHADE_AUTO)
         return o->shade_path == ST_SHADE_EIGHT;
-    return st_device_get_info(r->dev)->is_cpu && r->shade8_fast;
+    return st_device_get_info(r->dev)->is_cpu && r->shade8_fast && r->shade8_materials;
 }
 
 /* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits8

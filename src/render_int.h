@@ -28,6 +28,7 @@ struct st_renderer {
     /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of 8 rays (trace.cl) */
     cl_kernel trace_packet, shadow_packet;
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
+    int shade8_materials; /* some material takes shade_hits8's fast lanes */
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
     const st_envmap *env_map; /* borrowed (st_renderer_set_env_map); NULL: none */

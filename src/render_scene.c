@@ -180,8 +180,10 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
         st_device_kernel(dev, "trace_shadow_rays_packet", &r->shadow_packet, err) != ST_OK)
         goto fail;
     r->all_opaque = 1;
-    for (st_u32 m = 0; m < scene->material_count; m++)
+    for (st_u32 m = 0; m < scene->material_count; m++) {
         r->all_opaque &= scene->materials[m].alpha_mode == ST_ALPHA_OPAQUE;
+        r->shade8_materials |= st_shade8_material(&scene->materials[m]);
+    }
     st_bvh_destroy(bvh);
     *out = r;
     return ST_OK;
