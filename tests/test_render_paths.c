@@ -284,8 +284,8 @@ static void same_shade(st_renderer *r, st_render_options o)
  * and the Khronos models with emitters (none Lambertian), where shade_item
  * takes every lane: direct lighting over wave sizes that are and are not
  * multiples of 8; the variants (paths take shade_item throughout); a tiled
- * sampler, an adaptive render and shadow rays traced in shade (which
- * takes shade_hits_shadowed either way), direct. */
+ * sampler, an adaptive render, a work-group size of 3 and shadow rays
+ * traced in shade (which takes shade_hits_shadowed either way), direct. */
 static void shade_hits8_equals_shade_hits(void **state)
 {
     (void)state;
@@ -316,14 +316,17 @@ static void shade_hits8_equals_shade_hits(void **state)
     st_renderer *r = renderer_for("cornell-box", &scene);
     for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
         same_shade(r, variant_options(&variants[v]));
-    st_render_options more[3] = {small(30, 20, 4), small(24, 20, 16), small(30, 20, 3)};
+    st_render_options more[4] = {small(30, 20, 4), small(24, 20, 16), small(30, 20, 3),
+                                 small(30, 20, 3)};
     more[0].sampler = ST_SAMPLER_POISSON;
     more[0].wave = 1000;
     more[1].adaptive = 1;
     more[1].min_spp = 4;
     more[1].wave = 700;
     more[2].shadow_path = ST_SHADOW_IN_SHADE;
-    for (int k = 0; k < 3; k++) {
+    more[3].local_size = 3;
+    more[3].wave = 997;
+    for (int k = 0; k < 4; k++) {
         more[k].integrator = ST_INTEGRATOR_DIRECT;
         same_shade(r, more[k]);
     }
