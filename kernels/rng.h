@@ -10,13 +10,20 @@
 #ifndef ST_RNG_H
 #define ST_RNG_H
 
+/* lowbias32's steps on x, a 32-bit unsigned value or vector of them (uint8
+ * in kernels/shade8.h). */
+#define ST_HASH32_MIX(x)                                                                  \
+    do {                                                                                    \
+        (x) ^= (x) >> 16;                                                                   \
+        (x) *= 0x7feb352du;                                                                 \
+        (x) ^= (x) >> 15;                                                                   \
+        (x) *= 0x846ca68bu;                                                                 \
+        (x) ^= (x) >> 16;                                                                   \
+    } while (0)
+
 ST_FN st_u32 st_hash32(st_u32 x)
 {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
+    ST_HASH32_MIX(x);
     return x;
 }
 

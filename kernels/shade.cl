@@ -216,8 +216,15 @@ ST_HOT st_u32 shade8_lanes(const st_scene_refs *s, const st_params *p, const st_
 {
     st_lanes8 l;
     for (st_u32 k = 0; k < ST_LANES; k++)
-        shade8_gather(s, p, sh, first + (k < n ? k : 0u), (fast >> k) & 1u, k, sample, ray, hit,
-                      path, pmj02, &l);
+        shade8_gather(s, p, first + (k < n ? k : 0u), (fast >> k) & 1u, k, sample, ray, hit, path,
+                      pmj02, &l);
+    if (p->sampler == ST_SAMPLER_RANDOM) { /* dimensions 2 and 3: vertex 0's light sample */
+        uint8 key = vload8(0, l.key);
+        vstore8(rng_unit8(key, 2u), 0, l.u);
+        vstore8(rng_unit8(key, 3u), 0, l.u2);
+    }
+    for (st_u32 k = 0; k < ST_LANES; k++)
+        shade8_gather_light(s, p, sh, k, &l);
     st_shade8_out o;
     st_v8 ns, ng;
     shade8_surface(&l, p->ray_eps, &ns, &ng, &o);

@@ -64,6 +64,7 @@ typedef struct st_lanes8 {
     float cr[8], cg[8], cb[8], er[8], eg[8], eb[8]; /* base colour, emission */
     float betar[8], betag[8], betab[8], radr[8], radg[8], radb[8];
     float u[8], u2[8];                              /* the light sample */
+    st_u32 key[8];                                  /* the sample's key */
     float v0x[8], v0y[8], v0z[8], e1x[8], e1y[8], e1z[8], e2x[8], e2y[8], e2z[8];
     float nlx[8], nly[8], nlz[8];                   /* the light's facing normal */
     float lpdf[8], lr[8], lg[8], lb[8];             /* its pdf per area, emission */
@@ -79,12 +80,20 @@ ST_HOT int shade8_item_fast(const st_scene_refs *s, st_u32 i, __global const st_
     return st_shade8_material(&s->materials[s->tri_material[hit[i].prim]]);
 }
 
+/* st_rng_unit(key, dim) of eight keys at once: the random sampler's
+ * dimension dim (st_sample_dim) in uint8 lanes. */
+ST_HOT float8 rng_unit8(uint8 key, st_u32 dim)
+{
+    uint8 x = key ^ st_hash32(dim + 0x9e3779b9u);
+    ST_HASH32_MIX(x);
+    return convert_float8(x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
+}
+
 /* Lane k's values from item i (any valid item for a lane that is not
  * fast: its results are never stored): the ray, hit, normals, material,
- * path and the light sample's triangle (next_event's pick and
- * triangle_point's inputs, light_emission). */
-ST_HOT void shade8_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                          st_u32 i, int fast, st_u32 k, __global const st_sample *sample,
+ * path, and the light sample's two dimensions (the random sampler's key
+ * alone: rng_unit8 makes them for all lanes at once). */
+ST_HOT void shade8_gather(const st_scene_refs *s, const st_params *p, st_u32 i, int fast, st_u32 k, __global const st_sample *sample,
                           __global const st_wave_ray *ray, __global const st_hit *hit,
                           __global const st_path *path, __global const st_u32 *pmj02,
                           st_lanes8 *l)
@@ -107,11 +116,23 @@ ST_HOT void shade8_gather(const st_scene_refs *s, const st_params *p, const st_s
     l->betar[k] = gp->beta[0], l->betag[k] = gp->beta[1], l->betab[k] = gp->beta[2];
     l->radr[k] = gp->radiance[0], l->radg[k] = gp->radiance[1], l->radb[k] = gp->radiance[2];
     __global const st_sample *smp = &sample[i];
-    st_sample_id id = st_sample_resume(p, smp->pixel, smp->index, smp->key, smp->word);
-    id.pmj02 = pmj02;
-    float u = st_sample_dim(p, &id, 2u), u2 = st_sample_dim(p, &id, 3u);
+    l->key[k] = smp->key;
+    if (p->sampler != ST_SAMPLER_RANDOM) {
+        st_sample_id id = st_sample_resume(p, smp->pixel, smp->index, smp->key, smp->word);
+        id.pmj02 = pmj02;
+        l->u[k] = st_sample_dim(p, &id, 2u);
+        l->u2[k] = st_sample_dim(p, &id, 3u);
+    }
+}
+
+/* Lane k's light sample (next_event's pick, triangle_point's and
+ * light_emission's inputs) from its two dimensions. */
+ST_HOT void shade8_gather_light(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                                st_u32 k, st_lanes8 *l)
+{
+    float u = l->u[k], u2 = l->u2[k];
     st_u32 lt = s->light_tri[pick_light(s->light_cdf, p->light_count, &u)];
-    l->u[k] = u, l->u2[k] = u2;
+    l->u[k] = u;
     __global const st_triangle *tri = &s->tris[lt];
     l->v0x[k] = tri->v0[0], l->v0y[k] = tri->v0[1], l->v0z[k] = tri->v0[2];
     l->e1x[k] = tri->e1[0], l->e1y[k] = tri->e1[1], l->e1z[k] = tri->e1[2];
