@@ -251,7 +251,8 @@ ST_HOT st_u32 shade8_lanes(const st_scene_refs *s, const st_params *p, const st_
 /* shade_hits for eight items per work-item (global size item_count / 8
  * rounded up): work-item g shades items 8g .. 8g + 7, the fast lanes in
  * float8 (shade8.h), every other by shade_item, so the film is
- * shade_hits' (render.c chooses; tests/test_shade8.c). */
+ * shade_hits' (render.c chooses; test shade_hits8_equals_shade_hits in
+ * tests/test_render_paths.c). */
 __kernel void shade_hits8(ST_STAGE_PARAMS)
 {
     st_u32 first = ST_LANES * get_global_id(0);

@@ -10,9 +10,10 @@
  * render whose next-event estimation takes only area lights (no punctual
  * lights, no environment). Every other lane runs shade_item. A fast lane
  * computes what shade_item computes with the same operations in the same
- * order, so the film is the same bit for bit (tests/test_shade8.c): the
- * expressions below have the shapes of integrator.h's (the compiler fuses
- * a * b + c into one fma in both, the same way), and dot and normalize are
+ * order, so the film is the same bit for bit (shade_hits8_equals_shade_hits
+ * in tests/test_render_paths.c): the expressions below have the shapes of
+ * integrator.h's (the compiler fuses a * b + c into one fma in both, the
+ * same way), and dot and normalize are
  * written out as PoCL's builtins compute them (products rounded, summed
  * x + y then + z; normalize scales by 1 / sqrt of that sum). A lane whose
  * normal's squared length is below FLT_MIN or not finite, where PoCL's
