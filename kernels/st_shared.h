@@ -631,6 +631,14 @@ ST_STATIC_ASSERT(sizeof(st_bvh_wide_node) == 32 * ST_BVH_WIDTH,
                  "st_bvh_wide_node: W/2 64-byte lines");
 ST_STATIC_ASSERT(sizeof(st_bvh_wide_node) % ST_LEAF_UNIT == 0,
                  "st_bvh_wide_node: a whole number of leaf units");
+/* trace.h's st_leaf_row reads four floats from each row's start: the last
+ * row's four stay inside the block for every size */
+#define ST_LEAF_LAST_READ(n) (4u * ((ST_LEAF_ROWS - 1u) * (n) + 4u))
+ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
+                     ST_LEAF_LAST_READ(2u) <= ST_LEAF_UNITS(2u) * ST_LEAF_UNIT &&
+                     ST_LEAF_LAST_READ(3u) <= ST_LEAF_UNITS(3u) * ST_LEAF_UNIT &&
+                     ST_LEAF_LAST_READ(4u) <= ST_LEAF_UNITS(4u) * ST_LEAF_UNIT,
+                 "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");

@@ -385,23 +385,15 @@ ST_HOT int4 st_leaf_lanes(st_u32 bits)
     return ((int4)((int)bits) & (int4)(1, 2, 4, 8)) != (int4)(0);
 }
 
-/* The ST_LEAF_ROWS rows of a block of n triangles as float4, the lanes past
- * n zero: a degenerate triangle (det = 0, so u is NaN) that no ray hits.
- * vloadN(r, l) reads l[N r ..], row r of a block of N lanes. */
-ST_HOT void st_leaf_rows(const ST_GLOBAL st_f32 *l, st_u32 n, float4 *row)
+/* Row r of a block of n triangles as float4, the lanes past n zero (keep:
+ * -1 in lanes below n): a degenerate triangle (det = 0, so u is NaN) that
+ * no ray hits. Four floats from the row's start, whatever n: past the last
+ * row lie the block's two words and padding, so the load stays inside it
+ * (ST_LEAF_UNITS), and one load and one mask cost less than a choice of
+ * loader per block size. */
+ST_HOT float4 st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, int4 keep, st_u32 r)
 {
-    if (n == 2u)
-        for (int r = 0; r < ST_LEAF_ROWS; ++r)
-            row[r] = (float4)(vload2(r, l), 0.0f, 0.0f);
-    else if (n == 3u)
-        for (int r = 0; r < ST_LEAF_ROWS; ++r)
-            row[r] = (float4)(vload3(r, l), 0.0f);
-    else if (n == 4u)
-        for (int r = 0; r < ST_LEAF_ROWS; ++r)
-            row[r] = vload4(r, l);
-    else
-        for (int r = 0; r < ST_LEAF_ROWS; ++r)
-            row[r] = (float4)(l[r], 0.0f, 0.0f, 0.0f);
+    return as_float4(as_int4(vload4(0, l + r * n)) & keep);
 }
 
 /* st_intersect_triangle on a leaf's lanes at once (block l of n triangles),
@@ -415,19 +407,20 @@ ST_HOT void st_leaf_rows(const ST_GLOBAL st_f32 *l, st_u32 n, float4 *row)
 ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
                            float4 *tt, float4 *uu, float4 *vv)
 {
-    float4 row[ST_LEAF_ROWS];
-    st_leaf_rows(l, n, row);
-    float4 e1x = row[ST_LEAF_E1], e1y = row[ST_LEAF_E1 + 1], e1z = row[ST_LEAF_E1 + 2];
-    float4 e2x = row[ST_LEAF_E2], e2y = row[ST_LEAF_E2 + 1], e2z = row[ST_LEAF_E2 + 2];
+    int4 keep = (int4)(0, 1, 2, 3) < (int4)((int)n);
+    float4 e1x = st_leaf_row(l, n, keep, ST_LEAF_E1), e1y = st_leaf_row(l, n, keep, ST_LEAF_E1 + 1);
+    float4 e1z = st_leaf_row(l, n, keep, ST_LEAF_E1 + 2);
+    float4 e2x = st_leaf_row(l, n, keep, ST_LEAF_E2), e2y = st_leaf_row(l, n, keep, ST_LEAF_E2 + 1);
+    float4 e2z = st_leaf_row(l, n, keep, ST_LEAF_E2 + 2);
     st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
     float4 px = dy * e2z - dz * e2y;
     float4 py = dz * e2x - dx * e2z;
     float4 pz = dx * e2y - dy * e2x;
     float4 det = e1x * px + e1y * py + e1z * pz;
     float4 inv_det = 1.0f / det;
-    float4 sx = ray->o[0] - row[ST_LEAF_V0];
-    float4 sy = ray->o[1] - row[ST_LEAF_V0 + 1];
-    float4 sz = ray->o[2] - row[ST_LEAF_V0 + 2];
+    float4 sx = ray->o[0] - st_leaf_row(l, n, keep, ST_LEAF_V0);
+    float4 sy = ray->o[1] - st_leaf_row(l, n, keep, ST_LEAF_V0 + 1);
+    float4 sz = ray->o[2] - st_leaf_row(l, n, keep, ST_LEAF_V0 + 2);
     float4 u = (sx * px + sy * py + sz * pz) * inv_det;
     int4 in_u = (u >= 0.0f) & (u <= 1.0f);
     if (!any(in_u))
