@@ -385,15 +385,14 @@ ST_HOT int4 st_leaf_lanes(st_u32 bits)
     return ((int4)((int)bits) & (int4)(1, 2, 4, 8)) != (int4)(0);
 }
 
-/* Row r of a block of n triangles as float4, the lanes past n zero (keep:
- * -1 in lanes below n): a degenerate triangle (det = 0, so u is NaN) that
- * no ray hits. Four floats from the row's start, whatever n: past the last
- * row lie the block's two words and padding, so the load stays inside it
- * (ST_LEAF_UNITS), and one load and one mask cost less than a choice of
- * loader per block size. */
-ST_HOT float4 st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, int4 keep, st_u32 r)
+/* Row r of a block of n triangles as float4: four floats from the row's
+ * start, whatever n, so one load serves every block size. Its lanes past n
+ * hold the next rows' first floats, or the block's two words and padding
+ * (the last row's load stays inside the block: ST_LEAF_UNITS); the test
+ * computes them like the others and drops them with `keep`, once. */
+ST_HOT float4 st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 r)
 {
-    return as_float4(as_int4(vload4(0, l + r * n)) & keep);
+    return vload4(0, l + r * n);
 }
 
 /* st_intersect_triangle on a leaf's lanes at once (block l of n triangles),
@@ -407,22 +406,25 @@ ST_HOT float4 st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, int4 keep, st_u32
 ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
                            float4 *tt, float4 *uu, float4 *vv)
 {
+    /* past lane n the e2 rows may reach the block's words (integers, so
+     * denormals as floats, slow on some CPUs): those lanes zero */
     int4 keep = (int4)(0, 1, 2, 3) < (int4)((int)n);
-    float4 e1x = st_leaf_row(l, n, keep, ST_LEAF_E1), e1y = st_leaf_row(l, n, keep, ST_LEAF_E1 + 1);
-    float4 e1z = st_leaf_row(l, n, keep, ST_LEAF_E1 + 2);
-    float4 e2x = st_leaf_row(l, n, keep, ST_LEAF_E2), e2y = st_leaf_row(l, n, keep, ST_LEAF_E2 + 1);
-    float4 e2z = st_leaf_row(l, n, keep, ST_LEAF_E2 + 2);
+    float4 e1x = st_leaf_row(l, n, ST_LEAF_E1), e1y = st_leaf_row(l, n, ST_LEAF_E1 + 1);
+    float4 e1z = st_leaf_row(l, n, ST_LEAF_E1 + 2);
+    float4 e2x = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2)) & keep);
+    float4 e2y = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2 + 1)) & keep);
+    float4 e2z = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2 + 2)) & keep);
     st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
     float4 px = dy * e2z - dz * e2y;
     float4 py = dz * e2x - dx * e2z;
     float4 pz = dx * e2y - dy * e2x;
     float4 det = e1x * px + e1y * py + e1z * pz;
     float4 inv_det = 1.0f / det;
-    float4 sx = ray->o[0] - st_leaf_row(l, n, keep, ST_LEAF_V0);
-    float4 sy = ray->o[1] - st_leaf_row(l, n, keep, ST_LEAF_V0 + 1);
-    float4 sz = ray->o[2] - st_leaf_row(l, n, keep, ST_LEAF_V0 + 2);
+    float4 sx = ray->o[0] - st_leaf_row(l, n, ST_LEAF_V0);
+    float4 sy = ray->o[1] - st_leaf_row(l, n, ST_LEAF_V0 + 1);
+    float4 sz = ray->o[2] - st_leaf_row(l, n, ST_LEAF_V0 + 2);
     float4 u = (sx * px + sy * py + sz * pz) * inv_det;
-    int4 in_u = (u >= 0.0f) & (u <= 1.0f);
+    int4 in_u = (u >= 0.0f) & (u <= 1.0f) & keep;
     if (!any(in_u))
         return 0u;
     float4 qx = sy * e1z - sz * e1y;
