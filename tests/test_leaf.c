@@ -6,10 +6,10 @@
  * mesh made to tie: a height field whose triangles share edges and vertices,
  * exact copies of some triangles (two lanes hit at the same t: the lower
  * index must win, as the loop's strict t < best keeps it), copies lifted a
- * little (two lanes hit at different t), lone triangles far off (leaves of
- * one: the mesh has leaf blocks of every size, 1..4 triangles), one-sided
- * triangles seen from both sides, rays through vertices and edges, along an
- * axis, and cut short by tmax. */
+ * little (two lanes hit at different t), groups far off of four triangles
+ * and one apart (leaves of one: the mesh has leaf blocks of every size, 1..4
+ * triangles), one-sided triangles seen from both sides, rays through
+ * vertices and edges, along an axis, and cut short by tmax. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -28,7 +28,7 @@
 #define BASE (2 * GRID * GRID)     /* its triangles */
 #define COPIES (BASE / 5)          /* exact copies of triangles 5 c */
 #define LIFTED (BASE / 7)          /* copies of triangles 7 c lifted by 2e-3 */
-#define LONE 8                     /* triangles far apart: leaves of one */
+#define LONE 10                    /* two groups far off: four together, one apart */
 #define TRIS (BASE + COPIES + LIFTED + LONE)
 #define RAYS 3000
 
@@ -74,10 +74,10 @@ static float *make_mesh(uint32_t *base)
             pos[9 * t + 3 * v + 2] += 2e-3f;
         base[t] = t;
     }
-    for (uint32_t c = 0; c < LONE; c++, t++) { /* triangle c, moved 4 + 3 c along x */
-        memcpy(pos + 9 * t, pos + 9 * c, sizeof(float) * 9);
+    for (uint32_t c = 0; c < LONE; c++, t++) { /* groups of five: four together, one apart */
+        memcpy(pos + 9 * t, pos + 9 * (c % 5), sizeof(float) * 9);
         for (int v = 0; v < 3; v++)
-            pos[9 * t + 3 * v] += 4.0f + 3.0f * (float)c;
+            pos[9 * t + 3 * v] += 100.0f * (float)(2 * (c / 5) + 1) + (c % 5 == 4 ? 50.0f : 0.0f);
         base[t] = t;
     }
     return pos;
