@@ -35,9 +35,10 @@ typedef struct st_bvh {
      * wide[0] is the root, depth first; every binary interior node is either
      * a wide node or opened into its parent; leaves and triangles as above. */
     st_u32 wide_count;
-    st_bvh_wide_node *wide; /* wide_count nodes, then leaf_count st_bvh_leaf */
+    st_bvh_wide_node *wide; /* wide_count nodes, then the leaf blocks in leaf_slots more */
     st_u32 wide_depth;      /* deepest wide node, root = 1 */
-    st_u32 leaf_count;      /* the leaves' blocks after the nodes (st_bvh_pack_leaves) */
+    st_u32 leaf_slots;      /* node-sized slots the leaf blocks fill after the nodes
+                               (st_shared.h; st_bvh_pack_leaves) */
 } st_bvh;
 
 /* positions: 9 floats per triangle (v0 v1 v2). tri_count may be 0 (an empty leaf root: no hits). Returns ST_ERR_NOMEM on
@@ -65,11 +66,11 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
  * (the one a ray is likeliest to enter). A tree so deep that the traversal
  * stack could overflow at that width (7 x depth > ST_BVH4_STACK, depth > 27)
  * is made of nodes of at most four children instead. The leaves' blocks
- * follow the nodes (st_bvh_leaf; their lanes left zero, see
+ * follow the nodes (st_shared.h; their rows left zero, see
  * st_bvh_pack_leaves). ST_ERR_NOMEM on allocation failure. */
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
 
-/* Fills every st_bvh_leaf of bvh->wide from bvh->tris (their first
+/* Fills every leaf block of bvh->wide from bvh->tris (their first
  * triangles and counts as the collapse placed them): st_bvh_build calls it,
  * st_bvh_set_sides again for the sides; whoever changes bvh->tris after
  * (tests) calls it before tracing the wide tree. */

@@ -24,13 +24,14 @@ __kernel void probe_leaf(__global const st_bvh_wide_node *nodes, __global const 
     r.d[0] = w.d[0]; r.d[1] = w.d[1]; r.d[2] = w.d[2];
     r.tmax = w.tmax;
     uint node = slot[i % slots] / ST_BVH_WIDTH, k = slot[i % slots] % ST_BVH_WIDTH;
-    const __global st_bvh_leaf *l = st_trace_leaf(nodes, nodes[node].child[k]);
-    uint first = l->first, count = nodes[node].count[k];
+    uint count = nodes[node].count[k];
+    const __global float *l = st_trace_leaf(nodes, nodes[node].child[k]);
+    uint first = st_leaf_first(l, count);
     st_hit none = {r.tmax, 0.0f, 0.0f, ST_NO_HIT}, h[4] = {none, none, none, none};
-    st_leaf_closest(l, &r, &h[0]);
+    st_leaf_closest(l, count, &r, &h[0]);
     for (uint t = first; t < first + count; ++t)
         st_intersect_triangle(tris + t, &r, t, &h[1]);
-    st_leaf_any(l, &r, &h[2]);
+    st_leaf_any(l, count, &r, &h[2]);
     for (uint t = first; t < first + count; ++t)
         if (st_intersect_triangle(tris + t, &r, t, &h[3]))
             break;

@@ -77,25 +77,27 @@ ST_HOT void st_packet_setup(st_packet *pk, const st_ray *rays, st_u32 live)
     pk->live = live;
 }
 
-/* st_intersect_triangle of leaf l's triangle j (lane j of the
- * st_bvh_leaf) for the 8 lanes: the lanes where it hits at t in
- * (0, tmax), with t, u, v (the statements are st_intersect_triangle's, in
- * its order; there the early exits skip work, here no lane needs it once
- * none has u in [0, 1]). */
-ST_HOT int8 st_packet_triangle(const ST_GLOBAL st_bvh_leaf *l, st_u32 j, const st_packet *pk,
+/* st_intersect_triangle of triangle j of leaf block l (n triangles) for the
+ * 8 lanes: the lanes where it hits at t in (0, tmax), with t, u, v (the
+ * statements are st_intersect_triangle's, in its order; there the early
+ * exits skip work, here no lane needs it once none has u in [0, 1]). */
+ST_HOT int8 st_packet_triangle(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, const st_packet *pk,
                                float8 tmax, float8 *tt, float8 *uu, float8 *vv)
 {
-    st_f32 e1x = l->e1[0][j], e1y = l->e1[1][j], e1z = l->e1[2][j];
-    st_f32 e2x = l->e2[0][j], e2y = l->e2[1][j], e2z = l->e2[2][j];
+    const ST_GLOBAL st_f32 *lane = l + j;
+    st_f32 e1x = lane[ST_LEAF_E1 * n], e1y = lane[(ST_LEAF_E1 + 1) * n];
+    st_f32 e1z = lane[(ST_LEAF_E1 + 2) * n];
+    st_f32 e2x = lane[ST_LEAF_E2 * n], e2y = lane[(ST_LEAF_E2 + 1) * n];
+    st_f32 e2z = lane[(ST_LEAF_E2 + 2) * n];
     float8 dx = pk->dx, dy = pk->dy, dz = pk->dz;
     float8 px = dy * e2z - dz * e2y;
     float8 py = dz * e2x - dx * e2z;
     float8 pz = dx * e2y - dy * e2x;
     float8 det = e1x * px + e1y * py + e1z * pz;
     float8 inv_det = 1.0f / det;
-    float8 sx = pk->ox - l->v0[0][j];
-    float8 sy = pk->oy - l->v0[1][j];
-    float8 sz = pk->oz - l->v0[2][j];
+    float8 sx = pk->ox - lane[ST_LEAF_V0 * n];
+    float8 sy = pk->oy - lane[(ST_LEAF_V0 + 1) * n];
+    float8 sz = pk->oz - lane[(ST_LEAF_V0 + 2) * n];
     float8 u = (sx * px + sy * py + sz * pz) * inv_det;
     int8 in_u = (u >= 0.0f) & (u <= 1.0f);
     if (!any(in_u))
@@ -105,7 +107,7 @@ ST_HOT int8 st_packet_triangle(const ST_GLOBAL st_bvh_leaf *l, st_u32 j, const s
     float8 qz = sx * e1y - sy * e1x;
     float8 v = (dx * qx + dy * qy + dz * qz) * inv_det;
     float8 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
-    int8 front = (det > 0.0f) | (int8)(l->one_sided[j] == 0.0f ? -1 : 0);
+    int8 front = (det > 0.0f) | (int8)((st_leaf_sides(l, n) >> j) & 1u ? 0 : -1);
     *tt = t;
     *uu = u;
     *vv = v;
@@ -181,14 +183,14 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k], count = n->count[k];
-            const ST_GLOBAL st_bvh_leaf *l = st_trace_leaf(nodes, first);
+            const ST_GLOBAL st_f32 *l = st_trace_leaf(nodes, first);
             for (st_u32 j = 0u; j < count; ++j) {
                 float8 t = h->t, u = h->u, v = h->v;
-                int8 ok = st_packet_triangle(l, j, pk, h->t, &t, &u, &v);
+                int8 ok = st_packet_triangle(l, count, j, pk, h->t, &t, &u, &v);
                 h->t = select(h->t, t, ok);
                 h->u = select(h->u, u, ok);
                 h->v = select(h->v, v, ok);
-                h->prim = select(h->prim, (uint8)(l->first + j), ok);
+                h->prim = select(h->prim, (uint8)(st_leaf_first(l, count) + j), ok);
             }
             leaves |= count;
             if (count != 0u)
@@ -231,7 +233,7 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
             for (st_u32 j = 0u; j < count; ++j) {
                 float8 t = tmax, u, v;
                 open &= ~st_packet_bits(
-                    st_packet_triangle(st_trace_leaf(nodes, first), j, pk, tmax, &t, &u, &v));
+                    st_packet_triangle(st_trace_leaf(nodes, first), count, j, pk, tmax, &t, &u, &v));
                 if (open == 0u)
                     return pk->live;
             }

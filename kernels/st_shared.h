@@ -143,9 +143,10 @@ typedef struct st_bvh_node {
  * and hi[axis][child], so that one node is one vector slab test (trace.h:
  * float8 for 8, float4 for 4).
  * count[k] == 0: child[k] is an interior node's index; count[k] = 1..4:
- * child k is a leaf of that many triangles, child[k] the index of its
- * st_bvh_leaf in the same array (tris[leaf.first] on). An unused
- * slot has an inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray enters. */
+ * child k is a leaf of that many triangles, child[k] where its leaf block
+ * starts, in ST_LEAF_UNIT-byte units from the start of the same array. An
+ * unused slot has an inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray
+ * enters. */
 #define ST_BVH_WIDTH 8
 typedef struct st_bvh_wide_node {
     st_f32 lo[3][ST_BVH_WIDTH];
@@ -154,22 +155,23 @@ typedef struct st_bvh_wide_node {
     st_u32 count[ST_BVH_WIDTH];
 } st_bvh_wide_node;
 
-/* A leaf's triangles as structure of arrays, lane j = BVH triangle first + j
- * (st_triangle's v0, e1, e2 transposed: v0[a][j] is lane j's v0 on axis a),
- * so that one float4 Moller-Trumbore test meets them all (trace.h,
- * st_leaf_closest). Lanes past the leaf's count are zero: a degenerate
- * triangle (det = 0) that no ray hits. one_sided[j] is lane j's v0[3]. The
- * leaves are stored in the wide tree's own array, after its nodes, one per
- * leaf and the size of a node (the rest padding), so that child[k] indexes
- * either kind and the kernels take one buffer (src/bvh_wide.c). */
-typedef struct st_bvh_leaf {
-    st_f32 v0[3][4];
-    st_f32 e1[3][4];
-    st_f32 e2[3][4];
-    st_f32 one_sided[4];
-    st_u32 first; /* lane 0's triangle, in BVH order */
-    st_u32 pad[(32 * ST_BVH_WIDTH - 164) / 4];
-} st_bvh_leaf;
+/* A leaf block: a leaf's n = 1..4 triangles as structure of arrays, so that
+ * one float4 Moller-Trumbore test meets them all (trace.h, st_leaf_closest),
+ * and no larger than they need, so that a ray's leaf tests touch few cache
+ * lines. ST_LEAF_ROWS rows of n floats, row r = ST_LEAF_V0 + a (v0 on axis
+ * a), ST_LEAF_E1 + a or ST_LEAF_E2 + a (the edges), lane j = BVH triangle
+ * first + j (st_triangle's v0, e1, e2 transposed); then two words: first,
+ * and the lanes that are one-sided as bits (bit j: lane j's v0[3] != 0).
+ * A block fills ST_LEAF_UNITS(n) units of ST_LEAF_UNIT bytes (a 2-triangle
+ * leaf, the commonest, 80 bytes: two cache lines wherever it starts). The
+ * blocks follow the wide tree's nodes in its own array, in slot order, so
+ * that the kernels take one buffer (src/bvh_wide.c). */
+#define ST_LEAF_ROWS 9
+#define ST_LEAF_V0 0
+#define ST_LEAF_E1 3
+#define ST_LEAF_E2 6
+#define ST_LEAF_UNIT 16u
+#define ST_LEAF_UNITS(n) ((4u * (ST_LEAF_ROWS * (n) + 2u) + ST_LEAF_UNIT - 1u) / ST_LEAF_UNIT)
 
 /* A triangle prepared for Moller-Trumbore: v0 and the two edges e1 = v1 - v0,
  * e2 = v2 - v0. v0[3] is ST_TRI_ONE_SIDED when rays hit it only from the
@@ -597,7 +599,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
  * with the host's). */
 #define ST_LAYOUT_STRUCTS(X)                                                                \
     X(st_bvh_node) X(st_bvh_wide_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
-    X(st_texture) X(st_bvh_leaf)                                                            \
+    X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
     X(st_tri_tangents) X(st_tri_colors) X(st_punctual)                                      \
     X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
@@ -606,8 +608,6 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_bvh_node, bmin) X(st_bvh_node, offset) X(st_bvh_node, bmax) X(st_bvh_node, meta)   \
     X(st_bvh_wide_node, lo) X(st_bvh_wide_node, hi)                                         \
     X(st_bvh_wide_node, child) X(st_bvh_wide_node, count)                                   \
-    X(st_bvh_leaf, v0) X(st_bvh_leaf, e1) X(st_bvh_leaf, e2) X(st_bvh_leaf, one_sided)     \
-    X(st_bvh_leaf, first)                                                                   \
     X(st_triangle, v0) X(st_triangle, e1) X(st_triangle, e2)                                \
     X(st_tri_normals, n0) X(st_tri_normals, n1) X(st_tri_normals, n2)                       \
     X(st_material, base_color) X(st_material, emission) X(st_material, metallic)            \
@@ -660,8 +660,16 @@ ST_STATIC_ASSERT(sizeof(st_bvh_node) == 32, "st_bvh_node: kernels read 32 bytes"
 ST_STATIC_ASSERT(offsetof(st_bvh_node, bmax) == 16, "st_bvh_node.bmax moved");
 ST_STATIC_ASSERT(sizeof(st_bvh_wide_node) == 32 * ST_BVH_WIDTH,
                  "st_bvh_wide_node: W/2 64-byte lines");
-ST_STATIC_ASSERT(sizeof(st_bvh_leaf) == sizeof(st_bvh_wide_node),
-                 "st_bvh_leaf: one slot of the wide tree's array");
+ST_STATIC_ASSERT(sizeof(st_bvh_wide_node) % ST_LEAF_UNIT == 0,
+                 "st_bvh_wide_node: a whole number of leaf units");
+/* trace.h's st_leaf_row reads four floats from each row's start: the last
+ * row's four stay inside the block for every size */
+#define ST_LEAF_LAST_READ(n) (4u * ((ST_LEAF_ROWS - 1u) * (n) + 4u))
+ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
+                     ST_LEAF_LAST_READ(2u) <= ST_LEAF_UNITS(2u) * ST_LEAF_UNIT &&
+                     ST_LEAF_LAST_READ(3u) <= ST_LEAF_UNITS(3u) * ST_LEAF_UNIT &&
+                     ST_LEAF_LAST_READ(4u) <= ST_LEAF_UNITS(4u) * ST_LEAF_UNIT,
+                 "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");

@@ -353,13 +353,23 @@ ST_FN st_u32 st_trace_lowest(st_u32 m) { return 31u - clz(m & (0u - m)); }
 ST_FN st_u32 st_trace_lowest(st_u32 m) { return (st_u32)__builtin_ctz(m); }
 #endif
 
-/* ---- a leaf's triangles together (st_bvh_leaf) ------------------------------ */
+/* ---- a leaf's triangles together (the leaf block, st_shared.h) --------------- */
 
-/* The st_bvh_leaf of a leaf slot's child index (count[k] != 0). */
-ST_FN const ST_GLOBAL st_bvh_leaf *st_trace_leaf(const ST_GLOBAL st_bvh_wide_node *nodes,
-                                                 st_u32 child)
+/* The rows of the leaf block a leaf slot's child index names (count[k] != 0). */
+ST_FN const ST_GLOBAL st_f32 *st_trace_leaf(const ST_GLOBAL st_bvh_wide_node *nodes, st_u32 child)
 {
-    return (const ST_GLOBAL st_bvh_leaf *)(nodes + child);
+    return (const ST_GLOBAL st_f32 *)((const ST_GLOBAL char *)nodes + (size_t)child * ST_LEAF_UNIT);
+}
+
+/* Block l's first triangle (lane 0's, in BVH order) and its one-sided lanes
+ * as bits; n: its triangles. */
+ST_FN st_u32 st_leaf_first(const ST_GLOBAL st_f32 *l, st_u32 n)
+{
+    return ((const ST_GLOBAL st_u32 *)l)[ST_LEAF_ROWS * n];
+}
+ST_FN st_u32 st_leaf_sides(const ST_GLOBAL st_f32 *l, st_u32 n)
+{
+    return ((const ST_GLOBAL st_u32 *)l)[ST_LEAF_ROWS * n + 1u];
 }
 
 #ifdef __OPENCL_VERSION__
@@ -375,30 +385,46 @@ ST_HOT int4 st_leaf_lanes(st_u32 bits)
     return ((int4)((int)bits) & (int4)(1, 2, 4, 8)) != (int4)(0);
 }
 
-/* st_intersect_triangle on a leaf's four lanes at once, lane j = triangle
- * first + j: the same operations in the same statements, so that the
- * compiler contracts them into fma alike (OpenCL contracts within a
- * statement) and each lane's t, u, v is the scalar test's bit for bit
- * (tests/test_leaf.c checks it on the device). Returns the lanes that hit at
- * t in (0, tmax) as bits (lane j -> bit j), and their t, u, v. The scalar
- * test's early exits become one: when no lane has u in [0, 1], q, v and t
- * are not computed (and the callers, seeing 0, exit at once). */
-ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_f32 tmax,
+/* Row r of a block of n triangles as float4: four floats from the row's
+ * start, whatever n, so one load serves every block size. Its lanes past n
+ * hold the next rows' first floats, or the block's two words and padding
+ * (the last row's load stays inside the block: ST_LEAF_UNITS); the test
+ * computes them like the others and drops them with `keep`, once. */
+ST_HOT float4 st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 r)
+{
+    return vload4(0, l + r * n);
+}
+
+/* st_intersect_triangle on a leaf's lanes at once (block l of n triangles),
+ * lane j = triangle first + j: the same operations in the same statements,
+ * so that the compiler contracts them into fma alike (OpenCL contracts
+ * within a statement) and each lane's t, u, v is the scalar test's bit for
+ * bit (tests/test_leaf.c checks it on the device). Returns the lanes that
+ * hit at t in (0, tmax) as bits (lane j -> bit j), and their t, u, v. The
+ * scalar test's early exits become one: when no lane has u in [0, 1], q, v
+ * and t are not computed (and the callers, seeing 0, exit at once). */
+ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
                            float4 *tt, float4 *uu, float4 *vv)
 {
-    float4 e1x = vload4(0, l->e1[0]), e1y = vload4(0, l->e1[1]), e1z = vload4(0, l->e1[2]);
-    float4 e2x = vload4(0, l->e2[0]), e2y = vload4(0, l->e2[1]), e2z = vload4(0, l->e2[2]);
+    /* past lane n the e2 rows may reach the block's words (integers, so
+     * denormals as floats, slow on some CPUs): those lanes zero */
+    int4 keep = (int4)(0, 1, 2, 3) < (int4)((int)n);
+    float4 e1x = st_leaf_row(l, n, ST_LEAF_E1), e1y = st_leaf_row(l, n, ST_LEAF_E1 + 1);
+    float4 e1z = st_leaf_row(l, n, ST_LEAF_E1 + 2);
+    float4 e2x = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2)) & keep);
+    float4 e2y = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2 + 1)) & keep);
+    float4 e2z = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2 + 2)) & keep);
     st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
     float4 px = dy * e2z - dz * e2y;
     float4 py = dz * e2x - dx * e2z;
     float4 pz = dx * e2y - dy * e2x;
     float4 det = e1x * px + e1y * py + e1z * pz;
     float4 inv_det = 1.0f / det;
-    float4 sx = ray->o[0] - vload4(0, l->v0[0]);
-    float4 sy = ray->o[1] - vload4(0, l->v0[1]);
-    float4 sz = ray->o[2] - vload4(0, l->v0[2]);
+    float4 sx = ray->o[0] - st_leaf_row(l, n, ST_LEAF_V0);
+    float4 sy = ray->o[1] - st_leaf_row(l, n, ST_LEAF_V0 + 1);
+    float4 sz = ray->o[2] - st_leaf_row(l, n, ST_LEAF_V0 + 2);
     float4 u = (sx * px + sy * py + sz * pz) * inv_det;
-    int4 in_u = (u >= 0.0f) & (u <= 1.0f);
+    int4 in_u = (u >= 0.0f) & (u <= 1.0f) & keep;
     if (!any(in_u))
         return 0u;
     float4 qx = sy * e1z - sz * e1y;
@@ -406,7 +432,7 @@ ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st
     float4 qz = sx * e1y - sy * e1x;
     float4 v = (dx * qx + dy * qy + dz * qz) * inv_det;
     float4 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
-    int4 front = (det > 0.0f) | (vload4(0, l->one_sided) == 0.0f);
+    int4 front = (det > 0.0f) | ~st_leaf_lanes(st_leaf_sides(l, n));
     *tt = t;
     *uu = u;
     *vv = v;
@@ -414,8 +440,8 @@ ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st
 }
 
 /* Lane j's hit into *hit. */
-ST_HOT void st_leaf_take(const ST_GLOBAL st_bvh_leaf *l, st_u32 j, float4 t, float4 u, float4 v,
-                         st_hit *hit)
+ST_HOT void st_leaf_take(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, float4 t, float4 u,
+                         float4 v, st_hit *hit)
 {
     st_f32 tj[4], uj[4], vj[4];
     vstore4(t, 0, tj);
@@ -424,16 +450,16 @@ ST_HOT void st_leaf_take(const ST_GLOBAL st_bvh_leaf *l, st_u32 j, float4 t, flo
     hit->t = tj[j];
     hit->u = uj[j];
     hit->v = vj[j];
-    hit->prim = l->first + j;
+    hit->prim = st_leaf_first(l, n) + j;
 }
 
 /* The leaf's closest hit below hit->t, as the scalar loop over its
  * triangles in order finds it: the least t among the lanes that hit and, on
  * a tie, the lowest lane (the loop's strict t < best keeps the first). */
-ST_HOT void st_leaf_closest(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+ST_HOT void st_leaf_closest(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
     float4 t, u, v;
-    st_u32 ok = st_leaf_test(l, ray, hit->t, &t, &u, &v);
+    st_u32 ok = st_leaf_test(l, n, ray, hit->t, &t, &u, &v);
     if (ok == 0u)
         return;
     if ((ok & (ok - 1u)) != 0u) { /* more than one lane: the least t's */
@@ -441,48 +467,49 @@ ST_HOT void st_leaf_closest(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, s
         float2 m = fmin(hits.lo, hits.hi);
         ok = st_leaf_bits(hits == fmin(m.x, m.y));
     }
-    st_leaf_take(l, st_trace_lowest(ok), t, u, v, hit);
+    st_leaf_take(l, n, st_trace_lowest(ok), t, u, v, hit);
 }
 
 /* Whether a lane hits at t in (0, ray->tmax); the lowest such lane's hit
  * into *hit (the scalar loop stops at the first). */
-ST_HOT int st_leaf_any(const ST_GLOBAL st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+ST_HOT int st_leaf_any(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
     float4 t, u, v;
-    st_u32 ok = st_leaf_test(l, ray, ray->tmax, &t, &u, &v);
+    st_u32 ok = st_leaf_test(l, n, ray, ray->tmax, &t, &u, &v);
     if (ok != 0u)
-        st_leaf_take(l, st_trace_lowest(ok), t, u, v, hit);
+        st_leaf_take(l, n, st_trace_lowest(ok), t, u, v, hit);
     return ok != 0u;
 }
 #else
 /* On the host, the scalar loop itself: st_intersect_triangle lane by lane,
- * in order (the empty lanes miss), which the device's vector test matches. */
-ST_FN st_triangle st_leaf_lane(const st_bvh_leaf *l, st_u32 j)
+ * in order, which the device's vector test matches. Lane j (< n) of block
+ * l as the st_triangle it was packed from (padding zero). */
+ST_FN st_triangle st_leaf_lane(const st_f32 *l, st_u32 n, st_u32 j)
 {
     st_triangle tri = {{0}, {0}, {0}};
-    for (int a = 0; a < 3; ++a) {
-        tri.v0[a] = l->v0[a][j];
-        tri.e1[a] = l->e1[a][j];
-        tri.e2[a] = l->e2[a][j];
+    for (st_u32 a = 0u; a < 3u; ++a) {
+        tri.v0[a] = l[(ST_LEAF_V0 + a) * n + j];
+        tri.e1[a] = l[(ST_LEAF_E1 + a) * n + j];
+        tri.e2[a] = l[(ST_LEAF_E2 + a) * n + j];
     }
-    tri.v0[3] = l->one_sided[j];
+    tri.v0[3] = (st_leaf_sides(l, n) >> j) & 1u ? ST_TRI_ONE_SIDED : 0.0f;
     return tri;
 }
 
-ST_FN void st_leaf_closest(const st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+ST_FN void st_leaf_closest(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
-    for (st_u32 j = 0u; j < 4u; ++j) {
-        st_triangle tri = st_leaf_lane(l, j);
-        st_intersect_triangle(&tri, ray, l->first + j, hit);
+    for (st_u32 j = 0u; j < n; ++j) {
+        st_triangle tri = st_leaf_lane(l, n, j);
+        st_intersect_triangle(&tri, ray, st_leaf_first(l, n) + j, hit);
     }
 }
 
 /* hit->t is ray->tmax on entry (st_intersect4_any_hit). */
-ST_FN int st_leaf_any(const st_bvh_leaf *l, const st_ray *ray, st_hit *hit)
+ST_FN int st_leaf_any(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
-    for (st_u32 j = 0u; j < 4u; ++j) {
-        st_triangle tri = st_leaf_lane(l, j);
-        if (st_intersect_triangle(&tri, ray, l->first + j, hit))
+    for (st_u32 j = 0u; j < n; ++j) {
+        st_triangle tri = st_leaf_lane(l, n, j);
+        if (st_intersect_triangle(&tri, ray, st_leaf_first(l, n) + j, hit))
             return 1;
     }
     return 0;
@@ -531,7 +558,7 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const s
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k];
             if (n->count[k] != 0u) {
-                st_leaf_closest(st_trace_leaf(nodes, first), ray, hit);
+                st_leaf_closest(st_trace_leaf(nodes, first), n->count[k], ray, hit);
                 continue;
             }
             st_trace_prefetch_node(nodes + first);
@@ -575,7 +602,7 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const s
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k];
             if (n->count[k] != 0u) {
-                if (st_leaf_any(st_trace_leaf(nodes, first), ray, hit))
+                if (st_leaf_any(st_trace_leaf(nodes, first), n->count[k], ray, hit))
                     return 1;
                 continue;
             }

@@ -5,13 +5,16 @@
  * Cost model, the surface area heuristic (MacDonald & Booth 1990; Wald,
  * "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE
  * Symposium on Interactive Ray Tracing 2007):
- *   C_split = C_trav + C_isect (N_L A(L) + N_R A(R)) / A(node),
- *   C_leaf  = C_isect N,
- * with C_isect = 1 and C_trav = 1.5: on the 1M-triangle MetalRoughSpheres
- * model the host traversal (the kernels' own code) traced random rays as fast
- * as with C_trav = 1 or 2 (within 5%), with a quarter fewer nodes than 1 and
- * so a faster build. Nodes of more than LEAF_MAX triangles are always split;
- * smaller ones become leaves when C_leaf <= C_split.
+ *   C_split = C_trav + C_isect (N_L A(L) + N_R A(R)) / A(node);
+ * the sweeps below choose the split of least N_L A(L) + N_R A(R). A leaf
+ * holds at most LEAF_MAX triangles, which the kernels test together in one
+ * vector test (trace.h, st_leaf_test), so C_leaf = C_isect whatever its
+ * count (Embree's SAH counts leaves in such blocks too), less than the
+ * C_trav = 1.5 C_isect of any split: every node of at most LEAF_MAX
+ * triangles is a leaf, larger ones are split. Counting C_isect per triangle,
+ * as the scalar test did, left 158,040 leaves of 2.07 triangles on the
+ * 327,680-triangle icosphere instead of 102,407 of 3.2, and its rays were
+ * slower (README, "Leaf blocks sized to their leaf").
  *
  * Three builders share the work, from the top down:
  *   - scenes of GRID_MIN_TRIS triangles or more get their top levels from a
@@ -56,8 +59,6 @@
 
 #define LEAF_MAX 4u
 #define BIN_COUNT 16u
-#define COST_TRAVERSE 1.5f
-#define COST_INTERSECT 1.0f
 #define MAX_TRIANGLES 0x3fffffffu
 #define SMALL_MAX 32u
 
@@ -400,15 +401,6 @@ static st_u32 median_levels(st_u32 n)
     return levels;
 }
 
-/* C_leaf <= C_split, both multiplied by A(node) so that a flat node (A = 0)
- * compares 0 <= 0 instead of 0/0. */
-static int leaf_is_cheaper(const box *bounds, st_u32 n, float split_area_sum)
-{
-    float area = box_area(bounds);
-    float split_cost = COST_TRAVERSE * area + COST_INTERSECT * split_area_sum;
-    return !(split_cost < COST_INTERSECT * (float)n * area);
-}
-
 static void write_box(st_bvh_node *node, const box *b)
 {
     float lo[4], hi[4];
@@ -499,16 +491,14 @@ static void small_node(small_tree *t, st_u32 lo, st_u32 hi, st_u32 depth, const 
     write_box(node, bounds);
     if (depth > b->depth)
         b->depth = depth;
-    if (n > 1u)
-        j = small_sweep(t, perm, n, &axis, &cost);
-    if (n == 1u ||
-        (n <= LEAF_MAX && (!(cost < INFINITY) || depth >= ST_BVH_MAX_DEPTH || leaf_is_cheaper(bounds, n, cost)))) {
+    if (n <= LEAF_MAX) {
         node->offset = t->begin + t->cursor;
         node->meta = n << 2;
         for (st_u32 k = 0; k < n; ++k)
             t->out[t->cursor++] = perm[k];
         return;
     }
+    j = small_sweep(t, perm, n, &axis, &cost);
     if (depth + 1u + median_levels(j > n - j ? j : n - j) > ST_BVH_MAX_DEPTH)
         j = n / 2u;
     box left = small_bounds(t, perm, j), right = small_bounds(t, perm + j, n - j);

@@ -4,9 +4,11 @@
  * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR
  * 2008): a node's boxes meet the ray in one vector slab test, and the tree is
  * a third as deep as the binary one for 8 children (half for 4). Each leaf's
- * triangles follow the nodes as one st_bvh_leaf (structure of arrays), so
- * that the kernels test them together, as Embree's Triangle4 leaves are. */
+ * triangles follow the nodes as one leaf block (structure of arrays, as
+ * Embree's Triangle4 leaves are, but sized to the leaf: st_shared.h), so
+ * that the kernels test them together. */
 #include <float.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,52 +114,59 @@ static void collapse(wide_builder *b)
     }
 }
 
-/* Gives every leaf slot its st_bvh_leaf, after the b->count nodes in slot
- * order: lane 0 at the slot's first triangle, the lanes zero until
- * st_bvh_pack_leaves fills them. Returns the number of leaves. */
-static st_u32 place_leaves(wide_builder *b)
+/* Gives every leaf slot its leaf block, after the b->count nodes in slot
+ * order, each ST_LEAF_UNITS(count) units long: child[k] becomes the block's
+ * unit, and the block's first word the leaf's first triangle (rows and
+ * sides are st_bvh_pack_leaves'). Returns the units of all blocks. */
+static size_t place_leaves(wide_builder *b)
 {
-    st_u32 leaves = 0u;
+    const size_t node_units = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
+    size_t used = 0u;
     for (st_u32 w = 0u; w < b->count; w++)
         for (int k = 0; k < ST_BVH_WIDTH; k++) {
-            if (b->wide[w].count[k] == 0u)
+            st_u32 count = b->wide[w].count[k];
+            if (count == 0u)
                 continue;
-            st_u32 at = b->count + leaves++;
-            st_bvh_leaf *leaf = (st_bvh_leaf *)(void *)&b->wide[at];
-            memset(leaf, 0, sizeof *leaf);
-            leaf->first = b->wide[w].child[k];
-            b->wide[w].child[k] = at;
+            size_t at = b->count * node_units + used;
+            st_u32 *words = (st_u32 *)(void *)((char *)b->wide + at * ST_LEAF_UNIT);
+            memset(words, 0, ST_LEAF_UNITS(count) * ST_LEAF_UNIT);
+            words[ST_LEAF_ROWS * count] = b->wide[w].child[k];
+            b->wide[w].child[k] = (st_u32)at;
+            used += ST_LEAF_UNITS(count);
         }
-    return leaves;
+    return used;
 }
 
 void st_bvh_pack_leaves(st_bvh *bvh)
 {
     for (st_u32 w = 0u; w < bvh->wide_count; w++)
         for (int k = 0; k < ST_BVH_WIDTH; k++) {
-            st_u32 count = bvh->wide[w].count[k];
-            if (count == 0u)
+            st_u32 n = bvh->wide[w].count[k];
+            if (n == 0u)
                 continue;
-            st_bvh_leaf *leaf = (st_bvh_leaf *)(void *)&bvh->wide[bvh->wide[w].child[k]];
-            for (st_u32 j = 0u; j < 4u; j++) {
-                static const st_triangle none;
-                const st_triangle *t = j < count ? &bvh->tris[leaf->first + j] : &none;
-                for (int a = 0; a < 3; a++) {
-                    leaf->v0[a][j] = t->v0[a];
-                    leaf->e1[a][j] = t->e1[a];
-                    leaf->e2[a][j] = t->e2[a];
+            st_f32 *rows = (st_f32 *)(void *)((char *)bvh->wide +
+                                              (size_t)bvh->wide[w].child[k] * ST_LEAF_UNIT);
+            st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n);
+            st_u32 sides = 0u;
+            for (st_u32 j = 0u; j < n; j++) {
+                const st_triangle *t = &bvh->tris[words[0] + j];
+                for (st_u32 a = 0u; a < 3u; a++) {
+                    rows[(ST_LEAF_V0 + a) * n + j] = t->v0[a];
+                    rows[(ST_LEAF_E1 + a) * n + j] = t->e1[a];
+                    rows[(ST_LEAF_E2 + a) * n + j] = t->e2[a];
                 }
-                leaf->one_sided[j] = t->v0[3];
+                sides |= (t->v0[3] != 0.0f ? 1u : 0u) << j;
             }
+            words[1] = sides;
         }
 }
 
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
 {
     /* every wide node consumes at least one binary interior node and every
-     * binary leaf becomes one st_bvh_leaf: at most node_count entries in a
-     * full binary tree, one more for a leaf root (a small or empty scene),
-     * which gets one wide node over it */
+     * binary leaf becomes one leaf block, smaller than a node: at most
+     * node_count entries in a full binary tree, one more for a leaf root (a
+     * small or empty scene), which gets one wide node over it */
     size_t cap = (size_t)bvh->node_count + 1u;
     wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
     if (!b.wide)
@@ -170,11 +179,19 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
         b.width = 4;
         collapse(&b);
     }
-    st_u32 leaves = place_leaves(&b);
-    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)(b.count + leaves) * sizeof *b.wide);
+    size_t units = place_leaves(&b), per_node = sizeof *b.wide / ST_LEAF_UNIT;
+    if (b.count * per_node + units > UINT32_MAX) { /* child[k] could not name every block */
+        free(b.wide);
+        return st_fail(err, ST_ERR_NOMEM, "bvh: the wide tree exceeds 2^32 leaf units");
+    }
+    st_u32 slots = (st_u32)((units + per_node - 1u) / per_node);
+    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)(b.count + slots) * sizeof *b.wide);
     bvh->wide = shrunk ? shrunk : b.wide;
+    /* the last slot's rest: zero, so that the array is a function of the tree */
+    memset((char *)(bvh->wide + b.count) + units * ST_LEAF_UNIT, 0,
+           (size_t)slots * sizeof *b.wide - units * ST_LEAF_UNIT);
     bvh->wide_count = b.count;
-    bvh->leaf_count = leaves;
+    bvh->leaf_slots = slots;
     bvh->wide_depth = b.depth;
     return ST_OK;
 }

@@ -108,7 +108,7 @@ static st_status upload_scene(st_renderer *r, const st_bvh *bvh, st_error *err)
     /* the scene's buffers by name (ST_SCENE_BUFFERS); tile, fis_cdf and
      * pmj02 are made per render (render.c) */
     struct { size_t bytes; const void *data; } up[ST_SCENE_tile] = {
-        [ST_SCENE_nodes] = {sizeof(st_bvh_wide_node) * (bvh->wide_count + bvh->leaf_count), bvh->wide},
+        [ST_SCENE_nodes] = {sizeof(st_bvh_wide_node) * (bvh->wide_count + bvh->leaf_slots), bvh->wide},
         [ST_SCENE_tris] = {sizeof(st_triangle) * (n ? n : 1), bvh->tris},
         [ST_SCENE_normals] = {sizeof(st_tri_normals) * (n ? n : 1), nrm},
         [ST_SCENE_tri_material] = {sizeof(st_u32) * (n ? n : 1), mat},

@@ -235,22 +235,52 @@ static int box_contains(const st_bvh_node *outer, const float lo[3], const float
     return 1;
 }
 
-/* Leaf slot child (count c) of the wide tree: its st_bvh_leaf lies after
- * the nodes, and lane j holds triangle first + j exactly (st_triangle's
- * floats, v0[3] as one_sided), the lanes past c zero. Returns first. */
+/* Leaf slot child (count c) of the wide tree: its block lies after the
+ * nodes, and lane j holds triangle first + j exactly (st_triangle's floats,
+ * v0[3] as the sides bit j). Returns first. */
 static uint32_t check_leaf(const st_bvh *bvh, uint32_t child, uint32_t c)
 {
-    assert_true(child >= bvh->wide_count && child < bvh->wide_count + bvh->leaf_count);
-    const st_bvh_leaf *l = st_trace_leaf(bvh->wide, child);
-    assert_true(l->first + c <= (bvh->tri_count ? bvh->tri_count : 1u));
-    for (uint32_t j = 0; j < 4; ++j) {
-        st_triangle want = {{0}, {0}, {0}}, got = st_leaf_lane(l, j);
-        if (j < c)
-            want = bvh->tris[l->first + j];
+    const size_t per_node = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
+    assert_true(child >= bvh->wide_count * per_node);
+    assert_true(child + ST_LEAF_UNITS(c) <= (bvh->wide_count + bvh->leaf_slots) * per_node);
+    const float *l = st_trace_leaf(bvh->wide, child);
+    uint32_t first = st_leaf_first(l, c);
+    assert_true(first + c <= (bvh->tri_count ? bvh->tri_count : 1u));
+    assert_true(st_leaf_sides(l, c) >> c == 0u);
+    for (uint32_t j = 0; j < c; ++j) {
+        st_triangle want = bvh->tris[first + j], got = st_leaf_lane(l, c, j);
         want.e1[3] = want.e2[3] = 0.0f; /* padding, not packed */
         assert_memory_equal(&got, &want, sizeof got);
     }
-    return l->first;
+    return first;
+}
+
+/* The leaf blocks of mixed sizes: in slot order (node by node, slot by
+ * slot), each starting where the one before ends (the first right after the
+ * nodes), each ST_LEAF_UNITS(count) units, their padding and the last
+ * slot's rest zero, and leaf_slots no more than they need. Returns the
+ * sizes met, bit c for blocks of c triangles. */
+static uint32_t check_leaf_blocks(const st_bvh *bvh)
+{
+    const size_t per_node = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
+    size_t next = bvh->wide_count * per_node, end = (bvh->wide_count + bvh->leaf_slots) * per_node;
+    const unsigned char *bytes = (const unsigned char *)bvh->wide;
+    uint32_t sizes = 0;
+    for (uint32_t w = 0; w < bvh->wide_count; ++w)
+        for (int k = 0; k < ST_BVH_WIDTH; ++k) {
+            uint32_t c = bvh->wide[w].count[k];
+            if (c == 0)
+                continue;
+            assert_int_equal(bvh->wide[w].child[k], next);
+            for (size_t b = 4 * (ST_LEAF_ROWS * c + 2); b < ST_LEAF_UNITS(c) * ST_LEAF_UNIT; ++b)
+                assert_int_equal(bytes[next * ST_LEAF_UNIT + b], 0);
+            next += ST_LEAF_UNITS(c);
+            sizes |= 1u << c;
+        }
+    assert_true(next <= end && end - next < per_node);
+    for (size_t b = next * ST_LEAF_UNIT; b < end * ST_LEAF_UNIT; ++b)
+        assert_int_equal(bytes[b], 0);
+    return sizes;
 }
 
 /* The wide tree (st_bvh_wide_node): nodes numbered depth first (a child after
@@ -324,6 +354,7 @@ static void check_wide_structure(const st_bvh *bvh, const float *p, uint32_t n)
     assert_true((most ? most - 1 : 0) * depth <= ST_BVH4_STACK);
     for (uint32_t k = 0; k < n; ++k)
         assert_int_equal(covered[k], 1);
+    check_leaf_blocks(bvh);
     free(covered);
 }
 
@@ -761,8 +792,8 @@ static void build_is_deterministic(void **state)
     assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
     assert_memory_equal(a->order, b->order, a->tri_count * sizeof *a->order);
     assert_int_equal(a->wide_count, b->wide_count);
-    assert_int_equal(a->leaf_count, b->leaf_count);
-    assert_memory_equal(a->wide, b->wide, (a->wide_count + a->leaf_count) * sizeof *a->wide);
+    assert_int_equal(a->leaf_slots, b->leaf_slots);
+    assert_memory_equal(a->wide, b->wide, (a->wide_count + a->leaf_slots) * sizeof *a->wide);
     st_bvh_destroy(a);
     st_bvh_destroy(b);
     free(p);
@@ -785,6 +816,7 @@ static void build_million_triangles_structure(void **state)
     print_message("# bvh build: %u triangles in %.3f s = %.2f M triangles/s (%u nodes, depth %u)\n", n, s,
                   n / s / 1e6, bvh->node_count, bvh->depth);
     check_structure(bvh, p, n);
+    assert_int_equal(check_leaf_blocks(bvh), 0x1e); /* blocks of 1, 2, 3 and 4 triangles */
     st_bvh_destroy(bvh);
     free(p);
 }

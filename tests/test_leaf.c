@@ -1,14 +1,15 @@
 /* test_leaf.c — the kernels test a leaf's triangles together (trace.h:
- * st_leaf_closest, st_leaf_any on an st_bvh_leaf, one float4
+ * st_leaf_closest, st_leaf_any on a leaf block, one float4
  * Moller-Trumbore): on the device, through kernels/leaf_probe.cl, their hits
  * are the scalar loop's (st_intersect_triangle over the leaf's triangles in
  * order) field by field, bit for bit, for every ray against every leaf of a
  * mesh made to tie: a height field whose triangles share edges and vertices,
  * exact copies of some triangles (two lanes hit at the same t: the lower
  * index must win, as the loop's strict t < best keeps it), copies lifted a
- * little (two lanes hit at different t), one-sided triangles seen from both
- * sides, rays through vertices and edges, along an axis, and cut short by
- * tmax. */
+ * little (two lanes hit at different t), groups far off of four triangles
+ * and one apart (leaves of one: the mesh has leaf blocks of every size, 1..4
+ * triangles), one-sided triangles seen from both sides, rays through
+ * vertices and edges, along an axis, and cut short by tmax. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -27,7 +28,8 @@
 #define BASE (2 * GRID * GRID)     /* its triangles */
 #define COPIES (BASE / 5)          /* exact copies of triangles 5 c */
 #define LIFTED (BASE / 7)          /* copies of triangles 7 c lifted by 2e-3 */
-#define TRIS (BASE + COPIES + LIFTED)
+#define LONE 10                    /* two groups far off: four together, one apart */
+#define TRIS (BASE + COPIES + LIFTED + LONE)
 #define RAYS 3000
 
 static float frand(uint64_t *s)
@@ -72,6 +74,12 @@ static float *make_mesh(uint32_t *base)
             pos[9 * t + 3 * v + 2] += 2e-3f;
         base[t] = t;
     }
+    for (uint32_t c = 0; c < LONE; c++, t++) { /* groups of five: four together, one apart */
+        memcpy(pos + 9 * t, pos + 9 * (c % 5), sizeof(float) * 9);
+        for (int v = 0; v < 3; v++)
+            pos[9 * t + 3 * v] += 100.0f * (float)(2 * (c / 5) + 1) + (c % 5 == 4 ? 50.0f : 0.0f);
+        base[t] = t;
+    }
     return pos;
 }
 
@@ -104,8 +112,8 @@ static st_wave_ray aim(const float *pos, uint32_t r, uint64_t *seed)
 }
 
 /* The leaf slots of the wide tree (node * ST_BVH_WIDTH + k); leaf_of[t]:
- * the slot holding BVH triangle t. */
-static uint32_t leaf_slots(const st_bvh *bvh, uint32_t *slot, uint32_t *leaf_of)
+ * the slot holding BVH triangle t; sizes[c]: the leaves of c triangles. */
+static uint32_t leaf_slots(const st_bvh *bvh, uint32_t *slot, uint32_t *leaf_of, uint32_t *sizes)
 {
     uint32_t n = 0;
     for (uint32_t w = 0; w < bvh->wide_count; w++)
@@ -113,9 +121,10 @@ static uint32_t leaf_slots(const st_bvh *bvh, uint32_t *slot, uint32_t *leaf_of)
             uint32_t c = bvh->wide[w].count[k];
             if (c == 0)
                 continue;
-            const st_bvh_leaf *l = st_trace_leaf(bvh->wide, bvh->wide[w].child[k]);
+            const float *l = st_trace_leaf(bvh->wide, bvh->wide[w].child[k]);
             for (uint32_t j = 0; j < c; j++)
-                leaf_of[l->first + j] = n;
+                leaf_of[st_leaf_first(l, c) + j] = n;
+            sizes[c]++;
             slot[n++] = w * ST_BVH_WIDTH + k;
         }
     return n;
@@ -133,7 +142,7 @@ static st_hit *probe(const st_bvh *bvh, const st_wave_ray *rays, const uint32_t 
     cl_mem b[5];
     cl_uint n = RAYS, ns = slots;
     assert_int_equal(st_device_kernel(dev, "probe_leaf", &k, &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, (bvh->wide_count + bvh->leaf_count) * sizeof(st_bvh_wide_node), bvh->wide, &b[0], &err), ST_OK);
+    assert_int_equal(st_device_buffer_create(dev, (bvh->wide_count + bvh->leaf_slots) * sizeof(st_bvh_wide_node), bvh->wide, &b[0], &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, bvh->tri_count * sizeof(st_triangle), bvh->tris, &b[1], &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, RAYS * sizeof *rays, rays, &b[2], &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, slots * sizeof *slot, slot, &b[3], &err), ST_OK);
@@ -171,7 +180,12 @@ static void leaf_test_equals_scalar_loop(void **state)
     for (uint32_t i = 0; i < TRIS; i++) /* a third one-sided, a copy as its original */
         bvh->tris[i].v0[3] = base[bvh->order[i]] % 3 == 0 ? ST_TRI_ONE_SIDED : 0.0f;
     st_bvh_pack_leaves(bvh);
-    uint32_t slots = leaf_slots(bvh, slot, leaf_of);
+    uint32_t sizes[5] = {0};
+    uint32_t slots = leaf_slots(bvh, slot, leaf_of, sizes);
+    printf("# leaves of 1, 2, 3, 4 triangles: %u, %u, %u, %u\n", sizes[1], sizes[2], sizes[3],
+           sizes[4]);
+    for (int c = 1; c <= 4; c++)
+        assert_true(sizes[c] > 0);
     /* twin[t]: the other BVH triangle of an exact copy, when in t's leaf */
     for (uint32_t i = 0; i < TRIS; i++)
         twin[i] = ST_NO_HIT;
