@@ -27,6 +27,8 @@ typedef struct st_device_info {
     unsigned compute_units;
     unsigned long long global_mem;
     unsigned long long local_mem; /* CL_DEVICE_LOCAL_MEM_SIZE: one work-group's __local bytes */
+    unsigned float_width; /* CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT */
+    unsigned lanes;       /* the kernels' lane width ST_W (kernels/lanes.h): 1, 4, 8 or 16 */
 } st_device_info;
 
 typedef struct st_device st_device;
@@ -52,6 +54,15 @@ const st_device_info *st_device_get_info(const st_device *dev);
  * ST_ERR_DEVICE. Images do not depend on it: the film's sums are order-free integers. */
 st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err);
 
+/* The lane width the kernels are built for unless asked otherwise (ST_W,
+ * kernels/lanes.h): on a CPU device its preferred float vector width
+ * rounded down to 4, 8 or 16 (PoCL reports the ISA's: 8 for AVX2, 16 for
+ * AVX-512), so that a work-item's lanes fill a vector register; elsewhere
+ * 1, a GPU's work-items being its lanes already. */
+unsigned st_device_default_lanes(const st_device_info *info);
+/* Builds the kernels for n lanes instead (1, 4, 8 or 16; --lanes): call
+ * before st_device_build. Errors name the field "lanes" (ST_ERR_USAGE). */
+st_status st_device_set_lanes(st_device *dev, unsigned n, st_error *err);
 /* Builds the program from the embedded kernels, or from the .cl files in
  * $STRATA_KERNEL_DIR when set (for kernel development). Idempotent; the first
  * call's wall time is stored in *seconds (may be NULL). */

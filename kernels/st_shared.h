@@ -166,6 +166,7 @@ typedef struct st_bvh_wide_node {
  * leaf, the commonest, 80 bytes: two cache lines wherever it starts). The
  * blocks follow the wide tree's nodes in its own array, in slot order, so
  * that the kernels take one buffer (src/bvh_wide.c). */
+#define ST_LEAF_MAX 4 /* triangles per leaf at most */
 #define ST_LEAF_ROWS 9
 #define ST_LEAF_V0 0
 #define ST_LEAF_E1 3

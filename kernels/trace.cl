@@ -42,9 +42,10 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
     trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
 }
 
-/* Packets (packet.h): work-item g takes items 8 g .. 8 g + 7 of the wave,
- * lane j item 8 g + j; the host launches ceil(item_count / 8) work-items
- * (src/render.c), so the last packet's lanes past item_count are masked. */
+/* Packets (packet.h): work-item g takes items W g .. W g + W - 1 of the
+ * wave (W = ST_W), lane j item W g + j; the host launches ceil(item_count /
+ * W) work-items (src/render.c), so the last packet's lanes past item_count
+ * are masked. */
 static st_u32 packet_first(void) { return (st_u32)get_global_id(0) * ST_PACKET; }
 
 /* Lane j's ray *r from origin o, direction d and bound t, and its bound
@@ -77,13 +78,13 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
     st_packet pk;
     st_packet_hits h;
     st_packet_setup(&pk, r, live);
-    st_packet_closest(nodes, &pk, vload8(0, tmax), &h);
+    st_packet_closest(nodes, &pk, ST_VLOAD(ST_W, tmax), &h);
     float t[ST_PACKET], u[ST_PACKET], v[ST_PACKET];
     uint prim[ST_PACKET];
-    vstore8(h.t, 0, t);
-    vstore8(h.u, 0, u);
-    vstore8(h.v, 0, v);
-    vstore8(h.prim, 0, prim);
+    ST_VSTORE(ST_W, h.t, t);
+    ST_VSTORE(ST_W, h.u, u);
+    ST_VSTORE(ST_W, h.v, v);
+    ST_VSTORE(ST_W, h.prim, prim);
     for (st_u32 j = 0u; j < ST_PACKET; ++j)
         if ((live >> j) & 1u) {
             st_hit o = {t[j], u[j], v[j], prim[j]};
@@ -110,7 +111,7 @@ __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
         return;
     st_packet pk;
     st_packet_setup(&pk, r, live);
-    st_u32 blocked = st_packet_occluded(nodes, &pk, vload8(0, tmax));
+    st_u32 blocked = st_packet_occluded(nodes, &pk, ST_VLOAD(ST_W, tmax));
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         if (!((live >> j) & 1u))
             continue;

@@ -14,8 +14,9 @@
  * of st_intersect_triangle over all triangles: the box test is conservative
  * for the rounding of the slab test and of Moller-Trumbore's t (see
  * ST_TRACE_SLAB_WIDEN). The kernels trace the wide tree (8 children)
- * (st_intersect4_closest, st_intersect4_any: one float8 slab test per node,
- * one float4 Moller-Trumbore test per leaf of up to four triangles);
+ * (st_intersect4_closest, st_intersect4_any: one vector slab test per node,
+ * one vector Moller-Trumbore test per leaf of up to four triangles; both
+ * written once over lanes, trace_lanes.h);
  * the binary tree's traversal stays as the host's reference, and both are
  * tested against brute force. The BVH is the one st_bvh_build writes
  * (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH. On the
@@ -28,6 +29,7 @@
 #ifndef __OPENCL_VERSION__
 #include "st_shared.h"
 #endif
+#include "lanes.h"
 
 /* Traversal stack size. The pbrt-style loop below holds at most one pending
  * sibling per level of the current path, i.e. depth - 1 entries, and
@@ -55,15 +57,6 @@ ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
  * beyond the current closest hit are still opened. */
 #define ST_TRACE_SLAB_WIDEN 1.000244140625f
 
-/* Running max and min of the slab test, t > acc ? t : acc and t < acc ? t :
- * acc: a NaN t leaves acc as it is. NaN comes only from a zero direction
- * component (1/d = inf) on a ray starting exactly in that slab's plane,
- * 0 * inf; ignoring the slab then counts the plane as inside, which it is
- * (boxes are closed). Any other zero component gives inv = +-inf and slab
- * times of +-inf, exact. On x86 (host, PoCL) each is one maxss/minss. */
-ST_FN st_f32 st_trace_near(st_f32 t, st_f32 acc) { return t > acc ? t : acc; }
-ST_FN st_f32 st_trace_far(st_f32 t, st_f32 acc) { return t < acc ? t : acc; }
-
 /* Per-ray constants of the slab test. neg: bit a set when inv[a] < 0 (the
  * sign of 1/d, so -0 counts as negative), the near plane then being bmax.
  * plane[a], plane[3 + a]: where a wide node's near and far planes on axis a
@@ -90,73 +83,53 @@ ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
     }
 }
 
-/* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
- * Williams et al.'s form ("An Efficient and Robust Ray-Box Intersection
- * Algorithm", JGT 2005): the ray's direction signs pick the near and far plane
- * of each axis, so no per-axis min/max swap is needed, and a box with
- * inverted bounds (bmin > bmax, the empty scene's root) is never entered.
- * Returns whether the ray meets the box at some t in [0, tmax]. */
+/* The slab and triangle tests at the widths the traversals use
+ * (trace_lanes.h): 1 on the host and for the binary tree, the wide node's
+ * boxes and the leaf's triangles in the kernels, and a packet's rays
+ * (packet.h) where ST_W is none of those. */
+#define ST_N 1
+#include "trace_lanes.h"
+#undef ST_N
+#ifdef __OPENCL_VERSION__
+#define ST_N ST_BVH_WIDTH
+#include "trace_lanes.h"
+#undef ST_N
+#if ST_LEAF_MAX != ST_BVH_WIDTH
+#define ST_N ST_LEAF_MAX
+#include "trace_lanes.h"
+#undef ST_N
+#endif
+#if ST_W != 1 && ST_W != ST_BVH_WIDTH && ST_W != ST_LEAF_MAX
+#define ST_N ST_W
+#include "trace_lanes.h"
+#undef ST_N
+#endif
+#endif
+
+/* Whether the ray meets binary node n's box at some t in [0, tmax]: the
+ * slab test of one box, its near planes chosen by the ray's signs. */
 ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st_f32 tmax)
 {
     st_u32 neg = r->neg;
-    st_f32 nx = (neg & 1u) ? n->bmax[0] : n->bmin[0];
-    st_f32 fx = (neg & 1u) ? n->bmin[0] : n->bmax[0];
-    st_f32 ny = (neg & 2u) ? n->bmax[1] : n->bmin[1];
-    st_f32 fy = (neg & 2u) ? n->bmin[1] : n->bmax[1];
-    st_f32 nz = (neg & 4u) ? n->bmax[2] : n->bmin[2];
-    st_f32 fz = (neg & 4u) ? n->bmin[2] : n->bmax[2];
-    st_f32 t0 = st_trace_near((nx - r->o[0]) * r->inv[0], 0.0f);
-    st_f32 t1 = st_trace_far((fx - r->o[0]) * r->inv[0], tmax);
-    t0 = st_trace_near((ny - r->o[1]) * r->inv[1], t0);
-    t1 = st_trace_far((fy - r->o[1]) * r->inv[1], t1);
-    t0 = st_trace_near((nz - r->o[2]) * r->inv[2], t0);
-    t1 = st_trace_far((fz - r->o[2]) * r->inv[2], t1);
-    return t0 <= t1 * ST_TRACE_SLAB_WIDEN;
+    st_f32 tn;
+    return st_slab_test1((neg & 1u) ? n->bmax[0] : n->bmin[0], (neg & 1u) ? n->bmin[0] : n->bmax[0],
+                         (neg & 2u) ? n->bmax[1] : n->bmin[1], (neg & 2u) ? n->bmin[1] : n->bmax[1],
+                         (neg & 4u) ? n->bmax[2] : n->bmin[2], (neg & 4u) ? n->bmin[2] : n->bmax[2],
+                         r, tmax, &tn);
 }
 
-/* Moller-Trumbore ray/triangle test (Moller & Trumbore, "Fast, Minimum Storage
- * Ray/Triangle Intersection", JGT 2(1) 1997):
- *   p = d x e2, det = e1 . p, s = o - v0, q = s x e1,
- *   u = (s . p) / det, v = (d . q) / det, t = (e2 . q) / det,
- *   hit iff u >= 0, v >= 0, u + v <= 1 and 0 < t < hit->t, and, for a
- *   one-sided triangle (v0[3] != 0), det > 0.
- * det = e1 . (d x e2) = -d . (e1 x e2): positive when the ray meets the
- * front, the side from which v0, v1, v2 run counter-clockwise (glTF's front
- * face, §3.7.2.1); so culling costs one compare, no extra arithmetic.
- * det = 0 (ray parallel to the plane, or a degenerate triangle) needs no test
- * of its own: 1/det is infinite, so u and v are infinite or NaN and fail the
- * barycentric tests. A u outside [0, 1] (or NaN) is a miss whatever v is
- * (v >= 0 makes u + v >= u > 1 in floats too), so the test stops there, and
- * again after v when v or u + v fails: the result is the full test's, without
- * q, v and t (or t) for such triangles. On a hit, fills hit->t, u, v and
- * hit->prim = prim and returns 1; otherwise leaves hit unchanged and returns
- * 0. */
+/* st_triangle_test of one triangle (its one-sidedness in v0[3]): on a hit
+ * at t in (0, hit->t), fills hit->t, u, v and hit->prim = prim and returns
+ * 1; otherwise leaves hit unchanged and returns 0. */
 ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *ray, st_u32 prim,
                                 st_hit *hit)
 {
-    st_f32 e1x = tri->e1[0], e1y = tri->e1[1], e1z = tri->e1[2];
-    st_f32 e2x = tri->e2[0], e2y = tri->e2[1], e2z = tri->e2[2];
-    st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
-    st_f32 px = dy * e2z - dz * e2y;
-    st_f32 py = dz * e2x - dx * e2z;
-    st_f32 pz = dx * e2y - dy * e2x;
-    st_f32 det = e1x * px + e1y * py + e1z * pz;
-    st_f32 inv_det = 1.0f / det;
-    st_f32 sx = ray->o[0] - tri->v0[0];
-    st_f32 sy = ray->o[1] - tri->v0[1];
-    st_f32 sz = ray->o[2] - tri->v0[2];
-    st_f32 u = (sx * px + sy * py + sz * pz) * inv_det;
-    if (!(u >= 0.0f && u <= 1.0f))
-        return 0;
-    st_f32 qx = sy * e1z - sz * e1y;
-    st_f32 qy = sz * e1x - sx * e1z;
-    st_f32 qz = sx * e1y - sy * e1x;
-    st_f32 v = (dx * qx + dy * qy + dz * qz) * inv_det;
-    if (!(v >= 0.0f && u + v <= 1.0f))
-        return 0;
-    st_f32 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
-    int ok = (u >= 0.0f) & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < hit->t) &
-             ((det > 0.0f) | (tri->v0[3] == 0.0f));
+    st_f32 v0[3] = {tri->v0[0], tri->v0[1], tri->v0[2]};
+    st_f32 e1[3] = {tri->e1[0], tri->e1[1], tri->e1[2]};
+    st_f32 e2[3] = {tri->e2[0], tri->e2[1], tri->e2[2]};
+    st_f32 t, u, v;
+    int ok = st_triangle_test1(ray->o, ray->d, v0, e1, e2, hit->t, 1, tri->v0[3] == 0.0f, &t, &u,
+                               &v);
     if (ok) {
         hit->t = t;
         hit->u = u;
@@ -251,56 +224,25 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
  * the 4-wide tree (PoCL allots it to every work-item of a group, up to 4096). */
 #define ST_BVH4_STACK (3 * ST_BVH_MAX_DEPTH)
 
-/* The slab test of st_trace_box for a wide node's ST_BVH_WIDTH boxes at
- * once, lane k computed with the same operations in the same order as
- * st_trace_box would for child k (so host and device agree to the bit).
- * Returns a mask, bit k set when the ray meets child k's box at some t in
- * [0, tmax]; tn[k] is that box's entry distance. In OpenCL C an explicit
- * float8 (or float4) test: one AVX (SSE) instruction per step on PoCL, native
- * on GPUs; on the host a loop over the lanes, which gcc vectorises. */
+/* The slab test of a wide node's ST_BVH_WIDTH boxes for one ray: a mask,
+ * bit k set when the ray meets child k's box at some t in [0, tmax], and
+ * tn[k] that box's entry distance. The kernels test the boxes as the lanes
+ * of one vector, loading each axis' near and far planes where the ray's
+ * setup says they start; the host tests them one by one at width 1, lane k
+ * computing what the vector's lane k does. */
 #ifdef __OPENCL_VERSION__
-#if ST_BVH_WIDTH == 8
-typedef float8 st_wfloat;
-typedef int8 st_wint;
-#define st_wload vload8
-#define st_wstore vstore8
-#define ST_WMASK(in)                                                                            \
-    ((st_u32)(((in).s0 & 1) | ((in).s1 & 2) | ((in).s2 & 4) | ((in).s3 & 8) | ((in).s4 & 16) |   \
-              ((in).s5 & 32) | ((in).s6 & 64) | ((in).s7 & 128)))
-#else
-typedef float4 st_wfloat;
-typedef int4 st_wint;
-#define st_wload vload4
-#define st_wstore vstore4
-#define ST_WMASK(in) ((st_u32)(((in).s0 & 1) | ((in).s1 & 2) | ((in).s2 & 4) | ((in).s3 & 8)))
-#endif
 ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_trace_ray *r, st_f32 tmax,
                            st_f32 *tn)
 {
     const ST_GLOBAL st_f32 *b = n->lo[0];
-    st_wfloat nx = st_wload(0, b + r->plane[0]);
-    st_wfloat fx = st_wload(0, b + r->plane[3]);
-    st_wfloat ny = st_wload(0, b + r->plane[1]);
-    st_wfloat fy = st_wload(0, b + r->plane[4]);
-    st_wfloat nz = st_wload(0, b + r->plane[2]);
-    st_wfloat fz = st_wload(0, b + r->plane[5]);
-    st_wfloat t, t0 = (st_wfloat)(0.0f), t1 = (st_wfloat)(tmax);
-    /* select(acc, t, t > acc): st_trace_near, lane-wise (NaN t keeps acc) */
-    t = (nx - r->o[0]) * r->inv[0];
-    t0 = select(t0, t, t > t0);
-    t = (fx - r->o[0]) * r->inv[0];
-    t1 = select(t1, t, t < t1);
-    t = (ny - r->o[1]) * r->inv[1];
-    t0 = select(t0, t, t > t0);
-    t = (fy - r->o[1]) * r->inv[1];
-    t1 = select(t1, t, t < t1);
-    t = (nz - r->o[2]) * r->inv[2];
-    t0 = select(t0, t, t > t0);
-    t = (fz - r->o[2]) * r->inv[2];
-    t1 = select(t1, t, t < t1);
-    st_wstore(t0, 0, tn);
-    st_wint in = t0 <= t1 * ST_TRACE_SLAB_WIDEN;
-    return ST_WMASK(in);
+    ST_VEC(float, ST_BVH_WIDTH) t0;
+    ST_VEC(int, ST_BVH_WIDTH) in = ST_CAT(st_slab_test, ST_BVH_WIDTH)(
+        ST_VLOAD(ST_BVH_WIDTH, b + r->plane[0]), ST_VLOAD(ST_BVH_WIDTH, b + r->plane[3]),
+        ST_VLOAD(ST_BVH_WIDTH, b + r->plane[1]), ST_VLOAD(ST_BVH_WIDTH, b + r->plane[4]),
+        ST_VLOAD(ST_BVH_WIDTH, b + r->plane[2]), ST_VLOAD(ST_BVH_WIDTH, b + r->plane[5]), r,
+        (ST_VEC(float, ST_BVH_WIDTH))(tmax), &t0);
+    ST_VSTORE(ST_BVH_WIDTH, t0, tn);
+    return ST_MASK_BITS(ST_BVH_WIDTH, in);
 }
 #else
 ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_trace_ray *r, st_f32 tmax,
@@ -308,16 +250,11 @@ ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_trace_ray *r, st_
 {
     st_u32 mask = 0u;
     for (int k = 0; k < ST_BVH_WIDTH; ++k) {
-        st_f32 t0 = 0.0f, t1 = tmax;
-        for (int a = 0; a < 3; ++a) {
-            int flip = (r->neg >> a) & 1u;
-            st_f32 near_plane = flip ? n->hi[a][k] : n->lo[a][k];
-            st_f32 far_plane = flip ? n->lo[a][k] : n->hi[a][k];
-            t0 = st_trace_near((near_plane - r->o[a]) * r->inv[a], t0);
-            t1 = st_trace_far((far_plane - r->o[a]) * r->inv[a], t1);
-        }
-        tn[k] = t0;
-        mask |= (st_u32)(t0 <= t1 * ST_TRACE_SLAB_WIDEN) << k;
+        const st_f32 *b = n->lo[0];
+        st_f32 p[6];
+        for (st_u32 a = 0u; a < 6u; ++a)
+            p[a] = b[r->plane[a] + (st_u32)k];
+        mask |= (st_u32)st_slab_test1(p[0], p[3], p[1], p[4], p[2], p[5], r, tmax, &tn[k]) << k;
     }
     return mask;
 }
@@ -373,80 +310,54 @@ ST_FN st_u32 st_leaf_sides(const ST_GLOBAL st_f32 *l, st_u32 n)
 }
 
 #ifdef __OPENCL_VERSION__
-/* Lane mask as bits (lane j -> bit j), and back. */
-ST_HOT st_u32 st_leaf_bits(int4 m)
+/* A leaf's lanes: one per triangle, ST_LEAF_MAX of them. */
+typedef ST_VEC(float, ST_LEAF_MAX) st_leaf_f;
+typedef ST_VEC(int, ST_LEAF_MAX) st_leaf_i;
+
+/* Row r of a block of n triangles as ST_LEAF_MAX lanes: that many floats
+ * from the row's start, whatever n, so one load serves every block size.
+ * Its lanes past n hold the next rows' first floats, or the block's two
+ * words and padding (the last row's load stays inside the block:
+ * ST_LEAF_UNITS); the test drops them with `keep`, once. */
+ST_HOT st_leaf_f st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 r)
 {
-    int4 b = m & (int4)(1, 2, 4, 8);
-    int2 o = b.lo | b.hi;
-    return (st_u32)(o.x | o.y);
-}
-ST_HOT int4 st_leaf_lanes(st_u32 bits)
-{
-    return ((int4)((int)bits) & (int4)(1, 2, 4, 8)) != (int4)(0);
+    return ST_VLOAD(ST_LEAF_MAX, l + r * n);
 }
 
-/* Row r of a block of n triangles as float4: four floats from the row's
- * start, whatever n, so one load serves every block size. Its lanes past n
- * hold the next rows' first floats, or the block's two words and padding
- * (the last row's load stays inside the block: ST_LEAF_UNITS); the test
- * computes them like the others and drops them with `keep`, once. */
-ST_HOT float4 st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 r)
-{
-    return vload4(0, l + r * n);
-}
-
-/* st_intersect_triangle on a leaf's lanes at once (block l of n triangles),
- * lane j = triangle first + j: the same operations in the same statements,
- * so that the compiler contracts them into fma alike (OpenCL contracts
- * within a statement) and each lane's t, u, v is the scalar test's bit for
- * bit (tests/test_leaf.c checks it on the device). Returns the lanes that
- * hit at t in (0, tmax) as bits (lane j -> bit j), and their t, u, v. The
- * scalar test's early exits become one: when no lane has u in [0, 1], q, v
- * and t are not computed (and the callers, seeing 0, exit at once). */
+/* The triangle test of a leaf's lanes at once (block l of n triangles),
+ * lane j = triangle first + j, for one ray (broadcast to the lanes): each
+ * lane's t, u, v is st_intersect_triangle's bit for bit (tests/test_leaf.c
+ * checks it on the device). Returns the lanes that hit at t in (0, tmax) as
+ * bits (lane j -> bit j), and their t, u, v. */
 ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
-                           float4 *tt, float4 *uu, float4 *vv)
+                           st_leaf_f *tt, st_leaf_f *uu, st_leaf_f *vv)
 {
     /* past lane n the e2 rows may reach the block's words (integers, so
      * denormals as floats, slow on some CPUs): those lanes zero */
-    int4 keep = (int4)(0, 1, 2, 3) < (int4)((int)n);
-    float4 e1x = st_leaf_row(l, n, ST_LEAF_E1), e1y = st_leaf_row(l, n, ST_LEAF_E1 + 1);
-    float4 e1z = st_leaf_row(l, n, ST_LEAF_E1 + 2);
-    float4 e2x = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2)) & keep);
-    float4 e2y = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2 + 1)) & keep);
-    float4 e2z = as_float4(as_int4(st_leaf_row(l, n, ST_LEAF_E2 + 2)) & keep);
-    st_f32 dx = ray->d[0], dy = ray->d[1], dz = ray->d[2];
-    float4 px = dy * e2z - dz * e2y;
-    float4 py = dz * e2x - dx * e2z;
-    float4 pz = dx * e2y - dy * e2x;
-    float4 det = e1x * px + e1y * py + e1z * pz;
-    float4 inv_det = 1.0f / det;
-    float4 sx = ray->o[0] - st_leaf_row(l, n, ST_LEAF_V0);
-    float4 sy = ray->o[1] - st_leaf_row(l, n, ST_LEAF_V0 + 1);
-    float4 sz = ray->o[2] - st_leaf_row(l, n, ST_LEAF_V0 + 2);
-    float4 u = (sx * px + sy * py + sz * pz) * inv_det;
-    int4 in_u = (u >= 0.0f) & (u <= 1.0f) & keep;
-    if (!any(in_u))
-        return 0u;
-    float4 qx = sy * e1z - sz * e1y;
-    float4 qy = sz * e1x - sx * e1z;
-    float4 qz = sx * e1y - sy * e1x;
-    float4 v = (dx * qx + dy * qy + dz * qz) * inv_det;
-    float4 t = (e2x * qx + e2y * qy + e2z * qz) * inv_det;
-    int4 front = (det > 0.0f) | ~st_leaf_lanes(st_leaf_sides(l, n));
-    *tt = t;
-    *uu = u;
-    *vv = v;
-    return st_leaf_bits(in_u & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < tmax) & front);
+    st_leaf_i keep = ST_IOTA(ST_LEAF_MAX) < (st_leaf_i)((int)n);
+    st_leaf_f o[3], d[3], v0[3], e1[3], e2[3];
+    for (st_u32 a = 0u; a < 3u; ++a) {
+        o[a] = (st_leaf_f)(ray->o[a]);
+        d[a] = (st_leaf_f)(ray->d[a]);
+        v0[a] = st_leaf_row(l, n, ST_LEAF_V0 + a);
+        e1[a] = st_leaf_row(l, n, ST_LEAF_E1 + a);
+        e2[a] = ST_AS_FLOAT(ST_LEAF_MAX, ST_AS_INT(ST_LEAF_MAX, st_leaf_row(l, n, ST_LEAF_E2 + a)) &
+                                              keep);
+    }
+    st_leaf_i two_sided = !ST_BITS_MASK(ST_LEAF_MAX, st_leaf_sides(l, n));
+    st_leaf_i ok = ST_CAT(st_triangle_test, ST_LEAF_MAX)(o, d, v0, e1, e2, (st_leaf_f)(tmax), keep,
+                                                         two_sided, tt, uu, vv);
+    return ST_MASK_BITS(ST_LEAF_MAX, ok);
 }
 
 /* Lane j's hit into *hit. */
-ST_HOT void st_leaf_take(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, float4 t, float4 u,
-                         float4 v, st_hit *hit)
+ST_HOT void st_leaf_take(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, st_leaf_f t, st_leaf_f u,
+                         st_leaf_f v, st_hit *hit)
 {
-    st_f32 tj[4], uj[4], vj[4];
-    vstore4(t, 0, tj);
-    vstore4(u, 0, uj);
-    vstore4(v, 0, vj);
+    st_f32 tj[ST_LEAF_MAX], uj[ST_LEAF_MAX], vj[ST_LEAF_MAX];
+    ST_VSTORE(ST_LEAF_MAX, t, tj);
+    ST_VSTORE(ST_LEAF_MAX, u, uj);
+    ST_VSTORE(ST_LEAF_MAX, v, vj);
     hit->t = tj[j];
     hit->u = uj[j];
     hit->v = vj[j];
@@ -458,14 +369,14 @@ ST_HOT void st_leaf_take(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, float4 t
  * a tie, the lowest lane (the loop's strict t < best keeps the first). */
 ST_HOT void st_leaf_closest(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
-    float4 t, u, v;
+    st_leaf_f t, u, v;
     st_u32 ok = st_leaf_test(l, n, ray, hit->t, &t, &u, &v);
     if (ok == 0u)
         return;
     if ((ok & (ok - 1u)) != 0u) { /* more than one lane: the least t's */
-        float4 hits = select((float4)(INFINITY), t, st_leaf_lanes(ok)); /* hits: t < hit->t */
-        float2 m = fmin(hits.lo, hits.hi);
-        ok = st_leaf_bits(hits == fmin(m.x, m.y));
+        st_leaf_f hits = ST_SELECT(ST_LEAF_MAX, (st_leaf_f)(INFINITY), t,
+                                   ST_BITS_MASK(ST_LEAF_MAX, ok)); /* hits: t < hit->t */
+        ok = ST_MASK_BITS(ST_LEAF_MAX, hits == ST_HMIN(ST_LEAF_MAX, hits));
     }
     st_leaf_take(l, n, st_trace_lowest(ok), t, u, v, hit);
 }
@@ -474,7 +385,7 @@ ST_HOT void st_leaf_closest(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *r
  * into *hit (the scalar loop stops at the first). */
 ST_HOT int st_leaf_any(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
-    float4 t, u, v;
+    st_leaf_f t, u, v;
     st_u32 ok = st_leaf_test(l, n, ray, ray->tmax, &t, &u, &v);
     if (ok != 0u)
         st_leaf_take(l, n, st_trace_lowest(ok), t, u, v, hit);

@@ -57,7 +57,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LEAF_MAX 4u
+#define LEAF_MAX ((st_u32)ST_LEAF_MAX)
 #define BIN_COUNT 16u
 #define MAX_TRIANGLES 0x3fffffffu
 #define SMALL_MAX 32u

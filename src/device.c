@@ -96,6 +96,10 @@ static void fill_info(cl_platform_id p, cl_device_id d, unsigned pi, unsigned di
     mem = 0;
     clGetDeviceInfo(d, CL_DEVICE_LOCAL_MEM_SIZE, sizeof mem, &mem, NULL);
     info->local_mem = mem;
+    cl_uint width = 0;
+    clGetDeviceInfo(d, CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT, sizeof width, &width, NULL);
+    info->float_width = width;
+    info->lanes = st_device_default_lanes(info);
     size_t n = 0;
     if (clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, 0, NULL, &n) == CL_SUCCESS && n > 0) {
         char *ext = malloc(n + 1);
@@ -279,6 +283,24 @@ void st_device_destroy(st_device *dev)
 
 const st_device_info *st_device_get_info(const st_device *dev) { return &dev->info; }
 
+unsigned st_device_default_lanes(const st_device_info *info)
+{
+    if (!info->is_cpu)
+        return 1u;
+    unsigned w = info->float_width;
+    return w >= 16u ? 16u : w >= 8u ? 8u : w >= 4u ? 4u : 1u;
+}
+
+st_status st_device_set_lanes(st_device *dev, unsigned n, st_error *err)
+{
+    if (dev->program)
+        return st_fail(err, ST_ERR_USAGE, "lanes %u: set before the build", n);
+    if (n != 1u && n != 4u && n != 8u && n != 16u)
+        return st_fail(err, ST_ERR_USAGE, "lanes %u: must be 1, 4, 8 or 16", n);
+    dev->info.lanes = n;
+    return ST_OK;
+}
+
 st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err)
 {
     if (dev->program || dev->sub)
@@ -407,8 +429,9 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
     }
     /* the kernel directory (its path already fits in 1024 bytes: read above) */
     int own_dir = dir && *dir;
-    snprintf(options, sizeof options, "-cl-std=CL1.2%s%s%s%s", own_dir ? " -I" : "",
-             own_dir ? dir : "", is_oclgrind(dev) ? " -cl-opt-disable -DST_NO_FORCED_INLINE" : "",
+    snprintf(options, sizeof options, "-cl-std=CL1.2 -DST_W=%u%s%s%s%s", dev->info.lanes,
+             own_dir ? " -I" : "", own_dir ? dir : "",
+             is_oclgrind(dev) ? " -cl-opt-disable -DST_NO_FORCED_INLINE" : "",
              is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "");
     double t0 = now_seconds();
     cl_int code;

@@ -462,19 +462,20 @@ static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
  * tests then cost more than they share. */
 #define ST_PACKET_MIN_TRIANGLES 65536u
 
-/* Which rays go in packets (ST_PACKET_*): on a CPU device the coherent
- * ones of a large scene, measured faster (above); elsewhere none (a GPU's
- * work-items already run in lockstep, and none was lent to measure on). */
+/* Which rays go in packets (ST_PACKET_*): where the kernels have lanes to
+ * fill (a CPU device's), the coherent ones of a large scene, measured
+ * faster (above); elsewhere none (a GPU's work-items already run in
+ * lockstep, so its kernels are built with one lane). */
 int st_renderer_packets(const st_renderer *r, const st_render_options *o)
 {
     if (o->packet_path != ST_PACKET_AUTO)
         return o->packet_path;
     int large = r->scene->tri_count >= ST_PACKET_MIN_TRIANGLES;
-    return st_device_get_info(r->dev)->is_cpu && large ? ST_PACKET_COHERENT : ST_PACKET_NONE;
+    return st_device_get_info(r->dev)->lanes > 1u && large ? ST_PACKET_COHERENT : ST_PACKET_NONE;
 }
 
 /* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the wave's
- * items: in packets (ceil(n / 8) work-items) where st_renderer_packets says so;
+ * items: in packets (ceil(n / lanes) work-items) where st_renderer_packets says so;
  * coherent are the rays of vertex 0 (camera rays, and shadow rays from
  * where they hit), a bounce's scatter (paths measured slower in packets). */
 static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
@@ -487,7 +488,9 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
     if (!n)
         return run_stage(r, k, p, p->item_count, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
-    return run_kernel(r, kl, k, p, (p->item_count + 7u) / 8u, o->local_size, o, st, err);
+    size_t lanes = st_device_get_info(r->dev)->lanes;
+    return run_kernel(r, kl, k, p, (p->item_count + lanes - 1u) / lanes, o->local_size, o, st,
+                      err);
 }
 
 /* Whether the first stages run as one kernel, generate_rays (st_render.h,

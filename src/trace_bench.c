@@ -76,6 +76,14 @@ st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o,
     return ST_OK;
 }
 
+/* Work-items of a packet kernel over n rays: one per packet of the
+ * device's lane width (kernels/packet.h). */
+static size_t packet_items(const st_renderer *r, size_t n)
+{
+    size_t lanes = st_device_get_info(r->dev)->lanes;
+    return (n + lanes - 1u) / lanes;
+}
+
 /* One wave: rays [first, first + n) uploaded, traced (timed), hits counted. */
 static st_status trace_wave(st_renderer *r, const st_render_options *o, int set, st_u64 first,
                             size_t n, st_wave *w, st_wave_ray *rays, st_hit *hits,
@@ -91,7 +99,7 @@ static st_status trace_wave(st_renderer *r, const st_render_options *o, int set,
         st_wave_set_params(k, &p, err) || st_device_finish(r->dev, err))
         return err->status;
     double t0 = st_render_now();
-    if (st_device_launch(r->dev, k, packets ? (n + 7) / 8 : n, o->local_size, err) ||
+    if (st_device_launch(r->dev, k, packets ? packet_items(r, n) : n, o->local_size, err) ||
         st_device_finish(r->dev, err))
         return err->status;
     res->seconds += st_render_now() - t0;
@@ -141,7 +149,7 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
     return rc;
 }
 
-/* Launches k over the n rays of wave w (ceil(n / 8) work-items for a
+/* Launches k over the n rays of wave w (ceil(n / lanes) work-items for a
  * packet kernel) with every path alive, and waits. */
 static st_status launch_alone(st_renderer *r, const st_render_options *o, cl_kernel k, int packets,
                               size_t n, st_wave *w, st_error *err)
@@ -154,7 +162,7 @@ static st_status launch_alone(st_renderer *r, const st_render_options *o, cl_ker
     p.ray_eps = r->ray_eps;
     if (st_device_buffer_zero(r->dev, w->b[ST_WAVE_path], st_wave_bytes(w, ST_WAVE_path), err) ||
         st_wave_bind_stage(k, &p, &sh, r->scene_buf, w, err) ||
-        st_device_launch(r->dev, k, packets ? (n + 7) / 8 : n, o->local_size, err))
+        st_device_launch(r->dev, k, packets ? packet_items(r, n) : n, o->local_size, err))
         return err->status;
     return st_device_finish(r->dev, err);
 }

@@ -25,9 +25,12 @@ static void put(buf *b, const char *s, size_t n)
 static void puts_(buf *b, const char *s) { put(b, s, strlen(s)); }
 
 /* Appends file `path` to b, replacing each line `#include "name"` by the
- * file dir/name (once per name, like an include guard would). */
-static void inline_file(buf *b, const char *dir, const char *path, buf *seen)
+ * file dir/name, at every include: the headers' own guards keep one copy,
+ * and a header written to be included once per parameter (trace_lanes.h)
+ * gets its copies. depth bounds a header that includes itself. */
+static void inline_file(buf *b, const char *dir, const char *path, int depth)
 {
+    if (depth > 32) { fprintf(stderr, "embed: %s: includes nested too deep\n", path); exit(1); }
     FILE *f = fopen(path, "r");
     if (!f) { fprintf(stderr, "embed: cannot open %s\n", path); exit(1); }
     char line[4096], mark[4200];
@@ -38,14 +41,9 @@ static void inline_file(buf *b, const char *dir, const char *path, buf *seen)
         lineno++;
         char name[256];
         if (sscanf(line, " #include \"%255[^\"]\"", name) == 1) {
-            char key[300];
-            snprintf(key, sizeof key, "|%s|", name);
-            if (!seen->p || !strstr(seen->p, key)) {
-                puts_(seen, key);
-                char sub[600];
-                snprintf(sub, sizeof sub, "%s/%s", dir, name);
-                inline_file(b, dir, sub, seen);
-            }
+            char sub[600];
+            snprintf(sub, sizeof sub, "%s/%s", dir, name);
+            inline_file(b, dir, sub, depth + 1);
             snprintf(mark, sizeof mark, "#line %u \"%s\"\n", lineno + 1, path);
             puts_(b, mark);
             continue;
@@ -91,12 +89,12 @@ int main(int argc, char **argv)
         if (!strcmp(argv[i], "--")) { sep = i; break; }
     unsigned nk = 0, ns = 0;
     for (int i = 2; i < sep; i++, nk++) {
-        buf b = {0}, seen = {0};
+        buf b = {0};
         char dir[512];
         snprintf(dir, sizeof dir, "%.*s", (int)(base_name(argv[i]) - argv[i] - 1), argv[i]);
-        inline_file(&b, dir[0] ? dir : ".", argv[i], &seen);
+        inline_file(&b, dir[0] ? dir : ".", argv[i], 0);
         emit_array(out, "kernel", nk, &b);
-        free(b.p); free(seen.p);
+        free(b.p);
     }
     for (int i = sep + 1; i < argc; i++, ns++) {
         buf b = {0};

@@ -1,0 +1,148 @@
+/* lanes.h — the lane vocabulary: n values of a type processed as one, the
+ * only file that spells OpenCL's vector types for lanes.
+ *
+ * A stage that works on several values at once (a packet's rays, a wide
+ * node's boxes, a leaf's triangles) is written once over ST_VEC(T, n) and
+ * the helpers below, and compiled at the widths it needs. Width 1 is plain
+ * C: the host compiles it as C11 (the reference the tests compare with), and
+ * a GPU's kernels run it one item per work-item, its SIMT hardware making the
+ * lanes. Widths 4, 8 and 16 are OpenCL C vectors, which PoCL keeps in SSE,
+ * AVX2 and AVX-512 registers (its own vectoriser widens only scalar code over
+ * separate arrays, so a CPU's lanes have to be written out).
+ *
+ * ST_W is the width of the stages that take several items per work-item
+ * (packets of rays, kernels/packet.h): chosen per device by the host
+ * (st_device_lanes, src/device.c) and passed as -DST_W=n; 1 where it is not
+ * given (the host's C). ST_BVH_WIDTH (a wide node's boxes) and ST_LEAF_MAX (a
+ * leaf's triangles) are widths of the tree's layout, fixed whatever ST_W.
+ *
+ * Masks: a comparison of vectors gives -1 (true) or 0 per lane, of scalars 1
+ * or 0; the helpers below accept both, so that the same text is right at
+ * every width. Use ST_ANY, ST_SELECT and ST_MASK_BITS on masks, never
+ * OpenCL's any() or ~ on a width-1 mask (any(1) is 0: it reads the sign
+ * bit). */
+#ifndef ST_LANES_H
+#define ST_LANES_H
+
+#ifndef ST_W
+#define ST_W 1
+#endif
+#if ST_W != 1 && ST_W != 4 && ST_W != 8 && ST_W != 16
+#error "ST_W must be 1, 4, 8 or 16"
+#endif
+#if ST_W != 1 && !defined(__OPENCL_VERSION__)
+#error "the host's C compiles width 1 only"
+#endif
+
+#define ST_CAT(a, b) ST_CAT_(a, b)
+#define ST_CAT_(a, b) a##b
+
+/* n lanes of the scalar type T (float, int, uint). */
+#define ST_VEC(T, n) ST_CAT(ST_VEC_, n)(T)
+#define ST_VEC_1(T) T
+#define ST_VEC_4(T) T##4
+#define ST_VEC_8(T) T##8
+#define ST_VEC_16(T) T##16
+
+/* The lanes at p[0 .. n), and stored there. */
+#define ST_VLOAD(n, p) ST_CAT(ST_VLOAD_, n)(p)
+#define ST_VLOAD_1(p) (*(p))
+#define ST_VLOAD_4(p) vload4(0, p)
+#define ST_VLOAD_8(p) vload8(0, p)
+#define ST_VLOAD_16(p) vload16(0, p)
+#define ST_VSTORE(n, v, p) ST_CAT(ST_VSTORE_, n)(v, p)
+#define ST_VSTORE_1(v, p) (*(p) = (v))
+#define ST_VSTORE_4(v, p) vstore4(v, 0, p)
+#define ST_VSTORE_8(v, p) vstore8(v, 0, p)
+#define ST_VSTORE_16(v, p) vstore16(v, 0, p)
+
+/* Whether any lane of mask m is set. */
+#define ST_ANY(n, m) ST_CAT(ST_ANY_, n)(m)
+#define ST_ANY_1(m) ((m) != 0)
+#define ST_ANY_4(m) any(m)
+#define ST_ANY_8(m) any(m)
+#define ST_ANY_16(m) any(m)
+
+/* Per lane: b where mask m is set, else a (OpenCL's select). */
+#define ST_SELECT(n, a, b, m) ST_CAT(ST_SELECT_, n)(a, b, m)
+#define ST_SELECT_1(a, b, m) ((m) ? (b) : (a))
+#define ST_SELECT_4(a, b, m) select(a, b, m)
+#define ST_SELECT_8(a, b, m) select(a, b, m)
+#define ST_SELECT_16(a, b, m) select(a, b, m)
+
+/* The lanes 0, 1, .., n - 1 (an int vector). */
+#define ST_IOTA(n) ST_CAT(ST_IOTA_, n)
+#define ST_IOTA_1 0
+#define ST_IOTA_4 ((int4)(0, 1, 2, 3))
+#define ST_IOTA_8 ((int8)(0, 1, 2, 3, 4, 5, 6, 7))
+#define ST_IOTA_16 ((int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+
+/* Lane j's bit, 1 << j, per lane. */
+#define ST_LANE_BIT(n) ST_CAT(ST_LANE_BIT_, n)
+#define ST_LANE_BIT_4 ((int4)(1, 2, 4, 8))
+#define ST_LANE_BIT_8 ((int8)(1, 2, 4, 8, 16, 32, 64, 128))
+#define ST_LANE_BIT_16                                                                             \
+    ((int16)(1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768))
+
+/* Mask m as bits, lane j -> bit j (lanes set: m != 0), and bits b as a mask
+ * of n lanes (-1 or 0 per lane; 1 or 0 at width 1). */
+#define ST_MASK_BITS(n, m) ST_CAT(st_mask_bits, n)(m)
+#define ST_BITS_MASK(n, b) ST_CAT(ST_BITS_MASK_, n)(b)
+#define ST_BITS_MASK_1(b) (((b) & 1u) != 0u)
+#define ST_BITS_MASK_4(b) (((int4)((int)(b)) & ST_LANE_BIT_4) != 0)
+#define ST_BITS_MASK_8(b) (((int8)((int)(b)) & ST_LANE_BIT_8) != 0)
+#define ST_BITS_MASK_16(b) (((int16)((int)(b)) & ST_LANE_BIT_16) != 0)
+
+/* The bits of float lanes as int lanes, and back (vector widths only). */
+#define ST_AS_INT(n, v) ST_CAT(as_int, n)(v)
+#define ST_AS_FLOAT(n, v) ST_CAT(as_float, n)(v)
+
+/* The largest and the least of a vector's lanes, halving the vector (a
+ * NaN lane loses to a number, as in fmax and fmin). */
+#define ST_HMAX(n, v) ST_CAT(st_hmax, n)(v)
+#define ST_HMIN(n, v) ST_CAT(st_hmin, n)(v)
+
+static inline unsigned st_mask_bits1(int m) { return m != 0 ? 1u : 0u; }
+static inline float st_hmax1(float v) { return v; }
+static inline float st_hmin1(float v) { return v; }
+#ifdef __OPENCL_VERSION__
+static inline float st_hmax4(float4 v)
+{
+    float2 a = fmax(v.lo, v.hi);
+    return fmax(a.x, a.y);
+}
+static inline float st_hmax8(float8 v) { return st_hmax4(fmax(v.lo, v.hi)); }
+static inline float st_hmax16(float16 v) { return st_hmax8(fmax(v.lo, v.hi)); }
+static inline float st_hmin4(float4 v)
+{
+    float2 a = fmin(v.lo, v.hi);
+    return fmin(a.x, a.y);
+}
+static inline float st_hmin8(float8 v) { return st_hmin4(fmin(v.lo, v.hi)); }
+static inline float st_hmin16(float16 v) { return st_hmin8(fmin(v.lo, v.hi)); }
+/* The lanes of a vector mask (-1 or 0) as bits: each lane keeps its own
+ * bit, then the halves are or-ed together down to one int. */
+static inline unsigned st_mask_bits4(int4 m)
+{
+    int4 b = m & ST_LANE_BIT_4;
+    int2 o = b.lo | b.hi;
+    return (unsigned)(o.x | o.y);
+}
+static inline unsigned st_mask_bits8(int8 m)
+{
+    int8 b = m & ST_LANE_BIT_8;
+    int4 s = b.lo | b.hi;
+    int2 o = s.lo | s.hi;
+    return (unsigned)(o.x | o.y);
+}
+static inline unsigned st_mask_bits16(int16 m)
+{
+    int16 b = m & ST_LANE_BIT_16;
+    int8 s = b.lo | b.hi;
+    int4 q = s.lo | s.hi;
+    int2 o = q.lo | q.hi;
+    return (unsigned)(o.x | o.y);
+}
+#endif
+
+#endif

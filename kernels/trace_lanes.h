@@ -1,0 +1,97 @@
+/* trace_lanes.h — the slab test and the Moller-Trumbore test, written once
+ * over ST_N lanes (lanes.h); trace.h includes it once per width it needs,
+ * with ST_N defined, and gets st_slab_test<N> and st_triangle_test<N>:
+ *   1: the host's C and the single box or triangle (the reference);
+ *   ST_BVH_WIDTH: one ray against a wide node's boxes;
+ *   ST_LEAF_MAX: one ray against a leaf's triangles;
+ *   ST_W: ST_W rays (a packet) against one triangle.
+ * A lane of any width computes what width 1 computes, with the same
+ * operations in the same statements (OpenCL contracts a * b + c into fma
+ * within a statement, so the statements must match too): a value that is
+ * the same in every lane (the one ray, or the one triangle) is broadcast,
+ * which changes no lane's arithmetic. No include guard: one copy per ST_N. */
+#ifndef ST_N
+#error "define ST_N (the lane count) before including trace_lanes.h"
+#endif
+
+#define ST_F ST_VEC(float, ST_N)
+#define ST_I ST_VEC(int, ST_N)
+
+/* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
+ * Williams et al.'s form ("An Efficient and Robust Ray-Box Intersection
+ * Algorithm", JGT 2005) of ST_N boxes by their near and far planes on each
+ * axis (the ray's direction signs chose which plane is near, so no per-axis
+ * swap is needed, and a box with inverted bounds is never entered). The
+ * running max and min take t only when t > acc (t < acc): a NaN t, which
+ * comes only from a zero direction component on a ray starting exactly in
+ * that slab's plane (0 * inf), leaves the interval as it is, counting the
+ * plane as inside, which it is (boxes are closed). Returns the lanes whose
+ * box the ray meets at some t in [0, tmax] (the far end widened:
+ * ST_TRACE_SLAB_WIDEN), and in *tn each box's entry distance. */
+ST_HOT ST_I ST_CAT(st_slab_test, ST_N)(ST_F nx, ST_F fx, ST_F ny, ST_F fy, ST_F nz, ST_F fz,
+                                       const st_trace_ray *r, ST_F tmax, ST_F *tn)
+{
+    ST_F t, t0 = (ST_F)(0.0f), t1 = tmax;
+    t = (nx - r->o[0]) * r->inv[0];
+    t0 = ST_SELECT(ST_N, t0, t, t > t0);
+    t = (fx - r->o[0]) * r->inv[0];
+    t1 = ST_SELECT(ST_N, t1, t, t < t1);
+    t = (ny - r->o[1]) * r->inv[1];
+    t0 = ST_SELECT(ST_N, t0, t, t > t0);
+    t = (fy - r->o[1]) * r->inv[1];
+    t1 = ST_SELECT(ST_N, t1, t, t < t1);
+    t = (nz - r->o[2]) * r->inv[2];
+    t0 = ST_SELECT(ST_N, t0, t, t > t0);
+    t = (fz - r->o[2]) * r->inv[2];
+    t1 = ST_SELECT(ST_N, t1, t, t < t1);
+    *tn = t0;
+    return t0 <= t1 * ST_TRACE_SLAB_WIDEN;
+}
+
+/* Moller-Trumbore ray/triangle test (Moller & Trumbore, "Fast, Minimum
+ * Storage Ray/Triangle Intersection", JGT 2(1) 1997) in ST_N lanes, a ray
+ * (origin o, direction d) against a triangle (v0 and its edges e1, e2):
+ *   p = d x e2, det = e1 . p, s = o - v0, q = s x e1,
+ *   u = (s . p) / det, v = (d . q) / det, t = (e2 . q) / det,
+ *   hit iff u >= 0, v >= 0, u + v <= 1, 0 < t < tmax and, for a one-sided
+ *   triangle, det > 0.
+ * det = e1 . (d x e2) = -d . (e1 x e2) is positive when the ray meets the
+ * front, the side from which v0, v1, v2 run counter-clockwise (glTF's front
+ * face), so culling costs one compare. det = 0 (a ray parallel to the plane,
+ * or a degenerate triangle) needs no test of its own: 1/det is infinite, so
+ * u and v are infinite or NaN and fail the barycentric tests.
+ * keep: the lanes that take part; two_sided: the lanes whose triangle is hit
+ * from both sides. Returns the lanes that hit, with their t, u, v in *tt,
+ * *uu, *vv (unspecified in the others). When no kept lane has u in [0, 1]
+ * (a miss whatever v is: v >= 0 makes u + v >= u > 1 in floats too), it
+ * returns at once without q, v and t. */
+ST_HOT ST_I ST_CAT(st_triangle_test, ST_N)(const ST_F *o, const ST_F *d, const ST_F *v0,
+                                           const ST_F *e1, const ST_F *e2, ST_F tmax, ST_I keep,
+                                           ST_I two_sided, ST_F *tt, ST_F *uu, ST_F *vv)
+{
+    ST_F px = d[1] * e2[2] - d[2] * e2[1];
+    ST_F py = d[2] * e2[0] - d[0] * e2[2];
+    ST_F pz = d[0] * e2[1] - d[1] * e2[0];
+    ST_F det = e1[0] * px + e1[1] * py + e1[2] * pz;
+    ST_F inv_det = 1.0f / det;
+    ST_F sx = o[0] - v0[0];
+    ST_F sy = o[1] - v0[1];
+    ST_F sz = o[2] - v0[2];
+    ST_F u = (sx * px + sy * py + sz * pz) * inv_det;
+    ST_I in_u = (u >= 0.0f) & (u <= 1.0f) & keep;
+    if (!ST_ANY(ST_N, in_u))
+        return in_u;
+    ST_F qx = sy * e1[2] - sz * e1[1];
+    ST_F qy = sz * e1[0] - sx * e1[2];
+    ST_F qz = sx * e1[1] - sy * e1[0];
+    ST_F v = (d[0] * qx + d[1] * qy + d[2] * qz) * inv_det;
+    ST_F t = (e2[0] * qx + e2[1] * qy + e2[2] * qz) * inv_det;
+    *tt = t;
+    *uu = u;
+    *vv = v;
+    return in_u & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < tmax) &
+           ((det > 0.0f) | two_sided);
+}
+
+#undef ST_F
+#undef ST_I
