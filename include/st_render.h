@@ -59,10 +59,6 @@ typedef struct st_render_options {
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
     int profile;       /* time every stage (slower: waits after each launch) */
-    int splat_path;    /* internal (tests, measurements): ST_SPLAT_* */
-    int shadow_path;   /* internal (tests, measurements): ST_SHADOW_* */
-    int generate_path; /* internal (tests, measurements): ST_GENERATE_* */
-    int shade_path;    /* internal (tests, measurements): ST_SHADE_* */
     st_u32 packet_path; /* ST_PACKET_* (--packets) */
 } st_render_options;
 
@@ -82,45 +78,14 @@ void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32
  * offending field ("spp", "sample range", "filter radius", ...). */
 st_status st_render_check(const st_render_options *o, st_error *err);
 
-/* Reconstruction is one of two paths, same film bit for bit: splat_samples
- * (one work-item per sample; filter importance sampling, and the reference)
- * or bin_samples then splat_tiles (a work-group per image tile, film.cl). */
-/* Which path (splat_path): the device type's (on GPUs tiles, each a
- * work-group sharing its window through local atomics; on CPUs tiles each
- * owned by one work-item, which adds without atomics: README), or one of
- * them. */
-/* PIXELS: the box filter's splat gathered by pixel (splat_pixels, film.cl)
- * where the render allows it (radius <= 1/2, a per-pixel sampler, no filter
- * importance sampling, outside adaptive rounds), else per sample. */
-enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE, ST_SPLAT_PIXELS };
-/* Where shadow rays are traced (shadow_path), same film bit for bit: by
- * default (AUTO) a stage of their own, trace_shadow_rays, on every device
- * type (inside shade_hits measured no faster on PoCL's CPU device: README),
- * or one of them. */
-enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
-/* Which rays are traced in packets of 8 per work-item (packet_path;
+/* Which rays are traced in packets of ST_W per work-item (packet_path;
  * kernels/packet.h), same film bit for bit but for ties between triangles:
- * AUTO the device type's and scene size's (st_renderer_packets), NONE one ray per
- * work-item, COHERENT the camera rays and the shadow rays from their hits,
- * ALL every ray. Shadow rays only in scenes whose materials are all opaque. */
+ * AUTO the device's lanes' and scene size's (st_renderer_packets), NONE one
+ * ray per work-item, COHERENT the camera rays and the shadow rays from their
+ * hits, ALL every ray. Shadow rays only in scenes whose materials are all
+ * opaque. The other choices of kernel are the renderer's own (src/plan.c). */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
-/* How the first stages run (generate_path), same film bit for bit: SPLIT
- * generate_samples then generate_camera_rays (which reads the sample back),
- * FUSED one kernel, generate_rays, which writes each item's sample, camera
- * ray and fresh path. AUTO: SPLIT on CPU devices, where PoCL's build of the
- * one kernel spills more and gained nothing measurable (README), FUSED
- * elsewhere (one launch and one re-read fewer; no GPU was lent to measure). */
-enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
-/* How shade runs (shade_path), same film bit for bit: ITEM shade_hits, one
- * item per work-item; EIGHT shade_hits8, eight per work-item, the common
- * case of direct lighting in float8 lanes (kernels/shade8.h). AUTO: EIGHT
- * on CPU devices in renders that may take its fast lanes (direct lighting
- * by area lights alone, st_shade8_render_fast, of a scene with a material
- * that takes them, st_shade8_material), where it measured faster
- * (README), ITEM elsewhere (GPUs: not measured, none was lent). Shadow rays
- * traced in shade take ITEM. */
-enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
@@ -144,6 +109,10 @@ double st_renderer_bvh_seconds(const st_renderer *r);
 st_u32 st_renderer_light_count(const st_renderer *r);
 /* The ST_PACKET_* a render of o uses on r's device and scene (AUTO resolved). */
 int st_renderer_packets(const st_renderer *r, const st_render_options *o);
+/* What the last render ran: the kernels' lane width and the kernels it
+ * launched, in order ("lanes 8: generate_samples, generate_camera_rays,
+ * ..."); valid until the next call or render. */
+const char *st_renderer_ran(st_renderer *r);
 /* Makes the equirectangular map m the environment of the renders that
  * follow (replacing the uniform st_render_options.env; NULL: back to it)
  * and uploads it. m is borrowed and must outlive those renders. */

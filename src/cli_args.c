@@ -65,11 +65,14 @@ static const char render_help[] =
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
     "  --local-size N         OpenCL work-group size (default 64; the image does not change;\n"
     "                         a CPU device's tile splat keeps one work-item per group)\n"
-    "  --packets auto|none|coherent|all   rays traced 8 to a work-item: coherent = camera rays\n"
+    "  --packets auto|none|coherent|all   rays traced in packets, one per lane of a work-item\n"
+    "                         (--lanes): coherent = camera rays\n"
     "                         and the shadow rays from their hits, all = every ray (shadow rays\n"
     "                         only in scenes without alpha); auto: coherent on CPU devices for\n"
     "                         scenes of 65536 triangles or more, else none (the image does not\n"
     "                         change; `bench --rays`: with all only)\n"
+    "  --lanes 1|4|8|16       items per work-item in the kernels' vector lanes (default: the\n"
+    "                         device's, `strata devices`; the image does not change)\n"
     "  --threads N            run on N of a CPU device's compute units (an OpenCL sub-device;\n"
     "                         default all; the image does not change)\n"
     "  --exposure EV          PNG only: scale by 2^EV before the tone curve (default 0)\n"
@@ -84,7 +87,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS
+    O_PACKETS, O_LANES
 };
 
 static const struct option options[] = {
@@ -120,6 +123,7 @@ static const struct option options[] = {
     {"texture-filter", required_argument, 0, O_TEXFILTER},
     {"camera", required_argument, 0, O_CAMERA},
     {"threads", required_argument, 0, O_THREADS},
+    {"lanes", required_argument, 0, O_LANES},
     {"exposure", required_argument, 0, O_EXPOSURE},
     {"tonemap", required_argument, 0, O_TONEMAP},
     {"quiet", no_argument, 0, O_QUIET},
@@ -260,6 +264,13 @@ static int parse_device_or_png(int c, const char *v, int bench, st_cli_render_ar
 {
     if (c == O_THREADS)
         return st_cli_parse_u32("--threads", v, 1, 4096, &a->threads);
+    if (c == O_LANES) {
+        if (st_cli_parse_u32("--lanes", v, 1, 16, &a->lanes) != ST_CLI_OK)
+            return ST_CLI_EXIT_USAGE;
+        if (a->lanes != 1 && a->lanes != 4 && a->lanes != 8 && a->lanes != 16)
+            return st_cli_usage_error("--lanes %s: must be 1, 4, 8 or 16", v);
+        return ST_CLI_OK;
+    }
     if (bench && (c == O_EXPOSURE || c == O_TONEMAP))
         return st_cli_usage_error("%s: only `strata render` writes a PNG",
                                   c == O_EXPOSURE ? "--exposure" : "--tonemap");

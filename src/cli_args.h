@@ -26,6 +26,7 @@ typedef struct st_cli_render_args {
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
     st_u32 threads;           /* --threads N; 0: every compute unit */
+    st_u32 lanes;             /* --lanes N; 0: the device's (st_device_default_lanes) */
     float exposure;           /* --exposure EV (PNG) */
     st_u32 tonemap;           /* --tonemap: an st_tonemap (PNG) */
     const char *png_opt;      /* a PNG-only option seen (for its error) */

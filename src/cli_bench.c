@@ -72,6 +72,8 @@ typedef struct bench_result {
     st_u32 triangles, lights;
     const char *device, *scene;
     const char *packets; /* the rays traced in packets (--packets, auto resolved) */
+    const char *kernels; /* what the staged render ran (st_renderer_ran) */
+    unsigned lanes;      /* the kernels' lane width */
     st_cli_check check;
 } bench_result;
 
@@ -102,6 +104,7 @@ static void print_text(const st_cli_render_args *a, const bench_result *b)
            o->width, o->height, o->spp, st_sampler_names[o->sampler],
            st_filter_names[o->filter.kind], (double)o->filter.radius,
            st_integrator_names[o->integrator], o->max_depth, b->packets);
+    printf("kernels    %s\n", b->kernels);
     printf("check      %s\n", b->check.message);
     printf("bvh build  %.4f s (%.2f M triangles/s)\n", b->bvh,
            b->bvh > 0 ? b->triangles / b->bvh * 1e-6 : 0.0);
@@ -159,7 +162,8 @@ static int json_head(cJSON *root, const st_cli_render_args *a, const bench_resul
              put_str(root, "filter", st_filter_names[o->filter.kind]) &&
              put_num(root, "filter_radius", shown("%g", (double)o->filter.radius)) &&
              put_str(root, "integrator", st_integrator_names[o->integrator]) &&
-             put_num(root, "max_depth", o->max_depth) && put_str(root, "packets", b->packets);
+             put_num(root, "max_depth", o->max_depth) && put_str(root, "packets", b->packets) &&
+             put_num(root, "lanes", b->lanes) && put_str(root, "kernels", b->kernels);
     cJSON *check = ok ? cJSON_AddObjectToObject(root, "check") : NULL;
     return check && cJSON_AddTrueToObject(check, "passed") &&
            put_str(check, "message", b->check.message) &&
@@ -239,6 +243,8 @@ int st_cli_bench(int argc, char **argv)
     b.device = st_device_get_info(s.dev)->name;
     b.scene = s.scene->name;
     b.packets = st_packet_names[st_renderer_packets(s.renderer, &a.opt)];
+    b.kernels = st_renderer_ran(s.renderer);
+    b.lanes = st_device_get_info(s.dev)->lanes;
     if (a.json) {
         if (print_json(&a, &b, &err) != ST_OK)
             rc = st_cli_fail(&err);

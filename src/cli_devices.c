@@ -24,11 +24,12 @@ int st_cli_devices(int argc, char **argv)
         return st_cli_fail(&err);
     for (unsigned i = 0; i < n; i++) {
         const st_device_info *d = &list[i];
-        printf("%u:%u  %-4s %s (%s) | %s | %u compute units, %.1f GiB | 64-bit atomics: %s\n",
+        printf("%u:%u  %-4s %s (%s) | %s | %u compute units, %.1f GiB | 64-bit atomics: %s | "
+               "lanes %u\n",
                d->platform, d->device, d->is_gpu ? "gpu" : d->is_cpu ? "cpu" : "other", d->name,
                d->platform_name, d->c_version, d->compute_units,
                (double)d->global_mem / (1024.0 * 1024.0 * 1024.0),
-               d->has_int64_atomics ? "yes" : "no");
+               d->has_int64_atomics ? "yes" : "no", d->lanes);
     }
     if (n == 0)
         printf("no OpenCL devices (run `make deps`)\n");

@@ -50,6 +50,8 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
         st_cli_option_words(err, threads);
         return err->status;
     }
+    if (a->lanes && st_device_set_lanes(s->dev, a->lanes, err) != ST_OK)
+        return err->status;
     t0 = st_cli_now();
     if (st_device_build(s->dev, NULL, err) != ST_OK)
         return err->status;
@@ -179,6 +181,7 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     else
         ATTR("camera", "default framing");
     ATTR("device", "%s", st_device_get_info(s->dev)->name);
+    ATTR("kernels", "%s", st_renderer_ran(s->renderer));
     TYPED("render_seconds", ST_ATTR_DOUBLE, "%.6f", st->seconds);
 #undef ATTR
 #undef TYPED
@@ -189,7 +192,8 @@ int st_cli_settings_only(st_attr *attrs, int n)
 {
     int kept = 0;
     for (int i = 0; i < n; i++)
-        if (strcmp(attrs[i].name, "strata.render_seconds") && strcmp(attrs[i].name, "strata.device"))
+        if (strcmp(attrs[i].name, "strata.render_seconds") && strcmp(attrs[i].name, "strata.device") &&
+            strcmp(attrs[i].name, "strata.kernels"))
             attrs[kept++] = attrs[i];
     return kept;
 }

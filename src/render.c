@@ -4,6 +4,7 @@
  * device is render_scene.c's, the wave buffers wave.c's, the adaptive rounds
  * adaptive.c's. */
 #include "render_int.h"
+#include "plan.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -143,50 +144,6 @@ st_status st_render_check(const st_render_options *o, st_error *err)
 }
 
 
-/* Bytes of splat_tiles' local window for bins of `side` pixels: the apron
- * of ceil(r) + 1 pixels (film.cl), four sums of 8 bytes per pixel. */
-static size_t tile_window_bytes(st_u32 side, float radius)
-{
-    size_t s = side + 2 * ((size_t)ceilf(radius) + 1);
-    return s * s * 4 * sizeof(st_i64);
-}
-
-/* Chooses the reconstruction path: bins for splat_tiles, the largest side of
- * 32, 16 or 8 pixels whose window fits the device's local memory; bins 0
- * (splat_samples) for filter importance sampling (one tap per sample: no
- * window to share), when asked, when no window fits, and by default on a
- * CPU device for a filter of radius 1/2 or less (a box's one tap per
- * sample: there binning and the window's flush cost more than the atomics
- * they save, measured: README). */
-static void plan_bins(const st_renderer *r, const st_render_options *o, st_params *p)
-{
-    p->bins = p->bin_side = p->bins_x = 0;
-    const st_device_info *info = st_device_get_info(r->dev);
-    if (o->reconstruction == ST_RECON_FIS || o->splat_path == ST_SPLAT_PER_SAMPLE ||
-        o->splat_path == ST_SPLAT_PIXELS ||
-        (o->splat_path == ST_SPLAT_AUTO && info->is_cpu && o->filter.radius <= 0.5f))
-        return;
-    unsigned long long local = info->local_mem;
-    for (st_u32 side = 32; side >= 8; side /= 2)
-        if (tile_window_bytes(side, o->filter.radius) <= local) {
-            p->bin_side = side;
-            p->bins_x = (o->width + side - 1) / side;
-            p->bins = p->bins_x * ((o->height + side - 1) / side);
-            return;
-        }
-}
-
-/* Work-items per splat_tiles work-group: one on a CPU device (PoCL runs a
- * group's items in turn on one thread, so the window is that thread's alone
- * and takes plain adds, film.cl; measured: README), else the render's
- * work-group size, the items sharing the window through local atomics. */
-static size_t tile_group(const st_renderer *r, const st_render_options *o)
-{
-    int alone = o->splat_path == ST_SPLAT_TILES_ALONE ||
-                (o->splat_path == ST_SPLAT_AUTO && st_device_get_info(r->dev)->is_cpu);
-    return alone ? 1 : o->local_size ? o->local_size : 64;
-}
-
 /* Binds every stage kernel to this render's values, scene and state; per
  * wave only the st_params argument changes. */
 static st_status bind_stages(st_renderer *r, const st_params *p, const st_shading *sh,
@@ -202,13 +159,22 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
         return err->status;
-    r->shade8_fast = st_shade8_render_fast(p, sh);
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
-    size_t window = p->bins ? tile_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
+    size_t window = p->bins ? st_plan_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
     if (st_device_set_arg(r->k[ST_STAGE_SPLAT_TILES], 2 + ST_SCENE_BUFFER_COUNT +
                           ST_WAVE_BUFFER_COUNT, window, NULL, err) != ST_OK)
         return err->status;
     return st_wave_bind_film(r->k[ST_STAGE_RESOLVE], p, w, err);
+}
+
+/* Notes kernel kl among those the render ran, once, in launch order. */
+static void note_ran(st_renderer *r, cl_kernel kl)
+{
+    for (unsigned i = 0; i < r->ran_count; i++)
+        if (r->ran[i] == kl)
+            return;
+    if (r->ran_count < ST_RAN_MAX)
+        r->ran[r->ran_count++] = kl;
 }
 
 /* Launches kernel kl over `items` work-items in groups of `local`; with
@@ -219,6 +185,7 @@ static st_status run_kernel(st_renderer *r, cl_kernel kl, int k, const st_params
 {
     if (st_wave_set_params(kl, p, err) != ST_OK)
         return err->status;
+    note_ran(r, kl);
     double t0 = o->profile ? st_render_now() : 0.0;
     if (st_device_launch(r->dev, kl, items, local, err) != ST_OK)
         return err->status;
@@ -237,29 +204,15 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
     return run_kernel(r, r->k[k], k, p, items, o->local_size, o, st, err);
 }
 
-/* Whether a wave's splat gathers by pixel (splat_pixels): where asked, and
- * where a CPU device's default takes neither tiles nor filter importance
- * sampling, if the render allows it: a box of radius 1/2 or less (a sample
- * reaches its own pixel only), a per-pixel sampler and not an adaptive
- * round (item g lies in region pixel g mod npix). */
-static int gather_pixels(const st_params *p, const st_render_options *o)
-{
-    if (o->splat_path != ST_SPLAT_PIXELS && (o->splat_path != ST_SPLAT_AUTO || p->bins))
-        return 0;
-    return p->reconstruction == ST_RECON_SPLAT && p->filter.kind == ST_FILTER_BOX &&
-           p->filter.radius <= 0.5f && !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count &&
-           !p->adaptive_scaled;
-}
-
 /* Reconstruction of a wave: splat_samples, or the counting sort by bin
  * (three kernels, timed as the stage bin_samples) and splat_tiles, one
- * work-group per bin (tile_group). */
+ * work-group per bin (st_plan_tile_group). */
 static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_options *o,
                             st_render_stats *st, st_error *err)
 {
-    size_t n = p->item_count, group = tile_group(r, o);
+    size_t n = p->item_count, group = st_plan_tile_group(&r->plan, o);
     size_t npix = (size_t)p->region_w * p->region_h;
-    if (gather_pixels(p, o))
+    if (st_plan_gathers(&r->plan, p))
         return run_stage(r, ST_STAGE_SPLAT_PIXELS, p, n < npix ? n : npix, o, st, err);
     if (!p->bins)
         return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
@@ -442,50 +395,14 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     return p;
 }
 
-/* Whether shade_hits traces its shadow rays itself (shade_hits_shadowed):
- * only when asked. On PoCL's CPU device it measured no faster than the
- * stage (4 % more instructions, paired whole passes no faster; 8.5 % more
- * once shade kept its values in registers: README); on a GPU it is not
- * measured (none was lent). */
-static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
-{
-    (void)r;
-    return o->shadow_path == ST_SHADOW_IN_SHADE;
-}
-
-/* The fewest triangles for which auto traces coherent rays in packets on a
- * CPU device. Measured (README, "Packets of 8 rays"; whole process, direct,
- * packets against single rays): 0.86x on the 327,680-triangle icosphere and
- * 0.89x on ToyCar (108,936), but 1.04x on the bench Cornell box (32) and no
- * gain on models of 196 to 15,452 triangles: a small tree's few nodes cost a
- * single ray little, and the packet's per-lane node tests and 8-lane triangle
- * tests then cost more than they share. */
-#define ST_PACKET_MIN_TRIANGLES 65536u
-
-/* Which rays go in packets (ST_PACKET_*): where the kernels have lanes to
- * fill (a CPU device's), the coherent ones of a large scene, measured
- * faster (above); elsewhere none (a GPU's work-items already run in
- * lockstep, so its kernels are built with one lane). */
-int st_renderer_packets(const st_renderer *r, const st_render_options *o)
-{
-    if (o->packet_path != ST_PACKET_AUTO)
-        return o->packet_path;
-    int large = r->scene->tri_count >= ST_PACKET_MIN_TRIANGLES;
-    return st_device_get_info(r->dev)->lanes > 1u && large ? ST_PACKET_COHERENT : ST_PACKET_NONE;
-}
-
 /* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the wave's
- * items: in packets (ceil(n / lanes) work-items) where st_renderer_packets says so;
+ * items: in packets (ceil(n / lanes) work-items) where the plan says so;
  * coherent are the rays of vertex 0 (camera rays, and shadow rays from
  * where they hit), a bounce's scatter (paths measured slower in packets). */
 static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    int packets = st_renderer_packets(r, o);
-    int n = packets == ST_PACKET_ALL || (packets == ST_PACKET_COHERENT && v == 0u);
-    if (k == ST_STAGE_SHADOW)
-        n &= r->all_opaque;
-    if (!n)
+    if (!st_plan_in_packets(&r->plan, r, k, v))
         return run_stage(r, k, p, p->item_count, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
     size_t lanes = st_device_get_info(r->dev)->lanes;
@@ -493,43 +410,14 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                       err);
 }
 
-/* Whether the first stages run as one kernel, generate_rays (st_render.h,
- * ST_GENERATE_*): where asked, and by default off CPU devices. On PoCL's
- * CPU device it ran as many instructions as the two kernels together (the
- * fused body spills more) and no faster whole passes: README. */
-static int fused_generate(const st_renderer *r, const st_render_options *o)
-{
-    if (o->generate_path != ST_GENERATE_AUTO)
-        return o->generate_path == ST_GENERATE_FUSED;
-    return !st_device_get_info(r->dev)->is_cpu;
-}
-
-/* Whether shade runs eight items per work-item (shade_hits8; st_render.h,
- * ST_SHADE_*), unless shadow rays are traced in shade: where asked, and by
- * default on CPU devices in renders where it may take fast lanes (direct
- * lighting by area lights, st_shade8_render_fast, of a scene with a
- * material that takes them, st_shade8_material), where PoCL keeps its float8
- * lanes SIMD and it measured faster (README, "Shade eight items per
- * work-item"; with no fast lane it runs 5 % more instructions than
- * shade_hits); elsewhere a GPU's work-items already run in lockstep (none
- * was lent to measure). */
-static int shade_eight(const st_renderer *r, const st_render_options *o)
-{
-    if (shadows_in_shade(r, o))
-        return 0;
-    if (o->shade_path != ST_SHADE_AUTO)
-        return o->shade_path == ST_SHADE_EIGHT;
-    return st_device_get_info(r->dev)->is_cpu && r->shade8_fast && r->shade8_materials;
-}
-
 /* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits8
  * (ceil(n / 8) work-items) or shade_hits. */
 static st_status run_shade(st_renderer *r, const st_params *p, size_t n,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    if (shadows_in_shade(r, o))
+    if (r->plan.shadows_in_shade)
         return run_kernel(r, r->shade_shadowed, ST_STAGE_SHADE, p, n, o->local_size, o, st, err);
-    if (shade_eight(r, o))
+    if (r->plan.shade_eight)
         return run_kernel(r, r->shade8, ST_STAGE_SHADE, p, (n + 7u) / 8u, o->local_size, o, st,
                           err);
     return run_stage(r, ST_STAGE_SHADE, p, n, o, st, err);
@@ -540,7 +428,7 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
                           st_render_stats *st, st_error *err)
 {
     size_t n = p->item_count;
-    if (fused_generate(r, o) ? run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err)
+    if (r->plan.fused_generate ? run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err)
                              : run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
                                    run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
         return err->status;
@@ -548,7 +436,7 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
      * max_depth vertices; the last one only adds emission (MIS). Shadow
      * rays in shade: timed as its stage. */
     st_u32 vertices = p->integrator == ST_INTEGRATOR_DIRECT ? 1u : p->max_depth + 1u;
-    int in_shade = shadows_in_shade(r, o);
+    int in_shade = r->plan.shadows_in_shade;
     for (st_u32 v = 0; v < vertices; v++) {
         if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) || run_shade(r, p, n, o, st, err))
             return err->status;
@@ -765,7 +653,6 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_params p = make_params(r, &so, &cam);
     st_u64 first, total;
     plan_items(r, o, &p, &first, &total);
-    plan_bins(r, o, &p);
     size_t wave = o->wave ? o->wave : (size_t)1 << 18;
     if (wave > total)
         wave = (size_t)total;
@@ -775,6 +662,8 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (o->adaptive)
         pr.total = (double)o->spp * pixels;
     st_shading sh = make_shading(r, o);
+    r->plan = st_plan_make(r, o, &p, &sh);
+    r->ran_count = 0;
     st_status rc = st_wave_create(r->dev, wave, pixels, o->adaptive, &w, err);
     if (rc != ST_OK)
         return rc;

@@ -4,9 +4,12 @@
 #ifndef ST_RENDER_INT_H
 #define ST_RENDER_INT_H
 
+#include "plan.h"
 #include "st_envmap.h"
 #include "st_render.h"
 #include "wave.h"
+
+#define ST_RAN_MAX 16 /* distinct kernels one render launches, at most */
 
 /* adaptive.cl's kernels, in the order of st_adaptive_kernel_names */
 enum { ST_ADAPTIVE_MOMENTS, ST_ADAPTIVE_ESTIMATE, ST_ADAPTIVE_BLEND, ST_ADAPTIVE_KERNELS };
@@ -24,8 +27,7 @@ struct st_renderer {
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
     cl_kernel shade8; /* shade_hits8: ST_STAGE_SHADE, eight items per work-item */
-    int shade8_fast;  /* the render bound last may take shade_hits8's fast lanes */
-    /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of 8 rays (trace.cl) */
+    /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl) */
     cl_kernel trace_packet, shadow_packet;
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
     int shade8_materials; /* some material takes shade_hits8's fast lanes */
@@ -39,6 +41,13 @@ struct st_renderer {
     st_u32 tile_sampler, tile_spp, tile_seed, tile_size, tile_points;
     /* the key of pmj02's tables in scene_buf[ST_SCENE_pmj02] (log2 0: none) */
     st_u32 pmj02_seed, pmj02_log2;
+    st_plan_force force; /* st_renderer_force */
+    st_plan plan;        /* the last render's (st_plan_make) */
+    /* the kernels the last render launched, in order, and their description
+     * (st_renderer_ran) */
+    cl_kernel ran[ST_RAN_MAX];
+    unsigned ran_count;
+    char ran_text[512];
 };
 
 /* Progress over the items of a render. */

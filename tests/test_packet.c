@@ -1,11 +1,13 @@
-/* test_packet.c — packets of 8 rays per work-item (kernels/packet.h): every
+/* test_packet.c — packets of ST_W rays per work-item (kernels/packet.h), at
+ * every lane width the kernels build for (1, 4, 8, 16): every
  * lane's closest hit is the single-ray kernel's bit for bit (prim, t, u, v)
  * and every shadow ray is blocked exactly where the single-ray kernel says,
  * on coherent rays (neighbouring directions from one origin), random rays,
  * rays that miss, rays cut short by tmax (at the hit itself, half way, and
  * no ray at all for shadows), ragged tails (counts that are not multiples of
- * 8) and any work-group size; both agree with a brute-force loop on the
- * host. Renders with packets give the same film as without. */
+ * the width) and any work-group size; both agree with a brute-force loop on
+ * the host. Renders with packets at every width give the same film as the
+ * default width's renders without. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -158,9 +160,32 @@ static void check_shadow(st_renderer *r, const st_bvh *bvh, st_wave_ray *w, size
     free(pk);
 }
 
-static void packets_equal_single_rays(void **state)
+/* The widths the kernels build for, and a device built at each (the
+ * fixture's own where its width is the default). */
+static const unsigned widths[] = {1, 4, 8, 16};
+#define N_WIDTHS 4
+
+static st_device *device_at(unsigned lanes)
 {
-    (void)state;
+    if (st_device_get_info(dev)->lanes == lanes)
+        return dev;
+    st_error err = {0};
+    st_device *d = NULL;
+    if (st_device_create(NULL, &d, &err) != ST_OK || st_device_set_lanes(d, lanes, &err) != ST_OK ||
+        st_device_build(d, NULL, &err) != ST_OK)
+        fail_msg("device at %u lanes: %s\n%s", lanes, err.msg, d ? st_device_build_log(d) : "");
+    assert_int_equal(st_device_get_info(d)->lanes, lanes);
+    return d;
+}
+
+static void device_done(st_device *d)
+{
+    if (d != dev)
+        st_device_destroy(d);
+}
+
+static void packets_equal_single_rays_at(st_device *d)
+{
     static const char *const scenes[] = {"cornell-box", "soft-shadows"};
     static const char *const kinds[] = {"coherent", "random", "away", "tmax"};
     static const size_t counts[] = {N_RAYS, 13, 3}; /* 3: a packet of 3 lanes alone */
@@ -169,11 +194,12 @@ static void packets_equal_single_rays(void **state)
         st_bvh *bvh = host_bvh(s);
         st_renderer *r = NULL;
         st_error err = {0};
-        assert_int_equal(st_renderer_create(dev, s, &r, &err), ST_OK);
+        assert_int_equal(st_renderer_create(d, s, &r, &err), ST_OK);
         for (int kind = 0; kind < 4; kind++)
             for (int c = 0; c < 3; c++) {
                 char what[64];
-                snprintf(what, sizeof what, "%s %s %zu", scenes[sc], kinds[kind], counts[c]);
+                snprintf(what, sizeof what, "%u lanes: %s %s %zu", st_device_get_info(d)->lanes,
+                         scenes[sc], kinds[kind], counts[c]);
                 st_wave_ray *w = make_rays(s, kind, counts[c]);
                 if (kind == 3)
                     cut_tmax(r, w, counts[c]);
@@ -187,21 +213,32 @@ static void packets_equal_single_rays(void **state)
     }
 }
 
-/* Renders with the coherent rays in packets, and with every closest-hit
- * ray in packets, give the single-ray render's film bit for bit and the same
- * ray counts: paths and direct light in the Cornell box, a one-sided
- * cut-out scene (whose shadow rays stay single: shadow.h's alpha walk), and
- * a wave size that leaves a ragged tail. */
-static void renders_with_packets_equal_without(void **state)
+static void packets_equal_single_rays(void **state)
 {
     (void)state;
+    for (int k = 0; k < N_WIDTHS; k++) {
+        st_device *d = device_at(widths[k]);
+        packets_equal_single_rays_at(d);
+        device_done(d);
+    }
+}
+
+/* Renders with the coherent rays in packets, and with every closest-hit
+ * ray in packets, at lane width d's, give the single-ray render's film on
+ * the default width bit for bit and the same ray counts: paths and direct
+ * light in the Cornell box, a one-sided cut-out scene (whose shadow rays
+ * stay single: shadow.h's alpha walk), and a wave size that leaves a ragged
+ * tail. */
+static void renders_with_packets_equal_without_at(st_device *d)
+{
     static const char *const scenes[] = {"cornell-box", "cornell-box", "soft-shadows",
                                          "tests/scenes/shadow_cutout.gltf"};
     for (int c = 0; c < 4; c++) {
         st_scene *s = fixture_scene(scenes[c]);
-        st_renderer *r = NULL;
+        st_renderer *r = NULL, *r_one = NULL;
         st_error err = {0};
-        assert_int_equal(st_renderer_create(dev, s, &r, &err), ST_OK);
+        assert_int_equal(st_renderer_create(dev, s, &r_one, &err), ST_OK);
+        assert_int_equal(st_renderer_create(d, s, &r, &err), ST_OK);
         st_render_options o = st_render_defaults();
         o.width = 36;
         o.height = 28;
@@ -216,7 +253,7 @@ static void renders_with_packets_equal_without(void **state)
             o.packet_path = paths[k];
             st_image img = {0};
             memset(&st[k], 0, sizeof st[k]);
-            if (st_render(r, &o, &img, &sums[k], &st[k], NULL, NULL, &err) != ST_OK)
+            if (st_render(k ? r : r_one, &o, &img, &sums[k], &st[k], NULL, NULL, &err) != ST_OK)
                 fail_msg("render %s: %s", scenes[c], err.msg);
             st_image_free(&img);
             free(st[k].spp_map);
@@ -229,7 +266,18 @@ static void renders_with_packets_equal_without(void **state)
         for (int k = 0; k < 3; k++)
             free(sums[k]);
         st_renderer_destroy(r);
+        st_renderer_destroy(r_one);
         st_scene_destroy(s);
+    }
+}
+
+static void renders_with_packets_equal_without(void **state)
+{
+    (void)state;
+    for (int k = 0; k < N_WIDTHS; k++) {
+        st_device *d = device_at(widths[k]);
+        renders_with_packets_equal_without_at(d);
+        device_done(d);
     }
 }
 

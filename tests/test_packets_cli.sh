@@ -1,8 +1,10 @@
 #!/bin/sh
 # test_packets_cli.sh — which rays `--packets auto` traces in packets, as
 # `strata bench` reports it: coherent rays on a CPU device for a scene of at
-# least 65,536 triangles (src/render.c, ST_PACKET_MIN_TRIANGLES), none for a
-# small one; an explicit choice is kept. TAP output.
+# least 65,536 triangles (src/plan.c, ST_PACKET_MIN_TRIANGLES), none for a
+# small one; an explicit choice is kept. --lanes builds the kernels at the
+# width asked, which bench and the EXR header name with the kernels that
+# ran, and leaves the image as it is. TAP output.
 . tests/tap.sh
 
 B="--width 16 --height 16 --spp 1 --integrator direct"
@@ -23,4 +25,24 @@ check "auto: coherent for 81,920 triangles" '[ "$(packets "$T/ico6")" = coherent
 check "--packets none is kept on a large scene" '[ "$(packets "$T/ico6-none")" = none ]'
 check "--packets all is kept on a small scene, and --json names it" \
     'grep -q "\"packets\":[ ]*\"all\"" "$T/cornell-all.json"'
+
+# --lanes: the width asked, the kernels named, the image unchanged
+$S bench cornell-box $B --packets all --lanes 4 --json > "$T/lanes4.json" 2> /dev/null
+check "bench --lanes 4 --json names the width" 'grep -q "\"lanes\":[ ]*4" "$T/lanes4.json"'
+check "bench --json names the packet kernel it ran" \
+    'grep -q "\"kernels\":[ ]*\"lanes 4: .*trace_rays_packet" "$T/lanes4.json"'
+R="cornell-box --width 20 --height 12 --spp 2 -q"
+$S render $R -o "$T/default.exr" 2> /dev/null
+for w in 1 4 16; do
+    $S render $R --lanes $w --packets all -o "$T/w$w.exr" 2> /dev/null
+    check "--lanes $w --packets all: the same image" \
+        '$S diff "$T/default.exr" "$T/w$w.exr" --max-rmse 0 > "$T/diff" && grep -q "max_abs 0$" "$T/diff"'
+done
+check "the EXR header names the kernels and their width" \
+    'grep -a -q "lanes 16: generate_samples" "$T/w16.exr"'
+$S devices > "$T/devices"
+check "devices names each device's default lanes" 'grep -q "| lanes \(1\|4\|8\|16\)$" "$T/devices"'
+expect "--lanes 3 is a usage error" 2 "strata: error: --lanes 3: must be 1, 4, 8 or 16" \
+    $S render cornell-box --lanes 3 -o "$T/x.exr"
+check "... and writes nothing" '[ ! -e "$T/x.exr" ]'
 echo "1..$n"

@@ -21,6 +21,7 @@
 #include "trace.h"
 #include "wave.h"
 #include "device_fixture.h"
+#include "plan.h"
 
 /* Renders scene `name` with o; returns the image and (optionally) the sums. */
 static st_image render(const char *name, const st_render_options *o, st_i64 **sums)
@@ -54,6 +55,9 @@ static st_image render_stats(const char *name, const st_render_options *o, st_re
 }
 
 /* render with both the raw sums and the stats. */
+/* The choices render_sums_stats forces on its renderer (plan.h; zero: its own). */
+static st_plan_force forced;
+
 static st_image render_sums_stats(const char *name, const st_render_options *o, st_i64 **sums,
                                   st_render_stats *st)
 {
@@ -61,8 +65,10 @@ static st_image render_sums_stats(const char *name, const st_render_options *o, 
     st_scene *scene = NULL;
     st_renderer *r = NULL;
     st_image img = {0};
-    if (st_scene_load(name, &scene, &err) || st_renderer_create(dev, scene, &r, &err) ||
-        st_render(r, o, &img, sums, st, NULL, NULL, &err))
+    if (st_scene_load(name, &scene, &err) || st_renderer_create(dev, scene, &r, &err))
+        fail_msg("render %s: %s", name, err.msg);
+    st_renderer_force(r, &forced);
+    if (st_render(r, o, &img, sums, st, NULL, NULL, &err))
         fail_msg("render %s: %s", name, err.msg);
     st_renderer_destroy(r);
     st_scene_destroy(scene);
@@ -450,12 +456,14 @@ static int same_film_both_splats(const char *name, st_render_options o)
     st_render_stats st[3];
     for (int k = 0; k < 3; k++) {
         st_image img = {0};
-        o.splat_path = paths[k];
+        forced.splat = paths[k];
+        st_renderer_force(r, &forced);
         if (st_render(r, &o, &img, &sums[k], &st[k], NULL, NULL, &err))
             fail_msg("render %s: %s", name, err.msg);
         st_image_free(&img);
         free(st[k].spp_map);
     }
+    forced.splat = ST_SPLAT_AUTO;
     size_t n = (size_t)o.width * o.height * 4;
     assert_true(st[0].stage_seconds[ST_STAGE_SPLAT] > 0.0);
     assert_true(st[0].stage_seconds[ST_STAGE_SPLAT_TILES] == 0.0);
@@ -516,7 +524,7 @@ static void tile_splat_equals_per_sample(void **state)
 }
 
 /* Shadow rays traced inside shade_hits (shade_hits_shadowed, selected by
- * shadow_path) and as a stage of their own (trace_shadow_rays) give the
+ * forced.shadow) and as a stage of their own (trace_shadow_rays) give the
  * same film bit for bit and the same counts, and each runs only its own
  * kernels: paths and direct lighting in the Cornell box, and shadows
  * through alpha cut-outs and blended surfaces (shadow.h's walk). */
@@ -532,8 +540,9 @@ static void shadows_in_shade_equal_stage(void **state)
         st_i64 *sums[2];
         st_render_stats st[2];
         for (int k = 0; k < 2; k++) {
-            o.shadow_path = k ? ST_SHADOW_IN_SHADE : ST_SHADOW_STAGE;
+            forced.shadow = k ? ST_SHADOW_IN_SHADE : ST_SHADOW_STAGE;
             st_image img = render_sums_stats(scenes[c], &o, &sums[k], &st[k]);
+            forced.shadow = ST_SHADOW_AUTO;
             st_image_free(&img);
             free(st[k].spp_map);
         }

@@ -21,6 +21,10 @@
 #include "st_render.h"
 #include "st_scene.h"
 #include "device_fixture.h"
+#include "plan.h"
+
+/* The choices render_run forces on the renderer (plan.h; zero: its own). */
+static st_plan_force forced;
 
 /* One profiled render's results. */
 typedef struct run {
@@ -35,9 +39,27 @@ static run render_run(st_renderer *r, st_render_options o)
     memset(&out, 0, sizeof out);
     st_error err = {0};
     o.profile = 1;
+    st_renderer_force(r, &forced);
     if (st_render(r, &o, &out.img, &out.sums, &out.st, NULL, NULL, &err) != ST_OK)
         fail_msg("render: %s", err.msg);
     return out;
+}
+
+/* Whether the last render of r launched kernel `name` (st_renderer_ran:
+ * "lanes W: k1, k2, ..."), after checking the lane width it names. */
+static int ran(st_renderer *r, const char *name)
+{
+    const char *text = st_renderer_ran(r);
+    char lanes[32];
+    snprintf(lanes, sizeof lanes, "lanes %u:", st_device_get_info(dev)->lanes);
+    assert_true(strncmp(text, lanes, strlen(lanes)) == 0);
+    for (const char *p = strchr(text, ':'); p; p = strchr(p, ',')) {
+        p += 2; /* ": " or ", " */
+        size_t n = strcspn(p, ",");
+        if (n == strlen(name) && !strncmp(p, name, n))
+            return 1;
+    }
+    return 0;
 }
 
 static void run_free(run *a)
@@ -104,17 +126,17 @@ static st_render_options variant_options(const variant *v)
     return o;
 }
 
-/* Renders o with generate_path = ST_GENERATE_SPLIT and FUSED: the same
+/* Renders o with the first stages forced SPLIT and FUSED: the same
  * film, image and counts; the split run timed generate_samples and
  * generate_camera_rays only, the other generate_rays only; AUTO is SPLIT on
  * a CPU device, FUSED elsewhere. */
 static void same_first_stages(st_renderer *r, st_render_options o)
 {
-    o.generate_path = ST_GENERATE_SPLIT;
+    forced.generate = ST_GENERATE_SPLIT;
     run a = render_run(r, o);
-    o.generate_path = ST_GENERATE_FUSED;
+    forced.generate = ST_GENERATE_FUSED;
     run b = render_run(r, o);
-    o.generate_path = ST_GENERATE_AUTO;
+    forced.generate = ST_GENERATE_AUTO;
     run c = render_run(r, o);
     assert_same_run(&a, &b, &o);
     assert_same_run(&a, &c, &o);
@@ -179,16 +201,17 @@ static void generate_rays_equals_two_kernels(void **state)
     st_scene_destroy(scene);
 }
 
-/* Renders o with splat_path = ST_SPLAT_PER_SAMPLE (the atomics) and
+/* Renders o with the splat forced to ST_SPLAT_PER_SAMPLE (the atomics) and
  * `other`: the same film, image and counts. Returns the other run's seconds
  * in splat_pixels; the reference ran splat_samples alone. *clamped (if
  * given): the samples clamped. */
 static double same_splat_counted(st_renderer *r, st_render_options o, int other, st_u32 *clamped)
 {
-    o.splat_path = ST_SPLAT_PER_SAMPLE;
+    forced.splat = ST_SPLAT_PER_SAMPLE;
     run a = render_run(r, o);
-    o.splat_path = other;
+    forced.splat = other;
     run b = render_run(r, o);
+    forced.splat = ST_SPLAT_AUTO;
     assert_same_run(&a, &b, &o);
     assert_true(a.st.stage_seconds[ST_STAGE_SPLAT] > 0.0);
     assert_true(a.st.stage_seconds[ST_STAGE_SPLAT_PIXELS] == 0.0);
@@ -239,10 +262,12 @@ static void splat_pixels_equals_per_sample(void **state)
     adaptive.adaptive = 1;
     adaptive.min_spp = 4;
     st_render_options ref = adaptive;
-    ref.splat_path = ST_SPLAT_PER_SAMPLE;
     ref.profile = 1;
-    adaptive.splat_path = ST_SPLAT_PIXELS;
-    run a = render_run(r, ref), b = render_run(r, adaptive);
+    forced.splat = ST_SPLAT_PER_SAMPLE;
+    run a = render_run(r, ref);
+    forced.splat = ST_SPLAT_PIXELS;
+    run b = render_run(r, adaptive);
+    forced.splat = ST_SPLAT_AUTO;
     assert_same_run(&a, &b, &adaptive);
     assert_memory_equal(a.st.spp_map, b.st.spp_map, 24 * 20 * sizeof(st_u32));
     assert_true(b.st.stage_seconds[ST_STAGE_SPLAT_PIXELS] > 0.0);
@@ -263,14 +288,19 @@ static void splat_pixels_equals_per_sample(void **state)
     st_scene_destroy(scene);
 }
 
-/* Renders o with shade_path = ST_SHADE_ITEM and EIGHT: the same film,
+/* Renders o with shade forced to ST_SHADE_ITEM and EIGHT: the same film,
  * image and counts. */
 static void same_shade(st_renderer *r, st_render_options o)
 {
-    o.shade_path = ST_SHADE_ITEM;
+    int in_shade = forced.shadow == ST_SHADOW_IN_SHADE;
+    forced.shade = ST_SHADE_ITEM;
     run a = render_run(r, o);
-    o.shade_path = ST_SHADE_EIGHT;
+    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits") && !ran(r, "shade_hits8"));
+    forced.shade = ST_SHADE_EIGHT;
     run b = render_run(r, o);
+    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits8"));
+    assert_true(ran(r, "trace_shadow_rays") == !in_shade);
+    forced.shade = ST_SHADE_AUTO;
     assert_same_run(&a, &b, &o);
     run_free(&a);
     run_free(&b);
@@ -323,13 +353,14 @@ static void shade_hits8_equals_shade_hits(void **state)
     more[1].adaptive = 1;
     more[1].min_spp = 4;
     more[1].wave = 700;
-    more[2].shadow_path = ST_SHADOW_IN_SHADE;
     more[3].local_size = 3;
     more[3].wave = 997;
     for (int k = 0; k < 4; k++) {
         more[k].integrator = ST_INTEGRATOR_DIRECT;
+        forced.shadow = k == 2 ? ST_SHADOW_IN_SHADE : ST_SHADOW_AUTO; /* more[2]: in shade */
         same_shade(r, more[k]);
     }
+    forced.shadow = ST_SHADOW_AUTO;
     st_renderer_destroy(r);
     st_scene_destroy(scene);
 }

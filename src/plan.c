@@ -1,0 +1,148 @@
+/* plan.c — what a render runs (plan.h): every choice of kernel and lane
+ * width in one place. None changes the image; each is the faster way where
+ * it was measured (on PoCL's CPU device; a GPU's choices follow from its
+ * work-items running in lockstep, one item each). */
+#include "plan.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "render_int.h"
+#include "st_sampling.h"
+
+size_t st_plan_window_bytes(st_u32 side, float radius)
+{
+    /* the apron of ceil(r) + 1 pixels (film.cl), four sums of 8 bytes a pixel */
+    size_t s = side + 2 * ((size_t)ceilf(radius) + 1);
+    return s * s * 4 * sizeof(st_i64);
+}
+
+/* The fewest triangles for which auto traces coherent rays in packets: a
+ * small tree's few nodes cost a single ray little, and a packet's per-lane
+ * node tests and its lane-wide triangle tests then cost more than they
+ * share; on large meshes (the 327,680-triangle icosphere, ToyCar's 108,936)
+ * packets of camera rays measured faster, on models of up to 15,452
+ * triangles no faster. */
+#define ST_PACKET_MIN_TRIANGLES 65536u
+
+/* Which rays go in packets: where the kernels have lanes to fill (a CPU
+ * device's), the coherent ones of a large scene; elsewhere none. */
+int st_renderer_packets(const st_renderer *r, const st_render_options *o)
+{
+    if (o->packet_path != ST_PACKET_AUTO)
+        return o->packet_path;
+    int large = r->scene->tri_count >= ST_PACKET_MIN_TRIANGLES;
+    return st_device_get_info(r->dev)->lanes > 1u && large ? ST_PACKET_COHERENT : ST_PACKET_NONE;
+}
+
+int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v)
+{
+    /* coherent: the rays of vertex 0 (camera rays, and the shadow rays from
+     * where they hit), not a bounce's scattered rays; shadow rays only where
+     * any hit blocks (no alpha to walk through: shadow.h) */
+    int n = pl->packets == ST_PACKET_ALL || (pl->packets == ST_PACKET_COHERENT && v == 0u);
+    return n && (k != ST_STAGE_SHADOW || r->all_opaque);
+}
+
+/* The splat: filter importance sampling takes one tap per sample, so
+ * splat_samples; otherwise bins for splat_tiles where a window fits the
+ * device's local memory, except on a CPU device for a filter of radius 1/2
+ * or less (a box's one tap: binning and the window's flush cost more than
+ * the atomics they save), which gathers by pixel where a wave allows it. */
+static int plan_splat(const st_renderer *r, const st_render_options *o)
+{
+    const st_plan_force *f = &r->force;
+    const st_device_info *info = st_device_get_info(r->dev);
+    if (f->splat != ST_SPLAT_AUTO)
+        return o->reconstruction == ST_RECON_FIS && f->splat != ST_SPLAT_PIXELS
+                   ? ST_SPLAT_PER_SAMPLE
+                   : f->splat;
+    if (o->reconstruction == ST_RECON_FIS)
+        return ST_SPLAT_PER_SAMPLE;
+    if (info->is_cpu && o->filter.radius <= 0.5f)
+        return ST_SPLAT_PIXELS;
+    /* a CPU device runs a group's items in turn on one thread: one item a
+     * group then owns its window and adds without atomics */
+    return info->is_cpu ? ST_SPLAT_TILES_ALONE : ST_SPLAT_TILES;
+}
+
+/* Bins of the largest side of 32, 16 or 8 pixels whose window fits the
+ * device's local memory; none when no window fits. */
+static void plan_bins(const st_renderer *r, const st_render_options *o, int splat, st_params *p)
+{
+    p->bins = p->bin_side = p->bins_x = 0;
+    if (splat != ST_SPLAT_TILES && splat != ST_SPLAT_TILES_ALONE)
+        return;
+    unsigned long long local = st_device_get_info(r->dev)->local_mem;
+    for (st_u32 side = 32; side >= 8; side /= 2)
+        if (st_plan_window_bytes(side, o->filter.radius) <= local) {
+            p->bin_side = side;
+            p->bins_x = (o->width + side - 1) / side;
+            p->bins = p->bins_x * ((o->height + side - 1) / side);
+            return;
+        }
+}
+
+size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o)
+{
+    return pl->splat == ST_SPLAT_TILES_ALONE ? 1 : o->local_size ? o->local_size : 64;
+}
+
+int st_plan_gathers(const st_plan *pl, const st_params *p)
+{
+    /* a sample reaches its own pixel only (box, radius <= 1/2), and item g
+     * lies in region pixel g mod npix: a per-pixel sampler outside adaptive
+     * rounds */
+    return pl->splat == ST_SPLAT_PIXELS && p->reconstruction == ST_RECON_SPLAT &&
+           p->filter.kind == ST_FILTER_BOX && p->filter.radius <= 0.5f &&
+           !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count && !p->adaptive_scaled;
+}
+
+st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p,
+                     const st_shading *sh)
+{
+    const st_plan_force *f = &r->force;
+    const st_device_info *info = st_device_get_info(r->dev);
+    st_plan pl;
+    pl.lanes = info->lanes;
+    pl.packets = st_renderer_packets(r, o);
+    /* generate_rays on a CPU device ran as many instructions as the two
+     * kernels together (the fused body spills more) and no faster; elsewhere
+     * it saves a launch and a re-read of the sample */
+    pl.fused_generate = f->generate != ST_GENERATE_AUTO ? f->generate == ST_GENERATE_FUSED
+                                                        : !info->is_cpu;
+    /* tracing shadow rays in shade measured no faster than their own stage */
+    pl.shadows_in_shade = f->shadow == ST_SHADOW_IN_SHADE;
+    /* shade_hits8 where its float8 lanes may be taken (direct lighting by
+     * area lights of a scene with a material that takes them) on a CPU
+     * device; with no fast lane it runs more instructions than shade_hits */
+    if (pl.shadows_in_shade)
+        pl.shade_eight = 0;
+    else if (f->shade != ST_SHADE_AUTO)
+        pl.shade_eight = f->shade == ST_SHADE_EIGHT;
+    else
+        pl.shade_eight = info->is_cpu && st_shade8_render_fast(p, sh) && r->shade8_materials;
+    pl.splat = plan_splat(r, o);
+    plan_bins(r, o, pl.splat, p);
+    if (!p->bins && (pl.splat == ST_SPLAT_TILES || pl.splat == ST_SPLAT_TILES_ALONE))
+        pl.splat = ST_SPLAT_PER_SAMPLE;
+    return pl;
+}
+
+void st_renderer_force(st_renderer *r, const st_plan_force *f)
+{
+    static const st_plan_force none = {0, 0, 0, 0};
+    r->force = f ? *f : none;
+}
+
+const char *st_renderer_ran(st_renderer *r)
+{
+    size_t n = (size_t)snprintf(r->ran_text, sizeof r->ran_text, "lanes %u:", r->plan.lanes);
+    for (unsigned i = 0; i < r->ran_count && n < sizeof r->ran_text; i++) {
+        char name[64] = "?";
+        clGetKernelInfo(r->ran[i], CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
+        n += (size_t)snprintf(r->ran_text + n, sizeof r->ran_text - n, "%s %s", i ? "," : "",
+                              name);
+    }
+    return r->ran_text;
+}

@@ -1,0 +1,66 @@
+/* plan.h — what a render runs, decided in one place: the lane width the
+ * kernels were built for and, per stage, which kernel, from the device, the
+ * scene and the render. Every choice leaves the image as it is (the tests
+ * render each way and compare the films); they are measured choices of
+ * speed, and the reasons are in plan.c. Not a public header. */
+#ifndef ST_PLAN_H
+#define ST_PLAN_H
+
+#include "st_render.h"
+#include "st_shared.h"
+
+/* The splat: splat_samples (one work-item per sample, atomics; filter
+ * importance sampling, and the reference), bin_samples then splat_tiles (a
+ * work-group per image tile, sharing its window through local atomics, or
+ * ALONE: one work-item a group, plain adds), or splat_pixels (the box
+ * filter's splat gathered by pixel where a wave allows it, else per sample). */
+enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE, ST_SPLAT_PIXELS };
+/* Shadow rays: their own stage, trace_shadow_rays, or traced in shade
+ * (shade_hits_shadowed). */
+enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
+/* The first stages: generate_samples then generate_camera_rays (which reads
+ * the sample back), or one kernel, generate_rays. */
+enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
+/* Shade: shade_hits, one item per work-item, or shade_hits8, eight, the
+ * common case of direct lighting in float8 lanes (kernels/shade8.h). */
+enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };
+
+/* Choices forced for tests and measurements (st_renderer_force): each
+ * *_AUTO (0) unless set, the plan's own choice then. */
+typedef struct st_plan_force {
+    int splat;    /* ST_SPLAT_* */
+    int shadow;   /* ST_SHADOW_* */
+    int generate; /* ST_GENERATE_* */
+    int shade;    /* ST_SHADE_* */
+} st_plan_force;
+
+typedef struct st_plan {
+    unsigned lanes;       /* the kernels' ST_W (st_device_info.lanes) */
+    int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
+    int fused_generate;   /* generate_rays, not generate_samples + generate_camera_rays */
+    int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
+    int shade_eight;      /* shade_hits8, eight items per work-item */
+    int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
+                             wave allows it: st_plan_gathers) */
+} st_plan;
+
+typedef struct st_renderer st_renderer;
+
+/* The plan of a render of o on r with parameters p and shading sh; fills
+ * p's bins for the tile splat (bins 0: none). */
+st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p,
+                     const st_shading *sh);
+/* Whether a wave of p gathers its splat by pixel (splat_pixels). */
+int st_plan_gathers(const st_plan *pl, const st_params *p);
+/* Work-items per splat_tiles work-group. */
+size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o);
+/* The packets of the rays traced at path vertex v (ST_STAGE_TRACE or
+ * ST_STAGE_SHADOW as k): whether they go in packets. */
+int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v);
+/* Bytes of splat_tiles' local window for bins of `side` pixels. */
+size_t st_plan_window_bytes(st_u32 side, float radius);
+
+/* Forces choices on r's later renders (NULL: none). */
+void st_renderer_force(st_renderer *r, const st_plan_force *f);
+
+#endif
