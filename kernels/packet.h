@@ -36,9 +36,11 @@ typedef ST_VEC(uint, ST_W) st_lu;  /* an index per ray */
 /* A packet's rays: per lane the single-ray setup (for the node test) and
  * the origins and directions as lanes (for the triangle test); live: bit j
  * set when lane j carries a ray. */
+typedef ST_CAT(st_v3x, ST_W) st_lv3; /* a 3-vector per ray */
+
 typedef struct st_packet {
     st_trace_ray r[ST_PACKET];
-    st_lf o[3], d[3];
+    st_lv3 o, d;
     st_u32 live;
 } st_packet;
 
@@ -60,10 +62,10 @@ ST_HOT void st_packet_setup(st_packet *pk, const st_ray *rays, st_u32 live)
             d[a][j] = r.d[a];
         }
     }
-    for (int a = 0; a < 3; ++a) {
-        pk->o[a] = ST_VLOAD(ST_W, o[a]);
-        pk->d[a] = ST_VLOAD(ST_W, d[a]);
-    }
+    st_lv3 po = {ST_VLOAD(ST_W, o[0]), ST_VLOAD(ST_W, o[1]), ST_VLOAD(ST_W, o[2])};
+    st_lv3 pd = {ST_VLOAD(ST_W, d[0]), ST_VLOAD(ST_W, d[1]), ST_VLOAD(ST_W, d[2])};
+    pk->o = po;
+    pk->d = pd;
     pk->live = live;
 }
 
@@ -74,12 +76,12 @@ ST_HOT st_li st_packet_triangle(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, c
                                 st_lf tmax, st_lf *tt, st_lf *uu, st_lf *vv)
 {
     const ST_GLOBAL st_f32 *lane = l + j;
-    st_lf v0[3], e1[3], e2[3];
-    for (st_u32 a = 0u; a < 3u; ++a) {
-        v0[a] = (st_lf)(lane[(ST_LEAF_V0 + a) * n]);
-        e1[a] = (st_lf)(lane[(ST_LEAF_E1 + a) * n]);
-        e2[a] = (st_lf)(lane[(ST_LEAF_E2 + a) * n]);
-    }
+    st_lv3 v0 = {(st_lf)(lane[ST_LEAF_V0 * n]), (st_lf)(lane[(ST_LEAF_V0 + 1) * n]),
+                 (st_lf)(lane[(ST_LEAF_V0 + 2) * n])};
+    st_lv3 e1 = {(st_lf)(lane[ST_LEAF_E1 * n]), (st_lf)(lane[(ST_LEAF_E1 + 1) * n]),
+                 (st_lf)(lane[(ST_LEAF_E1 + 2) * n])};
+    st_lv3 e2 = {(st_lf)(lane[ST_LEAF_E2 * n]), (st_lf)(lane[(ST_LEAF_E2 + 1) * n]),
+                 (st_lf)(lane[(ST_LEAF_E2 + 2) * n])};
     st_li two_sided = (st_li)((st_leaf_sides(l, n) >> j) & 1u ? 0 : -1);
     return ST_CAT(st_triangle_test, ST_W)(pk->o, pk->d, v0, e1, e2, tmax, (st_li)(-1), two_sided,
                                           tt, uu, vv);

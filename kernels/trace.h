@@ -124,12 +124,12 @@ ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st
 ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *ray, st_u32 prim,
                                 st_hit *hit)
 {
-    st_f32 v0[3] = {tri->v0[0], tri->v0[1], tri->v0[2]};
-    st_f32 e1[3] = {tri->e1[0], tri->e1[1], tri->e1[2]};
-    st_f32 e2[3] = {tri->e2[0], tri->e2[1], tri->e2[2]};
+    st_v3x1 o = {ray->o[0], ray->o[1], ray->o[2]}, d = {ray->d[0], ray->d[1], ray->d[2]};
+    st_v3x1 v0 = {tri->v0[0], tri->v0[1], tri->v0[2]};
+    st_v3x1 e1 = {tri->e1[0], tri->e1[1], tri->e1[2]};
+    st_v3x1 e2 = {tri->e2[0], tri->e2[1], tri->e2[2]};
     st_f32 t, u, v;
-    int ok = st_triangle_test1(ray->o, ray->d, v0, e1, e2, hit->t, 1, tri->v0[3] == 0.0f, &t, &u,
-                               &v);
+    int ok = st_triangle_test1(o, d, v0, e1, e2, hit->t, 1, tri->v0[3] == 0.0f, &t, &u, &v);
     if (ok) {
         hit->t = t;
         hit->u = u;
@@ -313,6 +313,7 @@ ST_FN st_u32 st_leaf_sides(const ST_GLOBAL st_f32 *l, st_u32 n)
 /* A leaf's lanes: one per triangle, ST_LEAF_MAX of them. */
 typedef ST_VEC(float, ST_LEAF_MAX) st_leaf_f;
 typedef ST_VEC(int, ST_LEAF_MAX) st_leaf_i;
+typedef ST_CAT(st_v3x, ST_LEAF_MAX) st_leaf_v3;
 
 /* Row r of a block of n triangles as ST_LEAF_MAX lanes: that many floats
  * from the row's start, whatever n, so one load serves every block size.
@@ -324,6 +325,14 @@ ST_HOT st_leaf_f st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 r)
     return ST_VLOAD(ST_LEAF_MAX, l + r * n);
 }
 
+/* Row e2 + a of the block, its lanes past `keep` zero: there the rows may
+ * reach the block's words (integers, so denormals as floats, slow on some
+ * CPUs). */
+ST_HOT st_leaf_f st_leaf_e2(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 a, st_leaf_i keep)
+{
+    return ST_AS_FLOAT(ST_LEAF_MAX, ST_AS_INT(ST_LEAF_MAX, st_leaf_row(l, n, ST_LEAF_E2 + a)) & keep);
+}
+
 /* The triangle test of a leaf's lanes at once (block l of n triangles),
  * lane j = triangle first + j, for one ray (broadcast to the lanes): each
  * lane's t, u, v is st_intersect_triangle's bit for bit (tests/test_leaf.c
@@ -332,18 +341,15 @@ ST_HOT st_leaf_f st_leaf_row(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 r)
 ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
                            st_leaf_f *tt, st_leaf_f *uu, st_leaf_f *vv)
 {
-    /* past lane n the e2 rows may reach the block's words (integers, so
-     * denormals as floats, slow on some CPUs): those lanes zero */
     st_leaf_i keep = ST_IOTA(ST_LEAF_MAX) < (st_leaf_i)((int)n);
-    st_leaf_f o[3], d[3], v0[3], e1[3], e2[3];
-    for (st_u32 a = 0u; a < 3u; ++a) {
-        o[a] = (st_leaf_f)(ray->o[a]);
-        d[a] = (st_leaf_f)(ray->d[a]);
-        v0[a] = st_leaf_row(l, n, ST_LEAF_V0 + a);
-        e1[a] = st_leaf_row(l, n, ST_LEAF_E1 + a);
-        e2[a] = ST_AS_FLOAT(ST_LEAF_MAX, ST_AS_INT(ST_LEAF_MAX, st_leaf_row(l, n, ST_LEAF_E2 + a)) &
-                                              keep);
-    }
+    st_leaf_v3 o = {(st_leaf_f)(ray->o[0]), (st_leaf_f)(ray->o[1]), (st_leaf_f)(ray->o[2])};
+    st_leaf_v3 d = {(st_leaf_f)(ray->d[0]), (st_leaf_f)(ray->d[1]), (st_leaf_f)(ray->d[2])};
+    st_leaf_v3 v0 = {st_leaf_row(l, n, ST_LEAF_V0), st_leaf_row(l, n, ST_LEAF_V0 + 1),
+                     st_leaf_row(l, n, ST_LEAF_V0 + 2)};
+    st_leaf_v3 e1 = {st_leaf_row(l, n, ST_LEAF_E1), st_leaf_row(l, n, ST_LEAF_E1 + 1),
+                     st_leaf_row(l, n, ST_LEAF_E1 + 2)};
+    st_leaf_v3 e2 = {st_leaf_e2(l, n, 0, keep), st_leaf_e2(l, n, 1, keep),
+                     st_leaf_e2(l, n, 2, keep)};
     st_leaf_i two_sided = !ST_BITS_MASK(ST_LEAF_MAX, st_leaf_sides(l, n));
     st_leaf_i ok = ST_CAT(st_triangle_test, ST_LEAF_MAX)(o, d, v0, e1, e2, (st_leaf_f)(tmax), keep,
                                                          two_sided, tt, uu, vv);

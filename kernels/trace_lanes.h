@@ -16,6 +16,13 @@
 
 #define ST_F ST_VEC(float, ST_N)
 #define ST_I ST_VEC(int, ST_N)
+#define ST_V3 ST_CAT(st_v3x, ST_N)
+
+/* A 3-vector in lanes: x, y and z each ST_N wide. Passed by value, so that
+ * the compiler keeps its lanes in registers. */
+typedef struct ST_V3 {
+    ST_F x, y, z;
+} ST_V3;
 
 /* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
  * Williams et al.'s form ("An Efficient and Robust Ray-Box Intersection
@@ -65,27 +72,27 @@ ST_HOT ST_I ST_CAT(st_slab_test, ST_N)(ST_F nx, ST_F fx, ST_F ny, ST_F fy, ST_F 
  * *uu, *vv (unspecified in the others). When no kept lane has u in [0, 1]
  * (a miss whatever v is: v >= 0 makes u + v >= u > 1 in floats too), it
  * returns at once without q, v and t. */
-ST_HOT ST_I ST_CAT(st_triangle_test, ST_N)(const ST_F *o, const ST_F *d, const ST_F *v0,
-                                           const ST_F *e1, const ST_F *e2, ST_F tmax, ST_I keep,
-                                           ST_I two_sided, ST_F *tt, ST_F *uu, ST_F *vv)
+ST_HOT ST_I ST_CAT(st_triangle_test, ST_N)(ST_V3 o, ST_V3 d, ST_V3 v0, ST_V3 e1, ST_V3 e2,
+                                           ST_F tmax, ST_I keep, ST_I two_sided, ST_F *tt,
+                                           ST_F *uu, ST_F *vv)
 {
-    ST_F px = d[1] * e2[2] - d[2] * e2[1];
-    ST_F py = d[2] * e2[0] - d[0] * e2[2];
-    ST_F pz = d[0] * e2[1] - d[1] * e2[0];
-    ST_F det = e1[0] * px + e1[1] * py + e1[2] * pz;
+    ST_F px = d.y * e2.z - d.z * e2.y;
+    ST_F py = d.z * e2.x - d.x * e2.z;
+    ST_F pz = d.x * e2.y - d.y * e2.x;
+    ST_F det = e1.x * px + e1.y * py + e1.z * pz;
     ST_F inv_det = 1.0f / det;
-    ST_F sx = o[0] - v0[0];
-    ST_F sy = o[1] - v0[1];
-    ST_F sz = o[2] - v0[2];
+    ST_F sx = o.x - v0.x;
+    ST_F sy = o.y - v0.y;
+    ST_F sz = o.z - v0.z;
     ST_F u = (sx * px + sy * py + sz * pz) * inv_det;
     ST_I in_u = (u >= 0.0f) & (u <= 1.0f) & keep;
     if (!ST_ANY(ST_N, in_u))
         return in_u;
-    ST_F qx = sy * e1[2] - sz * e1[1];
-    ST_F qy = sz * e1[0] - sx * e1[2];
-    ST_F qz = sx * e1[1] - sy * e1[0];
-    ST_F v = (d[0] * qx + d[1] * qy + d[2] * qz) * inv_det;
-    ST_F t = (e2[0] * qx + e2[1] * qy + e2[2] * qz) * inv_det;
+    ST_F qx = sy * e1.z - sz * e1.y;
+    ST_F qy = sz * e1.x - sx * e1.z;
+    ST_F qz = sx * e1.y - sy * e1.x;
+    ST_F v = (d.x * qx + d.y * qy + d.z * qz) * inv_det;
+    ST_F t = (e2.x * qx + e2.y * qy + e2.z * qz) * inv_det;
     *tt = t;
     *uu = u;
     *vv = v;
@@ -95,3 +102,4 @@ ST_HOT ST_I ST_CAT(st_triangle_test, ST_N)(const ST_F *o, const ST_F *d, const S
 
 #undef ST_F
 #undef ST_I
+#undef ST_V3
