@@ -10,8 +10,8 @@
 #ifndef ST_RNG_H
 #define ST_RNG_H
 
-/* lowbias32's steps on x, a 32-bit unsigned value or vector of them (uint8
- * in kernels/shade8.h). */
+/* lowbias32's steps on x, a 32-bit unsigned value or vector of them (lanes
+ * in kernels/shade_lanes.h). */
 #define ST_HASH32_MIX(x)                                                                  \
     do {                                                                                    \
         (x) ^= (x) >> 16;                                                                   \

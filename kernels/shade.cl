@@ -52,7 +52,7 @@
 #include "bsdf.h"
 #include "integrator.h"
 #include "shadow.h"
-#include "shade8.h"
+#include "shade_lanes.h"
 
 /* A path that left the scene along d sees the environment, weighted by MIS
  * where next-event estimation samples it too (see the top). */
@@ -187,9 +187,9 @@ __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
 /* Fast lane k's results into item i: what shade_item leaves at a direct
  * render's first vertex (the shadow ray or none, the radiance, the path
  * ended, one more closest ray). */
-ST_HOT void shade8_store(st_u32 i, st_u32 k, float (*rad)[8], float (*org)[8], float (*dir)[8],
-                         float (*con)[8], const float *tmax, __global st_shadow_ray *shadow,
-                         __global st_path *path)
+ST_HOT void shade_lanes_store(st_u32 i, st_u32 k, float (*rad)[ST_W], float (*org)[ST_W],
+                              float (*dir)[ST_W], float (*con)[ST_W], const float *tmax,
+                              __global st_shadow_ray *shadow, __global st_path *path)
 {
     __global st_shadow_ray *sr = &shadow[i];
     sr->tmax = 0.0f;
@@ -205,66 +205,72 @@ ST_HOT void shade8_store(st_u32 i, st_u32 k, float (*rad)[8], float (*org)[8], f
     gp->depth = ST_PATH_DEAD;
 }
 
-/* The fast lanes (bit k of `fast`: item first + k) of one work-item of
- * shade_hits8 in float8 (shade8.h); returns the lanes it shaded (those
- * whose normal PoCL's normalize would not rescale). */
-ST_HOT st_u32 shade8_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                           st_u32 first, st_u32 n, st_u32 fast, __global const st_sample *sample,
-                           __global const st_wave_ray *ray, __global const st_hit *hit,
-                           __global st_path *path, __global st_shadow_ray *shadow,
-                           __global const st_u32 *pmj02)
+/* A 3-vector of lanes into three arrays of ST_W floats. */
+ST_HOT void lv3_store(st_lv3 v, float (*out)[ST_W])
 {
-    st_lanes8 l;
-    for (st_u32 k = 0; k < ST_LANES; k++)
-        shade8_gather(s, p, first + (k < n ? k : 0u), (fast >> k) & 1u, k, sample, ray, hit, path,
-                      pmj02, &l);
+    ST_VSTORE(ST_W, v.x, out[0]);
+    ST_VSTORE(ST_W, v.y, out[1]);
+    ST_VSTORE(ST_W, v.z, out[2]);
+}
+
+/* The fast lanes (bit k of `fast`: item first + k) of one work-item of
+ * shade_hits_lanes (shade_lanes.h); returns the lanes it shaded (those whose
+ * normal PoCL's normalize would not rescale). */
+ST_HOT st_u32 shade_lanes_run(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                              st_u32 first, st_u32 n, st_u32 fast,
+                              __global const st_sample *sample, __global const st_wave_ray *ray,
+                              __global const st_hit *hit, __global st_path *path,
+                              __global st_shadow_ray *shadow, __global const st_u32 *pmj02)
+{
+    st_shade_lanes l;
+    for (st_u32 k = 0; k < ST_W; k++)
+        shade_lanes_gather(s, p, first + (k < n ? k : 0u), (fast >> k) & 1u, k, sample, ray, hit,
+                           path, pmj02, &l);
     if (p->sampler == ST_SAMPLER_RANDOM) { /* dimensions 2 and 3: vertex 0's light sample */
-        uint8 key = vload8(0, l.key);
-        vstore8(rng_unit8(key, 2u), 0, l.u);
-        vstore8(rng_unit8(key, 3u), 0, l.u2);
+        st_lu key = ST_VLOAD(ST_W, l.key);
+        ST_VSTORE(ST_W, rng_unit_lanes(key, 2u), l.u);
+        ST_VSTORE(ST_W, rng_unit_lanes(key, 3u), l.u2);
     }
-    for (st_u32 k = 0; k < ST_LANES; k++)
-        shade8_gather_light(s, p, sh, k, &l);
-    st_shade8_out o;
-    st_v8 ns, ng;
-    shade8_surface(&l, p->ray_eps, &ns, &ng, &o);
-    shade8_light(&l, p, sh, ns, ng, &o);
-    float rad[3][8], org[3][8], dir[3][8], con[3][8], tmax[8];
-    int ok[8];
-    vstore8(o.radiance.x, 0, rad[0]), vstore8(o.radiance.y, 0, rad[1]);
-    vstore8(o.radiance.z, 0, rad[2]);
-    vstore8(o.origin.x, 0, org[0]), vstore8(o.origin.y, 0, org[1]), vstore8(o.origin.z, 0, org[2]);
-    vstore8(o.wi.x, 0, dir[0]), vstore8(o.wi.y, 0, dir[1]), vstore8(o.wi.z, 0, dir[2]);
-    vstore8(o.contribution.x, 0, con[0]), vstore8(o.contribution.y, 0, con[1]);
-    vstore8(o.contribution.z, 0, con[2]);
-    vstore8(o.tmax, 0, tmax);
-    vstore8(o.fast, 0, ok);
-    for (st_u32 k = 0; k < ST_LANES; k++) {
+    for (st_u32 k = 0; k < ST_W; k++)
+        shade_lanes_gather_light(s, p, sh, k, &l);
+    st_shade_lanes_out o;
+    st_lv3 ns, ng;
+    shade_lanes_surface(&l, p->ray_eps, &ns, &ng, &o);
+    shade_lanes_light(&l, p, sh, ns, ng, &o);
+    float rad[3][ST_W], org[3][ST_W], dir[3][ST_W], con[3][ST_W], tmax[ST_W];
+    int ok[ST_W];
+    lv3_store(o.radiance, rad);
+    lv3_store(o.origin, org);
+    lv3_store(o.wi, dir);
+    lv3_store(o.contribution, con);
+    ST_VSTORE(ST_W, o.tmax, tmax);
+    ST_VSTORE(ST_W, o.fast, ok);
+    for (st_u32 k = 0; k < ST_W; k++) {
         if (!ok[k])
             fast &= ~(1u << k);
         if ((fast >> k) & 1u)
-            shade8_store(first + k, k, rad, org, dir, con, tmax, shadow, path);
+            shade_lanes_store(first + k, k, rad, org, dir, con, tmax, shadow, path);
     }
     return fast;
 }
 
-/* shade_hits for eight items per work-item (global size item_count / 8
- * rounded up): work-item g shades items 8g .. 8g + 7, the fast lanes in
- * float8 (shade8.h), every other by shade_item, so the film is
- * shade_hits' (render.c chooses; test shade_hits8_equals_shade_hits in
- * tests/test_render_paths.c). */
-__kernel void shade_hits8(ST_STAGE_PARAMS)
+/* shade_hits for ST_W items per work-item (global size item_count / ST_W
+ * rounded up): work-item g shades items W g .. W g + W - 1, the fast lanes
+ * in lanes (shade_lanes.h), every other by shade_item, so the film is
+ * shade_hits' at every width (the plan chooses, src/plan.c; test
+ * shade_lanes_equal_shade_hits in tests/test_render_paths.c). */
+__kernel void shade_hits_lanes(ST_STAGE_PARAMS)
 {
-    st_u32 first = ST_LANES * get_global_id(0);
+    st_u32 first = ST_W * get_global_id(0);
     if (first >= p.item_count)
         return;
-    st_u32 n = min(ST_LANES, p.item_count - first), fast = 0u;
+    st_u32 n = min((st_u32)ST_W, p.item_count - first), fast = 0u;
     st_scene_refs s = ST_SCENE_REFS_INIT;
-    if (st_shade8_render_fast(&p, &sh))
+    if (st_shade_lanes_render_fast(&p, &sh))
         for (st_u32 k = 0; k < n; k++)
-            fast |= (st_u32)shade8_item_fast(&s, first + k, path, hit) << k;
+            fast |= (st_u32)shade_lanes_item_fast(&s, first + k, path, hit) << k;
     if (fast)
-        fast = shade8_lanes(&s, &p, &sh, first, n, fast, sample, ray, hit, path, shadow, pmj02);
+        fast = shade_lanes_run(&s, &p, &sh, first, n, fast, sample, ray, hit, path, shadow, pmj02);
     for (st_u32 k = 0; k < n; k++)
         if (!((fast >> k) & 1u))
             shade_item(first + k, ST_STAGE_ARGS);

@@ -113,15 +113,16 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
                                                         : !info->is_cpu;
     /* tracing shadow rays in shade measured no faster than their own stage */
     pl.shadows_in_shade = f->shadow == ST_SHADOW_IN_SHADE;
-    /* shade_hits8 where its float8 lanes may be taken (direct lighting by
-     * area lights of a scene with a material that takes them) on a CPU
-     * device; with no fast lane it runs more instructions than shade_hits */
+    /* shade_hits_lanes where the kernels have lanes to fill (a CPU
+     * device's) and they may be taken (direct lighting by area lights of a
+     * scene with a material that takes them); with no fast lane it runs
+     * more instructions than shade_hits */
     if (pl.shadows_in_shade)
-        pl.shade_eight = 0;
+        pl.shade_lanes = 0;
     else if (f->shade != ST_SHADE_AUTO)
-        pl.shade_eight = f->shade == ST_SHADE_EIGHT;
+        pl.shade_lanes = f->shade == ST_SHADE_LANES;
     else
-        pl.shade_eight = info->is_cpu && st_shade8_render_fast(p, sh) && r->shade8_materials;
+        pl.shade_lanes = info->lanes > 1u && st_shade_lanes_render_fast(p, sh) && r->lanes_materials;
     pl.splat = plan_splat(r, o);
     plan_bins(r, o, pl.splat, p);
     if (!p->bins && (pl.splat == ST_SPLAT_TILES || pl.splat == ST_SPLAT_TILES_ALONE))

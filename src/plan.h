@@ -21,9 +21,9 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 /* The first stages: generate_samples then generate_camera_rays (which reads
  * the sample back), or one kernel, generate_rays. */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
-/* Shade: shade_hits, one item per work-item, or shade_hits8, eight, the
- * common case of direct lighting in float8 lanes (kernels/shade8.h). */
-enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };
+/* Shade: shade_hits, one item per work-item, or shade_hits_lanes, ST_W,
+ * the common case of direct lighting in lanes (kernels/shade_lanes.h). */
+enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_LANES };
 
 /* Choices forced for tests and measurements (st_renderer_force): each
  * *_AUTO (0) unless set, the plan's own choice then. */
@@ -39,7 +39,7 @@ typedef struct st_plan {
     int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
     int fused_generate;   /* generate_rays, not generate_samples + generate_camera_rays */
     int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
-    int shade_eight;      /* shade_hits8, eight items per work-item */
+    int shade_lanes;      /* shade_hits_lanes, ST_W items per work-item */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
                              wave allows it: st_plan_gathers) */
 } st_plan;

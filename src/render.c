@@ -155,7 +155,7 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->shade8, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->shade_lanes, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
         return err->status;
@@ -410,15 +410,16 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                       err);
 }
 
-/* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits8
+/* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits_lanes
  * (ceil(n / 8) work-items) or shade_hits. */
 static st_status run_shade(st_renderer *r, const st_params *p, size_t n,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
     if (r->plan.shadows_in_shade)
         return run_kernel(r, r->shade_shadowed, ST_STAGE_SHADE, p, n, o->local_size, o, st, err);
-    if (r->plan.shade_eight)
-        return run_kernel(r, r->shade8, ST_STAGE_SHADE, p, (n + 7u) / 8u, o->local_size, o, st,
+    size_t lanes = r->plan.lanes;
+    if (r->plan.shade_lanes)
+        return run_kernel(r, r->shade_lanes, ST_STAGE_SHADE, p, (n + lanes - 1u) / lanes, o->local_size, o, st,
                           err);
     return run_stage(r, ST_STAGE_SHADE, p, n, o, st, err);
 }

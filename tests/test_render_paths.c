@@ -1,7 +1,7 @@
 /* test_render_paths.c — the first stages in one kernel (generate_rays),
- * the box filter's splat gathered by pixel (splat_pixels) and shade eight
- * items per work-item (shade_hits8) against the kernels they replace on the
- * same render: the films (raw 64-bit sums), the
+ * the box filter's splat gathered by pixel (splat_pixels) and shade ST_W
+ * items per work-item (shade_hits_lanes, at every lane width) against the
+ * kernels they replace on the same render: the films (raw 64-bit sums), the
  * counts (splats, rays, clamped, non-finite) and the images equal bit for
  * bit, over wave sizes below, at and above the region's pixel count, crops,
  * odd image sizes, spp 1 and spp that divide nothing, several samplers and
@@ -25,6 +25,9 @@
 
 /* The choices render_run forces on the renderer (plan.h; zero: its own). */
 static st_plan_force forced;
+/* The device renderer_for renders on: the fixture's, or one built at
+ * another lane width. */
+static st_device *on;
 
 /* One profiled render's results. */
 typedef struct run {
@@ -51,7 +54,7 @@ static int ran(st_renderer *r, const char *name)
 {
     const char *text = st_renderer_ran(r);
     char lanes[32];
-    snprintf(lanes, sizeof lanes, "lanes %u:", st_device_get_info(dev)->lanes);
+    snprintf(lanes, sizeof lanes, "lanes %u:", st_device_get_info(on ? on : dev)->lanes);
     assert_true(strncmp(text, lanes, strlen(lanes)) == 0);
     for (const char *p = strchr(text, ':'); p; p = strchr(p, ',')) {
         p += 2; /* ": " or ", " */
@@ -161,7 +164,7 @@ static st_renderer *renderer_for(const char *name, st_scene **scene)
     st_renderer *r = NULL;
     st_error err = {0};
     *scene = fixture_scene(name);
-    if (st_renderer_create(dev, *scene, &r, &err) != ST_OK)
+    if (st_renderer_create(on ? on : dev, *scene, &r, &err) != ST_OK)
         fail_msg("renderer %s: %s", name, err.msg);
     return r;
 }
@@ -288,17 +291,18 @@ static void splat_pixels_equals_per_sample(void **state)
     st_scene_destroy(scene);
 }
 
-/* Renders o with shade forced to ST_SHADE_ITEM and EIGHT: the same film,
+/* Renders o with shade forced to ST_SHADE_ITEM and LANES: the same film,
  * image and counts. */
 static void same_shade(st_renderer *r, st_render_options o)
 {
     int in_shade = forced.shadow == ST_SHADOW_IN_SHADE;
     forced.shade = ST_SHADE_ITEM;
     run a = render_run(r, o);
-    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits") && !ran(r, "shade_hits8"));
-    forced.shade = ST_SHADE_EIGHT;
+    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits") &&
+                !ran(r, "shade_hits_lanes"));
+    forced.shade = ST_SHADE_LANES;
     run b = render_run(r, o);
-    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits8"));
+    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits_lanes"));
     assert_true(ran(r, "trace_shadow_rays") == !in_shade);
     forced.shade = ST_SHADE_AUTO;
     assert_same_run(&a, &b, &o);
@@ -313,10 +317,10 @@ static void same_shade(st_renderer *r, st_render_options o)
  * BLEND, textures, no Lambertian material), punctual.gltf (punctual lights)
  * and the Khronos models with emitters (none Lambertian), where shade_item
  * takes every lane: direct lighting over wave sizes that are and are not
- * multiples of 8; the variants (paths take shade_item throughout); a tiled
+ * multiples of the lane width; the variants (paths take shade_item throughout); a tiled
  * sampler, an adaptive render, a work-group size of 3 and shadow rays
  * traced in shade (which takes shade_hits_shadowed either way), direct. */
-static void shade_hits8_equals_shade_hits(void **state)
+static void shade_lanes_equal_shade_hits(void **state)
 {
     (void)state;
     static const char *const scenes[] = {
@@ -365,12 +369,53 @@ static void shade_hits8_equals_shade_hits(void **state)
     st_scene_destroy(scene);
 }
 
+/* shade_hits_lanes built at the other lane widths (1, 4, 16 and 8, but
+ * for the fixture's own) against shade_hits: the Cornell boxes and the mixed
+ * scene, direct lighting, both samplers of its fast paths (the random
+ * sampler's dimensions are made in lanes), waves that fill no last lane. */
+static void shade_lanes_at_every_width(void **state)
+{
+    (void)state;
+    static const unsigned widths[] = {1, 4, 8, 16};
+    static const char *const scenes[] = {"../shared/scenes/bench/cornell.gltf", "cornell-box",
+                                         "tests/scenes/shade_mix.gltf"};
+    static const st_u32 waves[] = {0, 333, 1001};
+    for (size_t k = 0; k < sizeof widths / sizeof widths[0]; k++) {
+        if (widths[k] == st_device_get_info(dev)->lanes)
+            continue;
+        st_error err = {0};
+        if (st_device_create(NULL, &on, &err) != ST_OK ||
+            st_device_set_lanes(on, widths[k], &err) != ST_OK || st_device_build(on, NULL, &err))
+            fail_msg("device at %u lanes: %s", widths[k], err.msg);
+        for (size_t c = 0; c < sizeof scenes / sizeof scenes[0]; c++) {
+            if (strncmp(scenes[c], "../shared", 9) == 0 && access(scenes[c], R_OK) != 0) {
+                print_message("note: %s not found; skipped\n", scenes[c]);
+                continue;
+            }
+            st_scene *scene = NULL;
+            st_renderer *r = renderer_for(scenes[c], &scene);
+            for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
+                st_render_options o = small(37, 23, 3);
+                o.integrator = ST_INTEGRATOR_DIRECT;
+                o.sampler = w % 2 ? ST_SAMPLER_RANDOM : ST_SAMPLER_HALTON;
+                o.wave = waves[w];
+                same_shade(r, o);
+            }
+            st_renderer_destroy(r);
+            st_scene_destroy(scene);
+        }
+        st_device_destroy(on);
+        on = NULL;
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generate_rays_equals_two_kernels),
         cmocka_unit_test(splat_pixels_equals_per_sample),
-        cmocka_unit_test(shade_hits8_equals_shade_hits),
+        cmocka_unit_test(shade_lanes_equal_shade_hits),
+        cmocka_unit_test(shade_lanes_at_every_width),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
 }
