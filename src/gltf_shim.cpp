@@ -1028,8 +1028,12 @@ void read_tangents(const Model &m, int a, size_t vertices, std::vector<float> &o
  * triangle's dP/du and dP/dv (solving the edges against their uv deltas,
  * Lengyel's method), summed at its vertices weighted by the triangle's size
  * (the unnormalised solution carries it), then made orthogonal to the
- * vertex normal (or the summed face normal); w = +1 where (t, b, n) is
- * right-handed, else -1. A vertex whose uvs are degenerate gets 0. */
+ * vertex normal (or the summed face normal). The handedness is MikkTSpace's
+ * as glTF applies it: glTF's v runs down the image while a normal map's
+ * green axis points up it, so the bitangent the map needs is -dP/dv, and
+ * w = +1 where cross(n, t) points along -dP/dv, else -1 (the bitangent is
+ * w cross(n, t), as for a file's TANGENT). A vertex whose uvs are
+ * degenerate gets 0. */
 void generate_tangents(scratch &s, const std::vector<float> &uv, bool normals)
 {
     const size_t nv = s.p.size() / 3;
@@ -1074,7 +1078,7 @@ void generate_tangents(scratch &s, const std::vector<float> &uv, bool normals)
         cross(n, t, c);
         for (int k = 0; k < 3; k++)
             s.t[4 * v + size_t(k)] = float(t[k]);
-        s.t[4 * v + 3] = c[0] * b[0] + c[1] * b[1] + c[2] * b[2] < 0.0 ? -1.0f : 1.0f;
+        s.t[4 * v + 3] = c[0] * b[0] + c[1] * b[1] + c[2] * b[2] > 0.0 ? -1.0f : 1.0f;
     }
 }
 

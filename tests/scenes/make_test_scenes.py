@@ -71,7 +71,8 @@ two_uv        the quad, unlit white, seen as textured_quad is: TEXCOORD_0 consta
               magnification), and its normal map (flat) read TEXCOORD_1, so the
               view's left half (x < 0, u < 0.5) is red and its right half blue,
               where TEXCOORD_0 would make all of it red; tangents generated from
-              TEXCOORD_1 are +x (u grows with x) with w = -1 (v falls with y).
+              TEXCOORD_1 are +x (u grows with x) with w = +1 (v falls with y,
+              so -dP/dv = +y = n x t).
               two_uv_transform names texCoord 0 and KHR_texture_transform's
               texCoord 1 (identity transform); two_uv_coord2 names texCoord 2.
               two_uv_light: a white Lambertian ground (the quad, z = 0) under a
@@ -88,6 +89,14 @@ shade_mix     six 1 x 1 quads of a 3 x 2 ground (z = 0) under two one-sided
               lanes), and a textured, an alpha MASK, a vertex-coloured and a
               metallic one (shade_item's); the emitter over x > 0 has an
               emissive texture (grey | white), the one over x < 0 none.
+tangent_ramp  the quad (u along +x, v along -y, as glTF's v runs down the
+              image), white and Lambertian, without TANGENT, whose constant
+              normal map (bytes 128, 64, 238: n = (0, -0.5, 0.87) in tangent
+              space) tilts the normal towards +v, the way a height ramp
+              rising towards -v does; tangent_ramp_mirrored: its u mirrored
+              (u along -x); tangent_ramp_given: tangent_ramp with the TANGENT
+              (1, 0, 0, 1) that glTF's definition gives (bitangent
+              w cross(n, t) = +y, towards -v).
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -660,6 +669,33 @@ def write_lighting():
     write_json("material_extensions.gltf", g)
 
 
+# tangent space normal of tangent_ramp's map, as bytes (n + 1) / 2 x 255
+RAMP_TEXEL = (128, 64, 238)
+
+
+def write_tangent_ramp():
+    for name, mirrored, given in (("tangent_ramp.gltf", False, False),
+                                  ("tangent_ramp_mirrored.gltf", True, False),
+                                  ("tangent_ramp_given.gltf", False, True)):
+        b = Blob()
+        uv = list(QUAD_UV)
+        if mirrored:
+            uv[0::2] = [1.0 - u for u in uv[0::2]]
+        p = b.quad(0.0, uv)
+        if given:
+            p["attributes"]["TANGENT"] = b.accessor(f32([1.0, 0.0, 0.0, 1.0] * 4), 5126, 4,
+                                                    "VEC4")
+        p["material"] = 0
+        g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+                cameras=ORTHO, images=[{"uri": png_uri(constant_png(RAMP_TEXEL))}],
+                textures=[{"source": 0}],
+                materials=[{"name": "ramp", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                            "normalTexture": {"index": 0},
+                            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}])
+        write_json(name, g)
+
+
 def write_two_uv():
     b = Blob()
     p = b.quad(0.0, [0.25, 0.5] * 4)
@@ -1016,6 +1052,7 @@ def main():
     write_sided()
     write_two_uv()
     write_two_uv_light()
+    write_tangent_ramp()
     write_shadows()
     write_shade_mix()
     write_quantized()
