@@ -604,23 +604,50 @@ static void texture_references_follow_the_file(void **state)
     st_scene_destroy(s);
 }
 
-/* The environment is white exactly when no triangle's material emits; the
- * texture filter of a view defaults to trilinear. */
-static void environment_white_only_without_emission(void **state)
+/* The default environment (st_scene.h): white where nothing emits
+ * (cutout, layout_u16, checkerboard; black_emitter's emissive texture is
+ * black) or where most of the power comes from emitters no brighter than
+ * white (textured_quad's emission 0.5 x a dark texture; lamp_and_glow's
+ * lamp carries pi of 5 pi; glow_box_open, whose missing face lets the
+ * camera out); none where lamps or punctual lights carry at least half
+ * (the Cornell box and soft-shadows, strengths 17 and 8; lamp_over_glow,
+ * 8 pi of 12 pi; punctual) or where the camera sits inside a closed model
+ * (furnace, glow_box). */
+static void default_environment_follows_the_lights(void **state)
 {
     (void)state;
     static const struct {
         const char *spec;
         float env;
-    } cases[] = {{"cornell-box", 0.0f}, {SCENES "textured_quad.gltf", 0.0f},
-                 {SCENES "cutout.gltf", 1.0f}, {SCENES "layout_u16.gltf", 1.0f},
-                 {"checkerboard", 1.0f}, {"soft-shadows", 0.0f}};
+        st_env_default why;
+    } cases[] = {{"cornell-box", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {"soft-shadows", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {"furnace", 0.0f, ST_ENV_ENCLOSED},
+                 {"checkerboard", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "cutout.gltf", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "layout_u16.gltf", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "black_emitter.gltf", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "textured_quad.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "lamp_and_glow.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "lamp_over_glow.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {SCENES "punctual.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {SCENES "glow_box.gltf", 0.0f, ST_ENV_ENCLOSED},
+                 {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_scene *s = load_ok(cases[i].spec);
         near3(s->default_env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);
+        if (s->env_default != cases[i].why)
+            fail_msg("%s: default %d, want %d", cases[i].spec, s->env_default, cases[i].why);
         assert_int_equal(st_render_defaults().texture_filter, ST_TEXFILTER_TRILINEAR);
         st_scene_destroy(s);
     }
+    /* the powers behind lamp_and_glow's and lamp_over_glow's cases */
+    st_scene *s = load_ok(SCENES "lamp_and_glow.gltf");
+    near(s->emitted_power, 5.0 * 3.14159265358979, 1e-4, "lamp_and_glow: 4 pi glow + pi lamp");
+    st_scene_destroy(s);
+    s = load_ok(SCENES "lamp_over_glow.gltf");
+    near(s->emitted_power, 12.0 * 3.14159265358979, 1e-4, "lamp_over_glow: 4 pi glow + 8 pi lamp");
+    st_scene_destroy(s);
 }
 
 /* The built-in scenes load, and a bare name finds each. */
@@ -1173,7 +1200,7 @@ int main(void)
         cmocka_unit_test(materials_and_flat_normals_follow_the_file),
         cmocka_unit_test(texcoords_float_u8_u16_read_as_file_says),
         cmocka_unit_test(texture_references_follow_the_file),
-        cmocka_unit_test(environment_white_only_without_emission),
+        cmocka_unit_test(default_environment_follows_the_lights),
         cmocka_unit_test(builtin_scenes_load_by_name),
         cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),

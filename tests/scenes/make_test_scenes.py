@@ -97,6 +97,13 @@ tangent_ramp  the quad (u along +x, v along -y, as glTF's v runs down the
               (u along -x); tangent_ramp_given: tangent_ramp with the TANGENT
               (1, 0, 0, 1) that glTF's definition gives (bitangent
               w cross(n, t) = +y, towards -v).
+glow_box      sided_one's closed cube, its inside emitting radiance 1 (a dim
+              emitter: emissiveFactor 1, no strength), camera 0 at its centre;
+              glow_box_open: the same without its +z face.
+lamp_and_glow the quad emitting radiance 1 (power 4 pi: area 4) and, in front
+              of it, the quad scaled by 0.25 (area 0.25) as a lamp of
+              emissiveStrength 4 (power pi): the lamp carries less than half
+              of the power; lamp_over_glow: strength 32 (power 8 pi), more.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -791,6 +798,42 @@ def write_sided():
         write_json(name, g)
 
 
+def write_lighting_default():
+    with open(os.path.join(HERE, "sided_one.gltf"), encoding="ascii") as f:
+        g = json.load(f)
+    g["materials"] = [{"emissiveFactor": [1.0, 1.0, 1.0], "doubleSided": True,
+                       "pbrMetallicRoughness": {"metallicFactor": 0.0}}]
+    del g["extensionsUsed"]
+    write_json("glow_box.gltf", g)
+    b = Blob()
+    # the cube's +z face (axis 2, sign +1) is its fifth: indices 24..29 dropped
+    ind = [i for k, i in enumerate(struct.unpack_from("<36H", base64.b64decode(
+        g["buffers"][0]["uri"].split(",", 1)[1]), g["bufferViews"][1]["byteOffset"]))
+           if not 24 <= k < 30]
+    b.data = bytearray(base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1]))
+    b.views, b.accessors = g["bufferViews"], g["accessors"]
+    g["meshes"][0]["primitives"][0]["indices"] = b.accessor(
+        struct.pack("<30H", *ind), 5123, 30, "SCALAR")
+    g["bufferViews"], g["accessors"], g["buffers"] = b.views, b.accessors, b.buffers()
+    write_json("glow_box_open.gltf", g)
+    for name, strength in (("lamp_and_glow.gltf", 4.0), ("lamp_over_glow.gltf", 32.0)):
+        b = Blob()
+        p = b.quad(0.0)
+        p["material"] = 0
+        lamp = dict(p, material=1)
+        materials = [{"name": "glow", "emissiveFactor": [1.0, 1.0, 1.0]},
+                     {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0],
+                      "extensions": {"KHR_materials_emissive_strength":
+                                     {"emissiveStrength": strength}}}]
+        g = doc([{"primitives": [p]}, {"primitives": [lamp]}], b.accessors, b.views,
+                b.buffers(), nodes=[{"mesh": 0}, {"mesh": 1, "translation": [0.0, 0.0, 0.5],
+                                                  "scale": [0.25, 0.25, 1.0]},
+                                    ortho_camera_node()],
+                scenes=[{"nodes": [0, 1, 2]}], cameras=ORTHO, materials=materials,
+                extensionsUsed=["KHR_materials_emissive_strength"])
+        write_json(name, g)
+
+
 def write_quantized():
     pos = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0), (0, 0, 3)]
     nrm = [(0, -127, 0), (127, 0, 0), (0, 127, 0), (-128, 0, 0), (0, 0, 127)]  # -128: -1
@@ -1053,6 +1096,7 @@ def main():
     write_two_uv()
     write_two_uv_light()
     write_tangent_ramp()
+    write_lighting_default()
     write_shadows()
     write_shade_mix()
     write_quantized()
