@@ -896,6 +896,82 @@ static void make_scratch(char dir[64])
     assert_non_null(mkdtemp(dir));
 }
 
+/* ---- instancing, morph targets, skins -------------------------------------------- */
+
+/* Triangle t of s is (a, b, c), each to 1e-6, and its shading normals are n. */
+static void triangle_is(const st_scene *s, st_u32 t, const double want[3][3], const double n[3],
+                        const char *what)
+{
+    for (int v = 0; v < 3; v++) {
+        near3(s->positions + 9 * (size_t)t + 3 * v, want[v][0], want[v][1], want[v][2], 1e-6,
+              what);
+        near3(s->normals + 9 * (size_t)t + 3 * v, n[0], n[1], n[2], 1e-6, what);
+    }
+}
+
+/* EXT_mesh_gpu_instancing: world = node T(10, 0, 0) x instance T R S
+ * applied to (0, 0, 0), (1, 0, 0), (0, 1, 0): instance 0 only moves it;
+ * instance 1 turns it 90 degrees about +z ((x, y) -> (-y, x)) and moves it
+ * by (1, 0, 0); instance 2 doubles it and moves it by (0, 2, 0). A file
+ * whose instances come to more than ST_GLTF_MAX_TRIANGLES fails before
+ * anything is allocated for them. */
+static void gpu_instances_are_drawn_each(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "instancing.gltf");
+    assert_int_equal(s->tri_count, 3);
+    const double z[3] = {0, 0, 1};
+    const double i0[3][3] = {{10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    const double i1[3][3] = {{11, 0, 0}, {11, 1, 0}, {10, 0, 0}};
+    const double i2[3][3] = {{10, 2, 0}, {12, 2, 0}, {10, 4, 0}};
+    triangle_is(s, 0, i0, z, "instance 0");
+    triangle_is(s, 1, i1, z, "instance 1 (turned)");
+    triangle_is(s, 2, i2, z, "instance 2 (scaled)");
+    assert_int_equal(s->warning_count, 0);
+    st_scene_destroy(s);
+    load_fails(SCENES "instancing_huge.gltf", ST_ERR_FORMAT, "instancing_huge.gltf",
+               "65 instances of 1048576 triangles");
+}
+
+/* Morph targets at their default weights (§3.7.2.2): vertex 2 = (0, 1, 0)
+ * + 0.5 (0, 0, 1) + 0.25 (0, 1, 0) with the mesh's weights, (0, 1, 0) +
+ * (0, 0, 1) with node 1's own (1, 0) (and its translation); the normals
+ * (0, 0, 1) + w0 (1, 0, 0), made unit. */
+static void morph_targets_take_the_default_weights(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "morph.gltf");
+    assert_int_equal(s->tri_count, 2);
+    const double a[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1.25, 0.5}};
+    const double b[3][3] = {{5, 0, 0}, {6, 0, 0}, {5, 1, 1}};
+    const double na[3] = {0.5 / sqrt(1.25), 0, 1 / sqrt(1.25)}, nb[3] = {sqrt(0.5), 0, sqrt(0.5)};
+    triangle_is(s, 0, a, na, "mesh weights (0.5, 0.25)");
+    triangle_is(s, 1, b, nb, "node weights (1, 0)");
+    st_scene_destroy(s);
+}
+
+/* A skin in its rest pose (§3.7.3.3): vertex = sum_i w_i world(joint_i)
+ * x inverseBind_i x vertex, the skinned node's own transform ignored.
+ * Joint 0 is the identity; joint 1's matrix is T(0, 1, 0) R_z(90)
+ * T(0, -1, 0): v2 (0, 2, 0) -> (0, 1, 0) -> (-1, 0, 0) -> (-1, 1, 0); v3
+ * (0.5, 1, 0) goes to (0, 1.5, 0) by joint 1, stays by joint 0, so
+ * (0.25, 1.25, 0) half and half. The animation is named in the one
+ * warning. */
+static void skins_take_the_rest_pose(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "skin.gltf");
+    assert_int_equal(s->tri_count, 2);
+    const double z[3] = {0, 0, 1};
+    const double a[3][3] = {{0, 0, 0}, {1, 0, 0}, {0.25, 1.25, 0}};
+    const double b[3][3] = {{0, 0, 0}, {0.25, 1.25, 0}, {-1, 1, 0}};
+    triangle_is(s, 0, a, z, "v0 v1 v3");
+    triangle_is(s, 1, b, z, "v0 v3 v2");
+    assert_int_equal(s->warning_count, 1);
+    assert_true(has_warning(s, "1 animation not played: the rest pose is rendered"));
+    st_scene_destroy(s);
+}
+
 /* ---- tangents ------------------------------------------------------------------ */
 
 /* The shading normal a normal map's tangent-space normal m gives at vertex
@@ -1214,6 +1290,9 @@ int main(void)
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),
         cmocka_unit_test(generated_tangents_have_gltf_handedness),
+        cmocka_unit_test(gpu_instances_are_drawn_each),
+        cmocka_unit_test(morph_targets_take_the_default_weights),
+        cmocka_unit_test(skins_take_the_rest_pose),
         cmocka_unit_test(generated_tangents_agree_with_khronos_tangents),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);

@@ -104,6 +104,23 @@ lamp_and_glow the quad emitting radiance 1 (power 4 pi: area 4) and, in front
               of it, the quad scaled by 0.25 (area 0.25) as a lamp of
               emissiveStrength 4 (power pi): the lamp carries less than half
               of the power; lamp_over_glow: strength 32 (power 8 pi), more.
+instancing    the triangle (0, 0, 0), (1, 0, 0), (0, 1, 0) (normal +z) on a node at
+              (10, 0, 0) with EXT_mesh_gpu_instancing (required): three
+              instances, T (0, 0, 0), R identity, S 1; T (1, 0, 0), R 90
+              degrees about +z, S 1; T (0, 2, 0), R identity, S 2.
+              instancing_huge: 2^20 triangles (a sparse POSITION accessor over
+              zeros) in 65 instances: more than 2^26, the triangle cap.
+morph         that triangle with two morph targets moving vertex 2 by
+              (0, 0, 1) and by (0, 1, 0) (target 0 also turns every normal by
+              (1, 0, 0)), mesh weights (0.5, 0.25); node 0 draws it with the
+              mesh's weights, node 1, at (5, 0, 0), with its own (1, 0).
+skin          a four-vertex fan, v0 (0, 0, 0) and v1 (1, 0, 0) on joint 0, v2
+              (0, 2, 0) on joint 1, v3 (0.5, 1, 0) half on each, skinned by
+              joint 0 (the root, identity) and joint 1 (its child, at (0, 1, 0),
+              turned 90 degrees about +z in its default transform; bound
+              unturned: inverseBindMatrices identity and T(0, -1, 0)); the
+              mesh's node (at (100, 0, 0), a child of joint 1: its transform
+              must be ignored) and one animation (not played).
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -834,6 +851,76 @@ def write_lighting_default():
         write_json(name, g)
 
 
+TRIANGLE = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+Z_ROT_90 = [0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5)]  # (x, y, z, w)
+
+
+def triangle_prim(b):
+    return {"attributes": {"POSITION": b.accessor(f32(TRIANGLE), 5126, 3, "VEC3",
+                                                  min=[0.0] * 3, max=[1.0, 1.0, 0.0]),
+                           "NORMAL": b.accessor(f32([0.0, 0.0, 1.0] * 3), 5126, 3, "VEC3")}}
+
+
+def write_structure():
+    ext = ["EXT_mesh_gpu_instancing"]
+    b = Blob()
+    p = triangle_prim(b)
+    attrs = {"TRANSLATION": b.accessor(f32([0, 0, 0, 1, 0, 0, 0, 2, 0]), 5126, 3, "VEC3"),
+             "ROTATION": b.accessor(f32([0, 0, 0, 1] + Z_ROT_90 + [0, 0, 0, 1]), 5126, 3, "VEC4"),
+             "SCALE": b.accessor(f32([1, 1, 1, 1, 1, 1, 2, 2, 2]), 5126, 3, "VEC3")}
+    node = {"mesh": 0, "translation": [10.0, 0.0, 0.0],
+            "extensions": {"EXT_mesh_gpu_instancing": {"attributes": attrs}}}
+    write_json("instancing.gltf", doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                                      nodes=[node], extensionsUsed=ext, extensionsRequired=ext))
+    b = Blob()
+    b.accessors.append({"componentType": 5126, "count": 3 << 20, "type": "VEC3",
+                        "sparse": {"count": 1, "indices": {"bufferView": b.view(struct.pack("<I", 0)),
+                                                           "componentType": 5125},
+                                   "values": {"bufferView": b.view(f32([0.0] * 3))}}})
+    p = {"attributes": {"POSITION": 0}}
+    attrs = {"TRANSLATION": b.accessor(f32([0.0] * 3 * 65), 5126, 65, "VEC3")}
+    node = {"mesh": 0, "extensions": {"EXT_mesh_gpu_instancing": {"attributes": attrs}}}
+    write_json("instancing_huge.gltf", doc([{"primitives": [p]}], b.accessors, b.views,
+                                           b.buffers(), nodes=[node], extensionsUsed=ext,
+                                           extensionsRequired=ext))
+    b = Blob()
+    p = triangle_prim(b)
+    p["targets"] = [{"POSITION": b.accessor(f32([0, 0, 0, 0, 0, 0, 0, 0, 1]), 5126, 3, "VEC3",
+                                            min=[0.0] * 3, max=[0.0, 0.0, 1.0]),
+                     "NORMAL": b.accessor(f32([1, 0, 0] * 3), 5126, 3, "VEC3")},
+                    {"POSITION": b.accessor(f32([0, 0, 0, 0, 0, 0, 0, 1, 0]), 5126, 3, "VEC3",
+                                            min=[0.0] * 3, max=[0.0, 1.0, 0.0])}]
+    write_json("morph.gltf", doc([{"primitives": [p], "weights": [0.5, 0.25]}], b.accessors,
+                                 b.views, b.buffers(),
+                                 nodes=[{"mesh": 0},
+                                        {"mesh": 0, "translation": [5.0, 0.0, 0.0],
+                                         "weights": [1.0, 0.0]}],
+                                 scenes=[{"nodes": [0, 1]}]))
+    b = Blob()
+    pos = [0, 0, 0, 1, 0, 0, 0, 2, 0, 0.5, 1, 0]
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, 4, "VEC3", min=[0.0] * 3,
+                                               max=[1.0, 2.0, 0.0]),
+                        "NORMAL": b.accessor(f32([0.0, 0.0, 1.0] * 4), 5126, 4, "VEC3"),
+                        "JOINTS_0": b.accessor(bytes([0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0,
+                                                      0, 1, 0, 0]), 5121, 4, "VEC4"),
+                        "WEIGHTS_0": b.accessor(f32([1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0,
+                                                     0.5, 0.5, 0, 0]), 5126, 4, "VEC4")},
+         "indices": b.accessor(struct.pack("<6H", 0, 1, 3, 0, 3, 2), 5123, 6, "SCALAR")}
+    ibm = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,
+           1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1]  # column-major: T(0, -1, 0)
+    skins = [{"joints": [0, 1], "inverseBindMatrices": b.accessor(f32(ibm), 5126, 2, "MAT4")}]
+    times = b.accessor(f32([0.0, 1.0]), 5126, 2, "SCALAR", min=[0.0], max=[1.0])
+    turns = b.accessor(f32(Z_ROT_90 + [0, 0, 0, 1]), 5126, 2, "VEC4")
+    animations = [{"channels": [{"sampler": 0, "target": {"node": 1, "path": "rotation"}}],
+                   "samplers": [{"input": times, "output": turns}]}]
+    nodes = [{"name": "joint 0", "children": [1]},
+             {"name": "joint 1", "translation": [0.0, 1.0, 0.0], "rotation": Z_ROT_90,
+              "children": [2]},
+             {"name": "skinned", "mesh": 0, "skin": 0, "translation": [100.0, 0.0, 0.0]}]
+    write_json("skin.gltf", doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                                nodes=nodes, skins=skins, animations=animations))
+
+
 def write_quantized():
     pos = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0), (0, 0, 3)]
     nrm = [(0, -127, 0), (127, 0, 0), (0, 127, 0), (-128, 0, 0), (0, 0, 127)]  # -128: -1
@@ -1097,6 +1184,7 @@ def main():
     write_two_uv_light()
     write_tangent_ramp()
     write_lighting_default()
+    write_structure()
     write_shadows()
     write_shade_mix()
     write_quantized()
