@@ -235,7 +235,7 @@ void check_glb(const unsigned char *b, size_t size)
 const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
     "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
-    "KHR_lights_punctual", "EXT_mesh_gpu_instancing"};
+    "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness"};
 
 bool supported(const char *ext)
 {
@@ -1567,9 +1567,13 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
 
 /* ---- textures ----------------------------------------------------------------- */
 
-/* Texture references of the materials, made unique. */
+/* Texture references of the materials, made unique; and the images made
+ * here rather than read (image index m.images.size() + k): roughness maps
+ * derived from a KHR_materials_pbrSpecularGlossiness texture's alpha
+ * (source image, glossinessFactor). */
 struct texture_table {
     std::vector<st_gltf_texture> refs;
+    std::vector<std::pair<int, float>> derived;
 };
 
 /* A number of a JSON extension object, `fallback` when absent. */
@@ -1812,6 +1816,101 @@ void read_specular_ior_unlit(const Model &m, size_t i, texture_table &table, not
         fail("material %zu: KHR_materials_ior: ior %g is neither 0 nor >= 1", i, double(o.ior));
 }
 
+/* Three or four numbers of a JSON array `key` of obj into out; out unchanged
+ * when absent. */
+void ext_numbers(const tinygltf::Value &obj, const char *key, int n, float *out, const char *what)
+{
+    if (!obj.IsObject() || !obj.Has(key))
+        return;
+    const tinygltf::Value &v = obj.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != size_t(n))
+        fail("%s: %s must be an array of %d numbers", what, key, n);
+    for (int k = 0; k < n; k++) {
+        if (!v.Get(k).IsNumber())
+            fail("%s: %s must be an array of %d numbers", what, key, n);
+        out[k] = float(v.Get(k).GetNumberAsDouble());
+    }
+}
+
+/* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
+ * Khronos' glTF-Transform converts it (its metalRough function): a
+ * dielectric (metallic 0) whose base colour is the diffuse colour, whose
+ * F0 is the specular colour itself (KHR_materials_specular's
+ * specularColorFactor and texture, the RGB of specularGlossinessTexture,
+ * with an ior that makes the dielectric F0 1: strata takes ior 0 as that
+ * limit) and whose roughness is 1 - glossiness. With a
+ * specularGlossinessTexture the roughness map is made from its alpha: G =
+ * 255 (1 - glossinessFactor x A / 255), roughness factor 1. Defaults (the
+ * extension's README): diffuse 1, specular 1, glossiness 1. */
+void read_spec_gloss(const Model &m, size_t i, texture_table &table, notes &warn,
+                     st_gltf_material &o)
+{
+    auto ext = m.materials[i].extensions.find("KHR_materials_pbrSpecularGlossiness");
+    if (ext == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = ext->second;
+    char what[80];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_pbrSpecularGlossiness", i);
+    float diffuse[4] = {1, 1, 1, 1}, spec[3] = {1, 1, 1};
+    ext_numbers(v, "diffuseFactor", 4, diffuse, what);
+    ext_numbers(v, "specularFactor", 3, spec, what);
+    const float gloss = float(ext_number(v, "glossinessFactor", 1.0, what));
+    for (float f : {diffuse[0], diffuse[1], diffuse[2], diffuse[3], spec[0], spec[1], spec[2]})
+        if (!std::isfinite(f) || f < 0.0f)
+            fail("%s: factors must be finite and >= 0", what);
+    if (!(gloss >= 0.0f && gloss <= 1.0f))
+        fail("%s: glossinessFactor %g is not in [0, 1]", what, double(gloss));
+    memcpy(o.base_color, diffuse, sizeof diffuse);
+    memcpy(o.specular, spec, sizeof spec);
+    o.specular[3] = 1.0f;
+    o.ior = 0.0f;
+    o.metallic = 0.0f;
+    o.roughness = 1.0f - gloss;
+    o.specular_tex = -1;
+    o.base_color_tex = texture_ref(m, ext_texture_info(v, "diffuseTexture", what), true, i,
+                                   "diffuseTexture", table, warn);
+    const tinygltf::TextureInfo sg = ext_texture_info(v, "specularGlossinessTexture", what);
+    o.specular_color_tex = texture_ref(m, sg, true, i, "specularGlossinessTexture", table, warn);
+    o.metallic_roughness_tex = -1;
+    if (o.specular_color_tex < 0)
+        return;
+    st_gltf_texture rough = table.refs[size_t(o.specular_color_tex)];
+    const int source = rough.image;
+    size_t k = 0;
+    while (k < table.derived.size() &&
+           (table.derived[k].first != source || table.derived[k].second != gloss))
+        k++;
+    if (k == table.derived.size())
+        table.derived.push_back({source, gloss});
+    rough.image = int(m.images.size() + k);
+    rough.srgb = 0;
+    o.roughness = 1.0f;
+    size_t r = 0;
+    while (r < table.refs.size() && memcmp(&table.refs[r], &rough, sizeof rough) != 0)
+        r++;
+    if (r == table.refs.size())
+        table.refs.push_back(rough);
+    o.metallic_roughness_tex = int(r);
+}
+
+/* A roughness map made from a specular-glossiness image (read_spec_gloss):
+ * R 255, G = 255 (1 - gloss x A / 255) rounded, B 0 (metallic), A 255. */
+st_gltf_image roughness_from_gloss(const st_gltf_image &src, float gloss)
+{
+    const size_t n = size_t(src.width) * src.height;
+    unsigned char *rgba = static_cast<unsigned char *>(malloc(4 * n)); /* stbi_image_free frees */
+    if (!rgba)
+        throw std::bad_alloc();
+    for (size_t t = 0; t < n; t++) {
+        const double g = 255.0 * (1.0 - double(gloss) * src.rgba[4 * t + 3] / 255.0);
+        rgba[4 * t] = 255;
+        rgba[4 * t + 1] = static_cast<unsigned char>(std::lround(std::min(255.0, std::max(0.0, g))));
+        rgba[4 * t + 2] = 0;
+        rgba[4 * t + 3] = 255;
+    }
+    return {src.width, src.height, rgba};
+}
+
 /* A material's factors (§3.9.2, §3.9.3 defaults: base colour 1, metallic 1,
  * roughness 1, emission 0, alphaCutoff 0.5; emission x
  * KHR_materials_emissive_strength's emissiveStrength, 1 when absent) and its
@@ -1870,6 +1969,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.normal_scale = float(mat.normalTexture.scale);
     if (!std::isfinite(o.normal_scale))
         fail("material %zu: normalTexture.scale is not finite", i);
+    read_spec_gloss(m, i, table, warn, o);
     return o;
 }
 
@@ -2012,13 +2112,17 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     out.materials = copy_out(mats);
     out.texture_count = table.refs.size();
     out.textures = copy_out(table.refs);
-    out.image_count = m.images.size();
+    out.image_count = m.images.size() + table.derived.size();
     out.images = alloc_array<st_gltf_image>(out.image_count, 1);
     if (out.images)
         memset(out.images, 0, out.image_count * sizeof *out.images);
     for (const st_gltf_texture &t : table.refs)
-        if (!out.images[size_t(t.image)].rgba)
+        if (size_t(t.image) < m.images.size() && !out.images[size_t(t.image)].rgba)
             out.images[size_t(t.image)] = decode_or_white(m, t.image, bytes, warn);
+    for (size_t k = 0; k < table.derived.size(); k++) { /* their sources are decoded above */
+        const st_gltf_image &src = out.images[size_t(table.derived[k].first)];
+        out.images[m.images.size() + k] = roughness_from_gloss(src, table.derived[k].second);
+    }
     out.camera_count = cams.size();
     out.cameras = copy_out(cams);
     out.light_count = lights.size();

@@ -972,6 +972,48 @@ static void skins_take_the_rest_pose(void **state)
     st_scene_destroy(s);
 }
 
+/* KHR_materials_pbrSpecularGlossiness (required) as metallic-roughness, as
+ * glTF-Transform's metalRough converts it: metallic 0, base colour =
+ * diffuse, KHR_materials_specular's colour = the specular colour with
+ * factor 1 and an ior whose dielectric F0 is 1 (strata's 0), roughness =
+ * 1 - glossiness; with a specularGlossinessTexture, it is the specular
+ * colour texture and a linear roughness map G = 255 (1 - 0.5 A / 255) is
+ * made from its alpha: A 64 -> 223, A 255 -> 127.5, rounded to 128. */
+static void spec_gloss_becomes_metallic_roughness(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "specgloss.gltf");
+    assert_int_equal(s->warning_count, 0);
+    const st_material *a = &s->materials[0], *b = &s->materials[1];
+    near3(a->base_color, 0.5, 0.25, 1.0, 0, "diffuseFactor");
+    near(a->base_color[3], 1.0, 0, "diffuse alpha");
+    near3(a->specular, 0.2, 0.3, 0.4, 1e-7, "specularFactor");
+    near(a->specular[3], 1.0, 0, "specular weight");
+    near(a->ior, 0.0, 0, "ior: F0 = specular colour");
+    near(a->metallic, 0.0, 0, "metallic");
+    near(a->roughness, 0.25, 1e-7, "roughness = 1 - glossiness");
+    assert_int_equal(a->metallic_roughness_tex, ST_NO_TEXTURE);
+    assert_int_equal(a->specular_color_tex, ST_NO_TEXTURE);
+    near3(b->base_color, 1.0, 1.0, 1.0, 0, "default diffuse");
+    near(b->roughness, 1.0, 0, "roughness factor with a map");
+    near(b->metallic, 0.0, 0, "metallic");
+    assert_int_not_equal(b->base_color_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(b->specular_color_tex, ST_NO_TEXTURE);
+    const st_texture *spec = &s->textures[b->specular_color_tex];
+    assert_true(spec->width == 2 && spec->height == 1 && (spec->flags & ST_TEX_SRGB));
+    assert_int_not_equal(b->metallic_roughness_tex, ST_NO_TEXTURE);
+    const st_texture *rough = &s->textures[b->metallic_roughness_tex];
+    assert_true(rough->width == 2 && rough->height == 1 && !(rough->flags & ST_TEX_SRGB));
+    const st_u32 want[2] = {223, 128};
+    for (int x = 0; x < 2; x++) {
+        st_u32 t = s->texels[rough->offset + (st_u32)x];
+        assert_int_equal(t & 255u, 255);        /* R unused */
+        assert_int_equal(t >> 8 & 255u, want[x]); /* G: roughness */
+        assert_int_equal(t >> 16 & 255u, 0);      /* B: metallic */
+    }
+    st_scene_destroy(s);
+}
+
 /* ---- tangents ------------------------------------------------------------------ */
 
 /* The shading normal a normal map's tangent-space normal m gives at vertex
@@ -1293,6 +1335,7 @@ int main(void)
         cmocka_unit_test(gpu_instances_are_drawn_each),
         cmocka_unit_test(morph_targets_take_the_default_weights),
         cmocka_unit_test(skins_take_the_rest_pose),
+        cmocka_unit_test(spec_gloss_becomes_metallic_roughness),
         cmocka_unit_test(generated_tangents_agree_with_khronos_tangents),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);

@@ -121,6 +121,11 @@ skin          a four-vertex fan, v0 (0, 0, 0) and v1 (1, 0, 0) on joint 0, v2
               unturned: inverseBindMatrices identity and T(0, -1, 0)); the
               mesh's node (at (100, 0, 0), a child of joint 1: its transform
               must be ignored) and one animation (not played).
+specgloss     the quad with KHR_materials_pbrSpecularGlossiness (required) in two
+              materials on two primitives: factors only (diffuse (0.5, 0.25, 1,
+              1), specular (0.2, 0.3, 0.4), glossiness 0.75), and glossiness 0.5
+              with a 2 x 1 RGBA specularGlossinessTexture (RGB (10, 20, 30) A
+              64 | RGB (200, 100, 50) A 255) and a diffuseTexture.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -921,6 +926,24 @@ def write_structure():
                                 nodes=nodes, skins=skins, animations=animations))
 
 
+def write_specgloss():
+    ext = ["KHR_materials_pbrSpecularGlossiness"]
+    b = Blob()
+    p0, p1 = b.quad(0.0, QUAD_UV), b.quad(1.0, QUAD_UV)
+    p0["material"], p1["material"] = 0, 1
+    sg = png(2, 1, 4, [[10, 20, 30, 64, 200, 100, 50, 255]])
+    materials = [{"name": "factors", "extensions": {ext[0]: {
+                      "diffuseFactor": [0.5, 0.25, 1.0, 1.0], "specularFactor": [0.2, 0.3, 0.4],
+                      "glossinessFactor": 0.75}}},
+                 {"name": "textured", "extensions": {ext[0]: {
+                      "glossinessFactor": 0.5, "specularGlossinessTexture": {"index": 0},
+                      "diffuseTexture": {"index": 1}}}}]
+    g = doc([{"primitives": [p0, p1]}], b.accessors, b.views, b.buffers(), materials=materials,
+            images=[{"uri": png_uri(sg)}, {"uri": png_uri(constant_png((90, 90, 90)))}],
+            textures=[{"source": 0}, {"source": 1}], extensionsUsed=ext, extensionsRequired=ext)
+    write_json("specgloss.gltf", g)
+
+
 def write_quantized():
     pos = [(-2, -2, 0), (2, -2, 0), (2, 2, 0), (-2, 2, 0), (0, 0, 3)]
     nrm = [(0, -127, 0), (127, 0, 0), (0, 127, 0), (-128, 0, 0), (0, 0, 127)]  # -128: -1
@@ -1185,6 +1208,7 @@ def main():
     write_tangent_ramp()
     write_lighting_default()
     write_structure()
+    write_specgloss()
     write_shadows()
     write_shade_mix()
     write_quantized()
