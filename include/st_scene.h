@@ -12,8 +12,12 @@
  * colour, emissive (with KHR_materials_emissive_strength) and
  * metallic-roughness factors and textures (with KHR_texture_transform),
  * alphaMode and alphaCutoff; images decoded by stb_image (PNG, JPEG, ...).
+ * KHR_materials_pbrSpecularGlossiness is converted to metallic-roughness.
  * Cameras: every perspective or orthographic camera node. Lights: every
- * KHR_lights_punctual light of a node (point, spot, directional).
+ * KHR_lights_punctual light of a node (point, spot, directional). The rest
+ * pose: skins posed by their joints' default transforms, morph targets at
+ * their default weights, EXT_mesh_gpu_instancing instances flattened into
+ * the triangle arrays (animations are not played: a warning).
  *
  * Invariants of a loaded scene: tri_count >= 1; every triangle is finite and
  * has non-zero area (the others are dropped and counted in `dropped`); shading

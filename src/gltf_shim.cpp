@@ -5,8 +5,11 @@
  * §3.5 nodes and the TRS/matrix transform hierarchy, §3.6 buffers, bufferViews
  * and accessors, §3.7.2 mesh primitives, §3.8 textures, images and samplers,
  * §3.9 materials, §3.10 cameras, §4.4 the GLB container; and the extensions
+ * §3.7.2.2 morph targets, §3.7.3 skins, and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
- * KHR_materials_unlit, KHR_texture_transform and KHR_mesh_quantization.
+ * KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness (converted),
+ * KHR_texture_transform, KHR_mesh_quantization, KHR_lights_punctual and
+ * EXT_mesh_gpu_instancing.
  *
  * Invariants: no byte of a buffer is read before the accessor and bufferView
  * ranges that cover it were checked against the buffer's real size, and no
@@ -17,7 +20,10 @@
  *
  * Flattening: every node reachable from the scene's roots contributes its
  * mesh's TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, transformed by the node's world matrix
- * (parent * local, local = T * R * S or the node's matrix). Normals go through
+ * (parent * local, local = T * R * S or the node's matrix; once per
+ * EXT_mesh_gpu_instancing instance, times its T R S), morphed first by the
+ * default weights; a skinned mesh by each vertex's blend of joint matrices
+ * instead. Normals go through
  * the inverse transpose; where the determinant is negative the winding is
  * reversed (v1 <-> v2), as the spec asks of mirrored nodes (§3.7.2.1).
  *
