@@ -1267,6 +1267,8 @@ void add_mesh_instances(const Model &m, int node, const mat4 &world, std::vector
         any = true;
         read_attribute(m, a, names[k], k == 1 ? 4 : 3, count, trs[k]);
     }
+    if (!any)
+        fail("node %d: EXT_mesh_gpu_instancing has no TRANSLATION, ROTATION or SCALE", node);
     const size_t each = mesh_bound(m, n.mesh);
     if (each > 0 && count > (ST_GLTF_MAX_TRIANGLES - instanced) / each)
         fail("node %d: EXT_mesh_gpu_instancing: %zu instances of %zu triangles: more than %u "
@@ -1362,26 +1364,37 @@ std::vector<int> node_parents(const Model &m)
     return parent;
 }
 
-/* A node's world matrix by its chain of parents (a joint need not lie
- * under the scene's roots the way the skinned mesh does). */
-mat4 node_world(const Model &m, const std::vector<int> &parent, int node)
+/* World matrices of the nodes skins name, by their chains of parents (a
+ * joint need not lie under the scene's roots the way the skinned mesh
+ * does), each node's computed once. */
+struct node_worlds {
+    std::vector<int> parent;
+    std::vector<mat4> world;
+    std::vector<char> known;
+};
+
+mat4 node_world(const Model &m, node_worlds &w, int node)
 {
-    std::vector<int> chain;
-    for (int n = node; n != -1; n = parent[size_t(n)]) {
+    std::vector<int> chain; /* from node up to the first known ancestor or a root */
+    int n = node;
+    for (; n != -1 && !w.known[size_t(n)]; n = w.parent[size_t(n)]) {
         if (chain.size() > m.nodes.size())
             fail("node %d: its ancestors form a cycle", node);
         chain.push_back(n);
     }
-    mat4 w = identity();
-    for (size_t i = chain.size(); i-- > 0;)
-        w = mul(w, node_local(m.nodes[size_t(chain[i])], chain[i]));
-    return w;
+    mat4 acc = n == -1 ? identity() : w.world[size_t(n)];
+    for (size_t i = chain.size(); i-- > 0;) {
+        acc = mul(acc, node_local(m.nodes[size_t(chain[i])], chain[i]));
+        w.world[size_t(chain[i])] = acc;
+        w.known[size_t(chain[i])] = 1;
+    }
+    return w.world[size_t(node)];
 }
 
 /* The joint matrices of skin k (§3.7.3.3): world(joint_i) x
  * inverseBindMatrices_i (float MAT4s, one per joint; identity without the
  * accessor). */
-std::vector<mat4> joint_matrices(const Model &m, int k, const std::vector<int> &parent)
+std::vector<mat4> joint_matrices(const Model &m, int k, node_worlds &worlds)
 {
     const tinygltf::Skin &skin = m.skins[size_t(k)];
     if (skin.joints.empty())
@@ -1407,7 +1420,7 @@ std::vector<mat4> joint_matrices(const Model &m, int k, const std::vector<int> &
             if (!std::isfinite(inv.m[e]))
                 fail("skin %d: inverseBindMatrices %zu is not finite", k, j);
         }
-        out.push_back(mul(node_world(m, parent, skin.joints[j]), inv));
+        out.push_back(mul(node_world(m, worlds, skin.joints[j]), inv));
     }
     return out;
 }
@@ -2094,16 +2107,19 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     sink s = {out.positions, out.normals, out.uvs, out.tangents, out.colors, out.uvs1,
               out.tri_material, 0, 0};
     scratch tmp;
-    const std::vector<int> parent = m.skins.empty() ? std::vector<int>() : node_parents(m);
-    std::vector<mat4> joints;
+    node_worlds worlds;
+    if (!m.skins.empty())
+        worlds = {node_parents(m), std::vector<mat4>(m.nodes.size()),
+                  std::vector<char>(m.nodes.size(), 0)};
+    std::vector<std::vector<mat4>> joints(m.skins.size()); /* per skin, made once */
     for (const instance &in : inst) {
         const normal_xform nx = normal_matrix(in.world);
         const std::vector<double> weights = morph_weights(m, in.node, in.mesh);
-        if (in.skin >= 0)
-            joints = joint_matrices(m, in.skin, parent);
+        if (in.skin >= 0 && joints[size_t(in.skin)].empty())
+            joints[size_t(in.skin)] = joint_matrices(m, in.skin, worlds);
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            emit_primitive(m, in.mesh, p, in.world, nx, weights, in.skin >= 0 ? &joints : nullptr,
-                           use, tmp, s);
+            emit_primitive(m, in.mesh, p, in.world, nx, weights,
+                           in.skin >= 0 ? &joints[size_t(in.skin)] : nullptr, use, tmp, s);
     }
     out.tri_count = s.count;
     out.dropped = s.dropped;
