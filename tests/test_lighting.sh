@@ -31,6 +31,10 @@ check "a scene whose emitters are dim: one note, the white environment, --env 0 
 rmse=$(mean_of "$T/d.exr" "$T/d0.exr")
 check "and the environment lights it (against --env 0)" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
 
+"$S" render furnace $R -o "$T/f.exr" 2> "$T/err6"
+check "a camera inside a closed model: one note, no environment, --env 1 to add one" \
+    "[ \$(wc -l < '$T/err6') -eq 1 ] && grep -q '^strata: note: furnace: the camera is inside a closed model; no environment (--env 1 for a white one)' '$T/err6'"
+
 "$S" render tests/scenes/black_emitter.gltf $R --env 0.5 -o "$T/e.exr" 2> "$T/err3"
 check "an --env given is no note" "! grep -q 'note:\|warning:' '$T/err3'"
 "$S" render tests/scenes/punctual.gltf $R -o "$T/p.exr" 2> "$T/err4"
