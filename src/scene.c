@@ -511,9 +511,12 @@ static void texture_mean(const st_scene *s, st_u32 t, float mean[3])
 
 /* Where ray o + t d (t > 0) first meets triangle t of s, or INFINITY
  * (Möller and Trumbore, "Fast, minimum storage ray-triangle intersection",
- * JGT 1997), in double. */
+ * JGT 1997), in double. A triangle whose material is not doubleSided is met
+ * from its front only (determinant a > 0: the ray against (v1 - v0) x
+ * (v2 - v0)), as the renderer's rays meet it. */
 static double ray_triangle(const st_scene *s, st_u32 t, const double o[3], const double d[3])
 {
+    int two_sided = (s->materials[s->tri_material[t]].flags & ST_MAT_DOUBLE_SIDED) != 0;
     const float *p = s->positions + 9 * (size_t)t;
     double e1[3], e2[3], q[3], h[3], r[3];
     for (int k = 0; k < 3; k++) {
@@ -525,7 +528,7 @@ static double ray_triangle(const st_scene *s, st_u32 t, const double o[3], const
     h[1] = d[2] * e2[0] - d[0] * e2[2];
     h[2] = d[0] * e2[1] - d[1] * e2[0];
     double a = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-    if (a == 0.0)
+    if (a == 0.0 || (!two_sided && a < 0.0))
         return INFINITY;
     double u = (r[0] * h[0] + r[1] * h[1] + r[2] * h[2]) / a;
     if (u < 0.0 || u > 1.0)

@@ -609,7 +609,8 @@ static void texture_references_follow_the_file(void **state)
  * black) or where most of the power comes from emitters no brighter than
  * white (textured_quad's emission 0.5 x a dark texture; lamp_and_glow's
  * lamp carries pi of 5 pi; glow_box_open, whose missing face lets the
- * camera out); none where lamps or punctual lights carry at least half
+ * camera out, and glow_box_one_sided, whose walls it sees through from
+ * inside); none where lamps or punctual lights carry at least half
  * (the Cornell box and soft-shadows, strengths 17 and 8; lamp_over_glow,
  * 8 pi of 12 pi; punctual) or where the camera sits inside a closed model
  * (furnace, glow_box). */
@@ -632,7 +633,8 @@ static void default_environment_follows_the_lights(void **state)
                  {SCENES "lamp_over_glow.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
                  {SCENES "punctual.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
                  {SCENES "glow_box.gltf", 0.0f, ST_ENV_ENCLOSED},
-                 {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS}};
+                 {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_scene *s = load_ok(cases[i].spec);
         near3(s->default_env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);

@@ -97,9 +97,11 @@ tangent_ramp  the quad (u along +x, v along -y, as glTF's v runs down the
               (u along -x); tangent_ramp_given: tangent_ramp with the TANGENT
               (1, 0, 0, 1) that glTF's definition gives (bitangent
               w cross(n, t) = +y, towards -v).
-glow_box      sided_one's closed cube, its inside emitting radiance 1 (a dim
-              emitter: emissiveFactor 1, no strength), camera 0 at its centre;
-              glow_box_open: the same without its +z face.
+glow_box      sided_one's closed cube, double-sided, its inside emitting
+              radiance 1 (a dim emitter: emissiveFactor 1, no strength), camera 0
+              at its centre; glow_box_open: the same without its +z face;
+              glow_box_one_sided: one-sided, so the camera inside sees through
+              the backs of its outward-facing walls.
 lamp_and_glow the quad emitting radiance 1 (power 4 pi: area 4) and, in front
               of it, the quad scaled by 0.25 (area 0.25) as a lamp of
               emissiveStrength 4 (power pi): the lamp carries less than half
@@ -827,6 +829,9 @@ def write_lighting_default():
                        "pbrMetallicRoughness": {"metallicFactor": 0.0}}]
     del g["extensionsUsed"]
     write_json("glow_box.gltf", g)
+    g["materials"][0]["doubleSided"] = False
+    write_json("glow_box_one_sided.gltf", g)
+    g["materials"][0]["doubleSided"] = True
     b = Blob()
     # the cube's +z face (axis 2, sign +1) is its fifth: indices 24..29 dropped
     ind = [i for k, i in enumerate(struct.unpack_from("<36H", base64.b64decode(
