@@ -12,8 +12,12 @@
  * colour, emissive (with KHR_materials_emissive_strength) and
  * metallic-roughness factors and textures (with KHR_texture_transform),
  * alphaMode and alphaCutoff; images decoded by stb_image (PNG, JPEG, ...).
+ * KHR_materials_pbrSpecularGlossiness is converted to metallic-roughness.
  * Cameras: every perspective or orthographic camera node. Lights: every
- * KHR_lights_punctual light of a node (point, spot, directional).
+ * KHR_lights_punctual light of a node (point, spot, directional). The rest
+ * pose: skins posed by their joints' default transforms, morph targets at
+ * their default weights, EXT_mesh_gpu_instancing instances flattened into
+ * the triangle arrays (animations are not played: a warning).
  *
  * Invariants of a loaded scene: tri_count >= 1; every triangle is finite and
  * has non-zero area (the others are dropped and counted in `dropped`); shading
@@ -47,6 +51,14 @@ typedef struct st_scene_camera {
     int orthographic;   /* 1: orthographic projection; 0: perspective */
     int from_file;      /* 1: a glTF camera node; 0: default framing */
 } st_scene_camera;
+
+/* Why a scene's default environment is on or off (st_scene.default_env). */
+typedef enum st_env_default {
+    ST_ENV_NOTHING_EMITS, /* on: nothing in the scene emits */
+    ST_ENV_DIM_EMITTERS,  /* on: its emitters are no brighter than white */
+    ST_ENV_OWN_LIGHTS,    /* off: lamps and punctual lights carry most of the power */
+    ST_ENV_ENCLOSED       /* off: the default camera sits inside a closed model */
+} st_env_default;
 
 /* A loaded scene; owns every array (st_scene_destroy frees them).
  * materials[i]: base_color = baseColorFactor (RGB, [3] = its alpha);
@@ -85,9 +97,14 @@ typedef struct st_scene {
      * holds alone. */
     double emitted_power, punctual_power;
     /* Uniform environment radiance (linear RGB) of a render that asks for
-     * none (st_render_options.env): (1, 1, 1) when nothing emits
-     * (emitted_power 0, so that any model renders visibly), else 0. */
+     * none (st_render_options.env): (1, 1, 1) or 0, as env_default says
+     * why: on when nothing emits, or when the emitters are dim (emissive
+     * factor x strength at most 1 in every channel: a screen, a label)
+     * and carry more than half of the power; off when lamps (brighter
+     * emitters) and punctual lights carry at least half of it, or when
+     * the default camera sits inside a closed model. */
     float default_env[3];
+    st_env_default env_default;
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;
     char name[256];        /* the file path, or the built-in name */

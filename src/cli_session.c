@@ -66,12 +66,20 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
     float env[3];
     st_render_env(scene, o, env);
     int has_env = env[0] > 0.0f || env[1] > 0.0f || env[2] > 0.0f;
-    if (scene->emitted_power > 0.0)
-        return;
+    static const char *const why[] = {
+        [ST_ENV_NOTHING_EMITS] = "nothing in the scene emits light; it is lit by the white "
+                                 "environment (--env to change)",
+        [ST_ENV_DIM_EMITTERS] = "most of the light it emits comes from surfaces no brighter "
+                                "than white; it is lit by the white environment as well "
+                                "(--env 0 to turn it off)",
+        [ST_ENV_OWN_LIGHTS] = "lit by its own lights alone, no environment (--env 1 for a "
+                              "white one)",
+        [ST_ENV_ENCLOSED] = "the camera is inside a closed model; no environment (--env 1 for "
+                            "a white one)",
+    };
     if (!o->env_given)
-        fprintf(stderr, "strata: note: %s: nothing in the scene emits light; it is lit by the "
-                        "white environment (--env to change)\n", scene->name);
-    else if (!has_env)
+        fprintf(stderr, "strata: note: %s: %s\n", scene->name, why[scene->env_default]);
+    else if (!has_env && scene->emitted_power <= 0.0)
         fprintf(stderr, "strata: warning: %s: no light at all (nothing emits and --env is 0): "
                         "the image will be black\n", scene->name);
 }

@@ -25,9 +25,9 @@ typedef struct st_cli_session {
 
 st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err);
 void st_cli_session_close(st_cli_session *s);
-/* The lighting default, said: a `strata: note:` when nothing in the scene
- * emits and the white environment lights it, a `strata: warning:` when
- * nothing lights the render at all. */
+/* The lighting default, said: one `strata: note:` naming the default a
+ * render without --env takes (st_scene.env_default) and the option that
+ * changes it; a `strata: warning:` when nothing lights the render at all. */
 void st_cli_light_notes(const st_scene *scene, const st_render_options *o);
 /* Prints the error (and a kernel build's compiler log); returns the exit status. */
 int st_cli_session_fail(const st_cli_session *s, const st_error *err);

@@ -5,8 +5,11 @@
  * §3.5 nodes and the TRS/matrix transform hierarchy, §3.6 buffers, bufferViews
  * and accessors, §3.7.2 mesh primitives, §3.8 textures, images and samplers,
  * §3.9 materials, §3.10 cameras, §4.4 the GLB container; and the extensions
+ * §3.7.2.2 morph targets, §3.7.3 skins, and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
- * KHR_materials_unlit, KHR_texture_transform and KHR_mesh_quantization.
+ * KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness (converted),
+ * KHR_texture_transform, KHR_mesh_quantization, KHR_lights_punctual and
+ * EXT_mesh_gpu_instancing.
  *
  * Invariants: no byte of a buffer is read before the accessor and bufferView
  * ranges that cover it were checked against the buffer's real size, and no
@@ -17,7 +20,10 @@
  *
  * Flattening: every node reachable from the scene's roots contributes its
  * mesh's TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, transformed by the node's world matrix
- * (parent * local, local = T * R * S or the node's matrix). Normals go through
+ * (parent * local, local = T * R * S or the node's matrix; once per
+ * EXT_mesh_gpu_instancing instance, times its T R S), morphed first by the
+ * default weights; a skinned mesh by each vertex's blend of joint matrices
+ * instead. Normals go through
  * the inverse transpose; where the determinant is negative the winding is
  * reversed (v1 <-> v2), as the spec asks of mirrored nodes (§3.7.2.1).
  *
@@ -235,7 +241,7 @@ void check_glb(const unsigned char *b, size_t size)
 const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
     "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
-    "KHR_lights_punctual"};
+    "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness"};
 
 bool supported(const char *ext)
 {
@@ -409,10 +415,17 @@ normal_xform normal_matrix(const mat4 &m)
 
 /* ---- the node tree ---------------------------------------------------------- */
 
+/* A mesh as one node (or one EXT_mesh_gpu_instancing instance of it)
+ * draws it: its world matrix, the node (its morph weights) and the node's
+ * skin (-1: none). */
 struct instance {
     int mesh;
     mat4 world;
+    int node = -1, skin = -1;
 };
+
+void add_mesh_instances(const Model &m, int node, const mat4 &world, std::vector<instance> &out,
+                        size_t &instanced, notes &warn);
 
 bool normalize3(double v[3])
 {
@@ -563,6 +576,7 @@ void walk_scene(const Model &m, std::vector<instance> &out, std::vector<st_gltf_
     };
     std::vector<item> stack;
     std::vector<char> seen(m.nodes.size(), 0);
+    size_t instanced = 0; /* triangles of EXT_mesh_gpu_instancing instances so far */
     const std::vector<int> &roots = m.scenes[size_t(s)].nodes;
     for (size_t i = roots.size(); i-- > 0;) {
         check_index(roots[i], m.nodes.size(), "scene %d: node", s);
@@ -578,7 +592,7 @@ void walk_scene(const Model &m, std::vector<instance> &out, std::vector<st_gltf_
         const mat4 world = mul(it.parent, node_local(node, it.node));
         if (node.mesh != -1) {
             check_index(node.mesh, m.meshes.size(), "node %d: mesh", it.node);
-            out.push_back({node.mesh, world});
+            add_mesh_instances(m, it.node, world, out, instanced, warn);
         }
         if (node.camera != -1) {
             check_index(node.camera, m.cameras.size(), "node %d: camera", it.node);
@@ -787,6 +801,12 @@ float component(const unsigned char *p, int ct, bool normalized, int k)
  * KHR_mesh_quantization's table where the file uses that extension. */
 unsigned allowed_types(const Model &m, const char *attr)
 {
+    if (strncmp(attr, "JOINTS_", 7) == 0) /* §3.7.3.3 */
+        return Q_UB | Q_US;
+    if (strncmp(attr, "WEIGHTS_", 8) == 0)
+        return Q_F | Q_UBN | Q_USN;
+    if (strcmp(attr, "ROTATION") == 0) /* EXT_mesh_gpu_instancing */
+        return Q_F | Q_BN | Q_SN;
     bool quantized = false;
     for (const std::string &ext : m.extensionsUsed)
         quantized = quantized || ext == "KHR_mesh_quantization";
@@ -970,6 +990,7 @@ struct sink {
 struct scratch {
     std::vector<float> p, n, uv, uv1, wp, wn, t, wt, c;
     std::vector<uint32_t> idx;
+    std::vector<char> neg; /* skinned: the vertex's skin matrix mirrors (det < 0) */
 };
 
 /* What a material's textures read: bit k of `sets` for TEXCOORD_k, and
@@ -1028,8 +1049,12 @@ void read_tangents(const Model &m, int a, size_t vertices, std::vector<float> &o
  * triangle's dP/du and dP/dv (solving the edges against their uv deltas,
  * Lengyel's method), summed at its vertices weighted by the triangle's size
  * (the unnormalised solution carries it), then made orthogonal to the
- * vertex normal (or the summed face normal); w = +1 where (t, b, n) is
- * right-handed, else -1. A vertex whose uvs are degenerate gets 0. */
+ * vertex normal (or the summed face normal). The handedness is MikkTSpace's
+ * as glTF applies it: glTF's v runs down the image while a normal map's
+ * green axis points up it, so the bitangent the map needs is -dP/dv, and
+ * w = +1 where cross(n, t) points along -dP/dv, else -1 (the bitangent is
+ * w cross(n, t), as for a file's TANGENT). A vertex whose uvs are
+ * degenerate gets 0. */
 void generate_tangents(scratch &s, const std::vector<float> &uv, bool normals)
 {
     const size_t nv = s.p.size() / 3;
@@ -1074,7 +1099,7 @@ void generate_tangents(scratch &s, const std::vector<float> &uv, bool normals)
         cross(n, t, c);
         for (int k = 0; k < 3; k++)
             s.t[4 * v + size_t(k)] = float(t[k]);
-        s.t[4 * v + 3] = c[0] * b[0] + c[1] * b[1] + c[2] * b[2] < 0.0 ? -1.0f : 1.0f;
+        s.t[4 * v + 3] = c[0] * b[0] + c[1] * b[1] + c[2] * b[2] > 0.0 ? -1.0f : 1.0f;
     }
 }
 
@@ -1178,8 +1203,321 @@ int attribute(const Model &m, int mesh, size_t p, const char *name)
     return it->second;
 }
 
+/* ---- instancing, morph targets and skins ------------------------------------- */
+
+/* Triangles of one drawing of a mesh (primitive_bound summed). */
+size_t mesh_bound(const Model &m, int mesh)
+{
+    size_t n = 0;
+    for (size_t p = 0; p < m.meshes[size_t(mesh)].primitives.size(); p++)
+        n += primitive_bound(m, mesh, p);
+    return n;
+}
+
+/* The accessor of EXT_mesh_gpu_instancing attribute `name` (checked), or -1. */
+int instancing_accessor(const Model &m, const tinygltf::Value &attrs, const char *name, int node)
+{
+    if (!attrs.IsObject() || !attrs.Has(name))
+        return -1;
+    const tinygltf::Value &v = attrs.Get(name);
+    if (!v.IsInt())
+        fail("node %d: EXT_mesh_gpu_instancing %s is not an accessor index", node, name);
+    check_index(v.Get<int>(), m.accessors.size(), "node %d: EXT_mesh_gpu_instancing %s accessor",
+                node, name);
+    return v.Get<int>();
+}
+
+/* The node's mesh as it is drawn: once, or, with EXT_mesh_gpu_instancing,
+ * once per instance with world = the node's world x T_i R_i S_i (the
+ * extension's README: instance transforms apply in the node's space;
+ * TRANSLATION, ROTATION and SCALE hold one element each per instance, a
+ * missing one is the identity). Instances are flattened into the triangle
+ * arrays, so their triangles count against ST_GLTF_MAX_TRIANGLES here,
+ * before anything is allocated for them. A skinned node is drawn by its
+ * joints, once (instancing of it is not read: a warning). */
+void add_mesh_instances(const Model &m, int node, const mat4 &world, std::vector<instance> &out,
+                        size_t &instanced, notes &warn)
+{
+    const tinygltf::Node &n = m.nodes[size_t(node)];
+    if (n.skin != -1)
+        check_index(n.skin, m.skins.size(), "node %d: skin", node);
+    auto ext = n.extensions.find("EXT_mesh_gpu_instancing");
+    if (ext == n.extensions.end() || n.skin != -1) {
+        if (ext != n.extensions.end())
+            note(warn, "node %d: EXT_mesh_gpu_instancing on a skinned mesh is not read: "
+                       "drawn once",
+                 node);
+        out.push_back({n.mesh, world, node, n.skin});
+        return;
+    }
+    const tinygltf::Value attrs = ext->second.Get("attributes");
+    static const char *const names[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+    std::vector<float> trs[3];
+    size_t count = 0;
+    bool any = false;
+    for (int k = 0; k < 3; k++) {
+        const int a = instancing_accessor(m, attrs, names[k], node);
+        if (a < 0)
+            continue;
+        const size_t elems = accessor_span(m, a).count;
+        if (any && elems != count)
+            fail("node %d: EXT_mesh_gpu_instancing attributes of %zu and %zu instances", node,
+                 count, elems);
+        count = elems;
+        any = true;
+        read_attribute(m, a, names[k], k == 1 ? 4 : 3, count, trs[k]);
+    }
+    if (!any)
+        fail("node %d: EXT_mesh_gpu_instancing has no TRANSLATION, ROTATION or SCALE", node);
+    const size_t each = mesh_bound(m, n.mesh);
+    if (each > 0 && count > (ST_GLTF_MAX_TRIANGLES - instanced) / each)
+        fail("node %d: EXT_mesh_gpu_instancing: %zu instances of %zu triangles: more than %u "
+             "triangles in all, the most strata takes",
+             node, count, each, ST_GLTF_MAX_TRIANGLES);
+    instanced += count * each;
+    for (size_t i = 0; i < count; i++) {
+        tinygltf::Node local; /* node_local's checks and formula, on this instance */
+        for (int k = 0; k < 3; k++)
+            if (!trs[k].empty()) {
+                std::vector<double> &v = k == 0 ? local.translation : k == 1 ? local.rotation
+                                                                             : local.scale;
+                const size_t c = k == 1 ? 4 : 3;
+                v.assign(trs[k].begin() + long(c * i), trs[k].begin() + long(c * (i + 1)));
+            }
+        out.push_back({n.mesh, mul(world, node_local(local, node)), node, -1});
+    }
+}
+
+/* The morph weights a node draws its mesh with (§3.7.2.2): the node's
+ * weights, else the mesh's, else 0 for every target. */
+std::vector<double> morph_weights(const Model &m, int node, int mesh)
+{
+    const tinygltf::Mesh &me = m.meshes[size_t(mesh)];
+    size_t targets = 0;
+    for (const tinygltf::Primitive &prim : me.primitives)
+        targets = std::max(targets, prim.targets.size());
+    const std::vector<double> &w = node >= 0 && !m.nodes[size_t(node)].weights.empty()
+                                       ? m.nodes[size_t(node)].weights
+                                       : me.weights;
+    if (w.empty())
+        return std::vector<double>(targets, 0.0);
+    for (double x : w)
+        if (!std::isfinite(x))
+            fail("mesh %d: a morph weight is not finite", mesh);
+    return w;
+}
+
+/* Adds the morph targets' displacements of attribute `attr` (POSITION,
+ * NORMAL, or TANGENT's xyz: `stride` floats a vertex) to `values`, each
+ * times its weight (§3.7.2.2); a primitive must have as many targets as
+ * there are weights. */
+void apply_morph(const Model &m, int mesh, size_t p, const std::vector<double> &w,
+                 const char *attr, size_t stride, std::vector<float> &values)
+{
+    const tinygltf::Primitive &prim = primitive(m, mesh, p);
+    if (prim.targets.empty())
+        return;
+    if (prim.targets.size() != w.size())
+        fail("mesh %d primitive %zu: %zu morph targets, %zu weights", mesh, p,
+             prim.targets.size(), w.size());
+    const size_t nv = values.size() / stride;
+    std::vector<float> d;
+    for (size_t k = 0; k < w.size(); k++) {
+        auto it = prim.targets[k].find(attr);
+        if (it == prim.targets[k].end() || w[k] == 0.0)
+            continue;
+        check_index(it->second, m.accessors.size(), "mesh %d primitive %zu: target %zu %s", mesh,
+                    p, k, attr);
+        read_attribute(m, it->second, attr, 3, nv, d);
+        for (size_t v = 0; v < nv; v++)
+            for (size_t c = 0; c < 3; c++)
+                values[stride * v + c] = float(double(values[stride * v + c]) + w[k] * d[3 * v + c]);
+    }
+}
+
+/* One warning per mesh whose morph targets move what strata does not
+ * morph (texture coordinates, colours). */
+void note_morph_targets(const Model &m, int mesh, notes &warn)
+{
+    for (const tinygltf::Primitive &prim : m.meshes[size_t(mesh)].primitives)
+        for (const auto &target : prim.targets)
+            for (const auto &attr : target)
+                if (attr.first != "POSITION" && attr.first != "NORMAL" &&
+                    attr.first != "TANGENT") {
+                    note(warn, "mesh %d: morph targets of %s are not applied", mesh,
+                         attr.first.c_str());
+                    return;
+                }
+}
+
+/* The parent of every node (-1: none). A node listed as a child twice is
+ * an error where the scene reaches it (walk_scene); here the first wins. */
+std::vector<int> node_parents(const Model &m)
+{
+    std::vector<int> parent(m.nodes.size(), -1);
+    for (size_t i = 0; i < m.nodes.size(); i++)
+        for (int c : m.nodes[i].children) {
+            check_index(c, m.nodes.size(), "node %zu: child", i);
+            if (parent[size_t(c)] == -1)
+                parent[size_t(c)] = int(i);
+        }
+    return parent;
+}
+
+/* World matrices of the nodes skins name, by their chains of parents (a
+ * joint need not lie under the scene's roots the way the skinned mesh
+ * does), each node's computed once. */
+struct node_worlds {
+    std::vector<int> parent;
+    std::vector<mat4> world;
+    std::vector<char> known;
+};
+
+mat4 node_world(const Model &m, node_worlds &w, int node)
+{
+    std::vector<int> chain; /* from node up to the first known ancestor or a root */
+    int n = node;
+    for (; n != -1 && !w.known[size_t(n)]; n = w.parent[size_t(n)]) {
+        if (chain.size() > m.nodes.size())
+            fail("node %d: its ancestors form a cycle", node);
+        chain.push_back(n);
+    }
+    mat4 acc = n == -1 ? identity() : w.world[size_t(n)];
+    for (size_t i = chain.size(); i-- > 0;) {
+        acc = mul(acc, node_local(m.nodes[size_t(chain[i])], chain[i]));
+        w.world[size_t(chain[i])] = acc;
+        w.known[size_t(chain[i])] = 1;
+    }
+    return w.world[size_t(node)];
+}
+
+/* The joint matrices of skin k (§3.7.3.3): world(joint_i) x
+ * inverseBindMatrices_i (float MAT4s, one per joint; identity without the
+ * accessor). */
+std::vector<mat4> joint_matrices(const Model &m, int k, node_worlds &worlds)
+{
+    const tinygltf::Skin &skin = m.skins[size_t(k)];
+    if (skin.joints.empty())
+        fail("skin %d: no joints", k);
+    std::vector<mat4> out;
+    span ibm = {nullptr, 0, 0, 0};
+    if (skin.inverseBindMatrices != -1) {
+        check_index(skin.inverseBindMatrices, m.accessors.size(), "skin %d: inverseBindMatrices",
+                    k);
+        const tinygltf::Accessor &acc = m.accessors[size_t(skin.inverseBindMatrices)];
+        if (acc.type != TINYGLTF_TYPE_MAT4 || acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+            fail("skin %d: inverseBindMatrices must be float MAT4", k);
+        ibm = accessor_span(m, skin.inverseBindMatrices);
+        if (ibm.count < skin.joints.size())
+            fail("skin %d: %zu inverseBindMatrices for %zu joints", k, ibm.count,
+                 skin.joints.size());
+    }
+    for (size_t j = 0; j < skin.joints.size(); j++) {
+        check_index(skin.joints[j], m.nodes.size(), "skin %d: joint", k);
+        mat4 inv = identity();
+        for (int e = 0; e < 16 && ibm.data; e++) {
+            inv.m[e] = component(ibm.data + j * ibm.stride, TINYGLTF_COMPONENT_TYPE_FLOAT, false, e);
+            if (!std::isfinite(inv.m[e]))
+                fail("skin %d: inverseBindMatrices %zu is not finite", k, j);
+        }
+        out.push_back(mul(node_world(m, worlds, skin.joints[j]), inv));
+    }
+    return out;
+}
+
+/* Each vertex's skin matrix M = sum_i w_i J[j_i] over its JOINTS_n /
+ * WEIGHTS_n sets (§3.7.3.3: linear blend skinning), the weights divided by
+ * their sum; a vertex without weight keeps `fallback` (the node's world). */
+std::vector<mat4> skin_matrices(const Model &m, int mesh, size_t p, const std::vector<mat4> &J,
+                                const mat4 &fallback, size_t nv)
+{
+    std::vector<mat4> out(nv, mat4{});
+    std::vector<double> sum(nv, 0.0);
+    std::vector<float> joints, weights;
+    for (int set = 0;; set++) {
+        char jn[24], wn[24];
+        snprintf(jn, sizeof jn, "JOINTS_%d", set);
+        snprintf(wn, sizeof wn, "WEIGHTS_%d", set);
+        const int ja = attribute(m, mesh, p, jn), wa = attribute(m, mesh, p, wn);
+        if (ja < 0 || wa < 0)
+            break;
+        read_attribute(m, ja, jn, 4, nv, joints);
+        read_attribute(m, wa, wn, 4, nv, weights);
+        for (size_t v = 0; v < nv; v++)
+            for (int i = 0; i < 4; i++) {
+                const double w = weights[4 * v + size_t(i)];
+                if (w == 0.0)
+                    continue;
+                const float j = joints[4 * v + size_t(i)];
+                if (!(w > 0.0) || !(j < float(J.size())))
+                    fail("mesh %d primitive %zu: %s / %s of vertex %zu: joint %g of %zu, weight "
+                         "%g",
+                         mesh, p, jn, wn, v, double(j), J.size(), w);
+                for (int e = 0; e < 16; e++)
+                    out[v].m[e] += w * J[size_t(j)].m[e];
+                sum[v] += w;
+            }
+    }
+    for (size_t v = 0; v < nv; v++) {
+        if (!(sum[v] > 0.0)) {
+            out[v] = fallback;
+            continue;
+        }
+        for (double &e : out[v].m)
+            e /= sum[v];
+    }
+    return out;
+}
+
+/* Skinned vertices to world space, each by its own skin matrix (positions;
+ * normals by its normal matrix; tangents by it, w times the sign of its
+ * determinant), as transform_vertices and transform_tangents do with one
+ * matrix; neg marks the vertices whose matrix mirrors. */
+void skin_vertices(const std::vector<mat4> &M, scratch &s, bool normals)
+{
+    const size_t nv = s.p.size() / 3;
+    s.wp.resize(3 * nv);
+    s.wn.resize(normals ? 3 * nv : 0);
+    s.wt.assign(s.t.empty() ? 0 : 4 * nv, 0.0f);
+    s.neg.assign(nv, 0);
+    for (size_t v = 0; v < nv; v++) {
+        const double *w = M[v].m;
+        const normal_xform nx = normal_matrix(M[v]);
+        s.neg[v] = nx.det < 0.0;
+        const float *p = &s.p[3 * v];
+        for (int r = 0; r < 3; r++)
+            s.wp[3 * v + size_t(r)] =
+                float(w[r] * p[0] + w[4 + r] * p[1] + w[8 + r] * p[2] + w[12 + r]);
+        if (normals) {
+            const float *n = &s.n[3 * v];
+            double t[3];
+            for (int r = 0; r < 3; r++)
+                t[r] = nx.col[0][r] * n[0] + nx.col[1][r] * n[1] + nx.col[2][r] * n[2];
+            if (!normalize3(t))
+                t[0] = t[1] = t[2] = NAN;
+            for (int r = 0; r < 3; r++)
+                s.wn[3 * v + size_t(r)] = float(t[r]);
+        }
+        if (s.t.empty() || s.t[4 * v + 3] == 0.0f)
+            continue;
+        const float *t = &s.t[4 * v];
+        double o[3];
+        for (int r = 0; r < 3; r++)
+            o[r] = w[r] * t[0] + w[4 + r] * t[1] + w[8 + r] * t[2];
+        if (!normalize3(o))
+            continue;
+        for (int r = 0; r < 3; r++)
+            s.wt[4 * v + size_t(r)] = float(o[r]);
+        s.wt[4 * v + 3] = (t[3] < 0.0f ? -1.0f : 1.0f) * (nx.det < 0.0 ? -1.0f : 1.0f);
+    }
+}
+
+/* One primitive of one drawing of a mesh: morphed by `weights`, then
+ * skinned by `joints` (the skin's joint matrices; NULL: not skinned) or
+ * moved by `world`. */
 void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
-                    const normal_xform &nx, const std::vector<uv_use> &use, scratch &s,
+                    const normal_xform &nx, const std::vector<double> &weights,
+                    const std::vector<mat4> *joints, const std::vector<uv_use> &use, scratch &s,
                     sink &out)
 {
     const int pos = position_accessor(m, mesh, p);
@@ -1191,12 +1529,14 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     const uint32_t material = prim.material == -1 ? ST_GLTF_NO_MATERIAL : uint32_t(prim.material);
     read_vec3(m, pos, "POSITION", s.p);
     const size_t nv = s.p.size() / 3;
+    apply_morph(m, mesh, p, weights, "POSITION", 3, s.p);
     const int nrm = attribute(m, mesh, p, "NORMAL");
     if (nrm >= 0) {
         read_vec3(m, nrm, "NORMAL", s.n);
         if (s.n.size() != s.p.size())
             fail("mesh %d primitive %zu: NORMAL has %zu elements, POSITION %zu", mesh, p,
                  s.n.size() / 3, nv);
+        apply_morph(m, mesh, p, weights, "NORMAL", 3, s.n);
     }
     const int uv = attribute(m, mesh, p, "TEXCOORD_0");
     if (uv >= 0)
@@ -1214,7 +1554,6 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
             s.idx[v] = uint32_t(v);
     }
     strip_or_fan_to_list(prim.mode, s.idx);
-    transform_vertices(world, nx, s, nrm >= 0);
     const int col = attribute(m, mesh, p, "COLOR_0");
     s.c.clear();
     if (col >= 0)
@@ -1222,15 +1561,21 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     const int tan = attribute(m, mesh, p, "TANGENT");
     const bool set1 = material != ST_GLTF_NO_MATERIAL && use[material].normal_set == 1;
     s.t.clear();
-    if (tan >= 0 && nrm >= 0) /* §3.7.2.1: TANGENT is used with NORMAL only */
+    if (tan >= 0 && nrm >= 0) { /* §3.7.2.1: TANGENT is used with NORMAL only */
         read_tangents(m, tan, nv, s.t);
-    else if ((set1 ? uv1 : uv) >= 0) /* from the normal map's own set */
+        apply_morph(m, mesh, p, weights, "TANGENT", 4, s.t);
+    } else if ((set1 ? uv1 : uv) >= 0) { /* from the normal map's own set */
         generate_tangents(s, set1 ? s.uv1 : s.uv, nrm >= 0);
-    transform_tangents(world, nx.det, s);
-    const bool flip = nx.det < 0.0;
+    }
+    if (joints) {
+        skin_vertices(skin_matrices(m, mesh, p, *joints, world, nv), s, nrm >= 0);
+    } else {
+        transform_vertices(world, nx, s, nrm >= 0);
+        transform_tangents(world, nx.det, s);
+    }
     for (size_t t = 0; t + 3 <= s.idx.size(); t += 3) { /* a trailing 1 or 2 are ignored */
         uint32_t tri[3] = {s.idx[t], s.idx[t + 1], s.idx[t + 2]};
-        if (flip) {
+        if (joints ? s.neg[tri[0]] != 0 : nx.det < 0.0) { /* mirrored: winding reversed */
             tri[1] = s.idx[t + 2];
             tri[2] = s.idx[t + 1];
         }
@@ -1241,9 +1586,13 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
 
 /* ---- textures ----------------------------------------------------------------- */
 
-/* Texture references of the materials, made unique. */
+/* Texture references of the materials, made unique; and the images made
+ * here rather than read (image index m.images.size() + k): roughness maps
+ * derived from a KHR_materials_pbrSpecularGlossiness texture's alpha
+ * (source image, glossinessFactor). */
 struct texture_table {
     std::vector<st_gltf_texture> refs;
+    std::vector<std::pair<int, float>> derived;
 };
 
 /* A number of a JSON extension object, `fallback` when absent. */
@@ -1486,6 +1835,101 @@ void read_specular_ior_unlit(const Model &m, size_t i, texture_table &table, not
         fail("material %zu: KHR_materials_ior: ior %g is neither 0 nor >= 1", i, double(o.ior));
 }
 
+/* Three or four numbers of a JSON array `key` of obj into out; out unchanged
+ * when absent. */
+void ext_numbers(const tinygltf::Value &obj, const char *key, int n, float *out, const char *what)
+{
+    if (!obj.IsObject() || !obj.Has(key))
+        return;
+    const tinygltf::Value &v = obj.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != size_t(n))
+        fail("%s: %s must be an array of %d numbers", what, key, n);
+    for (int k = 0; k < n; k++) {
+        if (!v.Get(k).IsNumber())
+            fail("%s: %s must be an array of %d numbers", what, key, n);
+        out[k] = float(v.Get(k).GetNumberAsDouble());
+    }
+}
+
+/* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
+ * Khronos' glTF-Transform converts it (its metalRough function): a
+ * dielectric (metallic 0) whose base colour is the diffuse colour, whose
+ * F0 is the specular colour itself (KHR_materials_specular's
+ * specularColorFactor and texture, the RGB of specularGlossinessTexture,
+ * with an ior that makes the dielectric F0 1: strata takes ior 0 as that
+ * limit) and whose roughness is 1 - glossiness. With a
+ * specularGlossinessTexture the roughness map is made from its alpha: G =
+ * 255 (1 - glossinessFactor x A / 255), roughness factor 1. Defaults (the
+ * extension's README): diffuse 1, specular 1, glossiness 1. */
+void read_spec_gloss(const Model &m, size_t i, texture_table &table, notes &warn,
+                     st_gltf_material &o)
+{
+    auto ext = m.materials[i].extensions.find("KHR_materials_pbrSpecularGlossiness");
+    if (ext == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = ext->second;
+    char what[80];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_pbrSpecularGlossiness", i);
+    float diffuse[4] = {1, 1, 1, 1}, spec[3] = {1, 1, 1};
+    ext_numbers(v, "diffuseFactor", 4, diffuse, what);
+    ext_numbers(v, "specularFactor", 3, spec, what);
+    const float gloss = float(ext_number(v, "glossinessFactor", 1.0, what));
+    for (float f : {diffuse[0], diffuse[1], diffuse[2], diffuse[3], spec[0], spec[1], spec[2]})
+        if (!std::isfinite(f) || f < 0.0f)
+            fail("%s: factors must be finite and >= 0", what);
+    if (!(gloss >= 0.0f && gloss <= 1.0f))
+        fail("%s: glossinessFactor %g is not in [0, 1]", what, double(gloss));
+    memcpy(o.base_color, diffuse, sizeof diffuse);
+    memcpy(o.specular, spec, sizeof spec);
+    o.specular[3] = 1.0f;
+    o.ior = 0.0f;
+    o.metallic = 0.0f;
+    o.roughness = 1.0f - gloss;
+    o.specular_tex = -1;
+    o.base_color_tex = texture_ref(m, ext_texture_info(v, "diffuseTexture", what), true, i,
+                                   "diffuseTexture", table, warn);
+    const tinygltf::TextureInfo sg = ext_texture_info(v, "specularGlossinessTexture", what);
+    o.specular_color_tex = texture_ref(m, sg, true, i, "specularGlossinessTexture", table, warn);
+    o.metallic_roughness_tex = -1;
+    if (o.specular_color_tex < 0)
+        return;
+    st_gltf_texture rough = table.refs[size_t(o.specular_color_tex)];
+    const int source = rough.image;
+    size_t k = 0;
+    while (k < table.derived.size() &&
+           (table.derived[k].first != source || table.derived[k].second != gloss))
+        k++;
+    if (k == table.derived.size())
+        table.derived.push_back({source, gloss});
+    rough.image = int(m.images.size() + k);
+    rough.srgb = 0;
+    o.roughness = 1.0f;
+    size_t r = 0;
+    while (r < table.refs.size() && memcmp(&table.refs[r], &rough, sizeof rough) != 0)
+        r++;
+    if (r == table.refs.size())
+        table.refs.push_back(rough);
+    o.metallic_roughness_tex = int(r);
+}
+
+/* A roughness map made from a specular-glossiness image (read_spec_gloss):
+ * R 255, G = 255 (1 - gloss x A / 255) rounded, B 0 (metallic), A 255. */
+st_gltf_image roughness_from_gloss(const st_gltf_image &src, float gloss)
+{
+    const size_t n = size_t(src.width) * src.height;
+    unsigned char *rgba = static_cast<unsigned char *>(malloc(4 * n)); /* stbi_image_free frees */
+    if (!rgba)
+        throw std::bad_alloc();
+    for (size_t t = 0; t < n; t++) {
+        const double g = 255.0 * (1.0 - double(gloss) * src.rgba[4 * t + 3] / 255.0);
+        rgba[4 * t] = 255;
+        rgba[4 * t + 1] = static_cast<unsigned char>(std::lround(std::min(255.0, std::max(0.0, g))));
+        rgba[4 * t + 2] = 0;
+        rgba[4 * t + 3] = 255;
+    }
+    return {src.width, src.height, rgba};
+}
+
 /* A material's factors (§3.9.2, §3.9.3 defaults: base colour 1, metallic 1,
  * roughness 1, emission 0, alphaCutoff 0.5; emission x
  * KHR_materials_emissive_strength's emissiveStrength, 1 when absent) and its
@@ -1544,6 +1988,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.normal_scale = float(mat.normalTexture.scale);
     if (!std::isfinite(o.normal_scale))
         fail("material %zu: normalTexture.scale is not finite", i);
+    read_spec_gloss(m, i, table, warn, o);
     return o;
 }
 
@@ -1640,10 +2085,18 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
         if (!mesh_noted[size_t(in.mesh)]++) {
             note_skipped_primitives(m, in.mesh, warn);
             note_missing_uvs(m, in.mesh, use, warn);
+            note_morph_targets(m, in.mesh, warn);
         }
-        for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            bound += primitive_bound(m, in.mesh, p); /* each <= its accessor's elements */
+        bound += mesh_bound(m, in.mesh); /* each primitive's <= its accessor's elements */
+        if (bound > ST_GLTF_MAX_TRIANGLES)
+            fail("more than %u triangles (nodes and instances sharing a mesh counted each "
+                 "time): more than strata takes",
+                 ST_GLTF_MAX_TRIANGLES);
     }
+    if (!m.animations.empty())
+        note(warn, "%zu animation%s not played: the rest pose is rendered (default node "
+                   "transforms and morph weights)",
+             m.animations.size(), m.animations.size() == 1 ? "" : "s");
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);
     out.uvs = alloc_array<float>(bound, 6);
@@ -1654,10 +2107,19 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     sink s = {out.positions, out.normals, out.uvs, out.tangents, out.colors, out.uvs1,
               out.tri_material, 0, 0};
     scratch tmp;
+    node_worlds worlds;
+    if (!m.skins.empty())
+        worlds = {node_parents(m), std::vector<mat4>(m.nodes.size()),
+                  std::vector<char>(m.nodes.size(), 0)};
+    std::vector<std::vector<mat4>> joints(m.skins.size()); /* per skin, made once */
     for (const instance &in : inst) {
         const normal_xform nx = normal_matrix(in.world);
+        const std::vector<double> weights = morph_weights(m, in.node, in.mesh);
+        if (in.skin >= 0 && joints[size_t(in.skin)].empty())
+            joints[size_t(in.skin)] = joint_matrices(m, in.skin, worlds);
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            emit_primitive(m, in.mesh, p, in.world, nx, use, tmp, s);
+            emit_primitive(m, in.mesh, p, in.world, nx, weights,
+                           in.skin >= 0 ? &joints[size_t(in.skin)] : nullptr, use, tmp, s);
     }
     out.tri_count = s.count;
     out.dropped = s.dropped;
@@ -1672,13 +2134,17 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
     out.materials = copy_out(mats);
     out.texture_count = table.refs.size();
     out.textures = copy_out(table.refs);
-    out.image_count = m.images.size();
+    out.image_count = m.images.size() + table.derived.size();
     out.images = alloc_array<st_gltf_image>(out.image_count, 1);
     if (out.images)
         memset(out.images, 0, out.image_count * sizeof *out.images);
     for (const st_gltf_texture &t : table.refs)
-        if (!out.images[size_t(t.image)].rgba)
+        if (size_t(t.image) < m.images.size() && !out.images[size_t(t.image)].rgba)
             out.images[size_t(t.image)] = decode_or_white(m, t.image, bytes, warn);
+    for (size_t k = 0; k < table.derived.size(); k++) { /* their sources are decoded above */
+        const st_gltf_image &src = out.images[size_t(table.derived[k].first)];
+        out.images[m.images.size() + k] = roughness_from_gloss(src, table.derived[k].second);
+    }
     out.camera_count = cams.size();
     out.cameras = copy_out(cams);
     out.light_count = lights.size();

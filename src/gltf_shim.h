@@ -23,6 +23,10 @@ extern "C" {
 #define ST_GLTF_NO_MATERIAL 0xffffffffu
 /* At most this many warnings are kept; a last one counts the rest. */
 #define ST_GLTF_MAX_WARNINGS 32
+/* At most this many triangles (EXT_mesh_gpu_instancing instances and nodes
+ * sharing a mesh counted each time), checked before the triangle arrays
+ * (196 bytes a triangle: about 12.3 GiB here) are allocated. */
+#define ST_GLTF_MAX_TRIANGLES (1u << 26)
 
 /* A material of the file (§3.9). Factors as in the file (defaults filled);
  * *_tex index st_gltf_data.textures, -1 for none. alpha_mode: 0 OPAQUE,

@@ -509,13 +509,98 @@ static void texture_mean(const st_scene *s, st_u32 t, float mean[3])
     memcpy(mean, c, 3 * sizeof(float));
 }
 
+/* Where ray o + t d (t > 0) first meets triangle t of s, or INFINITY
+ * (Möller and Trumbore, "Fast, minimum storage ray-triangle intersection",
+ * JGT 1997), in double. A triangle whose material is not doubleSided is met
+ * from its front only (determinant a > 0: the ray against (v1 - v0) x
+ * (v2 - v0)), as the renderer's rays meet it. */
+static double ray_triangle(const st_scene *s, st_u32 t, const double o[3], const double d[3])
+{
+    int two_sided = (s->materials[s->tri_material[t]].flags & ST_MAT_DOUBLE_SIDED) != 0;
+    const float *p = s->positions + 9 * (size_t)t;
+    double e1[3], e2[3], q[3], h[3], r[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)p[3 + k] - p[k];
+        e2[k] = (double)p[6 + k] - p[k];
+        r[k] = o[k] - p[k];
+    }
+    h[0] = d[1] * e2[2] - d[2] * e2[1];
+    h[1] = d[2] * e2[0] - d[0] * e2[2];
+    h[2] = d[0] * e2[1] - d[1] * e2[0];
+    double a = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+    if (a == 0.0 || (!two_sided && a < 0.0))
+        return INFINITY;
+    double u = (r[0] * h[0] + r[1] * h[1] + r[2] * h[2]) / a;
+    if (u < 0.0 || u > 1.0)
+        return INFINITY;
+    q[0] = r[1] * e1[2] - r[2] * e1[1];
+    q[1] = r[2] * e1[0] - r[0] * e1[2];
+    q[2] = r[0] * e1[1] - r[1] * e1[0];
+    double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / a;
+    if (v < 0.0 || u + v > 1.0)
+        return INFINITY;
+    double hit = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / a;
+    return hit > 0.0 ? hit : INFINITY;
+}
+
+/* Does the default camera sit inside a closed model? Only a camera inside
+ * the bounds can; then ENCLOSED_RAYS rays from it, spread evenly over the
+ * sphere (a Fibonacci lattice), must each meet a triangle. Brute force
+ * over the triangles: it runs only for scenes whose emitters are dim (see
+ * choose_default_env) and stops at the first ray that escapes. */
+#define ENCLOSED_RAYS 64
+static int camera_enclosed(const st_scene *s)
+{
+    const float *c = s->default_camera.origin;
+    for (int k = 0; k < 3; k++)
+        if (!(c[k] > s->bounds_min[k] && c[k] < s->bounds_max[k]))
+            return 0;
+    const double o[3] = {c[0], c[1], c[2]}, golden = PI * (3.0 - sqrt(5.0));
+    for (int i = 0; i < ENCLOSED_RAYS; i++) {
+        double z = 1.0 - (2.0 * i + 1.0) / ENCLOSED_RAYS, r = sqrt(1.0 - z * z);
+        const double d[3] = {r * cos(golden * i), r * sin(golden * i), z};
+        st_u32 t = 0;
+        while (t < s->tri_count && ray_triangle(s, t, o, d) == INFINITY)
+            t++;
+        if (t == s->tri_count)
+            return 0;
+    }
+    return 1;
+}
+
+/* The environment a render that names none gets (st_scene.h). White
+ * radiance 1 unless the scene's own lights carry at least half of the
+ * power it emits: lamps, emitters brighter than a white surface under that
+ * environment (some channel of emissive factor x strength above 1, which
+ * only KHR_materials_emissive_strength allows), and punctual lights. The
+ * dimmer emitters (a screen, a label, a helmet's lights) glow in a lit
+ * world; a scene without them would render black. Without lamps the
+ * environment is still off when the camera sits inside a closed model,
+ * which it could not reach anyway. */
+static void choose_default_env(st_scene *s, double lamp_power)
+{
+    double lights = lamp_power + s->punctual_power, glow = s->emitted_power - lights;
+    if (s->emitted_power <= 0.0)
+        s->env_default = ST_ENV_NOTHING_EMITS;
+    else if (lights >= glow)
+        s->env_default = ST_ENV_OWN_LIGHTS;
+    else if (camera_enclosed(s))
+        s->env_default = ST_ENV_ENCLOSED;
+    else
+        s->env_default = ST_ENV_DIM_EMITTERS;
+    int on = s->env_default == ST_ENV_NOTHING_EMITS || s->env_default == ST_ENV_DIM_EMITTERS;
+    for (int k = 0; k < 3; k++)
+        s->default_env[k] = on ? 1.0f : 0.0f;
+}
+
 /* The power the emissive surfaces radiate, π x area x the mean of the
  * emissive factor times the emissive texture's mean (a Lambertian emitter
  * of radiance L radiates π L per unit area), and the environment default
- * it decides: white when nothing emits, else none. */
+ * it decides (choose_default_env). Lamps: materials with an emissive
+ * factor (x strength) above 1 in some channel. */
 static void emitted_power(st_scene *s)
 {
-    double power = 0.0;
+    double power = 0.0, lamp_power = 0.0;
     for (st_u32 t = 0; t < s->tri_count; t++) {
         const st_material *m = &s->materials[s->tri_material[t]];
         if (!(m->emission[0] > 0.0f || m->emission[1] > 0.0f || m->emission[2] > 0.0f))
@@ -534,14 +619,15 @@ static void emitted_power(st_scene *s)
         for (int k = 0; k < 3; k++)
             le += (double)m->emission[k] * mean[k] / 3.0;
         power += ST_PI_F * area * le;
+        if (m->emission[0] > 1.0f || m->emission[1] > 1.0f || m->emission[2] > 1.0f)
+            lamp_power += ST_PI_F * area * le;
     }
     s->punctual_power = 0.0;
     for (st_u32 i = 0; i < s->punctual_count; i++)
         s->punctual_power += st_punctual_power(&s->punctual[i], st_scene_radius(s));
     power += s->punctual_power;
     s->emitted_power = power;
-    for (int k = 0; k < 3; k++)
-        s->default_env[k] = power > 0.0 ? 0.0f : 1.0f;
+    choose_default_env(s, lamp_power);
 }
 
 static void copy_camera(const st_gltf_camera *c, st_scene_camera *out)

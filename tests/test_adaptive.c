@@ -74,8 +74,8 @@ static void adaptive_constant_scene(void **state)
     }
 }
 
-/* tests/scenes/edge.gltf at max depth 0: radiance 1 left of a vertical
- * edge, 0 right of it. With a threshold, the pixels whose 3 x 3 pool sees
+/* tests/scenes/edge.gltf at max depth 0 with no environment: radiance 1
+ * left of a vertical edge, 0 right of it. With a threshold, the pixels whose 3 x 3 pool sees
  * one value have estimate 0 and stop at pilot + 1; the columns the edge
  * crosses (1 or 2) and, through the pool, one column either side get more. */
 static void adaptive_edge_gets_more_samples(void **state)
@@ -83,6 +83,8 @@ static void adaptive_edge_gets_more_samples(void **state)
     (void)state;
     st_render_options o = adaptive(32, 24, 16, 4);
     o.max_depth = 0;
+    o.env_given = 1; /* black behind the quad: its emission 1 is dim, so the default is white */
+    o.env[0] = o.env[1] = o.env[2] = 0.0f;
     o.noise_threshold = 0.01f;
     st_render_stats st;
     st_image img = render("tests/scenes/edge.gltf", &o, &st);
@@ -128,6 +130,8 @@ static void adaptive_density_weighted_splat(void **state)
     (void)state;
     st_render_options o = adaptive(32, 24, 16, 4);
     o.max_depth = 0;
+    o.env_given = 1; /* black behind the quad: its emission 1 is dim, so the default is white */
+    o.env[0] = o.env[1] = o.env[2] = 0.0f;
     st_render_stats st;
     st_image a = render("tests/scenes/edge.gltf", &o, &st);
     st_u32 lo = 0xffffffffu, hi = 0;

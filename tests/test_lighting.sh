@@ -1,9 +1,12 @@
 #!/bin/sh
 # test_lighting.sh — the lighting default through the command line: decided
 # by the power the scene emits (emissive factor x the emissive texture's
-# mean), not by the emissive factor alone; a scene that emits nothing gets
-# the white environment and a `strata: note:`; a render with no light at
-# all is a `strata: warning:` (and black, exit 0). TAP output.
+# mean), not by the emissive factor alone, and by who emits it (st_scene.h):
+# a scene that emits nothing, or whose emitters are dim, gets the white
+# environment; one lit by lamps or punctual lights gets none. Each render
+# without --env says which in one `strata: note:` naming the option that
+# changes it; a render with no light at all is a `strata: warning:` (and
+# black, exit 0). TAP output.
 . tests/tap.sh
 R="--width 16 --height 12 --spp 2 --quiet"
 mean_of() { "$S" diff "$1" "$2" 2> /dev/null | sed -n 's/^rmse //p'; }
@@ -18,13 +21,25 @@ rmse=$(mean_of "$T/q.exr" "$T/black.exr")
 check "the black emitter is lit" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
 
 "$S" render cornell-box $R -o "$T/c.exr" 2> "$T/err2"
-check "an emitting scene gets neither note nor warning" "! grep -q 'note:\|warning:' '$T/err2'"
+check "a scene lit by its lamp: one note, no environment, --env 1 to add one" \
+    "[ \$(wc -l < '$T/err2') -eq 1 ] && grep -q '^strata: note: cornell-box: lit by its own lights alone, no environment (--env 1 for a white one)' '$T/err2'"
+
+"$S" render tests/scenes/textured_quad.gltf $R -o "$T/d.exr" 2> "$T/err5"
+check "a scene whose emitters are dim: one note, the white environment, --env 0 to turn it off" \
+    "[ \$(wc -l < '$T/err5') -eq 1 ] && grep -q '^strata: note: .*lit by the white environment as well (--env 0 to turn it off)' '$T/err5'"
+"$S" render tests/scenes/textured_quad.gltf $R --env 0 -o "$T/d0.exr" 2> /dev/null
+rmse=$(mean_of "$T/d.exr" "$T/d0.exr")
+check "and the environment lights it (against --env 0)" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
+
+"$S" render furnace $R -o "$T/f.exr" 2> "$T/err6"
+check "a camera inside a closed model: one note, no environment, --env 1 to add one" \
+    "[ \$(wc -l < '$T/err6') -eq 1 ] && grep -q '^strata: note: furnace: the camera is inside a closed model; no environment (--env 1 for a white one)' '$T/err6'"
 
 "$S" render tests/scenes/black_emitter.gltf $R --env 0.5 -o "$T/e.exr" 2> "$T/err3"
 check "an --env given is no note" "! grep -q 'note:\|warning:' '$T/err3'"
 "$S" render tests/scenes/punctual.gltf $R -o "$T/p.exr" 2> "$T/err4"
-check "a scene lit by punctual lights alone gets neither note nor warning" \
-    "! grep -q 'note:\\|warning:' '$T/err4'"
+check "a scene lit by punctual lights alone: the own-lights note, no warning" \
+    "grep -q '^strata: note: .*lit by its own lights alone' '$T/err4' && ! grep -q 'warning:' '$T/err4'"
 "$S" render tests/scenes/punctual.gltf $R --env 0 -o "$T/p0.exr" 2> /dev/null
 rmse=$(mean_of "$T/p.exr" "$T/p0.exr")
 check "its default environment is off (the same image as --env 0)" "[ '$rmse' = 0 ]" "(rmse $rmse)"

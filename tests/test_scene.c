@@ -21,6 +21,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cjson/cJSON.h>
+
 #include "st_render.h"
 #include "st_scene.h"
 
@@ -602,23 +604,52 @@ static void texture_references_follow_the_file(void **state)
     st_scene_destroy(s);
 }
 
-/* The environment is white exactly when no triangle's material emits; the
- * texture filter of a view defaults to trilinear. */
-static void environment_white_only_without_emission(void **state)
+/* The default environment (st_scene.h): white where nothing emits
+ * (cutout, layout_u16, checkerboard; black_emitter's emissive texture is
+ * black) or where most of the power comes from emitters no brighter than
+ * white (textured_quad's emission 0.5 x a dark texture; lamp_and_glow's
+ * lamp carries pi of 5 pi; glow_box_open, whose missing face lets the
+ * camera out, and glow_box_one_sided, whose walls it sees through from
+ * inside); none where lamps or punctual lights carry at least half
+ * (the Cornell box and soft-shadows, strengths 17 and 8; lamp_over_glow,
+ * 8 pi of 12 pi; punctual) or where the camera sits inside a closed model
+ * (furnace, glow_box). */
+static void default_environment_follows_the_lights(void **state)
 {
     (void)state;
     static const struct {
         const char *spec;
         float env;
-    } cases[] = {{"cornell-box", 0.0f}, {SCENES "textured_quad.gltf", 0.0f},
-                 {SCENES "cutout.gltf", 1.0f}, {SCENES "layout_u16.gltf", 1.0f},
-                 {"checkerboard", 1.0f}, {"soft-shadows", 0.0f}};
+        st_env_default why;
+    } cases[] = {{"cornell-box", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {"soft-shadows", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {"furnace", 0.0f, ST_ENV_ENCLOSED},
+                 {"checkerboard", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "cutout.gltf", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "layout_u16.gltf", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "black_emitter.gltf", 1.0f, ST_ENV_NOTHING_EMITS},
+                 {SCENES "textured_quad.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "lamp_and_glow.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "lamp_over_glow.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {SCENES "punctual.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {SCENES "glow_box.gltf", 0.0f, ST_ENV_ENCLOSED},
+                 {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_scene *s = load_ok(cases[i].spec);
         near3(s->default_env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);
+        if (s->env_default != cases[i].why)
+            fail_msg("%s: default %d, want %d", cases[i].spec, s->env_default, cases[i].why);
         assert_int_equal(st_render_defaults().texture_filter, ST_TEXFILTER_TRILINEAR);
         st_scene_destroy(s);
     }
+    /* the powers behind lamp_and_glow's and lamp_over_glow's cases */
+    st_scene *s = load_ok(SCENES "lamp_and_glow.gltf");
+    near(s->emitted_power, 5.0 * 3.14159265358979, 1e-4, "lamp_and_glow: 4 pi glow + pi lamp");
+    st_scene_destroy(s);
+    s = load_ok(SCENES "lamp_over_glow.gltf");
+    near(s->emitted_power, 12.0 * 3.14159265358979, 1e-4, "lamp_over_glow: 4 pi glow + 8 pi lamp");
+    st_scene_destroy(s);
 }
 
 /* The built-in scenes load, and a bare name finds each. */
@@ -867,6 +898,263 @@ static void make_scratch(char dir[64])
     assert_non_null(mkdtemp(dir));
 }
 
+/* ---- instancing, morph targets, skins -------------------------------------------- */
+
+/* Triangle t of s is (a, b, c), each to 1e-6, and its shading normals are n. */
+static void triangle_is(const st_scene *s, st_u32 t, const double want[3][3], const double n[3],
+                        const char *what)
+{
+    for (int v = 0; v < 3; v++) {
+        near3(s->positions + 9 * (size_t)t + 3 * v, want[v][0], want[v][1], want[v][2], 1e-6,
+              what);
+        near3(s->normals + 9 * (size_t)t + 3 * v, n[0], n[1], n[2], 1e-6, what);
+    }
+}
+
+/* EXT_mesh_gpu_instancing: world = node T(10, 0, 0) x instance T R S
+ * applied to (0, 0, 0), (1, 0, 0), (0, 1, 0): instance 0 only moves it;
+ * instance 1 turns it 90 degrees about +z ((x, y) -> (-y, x)) and moves it
+ * by (1, 0, 0); instance 2 doubles it and moves it by (0, 2, 0). A file
+ * whose instances come to more than ST_GLTF_MAX_TRIANGLES fails before
+ * anything is allocated for them. */
+static void gpu_instances_are_drawn_each(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "instancing.gltf");
+    assert_int_equal(s->tri_count, 3);
+    const double z[3] = {0, 0, 1};
+    const double i0[3][3] = {{10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
+    const double i1[3][3] = {{11, 0, 0}, {11, 1, 0}, {10, 0, 0}};
+    const double i2[3][3] = {{10, 2, 0}, {12, 2, 0}, {10, 4, 0}};
+    triangle_is(s, 0, i0, z, "instance 0");
+    triangle_is(s, 1, i1, z, "instance 1 (turned)");
+    triangle_is(s, 2, i2, z, "instance 2 (scaled)");
+    assert_int_equal(s->warning_count, 0);
+    st_scene_destroy(s);
+    load_fails(SCENES "instancing_huge.gltf", ST_ERR_FORMAT, "instancing_huge.gltf",
+               "65 instances of 1048576 triangles");
+}
+
+/* Morph targets at their default weights (§3.7.2.2): vertex 2 = (0, 1, 0)
+ * + 0.5 (0, 0, 1) + 0.25 (0, 1, 0) with the mesh's weights, (0, 1, 0) +
+ * (0, 0, 1) with node 1's own (1, 0) (and its translation); the normals
+ * (0, 0, 1) + w0 (1, 0, 0), made unit. */
+static void morph_targets_take_the_default_weights(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "morph.gltf");
+    assert_int_equal(s->tri_count, 2);
+    const double a[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1.25, 0.5}};
+    const double b[3][3] = {{5, 0, 0}, {6, 0, 0}, {5, 1, 1}};
+    const double na[3] = {0.5 / sqrt(1.25), 0, 1 / sqrt(1.25)}, nb[3] = {sqrt(0.5), 0, sqrt(0.5)};
+    triangle_is(s, 0, a, na, "mesh weights (0.5, 0.25)");
+    triangle_is(s, 1, b, nb, "node weights (1, 0)");
+    st_scene_destroy(s);
+}
+
+/* A skin in its rest pose (§3.7.3.3): vertex = sum_i w_i world(joint_i)
+ * x inverseBind_i x vertex, the skinned node's own transform ignored.
+ * Joint 0 is the identity; joint 1's matrix is T(0, 1, 0) R_z(90)
+ * T(0, -1, 0): v2 (0, 2, 0) -> (0, 1, 0) -> (-1, 0, 0) -> (-1, 1, 0); v3
+ * (0.5, 1, 0) goes to (0, 1.5, 0) by joint 1, stays by joint 0, so
+ * (0.25, 1.25, 0) half and half. The animation is named in the one
+ * warning. */
+static void skins_take_the_rest_pose(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "skin.gltf");
+    assert_int_equal(s->tri_count, 2);
+    const double z[3] = {0, 0, 1};
+    const double a[3][3] = {{0, 0, 0}, {1, 0, 0}, {0.25, 1.25, 0}};
+    const double b[3][3] = {{0, 0, 0}, {0.25, 1.25, 0}, {-1, 1, 0}};
+    triangle_is(s, 0, a, z, "v0 v1 v3");
+    triangle_is(s, 1, b, z, "v0 v3 v2");
+    assert_int_equal(s->warning_count, 1);
+    assert_true(has_warning(s, "1 animation not played: the rest pose is rendered"));
+    st_scene_destroy(s);
+}
+
+/* KHR_materials_pbrSpecularGlossiness (required) as metallic-roughness, as
+ * glTF-Transform's metalRough converts it: metallic 0, base colour =
+ * diffuse, KHR_materials_specular's colour = the specular colour with
+ * factor 1 and an ior whose dielectric F0 is 1 (strata's 0), roughness =
+ * 1 - glossiness; with a specularGlossinessTexture, it is the specular
+ * colour texture and a linear roughness map G = 255 (1 - 0.5 A / 255) is
+ * made from its alpha: A 64 -> 223, A 255 -> 127.5, rounded to 128. */
+static void spec_gloss_becomes_metallic_roughness(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "specgloss.gltf");
+    assert_int_equal(s->warning_count, 0);
+    const st_material *a = &s->materials[0], *b = &s->materials[1];
+    near3(a->base_color, 0.5, 0.25, 1.0, 0, "diffuseFactor");
+    near(a->base_color[3], 1.0, 0, "diffuse alpha");
+    near3(a->specular, 0.2, 0.3, 0.4, 1e-7, "specularFactor");
+    near(a->specular[3], 1.0, 0, "specular weight");
+    near(a->ior, 0.0, 0, "ior: F0 = specular colour");
+    near(a->metallic, 0.0, 0, "metallic");
+    near(a->roughness, 0.25, 1e-7, "roughness = 1 - glossiness");
+    assert_int_equal(a->metallic_roughness_tex, ST_NO_TEXTURE);
+    assert_int_equal(a->specular_color_tex, ST_NO_TEXTURE);
+    near3(b->base_color, 1.0, 1.0, 1.0, 0, "default diffuse");
+    near(b->roughness, 1.0, 0, "roughness factor with a map");
+    near(b->metallic, 0.0, 0, "metallic");
+    assert_int_not_equal(b->base_color_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(b->specular_color_tex, ST_NO_TEXTURE);
+    const st_texture *spec = &s->textures[b->specular_color_tex];
+    assert_true(spec->width == 2 && spec->height == 1 && (spec->flags & ST_TEX_SRGB));
+    assert_int_not_equal(b->metallic_roughness_tex, ST_NO_TEXTURE);
+    const st_texture *rough = &s->textures[b->metallic_roughness_tex];
+    assert_true(rough->width == 2 && rough->height == 1 && !(rough->flags & ST_TEX_SRGB));
+    const st_u32 want[2] = {223, 128};
+    for (int x = 0; x < 2; x++) {
+        st_u32 t = s->texels[rough->offset + (st_u32)x];
+        assert_int_equal(t & 255u, 255);        /* R unused */
+        assert_int_equal(t >> 8 & 255u, want[x]); /* G: roughness */
+        assert_int_equal(t >> 16 & 255u, 0);      /* B: metallic */
+    }
+    st_scene_destroy(s);
+}
+
+/* ---- tangents ------------------------------------------------------------------ */
+
+/* The shading normal a normal map's tangent-space normal m gives at vertex
+ * v of triangle t, by st_shared.h's frame: x along the tangent, y along the
+ * bitangent w cross(n, t), z along the shading normal n. */
+static void mapped_normal(const st_scene *s, st_u32 t, int v, const double m[3], double out[3])
+{
+    const float *tan = s->tangents + 12 * (size_t)t + 4 * (size_t)v;
+    const float *n = s->normals + 9 * (size_t)t + 3 * (size_t)v;
+    const double w = tan[3], b[3] = {w * ((double)n[1] * tan[2] - (double)n[2] * tan[1]),
+                                     w * ((double)n[2] * tan[0] - (double)n[0] * tan[2]),
+                                     w * ((double)n[0] * tan[1] - (double)n[1] * tan[0])};
+    for (int k = 0; k < 3; k++)
+        out[k] = m[0] * tan[k] + m[1] * b[k] + m[2] * n[k];
+}
+
+/* tangent_ramp's map holds the tangent-space normal (0, -0.5, 0.87) (bytes
+ * 128, 64, 238): it tilts away from the map's green axis, which points up
+ * the image, towards -v. On the quad v runs down the world's y (v = (1 -
+ * y) / 2), so up the image is +y and the mapped normal must lean to -y:
+ * (0, -0.5, 0.87) in the world, mirrored u or not (mirroring u turns the
+ * tangent over, not the bitangent). Generated tangents must also equal the
+ * TANGENT that glTF's definition gives the same quad, (1, 0, 0, +1).
+ * With the handedness flipped the normal leans to +y and all three fail. */
+static void generated_tangents_have_gltf_handedness(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file;
+        double tx, w;
+    } cases[] = {{SCENES "tangent_ramp.gltf", 1.0, 1.0},
+                 {SCENES "tangent_ramp_mirrored.gltf", -1.0, -1.0},
+                 {SCENES "tangent_ramp_given.gltf", 1.0, 1.0}};
+    const double m[3] = {128.0 / 255.0 * 2.0 - 1.0, 64.0 / 255.0 * 2.0 - 1.0,
+                         238.0 / 255.0 * 2.0 - 1.0};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        st_scene *s = load_ok(cases[c].file);
+        assert_int_equal(s->tri_count, 2);
+        for (st_u32 t = 0; t < s->tri_count; t++)
+            for (int v = 0; v < 3; v++) {
+                const float *tan = s->tangents + 12 * (size_t)t + 4 * (size_t)v;
+                near3(tan, cases[c].tx, 0.0, 0.0, 1e-6, cases[c].file);
+                near(tan[3], cases[c].w, 0.0, cases[c].file);
+                double n[3];
+                mapped_normal(s, t, v, m, n);
+                near(n[0], m[0] * cases[c].tx, 1e-6, "mapped normal x (u mirrored: -x)");
+                near(n[1], m[1], 1e-6, "mapped normal y (towards +v: the world's -y)");
+                near(n[2], m[2], 1e-6, "mapped normal z");
+            }
+        st_scene_destroy(s);
+    }
+}
+
+/* A copy of the glTF file `path` in `dir` without any TANGENT attribute,
+ * with the buffers its URIs name copied beside it (images are left out: the
+ * loader puts white in their place, which does not touch the tangents).
+ * Returns the copy's path (malloc'd). */
+static char *strip_tangents(const char *path, const char *dir)
+{
+    size_t size;
+    unsigned char *raw = read_all(path, &size);
+    cJSON *root = cJSON_ParseWithLength((const char *)raw, size);
+    free(raw);
+    assert_non_null(root);
+    const cJSON *mesh, *prim, *buf;
+    cJSON_ArrayForEach(mesh, cJSON_GetObjectItem(root, "meshes"))
+        cJSON_ArrayForEach(prim, cJSON_GetObjectItem(mesh, "primitives"))
+            cJSON_DeleteItemFromObject(cJSON_GetObjectItem(prim, "attributes"), "TANGENT");
+    char from[512], to[512];
+    const char *slash = strrchr(path, '/');
+    cJSON_ArrayForEach(buf, cJSON_GetObjectItem(root, "buffers")) {
+        const char *uri = cJSON_GetStringValue(cJSON_GetObjectItem(buf, "uri"));
+        if (!uri || !strncmp(uri, "data:", 5))
+            continue;
+        snprintf(from, sizeof from, "%.*s/%s", (int)(slash - path), path, uri);
+        snprintf(to, sizeof to, "%s/%s", dir, uri);
+        unsigned char *bin = read_all(from, &size);
+        write_all(to, bin, size);
+        free(bin);
+    }
+    char *text = cJSON_PrintUnformatted(root);
+    snprintf(to, sizeof to, "%s/%s", dir, slash + 1);
+    write_all(to, (const unsigned char *)text, strlen(text));
+    free(text);
+    cJSON_Delete(root);
+    return strdup(to);
+}
+
+/* The Khronos models that carry TANGENT (MikkTSpace's, as their exporters
+ * wrote them) loaded with and without it: where both have a tangent, the
+ * generated handedness must agree with the file's at 95 % of the vertices
+ * and the tangents must point the same way (mean cosine 0.9). The flipped
+ * handedness agrees almost nowhere. */
+static void generated_tangents_agree_with_khronos_tangents(void **state)
+{
+    (void)state;
+    static const char *files[] = {"Avocado/Avocado.gltf", "WaterBottle/WaterBottle.gltf",
+                                  "AlphaBlendModeTest/AlphaBlendModeTest.gltf",
+                                  "NormalTangentTest/NormalTangentTest.gltf",
+                                  "NormalTangentTest/glTF/NormalTangentTest.gltf",
+                                  "NormalTangentMirrorTest/NormalTangentMirrorTest.gltf",
+                                  "NormalTangentMirrorTest/glTF/NormalTangentMirrorTest.gltf"};
+    int checked = 0;
+    for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+        char path[256], dir[64];
+        snprintf(path, sizeof path, KHRONOS "/%s", files[f]);
+        if (access(path, R_OK) != 0)
+            continue;
+        make_scratch(dir);
+        char *copy = strip_tangents(path, dir);
+        st_scene *given = load_ok(path), *made = load_ok(copy);
+        assert_int_equal(given->tri_count, made->tri_count);
+        size_t both = 0, agree = 0;
+        double cos_sum = 0.0;
+        for (size_t i = 0; i < 3 * (size_t)given->tri_count; i++) {
+            const float *a = given->tangents + 4 * i, *b = made->tangents + 4 * i;
+            if (a[3] == 0.0f || b[3] == 0.0f)
+                continue;
+            both++;
+            agree += a[3] == b[3];
+            cos_sum += (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+        }
+        print_message("%s: %zu vertices, handedness agrees at %.4f, mean cosine %.4f\n",
+                      files[f], both, (double)agree / (double)both, cos_sum / (double)both);
+        assert_true(both > 0);
+        if (!((double)agree >= 0.95 * (double)both && cos_sum >= 0.9 * (double)both))
+            fail_msg("%s: generated tangents disagree with the file's", files[f]);
+        st_scene_destroy(given);
+        st_scene_destroy(made);
+        char cmd[160];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        assert_int_equal(system(cmd), 0);
+        free(copy);
+        checked++;
+    }
+    if (!checked)
+        print_message("note: no Khronos model with tangents under %s; check skipped\n", KHRONOS);
+}
+
 /* Every proper prefix of a valid file is malformed: status ST_ERR_FORMAT,
  * never a crash. The .gltf is cut before its closing brace (a prefix that
  * only drops trailing white space is still the whole document). */
@@ -1032,7 +1320,7 @@ int main(void)
         cmocka_unit_test(materials_and_flat_normals_follow_the_file),
         cmocka_unit_test(texcoords_float_u8_u16_read_as_file_says),
         cmocka_unit_test(texture_references_follow_the_file),
-        cmocka_unit_test(environment_white_only_without_emission),
+        cmocka_unit_test(default_environment_follows_the_lights),
         cmocka_unit_test(builtin_scenes_load_by_name),
         cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
@@ -1045,6 +1333,12 @@ int main(void)
         cmocka_unit_test(truncated_files_return_format_error),
         cmocka_unit_test(mutated_glb_fails_cleanly_or_loads_valid_scene),
         cmocka_unit_test(khronos_models_match_index_counts),
+        cmocka_unit_test(generated_tangents_have_gltf_handedness),
+        cmocka_unit_test(gpu_instances_are_drawn_each),
+        cmocka_unit_test(morph_targets_take_the_default_weights),
+        cmocka_unit_test(skins_take_the_rest_pose),
+        cmocka_unit_test(spec_gloss_becomes_metallic_roughness),
+        cmocka_unit_test(generated_tangents_agree_with_khronos_tangents),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
 }

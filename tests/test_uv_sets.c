@@ -11,7 +11,8 @@
  * TEXCOORD_1: the view's left half (x < 0, u < 0.5) shows red (1, 0, 0),
  * the right half blue (0, 0, 1), where TEXCOORD_0 would show red in every
  * pixel. Its normal map reads TEXCOORD_1 too, so the generated tangents
- * are dP/du = +x, and w = -1: dP/dv points to -y, against n x t = +y. */
+ * are dP/du = +x, and w = +1: dP/dv points to -y, so the bitangent a glTF
+ * normal map needs, -dP/dv, is +y = n x t. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -86,7 +87,7 @@ static void second_set_kept_only_when_read(void **state)
 }
 
 /* Tangents come from the normal map's set: TEXCOORD_0 is constant (no
- * tangent from it), TEXCOORD_1 gives +x with w = -1 (header). */
+ * tangent from it), TEXCOORD_1 gives +x with w = +1 (header). */
 static void tangents_follow_the_normal_maps_set(void **state)
 {
     (void)state;
@@ -96,7 +97,7 @@ static void tangents_follow_the_normal_maps_set(void **state)
         for (int v = 0; v < 3; v++) {
             const float *tan = s->tangents + 12 * t + 4 * v;
             assert_true(tan[0] == 1.0f && tan[1] == 0.0f && tan[2] == 0.0f);
-            assert_true(tan[3] == -1.0f);
+            assert_true(tan[3] == 1.0f);
         }
     st_scene_destroy(s);
 }

@@ -71,7 +71,8 @@ two_uv        the quad, unlit white, seen as textured_quad is: TEXCOORD_0 consta
               magnification), and its normal map (flat) read TEXCOORD_1, so the
               view's left half (x < 0, u < 0.5) is red and its right half blue,
               where TEXCOORD_0 would make all of it red; tangents generated from
-              TEXCOORD_1 are +x (u grows with x) with w = -1 (v falls with y).
+              TEXCOORD_1 are +x (u grows with x) with w = +1 (v falls with y,
+              so -dP/dv = +y = n x t).
               two_uv_transform names texCoord 0 and KHR_texture_transform's
               texCoord 1 (identity transform); two_uv_coord2 names texCoord 2.
               two_uv_light: a white Lambertian ground (the quad, z = 0) under a
@@ -88,6 +89,45 @@ shade_mix     six 1 x 1 quads of a 3 x 2 ground (z = 0) under two one-sided
               lanes), and a textured, an alpha MASK, a vertex-coloured and a
               metallic one (shade_item's); the emitter over x > 0 has an
               emissive texture (grey | white), the one over x < 0 none.
+tangent_ramp  the quad (u along +x, v along -y, as glTF's v runs down the
+              image), white and Lambertian, without TANGENT, whose constant
+              normal map (bytes 128, 64, 238: n = (0, -0.5, 0.87) in tangent
+              space) tilts the normal towards +v, the way a height ramp
+              rising towards -v does; tangent_ramp_mirrored: its u mirrored
+              (u along -x); tangent_ramp_given: tangent_ramp with the TANGENT
+              (1, 0, 0, 1) that glTF's definition gives (bitangent
+              w cross(n, t) = +y, towards -v).
+glow_box      sided_one's closed cube, double-sided, its inside emitting
+              radiance 1 (a dim emitter: emissiveFactor 1, no strength), camera 0
+              at its centre; glow_box_open: the same without its +z face;
+              glow_box_one_sided: one-sided, so the camera inside sees through
+              the backs of its outward-facing walls.
+lamp_and_glow the quad emitting radiance 1 (power 4 pi: area 4) and, in front
+              of it, the quad scaled by 0.25 (area 0.25) as a lamp of
+              emissiveStrength 4 (power pi): the lamp carries less than half
+              of the power; lamp_over_glow: strength 32 (power 8 pi), more.
+instancing    the triangle (0, 0, 0), (1, 0, 0), (0, 1, 0) (normal +z) on a node at
+              (10, 0, 0) with EXT_mesh_gpu_instancing (required): three
+              instances, T (0, 0, 0), R identity, S 1; T (1, 0, 0), R 90
+              degrees about +z, S 1; T (0, 2, 0), R identity, S 2.
+              instancing_huge: 2^20 triangles (a sparse POSITION accessor over
+              zeros) in 65 instances: more than 2^26, the triangle cap.
+morph         that triangle with two morph targets moving vertex 2 by
+              (0, 0, 1) and by (0, 1, 0) (target 0 also turns every normal by
+              (1, 0, 0)), mesh weights (0.5, 0.25); node 0 draws it with the
+              mesh's weights, node 1, at (5, 0, 0), with its own (1, 0).
+skin          a four-vertex fan, v0 (0, 0, 0) and v1 (1, 0, 0) on joint 0, v2
+              (0, 2, 0) on joint 1, v3 (0.5, 1, 0) half on each, skinned by
+              joint 0 (the root, identity) and joint 1 (its child, at (0, 1, 0),
+              turned 90 degrees about +z in its default transform; bound
+              unturned: inverseBindMatrices identity and T(0, -1, 0)); the
+              mesh's node (at (100, 0, 0), a child of joint 1: its transform
+              must be ignored) and one animation (not played).
+specgloss     the quad with KHR_materials_pbrSpecularGlossiness (required) in two
+              materials on two primitives: factors only (diffuse (0.5, 0.25, 1,
+              1), specular (0.2, 0.3, 0.4), glossiness 0.75), and glossiness 0.5
+              with a 2 x 1 RGBA specularGlossinessTexture (RGB (10, 20, 30) A
+              64 | RGB (200, 100, 50) A 255) and a diffuseTexture.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -660,6 +700,33 @@ def write_lighting():
     write_json("material_extensions.gltf", g)
 
 
+# tangent space normal of tangent_ramp's map, as bytes (n + 1) / 2 x 255
+RAMP_TEXEL = (128, 64, 238)
+
+
+def write_tangent_ramp():
+    for name, mirrored, given in (("tangent_ramp.gltf", False, False),
+                                  ("tangent_ramp_mirrored.gltf", True, False),
+                                  ("tangent_ramp_given.gltf", False, True)):
+        b = Blob()
+        uv = list(QUAD_UV)
+        if mirrored:
+            uv[0::2] = [1.0 - u for u in uv[0::2]]
+        p = b.quad(0.0, uv)
+        if given:
+            p["attributes"]["TANGENT"] = b.accessor(f32([1.0, 0.0, 0.0, 1.0] * 4), 5126, 4,
+                                                    "VEC4")
+        p["material"] = 0
+        g = doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+                cameras=ORTHO, images=[{"uri": png_uri(constant_png(RAMP_TEXEL))}],
+                textures=[{"source": 0}],
+                materials=[{"name": "ramp", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                            "normalTexture": {"index": 0},
+                            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}])
+        write_json(name, g)
+
+
 def write_two_uv():
     b = Blob()
     p = b.quad(0.0, [0.25, 0.5] * 4)
@@ -753,6 +820,133 @@ def write_sided():
                 scenes=[{"nodes": [0, 1, 2]}], cameras=cameras, materials=[mat],
                 extensionsUsed=["KHR_materials_unlit"])
         write_json(name, g)
+
+
+def write_lighting_default():
+    with open(os.path.join(HERE, "sided_one.gltf"), encoding="ascii") as f:
+        g = json.load(f)
+    g["materials"] = [{"emissiveFactor": [1.0, 1.0, 1.0], "doubleSided": True,
+                       "pbrMetallicRoughness": {"metallicFactor": 0.0}}]
+    del g["extensionsUsed"]
+    write_json("glow_box.gltf", g)
+    g["materials"][0]["doubleSided"] = False
+    write_json("glow_box_one_sided.gltf", g)
+    g["materials"][0]["doubleSided"] = True
+    b = Blob()
+    # the cube's +z face (axis 2, sign +1) is its fifth: indices 24..29 dropped
+    ind = [i for k, i in enumerate(struct.unpack_from("<36H", base64.b64decode(
+        g["buffers"][0]["uri"].split(",", 1)[1]), g["bufferViews"][1]["byteOffset"]))
+           if not 24 <= k < 30]
+    b.data = bytearray(base64.b64decode(g["buffers"][0]["uri"].split(",", 1)[1]))
+    b.views, b.accessors = g["bufferViews"], g["accessors"]
+    g["meshes"][0]["primitives"][0]["indices"] = b.accessor(
+        struct.pack("<30H", *ind), 5123, 30, "SCALAR")
+    g["bufferViews"], g["accessors"], g["buffers"] = b.views, b.accessors, b.buffers()
+    write_json("glow_box_open.gltf", g)
+    for name, strength in (("lamp_and_glow.gltf", 4.0), ("lamp_over_glow.gltf", 32.0)):
+        b = Blob()
+        p = b.quad(0.0)
+        p["material"] = 0
+        lamp = dict(p, material=1)
+        materials = [{"name": "glow", "emissiveFactor": [1.0, 1.0, 1.0]},
+                     {"name": "lamp", "emissiveFactor": [1.0, 1.0, 1.0],
+                      "extensions": {"KHR_materials_emissive_strength":
+                                     {"emissiveStrength": strength}}}]
+        g = doc([{"primitives": [p]}, {"primitives": [lamp]}], b.accessors, b.views,
+                b.buffers(), nodes=[{"mesh": 0}, {"mesh": 1, "translation": [0.0, 0.0, 0.5],
+                                                  "scale": [0.25, 0.25, 1.0]},
+                                    ortho_camera_node()],
+                scenes=[{"nodes": [0, 1, 2]}], cameras=ORTHO, materials=materials,
+                extensionsUsed=["KHR_materials_emissive_strength"])
+        write_json(name, g)
+
+
+TRIANGLE = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+Z_ROT_90 = [0.0, 0.0, math.sqrt(0.5), math.sqrt(0.5)]  # (x, y, z, w)
+
+
+def triangle_prim(b):
+    return {"attributes": {"POSITION": b.accessor(f32(TRIANGLE), 5126, 3, "VEC3",
+                                                  min=[0.0] * 3, max=[1.0, 1.0, 0.0]),
+                           "NORMAL": b.accessor(f32([0.0, 0.0, 1.0] * 3), 5126, 3, "VEC3")}}
+
+
+def write_structure():
+    ext = ["EXT_mesh_gpu_instancing"]
+    b = Blob()
+    p = triangle_prim(b)
+    attrs = {"TRANSLATION": b.accessor(f32([0, 0, 0, 1, 0, 0, 0, 2, 0]), 5126, 3, "VEC3"),
+             "ROTATION": b.accessor(f32([0, 0, 0, 1] + Z_ROT_90 + [0, 0, 0, 1]), 5126, 3, "VEC4"),
+             "SCALE": b.accessor(f32([1, 1, 1, 1, 1, 1, 2, 2, 2]), 5126, 3, "VEC3")}
+    node = {"mesh": 0, "translation": [10.0, 0.0, 0.0],
+            "extensions": {"EXT_mesh_gpu_instancing": {"attributes": attrs}}}
+    write_json("instancing.gltf", doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                                      nodes=[node], extensionsUsed=ext, extensionsRequired=ext))
+    b = Blob()
+    b.accessors.append({"componentType": 5126, "count": 3 << 20, "type": "VEC3",
+                        "sparse": {"count": 1, "indices": {"bufferView": b.view(struct.pack("<I", 0)),
+                                                           "componentType": 5125},
+                                   "values": {"bufferView": b.view(f32([0.0] * 3))}}})
+    p = {"attributes": {"POSITION": 0}}
+    attrs = {"TRANSLATION": b.accessor(f32([0.0] * 3 * 65), 5126, 65, "VEC3")}
+    node = {"mesh": 0, "extensions": {"EXT_mesh_gpu_instancing": {"attributes": attrs}}}
+    write_json("instancing_huge.gltf", doc([{"primitives": [p]}], b.accessors, b.views,
+                                           b.buffers(), nodes=[node], extensionsUsed=ext,
+                                           extensionsRequired=ext))
+    b = Blob()
+    p = triangle_prim(b)
+    p["targets"] = [{"POSITION": b.accessor(f32([0, 0, 0, 0, 0, 0, 0, 0, 1]), 5126, 3, "VEC3",
+                                            min=[0.0] * 3, max=[0.0, 0.0, 1.0]),
+                     "NORMAL": b.accessor(f32([1, 0, 0] * 3), 5126, 3, "VEC3")},
+                    {"POSITION": b.accessor(f32([0, 0, 0, 0, 0, 0, 0, 1, 0]), 5126, 3, "VEC3",
+                                            min=[0.0] * 3, max=[0.0, 1.0, 0.0])}]
+    write_json("morph.gltf", doc([{"primitives": [p], "weights": [0.5, 0.25]}], b.accessors,
+                                 b.views, b.buffers(),
+                                 nodes=[{"mesh": 0},
+                                        {"mesh": 0, "translation": [5.0, 0.0, 0.0],
+                                         "weights": [1.0, 0.0]}],
+                                 scenes=[{"nodes": [0, 1]}]))
+    b = Blob()
+    pos = [0, 0, 0, 1, 0, 0, 0, 2, 0, 0.5, 1, 0]
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, 4, "VEC3", min=[0.0] * 3,
+                                               max=[1.0, 2.0, 0.0]),
+                        "NORMAL": b.accessor(f32([0.0, 0.0, 1.0] * 4), 5126, 4, "VEC3"),
+                        "JOINTS_0": b.accessor(bytes([0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0,
+                                                      0, 1, 0, 0]), 5121, 4, "VEC4"),
+                        "WEIGHTS_0": b.accessor(f32([1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0,
+                                                     0.5, 0.5, 0, 0]), 5126, 4, "VEC4")},
+         "indices": b.accessor(struct.pack("<6H", 0, 1, 3, 0, 3, 2), 5123, 6, "SCALAR")}
+    ibm = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,
+           1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1]  # column-major: T(0, -1, 0)
+    skins = [{"joints": [0, 1], "inverseBindMatrices": b.accessor(f32(ibm), 5126, 2, "MAT4")}]
+    times = b.accessor(f32([0.0, 1.0]), 5126, 2, "SCALAR", min=[0.0], max=[1.0])
+    turns = b.accessor(f32(Z_ROT_90 + [0, 0, 0, 1]), 5126, 2, "VEC4")
+    animations = [{"channels": [{"sampler": 0, "target": {"node": 1, "path": "rotation"}}],
+                   "samplers": [{"input": times, "output": turns}]}]
+    nodes = [{"name": "joint 0", "children": [1]},
+             {"name": "joint 1", "translation": [0.0, 1.0, 0.0], "rotation": Z_ROT_90,
+              "children": [2]},
+             {"name": "skinned", "mesh": 0, "skin": 0, "translation": [100.0, 0.0, 0.0]}]
+    write_json("skin.gltf", doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                                nodes=nodes, skins=skins, animations=animations))
+
+
+def write_specgloss():
+    ext = ["KHR_materials_pbrSpecularGlossiness"]
+    b = Blob()
+    p0, p1 = b.quad(0.0, QUAD_UV), b.quad(1.0, QUAD_UV)
+    p0["material"], p1["material"] = 0, 1
+    sg = png(2, 1, 4, [[10, 20, 30, 64, 200, 100, 50, 255]])
+    materials = [{"name": "factors", "extensions": {ext[0]: {
+                      "diffuseFactor": [0.5, 0.25, 1.0, 1.0], "specularFactor": [0.2, 0.3, 0.4],
+                      "glossinessFactor": 0.75}}},
+                 {"name": "textured", "extensions": {ext[0]: {
+                      "glossinessFactor": 0.5, "specularGlossinessTexture": {"index": 0},
+                      "diffuseTexture": {"index": 1}}}}]
+    g = doc([{"primitives": [p0, p1]}], b.accessors, b.views, b.buffers(), materials=materials,
+            images=[{"uri": png_uri(sg)}, {"uri": png_uri(constant_png((90, 90, 90)))}],
+            textures=[{"source": 0}, {"source": 1}], extensionsUsed=ext, extensionsRequired=ext)
+    write_json("specgloss.gltf", g)
 
 
 def write_quantized():
@@ -1016,6 +1210,10 @@ def main():
     write_sided()
     write_two_uv()
     write_two_uv_light()
+    write_tangent_ramp()
+    write_lighting_default()
+    write_structure()
+    write_specgloss()
     write_shadows()
     write_shade_mix()
     write_quantized()
