@@ -87,7 +87,7 @@ st_status st_render_check(const st_render_options *o, st_error *err);
  * or bin_samples then splat_tiles (a work-group per image tile, film.cl). */
 /* Which path (splat_path): the device type's (on GPUs tiles, each a
  * work-group sharing its window through local atomics; on CPUs tiles each
- * owned by one work-item, which adds without atomics: README), or one of
+ * owned by one work-item, which adds without atomics), or one of
  * them. */
 /* PIXELS: the box filter's splat gathered by pixel (splat_pixels, film.cl)
  * where the render allows it (radius <= 1/2, a per-pixel sampler, no filter
@@ -95,7 +95,7 @@ st_status st_render_check(const st_render_options *o, st_error *err);
 enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE, ST_SPLAT_PIXELS };
 /* Where shadow rays are traced (shadow_path), same film bit for bit: by
  * default (AUTO) a stage of their own, trace_shadow_rays, on every device
- * type (inside shade_hits measured no faster on PoCL's CPU device: README),
+ * type (inside shade_hits measured no faster on PoCL's CPU device),
  * or one of them. */
 enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 /* Which rays are traced in packets of 8 per work-item (packet_path;
@@ -109,7 +109,7 @@ extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
  * generate_samples then generate_camera_rays (which reads the sample back),
  * FUSED one kernel, generate_rays, which writes each item's sample, camera
  * ray and fresh path. AUTO: SPLIT on CPU devices, where PoCL's build of the
- * one kernel spills more and gained nothing measurable (README), FUSED
+ * one kernel spills more and gained nothing measurable, FUSED
  * elsewhere (one launch and one re-read fewer; no GPU was lent to measure). */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
 /* How shade runs (shade_path), same film bit for bit: ITEM shade_hits, one
@@ -117,8 +117,8 @@ enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
  * case of direct lighting in float8 lanes (kernels/shade8.h). AUTO: EIGHT
  * on CPU devices in renders that may take its fast lanes (direct lighting
  * by area lights alone, st_shade8_render_fast, of a scene with a material
- * that takes them, st_shade8_material), where it measured faster
- * (README), ITEM elsewhere (GPUs: not measured, none was lent). Shadow rays
+ * that takes them, st_shade8_material), where it measured faster,
+ * ITEM elsewhere (GPUs: not measured, none was lent). Shadow rays
  * traced in shade take ITEM. */
 enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_EIGHT };
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,

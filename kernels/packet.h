@@ -7,7 +7,7 @@
  * traversal is SIMD only across a node's 8 children; the triangle tests and
  * the traversal's bookkeeping (masks, stack, sorting) are scalar work per
  * ray. Neighbouring items of a wave are neighbouring pixels of one row
- * (README), so their camera rays, and their shadow rays towards a light,
+ * (generate.cl's item order), so their camera rays, and their shadow rays towards a light,
  * open mostly the same nodes: a packet walks them once, tests each
  * triangle against 8 rays at once, and shares the stack (Wald et al.,
  * "Interactive Rendering with Coherent Ray Tracing", 2001, did it with SSE).

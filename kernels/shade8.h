@@ -1,7 +1,7 @@
 /* shade8.h — one vertex of eight paths at once, in float8 lanes: the common
  * case of direct lighting (shade.cl's shade_hits8). PoCL runs a kernel one
  * work-item at a time and widens none of shade_item's float3 arithmetic
- * (README, "Why PoCL runs strata one work-item at a time"); explicit float8
+ * (its loops over work-items are not vectorised across items); explicit float8
  * stays SIMD. Each lane gathers its own item's values, the arithmetic is
  * done once for all eight, and each lane stores its own results.
  *

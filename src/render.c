@@ -46,7 +46,7 @@ st_render_options st_render_defaults(void)
     o.texture_filter = ST_TEXFILTER_TRILINEAR;
     /* a fixed work-group size: PoCL compiles a kernel again for every new
      * size, and a driver's choice follows the global size, which changes
-     * from wave to wave in adaptive rounds (measured: 15 s against 1.9 s) */
+     * from wave to wave in adaptive rounds (measured several times slower) */
     o.local_size = 64;
     return o;
 }
@@ -157,7 +157,7 @@ static size_t tile_window_bytes(st_u32 side, float radius)
  * window to share), when asked, when no window fits, and by default on a
  * CPU device for a filter of radius 1/2 or less (a box's one tap per
  * sample: there binning and the window's flush cost more than the atomics
- * they save, measured: README). */
+ * they save, as measured on PoCL's CPU device). */
 static void plan_bins(const st_renderer *r, const st_render_options *o, st_params *p)
 {
     p->bins = p->bin_side = p->bins_x = 0;
@@ -178,7 +178,7 @@ static void plan_bins(const st_renderer *r, const st_render_options *o, st_param
 
 /* Work-items per splat_tiles work-group: one on a CPU device (PoCL runs a
  * group's items in turn on one thread, so the window is that thread's alone
- * and takes plain adds, film.cl; measured: README), else the render's
+ * and takes plain adds, film.cl, which measured faster), else the render's
  * work-group size, the items sharing the window through local atomics. */
 static size_t tile_group(const st_renderer *r, const st_render_options *o)
 {
@@ -444,9 +444,8 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
 
 /* Whether shade_hits traces its shadow rays itself (shade_hits_shadowed):
  * only when asked. On PoCL's CPU device it measured no faster than the
- * stage (4 % more instructions, paired whole passes no faster; 8.5 % more
- * once shade kept its values in registers: README); on a GPU it is not
- * measured (none was lent). */
+ * stage (more instructions, whole passes no faster: the fused work-item
+ * keeps more values live); on a GPU it is not measured (none was lent). */
 static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
 {
     (void)r;
@@ -454,10 +453,10 @@ static int shadows_in_shade(const st_renderer *r, const st_render_options *o)
 }
 
 /* The fewest triangles for which auto traces coherent rays in packets on a
- * CPU device. Measured (README, "Packets of 8 rays"; whole process, direct,
- * packets against single rays): 0.86x on the 327,680-triangle icosphere and
- * 0.89x on ToyCar (108,936), but 1.04x on the bench Cornell box (32) and no
- * gain on models of 196 to 15,452 triangles: a small tree's few nodes cost a
+ * CPU device. Measured (whole process, direct, packets against single
+ * rays): faster on meshes of about a hundred thousand triangles and more,
+ * but slower on the bench Cornell box and no gain on models of a few
+ * hundred to some ten thousand triangles: a small tree's few nodes cost a
  * single ray little, and the packet's per-lane node tests and 8-lane triangle
  * tests then cost more than they share. */
 #define ST_PACKET_MIN_TRIANGLES 65536u
@@ -493,7 +492,7 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
 /* Whether the first stages run as one kernel, generate_rays (st_render.h,
  * ST_GENERATE_*): where asked, and by default off CPU devices. On PoCL's
  * CPU device it ran as many instructions as the two kernels together (the
- * fused body spills more) and no faster whole passes: README. */
+ * fused body spills more) and no faster whole passes. */
 static int fused_generate(const st_renderer *r, const st_render_options *o)
 {
     if (o->generate_path != ST_GENERATE_AUTO)
@@ -506,9 +505,8 @@ static int fused_generate(const st_renderer *r, const st_render_options *o)
  * default on CPU devices in renders where it may take fast lanes (direct
  * lighting by area lights, st_shade8_render_fast, of a scene with a
  * material that takes them, st_shade8_material), where PoCL keeps its float8
- * lanes SIMD and it measured faster (README, "Shade eight items per
- * work-item"; with no fast lane it runs 5 % more instructions than
- * shade_hits); elsewhere a GPU's work-items already run in lockstep (none
+ * lanes SIMD and it measured faster (with no fast lane it runs a few
+ * per cent more instructions than shade_hits); elsewhere a GPU's work-items already run in lockstep (none
  * was lent to measure). */
 static int shade_eight(const st_renderer *r, const st_render_options *o)
 {
