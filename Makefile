@@ -11,9 +11,13 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
 PKGS     := OpenCL stb cairo fftw3
 
 # The version `strata --version` prints and writes into its files: `git
-# describe` of the checkout, or the fallback outside a git checkout (a tarball).
+# describe` of the checkout against the release tags vMAJOR.MINOR.PATCH,
+# without the tag's v (0.1.0 on the tag, 0.1.0-N-gHASH N commits after it,
+# -dirty with uncommitted changes), or the fallback outside a git checkout
+# (a tarball).
 VERSION_FALLBACK := 0.1.0
-VERSION  := $(shell git describe --tags --always --dirty 2>/dev/null || echo $(VERSION_FALLBACK))
+VERSION_GIT := $(shell git describe --tags --match 'v[0-9]*' --always --dirty 2>/dev/null | sed 's/^v//')
+VERSION  := $(or $(VERSION_GIT),$(VERSION_FALLBACK))
 PREFIX   ?= /usr/local
 CC       ?= cc
 CXX      ?= c++
