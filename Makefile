@@ -130,8 +130,8 @@ $(BUILD):
 # the device. `make test` runs every layer, prints each one's time and ends
 # with one line "N passed, N failed" over all of them.
 UNIT_NAMES   := bsdf bvh diff filter filters fixed image image_meta image_spectrum names \
-                outfile pattern pixel_tile plot pmj02 sampler samplers sampling scene sheet \
-                signal tonemap
+                outfile pattern pixel_tile plot pmj02 progress sampler samplers sampling scene \
+                sheet signal tonemap
 IMAGE_NAMES  := render
 IMAGE_SH     := tests/test_pictures.sh tests/test_crop.sh tests/test_split.sh
 TEST_UNIT    := $(UNIT_NAMES:%=$(BUILD)/tests/test_%)

@@ -121,7 +121,7 @@ static void print_text(const st_cli_render_args *a, const bench_result *b)
         printf("%-22s %10.4f %9.2f M %-9s %5.1f%%\n", st_stage_names[k], t,
                t > 0 ? n / t * 1e-6 : 0.0, unit, sum > 0 ? 100.0 * t / sum : 0.0);
     }
-    st_cli_print_summary("bench", o, &b->total);
+    st_cli_print_summary("bench", o, &b->total, -1.0);
 }
 
 /* ---- --json ---------------------------------------------------------------------------- */

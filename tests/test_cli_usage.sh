@@ -106,6 +106,32 @@ if command -v help2man > /dev/null && [ -f Makefile ]; then
     check "the man page names STRATA_KERNEL_DIR and POCL_CACHE_DIR" 'grep -q STRATA_KERNEL_DIR "$T/strata.1" && grep -q POCL_CACHE_DIR "$T/strata.1"'
 fi
 
+# the first run: kernels compiled into an empty PoCL cache. The notice says
+# so at once, and the render's time (and rate) leave the compilation out:
+# the cold render takes about as long as the same render warm, where it took
+# several seconds more when the compilation fell in its first wave.
+if $S devices 2> /dev/null | grep -q "Portable Computing Language"; then
+    mkdir "$T/pocl-cache"
+    P="--width 32 --height 32 --spp 16 --sampler stratified"
+    POCL_CACHE_DIR="$T/pocl-cache" $S render $P -o "$T/cold.exr" > "$T/cold.out" 2> "$T/cold.err"
+    POCL_CACHE_DIR="$T/pocl-cache" $S render $P -o "$T/warm.exr" > "$T/warm.out" 2> "$T/warm.err"
+    check "a cold run says it compiles the kernels" \
+        'grep -qx "strata: compiling kernels (first run, cached afterwards)..." "$T/cold.err"'
+    check "a warm run does not" '! grep -q "compiling kernels" "$T/warm.err"'
+    check "the summary gives the compile time apart" \
+        'grep -q "; kernels compiled in [0-9.]* s before it$" "$T/cold.out"'
+    cold=$(sed -n 's/.* spp in \([0-9.]*\) s:.*/\1/p' "$T/cold.out")
+    warm=$(sed -n 's/.* spp in \([0-9.]*\) s:.*/\1/p' "$T/warm.out")
+    compile=$(sed -n 's/.*kernels compiled in \([0-9.]*\) s.*/\1/p' "$T/cold.out")
+    check "the cold render's time leaves the compilation out" \
+        'awk -v c="$cold" -v w="$warm" "BEGIN { exit !(c < 3 * w + 0.5) }"' "(cold $cold s, warm $warm s)"
+    check "the compilation took longer than the render it preceded" \
+        'awk -v c="$cold" -v k="$compile" "BEGIN { exit !(k > c) }"' "(compile $compile s, render $cold s)"
+    check "cold and warm renders are the same image" '$S diff "$T/cold.exr" "$T/warm.exr" --max-rmse 0 > /dev/null 2>&1'
+else
+    echo "# not PoCL: the first-run checks are left out"
+fi
+
 # the version: the release tag's number, then commits since and the hash
 if git describe --tags --match 'v[0-9]*' > /dev/null 2>&1; then
     check "--version is MAJOR.MINOR.PATCH[-N-gHASH][-dirty]" \
