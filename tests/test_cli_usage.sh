@@ -106,6 +106,21 @@ if command -v help2man > /dev/null && [ -f Makefile ]; then
     check "the man page names STRATA_KERNEL_DIR and POCL_CACHE_DIR" 'grep -q STRATA_KERNEL_DIR "$T/strata.1" && grep -q POCL_CACHE_DIR "$T/strata.1"'
 fi
 
+# bench --json on a render of a few milliseconds: the whole render is never
+# timed shorter than one of its stages (each figure the fastest of repeated
+# runs; one run each let the scheduler's noise invert them)
+if command -v python3 > /dev/null; then
+    ok_all=1
+    for i in 1 2 3; do
+        $S bench --width 16 --height 16 --spp 1 --json > "$T/b.json" 2> /dev/null || ok_all=0
+        python3 -c 'import json, sys
+d = json.load(open(sys.argv[1]))
+worst = max(v["seconds"] for v in d["stages"].values())
+sys.exit(0 if d["total"]["seconds"] >= worst else 1)' "$T/b.json" || ok_all=0
+    done
+    check "bench --json: the total is never shorter than a stage (3 runs)" '[ $ok_all -eq 1 ]' "($(cat "$T/b.json"))"
+fi
+
 # the first run: kernels compiled into an empty PoCL cache. The notice says
 # so at once, and the render's time (and rate) leave the compilation out:
 # the cold render takes about as long as the same render warm, where it took
