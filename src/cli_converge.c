@@ -306,6 +306,8 @@ static st_status write_error_spectrum(const converge_args *c, series *ss, st_u32
         snprintf(titles[i], sizeof titles[i], "%s, %u spp: error spectrum (%u seeds)",
                  ss[i].name, c->spp[0], ss[i].error_runs);
         hm[i] = (st_plot_heatmap){.title = titles[i], .colorbar_label = "log10 |E(k)|^2 / N",
+                                  .xlabel = "frequency k_x (cycles per region width)",
+                                  .ylabel = "frequency k_y (cycles per region height)",
                                   .values = ss[i].error_power, .width = w, .height = h,
                                   .log10 = 1, .vmin = lo, .vmax = hi > lo ? hi : lo + 1,
                                   .x0 = -(double)(w / 2), .x1 = (double)(w - 1 - w / 2),

@@ -28,6 +28,7 @@ static st_status save_spp_map(const char *path, const st_render_options *o,
     snprintf(title, sizeof title, "samples per pixel: mean %.2f, pilot %u, at most %u",
              (double)st->samples / (double)n, pilot, max_spp);
     st_plot_heatmap h = {.title = title, .colorbar_label = "samples per pixel", .values = v,
+                         .xlabel = "x (pixels)", .ylabel = "y (pixels, from the bottom)",
                          .width = o->width, .height = o->height, .vmin = pilot + 1,
                          .vmax = max_spp};
     st_u32 pw = o->width + 160 < 640 ? 640 : o->width + 160;
