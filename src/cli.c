@@ -112,8 +112,8 @@ static int check_repeats(int argc, char **argv)
         for (int j = 1; j < i; j++) {
             const char *oj = option_name(argv[j], b, sizeof b);
             if (oj && !strcmp(oi, oj))
-                return st_cli_usage_error("%s: %s given twice (it takes one value; "
-                                          "give it once)", argv[0], oi);
+                return st_cli_usage_error("%s: %s given twice (give it once: a second "
+                                          "value would silently replace the first)", argv[0], oi);
         }
     }
     return ST_CLI_OK;
