@@ -186,8 +186,10 @@ void st_cli_progress_init(st_cli_progress_state *p, const char *label, int quiet
 
 void st_cli_progress_work(st_cli_progress_state *p, double work, const char *unit)
 {
+    pthread_mutex_lock(&p->lock); /* the ticker may be drawing already */
     p->work = work;
     p->unit = unit;
+    pthread_mutex_unlock(&p->lock);
 }
 
 void st_cli_progress_done(st_cli_progress_state *p)
