@@ -11,9 +11,13 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
 PKGS     := OpenCL stb cairo fftw3
 
 # The version `strata --version` prints and writes into its files: `git
-# describe` of the checkout, or the fallback outside a git checkout (a tarball).
+# describe` of the checkout against the release tags vMAJOR.MINOR.PATCH,
+# without the tag's v (0.1.0 on the tag, 0.1.0-N-gHASH N commits after it,
+# -dirty with uncommitted changes), or the fallback outside a git checkout
+# (a tarball).
 VERSION_FALLBACK := 0.1.0
-VERSION  := $(shell git describe --tags --always --dirty 2>/dev/null || echo $(VERSION_FALLBACK))
+VERSION_GIT := $(shell git describe --tags --match 'v[0-9]*' --always --dirty 2>/dev/null | sed 's/^v//')
+VERSION  := $(or $(VERSION_GIT),$(VERSION_FALLBACK))
 PREFIX   ?= /usr/local
 CC       ?= cc
 CXX      ?= c++
@@ -53,7 +57,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/test_*.c)
 TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
 
-.PHONY: all deps bench-deps test test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
+.PHONY: all deps bench-deps test test-unit test-device test-image test-cli test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -118,8 +122,39 @@ $(BUILD)/tests/%: tests/%.c $(BUILD)/libstrata.a | $(BUILD)
 $(BUILD):
 	mkdir -p $(BUILD)
 
+# The tests in four layers (docs/TESTING.md). unit: host code alone, no
+# OpenCL device, seconds; image: whole renders against committed or
+# independently rendered images; device: the kernels through the library;
+# cli: the command-line scripts. A test program not named below is a device
+# test and a script a cli test, so a new test lands in a layer that may use
+# the device. `make test` runs every layer, prints each one's time and ends
+# with one line "N passed, N failed" over all of them.
+UNIT_NAMES   := bsdf bvh diff filter filters fixed image image_meta image_spectrum names \
+                outfile pattern pixel_tile plot pmj02 progress sampler samplers sampling scene \
+                sheet signal tonemap
+IMAGE_NAMES  := render
+IMAGE_SH     := tests/test_pictures.sh tests/test_crop.sh tests/test_split.sh
+TEST_UNIT    := $(UNIT_NAMES:%=$(BUILD)/tests/test_%)
+TEST_IMAGE   := $(IMAGE_NAMES:%=$(BUILD)/tests/test_%)
+TEST_DEVICE  := $(filter-out $(TEST_UNIT) $(TEST_IMAGE),$(TEST_BIN))
+TEST_CLI_SH  := $(filter-out $(IMAGE_SH),$(wildcard tests/test_*.sh))
+RUN_TESTS    := BUILD=$(BUILD) sh tests/run.sh
+
 test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere
-	@BUILD=$(BUILD) sh tests/run.sh $(TEST_BIN) $(wildcard tests/test_*.sh)
+	@$(RUN_TESTS) --layer unit $(TEST_UNIT) --layer device $(TEST_DEVICE) \
+	    --layer image $(TEST_IMAGE) $(IMAGE_SH) --layer cli $(TEST_CLI_SH)
+
+test-unit: $(TEST_UNIT)
+	@$(RUN_TESTS) --layer unit $(TEST_UNIT)
+
+test-device: deps $(TEST_DEVICE)
+	@$(RUN_TESTS) --layer device $(TEST_DEVICE)
+
+test-image: deps strata $(TEST_IMAGE)
+	@$(RUN_TESTS) --layer image $(TEST_IMAGE) $(IMAGE_SH)
+
+test-cli: deps strata $(BUILD)/make_icosphere
+	@$(RUN_TESTS) --layer cli $(TEST_CLI_SH)
 
 # The scene import and the malformed-file suite under AddressSanitizer and
 # UndefinedBehaviorSanitizer (leak reports off: PoCL and fontconfig keep

@@ -26,4 +26,11 @@ typedef struct st_diff_result {
 /* Compares a with b (a is "first image", b "second image" in messages). On failure *out is zeroed. */
 st_status st_diff_images(const st_image *a, const st_image *b, st_diff_result *out, st_error *err);
 
+/* What an 8-bit sRGB PNG of img holds, as linear values: every FLOAT sample
+ * clamped to [0, 1], quantised as st_image_save_png writes it and decoded as
+ * st_image_load_png reads it back (the PNG of a render with the default
+ * exposure and tone curve). Lets `strata diff --convert` compare an EXR with a
+ * PNG in the PNG's terms; UINT channels are left alone. */
+void st_diff_quantize_srgb8(st_image *img);
+
 #endif

@@ -117,6 +117,8 @@ float st_image_srgb_decode(float encoded);
 
 /* 8-bit code of a linear value: round(255 * st_image_srgb_encode(linear)), halves rounded up. */
 uint8_t st_image_srgb_quantize(float linear);
+/* The linear value of an 8-bit sRGB code, as st_image_load_png reads it. */
+float st_image_srgb8_decode(uint8_t code);
 
 /* Writes an 8-bit RGB PNG: the FLOAT channels named R, G and B (any order), or else the first three
  * channels, each quantised with st_image_srgb_quantize, through an st_outfile (no file is left on

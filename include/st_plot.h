@@ -41,7 +41,7 @@ typedef struct st_plot_scatter {
     uint32_t strata_nx, strata_ny;   /* > 0: draw the nx x ny stratum grid */
     int toroidal;                    /* nonzero: dashed border, "toroidal tile" note */
     double point_radius;             /* pixels; <= 0: automatic from count */
-    const char *xlabel, *ylabel;     /* axis labels; NULL: none */
+    const char *xlabel, *ylabel;     /* axis titles, required: a plot without them is refused */
 } st_plot_scatter;
 
 /* A width x height array of doubles as an image with a colour bar (viridis,
@@ -55,7 +55,7 @@ typedef struct st_plot_heatmap {
                                            vmin >= vmax: the data's finite min..max */
     double x0, x1, y0, y1;              /* data coordinates of the first and last column
                                            (row) centres, for axis ticks; x0 == x1: none */
-    const char *xlabel, *ylabel;        /* axis labels; NULL: none */
+    const char *xlabel, *ylabel;        /* axis titles, required (as a scatter's) */
 } st_plot_heatmap;
 
 typedef enum st_plot_style {
@@ -87,7 +87,7 @@ typedef struct st_plot_marker {
 #define ST_PLOT_LOG_Y 2u
 
 typedef struct st_plot_lines {
-    const char *title, *xlabel, *ylabel;   /* NULL: none */
+    const char *title, *xlabel, *ylabel;   /* title NULL: none; axis titles required */
     const st_plot_series *series;
     uint32_t series_count;
     const st_plot_marker *markers;

@@ -16,7 +16,8 @@
 
 /* The criterion: per-sample standard deviation over (μ² + ε²)^(γ / 2).
  * γ = 0 would minimise the summed squared error, γ = 1 the relative squared
- * error (x − r)² / (r² + ε²); γ = ½ is between (README: measured). */
+ * error (x − r)² / (r² + ε²); ¾ lies between and, measured against ½ and 1
+ * on the Cornell box and two Khronos models, gained clearly by both. */
 #define ADAPTIVE_GAMMA 0.75f
 #define ADAPTIVE_EPS 0.1f
 

@@ -5,8 +5,8 @@
  * and check them) and the kernels (shade.cl), so both run the same code.
  * Include after st_shared.h.
  *
- * Convention (the README shows it): +Y is up; map coordinates (u, v) in
- * [0, 1]², u across the image from its left edge, v down from its top row.
+ * Convention (tools/make_envmap.c's compass map shows it): +Y is up; map
+ * coordinates (u, v) in [0, 1]², u across the image from its left edge, v down from its top row.
  * v = 0 is +Y, v = 1 is -Y (θ = π v from +Y). The centre column u = 1/2
  * looks along -Z (where a glTF camera looks), u = 3/4 along +X, u = 1/4
  * along -X, and the left and right edges meet at +Z: seen from inside,

@@ -62,7 +62,7 @@ static st_sample tile_sample(const st_params *p, __global const st_tile_point *t
  * index back into (px, py). A multiply by a per-launch reciprocal was
  * tried (mul_hi(ulong)): PoCL emulates that with four multiplies, and
  * could not hoist the reciprocal's own divide out of its work-item loop,
- * so it ran 11.3 M instructions against 6.5 M (callgrind, README). */
+ * so it ran far more instructions than the two divides (callgrind). */
 static void region_item(const st_params *p, st_u64 g, st_u32 *px, st_u32 *py, st_u32 *s)
 {
     st_u32 npix = p->region_w * p->region_h; /* the image, or a crop's window and apron */

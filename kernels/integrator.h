@@ -12,7 +12,7 @@
 /* The part of a path (st_path) that a vertex reads and changes, held in
  * private values for the vertex: PoCL kept a private st_path, whose fields
  * are arrays that vload3 and vstore3 address, in an array with one slot per
- * work-item (with the copied ray: 19 loads and stores per hit; README). */
+ * work-item (with the copied ray, many loads and stores per hit). */
 typedef struct st_walk {
     float3 beta, radiance;
     float bsdf_pdf, env_pdf;

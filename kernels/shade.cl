@@ -172,7 +172,7 @@ __kernel void shade_hits(ST_STAGE_PARAMS)
 
 /* shade_hits and trace_shadow_rays in one work-item: the shadow ray is
  * traced at once, while the vertex is fresh (only when asked: on PoCL it ran
- * more instructions than the two stages; render.c, README). The same floats
+ * more instructions than the two stages; render.c). The same floats
  * are added in the same order, so the film is the same. */
 __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
 {

@@ -43,9 +43,9 @@ typedef float st_f32;
 /* A hot helper inlined into its caller: PoCL compiles with -Dinline=, so a
  * plain `static inline` stays a call on the device (and blocks its
  * vectoriser); the host's compiler inlines by itself. Only where it pays: a
- * build with every helper forced inline took PoCL's cold build from 12.6 s
- * to 30.2 s (issue 15), and with the filter and fixed-point helpers forced
- * inline splat_samples ran 26 % more instructions (README). Oclgrind's
+ * build with every helper forced inline more than doubled PoCL's cold
+ * build, and with the filter and fixed-point helpers forced inline
+ * splat_samples ran more instructions. Oclgrind's
  * build defines ST_NO_FORCED_INLINE (device.c): it cannot run the
  * llvm.experimental.noalias.scope.decl that forced inlining leaves. */
 #if defined(__OPENCL_VERSION__) && !defined(ST_NO_FORCED_INLINE)

@@ -12,9 +12,9 @@
  * count (Embree's SAH counts leaves in such blocks too), less than the
  * C_trav = 1.5 C_isect of any split: every node of at most LEAF_MAX
  * triangles is a leaf, larger ones are split. Counting C_isect per triangle,
- * as the scalar test did, left 158,040 leaves of 2.07 triangles on the
- * 327,680-triangle icosphere instead of 102,407 of 3.2, and its rays were
- * slower (README, "Leaf blocks sized to their leaf").
+ * as the scalar test did, left about half again as many leaves with fewer
+ * triangles each on a large mesh, and its rays were slower: each leaf costs
+ * a node visit, and the block's triangles are tested together anyway.
  *
  * Three builders share the work, from the top down:
  *   - scenes of GRID_MIN_TRIS triangles or more get their top levels from a

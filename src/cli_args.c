@@ -90,6 +90,8 @@ enum {
     O_PACKETS, O_LANES
 };
 
+const char *const st_cli_texfilter_names[3] = {"none", "bilinear", "trilinear"};
+
 static const struct option options[] = {
     {"width", required_argument, 0, O_WIDTH},
     {"height", required_argument, 0, O_HEIGHT},
@@ -307,10 +309,8 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
         return parse_name("--reconstruction", st_reconstruction_names, 2, v, &o->reconstruction);
     case O_ENV: return parse_env(v, a);
     case O_ENV_ROTATE: return st_cli_parse_float("--env-rotate", v, &o->env_rotate);
-    case O_TEXFILTER: {
-        static const char *const names[3] = {"none", "bilinear", "trilinear"};
-        return parse_name("--texture-filter", names, 3, v, &o->texture_filter);
-    }
+    case O_TEXFILTER:
+        return parse_name("--texture-filter", st_cli_texfilter_names, 3, v, &o->texture_filter);
     case O_CAMERA: {
         unsigned n;
         if (strcmp(v, "auto") == 0) {

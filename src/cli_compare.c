@@ -178,7 +178,7 @@ static st_status get_reference(const compare_args *c, st_cli_session *s, st_imag
     ro.spp = c->reference_spp;
     ro.seed = o->seed + 0x5eed5eedu; /* independent of the compared renders (as converge) */
     ro.filter = st_filter_default(c->filters[0]);
-    return st_render(s->renderer, &ro, ref, NULL, NULL, NULL, NULL, err);
+    return st_cli_render_with_progress(s, &ro, "compare: reference", c->r.quiet, ref, err);
 }
 
 /* Renders every combination into imgs (row-major: sampler, then spp, then filter). */
@@ -202,10 +202,13 @@ static st_status render_all(const compare_args *c, st_cli_session *s, const st_i
                 res[k].filter = c->filters[f];
                 if (st_render_check(&o, err) != ST_OK ||
                     st_render(s->renderer, &o, &imgs[k], NULL, NULL, NULL, NULL, err) != ST_OK ||
-                    st_diff_images(&imgs[k], ref, &res[k].d, err) != ST_OK)
+                    st_diff_images(&imgs[k], ref, &res[k].d, err) != ST_OK) {
+                    st_cli_progress_done(&prog);
                     return err->status;
+                }
                 st_cli_progress(&prog, (double)(k + 1) / n);
             }
+    st_cli_progress_done(&prog);
     return ST_OK;
 }
 

@@ -244,7 +244,7 @@ static st_status get_reference(const converge_args *c, st_cli_session *s, st_ima
         ro.spp = c->reference_spp;
         ro.seed = o->seed + 0x5eed5eedu; /* independent of the study's seeds */
         ro.adaptive = 0;
-        if (st_render(s->renderer, &ro, ref, NULL, NULL, NULL, NULL, err) != ST_OK)
+        if (st_cli_render_with_progress(s, &ro, "converge: reference", c->r.quiet, ref, err))
             return err->status;
     }
     const char *names[3] = {"R", "G", "B"};
@@ -306,6 +306,8 @@ static st_status write_error_spectrum(const converge_args *c, series *ss, st_u32
         snprintf(titles[i], sizeof titles[i], "%s, %u spp: error spectrum (%u seeds)",
                  ss[i].name, c->spp[0], ss[i].error_runs);
         hm[i] = (st_plot_heatmap){.title = titles[i], .colorbar_label = "log10 |E(k)|^2 / N",
+                                  .xlabel = "frequency k_x (cycles per region width)",
+                                  .ylabel = "frequency k_y (cycles per region height)",
                                   .values = ss[i].error_power, .width = w, .height = h,
                                   .log10 = 1, .vmin = lo, .vmax = hi > lo ? hi : lo + 1,
                                   .x0 = -(double)(w / 2), .x1 = (double)(w - 1 - w / 2),
@@ -463,20 +465,21 @@ int st_cli_converge(int argc, char **argv)
     st_image ref = {0};
     int ir[3];
     st_cli_progress_state prog;
-    st_cli_progress_init(&prog, "converge", c->r.quiet);
-    st_cli_progress_work(&prog, total, "renders");
     if (st_cli_session_open(&c->r, &s, &err) || get_reference(c, &s, &ref, ir, &err)) {
         rc = st_cli_session_fail(&s, &err);
         goto done;
     }
-    for (st_u32 i = 0; i < ns; i++) {
-        for (st_u32 k = 0; k < c->nspp; k++)
-            if (run_point(c, &s, &ref, ir, &ss[i], k, &prog, &done, total, &err)) {
+    st_cli_progress_init(&prog, "converge", c->r.quiet);
+    st_cli_progress_work(&prog, total, "renders");
+    for (st_u32 i = 0; i < ns && !rc; i++) {
+        for (st_u32 k = 0; k < c->nspp && !rc; k++)
+            if (run_point(c, &s, &ref, ir, &ss[i], k, &prog, &done, total, &err))
                 rc = st_cli_session_fail(&s, &err);
-                goto done;
-            }
         ss[i].slope = fit_slope(&ss[i]);
     }
+    st_cli_progress_done(&prog);
+    if (rc)
+        goto done;
     if (write_outputs(c, ss, ns, &err) ||
         (c->error_spectrum && write_error_spectrum(c, ss, ns, &err))) {
         rc = st_cli_fail(&err);

@@ -184,8 +184,8 @@ static st_status save_result(const part *parts, int n, const char *held, int com
     return st_image_save(out, rgb, attrs, na + 1, err);
 }
 
-static st_status merge(part *parts, int n, const char *out, const char *device, int partial,
-                       st_error *err)
+static st_status merge(part *parts, int n, const char *const *outs, int nouts,
+                       const char *device, int partial, st_error *err)
 {
     char held[RANGES_TEXT];
     st_image img = {0}, resolved = {0}, rgb = {0};
@@ -228,7 +228,8 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
     if (rc == ST_OK) {
         char whole[sizeof parts[0].attrs->value + 2];
         snprintf(whole, sizeof whole, "0:%s", attr_value(&parts[0], "strata.spp"));
-        rc = save_result(parts, n, held, !strcmp(held, whole), out, &rgb, err);
+        for (int k = 0; k < nouts && rc == ST_OK; k++) /* every -o, as render writes them */
+            rc = save_result(parts, n, held, !strcmp(held, whole), outs[k], &rgb, err);
     }
     if (rc != ST_OK && dev && err->status == ST_ERR_DEVICE && st_device_build_log(dev)[0])
         fprintf(stderr, "%s\n", st_device_build_log(dev));
@@ -241,7 +242,8 @@ static st_status merge(part *parts, int n, const char *out, const char *device, 
 
 int st_cli_merge(int argc, char **argv)
 {
-    const char *out = NULL, *device = NULL;
+    const char *outs[ST_CLI_MAX_OUTPUTS], *device = NULL;
+    int nouts = 0;
     int partial = 0;
     part *parts = calloc(MAX_PARTS, sizeof *parts);
     int n = 0, rc = 0;
@@ -249,7 +251,7 @@ int st_cli_merge(int argc, char **argv)
         return st_cli_fail(&(st_error){ST_ERR_NOMEM, "out of memory"});
     for (int i = 1; i < argc && rc == 0; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png [--device SPEC] [--partial]\n"
+            puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png [-o OUT2...] [--device SPEC] [--partial]\n"
                  "  adds the raw films of split renders (strata render --sample-range K:M)\n"
                  "  into the image one render of all their samples gives, bit for bit.\n"
                  "  The parts' ranges must tile 0..spp, and parts must share every setting,\n"
@@ -263,8 +265,11 @@ int st_cli_merge(int argc, char **argv)
         if (!strcmp(argv[i], "-o") || !strcmp(argv[i], "--device")) {
             if (i + 1 >= argc)
                 rc = st_cli_usage_error("merge: %s needs a value", argv[i]);
+            else if (argv[i][1] == 'o' && nouts == ST_CLI_MAX_OUTPUTS)
+                rc = st_cli_usage_error("merge: -o %s: at most %d outputs", argv[i + 1],
+                                        ST_CLI_MAX_OUTPUTS);
             else if (argv[i][1] == 'o')
-                out = argv[++i];
+                outs[nouts++] = argv[++i];
             else
                 device = argv[++i];
         } else if (!strcmp(argv[i], "--partial")) {
@@ -277,14 +282,16 @@ int st_cli_merge(int argc, char **argv)
             parts[n++].path = argv[i];
         }
     }
-    if (rc == 0 && (!out || n == 0))
+    if (rc == 0 && (!nouts || n == 0))
         rc = st_cli_usage_error("merge: needs parts and -o OUT (strata merge A.exr B.exr -o OUT.exr)");
-    if (rc == 0 && !st_cli_has_extension(out, ".exr") && !st_cli_has_extension(out, ".png"))
-        rc = st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
     st_error err = {0};
-    if (rc == 0 && st_outfile_check(out, &err) != ST_OK)
-        rc = st_cli_fail(&err);
-    if (rc == 0 && merge(parts, n, out, device, partial, &err) != ST_OK)
+    for (int k = 0; k < nouts && rc == 0; k++) {
+        if (!st_cli_has_extension(outs[k], ".exr") && !st_cli_has_extension(outs[k], ".png"))
+            rc = st_cli_usage_error("-o %s: the output must end in .exr or .png", outs[k]);
+        else if (st_outfile_check(outs[k], &err) != ST_OK)
+            rc = st_cli_fail(&err);
+    }
+    if (rc == 0 && merge(parts, n, outs, nouts, device, partial, &err) != ST_OK)
         rc = st_cli_fail(&err);
     for (int i = 0; i < n; i++)
         free(parts[i].attrs);

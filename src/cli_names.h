@@ -14,4 +14,10 @@ int st_cli_unknown_name(const char *opt, const char *value, const char *const *n
  * returns ST_CLI_EXIT_USAGE. */
 int st_cli_unknown_option(const char *cmd, const char *arg, const struct option *opts);
 
+/* Prints one of the name tables the options read (samplers, filters,
+ * ..., scenes, devices), one name a line, for the shell completion
+ * (tools/strata.bash-completion), so the completion offers what the parsers
+ * accept. Returns 0, or ST_CLI_EXIT_USAGE for an unknown table. */
+int st_cli_print_names(const char *table);
+
 #endif

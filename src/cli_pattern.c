@@ -28,7 +28,8 @@ static const char pattern_help[] =
     "  --dims D            dimensions per point (default 2)\n"
     "  --seed S            random seed (default 0)\n"
     "  --scramble on|none  randomise halton, hammersley, the sobols, stratified order (default on)\n"
-    "  --csv FILE|-        the points, one per line, comma-separated, in [0,1)^D\n"
+    "  --csv FILE|-        the points, one per line, comma-separated, in [0,1)^D, after a\n"
+    "                      header row x0,x1,... naming the dimensions\n"
     "  --png FILE          scatter plot of the first two dimensions\n"
     "  --spectrum FILE     periodogram |sum_j exp(-2 pi i k.x_j)|^2 / N over integer k,\n"
     "                      centred, log-scaled (PNG)\n"
@@ -148,6 +149,9 @@ typedef struct points_ctx { const float *pts; st_u32 n, dims; } points_ctx;
 static void emit_points(FILE *f, const void *ctx)
 {
     const points_ctx *c = ctx;
+    /* a header row naming the dimensions, as every CSV strata writes has one */
+    for (st_u32 d = 0; d < c->dims; d++)
+        fprintf(f, "x%u%c", d, d + 1 == c->dims ? '\n' : ',');
     for (st_u32 i = 0; i < c->n; i++)
         for (st_u32 d = 0; d < c->dims; d++)
             fprintf(f, "%.9g%c", (double)c->pts[(size_t)i * c->dims + d],

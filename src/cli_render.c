@@ -28,6 +28,7 @@ static st_status save_spp_map(const char *path, const st_render_options *o,
     snprintf(title, sizeof title, "samples per pixel: mean %.2f, pilot %u, at most %u",
              (double)st->samples / (double)n, pilot, max_spp);
     st_plot_heatmap h = {.title = title, .colorbar_label = "samples per pixel", .values = v,
+                         .xlabel = "x (pixels)", .ylabel = "y (pixels, from the bottom)",
                          .width = o->width, .height = o->height, .vmin = pilot + 1,
                          .vmax = max_spp};
     st_u32 pw = o->width + 160 < 640 ? 640 : o->width + 160;
@@ -102,26 +103,31 @@ int st_cli_render(int argc, char **argv)
     st_image img = {0}, rgb = {0};
     st_render_stats st = {0};
     st_cli_progress_state prog;
-    st_cli_progress_init(&prog, "render", a.quiet);
     st_u32 first = a.opt.sample_begin, last = a.opt.sample_end ? a.opt.sample_end : a.opt.spp;
     st_u32 region[4]; /* the pixels sampled: a crop's window and apron, or the image */
     st_render_region(&a.opt, region);
+    st_i64 *sums = NULL;
+    int opened = st_cli_session_open(&a, &s, &err) == ST_OK;
+    /* the render's own progress, after the kernels are compiled (which the
+     * session's notice covers) */
+    st_cli_progress_init(&prog, "render", a.quiet);
     if (!a.opt.adaptive) /* an adaptive render's samples are not known in advance */
         st_cli_progress_work(&prog, (double)region[2] * region[3] * (last - first), "samples");
-    st_i64 *sums = NULL;
-    if (st_cli_session_open(&a, &s, &err) ||
+    if (!opened ||
         st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st, st_cli_progress, &prog,
                   &err) ||
         (part ? st_film_to_image(sums, img.width, img.height, &rgb, &err)
               : st_cli_rgb_of(&img, &rgb, &err))) {
+        st_cli_progress_done(&prog);
         rc = st_cli_session_fail(&s, &err);
     } else {
+        st_cli_progress_done(&prog);
         st_image_place_like(&rgb, &img); /* a crop's window in the image */
         if (save_outputs(&a, &s, &st, &rgb, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
         else if (!a.quiet)
-            st_cli_print_summary("rendered", &a.opt, &st);
+            st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
     }
     free(sums);
     free(st.spp_map);

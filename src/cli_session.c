@@ -3,6 +3,8 @@
  * a render. */
 #include "cli_session.h"
 
+#include "cli_progress.h"
+
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -23,6 +25,58 @@ void st_cli_print_scene_list(void)
     st_u32 n = st_scene_builtin_names(names, 64);
     for (st_u32 i = 0; i < n; i++)
         puts(names[i]);
+}
+
+/* Renders w (and frees the image) if its settings are accepted; settings a
+ * small warm-up image cannot take are simply not warmed up. */
+static st_status warm_render(st_renderer *r, const st_render_options *w, st_error *err)
+{
+    st_error ignored = {0};
+    if (st_render_check(w, &ignored) != ST_OK)
+        return ST_OK;
+    st_image img = {0};
+    st_status rc = st_render(r, w, &img, NULL, NULL, NULL, NULL, err);
+    st_image_free(&img);
+    return rc;
+}
+
+/* PoCL compiles each kernel at its first launch, and compiles it again for
+ * a launch of 2^16 work-items or more (its "smallgrid" variant is for fewer),
+ * which would otherwise fall in the render's first wave, its rate and its
+ * time. So before the render: a render of 8 x 8 pixels with the render's own
+ * settings (at most 16 spp; no crop, no sample range past its spp), and, for
+ * a render of 2^21 samples or more (where its cost is a few per cent at
+ * most), one 1-spp pass of 256 x 256 pixels (2^16 work-items) at most two
+ * vertices deep, which launches the large variants. A smaller render that
+ * launches large grids compiles them in its first wave, as before. */
+static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *err)
+{
+    st_render_options w = *o;
+    w.width = w.height = 8;
+    w.crop_x = w.crop_y = w.crop_w = w.crop_h = 0;
+    if (w.spp > 16) {
+        w.spp = 16;
+        w.min_spp = w.max_spp = 0;
+    }
+    if (w.sample_end > w.spp)
+        w.sample_begin = w.sample_end = 0;
+    st_status rc = warm_render(r, &w, err);
+    st_u32 region[4];
+    st_render_region(o, region);
+    st_u32 spp = o->sample_end ? o->sample_end - o->sample_begin : o->spp;
+    if (rc != ST_OK || (double)region[2] * region[3] * spp < (double)(1u << 21))
+        return rc;
+    w = *o;
+    w.width = w.height = 256;
+    w.crop_x = w.crop_y = w.crop_w = w.crop_h = 0;
+    w.spp = 1;
+    w.sample_begin = w.sample_end = 0;
+    w.adaptive = 0;
+    w.min_spp = w.max_spp = 0;
+    w.noise_threshold = 0;
+    if (w.max_depth > 2)
+        w.max_depth = 2;
+    return warm_render(r, &w, err);
 }
 
 st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err)
@@ -52,13 +106,21 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     }
     if (a->lanes && st_device_set_lanes(s->dev, a->lanes, err) != ST_OK)
         return err->status;
+    st_cli_notice notice;
+    st_cli_notice_start(&notice, a->quiet);
     t0 = st_cli_now();
-    if (st_device_build(s->dev, NULL, err) != ST_OK)
-        return err->status;
-    s->build_seconds = st_cli_now() - t0;
-    if (st_renderer_create(s->dev, s->scene, &s->renderer, err) != ST_OK)
-        return err->status;
-    return s->env_map ? st_renderer_set_env_map(s->renderer, s->env_map, err) : ST_OK;
+    st_status rc = st_device_build(s->dev, NULL, err);
+    double built = st_cli_now();
+    if (rc == ST_OK)
+        rc = st_renderer_create(s->dev, s->scene, &s->renderer, err);
+    if (rc == ST_OK && s->env_map)
+        rc = st_renderer_set_env_map(s->renderer, s->env_map, err);
+    double created = st_cli_now();
+    if (rc == ST_OK)
+        rc = warm_up(s->renderer, &a->opt, err);
+    s->build_seconds = (built - t0) + (st_cli_now() - created);
+    st_cli_notice_stop(&notice);
+    return rc;
 }
 
 void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
@@ -231,7 +293,8 @@ st_status st_cli_rgb_of(const st_image *in, st_image *out, st_error *err)
     return ST_OK;
 }
 
-void st_cli_print_summary(const char *what, const st_render_options *o, const st_render_stats *st)
+void st_cli_print_summary(const char *what, const st_render_options *o, const st_render_stats *st,
+                          double compile_seconds)
 {
     double t = st->seconds > 0 ? st->seconds : 1e-9;
     printf("strata: %s %ux%u, ", what, o->width, o->height);
@@ -253,5 +316,22 @@ void st_cli_print_summary(const char *what, const st_render_options *o, const st
     if (st->clamped || st->nonfinite || st->zero_weight)
         printf(" (%u splats clamped, %u non-finite, %u pixels without weight)", st->clamped,
                st->nonfinite, st->zero_weight);
+    if (compile_seconds >= 0) /* the render's time above leaves it out */
+        printf("; kernels compiled in %.3f s before it", compile_seconds);
     putchar('\n');
+}
+
+st_status st_cli_render_with_progress(const st_cli_session *s, const st_render_options *o,
+                                      const char *label, int quiet, st_image *img,
+                                      st_error *err)
+{
+    st_cli_progress_state prog;
+    st_cli_progress_init(&prog, label, quiet);
+    st_u32 region[4];
+    st_render_region(o, region);
+    if (!o->adaptive)
+        st_cli_progress_work(&prog, (double)region[2] * region[3] * o->spp, "samples");
+    st_status rc = st_render(s->renderer, o, img, NULL, NULL, st_cli_progress, &prog, err);
+    st_cli_progress_done(&prog);
+    return rc;
 }

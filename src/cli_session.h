@@ -20,7 +20,8 @@ typedef struct st_cli_session {
     st_scene *scene;
     st_renderer *renderer;
     st_envmap *env_map; /* --env FILE; NULL: none */
-    double load_seconds, build_seconds;
+    double load_seconds;
+    double build_seconds; /* the program's build and the first launch of its kernels */
 } st_cli_session;
 
 st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err);
@@ -56,11 +57,20 @@ int st_cli_has_extension(const char *path, const char *ext);
 /* Prints the built-in scene names, one per line. */
 void st_cli_print_scene_list(void);
 
+/* st_render of o with its own progress on stderr under label (the
+ * reference of converge and compare, which takes as long as the study
+ * itself). */
+st_status st_cli_render_with_progress(const st_cli_session *s, const st_render_options *o,
+                                      const char *label, int quiet, st_image *img,
+                                      st_error *err);
+
 /* Monotonic seconds, for the load, build and render times. */
 double st_cli_now(void);
 
-/* The one-line summary: time, samples/s, rays/s, clamps. */
+/* The one-line summary: time, samples/s, rays/s, clamps; with
+ * compile_seconds >= 0 also the time the kernels took to compile before the
+ * render (the session's build_seconds), which the render's time leaves out. */
 void st_cli_print_summary(const char *what, const st_render_options *o,
-                          const st_render_stats *st);
+                          const st_render_stats *st, double compile_seconds);
 
 #endif

@@ -108,3 +108,16 @@ st_status st_diff_images(const st_image *a, const st_image *b, st_diff_result *o
     out->psnr = out->rmse > 0.0 ? 20.0 * log10(1.0 / out->rmse) : INFINITY;
     return ST_OK;
 }
+
+void st_diff_quantize_srgb8(st_image *img)
+{
+    size_t pixels = (size_t)img->width * img->height;
+    for (uint32_t c = 0; c < img->channels; c++) {
+        if (img->types[c] != ST_PIXEL_FLOAT)
+            continue;
+        for (size_t p = 0; p < pixels; p++) {
+            float *v = &img->data[p * img->channels + c];
+            *v = st_image_srgb8_decode(st_image_srgb_quantize(*v));
+        }
+    }
+}

@@ -48,6 +48,8 @@ float st_image_srgb_encode(float linear) { return (float)srgb_encode(linear); }
 
 float st_image_srgb_decode(float encoded) { return (float)srgb_decode(encoded); }
 
+float st_image_srgb8_decode(uint8_t code) { return (float)srgb_decode(code / 255.0); }
+
 uint8_t st_image_srgb_quantize(float linear)
 {
     return (uint8_t)floor(255.0 * srgb_encode(linear) + 0.5); /* in [0, 255] after clamping */
@@ -214,7 +216,7 @@ st_status st_image_load_png(const char *path, st_image *img, st_error *err)
     }
     float lut[256];
     for (int v = 0; v < 256; v++)
-        lut[v] = (float)srgb_decode(v / 255.0);
+        lut[v] = st_image_srgb8_decode((uint8_t)v);
     size_t count = (size_t)w * (size_t)h * 3;
     for (size_t i = 0; i < count; i++)
         img->data[i] = lut[px[i]];

@@ -780,15 +780,28 @@ static st_status save_png(cairo_surface_t *surface, const char *path, st_error *
                    e ? strerror(e) : cairo_status_to_string(cs));
 }
 
+/* Every plot names both axes: without them a reader has to guess what is
+ * plotted against what (an image's pixels, a frequency, a sample count). */
+static st_status check_titles(const char *xlabel, const char *ylabel, uint32_t i, st_error *err)
+{
+    if (!xlabel || !xlabel[0] || !ylabel || !ylabel[0])
+        return st_fail(err, ST_ERR_USAGE, "plot: panel %u: no %s-axis title", i,
+                       !xlabel || !xlabel[0] ? "x" : "y");
+    return ST_OK;
+}
+
 static st_status check_panel(const st_plot_panel *p, uint32_t i, st_error *err)
 {
     switch (p->kind) {
     case ST_PLOT_SCATTER:
-        return check_scatter(p->scatter, err);
+        return check_scatter(p->scatter, err) ||
+               check_titles(p->scatter->xlabel, p->scatter->ylabel, i, err);
     case ST_PLOT_HEATMAP:
-        return check_heatmap(p->heatmap, err);
+        return check_heatmap(p->heatmap, err) ||
+               check_titles(p->heatmap->xlabel, p->heatmap->ylabel, i, err);
     case ST_PLOT_LINES:
-        return check_lines(p->lines, err);
+        return check_lines(p->lines, err) ||
+               check_titles(p->lines->xlabel, p->lines->ylabel, i, err);
     }
     return st_fail(err, ST_ERR_USAGE, "plot: panel %u: unknown kind %d", i, (int)p->kind);
 }

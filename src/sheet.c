@@ -66,25 +66,59 @@ static cairo_surface_t *surface_of(const st_image *img)
     return sf;
 }
 
-/* Draws src's rectangle (sx, sy, sw, sh) at (x, y), enlarged scale times, without smoothing. */
-static void draw_pixels(cairo_t *cr, cairo_surface_t *src, double x, double y, double scale,
-                        double sx, double sy, double sw, double sh)
+/* src's rectangle (sx, sy, sw, sh) enlarged scale times, each pixel a block of
+ * scale x scale, as an image surface of its own. */
+static cairo_surface_t *enlarged(cairo_surface_t *src, double scale, double sx, double sy,
+                                 double sw, double sh)
 {
-    cairo_save(cr);
-    cairo_rectangle(cr, x, y, sw * scale, sh * scale);
-    cairo_clip(cr);
-    cairo_translate(cr, x, y);
+    cairo_surface_t *big = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)(sw * scale),
+                                                      (int)(sh * scale));
+    cairo_t *cr = cairo_create(big);
     cairo_scale(cr, scale, scale);
     cairo_set_source_surface(cr, src, -sx, -sy);
     cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
     cairo_paint(cr);
+    cairo_destroy(cr);
+    return big;
+}
+
+/* Draws src's rectangle (sx, sy, sw, sh) at (x, y), enlarged scale times, without smoothing.
+ * The enlargement is done here, pixel by pixel, and the result placed at its own size: an SVG
+ * viewer smooths an image it has to scale (cairo's SVG output cannot ask it not to), which
+ * would blur the very per-pixel noise a sheet compares. */
+static void draw_pixels(cairo_t *cr, cairo_surface_t *src, double x, double y, double scale,
+                        double sx, double sy, double sw, double sh)
+{
+    cairo_surface_t *big = enlarged(src, scale, sx, sy, sw, sh);
+    cairo_save(cr);
+    cairo_rectangle(cr, x, y, sw * scale, sh * scale);
+    cairo_clip(cr);
+    cairo_set_source_surface(cr, big, x, y);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+    cairo_paint(cr);
     cairo_restore(cr);
+    cairo_surface_destroy(big);
 }
 
 static void draw_text(cairo_t *cr, double x, double y, const char *text)
 {
     cairo_move_to(cr, x, y);
     cairo_show_text(cr, text);
+}
+
+/* Draws text at (x, y) within width w: in the sheet's font size when it fits, else in the
+ * size that makes it fit, so a caption never runs into the next column. */
+static void draw_text_within(cairo_t *cr, double x, double y, const char *text, double w)
+{
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text, &e);
+    double right = e.x_bearing + e.x_advance > e.width ? e.x_advance : e.x_bearing + e.width;
+    cairo_save(cr);
+    if (right > w && right > 0)
+        cairo_set_font_size(cr, FONT * w / right);
+    cairo_move_to(cr, x, y);
+    cairo_show_text(cr, text);
+    cairo_restore(cr);
 }
 
 static void draw_cell(cairo_t *cr, const st_sheet *s, const layout *l, const st_sheet_cell *c,
@@ -107,9 +141,9 @@ static void draw_cell(cairo_t *cr, const st_sheet *s, const layout *l, const st_
     }
     cairo_surface_destroy(sf);
     cairo_set_source_rgb(cr, 0, 0, 0);
-    draw_text(cr, x, ty + FONT * 1.4, c->caption ? c->caption : "");
+    draw_text_within(cr, x, ty + FONT * 1.4, c->caption ? c->caption : "", l->cell_w);
     if (c->note)
-        draw_text(cr, x, ty + 2 * FONT * 1.4, c->note);
+        draw_text_within(cr, x, ty + 2 * FONT * 1.4, c->note, l->cell_w);
 }
 
 static void draw_sheet(cairo_t *cr, const st_sheet *s, const layout *l)

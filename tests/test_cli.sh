@@ -70,8 +70,9 @@ check "a kernel that fails to build: the compiler log names the file" 'grep -q "
 
 # strata pattern
 $S pattern --sampler halton --scramble none --count 1000 --dims 3 --csv "$T/h.csv" > /dev/null 2>&1
-check "pattern writes one line per point" '[ "$(wc -l < "$T/h.csv")" -eq 1000 ]'
-check "halton point 1 is (1/2, 1/3, 1/5) as floats" '[ "$(sed -n 2p "$T/h.csv")" = "0.5,0.333333313,0.199999988" ]'
+check "pattern writes a header row naming the dimensions" '[ "$(sed -n 1p "$T/h.csv")" = "x0,x1,x2" ]'
+check "pattern writes one line per point after it" '[ "$(wc -l < "$T/h.csv")" -eq 1001 ]'
+check "halton point 1 is (1/2, 1/3, 1/5) as floats" '[ "$(sed -n 3p "$T/h.csv")" = "0.5,0.333333313,0.199999988" ]'
 $S pattern --sampler hammersley --scramble none --count 256 --discrepancy > "$T/d256"
 check "unscrambled Hammersley D*_256 = 0.016052 (closed form)" 'grep -q "^star discrepancy (exact, 2-D): 0.01605" "$T/d256"'
 $S pattern --sampler hammersley --scramble none --count 1024 --discrepancy > "$T/d1024"

@@ -91,7 +91,7 @@ static void plot_scatter_point_where_data_maps(void **state)
     (void)state;
     st_error err = {0};
     const float pts[2] = {0.7f, 0.3f};
-    st_plot_scatter sc = {.title = "one point", .points = pts, .count = 1, .point_radius = 5.0};
+    st_plot_scatter sc = {.xlabel = "x", .ylabel = "y", .title = "one point", .points = pts, .count = 1, .point_radius = 5.0};
     const char *path = scratch_path("scatter.png");
     assert_int_equal(st_plot_save_scatter(path, &sc, 320, 300, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 320, 300);
@@ -110,7 +110,7 @@ static void plot_scatter_strata_and_tile_border(void **state)
     (void)state;
     st_error err = {0};
     const float pts[4] = {0.1f, 0.1f, 0.9f, 0.9f};
-    st_plot_scatter sc = {.points = pts, .count = 2, .strata_nx = 4, .strata_ny = 2,
+    st_plot_scatter sc = {.xlabel = "x", .ylabel = "y", .points = pts, .count = 2, .strata_nx = 4, .strata_ny = 2,
                           .toroidal = 1};
     const char *path = scratch_path("strata.png");
     assert_int_equal(st_plot_save_scatter(path, &sc, 400, 400, &err), ST_OK);
@@ -143,7 +143,7 @@ static void plot_heatmap_cells_in_viridis(void **state)
     (void)state;
     st_error err = {0};
     const double v[4] = {0.0, 1.0, 2.0, 3.0};
-    st_plot_heatmap hm = {.title = "2x2", .values = v, .width = 2, .height = 2};
+    st_plot_heatmap hm = {.xlabel = "x", .ylabel = "y", .title = "2x2", .values = v, .width = 2, .height = 2};
     const char *path = scratch_path("heat.png");
     assert_int_equal(st_plot_save_heatmap(path, &hm, 400, 300, &err), ST_OK);
     cairo_surface_t *s = load_png(path, 400, 300);
@@ -165,7 +165,7 @@ static void plot_heatmap_log_scale(void **state)
     (void)state;
     st_error err = {0};
     const double v[5] = {1.0, 10.0, 1000.0, 0.0, 100.0};
-    st_plot_heatmap hm = {.values = v, .width = 5, .height = 1, .log10 = 1,
+    st_plot_heatmap hm = {.xlabel = "x", .ylabel = "y", .values = v, .width = 5, .height = 1, .log10 = 1,
                           .colorbar_label = "log10 P"};
     const char *path = scratch_path("log.png");
     assert_int_equal(st_plot_save_heatmap(path, &hm, 500, 200, &err), ST_OK);
@@ -221,7 +221,7 @@ static void plot_lines_log_axes(void **state)
     st_error err = {0};
     const double x[4] = {0.0, 1.0, 10.0, 100.0}, y[4] = {-1.0, 1.0, 10.0, 100.0};
     st_plot_series se = {.x = x, .y = y, .n = 4, .color = 0x0000ff, .width = 4};
-    st_plot_lines pl = {.series = &se, .series_count = 1, .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y,
+    st_plot_lines pl = {.xlabel = "x", .ylabel = "y", .series = &se, .series_count = 1, .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y,
                         .xmin = 1, .xmax = 100, .ymin = 1, .ymax = 100};
     const char *path = scratch_path("loglog.png");
     assert_int_equal(st_plot_save_lines(path, &pl, 300, 300, &err), ST_OK);
@@ -242,8 +242,8 @@ static void plot_row_panels_side_by_side(void **state)
     const double x[2] = {0.0, 1.0}, y0[2] = {0.5, 0.5}, y1[2] = {0.2, 0.2};
     st_plot_series a = {.x = x, .y = y0, .n = 2, .color = 0x00aa00, .width = 4};
     st_plot_series b = {.x = x, .y = y1, .n = 2, .color = 0xaa00aa, .width = 4};
-    st_plot_lines la = {.series = &a, .series_count = 1, .xmin = 0, .xmax = 1, .ymax = 1};
-    st_plot_lines lb = {.series = &b, .series_count = 1, .xmin = 0, .xmax = 1, .ymax = 1};
+    st_plot_lines la = {.xlabel = "x", .ylabel = "y", .series = &a, .series_count = 1, .xmin = 0, .xmax = 1, .ymax = 1};
+    st_plot_lines lb = {.xlabel = "x", .ylabel = "y", .series = &b, .series_count = 1, .xmin = 0, .xmax = 1, .ymax = 1};
     st_plot_panel panels[2] = {{.kind = ST_PLOT_LINES, .lines = &la},
                                {.kind = ST_PLOT_LINES, .lines = &lb}};
     const char *path = scratch_path("row.png");
@@ -265,7 +265,7 @@ static void plot_unwritable_path_fails_and_leaves_nothing(void **state)
     (void)state;
     st_error err = {0};
     const float pts[2] = {0.5f, 0.5f};
-    st_plot_scatter sc = {.points = pts, .count = 1};
+    st_plot_scatter sc = {.xlabel = "x", .ylabel = "y", .points = pts, .count = 1};
     char path[512];
     snprintf(path, sizeof path, "%s/missing/out.png", scratch_dir);
     assert_int_equal(st_plot_save_scatter(path, &sc, 128, 128, &err), ST_ERR_IO);
@@ -281,7 +281,7 @@ static void plot_failed_rename_removes_temporary(void **state)
     (void)state;
     st_error err = {0};
     const double v[1] = {1.0};
-    st_plot_heatmap hm = {.values = v, .width = 1, .height = 1};
+    st_plot_heatmap hm = {.xlabel = "x", .ylabel = "y", .values = v, .width = 1, .height = 1};
     const char *path = scratch_path("taken");
     assert_int_equal(mkdir(path, 0755), 0);
     assert_int_equal(st_plot_save_heatmap(path, &hm, 128, 128, &err), ST_ERR_IO);
@@ -303,7 +303,7 @@ static void plot_bad_description_keeps_existing_file(void **state)
     assert_non_null(f);
     fputs("old", f);
     fclose(f);
-    st_plot_heatmap hm = {.values = NULL, .width = 4, .height = 4};
+    st_plot_heatmap hm = {.xlabel = "x", .ylabel = "y", .values = NULL, .width = 4, .height = 4};
     assert_int_equal(st_plot_save_heatmap(path, &hm, 128, 128, &err), ST_ERR_USAGE);
     char buf[8] = {0};
     f = fopen(path, "rb");
@@ -320,11 +320,11 @@ static void plot_rejects_bad_arguments(void **state)
     st_error err = {0};
     const float pts[2] = {0.5f, 0.5f};
     const double x[2] = {1, 2};
-    st_plot_scatter sc = {.points = pts, .count = 1};
+    st_plot_scatter sc = {.xlabel = "x", .ylabel = "y", .points = pts, .count = 1};
     st_plot_series se = {.x = x, .y = NULL, .n = 2};
-    st_plot_lines bad_series = {.series = &se, .series_count = 1};
+    st_plot_lines bad_series = {.xlabel = "x", .ylabel = "y", .series = &se, .series_count = 1};
     st_plot_series ok = {.x = x, .y = x, .n = 2};
-    st_plot_lines bad_log = {.series = &ok, .series_count = 1, .flags = ST_PLOT_LOG_X,
+    st_plot_lines bad_log = {.xlabel = "x", .ylabel = "y", .series = &ok, .series_count = 1, .flags = ST_PLOT_LOG_X,
                              .xmin = 0, .xmax = 10};
     st_plot_panel none[1] = {{.kind = ST_PLOT_SCATTER, .scatter = NULL}};
     const char *path = scratch_path("never.png");
@@ -348,6 +348,20 @@ static void plot_rejects_bad_arguments(void **state)
     st_error_clear(&err);
     sc.stride = 1;
     assert_int_equal(st_plot_save_scatter(path, &sc, 128, 128, &err), ST_ERR_USAGE);
+    st_error_clear(&err);
+    /* every kind of plot names both axes */
+    st_plot_scatter untitled = {.points = pts, .count = 1, .ylabel = "y"};
+    assert_int_equal(st_plot_save_scatter(path, &untitled, 128, 128, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "no x-axis title"));
+    st_error_clear(&err);
+    const double v[4] = {1, 2, 3, 4};
+    st_plot_heatmap hm = {.values = v, .width = 2, .height = 2, .xlabel = "k_x"};
+    assert_int_equal(st_plot_save_heatmap(path, &hm, 128, 128, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "no y-axis title"));
+    st_error_clear(&err);
+    st_plot_lines lines = {.series = &ok, .series_count = 1, .xlabel = "", .ylabel = "y"};
+    assert_int_equal(st_plot_save_lines(path, &lines, 128, 128, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "no x-axis title"));
     assert_int_equal(scratch_entries(NULL, 0), 0);
 }
 
@@ -357,11 +371,11 @@ static void plot_degenerate_inputs_still_draw(void **state)
 {
     (void)state;
     st_error err = {0};
-    st_plot_scatter sc = {.title = "empty"};
+    st_plot_scatter sc = {.xlabel = "x", .ylabel = "y", .title = "empty"};
     const double v[4] = {2, 2, 2, 2};
-    st_plot_heatmap hm = {.values = v, .width = 2, .height = 2,
+    st_plot_heatmap hm = {.xlabel = "x", .ylabel = "y", .values = v, .width = 2, .height = 2,
                           .x0 = -1, .x1 = 1, .y0 = -1, .y1 = 1};
-    st_plot_lines pl = {.title = "nothing", .flags = ST_PLOT_LOG_Y};
+    st_plot_lines pl = {.xlabel = "x", .ylabel = "y", .title = "nothing", .flags = ST_PLOT_LOG_Y};
     st_plot_panel panels[3] = {{.kind = ST_PLOT_SCATTER, .scatter = &sc},
                                {.kind = ST_PLOT_HEATMAP, .heatmap = &hm},
                                {.kind = ST_PLOT_LINES, .lines = &pl}};

@@ -96,9 +96,90 @@ static void bad_sheets_fail_and_leave_nothing(void **state)
     st_image_free(&a), st_image_free(&b);
 }
 
+/* Whether every pixel of the rectangle [x0, x1) x [y0, y1) of the PNG is white. */
+static int all_white(const char *path, int x0, int x1, int y0, int y1)
+{
+    cairo_surface_t *sf = cairo_image_surface_create_from_png(path);
+    assert_int_equal(cairo_surface_status(sf), CAIRO_STATUS_SUCCESS);
+    const unsigned char *px = cairo_image_surface_get_data(sf);
+    int stride = cairo_image_surface_get_stride(sf), white = 1;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            uint32_t v;
+            memcpy(&v, px + (size_t)y * stride + 4 * x, 4);
+            white &= (v & 0xffffff) == 0xffffff;
+        }
+    cairo_surface_destroy(sf);
+    return white;
+}
+
+/* A caption far wider than its cell is drawn smaller, inside the cell: the gap
+ * between the reference's column and the next stays white in the caption band
+ * (the sheet has no title, so the band starts at the margin plus the image). */
+static void captions_fit_their_cells(void **state)
+{
+    (void)state;
+    st_image ref, a;
+    solid(&ref, 96, 40, 0.2f, 0.2f, 0.2f); /* factor 2: cells 192 wide */
+    solid(&a, 96, 40, 0.5f, 0.5f, 0.5f);
+    st_sheet_cell cells[1] = {{&a, "best-candidate, 16 spp, mitchell, and more words besides",
+                               "RMSE 0.0123456789 over the whole image, seeds 1 to 8"}};
+    st_sheet s = {.reference = {&ref, "reference: sobol, 1024 spp, mitchell, seed 1593192557",
+                                NULL},
+                  .cells = cells, .rows = 1, .cols = 1};
+    const char *path = scratch_path("captions.png");
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_sheet_save(path, &s, &err), ST_OK);
+    uint32_t w, h;
+    st_sheet_size(&s, 96, 40, &w, &h);
+    int gap0 = 12 + 192, gap1 = gap0 + 12, band0 = 12 + 80;
+    assert_true(all_white(path, gap0, gap1, band0, (int)h));
+    assert_true(all_white(path, (int)w - 12, (int)w, band0, (int)h)); /* the right margin too */
+    assert_false(all_white(path, 12, gap0, band0, (int)h));          /* the caption is there */
+    st_image_free(&ref), st_image_free(&a);
+}
+
+/* The images of an SVG sheet are embedded at the size they are shown (each pixel
+ * already a block), so no viewer has to scale, and smooth, them. */
+static void svg_images_are_embedded_enlarged(void **state)
+{
+    (void)state;
+    st_image ref, a;
+    solid(&ref, 10, 6, 0.2f, 0.05f, 0.6f); /* factor 25: shown 250 x 150 */
+    solid(&a, 10, 6, 0.7f, 0.3f, 0.01f);
+    st_sheet_cell cells[1] = {{&a, "a", NULL}};
+    st_sheet s = {.reference = {&ref, "ref", NULL}, .cells = cells, .rows = 1, .cols = 1};
+    const char *path = scratch_path("s.svg");
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_sheet_save(path, &s, &err), ST_OK);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char svg[1 << 20];
+    size_t n = fread(svg, 1, sizeof svg - 1, f);
+    fclose(f);
+    svg[n] = '\0';
+    int images = 0;
+    for (const char *p = svg; (p = strstr(p, "<image ")); p++) {
+        unsigned iw = 0, ih = 0;
+        const char *wp = strstr(p, " width=\""), *hp = strstr(p, " height=\"");
+        assert_non_null(wp);
+        assert_non_null(hp);
+        assert_int_equal(sscanf(wp, " width=\"%u\"", &iw), 1);
+        assert_int_equal(sscanf(hp, " height=\"%u\"", &ih), 1);
+        assert_int_equal(iw, 250);
+        assert_int_equal(ih, 150);
+        images++;
+    }
+    assert_int_equal(images, 2);
+    st_image_free(&ref), st_image_free(&a);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(captions_fit_their_cells, scratch_make, scratch_remove),
+        cmocka_unit_test_setup_teardown(svg_images_are_embedded_enlarged, scratch_make,
+                                        scratch_remove),
         cmocka_unit_test_setup_teardown(images_are_enlarged_whole, scratch_make, scratch_remove),
         cmocka_unit_test_setup_teardown(bad_sheets_fail_and_leave_nothing, scratch_make,
                                         scratch_remove),

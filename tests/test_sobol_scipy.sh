@@ -16,12 +16,12 @@ if [ -z "$PY" ]; then
     exit 0
 fi
 $S pattern --sampler sobol --scramble none --count 1024 --dims 256 --csv "$T/s.csv"
-check "pattern writes 1024 points of 256 dimensions" '[ "$(wc -l < "$T/s.csv")" -eq 1024 ]'
+check "pattern writes a header and 1024 points of 256 dimensions" '[ "$(wc -l < "$T/s.csv")" -eq 1025 ] && [ "$(head -c 9 "$T/s.csv")" = "x0,x1,x2," ]'
 "$PY" - "$T/s.csv" > "$T/out" 2>&1 <<'PYEOF'
 import sys
 import numpy as np
 from scipy.stats import qmc
-ours = np.loadtxt(sys.argv[1], delimiter=",", dtype=np.float64).astype(np.float32)
+ours = np.loadtxt(sys.argv[1], delimiter=",", skiprows=1, dtype=np.float64).astype(np.float32)
 # scipy draws in Gray-code order: its point n is the sequence at index
 # n xor (n >> 1) (the same set in every prefix of 2^m points)
 n = np.arange(1024)

@@ -8,8 +8,8 @@ $S --version > "$T/v" 2>&1
 check "--version prints strata and a version" 'grep -qx "strata [0-9A-Za-z][0-9A-Za-z.+-]*" "$T/v"'
 if git rev-parse --git-dir > /dev/null 2>&1; then
     # (-dirty left out: the tree may change between the build and this check)
-    check "--version is git describe of the checkout" \
-        '[ "$(sed "s/-dirty\$//" "$T/v")" = "strata $(git describe --tags --always)" ]'
+    check "--version is git describe of the checkout, without the tag's v" \
+        '[ "$(sed "s/-dirty\$//" "$T/v")" = "strata $(git describe --tags --match "v[0-9]*" --always | sed "s/^v//")" ]'
 fi
 v=$(sed 's/^strata //' "$T/v")
 check "--help lists --version" '$S --help | grep -q -- "--version"'

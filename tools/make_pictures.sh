@@ -61,6 +61,9 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 pic adaptive/spp-map.png render --adaptive --spp 64 --width 256 --height 256 \
     --quiet --spp-map @ -o "$tmp/adaptive.exr"
+pic sampling/error-spectrum.png converge --sampler random,best-candidate,sobol,zsobol \
+    --spp-list 4 --width 128 --height 128 --region 36,28,56,28 --integrator direct \
+    --filter box --seeds 8 --reference-spp 1024 --quiet --error-spectrum @ > /dev/null
 ALL=random,uniform,stratified,halton,hammersley,poisson,best-candidate,sobol
 pic adaptive/converge-smooth.png converge --sampler $ALL --spp-list 4,16,64,256 --width 64 \
     --height 64 --integrator direct --reference-spp 8192 --seeds 4 --region 18,14,28,10 \
