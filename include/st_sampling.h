@@ -100,14 +100,22 @@ st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **poi
 /* The tile the tiled samplers (poisson, best-candidate) render from: a torus
  * of side x side pixels with exactly spp points inside every pixel, spaced
  * as blue noise across pixel borders (src/pixel_tile.c). Built in spp
- * passes, each adding one point to every pixel in a random order:
- *   best-candidate: of m = min(ST_PIXEL_TILE_K (pass + 1), ST_PIXEL_TILE_MAX_M)
- *     uniform candidates inside the pixel, the one whose toroidal distance to
- *     the nearest point so far is largest (Mitchell 1991, candidates confined
- *     to the pixel; the first wins ties);
- *   poisson: the first uniform dart inside the pixel at toroidal distance >= r
- *     from every point so far, r^2 = ST_PIXEL_TILE_PACKING / spp pixel^2 at
- *     first; when a pixel refuses ST_PIXEL_TILE_DARTS darts in a row the whole
+ * passes, each adding one point to every pixel:
+ *   best-candidate: point n (0-based, over the whole tile) is, of
+ *     m(n) = min(max(1, ST_PIXEL_TILE_K n), ST_PIXEL_TILE_MAX_M) candidates,
+ *     the one whose toroidal distance to the nearest point so far is largest
+ *     (Mitchell 1991: candidates in proportion to the points so far; the
+ *     first wins ties). Each candidate is a pixel drawn uniformly from those
+ *     still open in the pass (a list, 0..side^2-1 at the pass' start, the
+ *     chosen pixel removed by moving the list's last into its place), then
+ *     a uniform point inside it. Measured (minimum distance x sqrt(N) on the
+ *     torus, 2^12..2^14 points): 0.56 at 1 spp, 0.65 at 4, 0.70..0.73 at 16
+ *     to 1024; mean nearest-neighbour distance 0.84..0.88 (Mitchell's
+ *     unconstrained pattern: 0.75 and 0.89; one point per pixel costs the
+ *     smallest gaps at low spp). About 0.7 s for 2^14 points here.
+ *   poisson: in a fresh random pixel order each pass, the first uniform
+ *     dart inside the pixel at toroidal distance >= r from every point so
+ *     far, r^2 = ST_PIXEL_TILE_PACKING / spp pixel^2 at first; when a pixel refuses ST_PIXEL_TILE_DARTS darts in a row the whole
  *     tile is remade with r 1/16 smaller. *radius (may be NULL) is the r of
  *     the tile returned (0 for best-candidate): every pair is >= r apart.
  * Coordinates are multiples of 2^-16 pixel; distances are exact integers.
@@ -117,8 +125,8 @@ st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **poi
  * side, spp, seed): one splitmix64 stream.
  * Errors: ST_ERR_USAGE (not a tiled sampler, side 0 or > 1024, spp 0, more
  * than ST_PIXEL_TILE_MAX_POINTS points, NULL points), ST_ERR_NOMEM. */
-#define ST_PIXEL_TILE_K 4u
-#define ST_PIXEL_TILE_MAX_M 64u
+#define ST_PIXEL_TILE_K 1u       /* Mitchell's multiple: m = k n */
+#define ST_PIXEL_TILE_MAX_M 1024u /* as ST_BEST_CANDIDATE_MAX_M */
 #define ST_PIXEL_TILE_PACKING 0.5
 #define ST_PIXEL_TILE_DARTS 256u
 #define ST_PIXEL_TILE_MAX_POINTS 4194304u
@@ -159,6 +167,15 @@ double st_star_discrepancy_2d(const float *pts, st_u32 n);
  * O(N^2 d) (N = 4096, d = 2: 0.01 s here). Returns T_N (>= 0); NaN for
  * n == 0, dims == 0 or pts == NULL. */
 double st_l2_star_discrepancy(const float *pts, st_u32 n, st_u32 dims);
+
+/* The smallest distance between two of n points (x,y pairs in [0,1]^2),
+ * measured in the unit square, or, with torus, per axis the shorter way
+ * round the unit torus (a tile's own measure: it repeats). Exact: a grid
+ * search, and every pair where the grid cannot decide (src/spacing.c).
+ * Scaled by sqrt(n) it compares patterns of any size: a hexagonal lattice
+ * has sqrt(2/sqrt(3)) = 1.075, Mitchell's best-candidate about 0.75.
+ * NaN for n < 2, pts NULL, or no memory. */
+double st_min_distance_2d(const float *pts, st_u32 n, int torus);
 
 /* Largest kmax accepted by st_spectrum_periodogram. */
 #define ST_SPECTRUM_KMAX_MAX 1024u /* work memory 16 (kmax+1)(2kmax+1) bytes */
