@@ -85,6 +85,10 @@ typedef float st_f32;
 #define ST_PMJ02_MAX_LOG2 12u
 #define ST_PMJ02_SETS 16u
 #define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
+/* tiled samplers' later dimensions: ST_PMJ02_SETS tiles of one pixel (the
+ * sampler's own pattern on the unit torus) of min(spp, ST_PAD_MAX_POINTS)
+ * points each, uploaded in pmj02's place (src/pixel_tile.c, samplers.h) */
+#define ST_PAD_MAX_POINTS 1024u
 
 /* Reconstruction filters (render --filter, strata filter). */
 #define ST_FILTER_BOX 0u
@@ -428,7 +432,7 @@ ST_FN int st_shade8_render_fast(const st_params *p, const st_shading *sh)
 #define ST_PATH_DEAD 0xffffffffu /* st_path.depth of a path that has ended */
 #define ST_NO_HIT 0xffffffffu    /* st_hit.prim of a ray that left the scene */
 /* The largest filter radius, in pixels, and the most pixel columns (or
- * rows) one sample reaches with it: |k + 0.5 - x| < r holds for at most
+ * rows) one sample reaches with it: |k + 0.5 - x| <= r holds for at most
  * 2r + 1 integers k. */
 #define ST_FILTER_MAX_RADIUS_PX 8
 #define ST_MAX_TAPS (2 * ST_FILTER_MAX_RADIUS_PX + 1)

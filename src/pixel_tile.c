@@ -118,7 +118,7 @@ static void pt_draw(const pt_state *s, st_u32 p, st_u64 *rng, st_i32 *x, st_i32 
 }
 
 /* Mitchell's candidate count for point n (0-based) of the tile: k n, at
- * least 1, at most the cap (st_sampling.h). */
+ * least 1, at most the cap (st_sampling.h names k and the cap and why). */
 static st_u64 pt_candidates(st_u32 n)
 {
     st_u64 m = (st_u64)ST_PIXEL_TILE_K * n;
@@ -271,5 +271,35 @@ st_status st_sampling_pixel_tile(st_u32 sampler, st_u32 side, st_u32 spp, st_u32
     pt_free(&s);
     if (!*points)
         return st_fail(err, ST_ERR_NOMEM, "pixel tile: out of memory");
+    return ST_OK;
+}
+
+st_status st_sampling_pad_tables(st_u32 sampler, st_u32 spp, st_u32 seed, st_u32 **words,
+                                 st_u32 *count, st_error *err)
+{
+    if (words)
+        *words = NULL;
+    if (!words || !count || !ST_SAMPLER_IS_TILED(sampler) || spp < 1)
+        return st_fail(err, ST_ERR_USAGE, "pad tables: NULL output, spp 0 or not a tiled sampler");
+    st_u32 n = spp < ST_PAD_MAX_POINTS ? spp : ST_PAD_MAX_POINTS;
+    st_u32 *out = malloc(sizeof(st_u32) * 2 * ST_PMJ02_SETS * (size_t)n);
+    if (!out)
+        return st_fail(err, ST_ERR_NOMEM, "pad tables: out of memory for %u points", n);
+    for (st_u32 q = 0; q < ST_PMJ02_SETS; q++) {
+        st_u64 state = ((st_u64)seed << 32) | q; /* one stream per (seed, set) */
+        float *pts = NULL;
+        st_status rc = st_sampling_pixel_tile(sampler, 1, n, (st_u32)splitmix64(&state), &pts,
+                                              NULL, err);
+        if (rc != ST_OK) {
+            free(out);
+            return rc;
+        }
+        /* x in [0, 1) on the 2^-16 lattice: x 2^32 is an exact integer */
+        for (st_u32 j = 0; j < 2 * n; j++)
+            out[2 * (size_t)q * n + j] = (st_u32)((double)pts[j] * 4294967296.0);
+        free(pts);
+    }
+    *words = out;
+    *count = n;
     return ST_OK;
 }
