@@ -167,6 +167,16 @@ st_status st_sampling_pad_tables(st_u32 sampler, st_u32 spp, st_u32 seed, st_u32
 st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
                             st_error *err);
 
+/* The tables of the pmj02bn sampler: st_sampling_pmj02's construction, each
+ * new point the best of up to ST_PMJ02BN_CANDIDATES free darts of its
+ * sub-quadrant, the one whose toroidal distance to the nearest point placed
+ * so far is largest (Christensen, Kensler and Kilpatrick 2018, §6: pmj02bn,
+ * as pbrt-v4's tables): every 2^m prefix stays a (0,m,2)-net and the points
+ * are blue noise too. Same arguments, layout, limits and errors. */
+#define ST_PMJ02BN_CANDIDATES 16u
+st_status st_sampling_pmj02bn(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
+                              st_error *err);
+
 /* Exact star discrepancy of n points (x,y pairs, in [0,1)^2), the lecture's
  *   D*_N = sup over a,b in [0,1] of | #{x_i in [0,a)x[0,b)} / N - a*b |,
  * with closed boxes [0,a]x[0,b] included as limits of open ones. The sup is

@@ -78,9 +78,10 @@ typedef float st_f32;
 #define ST_SAMPLER_SOBOL 8u        /* one global sequence across the image (pbrt's "sobol") */
 #define ST_SAMPLER_ZSOBOL 9u       /* Morton-ordered blocks (pbrt's "zsobol") */
 #define ST_SAMPLER_JOINT_STRATIFIED 10u /* pixel and light pairs in one orthogonal array */
-#define ST_SAMPLER_PMJ02 11u /* host-made progressive multi-jittered (0,2) tables (pbrt's "pmj02bn") */
-#define ST_SAMPLER_COUNT 12u
-/* pmj02: ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, at most
+#define ST_SAMPLER_PMJ02 11u /* host-made progressive multi-jittered (0,2) tables */
+#define ST_SAMPLER_PMJ02BN 12u /* the same, blue noise as well (pbrt-v4's "pmj02bn") */
+#define ST_SAMPLER_COUNT 13u
+/* pmj02, pmj02bn: ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, at most
  * 2^ST_PMJ02_MAX_LOG2 (the spp limit), uploaded per render (src/pmj02.c) */
 #define ST_PMJ02_MAX_LOG2 12u
 #define ST_PMJ02_SETS 16u

@@ -39,7 +39,7 @@ static const char converge_help[] =
     "usage: strata converge [SCENE] --sampler LIST --spp-list LIST [options] [render options]\n"
     "  --sampler LIST        comma-separated samplers: random, uniform, stratified, halton,\n"
     "                        hammersley, poisson, best-candidate, paddedsobol, sobol, zsobol,\n"
-    "                        joint-stratified, pmj02\n"
+    "                        joint-stratified, pmj02, pmj02bn\n"
     "  --spp-list LIST       comma-separated samples per pixel, e.g. 4,16,64,256\n"
     "  --reference FILE.exr  the reference image (same size), or\n"
     "  --reference-spp N     render it here (default 1024): the mean of two paddedsobol\n"

@@ -23,7 +23,7 @@ static const char pattern_help[] =
     "usage: strata pattern --sampler NAME --count N [options]\n"
     "  --sampler NAME      random, uniform, stratified, halton, hammersley, poisson,\n"
     "                      best-candidate, paddedsobol, sobol, zsobol, joint-stratified,\n"
-    "                      pmj02 (count at most 4096)\n"
+    "                      pmj02, pmj02bn (count at most 4096)\n"
     "  --count N           number of points (poisson: the target; the radius follows)\n"
     "  --dims D            dimensions per point (default 2)\n"
     "  --seed S            random seed (default 0)\n"

@@ -93,11 +93,14 @@ st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed
     st_sampler_prepare(&p);
     /* pmj02: the renderer's tables for spp = count */
     st_u32 *pmj02 = NULL;
-    if (sampler == ST_SAMPLER_PMJ02 && count > (1u << ST_PMJ02_MAX_LOG2))
-        return st_fail(err, ST_ERR_USAGE, "count %u: pmj02's tables hold at most %u points", count,
-                       1u << ST_PMJ02_MAX_LOG2);
-    if (sampler == ST_SAMPLER_PMJ02 &&
-        st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err) != ST_OK)
+    int pmj = sampler == ST_SAMPLER_PMJ02 || sampler == ST_SAMPLER_PMJ02BN;
+    if (pmj && count > (1u << ST_PMJ02_MAX_LOG2))
+        return st_fail(err, ST_ERR_USAGE, "count %u: %s's tables hold at most %u points", count,
+                       st_sampler_names[sampler], 1u << ST_PMJ02_MAX_LOG2);
+    if (pmj && (sampler == ST_SAMPLER_PMJ02BN
+                    ? st_sampling_pmj02bn(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)
+                    : st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)) !=
+                   ST_OK)
         return err ? err->status : ST_ERR_NOMEM;
     float *pts = malloc(sizeof(float) * (size_t)count * dims);
     if (!pts) {
