@@ -100,13 +100,21 @@ ST_HOT int2 ceil_int2(float2 v)
     return t - (convert_float2(t) < v);
 }
 
-/* The pixels k of each axis whose centre satisfies |k + 0.5 - s| < r, within
- * the image's n: (first x, last x, first y, last y), both axes at once. */
+/* The pixels k of each axis whose centre satisfies |k + 0.5 - s| <= r (the
+ * filters' closed support, filters.h), within the image's n: (first x, last
+ * x, first y, last y), both axes at once. The ends are estimated, then
+ * moved by one where the offset as st_filter_taps computes it in float says
+ * otherwise (either way: the estimate's own rounding may cross an integer). */
+ST_HOT float2 offset2(int2 k, float2 s)
+{
+    return convert_float2(k) + 0.5f - s;
+}
+
 ST_HOT int4 taps(float2 s, float r, int2 n)
 {
     int2 lo = ceil_int2(s - r - 0.5f), hi = floor_int2(s + r - 0.5f);
-    lo -= convert_float2(lo) + 0.5f - s <= -r; /* true is -1: one up */
-    hi += convert_float2(hi) + 0.5f - s >= r;
+    lo = lo - (offset2(lo, s) < -r) + (offset2(lo - 1, s) >= -r); /* true is -1 */
+    hi = hi + (offset2(hi, s) > r) - (offset2(hi + 1, s) <= r);
     lo = max(lo, 0);
     hi = min(hi, n - 1);
     return (int4)(lo.x, hi.x, lo.y, hi.y);
@@ -332,31 +340,43 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
 }
 
 /* ---- the box filter's splat gathered by pixel ------------------------------
- * With a box of radius 1/2 or less a sample in pixel k reaches k alone (a
- * tap's centre lies within r of the sample: |k' + 0.5 - x| < 1/2 leaves
- * k' = k), or none (on the pixel's edge). With a per-pixel sampler outside
- * adaptive rounds, render item g lies in region pixel g mod npix
- * (generate.cl's region_item), so a wave's items of one pixel are every
- * npix-th: one work-item per pixel the wave touches sums its items'
- * integers (fixed_splat4, scale 1, as splat_samples makes them) and adds
- * the sum to the film with plain adds, as no other work-item of the launch
- * touches that pixel. Integer sums commute: the film is splat_samples' bit
- * for bit, and so are the tallies and counts (render.c chooses the path,
- * test_render_paths.c compares them). */
+ * With a box of radius 1/2 or less a sample in pixel k reaches k (a tap's
+ * centre lies within r of the sample: |k' + 0.5 - x| <= 1/2 leaves k' = k)
+ * or none (r < 1/2, near the pixel's edge), and, lying exactly on an edge
+ * (the box is closed: filters.h), the pixels across it as well. With a
+ * per-pixel sampler outside adaptive rounds, render item g lies in region
+ * pixel g mod npix (generate.cl's region_item), so a wave's items of one
+ * pixel are every npix-th: one work-item per pixel the wave touches sums its
+ * items' integers for that pixel (fixed_splat4, scale 1, as splat_samples
+ * makes them) and adds the sum to the film once; an edge sample's taps on
+ * other pixels go to the film at once. Both adds are atomic, as a
+ * neighbour's edge sample may reach the pixel in the same launch. Integer
+ * sums commute: the film is splat_samples' bit for bit, and so are the
+ * tallies and counts (render.c chooses the path, test_render_paths.c
+ * compares them). */
 
-/* Item i's share of splat_pixels: its tally, its counts, and the sums it
- * adds to *acc (none when the sample lies on its pixel's edge). */
+/* Item i's share of splat_pixels: its tally, its counts, the sums it adds to
+ * *acc for its own pixel (own), and those it adds to d's film for the
+ * pixels across an edge it lies on. */
 ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *sample,
                         __global const st_path *path, __global st_tally *tally,
-                        __global st_film_stats *stats, long4 *acc)
+                        __global st_film_stats *stats, const splat_dest *d, int2 own,
+                        long4 *acc)
 {
     st_tally t;
     float3 L = item_radiance(i, path, tally, stats, &t);
     int4 k = sample_taps(p, sample[i]);
-    if (k.y >= k.x && k.w >= k.z) { /* its own pixel, one tap */
+    if (k.y >= k.x && k.w >= k.z) {
         st_u32 clamped = 0u;
-        *acc += fixed_splat4(1.0f, (float4)(L, 1.0f), &clamped);
-        t.splats += 1u;
+        long4 v = fixed_splat4(1.0f, (float4)(L, 1.0f), &clamped);
+        for (int y = k.z; y <= k.w; y++)
+            for (int x = k.x; x <= k.y; x++) {
+                if (x == own.x && y == own.y)
+                    *acc += v;
+                else
+                    add_fixed(p, d, x, y, v);
+            }
+        t.splats += (st_u32)(k.y - k.x + 1) * (st_u32)(k.w - k.z + 1);
         if (clamped)
             atomic_inc(&stats->clamped);
     }
@@ -370,13 +390,13 @@ __kernel void splat_pixels(ST_STAGE_PARAMS)
     st_u32 j = get_global_id(0), npix = p.region_w * p.region_h;
     if (j >= min(p.item_count, npix))
         return;
+    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
+    st_u32 pixel = sample[j].pixel;
+    int2 own = (int2)((int)(pixel % p.width), (int)(pixel / p.width));
     long4 acc = (long4)(0);
     for (st_u32 i = j; i < p.item_count; i += npix)
-        gather_item(&p, i, sample, path, tally, stats, &acc);
-    if (!any(acc != 0))
-        return;
-    __global long *a = film[sample[j].pixel].sum;
-    vstore4(vload4(0, a) + acc, 0, a);
+        gather_item(&p, i, sample, path, tally, stats, &d, own, &acc);
+    add_fixed(&p, &d, own.x, own.y, acc);
 }
 
 /* ---- tile-owned reconstruction ---------------------------------------------

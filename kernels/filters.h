@@ -1,6 +1,9 @@
 /* filters.h — reconstruction filters, evaluated in the splat kernel and by the
  * host (strata filter, tests). Separable: f(x, y) = f(x) f(y); every filter is
- * 0 for |x| >= r. No normalisation: the pixel value is the weighted average
+ * 0 for |x| > r and takes its formula on the closed interval |x| <= r, as
+ * pbrt-v4's filters do: a sample exactly on a pixel's edge, where unscrambled
+ * sequences put sample 0, weighs in the pixels on both sides (with an open
+ * box it weighed in neither). No normalisation: the pixel value is the weighted average
  *   I(x, y) = Σ f(x - x_i, y - y_i) L_i / Σ f(x - x_i, y - y_i)
  * (the lecture), so constant factors cancel. Negative lobes (mitchell,
  * catmull-rom, lanczos) stay; the resolve kernel clamps negative pixels.
@@ -55,7 +58,7 @@ ST_FN st_f32 st_sinc(st_f32 x)
 ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
 {
     st_f32 ax = fabs(x), r = f->radius;
-    if (!(ax < r))
+    if (!(ax <= r))
         return 0.0f;
     switch (f->kind) {
     case ST_FILTER_BOX:
@@ -129,7 +132,7 @@ ST_FN st_lanczos_turn st_lanczos_turn_of(const st_filter *f)
 ST_HOT st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
 {
     st_f32 ax = fabs(x), y = x / f->tau;
-    if (!(ax < f->radius))
+    if (!(ax <= f->radius))
         return 0.0f;
     st_f32 a = ax < 1e-5f ? 1.0f : s1 / (ST_PI_F * x);
     st_f32 b = fabs(y) < 1e-5f ? 1.0f : s2 / (ST_PI_F * y);
@@ -166,7 +169,7 @@ ST_FN void st_filter_taps(const st_filter *f, st_lanczos_turn t, int lo, int n, 
     switch (f->kind) {
     case ST_FILTER_BOX: /* st_filter_eval_1d's box, without its call per tap */
         for (int k = 0; k < n; k++)
-            w[k] = fabs((st_f32)(lo + k) + 0.5f - s) < r ? 1.0f : 0.0f;
+            w[k] = fabs((st_f32)(lo + k) + 0.5f - s) <= r ? 1.0f : 0.0f;
         return;
     case ST_FILTER_MITCHELL:
     case ST_FILTER_CATMULL_ROM: {
@@ -175,7 +178,7 @@ ST_FN void st_filter_taps(const st_filter *f, st_lanczos_turn t, int lo, int n, 
         st_f32 b = m ? f->b : 0.0f, c = m ? f->c : 0.5f;
         for (int k = 0; k < n; k++) {
             st_f32 ax = fabs((st_f32)(lo + k) + 0.5f - s);
-            w[k] = ax < r ? st_mitchell_1d(2.0f * ax / r, b, c) : 0.0f;
+            w[k] = ax <= r ? st_mitchell_1d(2.0f * ax / r, b, c) : 0.0f;
         }
         return;
     }

@@ -42,7 +42,8 @@ static float in_pixel(st_u32 px, float t)
 /* Render item g of a tiled sampler: point j = tile_begin + g mod tile_count
  * of repetition g / tile_count; the tile's point j lies in its pixel
  * j mod side^2 as that pixel's sample j / side^2 (st_sampling_pixel_tile).
- * Its later dimensions are the random sampler's, from the key alone. */
+ * Its later dimensions come from the pad tables through the pixel's key,
+ * carried as the sample's word (samplers.h, ST_SAMPLER_POISSON). */
 static st_sample tile_sample(const st_params *p, __global const st_tile_point *tile, st_u64 g)
 {
     st_u32 rep = (st_u32)(g / p->tile_count), j = p->tile_begin + (st_u32)(g % p->tile_count);
@@ -51,7 +52,7 @@ static st_sample tile_sample(const st_params *p, __global const st_tile_point *t
     float fx = in_pixel(px, tile[j].x - (float)tx), fy = in_pixel(py, tile[j].y - (float)ty);
     st_u32 pixel = min(py, p->height - 1u) * p->width + min(px, p->width - 1u);
     st_u32 s = j / (side * side);
-    st_sample out = {{fx, fy}, pixel, s, st_rng_key(p->seed, pixel, s), 0u};
+    st_sample out = {{fx, fy}, pixel, s, st_rng_key(p->seed, pixel, s), st_pixel_key(p, pixel)};
     return out;
 }
 

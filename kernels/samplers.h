@@ -345,7 +345,7 @@ ST_FN void st_stratified_grid(st_u32 n, st_u32 *nx, st_u32 *ny)
 #define ST_SAMPLER_KEYED_PER_PIXEL(s)                                                      \
     ((s) == ST_SAMPLER_STRATIFIED || (s) == ST_SAMPLER_HAMMERSLEY ||                        \
      (s) == ST_SAMPLER_PADDED_SOBOL || (s) == ST_SAMPLER_JOINT_STRATIFIED ||                \
-     (s) == ST_SAMPLER_PMJ02)
+     (s) == ST_SAMPLER_PMJ02 || (s) == ST_SAMPLER_PMJ02BN || ST_SAMPLER_IS_TILED(s))
 /* The samplers whose sample s of a pixel is another index of one sequence
  * across the image (st_sample_id.index). */
 #define ST_SAMPLER_GLOBAL_INDEX(s) ((s) == ST_SAMPLER_HALTON || (s) == ST_SAMPLER_SOBOL)
@@ -610,22 +610,45 @@ ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_
             bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim ^ 0x2a5e5u)));
         return st_bits_to_unit(bits);
     }
-    case ST_SAMPLER_PMJ02: {
-        /* pbrt-v4's PMJ02BNSampler: each pair of dimensions reads one of the
+    case ST_SAMPLER_PMJ02:
+    case ST_SAMPLER_PMJ02BN: {
+        /* pbrt-v4's PMJ02BNSampler (pmj02bn's tables are blue noise too,
+         * st_sampling_pmj02bn; pmj02's are not): each pair of dimensions reads one of the
          * ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, chosen by a hash of
          * (pixel, pair); the pixel pair at the sample index, later pairs at an
          * index permuted per (pixel, pair) so that pairs do not correlate. A
          * random digital shift per (pixel, pair) (the xor of the digits with
          * one random word, which maps elementary intervals onto elementary
          * intervals) keeps every 2^m prefix a (0,m,2)-net and keeps pixels
-         * that share a sequence apart. No tables (a host caller that gave
+         * that share a sequence apart. pmj02bn shifts on the torus instead
+         * (the addition of the word mod 2^32, pbrt-v4's Cranley-Patterson
+         * rotation), which keeps its blue noise (every distance) and its
+         * stratification up to one interval's wrap, where a digital shift
+         * would scatter the spacing. No tables (a host caller that gave
          * none): the hash below. */
         if (!id->pmj02)
             break;
         st_u32 key = ST_PAIR_KEY, set = st_hash32(key ^ 0x706d6a32u) % ST_PMJ02_SETS;
         st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, key);
         st_u32 at = (set << st_log2_ceil(p->spp)) + i;
-        return st_bits_to_unit(id->pmj02[2u * at + (dim & 1u)] ^ st_hash32(key ^ (dim & 1u)));
+        st_u32 word = id->pmj02[2u * at + (dim & 1u)], shift = st_hash32(key ^ (dim & 1u));
+        return st_bits_to_unit(p->sampler == ST_SAMPLER_PMJ02BN ? word + shift : word ^ shift);
+    }
+    case ST_SAMPLER_POISSON:
+    case ST_SAMPLER_BEST_CANDIDATE: {
+        /* dimensions past the film's (which the tile gives: generate.cl):
+         * one of the sampler's own one-pixel tiles per (pixel, pair), read
+         * at the sample index permuted per (pixel, pair), shifted on the
+         * torus (the addition of a random word mod 2^32) per (pixel, pair)
+         * and per block of n samples (st_sampling_pad_tables). No tables (a
+         * host caller that gave none): the hash below. */
+        if (!id->pmj02 || dim < 2u)
+            break;
+        st_u32 key = ST_PAIR_KEY, set = st_hash32(key ^ 0x70616473u) % ST_PMJ02_SETS;
+        st_u32 n = p->spp < ST_PAD_MAX_POINTS ? p->spp : ST_PAD_MAX_POINTS;
+        st_u32 i = st_permute(id->sample, p->spp, key), j = i % n;
+        st_u32 shift = st_hash32(key ^ st_hash32(i / n) ^ (dim & 1u));
+        return st_bits_to_unit(id->pmj02[2u * (set * n + j) + (dim & 1u)] + shift);
     }
     default:
         break;

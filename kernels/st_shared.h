@@ -78,13 +78,18 @@ typedef float st_f32;
 #define ST_SAMPLER_SOBOL 8u        /* one global sequence across the image (pbrt's "sobol") */
 #define ST_SAMPLER_ZSOBOL 9u       /* Morton-ordered blocks (pbrt's "zsobol") */
 #define ST_SAMPLER_JOINT_STRATIFIED 10u /* pixel and light pairs in one orthogonal array */
-#define ST_SAMPLER_PMJ02 11u /* host-made progressive multi-jittered (0,2) tables (pbrt's "pmj02bn") */
-#define ST_SAMPLER_COUNT 12u
-/* pmj02: ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, at most
+#define ST_SAMPLER_PMJ02 11u /* host-made progressive multi-jittered (0,2) tables */
+#define ST_SAMPLER_PMJ02BN 12u /* the same, blue noise as well (pbrt-v4's "pmj02bn") */
+#define ST_SAMPLER_COUNT 13u
+/* pmj02, pmj02bn: ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, at most
  * 2^ST_PMJ02_MAX_LOG2 (the spp limit), uploaded per render (src/pmj02.c) */
 #define ST_PMJ02_MAX_LOG2 12u
 #define ST_PMJ02_SETS 16u
 #define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
+/* tiled samplers' later dimensions: ST_PMJ02_SETS tiles of one pixel (the
+ * sampler's own pattern on the unit torus) of min(spp, ST_PAD_MAX_POINTS)
+ * points each, uploaded in pmj02's place (src/pixel_tile.c, samplers.h) */
+#define ST_PAD_MAX_POINTS 1024u
 
 /* Reconstruction filters (render --filter, strata filter). */
 #define ST_FILTER_BOX 0u
@@ -429,7 +434,7 @@ ST_FN int st_shade_lanes_render_fast(const st_params *p, const st_shading *sh)
 #define ST_PATH_DEAD 0xffffffffu /* st_path.depth of a path that has ended */
 #define ST_NO_HIT 0xffffffffu    /* st_hit.prim of a ray that left the scene */
 /* The largest filter radius, in pixels, and the most pixel columns (or
- * rows) one sample reaches with it: |k + 0.5 - x| < r holds for at most
+ * rows) one sample reaches with it: |k + 0.5 - x| <= r holds for at most
  * 2r + 1 integers k. */
 #define ST_FILTER_MAX_RADIUS_PX 8
 #define ST_MAX_TAPS (2 * ST_FILTER_MAX_RADIUS_PX + 1)

@@ -26,7 +26,7 @@ static const char render_help[] =
     "                         a PNG holds the window alone); render only\n"
     "  --sampler NAME         random, uniform, stratified, halton, hammersley, poisson,\n"
     "                         best-candidate, paddedsobol, sobol, zsobol, joint-stratified,\n"
-    "                         pmj02 (spp at most 4096)\n"
+    "                         pmj02, pmj02bn (spp at most 4096)\n"
     "                         (default halton)\n"
     "  --scramble on|none     randomise the sampler (digit permutations, shuffles; default on)\n"
     "  --filter NAME          box, triangle, gaussian, mitchell, lanczos, catmull-rom,\n"

@@ -21,7 +21,7 @@ static const char compare_help[] =
     "usage: strata compare [SCENE] --sampler LIST -o SHEET.png|.pdf|.svg [options] [render options]\n"
     "  --sampler LIST        comma-separated samplers, one row each: random, uniform,\n"
     "                        stratified, halton, hammersley, poisson, best-candidate, sobol,\n"
-    "                        paddedsobol, zsobol, joint-stratified, pmj02\n"
+    "                        paddedsobol, zsobol, joint-stratified, pmj02, pmj02bn\n"
     "  --spp LIST            comma-separated samples per pixel (default 16)\n"
     "  --filter LIST         comma-separated filters: box, triangle, gaussian, mitchell,\n"
     "                        lanczos, catmull-rom, blackman-harris (default mitchell)\n"

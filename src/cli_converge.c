@@ -3,7 +3,18 @@
  * kernel build; for each sampler and sample count, K seeds (one for the
  * deterministic patterns), RMSE and relative MSE against a reference, over
  * the whole image or a --region; a CSV and a log-log plot with the fitted
- * slope of each sampler (error ∝ N^slope: -0.5 for independent samples). */
+ * slope of each sampler (error ∝ N^slope: -0.5 for independent samples).
+ *
+ * The reference has noise of its own: a measured MSE is the true MSE plus
+ * the reference's variance (independent of the study's renders), so the
+ * curves flatten onto that floor at high spp and a slope fitted into it
+ * comes out too flat. A reference made here is therefore the mean of two
+ * independent renders of N/2 spp (other seeds), whose difference estimates
+ * its variance: floor^2 = mean over the region and R, G, B of (a - b)^2 / 4.
+ * A slope is fitted only over points whose RMSE is at least FLOOR_FACTOR
+ * times the floor (there the floor adds at most 1/FLOOR_FACTOR^2 to the MSE,
+ * 6% to the RMSE at 3), and the floor is reported. A given --reference FILE
+ * has no estimate (one image cannot show its own noise). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,15 +33,19 @@
 
 #define MAX_SERIES 16
 #define MAX_SPP 32
+#define FLOOR_FACTOR 3.0
 
 static const char converge_help[] =
     "usage: strata converge [SCENE] --sampler LIST --spp-list LIST [options] [render options]\n"
     "  --sampler LIST        comma-separated samplers: random, uniform, stratified, halton,\n"
     "                        hammersley, poisson, best-candidate, paddedsobol, sobol, zsobol,\n"
-    "                        joint-stratified, pmj02\n"
+    "                        joint-stratified, pmj02, pmj02bn\n"
     "  --spp-list LIST       comma-separated samples per pixel, e.g. 4,16,64,256\n"
     "  --reference FILE.exr  the reference image (same size), or\n"
-    "  --reference-spp N     render it here: paddedsobol, N spp, another seed (default 1024)\n"
+    "  --reference-spp N     render it here (default 1024): the mean of two paddedsobol\n"
+    "                        renders of N/2 spp with other seeds, whose difference gives\n"
+    "                        the reference's own error (the floor, reported); slopes are\n"
+    "                        fitted only where the RMSE is at least 3 times the floor\n"
     "  --seeds K             seeds per randomised sampler and count (default 4)\n"
     "  --region X,Y,W,H      measure only this pixel rectangle (default: the whole image)\n"
     "  --csv FILE|-          sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n"
@@ -54,6 +69,7 @@ typedef struct converge_args {
     st_u32 reference_spp, seeds;
     st_u32 region[4];
     int have_region;
+    double floor; /* the reference's own RMSE over the region; NaN: not estimated */
 } converge_args;
 
 /* Parses a comma-separated list of unsigned integers or of sampler names. */
@@ -168,8 +184,9 @@ typedef struct series {
     char name[48];
     st_u32 sampler, adaptive, n;
     double spp[MAX_SPP], rmse[MAX_SPP], stderr_[MAX_SPP], rel[MAX_SPP], seeds[MAX_SPP];
-    double slope;   /* fitted over the falling part only */
+    double slope;   /* fitted over the falling part above the floor only */
     st_u32 falling; /* points 0 .. falling-1 fall; a plateau follows when falling < n */
+    st_u32 above;   /* points 0 .. above-1 lie FLOOR_FACTOR times above the floor */
     double *error_power; /* --error-spectrum: region-sized, summed over seeds */
     st_u32 error_runs;
 } series;
@@ -213,13 +230,24 @@ static st_u32 falling_part(const series *s)
     return k;
 }
 
-/* Least-squares slope of log(rmse) against log(spp) over the falling part (NaN when it is a
- * single point). */
-static double fit_slope(series *s)
+/* How many leading points lie at least FLOOR_FACTOR times above the floor (all of them
+ * when it is not known). */
+static st_u32 above_floor(const series *s, double floor)
+{
+    st_u32 k = 0;
+    while (k < s->n && !(s->rmse[k] < FLOOR_FACTOR * floor))
+        k++;
+    return k;
+}
+
+/* Least-squares slope of log(rmse) against log(spp) over the falling part above the floor
+ * (NaN when that is a single point or none). */
+static double fit_slope(series *s, double floor)
 {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     s->falling = falling_part(s);
-    st_u32 n = s->falling;
+    s->above = above_floor(s, floor);
+    st_u32 n = s->falling < s->above ? s->falling : s->above;
     for (st_u32 i = 0; i < n; i++) {
         double x = log(s->spp[i]), y = log(s->rmse[i]);
         sx += x; sy += y; sxx += x * x; sxy += x * y;
@@ -228,24 +256,60 @@ static double fit_slope(series *s)
     return n > 1 && d != 0 ? (n * sxy - sx * sy) / d : NAN;
 }
 
-static st_status get_reference(const converge_args *c, st_cli_session *s, st_image *ref,
-                               int ir[3], st_error *err)
+/* The reference made here: the mean of two independent paddedsobol renders
+ * of ceil(N/2) spp into *ref (R, G, B at channels 0..2), and c->floor from
+ * their difference over the region: Var((a + b) / 2) = E[(a - b)^2] / 4. */
+static st_status render_reference(converge_args *c, st_cli_session *s, st_image *ref,
+                                  st_error *err)
+{
+    st_render_options ro = c->r.opt;
+    ro.sampler = ST_SAMPLER_PADDED_SOBOL;
+    ro.spp = (c->reference_spp + 1) / 2;
+    ro.adaptive = 0;
+    st_image other = {0};
+    ro.seed = c->r.opt.seed + 0x5eed5eedu; /* independent of the study's seeds */
+    if (st_cli_render_with_progress(s, &ro, "converge: reference, first half", c->r.quiet, ref,
+                                    err) != ST_OK)
+        return err->status;
+    ro.seed += 1u;
+    if (st_cli_render_with_progress(s, &ro, "converge: reference, second half", c->r.quiet,
+                                    &other, err) != ST_OK)
+        return err->status;
+    double sq = 0;
+    size_t n = 0;
+    for (st_u32 y = 0; y < ref->height; y++)
+        for (st_u32 x = 0; x < ref->width; x++) {
+            size_t i = (size_t)y * ref->width + x;
+            int in = x >= c->region[0] && x < c->region[0] + c->region[2] &&
+                     y >= c->region[1] && y < c->region[1] + c->region[3];
+            for (int ch = 0; ch < 3; ch++) {
+                float *a = &ref->data[i * ref->channels + ch];
+                double b = other.data[i * other.channels + ch], d = *a - b;
+                if (in) {
+                    sq += d * d / 4;
+                    n++;
+                }
+                *a = (float)(((double)*a + b) / 2);
+            }
+        }
+    c->floor = sqrt(sq / (double)n);
+    st_image_free(&other);
+    return ST_OK;
+}
+
+static st_status get_reference(converge_args *c, st_cli_session *s, st_image *ref, int ir[3],
+                               st_error *err)
 {
     const st_render_options *o = &c->r.opt;
+    c->floor = NAN;
     if (c->reference) {
         if (st_image_load(c->reference, ref, err) != ST_OK)
             return err->status;
         if (ref->width != o->width || ref->height != o->height)
             return st_fail(err, ST_ERR_USAGE, "%s: %ux%u pixels, the study renders %ux%u",
                            c->reference, ref->width, ref->height, o->width, o->height);
-    } else {
-        st_render_options ro = *o;
-        ro.sampler = ST_SAMPLER_PADDED_SOBOL;
-        ro.spp = c->reference_spp;
-        ro.seed = o->seed + 0x5eed5eedu; /* independent of the study's seeds */
-        ro.adaptive = 0;
-        if (st_cli_render_with_progress(s, &ro, "converge: reference", c->r.quiet, ref, err))
-            return err->status;
+    } else if (render_reference(c, s, ref, err) != ST_OK) {
+        return err->status;
     }
     const char *names[3] = {"R", "G", "B"};
     for (int ch = 0; ch < 3; ch++)
@@ -371,16 +435,22 @@ static void emit_csv(FILE *f, const void *ctx)
                     c->ss[i].seeds[k], c->ss[i].rmse[k], c->ss[i].stderr_[k], c->ss[i].rel[k]);
 }
 
-/* "halton (slope -0.98)", "uniform (slope -0.51 to 16 spp, plateau from 16)". */
+/* "halton (slope -0.98)", "uniform (slope -0.51, flat from 16)", "sobol (slope -1.48 to
+ * 256, then the floor)". */
 static void series_legend(const series *s, char *buf, size_t size)
 {
-    if (s->falling >= s->n)
+    if (s->falling >= s->n && s->above >= s->n)
         snprintf(buf, size, "%s (slope %.2f)", s->name, s->slope);
-    else if (s->falling < 2)
+    else if (s->falling < s->above && s->falling < 2)
         snprintf(buf, size, "%s (plateau from %g spp)", s->name, s->spp[0]);
-    else
+    else if (s->falling < s->above)
         snprintf(buf, size, "%s (slope %.2f, flat from %g)", s->name, s->slope,
                  s->spp[s->falling - 1]);
+    else if (s->above < 2)
+        snprintf(buf, size, "%s (at the floor)", s->name);
+    else
+        snprintf(buf, size, "%s (slope %.2f to %g, then the floor)", s->name, s->slope,
+                 s->spp[s->above - 1]);
 }
 
 /* Guide lines N^-1/2 and N^-1 through the geometric mean of every series' first RMSE. */
@@ -403,7 +473,7 @@ static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st
     if (c->csv && st_cli_write_text(c->csv, emit_csv, &cc, err) != ST_OK)
         return err->status;
     if (c->png) {
-        st_plot_series ps[MAX_SERIES * 2 + 2];
+        st_plot_series ps[MAX_SERIES * 2 + 3];
         char legend[MAX_SERIES * 2][96];
         for (st_u32 i = 0; i < ns; i++) {
             series_legend(&ss[i], legend[i], sizeof legend[i]);
@@ -417,11 +487,17 @@ static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st
                                   .color = 0x888888, .width = 1.2, .dashed = 1};
         ps[ns + 1] = (st_plot_series){.name = "N^-1", .x = gx, .y = g2, .n = ss[0].n,
                                       .color = 0x444444, .width = 1.2, .dashed = 1};
+        double fx[2] = {gx[0], gx[ss[0].n - 1]}, fy[2] = {c->floor, c->floor};
+        st_u32 extra = 2;
+        if (c->floor > 0) /* the reference's own error: the curves cannot fall below it */
+            ps[ns + extra++] = (st_plot_series){.name = "reference floor", .x = fx, .y = fy,
+                                                .n = 2, .color = 0xaa3333, .width = 1.2,
+                                                .dashed = 1};
         char title[160];
         snprintf(title, sizeof title, "RMSE against samples per pixel (region %u,%u %ux%u)",
                  c->region[0], c->region[1], c->region[2], c->region[3]);
         st_plot_lines pl = {.title = title, .xlabel = "samples per pixel", .ylabel = "RMSE",
-                             .series = ps, .series_count = ns + 2,
+                             .series = ps, .series_count = ns + extra,
                              .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y, .legend_outside = 1};
         if (st_plot_save_lines(c->png, &pl, 800, 600, err) != ST_OK)
             return err->status;
@@ -475,7 +551,7 @@ int st_cli_converge(int argc, char **argv)
         for (st_u32 k = 0; k < c->nspp && !rc; k++)
             if (run_point(c, &s, &ref, ir, &ss[i], k, &prog, &done, total, &err))
                 rc = st_cli_session_fail(&s, &err);
-        ss[i].slope = fit_slope(&ss[i]);
+        ss[i].slope = fit_slope(&ss[i], c->floor);
     }
     st_cli_progress_done(&prog);
     if (rc)
@@ -486,14 +562,23 @@ int st_cli_converge(int argc, char **argv)
         goto done;
     }
     if (!c->r.quiet) {
-        fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "converge: slopes");
+        FILE *f = c->csv && !strcmp(c->csv, "-") ? stderr : stdout;
+        if (c->floor == c->floor)
+            fprintf(f, "converge: reference floor %.3g (RMSE of the reference's own noise; "
+                       "slopes fitted where the RMSE is %g times above it)\n",
+                    c->floor, FLOOR_FACTOR);
+        else
+            fprintf(f, "converge: reference floor not estimated (a given reference)\n");
+        fprintf(f, "converge: slopes");
         for (st_u32 i = 0; i < ns; i++) {
-            FILE *f = c->csv && !strcmp(c->csv, "-") ? stderr : stdout;
             fprintf(f, " %s %.3f", ss[i].name, ss[i].slope);
-            if (ss[i].falling < ss[i].n) /* the slope's range, where a plateau follows */
+            if (ss[i].falling < ss[i].n && ss[i].falling < ss[i].above) /* a plateau follows */
                 fprintf(f, " (to %g spp, then a plateau)", ss[i].spp[ss[i].falling - 1]);
+            else if (ss[i].above < ss[i].n) /* the floor follows */
+                fprintf(f, " (to %g spp, then the reference floor)",
+                        ss[i].above ? ss[i].spp[ss[i].above - 1] : 0.0);
         }
-        fprintf(c->csv && !strcmp(c->csv, "-") ? stderr : stdout, "\n");
+        fprintf(f, "\n");
     }
 done:
     for (st_u32 i = 0; i < ns; i++)

@@ -23,7 +23,7 @@ static const char pattern_help[] =
     "usage: strata pattern --sampler NAME --count N [options]\n"
     "  --sampler NAME      random, uniform, stratified, halton, hammersley, poisson,\n"
     "                      best-candidate, paddedsobol, sobol, zsobol, joint-stratified,\n"
-    "                      pmj02 (count at most 4096)\n"
+    "                      pmj02, pmj02bn (count at most 4096)\n"
     "  --count N           number of points (poisson: the target; the radius follows)\n"
     "  --dims D            dimensions per point (default 2)\n"
     "  --seed S            random seed (default 0)\n"
@@ -37,8 +37,9 @@ static const char pattern_help[] =
     "  --kmax K            largest |k| component of the spectrum (default 2 sqrt(N), 32..256)\n"
     "  --range LO,HI       the spectrum's colour range in log10 P (default: the data's)\n"
     "  --seeds K           seeds averaged by the spectrum of a randomised sampler (default 16)\n"
-    "  --discrepancy       print the star discrepancy (exact, first two dimensions) and the\n"
-    "                      L2-star discrepancy (Warnock's formula, all dimensions);\n"
+    "  --discrepancy       print the star discrepancy (exact, first two dimensions), the\n"
+    "                      L2-star discrepancy (Warnock's formula, all dimensions) and\n"
+    "                      the minimum distance between points x sqrt(N) (first two);\n"
     "                      O(N^2): at most 65536 points (about 16 s)\n";
 
 typedef struct pattern_args {
@@ -305,6 +306,10 @@ int st_cli_pattern(int argc, char **argv)
         }
         if (a.dims >= 2)
             printf("star discrepancy (exact, 2-D): %.9f\n", st_star_discrepancy_2d(xy, n));
+        if (a.dims >= 2 && n >= 2) /* blue noise keeps it near 0.75, random falls to 0 */
+            printf("minimum distance x sqrt(N) (2-D): %.4f (toroidal %.4f)\n",
+                   st_min_distance_2d(xy, n, 0) * sqrt((double)n),
+                   st_min_distance_2d(xy, n, 1) * sqrt((double)n));
         printf("L2-star discrepancy (Warnock, %u-D): %.9f\n", a.dims,
                st_l2_star_discrepancy(pts, n, a.dims));
         free(xy);

@@ -115,10 +115,10 @@ double st_filter_transform(const st_filter *f, double omega)
         double x = -r + i * h;
         int end = i == 0 || i == SIMPSON_INTERVALS;
         double w = end ? 1.0 : (i % 2 ? 4.0 : 2.0);
-        /* the support is open at ±r, so f(±r) = 0, but on [-r, r] the
-         * integrand's end values are the limits from inside: 0 for most
-         * kinds, 1 for the box (halving them, as the lab once did, lost h/3
-         * of the box's F(0): test_filter.c filter_transform_*) */
+        /* the integrand's end values are the limits from inside [-r, r],
+         * which for the closed support (filters.h) are f(±r) too: 0 for
+         * most kinds, 1 for the box (halving them, as the lab once did, lost
+         * h/3 of the box's F(0): test_filter.c filter_transform_*) */
         float edge = i == 0 ? -f->radius : f->radius;
         double v = st_filter_eval_1d(f, end ? nextafterf(edge, 0.0f) : (float)x);
         sum += w * v * cos(2.0 * PI * omega * x);

@@ -23,8 +23,8 @@ int st_pattern_is_random(st_u32 sampler, st_u32 scramble)
 
 /* Tiled samplers: the renderer's tile (st_sampling_pixel_tile) of side x side
  * pixels, side = floor(sqrt(count)), at spp = count / side^2, scaled to the
- * unit square; dimensions past 2 as the renderer draws them (the
- * counter-based hash of the point's pixel and sample). */
+ * unit square; dimensions past 2 as the renderer draws them (the pad tables,
+ * st_sampling_pad_tables, read through the point's tile pixel and sample). */
 static st_status tiled(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
                        float **points, st_u32 *n, st_error *err)
 {
@@ -34,22 +34,37 @@ static st_status tiled(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
         side--;
     st_u32 spp = count / (side * side), pixels = side * side;
     *n = pixels * spp;
+    st_u32 *pad = NULL, pad_count;
     st_status rc = st_sampling_pixel_tile(sampler, side, spp, seed, &tile, NULL, err);
-    if (rc != ST_OK)
+    if (rc == ST_OK && dims > 2u)
+        rc = st_sampling_pad_tables(sampler, spp, seed, &pad, &pad_count, err);
+    if (rc != ST_OK) {
+        free(tile);
         return rc;
+    }
     float *pts = malloc(sizeof(float) * (size_t)*n * dims);
     if (!pts) {
         free(tile);
+        free(pad);
         return st_fail(err, ST_ERR_NOMEM, "out of memory for %u points", *n);
     }
+    st_params p;
+    memset(&p, 0, sizeof p);
+    p.width = p.height = side;
+    p.spp = spp;
+    p.seed = seed;
+    p.sampler = sampler;
     for (st_u32 i = 0; i < *n; i++) {
-        st_u32 key = st_rng_key(seed, i % pixels, i / pixels);
+        st_u32 pixel = i % pixels;
+        st_sample_id id = st_sample_begin(&p, pixel % side, pixel / side, i / pixels);
+        id.pmj02 = pad;
         for (st_u32 d = 0; d < dims; d++) {
-            float x = d < 2u ? tile[2 * i + d] / (float)side : st_rng_unit(key, d);
+            float x = d < 2u ? tile[2 * i + d] / (float)side : st_sample_dim(&p, &id, d);
             pts[(size_t)i * dims + d] = x < 1.0f ? x : nextafterf(1.0f, 0.0f);
         }
     }
     free(tile);
+    free(pad);
     *points = pts;
     return ST_OK;
 }
@@ -78,11 +93,14 @@ st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed
     st_sampler_prepare(&p);
     /* pmj02: the renderer's tables for spp = count */
     st_u32 *pmj02 = NULL;
-    if (sampler == ST_SAMPLER_PMJ02 && count > (1u << ST_PMJ02_MAX_LOG2))
-        return st_fail(err, ST_ERR_USAGE, "count %u: pmj02's tables hold at most %u points", count,
-                       1u << ST_PMJ02_MAX_LOG2);
-    if (sampler == ST_SAMPLER_PMJ02 &&
-        st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err) != ST_OK)
+    int pmj = sampler == ST_SAMPLER_PMJ02 || sampler == ST_SAMPLER_PMJ02BN;
+    if (pmj && count > (1u << ST_PMJ02_MAX_LOG2))
+        return st_fail(err, ST_ERR_USAGE, "count %u: %s's tables hold at most %u points", count,
+                       st_sampler_names[sampler], 1u << ST_PMJ02_MAX_LOG2);
+    if (pmj && (sampler == ST_SAMPLER_PMJ02BN
+                    ? st_sampling_pmj02bn(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)
+                    : st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)) !=
+                   ST_OK)
         return err ? err->status : ST_ERR_NOMEM;
     float *pts = malloc(sizeof(float) * (size_t)count * dims);
     if (!pts) {

@@ -16,6 +16,12 @@
  * level is counted and one is drawn uniformly, and a level with no free
  * cell left for some point is thrown again (never seen at 2^12 points).
  *
+ * pmj02bn (the paper's §6, pbrt-v4's "pmj02bn"): the same construction,
+ * but a new point is the best of up to ST_PMJ02BN_CANDIDATES free darts of
+ * its sub-quadrant, the one farthest (toroidally) from every point placed
+ * so far: best-candidate within the net's constraints, so the sequence is
+ * blue noise as well as a (0,2)-sequence. pmj02 takes the first free dart.
+ *
  * Invariant: coordinates are 32-bit binary fractions (first digit in the
  * most significant bit), so the interval of a point is exact integer work
  * and a digit-wise xor (the sampler's per-pixel shift) keeps every net. */
@@ -32,6 +38,8 @@ typedef struct pmj_state {
     unsigned char *occ; /* per shape i (rows of 2^log2n): intervals held at this level */
     st_u32 log2n;
     st_u64 rng;
+    st_u32 candidates;  /* free darts compared per point: 1 (pmj02) or more (pmj02bn) */
+    st_u32 *placed, nplaced; /* the points placed so far at this level, in order */
 } pmj_state;
 
 /* The top `bits` digits of v. */
@@ -58,22 +66,55 @@ static void pmj_set(pmj_state *s, st_u32 k, st_u32 x, st_u32 y, st_u32 m)
 {
     s->xy[2 * k] = x;
     s->xy[2 * k + 1] = y;
+    s->placed[s->nplaced++] = k;
     for (st_u32 i = 0; i <= m; i++)
         s->occ[pmj_cell(s, x, y, i, m)] = 1;
 }
 
+/* Distance per axis the shorter way round the torus of 32-bit fractions. */
+static double pmj_axis(st_u32 a, st_u32 b)
+{
+    st_u32 d = a - b; /* mod 2^32 */
+    return (double)(d < 0x80000000u ? d : 0u - d);
+}
+
+/* Squared toroidal distance (units 2^-32) from (x, y) to the nearest point
+ * placed so far; the largest double when none is. */
+static double pmj_nearest(const pmj_state *s, st_u32 x, st_u32 y)
+{
+    double best = 1.7976931348623157e308;
+    for (st_u32 j = 0; j < s->nplaced; j++) {
+        st_u32 k = s->placed[j];
+        double dx = pmj_axis(x, s->xy[2 * k]), dy = pmj_axis(y, s->xy[2 * k + 1]);
+        double d2 = dx * dx + dy * dy;
+        best = d2 < best ? d2 : best;
+    }
+    return best;
+}
+
 /* Places point k in the box whose first `fix` digits of x and y are those of
- * bx, by, free at level m (prefix 2^m); 0 when no free cell is left. */
+ * bx, by, free at level m (prefix 2^m): of the first s->candidates free
+ * darts (of PMJ_DARTS), the one farthest from the points placed so far (the
+ * first wins ties); 0 when no free cell is left. */
 static int pmj_place(pmj_state *s, st_u32 k, st_u32 bx, st_u32 by, st_u32 fix, st_u32 m)
 {
-    st_u32 low = 0xffffffffu >> fix;
-    for (st_u32 t = 0; t < PMJ_DARTS; t++) {
+    st_u32 low = 0xffffffffu >> fix, found = 0, best_x = 0, best_y = 0;
+    double best = -1.0;
+    for (st_u32 t = 0; t < PMJ_DARTS && found < s->candidates; t++) {
         st_u64 r = splitmix64(&s->rng);
         st_u32 x = bx | ((st_u32)r & low), y = by | ((st_u32)(r >> 32) & low);
-        if (pmj_is_free(s, x, y, m)) {
-            pmj_set(s, k, x, y, m);
-            return 1;
+        if (!pmj_is_free(s, x, y, m))
+            continue;
+        double d2 = s->candidates > 1u ? pmj_nearest(s, x, y) : 0.0;
+        if (found++ == 0 || d2 > best) {
+            best = d2;
+            best_x = x;
+            best_y = y;
         }
+    }
+    if (found) {
+        pmj_set(s, k, best_x, best_y, m);
+        return 1;
     }
     /* every cell of side 2^-m in the box; one free cell drawn uniformly
      * (reservoir sampling), then a uniform point inside it */
@@ -100,6 +141,7 @@ static int pmj_level(pmj_state *s, st_u32 m)
     st_u32 n = 1u << (m - 1u), k = (m - 1u) / 2u, fix = k + 1u;
     st_u32 flip = 0x80000000u >> k, keep = ~(0xffffffffu >> fix);
     memset(s->occ, 0, ((size_t)s->log2n + 1u) << s->log2n);
+    s->nplaced = 0;
     for (st_u32 j = 0; j < n; j++)
         pmj_set(s, j, s->xy[2 * j], s->xy[2 * j + 1], m);
     if ((m - 1u) % 2u == 0u) { /* n = 4^k: the diagonally opposite sub-quadrant */
@@ -138,8 +180,9 @@ static st_status pmj_sequence(pmj_state *s, st_u32 seed, st_u32 set, st_error *e
     return ST_OK;
 }
 
-st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
-                            st_error *err)
+/* The tables of pmj02 (candidates 1) or pmj02bn. */
+static st_status pmj_tables(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 candidates,
+                            st_u32 **points, st_error *err)
 {
     if (points)
         *points = NULL;
@@ -149,12 +192,15 @@ st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **poi
     size_t n = (size_t)1 << log2n;
     pmj_state s = {0};
     s.log2n = log2n;
+    s.candidates = candidates;
     s.xy = malloc(2 * n * sizeof *s.xy * sets);
     s.occ = malloc(((size_t)log2n + 1u) << log2n);
+    s.placed = malloc(n * sizeof *s.placed);
     st_u32 *out = s.xy;
-    if (!out || !s.occ) {
+    if (!out || !s.occ || !s.placed) {
         free(out);
         free(s.occ);
+        free(s.placed);
         return st_fail(err, ST_ERR_NOMEM, "pmj02: out of memory for %u sets of %zu points",
                        sets, n);
     }
@@ -164,10 +210,23 @@ st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **poi
         rc = pmj_sequence(&s, seed, set, err);
     }
     free(s.occ);
+    free(s.placed);
     if (rc != ST_OK) {
         free(out);
         return rc;
     }
     *points = out;
     return ST_OK;
+}
+
+st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
+                            st_error *err)
+{
+    return pmj_tables(log2n, sets, seed, 1u, points, err);
+}
+
+st_status st_sampling_pmj02bn(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
+                              st_error *err)
+{
+    return pmj_tables(log2n, sets, seed, ST_PMJ02BN_CANDIDATES, points, err);
 }

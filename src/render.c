@@ -264,27 +264,31 @@ static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_err
  * 2^ceil(log2 spp) points, uploaded once per seed and size. */
 static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_error *err)
 {
-    int used = o->sampler == ST_SAMPLER_PMJ02;
+    int tiled = ST_SAMPLER_IS_TILED(o->sampler), bn = o->sampler == ST_SAMPLER_PMJ02BN;
+    int used = o->sampler == ST_SAMPLER_PMJ02 || bn || tiled;
     st_u32 log2n = 1u; /* ceil(log2 spp) + 1: 0 stands for none */
     while (used && (1u << (log2n - 1u)) < o->spp)
         log2n++;
     if (r->scene_buf[ST_SCENE_pmj02] && (!used || (r->pmj02_seed == o->seed &&
-                                                   r->pmj02_log2 == log2n)))
+                                                   r->pmj02_log2 == log2n + 32u * bn)))
         return ST_OK;
     st_device_buffer_destroy(r->scene_buf[ST_SCENE_pmj02]);
     r->scene_buf[ST_SCENE_pmj02] = NULL;
     r->pmj02_log2 = 0u;
     if (!used) /* kernels take the argument anyway */
         return st_device_buffer_create(r->dev, 16, NULL, &r->scene_buf[ST_SCENE_pmj02], err);
-    st_u32 *pts = NULL;
-    st_status rc = st_sampling_pmj02(log2n - 1u, ST_PMJ02_SETS, o->seed, &pts, err);
+    st_u32 *pts = NULL, n = 1u << (log2n - 1u);
+    /* a tiled sampler's pad tables take the slot, made anew for each render */
+    st_status rc = tiled ? st_sampling_pad_tables(o->sampler, o->spp, o->seed, &pts, &n, err)
+                 : bn    ? st_sampling_pmj02bn(log2n - 1u, ST_PMJ02_SETS, o->seed, &pts, err)
+                         : st_sampling_pmj02(log2n - 1u, ST_PMJ02_SETS, o->seed, &pts, err);
     if (rc != ST_OK)
         return rc;
-    size_t bytes = sizeof(st_u32) * 2u * ST_PMJ02_SETS << (log2n - 1u);
+    size_t bytes = sizeof(st_u32) * 2u * ST_PMJ02_SETS * n;
     rc = st_device_buffer_create(r->dev, bytes, pts, &r->scene_buf[ST_SCENE_pmj02], err);
     free(pts);
     r->pmj02_seed = o->seed;
-    r->pmj02_log2 = rc == ST_OK ? log2n : 0u;
+    r->pmj02_log2 = rc == ST_OK && !tiled ? log2n + 32u * bn : 0u; /* + 32: pmj02bn's */
     return rc;
 }
 

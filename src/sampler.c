@@ -13,7 +13,7 @@
 
 const char *const st_sampler_names[ST_SAMPLER_COUNT] = {
     "random", "uniform", "stratified", "halton", "hammersley", "poisson", "best-candidate",
-    "paddedsobol", "sobol", "zsobol", "joint-stratified", "pmj02"};
+    "paddedsobol", "sobol", "zsobol", "joint-stratified", "pmj02", "pmj02bn"};
 
 int st_sampler_lookup(const char *name)
 {
@@ -102,9 +102,10 @@ st_status st_sampler_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32 s
         return st_fail(err, ST_ERR_USAGE, "sampler %u: unknown", sampler);
     if (sampler == ST_SAMPLER_SOBOL || sampler == ST_SAMPLER_ZSOBOL)
         return sobol_check(sampler, width, height, spp, err);
-    if (sampler == ST_SAMPLER_PMJ02 && spp > (1u << ST_PMJ02_MAX_LOG2))
-        return st_fail(err, ST_ERR_USAGE, "spp %u: pmj02's tables hold at most %u samples per "
-                       "pixel", spp, 1u << ST_PMJ02_MAX_LOG2);
+    if ((sampler == ST_SAMPLER_PMJ02 || sampler == ST_SAMPLER_PMJ02BN) &&
+        spp > (1u << ST_PMJ02_MAX_LOG2))
+        return st_fail(err, ST_ERR_USAGE, "spp %u: %s's tables hold at most %u samples per "
+                       "pixel", spp, st_sampler_names[sampler], 1u << ST_PMJ02_MAX_LOG2);
     if (sampler != ST_SAMPLER_HALTON)
         return ST_OK;
     st_params p;

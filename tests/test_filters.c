@@ -14,7 +14,7 @@
  * rounding ~6e-8 relative per operation, values of order 1, at most r <= 8 for
  * the triangle), so a few hundred rounding steps' worth of slack; a wrong
  * coefficient or branch is off by far more.
- * Exact properties (no tolerance): zero for |x| >= r, even symmetry, and
+ * Exact properties (no tolerance): zero for |x| > r, even symmetry, and
  * separability f(x, y) == f(x) f(y). Mitchell's cubic integrates to 1 over
  * [-2, 2] for any B, C: checked by Simpson's rule (exact for cubics on each
  * piece), tolerance 1e-5 for the float evaluations summed. */
@@ -107,7 +107,7 @@ static double sinc_ref(double x)
 static double filter_ref(const st_filter *f, double x)
 {
     double r = f->radius, ax = fabs(x);
-    if (ax >= r)
+    if (ax > r)
         return 0.0;
     switch (f->kind) {
     case ST_FILTER_BOX:
@@ -203,8 +203,10 @@ static void filters_known_values(void **state)
     assert_true(fabs(st_filter_eval_1d(&bh, 0.0f) - 1.0) <= TOL);
 }
 
-/* 0 for |x| >= r, including x = ±r exactly, ±inf and NaN; and for unknown
- * kinds (an error path: the splat kernel then adds nothing). */
+/* 0 for |x| > r, including just past ±r, ±inf and NaN; the formula on the
+ * closed interval, at x = ±r exactly too (pbrt-v4's filters: the box is 1
+ * there, so a sample on a pixel's edge weighs in both pixels); and 0 for
+ * unknown kinds (an error path: the splat kernel then adds nothing). */
 static void filters_zero_outside_radius(void **state)
 {
     (void)state;
@@ -213,21 +215,29 @@ static void filters_zero_outside_radius(void **state)
     for (size_t i = 0; i < count; i++) {
         const st_filter *f = &fs[i];
         float r = f->radius;
-        const float xs[] = {r, -r, nextafterf(r, INFINITY), -nextafterf(r, INFINITY),
+        const float xs[] = {nextafterf(r, INFINITY), -nextafterf(r, INFINITY),
                             r + 0.5f, 2 * r, 100.0f, -1e30f, INFINITY, -INFINITY, NAN};
         for (size_t k = 0; k < sizeof xs / sizeof xs[0]; k++)
             if (st_filter_eval_1d(f, xs[k]) != 0.0f)
                 fail_msg("%s r=%g at x=%g: %g, expected 0", kind_name(f->kind), r, xs[k],
                          st_filter_eval_1d(f, xs[k]));
-        /* just inside, the piecewise filters still take their formula */
-        float in = nextafterf(r, 0.0f);
-        assert_true(fabs(st_filter_eval_1d(f, in) - filter_ref(f, in)) <= TOL);
+        /* at the radius and just inside, the piecewise filters still take
+         * their formula */
+        const float at[] = {r, -r, nextafterf(r, 0.0f)};
+        for (size_t k = 0; k < sizeof at / sizeof at[0]; k++)
+            if (!(fabs(st_filter_eval_1d(f, at[k]) - filter_ref(f, at[k])) <= TOL))
+                fail_msg("%s r=%g at x=%g: %g, formula %g", kind_name(f->kind), r, at[k],
+                         st_filter_eval_1d(f, at[k]), filter_ref(f, at[k]));
+        if (f->kind == ST_FILTER_BOX)
+            assert_true(st_filter_eval_1d(f, r) == 1.0f && st_filter_eval_1d(f, -r) == 1.0f);
     }
     st_filter bad = make_filter(ST_FILTER_COUNT, 2.0f, 0, 0, 0, 0);
     assert_true(st_filter_eval_1d(&bad, 0.0f) == 0.0f);
     assert_true(st_filter_eval(&bad, 0.1f, 0.1f) == 0.0f);
+    /* a zero radius (which st_filter_check refuses) leaves the point x = 0 */
     st_filter zero = make_filter(ST_FILTER_BOX, 0.0f, 0, 0, 0, 0);
-    assert_true(st_filter_eval_1d(&zero, 0.0f) == 0.0f);
+    assert_true(st_filter_eval_1d(&zero, 0.0f) == 1.0f);
+    assert_true(st_filter_eval_1d(&zero, 0x1p-149f) == 0.0f);
 }
 
 /* f(-x) == f(x) bit for bit: a splat's weight must not depend on which side of
@@ -369,7 +379,7 @@ static void taps_1d_match_formulas(void **state)
                 if (!(err <= TAPS_TOL))
                     fail_msg("%s r=%g tau=%g s=%.9g tap %d (x=%.9g): %.9g, formula %.9g",
                              kind_name(f->kind), f->radius, f->tau, s, k, x, w[k], want);
-                if (fabs(x) >= f->radius && w[k] != 0.0f)
+                if (fabs(x) > f->radius && w[k] != 0.0f)
                     fail_msg("%s r=%g at x=%g: %g, expected 0", kind_name(f->kind), f->radius,
                              x, w[k]);
                 if (f->kind == ST_FILTER_LANCZOS && err > worst)

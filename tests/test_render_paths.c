@@ -233,7 +233,8 @@ static double same_splat(st_renderer *r, st_render_options o, int other)
 
 /* splat_pixels against splat_samples with the box filter: the variants
  * (each asked for and by default, where a CPU device gathers), a box of
- * radius 0.3 (samples near a pixel's edge reach no pixel), clamped splats
+ * radius 0.3 (samples near a pixel's edge reach no pixel), samples on a
+ * pixel's edge (unscrambled, reaching the pixels across it), clamped splats
  * (the hot furnace: every sample counts once). Where the render does not
  * allow the gather (a tiled sampler, filter importance sampling, a wider
  * box, Mitchell) a request falls back to the per-sample path; an adaptive
@@ -253,6 +254,19 @@ static void splat_pixels_equals_per_sample(void **state)
     narrow.filter.radius = 0.3f;
     narrow.wave = 1500;
     assert_true(same_splat(r, narrow, ST_SPLAT_PIXELS) > 0.0);
+    /* unscrambled Hammersley puts sample 0 on its pixel's corner, which the
+     * closed box shares with the three pixels across it; a crop's window
+     * edge lies on such corners too */
+    st_render_options corner = small(30, 20, 4);
+    corner.sampler = ST_SAMPLER_HAMMERSLEY;
+    corner.scramble = 0;
+    corner.wave = 450;
+    assert_true(same_splat(r, corner, ST_SPLAT_PIXELS) > 0.0);
+    run edge = render_run(r, corner);
+    assert_true(edge.st.splats > edge.st.samples); /* the corners were shared */
+    run_free(&edge);
+    corner.crop_x = 3, corner.crop_y = 2, corner.crop_w = 11, corner.crop_h = 7;
+    assert_true(same_splat(r, corner, ST_SPLAT_PIXELS) > 0.0);
     st_render_options no[4] = {small(30, 20, 3), small(30, 20, 3), small(30, 20, 3),
                                small(30, 20, 3)};
     no[0].sampler = ST_SAMPLER_POISSON;

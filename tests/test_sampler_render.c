@@ -164,9 +164,57 @@ static void zsobol_error_is_blue_noise(void **state)
     st_image_free(&ref);
 }
 
+/* The box filter is closed at its radius (filters.h): unscrambled sequences
+ * put sample 0 of every pixel on the pixel's corner (Hammersley and padded
+ * Sobol', every sample 0; Sobol' and Halton, some), where an open box gave it
+ * no pixel. Here every pixel's weight sum (the film's fourth sum, 1 per
+ * sample that reaches it, in units of 2^24) is at least its own spp, no
+ * pixel is without weight, every sample reaches a pixel, and each splat adds
+ * exactly 1 to a weight: the film's total weight is the splat count. */
+static void unscrambled_box_weighs_every_sample(void **state)
+{
+    (void)state;
+    const st_u32 samplers[] = {ST_SAMPLER_HAMMERSLEY, ST_SAMPLER_PADDED_SOBOL, ST_SAMPLER_SOBOL,
+                               ST_SAMPLER_HALTON};
+    const st_u32 spps[] = {1, 4};
+    for (size_t k = 0; k < sizeof samplers / sizeof samplers[0]; k++)
+        for (size_t q = 0; q < 2; q++) {
+            st_render_options o = st_render_defaults();
+            o.width = o.height = 32;
+            o.spp = spps[q];
+            o.sampler = samplers[k];
+            o.scramble = 0;
+            o.integrator = ST_INTEGRATOR_DIRECT;
+            o.filter = st_filter_default(ST_FILTER_BOX);
+            st_image img = {0};
+            st_i64 *sums = NULL;
+            st_render_stats st;
+            st_error err = {0};
+            if (st_render(renderer, &o, &img, &sums, &st, NULL, NULL, &err) != ST_OK)
+                fail_msg("%s: %s", st_sampler_names[samplers[k]], err.msg);
+            const st_i64 one = (st_i64)ST_FIXED_SCALE;
+            st_i64 total = 0;
+            for (size_t i = 0; i < (size_t)o.width * o.height; i++) {
+                st_i64 w = sums[4 * i + 3];
+                if (w % one != 0 || w < (st_i64)o.spp * one)
+                    fail_msg("%s %u spp: pixel %zu weighs %g, its own samples alone %u",
+                             st_sampler_names[samplers[k]], o.spp, i, (double)w / one, o.spp);
+                total += w / one;
+            }
+            assert_int_equal(st.zero_weight, 0);
+            assert_true(st.samples == (st_u64)o.spp * o.width * o.height);
+            assert_true(st.splats >= st.samples);
+            assert_true((st_u64)total == st.splats);
+            free(sums);
+            free(st.spp_map);
+            st_image_free(&img);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(unscrambled_box_weighs_every_sample),
         cmocka_unit_test(every_sampler_deterministic_and_converging),
         cmocka_unit_test(zsobol_error_is_blue_noise),
     };

@@ -328,17 +328,19 @@ static void every_filter_reconstructs_constant_exactly(void **state)
     }
 }
 
-static void box_between_two_samples_has_no_weight(void **state)
+/* The box is closed at its radius (filters.h, as pbrt-v4's): a point
+ * exactly between two samples, at T/2 from each, weighs both equally. */
+static void box_between_two_samples_weighs_both(void **state)
 {
     (void)state;
     double v[4] = {1, 2, 3, 4}, x[2] = {1.5, 1.25}, out[2];
     st_signal_samples s = {0.0, 1.0, 4, v};
-    st_signal_filter r = {.filter = st_filter_default(ST_FILTER_BOX)}; /* radius 1/2, open */
-    st_u32 zeros = 0;
+    st_signal_filter r = {.filter = st_filter_default(ST_FILTER_BOX)}; /* radius 1/2, closed */
+    st_u32 zeros = 1;
     assert_int_equal(st_signal_reconstruct(&s, &r, x, 2, out, &zeros, NULL), ST_OK);
-    assert_true(isnan(out[0]));
+    assert_true(out[0] == 2.5); /* (2 + 3) / 2 */
     assert_true(out[1] == 2.0); /* nearest neighbour */
-    assert_int_equal(zeros, 1);
+    assert_int_equal(zeros, 0);
 }
 
 static void samples_lie_on_the_shah_grid(void **state)
@@ -643,7 +645,7 @@ int main(void)
         cmocka_unit_test(triangle_is_linear_interpolation),
         cmocka_unit_test(convolution_divides_by_filter_integral),
         cmocka_unit_test(every_filter_reconstructs_constant_exactly),
-        cmocka_unit_test(box_between_two_samples_has_no_weight),
+        cmocka_unit_test(box_between_two_samples_weighs_both),
         cmocka_unit_test(samples_lie_on_the_shah_grid),
         cmocka_unit_test(sinc_recovers_bandlimited_sine_above_nyquist),
         cmocka_unit_test(dominant_frequency_below_nyquist_is_alias),

@@ -52,8 +52,11 @@ check "sampled spectrum below Nyquist peaks at the alias 0.2 (a copy of 0.8)" \
     'awk -F, "\$1 == \"sampled\" && \$2 <= 0.5 && \$3 > m { m = \$3; f = \$2 } END { exit !(f > 0.18 && f < 0.22 && m > 0.45) }" "$T/sp.csv"'
 
 $S signal --filter box --points 4096 --csv "$T/zw.csv" > "$T/zw"
-check "a box of radius T/2 exactly between two samples has no weight: counted, blank in the CSV" \
-    'grep -q "; 64 points with zero filter weight" "$T/zw" && [ "$(awk -F, "NR > 1 && \$4 == \"\"" "$T/zw.csv" | wc -l)" -eq 64 ]'
+# the box is closed at its radius (as pbrt-v4's): a point halfway between two
+# samples weighs both, so no point is without weight and x = 1.5 is the mean
+# of the samples at 1 and 2
+check "a box of radius T/2 exactly between two samples weighs both: no point without weight" \
+    '! grep -q "zero filter weight" "$T/zw" && [ "$(awk -F, "NR > 1 && \$4 == \"\"" "$T/zw.csv" | wc -l)" -eq 0 ] && awk -F, "\$1 == 1.5 { m = (\$4 - (sin(2 * 3.14159265358979 * 0.1) + sin(2 * 3.14159265358979 * 0.2)) / 2); exit !(m < 1e-6 && m > -1e-6) }" "$T/zw.csv"'
 
 # ---- Gibbs and blur at a step ---------------------------------------------------------------
 maxrec() { awk -F, 'NR > 1 && $4 != "" && $4 > m { m = $4 } END { print m }' "$1"; }
