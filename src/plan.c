@@ -47,8 +47,9 @@ int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v)
 /* The splat: filter importance sampling takes one tap per sample, so
  * splat_samples; otherwise bins for splat_tiles where a window fits the
  * device's local memory, except on a CPU device for a filter of radius 1/2
- * or less (a box's one tap: binning and the window's flush cost more than
- * the atomics they save), which gathers by pixel where a wave allows it. */
+ * or less (a box's one tap but on pixel edges: binning and the window's
+ * flush cost more than the atomics they save), which gathers by pixel where
+ * a wave allows it. */
 static int plan_splat(const st_renderer *r, const st_render_options *o)
 {
     const st_plan_force *f = &r->force;
@@ -90,9 +91,10 @@ size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o)
 
 int st_plan_gathers(const st_plan *pl, const st_params *p)
 {
-    /* a sample reaches its own pixel only (box, radius <= 1/2), and item g
-     * lies in region pixel g mod npix: a per-pixel sampler outside adaptive
-     * rounds */
+    /* a sample reaches its own pixel, and across an edge it lies on exactly
+     * its neighbours (box, radius <= 1/2: splat_pixels adds those
+     * atomically), and item g lies in region pixel g mod npix: a per-pixel
+     * sampler outside adaptive rounds */
     return pl->splat == ST_SPLAT_PIXELS && p->reconstruction == ST_RECON_SPLAT &&
            p->filter.kind == ST_FILTER_BOX && p->filter.radius <= 0.5f &&
            !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count && !p->adaptive_scaled;
