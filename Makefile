@@ -180,6 +180,13 @@ bench-deps: deps
 	@[ -x $(BENCH_PY) ] || python3 -m venv build/bench-py
 	$(BENCH_PY) -m pip install -q mitsuba embreex numpy
 
+# The native Embree peer of the trace benchmark (tools/bench_embree.c, run
+# by tools/bench_peers.sh): strata's scene loader and ray generator linked
+# with Debian's Embree 3 (libembree-dev, from `make bench-deps`); only for
+# benchmarks, so neither `make` nor `make test` builds it.
+$(BUILD)/bench_embree: tools/bench_embree.c $(BUILD)/libstrata.a | $(BUILD)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(BUILD)/libstrata.a $(LDFLAGS) $(LDLIBS) -lembree3
+
 # The trace benchmark's large mesh: a 327,680-triangle icosphere (level 7).
 $(BUILD)/make_icosphere: tools/make_icosphere.c | $(BUILD)
 	$(CC) -std=c11 -O2 $(WARN) -o $@ $< -lm
