@@ -116,7 +116,7 @@ whole_pass() {
         i=$((i + 1))
     done
     "$STRATA" render "$scene" --width 512 --height 512 --spp 64 --sampler random --filter box \
-        --integrator "$integrator" "$@" -o "$out/strata.exr" 2> /dev/null || { rm -rf "$out"; return 1; }
+        --integrator "$integrator" "$@" -o "$out/strata.exr" > /dev/null 2>&1 || { rm -rf "$out"; return 1; }
     python3 -c '
 import json, statistics, sys
 s = [json.loads(l)["total"]["samples_per_second"] for l in open(sys.argv[1]) if l.startswith("{")]
