@@ -13,8 +13,10 @@
  *     strata's traversal culls it (kernels/trace.h: det = e1 . (d x e2) must
  *     be positive), by an Embree intersection filter on the one-sided
  *     triangles' geometry (Debian's Embree is built without its compile-time
- *     culling). --two-sided drops the filter: Embree's own speed, with hits
- *     that then differ from strata's where rays meet a one-sided back face.
+ *     culling). The filter costs Embree time (a call per candidate hit on
+ *     those triangles), so a scene with one-sided triangles is also measured
+ *     without it ("two-sided"): Embree's own speed, with hits that differ
+ *     from strata's where rays meet a one-sided back face.
  *
  * Embree builds its BVH on THREADS threads (its device's "threads" setting),
  * timed from the geometry's creation to rtcCommitScene's return, after an
@@ -34,15 +36,16 @@
  * how many agree, and exits 1 when fewer than all but CHECK_SLACK of them
  * do (grazing rays along an edge may fall either way in two different
  * triangle tests; a wrong generator or a wrong side rule disagrees on far
- * more). With --two-sided the check is printed but not enforced.
+ * more). The two-sided runs are checked too, and printed, not enforced.
  *
  * Usage: bench_embree SCENE camera|random [--count N] [--threads T]
- *                     [--check N] [--two-sided] [--json]
+ *                     [--check N] [--json]
  * Prints strata bench's text (one trace line per Embree call), or with
  * --json one line: {"version", "device", "scene", "rays" (rtcIntersect1),
  * "rays8" (rtcIntersect8), each {kind, count, seconds, rays_per_second,
  * hit_fraction}, "bvh" {triangles, seconds, triangles_per_second}, "check"
- * {rays, agree1, agree8, tolerance}}. Errors: one line "bench_embree:
+ * {rays, agree1, agree8, tolerance}, and with one-sided triangles
+ * "two_sided" {"rays", "rays8", "check"}}. Errors: one line "bench_embree:
  * error: ...", exit 2 for usage, 1 otherwise. */
 #include <cjson/cJSON.h> /* Debian libcjson-dev */
 #include <embree3/rtcore.h> /* Debian libembree-dev */
@@ -64,12 +67,11 @@
 #define DEFAULT_COUNT (1u << 21) /* strata bench's default --count */
 #define WARM_RAYS (1u << 18)     /* strata bench's default wave, traced untimed first */
 #define CHUNK 4096u              /* rays a thread takes at a time (a multiple of 8) */
-#define CHECK_TOL 1e-4f          /* relative difference of t allowed in the check */
+#define CHECK_TOL 1e-4           /* relative difference of t allowed in the check */
 #define CHECK_SLACK 0.001        /* share of checked rays allowed to disagree */
 
 static const char usage[] =
-    "usage: bench_embree SCENE camera|random [--count N] [--threads T] [--check N] "
-    "[--two-sided] [--json]";
+    "usage: bench_embree SCENE camera|random [--count N] [--threads T] [--check N] [--json]";
 
 typedef struct args {
     const char *scene;
@@ -77,7 +79,7 @@ typedef struct args {
     unsigned long count;   /* rays traced by each call */
     unsigned threads;      /* Embree's build threads and the tracing pthreads */
     unsigned long check;   /* rays compared with strata's kernel */
-    int two_sided, json;
+    int json;
 } args;
 
 static void die(int status, const char *fmt, ...)
@@ -104,7 +106,7 @@ static unsigned long parse_count(const char *flag, const char *v, unsigned long 
 
 static args parse_args(int argc, char **argv)
 {
-    args a = {NULL, 0, DEFAULT_COUNT, 2, 4096, 0, 0};
+    args a = {NULL, 0, DEFAULT_COUNT, 2, 4096, 0};
     if (argc < 3)
         die(2, "%s", usage);
     a.scene = argv[1];
@@ -122,8 +124,6 @@ static args parse_args(int argc, char **argv)
             a.threads = (unsigned)parse_count(f, v, 1, 256), i++;
         else if (!strcmp(f, "--check"))
             a.check = parse_count(f, v, 0, 1ul << 20), i++;
-        else if (!strcmp(f, "--two-sided"))
-            a.two_sided = 1;
         else if (!strcmp(f, "--json"))
             a.json = 1;
         else
@@ -368,16 +368,40 @@ static int same_hit(float strata_t, int strata_hit, float embree_t)
 {
     if (!strata_hit || isinf(embree_t))
         return !strata_hit && isinf(embree_t);
-    return fabsf(strata_t - embree_t) <= CHECK_TOL * fmaxf(strata_t, embree_t);
+    return fabs((double)strata_t - embree_t) <= CHECK_TOL * fmax(strata_t, embree_t);
+}
+
+/* One side rule's measurements: both calls' results and per-ray hits, and
+ * how many of the checked rays agree with strata's. */
+typedef struct run {
+    int present;
+    result one, eight;
+    float *t1, *t8;        /* per ray: the hit's t, INFINITY on a miss */
+    size_t agree1, agree8;
+} run;
+
+/* Builds the scene under one side rule (cull: strata's) and times both
+ * calls over all rays; *bvh_seconds the build's time. */
+static void measure_rule(RTCDevice dev, const st_scene *s, int cull, const st_wave_ray *rays,
+                         size_t count, unsigned threads, run *m, double *bvh_seconds)
+{
+    m->present = 1;
+    m->t1 = malloc(count * sizeof *m->t1);
+    m->t8 = malloc(count * sizeof *m->t8);
+    if (!m->t1 || !m->t8)
+        die(1, "out of memory for the hits of %zu rays", count);
+    RTCScene scene = build(dev, s, cull, bvh_seconds);
+    m->one = measure(scene, rays, m->t1, count, 0, threads);
+    m->eight = measure(scene, rays, m->t8, count, 1, threads);
+    rtcReleaseScene(scene);
 }
 
 /* Traces the sample of `n` rays (ray k * count / n) with strata's trace_rays
- * kernel and counts the rays on which t1's and t8's hits agree with it. */
+ * kernel and counts, for each run present, the rays on which its two calls'
+ * hits agree with strata's. */
 static void check(const st_scene *s, const st_render_options *o, const st_wave_ray *rays,
-                  size_t count, size_t n, const float *t1, const float *t8, size_t *agree1,
-                  size_t *agree8)
+                  size_t count, size_t n, run *const *runs, int run_count)
 {
-    *agree1 = *agree8 = 0;
     if (!n)
         return;
     st_error err = {0};
@@ -396,11 +420,12 @@ static void check(const st_scene *s, const st_render_options *o, const st_wave_r
         st_renderer_create(dev, s, &r, &err) ||
         st_trace_closest(r, o, o->packet_path == ST_PACKET_ALL, sample, n, hits, &err))
         die(1, "strata's check: %s", err.msg);
-    for (size_t k = 0; k < n; k++) {
-        int hit = hits[k].prim != ST_NO_HIT;
-        *agree1 += same_hit(hits[k].t, hit, t1[at[k]]);
-        *agree8 += same_hit(hits[k].t, hit, t8[at[k]]);
-    }
+    for (int j = 0; j < run_count; j++)
+        for (size_t k = 0; runs[j]->present && k < n; k++) {
+            int hit = hits[k].prim != ST_NO_HIT;
+            runs[j]->agree1 += same_hit(hits[k].t, hit, runs[j]->t1[at[k]]);
+            runs[j]->agree8 += same_hit(hits[k].t, hit, runs[j]->t8[at[k]]);
+        }
     st_renderer_destroy(r);
     st_device_destroy(dev);
     free(sample);
@@ -416,8 +441,8 @@ typedef struct report {
     unsigned long count;
     st_u32 triangles;
     double bvh_seconds;
-    result one, eight;
-    size_t checked, agree1, agree8;
+    size_t checked;
+    run culled, two_sided; /* strata's side rule; Embree's own (only with one-sided triangles) */
 } report;
 
 static double per_second(double n, double s) { return s > 0.0 ? n / s : 0.0; }
@@ -429,53 +454,78 @@ static void print_trace(const char *name, const report *r, const result *x)
            (double)x->hits / (double)r->count);
 }
 
+static void print_check(const char *rule, const report *r, const run *m)
+{
+    printf("check      %s: %zu rays against strata's trace_rays: rtcIntersect1 %zu agree, "
+           "rtcIntersect8 %zu agree (both miss, or t within %g relative)\n",
+           rule, r->checked, m->agree1, m->agree8, CHECK_TOL);
+}
+
 static void print_text(const report *r)
 {
     printf("device     %s\nscene      %s (%u triangles)\n", r->device, r->scene, r->triangles);
     printf("bvh build  %.4f s (%.2f M triangles/s)\n", r->bvh_seconds,
            per_second(r->triangles, r->bvh_seconds) * 1e-6);
-    print_trace("trace 1", r, &r->one);
-    print_trace("trace 8", r, &r->eight);
-    printf("check      %zu rays against strata's trace_rays: rtcIntersect1 %zu agree, "
-           "rtcIntersect8 %zu agree (both miss, or t within %g relative)\n",
-           r->checked, r->agree1, r->agree8, (double)CHECK_TOL);
+    print_trace("trace 1", r, &r->culled.one);
+    print_trace("trace 8", r, &r->culled.eight);
+    print_check("strata's side rule", r, &r->culled);
+    if (r->two_sided.present) {
+        print_trace("2-sided 1", r, &r->two_sided.one);
+        print_trace("2-sided 8", r, &r->two_sided.eight);
+        print_check("two-sided, not strata's rule", r, &r->two_sided);
+    }
 }
 
-static cJSON *json_rays(cJSON *root, const char *key, const report *r, const result *x)
+static int json_rays(cJSON *root, const char *key, const report *r, const result *x)
 {
     cJSON *o = cJSON_AddObjectToObject(root, key);
     double n = (double)r->count;
-    if (o && cJSON_AddStringToObject(o, "kind", r->kind) && cJSON_AddNumberToObject(o, "count", n) &&
-        cJSON_AddNumberToObject(o, "seconds", x->seconds) &&
-        cJSON_AddNumberToObject(o, "rays_per_second", per_second(n, x->seconds)) &&
-        cJSON_AddNumberToObject(o, "hit_fraction", (double)x->hits / n))
-        return o;
-    return NULL;
+    return o && cJSON_AddStringToObject(o, "kind", r->kind) &&
+           cJSON_AddNumberToObject(o, "count", n) &&
+           cJSON_AddNumberToObject(o, "seconds", x->seconds) &&
+           cJSON_AddNumberToObject(o, "rays_per_second", per_second(n, x->seconds)) &&
+           cJSON_AddNumberToObject(o, "hit_fraction", (double)x->hits / n);
+}
+
+/* "rays", "rays8" and "check" of one run into obj. */
+static int json_run(cJSON *obj, const report *r, const run *m)
+{
+    cJSON *chk;
+    return json_rays(obj, "rays", r, &m->one) && json_rays(obj, "rays8", r, &m->eight) &&
+           (chk = cJSON_AddObjectToObject(obj, "check")) &&
+           cJSON_AddNumberToObject(chk, "rays", (double)r->checked) &&
+           cJSON_AddNumberToObject(chk, "agree1", (double)m->agree1) &&
+           cJSON_AddNumberToObject(chk, "agree8", (double)m->agree8) &&
+           cJSON_AddNumberToObject(chk, "tolerance", CHECK_TOL);
 }
 
 static void print_json(const report *r)
 {
-    cJSON *root = cJSON_CreateObject(), *bvh, *chk;
+    cJSON *root = cJSON_CreateObject(), *bvh, *two;
     int ok = root && cJSON_AddStringToObject(root, "version", st_version) &&
              cJSON_AddStringToObject(root, "device", r->device) &&
-             cJSON_AddStringToObject(root, "scene", r->scene) &&
-             json_rays(root, "rays", r, &r->one) && json_rays(root, "rays8", r, &r->eight) &&
+             cJSON_AddStringToObject(root, "scene", r->scene) && json_run(root, r, &r->culled) &&
              (bvh = cJSON_AddObjectToObject(root, "bvh")) &&
              cJSON_AddNumberToObject(bvh, "triangles", r->triangles) &&
              cJSON_AddNumberToObject(bvh, "seconds", r->bvh_seconds) &&
              cJSON_AddNumberToObject(bvh, "triangles_per_second",
                                      per_second(r->triangles, r->bvh_seconds)) &&
-             (chk = cJSON_AddObjectToObject(root, "check")) &&
-             cJSON_AddNumberToObject(chk, "rays", (double)r->checked) &&
-             cJSON_AddNumberToObject(chk, "agree1", (double)r->agree1) &&
-             cJSON_AddNumberToObject(chk, "agree8", (double)r->agree8) &&
-             cJSON_AddNumberToObject(chk, "tolerance", CHECK_TOL);
+             (!r->two_sided.present || ((two = cJSON_AddObjectToObject(root, "two_sided")) &&
+                                        json_run(two, r, &r->two_sided)));
     char *text = ok ? cJSON_PrintUnformatted(root) : NULL;
     if (!text)
         die(1, "out of memory for the JSON report");
     puts(text);
     cJSON_free(text);
     cJSON_Delete(root);
+}
+
+static int has_one_sided(const st_scene *s)
+{
+    for (st_u32 i = 0; i < s->tri_count; i++)
+        if (one_sided(s, i))
+            return 1;
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -487,8 +537,7 @@ int main(int argc, char **argv)
         die(err.status == ST_ERR_USAGE ? 2 : 1, "%s", err.msg);
     st_render_options o = st_render_defaults();
     st_wave_ray *rays = malloc(a.count * sizeof *rays);
-    float *t1 = malloc(a.count * sizeof *t1), *t8 = malloc(a.count * sizeof *t8);
-    if (!rays || !t1 || !t8)
+    if (!rays)
         die(1, "out of memory for %lu rays", a.count);
     if (st_trace_bench_rays(s, &o, a.set, 0, a.count, rays, &err))
         die(1, "%s", err.msg);
@@ -500,30 +549,33 @@ int main(int argc, char **argv)
         die(1, "embree: cannot create a device (%s)", config);
     rtcSetDeviceErrorFunction(dev, embree_error, NULL);
     warm_build(dev);
-    report r = {{0}, s->name, st_ray_set_names[a.set], a.count, s->tri_count, 0.0,
-                {0, 0}, {0, 0}, a.check, 0, 0};
-    snprintf(r.device, sizeof r.device, "embree %s (%u threads%s)", RTC_VERSION_STRING,
-             a.threads, a.two_sided ? ", two-sided" : "");
-    RTCScene scene = build(dev, s, !a.two_sided, &r.bvh_seconds);
-    r.one = measure(scene, rays, t1, a.count, 0, a.threads);
-    r.eight = measure(scene, rays, t8, a.count, 1, a.threads);
-    rtcReleaseScene(scene);
+    report r;
+    memset(&r, 0, sizeof r);
+    r.scene = s->name, r.kind = st_ray_set_names[a.set], r.count = a.count;
+    r.triangles = s->tri_count, r.checked = a.check;
+    snprintf(r.device, sizeof r.device, "embree %s (%u threads)", RTC_VERSION_STRING, a.threads);
+    measure_rule(dev, s, 1, rays, a.count, a.threads, &r.culled, &r.bvh_seconds);
+    if (has_one_sided(s)) {
+        double unused;
+        measure_rule(dev, s, 0, rays, a.count, a.threads, &r.two_sided, &unused);
+    }
     rtcReleaseDevice(dev);
 
-    check(s, &o, rays, a.count, a.check, t1, t8, &r.agree1, &r.agree8);
+    run *const runs[2] = {&r.culled, &r.two_sided};
+    check(s, &o, rays, a.count, a.check, runs, 2);
     if (a.json)
         print_json(&r);
     else
         print_text(&r);
-    size_t worst = r.agree1 < r.agree8 ? r.agree1 : r.agree8;
-    /* --two-sided hits one-sided back faces that strata culls: not a failure */
-    int bad = !a.two_sided && (double)(r.checked - worst) > CHECK_SLACK * (double)r.checked;
+    /* two-sided hits the one-sided back faces strata culls: not checked */
+    size_t worst = r.culled.agree1 < r.culled.agree8 ? r.culled.agree1 : r.culled.agree8;
+    int bad = (double)(r.checked - worst) > CHECK_SLACK * (double)r.checked;
     if (bad)
         fprintf(stderr, "bench_embree: error: %s: only %zu of %zu checked rays agree with strata's "
                         "hits: not the same rays or scene\n", a.scene, worst, r.checked);
     free(rays);
-    free(t1);
-    free(t8);
+    for (int j = 0; j < 2; j++)
+        free(runs[j]->t1), free(runs[j]->t8);
     st_scene_destroy(s);
     return bad;
 }
