@@ -203,17 +203,31 @@ bench: deps strata $(ICOSPHERE)
 	  echo "./strata bench $$s --rays $$k"; ./strata bench $$s --rays $$k || exit 1; done; done
 
 # The peers of tools/bench_peers.sh, only for benchmarks (no test needs
-# them): Embree (embreex) and Mitsuba 3 from PyPI in a venv of their own, and
-# Debian's libllvm19 for Mitsuba's LLVM variant (bench_mitsuba.py points
+# them): Debian's Embree 3 (libembree-dev) for tools/bench_embree.c, which
+# this builds; Mitsuba 3 from PyPI in a venv of its own, and Debian's
+# libllvm19 for Mitsuba's LLVM variant (bench_mitsuba.py points
 # DRJIT_LIBLLVM_PATH at it).
-BENCH_DEB := libllvm19
+BENCH_DEB := libllvm19 libembree-dev
 BENCH_PY  := build/bench-py/bin/python
 bench-deps: deps
-	@dpkg-query -W -f='$${Status}' $(BENCH_DEB) 2>/dev/null | grep -q "ok installed" || { \
+	@missing=""; for p in $(BENCH_DEB); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "bench-deps: installing$$missing"; \
 	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
-	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $(BENCH_DEB); }
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
+	fi
 	@[ -x $(BENCH_PY) ] || python3 -m venv build/bench-py
-	$(BENCH_PY) -m pip install -q mitsuba embreex numpy
+	$(BENCH_PY) -m pip install -q mitsuba numpy
+	@$(MAKE) --no-print-directory $(BUILD)/bench_embree
+
+# The native Embree peer of the trace benchmark (tools/bench_embree.c, run
+# by tools/bench_peers.sh): strata's scene loader and ray generator linked
+# with Debian's Embree 3 (libembree-dev, from `make bench-deps`); only for
+# benchmarks, so neither `make` nor `make test` builds it.
+$(BUILD)/bench_embree: tools/bench_embree.c $(BUILD)/libstrata.a | $(BUILD)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(BUILD)/libstrata.a $(LDFLAGS) $(LDLIBS) -lembree3
 
 # The trace benchmark's large mesh: a 327,680-triangle icosphere (level 7).
 $(BUILD)/make_icosphere: tools/make_icosphere.c | $(BUILD)

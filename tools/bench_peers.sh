@@ -1,46 +1,98 @@
 #!/bin/sh
-# bench_peers.sh — the trace benchmark of strata beside Embree, same rays,
-# same scenes: the 327,680-triangle icosphere (`make bench` writes it) and the
-# bench Cornell box, camera and random rays, strata and Embree alternating;
-# prints one line per renderer with rays/s, the hit fraction (which should
-# agree) and the BVH build rate.
-# Then the whole pass beside Mitsuba 3 (tools/bench_mitsuba.py): the bench
-# Cornell box, 512x512, 64 spp, independent samples, box filter, paths of max
-# depth 4 and direct lighting; runs interleaved (strata, Mitsuba, strata, ...),
-# medians of samples/s, and whether the two images agree (their means).
-# Needs `make strata build/release/bench/icosphere.gltf`, for Embree
-# `pip install embreex numpy`, for Mitsuba `make bench-deps`. Run it on an
-# idle machine; figures are medians of RUNS runs (default 3). Not a test:
-# speed is measured, never asserted.
-# Usage: sh tools/bench_peers.sh [COUNT] [RUNS]
+# bench_peers.sh — strata beside its peers, like for like. Not a test: speed
+# is measured, never asserted.
+#
+# The trace: `strata bench SCENE --rays camera|random` beside native Embree 3
+# (build/release/bench_embree, tools/bench_embree.c: the same triangles, read
+# by strata's importer, the same rays, from strata's own generator, strata's
+# one-sided culling as an intersection filter, rtcIntersect1 and
+# rtcIntersect8 on two threads; where the scene has one-sided triangles, also
+# Embree without the filter, faster but not strata's hits), on the
+# 327,680-triangle icosphere (`make bench` writes it) and the bench Cornell
+# box, runs alternating (strata, Embree, strata, ...). Per scene and ray set:
+# medians of rays/s of strata, of rtcIntersect1 and of rtcIntersect8, the
+# hit fractions (equal when the rays and the scene are the same), how many
+# of bench_embree's sampled rays agree with strata's own kernel, and strata
+# against the best Embree median among the runs that agree on every sampled
+# ray (the filterless runs count where the rays never meet a back face, as
+# camera rays in the Cornell box); and the BVH build rates.
+#
+# The whole pass: strata bench's total beside Mitsuba 3
+# (tools/bench_mitsuba.py, its like-for-like settings: 512x512, 64 spp,
+# independent samples, box filter; paths of max depth 4, Mitsuba's 5, and
+# direct lighting), runs interleaved, medians of samples/s, and whether the
+# two images agree (their means and block means). On the bench Cornell box,
+# then on a large scene where traversal dominates: the icosphere standing
+# inside the Cornell box (tools/make_cornell_sphere.py writes it into build/).
+#
+# Needs `make strata`; `make bench-deps` for the peers (Debian's
+# libembree-dev and libllvm19, Mitsuba in build/bench-py); a peer that is
+# missing is skipped with a note. Run it on an idle machine; figures are
+# medians of RUNS runs (default 3).
+# Usage: sh tools/bench_peers.sh [COUNT] [RUNS] [trace|whole]   (default: both parts)
 COUNT=${1:-2097152}
 RUNS=${2:-3}
+PARTS=${3:-trace whole}
 STRATA=${STRATA:-./strata}
+BUILD=${BUILD:-build/release}
+EMBREE=${EMBREE:-$BUILD/bench_embree}
 # the peers' Python: make bench-deps's venv where there is one
 PY=${PY:-python3}
 [ -x build/bench-py/bin/python ] && PY=build/bench-py/bin/python
-ICO=build/release/bench/icosphere.gltf
+ICO=$BUILD/bench/icosphere.gltf
 CORNELL=../shared/scenes/bench/cornell.gltf
+LARGE=$BUILD/bench/cornell_sphere.gltf
 [ -f "$ICO" ] || make "$ICO" > /dev/null || exit 1
-"$PY" -c "import embreex" 2> /dev/null || echo "bench_peers: embreex missing (pip install embreex numpy); strata only"
 
-# One summary line per renderer (strata, or Embree by its "device") from the
-# JSON lines on stdin: medians of rays/s and of the BVH build rate.
+has_embree() { [ -f /usr/include/embree3/rtcore.h ]; }
+if has_embree; then
+    make --no-print-directory -s "$EMBREE" > /dev/null || exit 1
+else
+    echo "bench_peers: libembree-dev missing (make bench-deps); strata's trace alone"
+fi
+
+# One summary per scene and ray set from the JSON lines on stdin (strata's
+# and bench_embree's, told apart by bench_embree's "rays8").
 summarise() {
     python3 -c '
 import json, statistics, sys
-runs = {}
+s, e = [], []
 for line in sys.stdin:
     if line.startswith("{"):
         r = json.loads(line)
-        runs.setdefault("embree" if r["device"].startswith("embree") else "strata", []).append(r)
-for name, rs in runs.items():
-    rps = statistics.median(r["rays"]["rays_per_second"] for r in rs)
-    tps = statistics.median(r["bvh"]["triangles_per_second"] for r in rs)
-    r = rs[0]
-    print("%-8s %-40s %-6s %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s  (%d tris, %d runs)" % (
-        name, r["scene"][-40:], r["rays"]["kind"], rps * 1e-6, r["rays"]["hit_fraction"],
-        tps * 1e-6, r["bvh"]["triangles"], len(rs)))'
+        (e if "rays8" in r else s).append(r)
+med = lambda rs, f: statistics.median(f(r) for r in rs)
+rps = lambda key: lambda r: r[key]["rays_per_second"]
+tps = lambda r: r["bvh"]["triangles_per_second"]
+r = s[0]
+print("%s, %s rays (%d tris, %d runs of %d rays)" % (
+    r["scene"], r["rays"]["kind"], r["bvh"]["triangles"], len(s), r["rays"]["count"]))
+st, sb = med(s, rps("rays")), med(s, tps)
+print("  strata                %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s" % (
+    st * 1e-6, r["rays"]["hit_fraction"], sb * 1e-6))
+if e:
+    one, eight, eb = med(e, rps("rays")), med(e, rps("rays8")), med(e, tps)
+    x, n = e[0], e[0]["check"]["rays"]
+    agree = lambda rs, k: min(y["check"][k] for y in rs)
+    # the better Embree call whose hits agree with strata on every checked ray
+    best = max([v for v, k in ((one, "agree1"), (eight, "agree8")) if agree(e, k) == n] or [0])
+    print("  embree rtcIntersect1  %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s  (%s)" % (
+        one * 1e-6, x["rays"]["hit_fraction"], eb * 1e-6, x["device"]))
+    print("  embree rtcIntersect8  %8.3f M rays/s  hit %.6f" % (eight * 1e-6, x["rays8"]["hit_fraction"]))
+    print("  check: %d/%d (1) %d/%d (8) of the sampled rays agree with strata" % (
+        agree(e, "agree1"), n, agree(e, "agree8"), n))
+    if "two_sided" in x:
+        two = [y["two_sided"] for y in e]
+        one2, eight2 = med(two, rps("rays")), med(two, rps("rays8"))
+        print("  embree without the culling filter: 1: %.3f  8: %.3f M rays/s  hit %.6f  check %d/%d (1) %d/%d (8)%s" % (
+            one2 * 1e-6, eight2 * 1e-6, two[0]["rays"]["hit_fraction"], agree(two, "agree1"), n,
+            agree(two, "agree8"), n, "" if min(agree(two, "agree1"), agree(two, "agree8")) == n
+            else ": other hits, not compared"))
+        best = max([best] + [v for v, k in ((one2, "agree1"), (eight2, "agree8")) if agree(two, k) == n])
+    if best:
+        print("  strata / best embree with the same hits %.2fx  (bvh %.2fx)" % (st / best, sb / eb))
+    else:
+        print("  no Embree run agreed with strata on every checked ray: not compared")'
 }
 
 # RUNS runs of strata's trace benchmark and Embree's, alternating.
@@ -48,56 +100,78 @@ trace_pair() {
     scene=$1 kind=$2 i=0
     while [ $i -lt "$RUNS" ]; do
         "$STRATA" bench "$scene" --rays "$kind" --count "$COUNT" --json 2> /dev/null || return 1
-        if "$PY" -c "import embreex" 2> /dev/null; then
-            "$PY" tools/bench_embree.py "$scene" "$kind" "$COUNT" || return 1
+        if has_embree; then
+            "$EMBREE" "$scene" "$kind" --count "$COUNT" --json || return 1
         fi
         i=$((i + 1))
     done | summarise
 }
 
-for scene in "$ICO" "$CORNELL"; do
-    [ -f "$scene" ] || { echo "bench_peers: $scene not found, skipped"; continue; }
-    for kind in camera random; do
-        trace_pair "$scene" "$kind"
+trace_part() {
+    for scene in "$ICO" "$CORNELL"; do
+        [ -f "$scene" ] || { echo "bench_peers: $scene not found, skipped"; continue; }
+        for kind in camera random; do
+            trace_pair "$scene" "$kind" || return 1
+        done
     done
-done
+}
 
-# The whole pass: strata bench's total against bench_mitsuba.py, interleaved.
-has_mitsuba() { "$PY" -c "import mitsuba" 2> /dev/null; }
+# The whole pass of one scene: strata bench's total against bench_mitsuba.py,
+# interleaved, then whether one image of each agrees.
 whole_pass() {
-    integrator=$1
-    shift
+    scene=$1 integrator=$2
+    shift 2
     out=$(mktemp -d) || return 1
     i=0
     while [ $i -lt "$RUNS" ]; do
-        "$STRATA" bench "$CORNELL" --width 512 --height 512 --spp 64 --sampler random \
-            --filter box --integrator "$integrator" "$@" --json >> "$out/strata" || return 1
-        RUNS=1 "$PY" tools/bench_mitsuba.py render "$CORNELL" "$integrator" "$out/mitsuba.exr" \
-            >> "$out/mitsuba" || return 1
+        "$STRATA" bench "$scene" --width 512 --height 512 --spp 64 --sampler random \
+            --filter box --integrator "$integrator" "$@" --json 2> /dev/null >> "$out/strata" ||
+            { rm -rf "$out"; return 1; }
+        RUNS=1 "$PY" tools/bench_mitsuba.py render "$scene" "$integrator" "$out/mitsuba.exr" \
+            >> "$out/mitsuba" || { rm -rf "$out"; return 1; }
         i=$((i + 1))
     done
-    "$STRATA" render "$CORNELL" --width 512 --height 512 --spp 64 --sampler random --filter box \
-        --integrator "$integrator" "$@" -o "$out/strata.exr" 2> /dev/null || return 1
+    "$STRATA" render "$scene" --width 512 --height 512 --spp 64 --sampler random --filter box \
+        --integrator "$integrator" "$@" -o "$out/strata.exr" > /dev/null 2>&1 || { rm -rf "$out"; return 1; }
     python3 -c '
 import json, statistics, sys
 s = [json.loads(l)["total"]["samples_per_second"] for l in open(sys.argv[1]) if l.startswith("{")]
 m = [json.loads(l) for l in open(sys.argv[2])]
 ms = statistics.median(r["samples_per_second"] for r in m)
 ss = statistics.median(s)
-print("whole pass %-6s strata %6.3f M samples/s  %s (%s) %6.3f M samples/s  strata/mitsuba %.2fx  (%d runs)" % (
-    sys.argv[3], ss * 1e-6, m[0]["renderer"], m[0]["variant"], ms * 1e-6, ss / ms, len(s)))' \
-        "$out/strata" "$out/mitsuba" "$integrator"
+print("whole pass %s %-6s strata %6.3f M samples/s  %s (%s) %6.3f M samples/s  strata/mitsuba %.2fx  (%d runs)" % (
+    sys.argv[4], sys.argv[3], ss * 1e-6, m[0]["renderer"], m[0]["variant"], ms * 1e-6, ss / ms, len(s)))' \
+        "$out/strata" "$out/mitsuba" "$integrator" "$(basename "$scene")"
     "$PY" tools/bench_mitsuba.py compare "$out/strata.exr" "$out/mitsuba.exr"
     status=$?
     rm -rf "$out"
     return $status
 }
 
-if [ ! -f "$CORNELL" ]; then
-    echo "bench_peers: $CORNELL not found, whole pass skipped"
-elif ! has_mitsuba; then
-    echo "bench_peers: mitsuba missing (make bench-deps); whole pass skipped"
-else
-    whole_pass path --max-depth 4
-    whole_pass direct
-fi
+whole_part() {
+    if [ ! -f "$CORNELL" ]; then
+        echo "bench_peers: $CORNELL not found, whole pass skipped"
+        return 0
+    fi
+    if ! "$PY" -c "import mitsuba" 2> /dev/null; then
+        echo "bench_peers: mitsuba missing (make bench-deps); whole pass skipped"
+        return 0
+    fi
+    [ -f "$LARGE" ] || python3 tools/make_cornell_sphere.py "$CORNELL" "$ICO" "$LARGE" || return 1
+    status=0
+    for scene in "$CORNELL" "$LARGE"; do
+        whole_pass "$scene" path --max-depth 4 || status=1
+        whole_pass "$scene" direct || status=1
+    done
+    return $status
+}
+
+status=0
+for part in $PARTS; do
+    case $part in
+    trace) trace_part || status=1 ;;
+    whole) whole_part || status=1 ;;
+    *) echo "bench_peers: part $part: expected trace or whole" >&2; exit 2 ;;
+    esac
+done
+exit $status

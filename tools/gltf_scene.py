@@ -1,5 +1,5 @@
-"""gltf_scene.py - the little of glTF 2.0 that the peer benchmarks need
-(tools/bench_embree.py, tools/bench_mitsuba.py): the triangle primitives
+"""gltf_scene.py - the little of glTF 2.0 that the peer benchmark needs
+(tools/bench_mitsuba.py): the triangle primitives
 under the default scene's nodes, in world space (translation/rotation/scale
 or matrix; buffers as data: URIs or files beside the .gltf), each with its
 material, and the first camera node. Not strata's importer (src/scene.c):

@@ -95,7 +95,7 @@ int main(int argc, char **argv)
             "\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
             "\"nodes\":[{\"mesh\":0},{\"camera\":0,\"translation\":[0,0,3]}],"
             "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.7,\"znear\":0.01}}],"
-            /* two-sided, as Embree intersects it in tools/bench_embree.py */
+            /* two-sided: every ray of the trace benchmark may hit it from inside too */
             "\"materials\":[{\"doubleSided\":true}],"
             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%ld,\"type\":\"VEC3\","
