@@ -6,7 +6,7 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
                 libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev libpng-dev zlib1g-dev python3-venv \
                 clang libclang-rt-14-dev oclgrind parallel pkg-config gcc g++ make help2man \
-                python3-scipy
+                python3-scipy libembree-dev
 
 PKGS     := OpenCL stb cairo fftw3
 
@@ -202,12 +202,13 @@ bench: deps strata $(ICOSPHERE)
 	@for s in $(ICOSPHERE) $(wildcard $(BENCH_SCENE)); do for k in camera random; do \
 	  echo "./strata bench $$s --rays $$k"; ./strata bench $$s --rays $$k || exit 1; done; done
 
-# The peers of tools/bench_peers.sh, only for benchmarks (no test needs
-# them): Debian's Embree 3 (libembree-dev) for tools/bench_embree.c, which
-# this builds; Mitsuba 3 from PyPI in a venv of its own, and Debian's
-# libllvm19 for Mitsuba's LLVM variant (bench_mitsuba.py points
-# DRJIT_LIBLLVM_PATH at it).
-BENCH_DEB := libllvm19 libembree-dev
+# The peers of tools/bench_peers.sh: tools/bench_embree.c, which this
+# builds against Debian's Embree 3 (libembree-dev, in deps because
+# tests/test_bench_embree.sh checks that peer's rays against strata's);
+# Mitsuba 3 from PyPI in a venv of its own, and Debian's libllvm19 for
+# Mitsuba's LLVM variant (bench_mitsuba.py points DRJIT_LIBLLVM_PATH at it),
+# only for benchmarks.
+BENCH_DEB := libllvm19
 BENCH_PY  := build/bench-py/bin/python
 bench-deps: deps
 	@missing=""; for p in $(BENCH_DEB); do \
