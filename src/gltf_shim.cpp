@@ -1122,30 +1122,35 @@ void transform_tangents(const mat4 &w, double det, scratch &s)
     }
 }
 
-/* Vertices to world space: positions by the world matrix, normals by the
- * normal matrix and renormalised; a normal that cannot be normalised is
+/* Vertex v to world space: its position by the world matrix, its normal by
+ * the normal matrix and renormalised; a normal that cannot be normalised is
  * marked NaN and replaced by the face normal later. */
+void transform_vertex(const mat4 &w, const normal_xform &nx, scratch &s, size_t v, bool normals)
+{
+    const float *p = &s.p[3 * v];
+    for (int r = 0; r < 3; r++)
+        s.wp[3 * v + size_t(r)] =
+            float(w.m[r] * p[0] + w.m[4 + r] * p[1] + w.m[8 + r] * p[2] + w.m[12 + r]);
+    if (!normals)
+        return;
+    const float *n = &s.n[3 * v];
+    double t[3];
+    for (int r = 0; r < 3; r++)
+        t[r] = nx.col[0][r] * n[0] + nx.col[1][r] * n[1] + nx.col[2][r] * n[2];
+    if (!normalize3(t))
+        t[0] = t[1] = t[2] = NAN;
+    for (int r = 0; r < 3; r++)
+        s.wn[3 * v + size_t(r)] = float(t[r]);
+}
+
+/* Every vertex to world space by one matrix (transform_vertex). */
 void transform_vertices(const mat4 &w, const normal_xform &nx, scratch &s, bool normals)
 {
     const size_t nv = s.p.size() / 3;
     s.wp.resize(3 * nv);
     s.wn.resize(normals ? 3 * nv : 0);
-    for (size_t v = 0; v < nv; v++) {
-        const float *p = &s.p[3 * v];
-        for (int r = 0; r < 3; r++)
-            s.wp[3 * v + size_t(r)] =
-                float(w.m[r] * p[0] + w.m[4 + r] * p[1] + w.m[8 + r] * p[2] + w.m[12 + r]);
-        if (!normals)
-            continue;
-        const float *n = &s.n[3 * v];
-        double t[3];
-        for (int r = 0; r < 3; r++)
-            t[r] = nx.col[0][r] * n[0] + nx.col[1][r] * n[1] + nx.col[2][r] * n[2];
-        if (!normalize3(t))
-            t[0] = t[1] = t[2] = NAN;
-        for (int r = 0; r < 3; r++)
-            s.wn[3 * v + size_t(r)] = float(t[r]);
-    }
+    for (size_t v = 0; v < nv; v++)
+        transform_vertex(w, nx, s, v, normals);
 }
 
 /* Appends triangle (i0, i1, i2) unless it is non-finite or has zero area;
@@ -1484,20 +1489,7 @@ void skin_vertices(const std::vector<mat4> &M, scratch &s, bool normals)
         const double *w = M[v].m;
         const normal_xform nx = normal_matrix(M[v]);
         s.neg[v] = nx.det < 0.0;
-        const float *p = &s.p[3 * v];
-        for (int r = 0; r < 3; r++)
-            s.wp[3 * v + size_t(r)] =
-                float(w[r] * p[0] + w[4 + r] * p[1] + w[8 + r] * p[2] + w[12 + r]);
-        if (normals) {
-            const float *n = &s.n[3 * v];
-            double t[3];
-            for (int r = 0; r < 3; r++)
-                t[r] = nx.col[0][r] * n[0] + nx.col[1][r] * n[1] + nx.col[2][r] * n[2];
-            if (!normalize3(t))
-                t[0] = t[1] = t[2] = NAN;
-            for (int r = 0; r < 3; r++)
-                s.wn[3 * v + size_t(r)] = float(t[r]);
-        }
+        transform_vertex(M[v], nx, s, v, normals);
         if (s.t.empty() || s.t[4 * v + 3] == 0.0f)
             continue;
         const float *t = &s.t[4 * v];

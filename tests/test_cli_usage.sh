@@ -83,8 +83,10 @@ if command -v bash > /dev/null; then
     : > "$T/models/sub/a.gltf"
     got=$(comp "$S" render "$T/models/s")
     check "completion walks into folders towards a scene" '[ "$got" = "$T/models/sub" ]' "(got '$got')"
-    got=$(comp "$S" converge --sampler random,pm)
-    check "completion completes the last item of a sampler list" '[ "$got" = "random,pmj02" ]' "(got '$got')"
+    got=$(comp "$S" converge --sampler random,zs)
+    check "completion completes the last item of a sampler list" '[ "$got" = "random,zsobol" ]' "(got '$got')"
+    got=$(comp "$S" converge --sampler random,pmj)
+    check "... offering every sampler that fits it" '[ "$got" = "random,pmj02 random,pmj02bn" ]' "(got '$got')"
     got=$(comp "$S" help co)
     check "completion completes help topics" '[ "$got" = "converge compare" ] || [ "$got" = "compare converge" ]' "(got '$got')"
 fi

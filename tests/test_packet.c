@@ -213,14 +213,20 @@ static void packets_equal_single_rays_at(st_device *d)
     }
 }
 
+/* check(d) on a device built at each width. */
+static void at_every_width(void (*check)(st_device *d))
+{
+    for (int k = 0; k < N_WIDTHS; k++) {
+        st_device *d = device_at(widths[k]);
+        check(d);
+        device_done(d);
+    }
+}
+
 static void packets_equal_single_rays(void **state)
 {
     (void)state;
-    for (int k = 0; k < N_WIDTHS; k++) {
-        st_device *d = device_at(widths[k]);
-        packets_equal_single_rays_at(d);
-        device_done(d);
-    }
+    at_every_width(packets_equal_single_rays_at);
 }
 
 /* Renders with the coherent rays in packets, and with every closest-hit
@@ -274,11 +280,7 @@ static void renders_with_packets_equal_without_at(st_device *d)
 static void renders_with_packets_equal_without(void **state)
 {
     (void)state;
-    for (int k = 0; k < N_WIDTHS; k++) {
-        st_device *d = device_at(widths[k]);
-        renders_with_packets_equal_without_at(d);
-        device_done(d);
-    }
+    at_every_width(renders_with_packets_equal_without_at);
 }
 
 int main(void)

@@ -324,6 +324,30 @@ static void same_shade(st_renderer *r, st_render_options o)
     run_free(&b);
 }
 
+/* same_shade on each scene (those under ../shared where it is present),
+ * direct lighting at each wave size, halton and random in turn. */
+static void same_shade_direct(const char *const *scenes, size_t n, const st_u32 *waves,
+                              size_t nw)
+{
+    for (size_t k = 0; k < n; k++) {
+        if (strncmp(scenes[k], "../shared", 9) == 0 && access(scenes[k], R_OK) != 0) {
+            print_message("note: %s not found; skipped\n", scenes[k]);
+            continue;
+        }
+        st_scene *scene = NULL;
+        st_renderer *r = renderer_for(scenes[k], &scene);
+        for (size_t w = 0; w < nw; w++) {
+            st_render_options o = small(37, 23, 3);
+            o.integrator = ST_INTEGRATOR_DIRECT;
+            o.sampler = w % 2 ? ST_SAMPLER_RANDOM : ST_SAMPLER_HALTON;
+            o.wave = waves[w];
+            same_shade(r, o);
+        }
+        st_renderer_destroy(r);
+        st_scene_destroy(scene);
+    }
+}
+
 /* The bench Cornell box (where ../shared holds it) and the built-in one,
  * all fast lanes but for misses; tests/scenes/shade_mix.gltf, fast lanes
  * beside textured, alpha, vertex-coloured and metallic ones and misses, lit
@@ -343,23 +367,8 @@ static void shade_lanes_equal_shade_hits(void **state)
         "../shared/scenes/khronos/VC/VC.gltf",
         "../shared/scenes/khronos/EmissiveStrengthTest/EmissiveStrengthTest.gltf"};
     static const st_u32 waves[] = {0, 8, 333, 851, 1000, 1001};
-    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
-        if (strncmp(scenes[k], "../shared", 9) == 0 && access(scenes[k], R_OK) != 0) {
-            print_message("note: %s not found; skipped\n", scenes[k]);
-            continue;
-        }
-        st_scene *scene = NULL;
-        st_renderer *r = renderer_for(scenes[k], &scene);
-        for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
-            st_render_options o = small(37, 23, 3);
-            o.integrator = ST_INTEGRATOR_DIRECT;
-            o.sampler = w % 2 ? ST_SAMPLER_RANDOM : ST_SAMPLER_HALTON;
-            o.wave = waves[w];
-            same_shade(r, o);
-        }
-        st_renderer_destroy(r);
-        st_scene_destroy(scene);
-    }
+    same_shade_direct(scenes, sizeof scenes / sizeof scenes[0], waves,
+                      sizeof waves / sizeof waves[0]);
     st_scene *scene = NULL;
     st_renderer *r = renderer_for("cornell-box", &scene);
     for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
@@ -401,23 +410,8 @@ static void shade_lanes_at_every_width(void **state)
         if (st_device_create(NULL, &on, &err) != ST_OK ||
             st_device_set_lanes(on, widths[k], &err) != ST_OK || st_device_build(on, NULL, &err))
             fail_msg("device at %u lanes: %s", widths[k], err.msg);
-        for (size_t c = 0; c < sizeof scenes / sizeof scenes[0]; c++) {
-            if (strncmp(scenes[c], "../shared", 9) == 0 && access(scenes[c], R_OK) != 0) {
-                print_message("note: %s not found; skipped\n", scenes[c]);
-                continue;
-            }
-            st_scene *scene = NULL;
-            st_renderer *r = renderer_for(scenes[c], &scene);
-            for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
-                st_render_options o = small(37, 23, 3);
-                o.integrator = ST_INTEGRATOR_DIRECT;
-                o.sampler = w % 2 ? ST_SAMPLER_RANDOM : ST_SAMPLER_HALTON;
-                o.wave = waves[w];
-                same_shade(r, o);
-            }
-            st_renderer_destroy(r);
-            st_scene_destroy(scene);
-        }
+        same_shade_direct(scenes, sizeof scenes / sizeof scenes[0], waves,
+                          sizeof waves / sizeof waves[0]);
         st_device_destroy(on);
         on = NULL;
     }
