@@ -369,14 +369,19 @@ ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *
     if (k.y >= k.x && k.w >= k.z) {
         st_u32 clamped = 0u;
         long4 v = fixed_splat4(1.0f, (float4)(L, 1.0f), &clamped);
-        for (int y = k.z; y <= k.w; y++)
-            for (int x = k.x; x <= k.y; x++) {
-                if (x == own.x && y == own.y)
-                    *acc += v;
-                else
-                    add_fixed(p, d, x, y, v);
-            }
-        t.splats += (st_u32)(k.y - k.x + 1) * (st_u32)(k.w - k.z + 1);
+        if (all(k == (int4)(own.x, own.x, own.y, own.y))) { /* its own pixel alone */
+            *acc += v;
+            t.splats += 1u;
+        } else {
+            for (int y = k.z; y <= k.w; y++)
+                for (int x = k.x; x <= k.y; x++) {
+                    if (x == own.x && y == own.y)
+                        *acc += v;
+                    else
+                        add_fixed(p, d, x, y, v);
+                }
+            t.splats += (st_u32)(k.y - k.x + 1) * (st_u32)(k.w - k.z + 1);
+        }
         if (clamped)
             atomic_inc(&stats->clamped);
     }

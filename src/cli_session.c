@@ -45,10 +45,14 @@ static st_status warm_render(st_renderer *r, const st_render_options *w, st_erro
  * which would otherwise fall in the render's first wave, its rate and its
  * time. So before the render: a render of 8 x 8 pixels with the render's own
  * settings (at most 16 spp; no crop, no sample range past its spp), and, for
- * a render of 2^21 samples or more (where its cost is a few per cent at
- * most), one 1-spp pass of 256 x 256 pixels (2^16 work-items) at most two
- * vertices deep, which launches the large variants. A smaller render that
- * launches large grids compiles them in its first wave, as before. */
+ * a render of 2^21 samples or more whose small warm-up had to compile (a
+ * cold cache: then the large variants are not cached either), one 1-spp
+ * pass of 256 x 256 pixels (2^16 work-items) at most two vertices deep,
+ * which launches the large variants. With a warm cache that pass would only
+ * cost time (about a per cent of such a render), so it is left out. A
+ * smaller render that launches large grids compiles them in its first wave,
+ * as before. */
+#define WARM_COMPILED_SECONDS 0.5
 static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *err)
 {
     st_render_options w = *o;
@@ -60,11 +64,13 @@ static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *e
     }
     if (w.sample_end > w.spp)
         w.sample_begin = w.sample_end = 0;
+    double t0 = st_cli_now();
     st_status rc = warm_render(r, &w, err);
+    int compiled = st_cli_now() - t0 > WARM_COMPILED_SECONDS;
     st_u32 region[4];
     st_render_region(o, region);
     st_u32 spp = o->sample_end ? o->sample_end - o->sample_begin : o->spp;
-    if (rc != ST_OK || (double)region[2] * region[3] * spp < (double)(1u << 21))
+    if (rc != ST_OK || !compiled || (double)region[2] * region[3] * spp < (double)(1u << 21))
         return rc;
     w = *o;
     w.width = w.height = 256;
