@@ -230,6 +230,54 @@ void check_glb(const unsigned char *b, size_t size)
     }
 }
 
+/* The deepest nesting of arrays and objects accepted in a scene's JSON.
+ * tinygltf converts its JSON tree to Values recursively (extras and extensions
+ * keep arbitrary depth), a few hundred bytes of stack per level, so a small
+ * file nested thousands deep overflows the stack; the glTF schema itself needs
+ * fewer than ten levels, and generous extras a few dozen. */
+const size_t max_json_depth = 256;
+
+/* Counts '[' and '{' outside strings (skipping escaped characters inside
+ * them) and refuses the text before it reaches tinygltf when they nest deeper
+ * than max_json_depth. Only the structure is looked at: malformed JSON is left
+ * for the parser to report. */
+void check_nesting(const unsigned char *json, size_t len)
+{
+    size_t depth = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = json[i];
+        if (in_string) {
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_json_depth)
+                fail("JSON nested more than %zu deep at byte %zu, the limit", max_json_depth, i);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            depth--;
+        }
+    }
+}
+
+/* The JSON text of a .gltf, or of a GLB's first chunk (already checked by
+ * check_glb to lie inside the data). */
+void json_text(const unsigned char *bytes, size_t size, bool glb, const unsigned char **json,
+               size_t *len)
+{
+    *json = bytes;
+    *len = size;
+    if (glb) {
+        *len = size >= 20 ? le32(bytes + 12) : 0;
+        *json = bytes + (size >= 20 ? 20 : size);
+        if (*len > size - (size >= 20 ? 20 : size))
+            *len = 0;
+    }
+}
+
 /* The extensions strata implements; any other in extensionsRequired is an
  * error, any other in extensionsUsed a warning. */
 const char *const supported_extensions[] = {
@@ -278,6 +326,10 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     const bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
     if (glb)
         check_glb(bytes, size);
+    const unsigned char *json;
+    size_t json_len;
+    json_text(bytes, size, glb, &json, &json_len);
+    check_nesting(json, json_len);
     check_required(bytes, size, glb);
     check_data_uris(bytes, size);
     fs_context ctx = {base_dir};

@@ -187,4 +187,29 @@ expect "an EXR whose rows pass 2^31 bytes is refused" 1 "fuzz-exr-wide-row.exr: 
     $S diff tests/data/fuzz-exr-wide-row.exr tests/data/fuzz-exr-wide-row.exr
 rm -f "$T/datauri.gltf" "$T/sparse.gltf" "$T/cf/sub/huge.bin"
 
+# ---- deep JSON: tinygltf converts JSON to its Values recursively -------------------------------
+# (a scene's text, $2 levels of $3 nesting under key $4, as .gltf or, with $5 = glb, as GLB)
+deep_scene() {
+    python3 -c 'import json, struct, sys
+out, d, kind, key, glb = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5] == "glb"
+inner = "[" * d + "]" * d if kind == "array" else "{\"a\":" * d + "1" + "}" * d
+text = ("{\"asset\": {\"version\": \"2.0\"}, \"" + key + "\": {\"x\": " + inner + "}}").encode()
+if glb:
+    text += b" " * (-len(text) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text
+    text = b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+open(out, "wb").write(text)' "$1" "$2" "$3" "$4" "$5"
+}
+deep_scene "$T/deep.gltf" 15000 array extras gltf
+expect "extras nested 15000 deep are refused, not a stack overflow" 1 "^strata: error: $T/deep.gltf: JSON nested more than 256 deep at byte" \
+    $S render "$T/deep.gltf" $R -o "$T/z.exr"
+deep_scene "$T/deep.glb" 15000 object extensions glb
+expect "a GLB whose extensions nest 15000 deep is refused" 1 "^strata: error: $T/deep.glb: JSON nested more than 256 deep" \
+    $S render "$T/deep.glb" $R -o "$T/z.exr"
+# (252 levels in all, and 8 more brackets in a string after an escaped quote)
+deep_scene "$T/deepstr.gltf" 250 array extras gltf
+sed -i 's/"x": /"s": "[[[[{{{{\\"[[[[[[[[", "x": /' "$T/deepstr.gltf"
+$S render "$T/deepstr.gltf" $R -o "$T/z.exr" > /dev/null 2> "$T/err"
+check "extras 250 deep, and brackets inside strings, are parsed (to the next error: no scenes)" 'grep -q "no scenes" "$T/err"' "($(cat "$T/err"))"
+
 echo "1..$n"
