@@ -212,4 +212,34 @@ sed -i 's/"x": /"s": "[[[[{{{{\\"[[[[[[[[", "x": /' "$T/deepstr.gltf"
 $S render "$T/deepstr.gltf" $R -o "$T/z.exr" > /dev/null 2> "$T/err"
 check "extras 250 deep, and brackets inside strings, are parsed (to the next error: no scenes)" 'grep -q "no scenes" "$T/err"' "($(cat "$T/err"))"
 
+# ---- what an output is decides how it is written ----------------------------------------------
+PAT="pattern --sampler random --count 5 --dims 2"
+mkfifo "$T/fifo"
+timeout 20 cat "$T/fifo" > "$T/fifo.out" &
+reader=$!
+$S $PAT --csv "$T/fifo" 2> "$T/err"
+st=$?
+wait $reader
+check "--csv to a FIFO streams into it (exit 0, 5 rows read)" '[ $st = 0 ] && [ "$(wc -l < "$T/fifo.out")" = 5 ]' "(status $st, $(cat "$T/err"))"
+check "the FIFO is still a FIFO" '[ -p "$T/fifo" ]'
+rows=$($S $PAT --csv /dev/stdout | wc -l)
+check "--csv /dev/stdout into a pipe writes the rows there" '[ "$rows" = 5 ]' "($rows rows)"
+if mknod "$T/null" c 1 3 2> /dev/null; then
+    $S $PAT --csv "$T/null" 2> "$T/err"
+    check "--csv to a character device (a null device node) leaves it a device" '[ -c "$T/null" ]' "($(cat "$T/err"))"
+else
+    ok "# SKIP --csv to a character device (cannot make a device node here)"
+fi
+echo old > "$T/target.csv" && chmod 640 "$T/target.csv" && ln -s target.csv "$T/link.csv"
+$S $PAT --csv "$T/link.csv" 2> "$T/err"
+check "--csv on a symbolic link replaces its target and keeps the link" '[ -L "$T/link.csv" ] && [ "$(wc -l < "$T/target.csv")" = 5 ]' "($(cat "$T/err"))"
+check "the replaced target keeps its mode 640" '[ "$(stat -c %a "$T/target.csv")" = 640 ]' "($(stat -c %a "$T/target.csv"))"
+python3 -c 'import socket, sys; socket.socket(socket.AF_UNIX).bind(sys.argv[1])' "$T/sock"
+expect "an output that is a socket is refused by name" 1 "^strata: error: $T/sock: is a socket, not a file to write" \
+    $S $PAT --csv "$T/sock"
+check "the socket is left as it was" '[ -S "$T/sock" ]'
+long=$(printf "%0244d" 0).exr
+$S render $R -o "$T/$long" 2> "$T/err"
+check "a legal 244-byte output name works" '[ -s "$T/$long" ]' "($(cat "$T/err"))"
+
 echo "1..$n"
