@@ -4,6 +4,7 @@
 
 #include <signal.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <unistd.h>
 
@@ -36,9 +37,17 @@ static void on_interrupt(int sig)
 
 void st_cli_catch_interrupts(void)
 {
+    /* every signal whose default action ends the process and that may be caught; SIGKILL cannot
+     * be, and its temporaries are removed by the next write into their folder */
+    static const int ending[] = {SIGHUP,  SIGINT,  SIGQUIT,   SIGTERM, SIGALRM,
+                                 SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU};
     struct sigaction sa = {0};
     sa.sa_handler = on_interrupt;
     sigfillset(&sa.sa_mask); /* one handler at a time */
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    for (size_t i = 0; i < sizeof ending / sizeof ending[0]; i++)
+        sigaction(ending[i], &sa, NULL);
+    /* a closed pipe or a file-size limit is a failed write (EPIPE, EFBIG), reported by the
+     * writer with exit status 1 and its temporaries removed, not a silent death */
+    signal(SIGPIPE, SIG_IGN);
+    signal(SIGXFSZ, SIG_IGN);
 }

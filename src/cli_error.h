@@ -17,8 +17,11 @@ int st_cli_fail(const st_error *err);
 /* Prints a usage error and returns ST_CLI_EXIT_USAGE. */
 int st_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* SIGINT and SIGTERM remove every temporary output file of the process
- * (st_outfile_remove_temporaries) and exit 130 and 143. */
+/* Every catchable signal that would end the process (SIGHUP, SIGINT, SIGQUIT,
+ * SIGTERM, SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU) removes every
+ * temporary output file of the process (st_outfile_remove_temporaries) and
+ * exits 128 + its number (SIGINT 130, SIGTERM 143). SIGPIPE and SIGXFSZ are
+ * ignored: the write fails instead and the command exits 1. */
 void st_cli_catch_interrupts(void);
 
 #endif

@@ -54,6 +54,7 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     if (st_device_build(s->dev, NULL, err) != ST_OK)
         return err->status;
     s->build_seconds = st_cli_now() - t0;
+    st_cli_catch_interrupts(); /* PoCL's LLVM put its own handlers over ours as the device began */
     if (st_renderer_create(s->dev, s->scene, &s->renderer, err) != ST_OK)
         return err->status;
     return s->env_map ? st_renderer_set_env_map(s->renderer, s->env_map, err) : ST_OK;

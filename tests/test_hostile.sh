@@ -41,6 +41,29 @@ check "SIGTERM while an EXR is written leaves no file" '[ -z "$(ls -A "$T" | gre
 interrupt_at_write "$T/int.png" INT
 check "SIGINT while a PNG is written exits 130" '[ $caught = 1 ] && [ $st = 130 ]' "(caught $caught, status $st)"
 check "SIGINT while a PNG is written leaves no file" '[ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T" | tr '\n' ' '))"
+# (a signal and its number on Linux)
+for pair in HUP:1 QUIT:3 USR1:10 ALRM:14; do
+    sig=${pair%:*} num=${pair#*:}
+    interrupt_at_write "$T/int.exr" $sig data
+    check "SIG$sig while an EXR is written exits $((128 + num)) and leaves no file" \
+        '[ $caught = 1 ] && [ $st = $((128 + num)) ] && [ -z "$(ls -A "$T" | grep int)" ]' \
+        "(caught $caught, status $st, $(ls -A "$T" | tr '\n' ' '))"
+    rm -f "$T/int.exr"
+done
+interrupt_at_write "$T/int.exr" KILL data
+check "SIGKILL while an EXR is written leaves its temporary (it cannot be caught)" \
+    '[ $caught = 1 ] && [ -n "$(ls -A "$T" | grep "^.int.exr.tmp")" ]' "(caught $caught, $(ls -A "$T" | tr '\n' ' '))"
+$S render $R -o "$T/next.exr" 2> "$T/err"
+check "the next write into the folder removes the dead process's temporary" \
+    '[ -s "$T/next.exr" ] && [ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T" | tr '\n' ' '))"
+rm -f "$T/next.exr"
+(
+    $S pattern --sampler random --count 200000 --dims 2 --csv - 2> "$T/err"
+    echo $? > "$T/pipe.st"
+) | head -1 > /dev/null
+check "a closed stdout pipe exits 1 with one error line, not 141" \
+    '[ "$(cat "$T/pipe.st")" = 1 ] && [ "$(grep -c "strata: error: stdout: write failed (Broken pipe)" "$T/err")" = 1 ] && [ "$(wc -l < "$T/err")" = 1 ]' \
+    "(status $(cat "$T/pipe.st"), $(cat "$T/err"))"
 
 # The output's folder is checked before the render: this one would take minutes.
 expect "missing output folder refused before rendering" 1 "^strata: error: $T/no/such/o.exr: cannot create" \
@@ -222,8 +245,11 @@ st=$?
 wait $reader
 check "--csv to a FIFO streams into it (exit 0, 5 rows read)" '[ $st = 0 ] && [ "$(wc -l < "$T/fifo.out")" = 5 ]' "(status $st, $(cat "$T/err"))"
 check "the FIFO is still a FIFO" '[ -p "$T/fifo" ]'
-rows=$($S $PAT --csv /dev/stdout | wc -l)
-check "--csv /dev/stdout into a pipe writes the rows there" '[ "$rows" = 5 ]' "($rows rows)"
+# (a link of our own to /proc/self/fd/1, as /dev/stdout is: a failure must not replace /dev's)
+ln -s /proc/self/fd/1 "$T/stdout"
+rows=$($S $PAT --csv "$T/stdout" | wc -l)
+check "--csv to a link to /proc/self/fd/1 (as /dev/stdout) writes the rows into the pipe" \
+    '[ "$rows" = 5 ] && [ -L "$T/stdout" ]' "($rows rows)"
 if mknod "$T/null" c 1 3 2> /dev/null; then
     $S $PAT --csv "$T/null" 2> "$T/err"
     check "--csv to a character device (a null device node) leaves it a device" '[ -c "$T/null" ]' "($(cat "$T/err"))"
