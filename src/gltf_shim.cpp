@@ -48,6 +48,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h> /* close(2) */
+
 namespace {
 
 using tinygltf::Model;
@@ -97,48 +99,49 @@ void note(notes &n, const char *fmt, ...)
  * through wordexp() (expanding "$VAR" and "~" in file names) and also look
  * for a missing file in the working directory. */
 struct fs_context {
-    const char *base_dir; /* NULL: no file access at all (embedded scenes) */
+    const char *base_dir; /* NULL: no file access at all (embedded scenes, standard input) */
+    int dir_fd;           /* base_dir opened, URIs are opened relative to it */
 };
 
+/* Whether tinygltf's joined path lies under the scene's folder by name (its
+ * "./" fallback does not); with no folder, yes, so that fs_read says why not.
+ * Nothing is opened here: a FIFO or device named by a URI must not be touched
+ * before fs_read refuses it. */
 bool fs_exists(const std::string &path, void *user)
 {
     const fs_context *ctx = static_cast<const fs_context *>(user);
-    if (!ctx->base_dir)
-        return false;
-    size_t n = strlen(ctx->base_dir);
-    if (path.compare(0, n, ctx->base_dir) != 0) /* tinygltf's "./" fallback */
-        return false;
-    FILE *f = fopen(path.c_str(), "rb");
-    if (!f)
-        return false;
-    fclose(f);
-    return true;
+    return !ctx->base_dir || path.compare(0, strlen(ctx->base_dir), ctx->base_dir) == 0;
 }
 
 std::string fs_expand(const std::string &path, void *) { return path; }
 
-/* Reads a buffer or image named by URI: only inside the scene's folder (no
- * "..", absolute path or symbolic link out of it) and within the size cap
- * (scene_fs.h). tinygltf puts *err after the joined path, which ends with the
- * URI. */
+/* The URI in tinygltf's joined path (base_dir, a '/' unless base_dir ends in
+ * one, the URI). */
+std::string uri_of(const fs_context *ctx, const std::string &path)
+{
+    size_t n = strlen(ctx->base_dir);
+    if (n > 0 && ctx->base_dir[n - 1] != '/' && path.size() > n && path[n] == '/')
+        n++;
+    return path.substr(n);
+}
+
+/* Reads a buffer or image named by URI: opened from the scene folder's
+ * descriptor one name at a time (no "..", absolute path or symbolic link out
+ * of it), a regular file within the size cap (scene_fs.h). tinygltf puts *err
+ * after the joined path, which ends with the URI. */
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path,
              void *user)
 {
     const fs_context *ctx = static_cast<const fs_context *>(user);
     if (!ctx->base_dir) {
-        *err = "built-in scenes may use data: URIs only";
-        return false;
-    }
-    if (!st_scene_fs_is_inside(ctx->base_dir, path.c_str())) {
-        *err = std::string("the URI leads outside the scene's folder '") +
-               (ctx->base_dir[0] ? ctx->base_dir : ".") + "'; refused";
+        *err = "a built-in scene or one on standard input has no folder: data: URIs only";
         return false;
     }
     unsigned char *data = nullptr;
     size_t size = 0;
     st_error e = {ST_OK, ""};
-    if (st_scene_fs_read(path.c_str(), ST_SCENE_MAX_FILE_BYTES, "a buffer or image", &data, &size,
-                         &e) != ST_OK) {
+    if (st_scene_fs_read_at(ctx->dir_fd, uri_of(ctx, path).c_str(), ST_SCENE_MAX_FILE_BYTES,
+                            "a buffer or image", &data, &size, &e) != ST_OK) {
         const char *why = strstr(e.msg, ": "); /* the path is tinygltf's to print */
         *err = why ? why + 2 : e.msg;
         return false;
@@ -147,6 +150,24 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
     free(data);
     return true;
 }
+
+/* The scene's folder as a descriptor for the length of one load. */
+struct folder {
+    int fd = -1;
+    explicit folder(const char *base_dir)
+    {
+        if (base_dir && (fd = st_scene_fs_open_dir(base_dir)) < 0)
+            fail("cannot open the scene's folder '%s': %s", base_dir[0] ? base_dir : ".",
+                 strerror(errno));
+    }
+    ~folder()
+    {
+        if (fd >= 0)
+            close(fd);
+    }
+    folder(const folder &) = delete;
+    folder &operator=(const folder &) = delete;
+};
 
 /* Every data: URI of the JSON text within ST_SCENE_MAX_DATA_URI_BYTES, checked
  * before tinygltf parses (and copies) it. A GLB's JSON chunk is scanned with
@@ -332,7 +353,8 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     check_nesting(json, json_len);
     check_required(bytes, size, glb);
     check_data_uris(bytes, size);
-    fs_context ctx = {base_dir};
+    folder scene_folder(base_dir);
+    fs_context ctx = {base_dir, scene_folder.fd};
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(fs);

@@ -163,20 +163,40 @@ expect "a ../../etc/passwd URI is refused without its size" 1 "etc/passwd : the 
     $S render "$T/cf/sub/pw.gltf" $R -o "$T/cf/o.exr"
 check "the refusal does not quote the file's size" '! grep -q "requestedBytes\|size mismatch" "$T/err"'
 uri_scene abs.gltf "$(pwd)/tests/scenes/layout_u8.bin"
-expect "an absolute buffer URI is refused naming it" 1 "abs.gltf: File not found : $(pwd)/tests/scenes/layout_u8.bin" \
+expect "an absolute buffer URI is refused naming it" 1 "abs.gltf: .*$(pwd)/tests/scenes/layout_u8.bin : an absolute path; the URI leads outside" \
     $S render "$T/cf/sub/abs.gltf" $R -o "$T/cf/o.exr"
 uri_scene link.gltf link.bin
 ln -s ../other/secret.bin "$T/cf/sub/link.bin"
-expect "a symbolic link out of the folder is refused" 1 "sub/link.bin : the URI leads outside" \
+expect "a symbolic link out of the folder is refused" 1 "sub/link.bin : cannot open: a symbolic link, which could lead anywhere; refused" \
     $S render "$T/cf/sub/link.gltf" $R -o "$T/cf/o.exr"
 cp "$T/cf/other/secret.bin" "$T/cf/sub/inside.bin" && uri_scene in.gltf inside.bin
 $S render "$T/cf/sub/in.gltf" $R -o "$T/cf/in.exr" 2> "$T/err"
 check "a buffer inside the folder still loads" '[ -s "$T/cf/in.exr" ]' "($(cat "$T/err"))"
 check "no image from a refused scene" '[ ! -e "$T/cf/o.exr" ]'
+mkfifo "$T/cf/sub/fifo.bin" && uri_scene fifo.gltf fifo.bin
+expect "a FIFO named by a buffer URI is refused at once, not waited on" 1 "fifo.bin : not a regular file" \
+    timeout 20 $S render "$T/cf/sub/fifo.gltf" $R -o "$T/cf/o.exr"
+mkdir "$T/cf/sub/deeper" && cp "$T/cf/sub/inside.bin" "$T/cf/sub/deeper/" && uri_scene deeper.gltf deeper/../deeper/./inside.bin
+$S render "$T/cf/sub/deeper.gltf" $R -o "$T/cf/deeper.exr" 2> "$T/err"
+check "a URI through a subfolder and back (.. below the scene's folder) still loads" '[ -s "$T/cf/deeper.exr" ]' "($(cat "$T/err"))"
+ln -s ../other "$T/cf/sub/otherlink" && uri_scene linkdir.gltf otherlink/secret.bin
+expect "a URI through a linked folder is refused" 1 "otherlink/secret.bin : cannot open otherlink: a symbolic link" \
+    $S render "$T/cf/sub/linkdir.gltf" $R -o "$T/cf/o.exr"
+mkfifo "$T/cf/scene.fifo"
+expect "a scene that is a FIFO is refused at once (read a stream with -)" 1 "scene.fifo: not a regular file" \
+    timeout 20 $S render "$T/cf/scene.fifo" $R -o "$T/cf/o.exr"
+expect "a scene on standard input (-) may not name files: it has no folder" 1 "^strata: error: -: .*layout_u8.bin : .*no folder: data: URIs only" \
+    sh -c "$S render - $R -o $T/cf/o.exr < tests/scenes/layout_u8.gltf"
+expect "/dev/stdin from a pipe is refused (not a regular file)" 1 "/dev/stdin: not a regular file" \
+    sh -c "cat $T/cf/sub/in.gltf | $S render /dev/stdin $R -o $T/cf/o.exr"
+sh -c "$S render /dev/stdin $R -o $T/cf/stdin.exr < $T/cf/sub/in.gltf" 2> "$T/err"
+check "/dev/stdin redirected from a scene file finds its buffers beside that file, not in /dev" '[ -s "$T/cf/stdin.exr" ]' "($(cat "$T/err"))"
 
 # ---- caps -----------------------------------------------------------------------------------
-expect "an endless scene (/dev/zero) stops at the 512 MiB cap" 1 "^strata: error: /dev/zero: larger than 512 MiB, the limit for a scene file" \
-    timeout 120 $S render /dev/zero $R -o "$T/z.exr"
+expect "an endless scene (/dev/zero) is refused: not a regular file" 1 "^strata: error: /dev/zero: not a regular file" \
+    timeout 20 $S render /dev/zero $R -o "$T/z.exr"
+expect "an endless scene on standard input stops at the 512 MiB cap" 1 "^strata: error: standard input: larger than 512 MiB, the limit for a scene file" \
+    sh -c "timeout 120 $S render - $R -o $T/z.exr < /dev/zero"
 truncate -s 1G "$T/sparse.gltf"
 expect "a 1 GB sparse scene is refused by its size, unread" 1 "sparse.gltf: 1073741824 bytes, larger than 512 MiB, the limit for a scene file" \
     timeout 20 $S render "$T/sparse.gltf" $R -o "$T/z.exr"
