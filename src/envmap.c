@@ -138,6 +138,46 @@ static st_status exr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st
     return rc;
 }
 
+/* stb_image reads a .hdr through these callbacks so that a file cut short is
+ * seen: stb decodes past the end as zeros without a word (repeating the last
+ * texel of a flat file, and looping for ever on a zero run length in a
+ * run-length one), but it asks for bytes only when its decoder needs them, so
+ * a request that finds none left (or stbi__getn's exact request of a few
+ * bytes, shorter than its 128-byte buffer refill, left unfilled) means the
+ * pixels run past the end. Past the end every byte is 0xFF: a run length stb
+ * refuses or a run that advances, so the decoding ends either way. */
+struct hdr_reader {
+    FILE *f;
+    int past_end;
+};
+
+static int hdr_read(void *user, char *data, int size)
+{
+    struct hdr_reader *r = user;
+    if (size <= 0)
+        return 0;
+    size_t n = r->past_end ? 0 : fread(data, 1, (size_t)size, r->f);
+    if (n == 0 || (n < (size_t)size && size < 128)) {
+        r->past_end = 1;
+        memset(data + n, 0xFF, (size_t)size - n);
+        n = (size_t)size;
+    }
+    return (int)n;
+}
+
+static void hdr_skip(void *user, int n)
+{
+    struct hdr_reader *r = user;
+    if (fseek(r->f, n, SEEK_CUR) != 0)
+        r->past_end = 1;
+}
+
+static int hdr_eof(void *user)
+{
+    struct hdr_reader *r = user;
+    return feof(r->f) || ferror(r->f);
+}
+
 /* R, G, B of a Radiance .hdr (stb_image; an 8-bit image is refused). */
 static st_status hdr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st_error *err)
 {
@@ -148,8 +188,15 @@ static st_status hdr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st
     /* the size from the header first: the cap holds before any decoding */
     int sized = is_hdr && stbi_info_from_file(f, &iw, &ih, &n) &&
                 (st_u64)iw * (st_u64)ih <= ST_ENV_MAX_TEXELS;
-    float *px = sized ? stbi_loadf_from_file(f, &iw, &ih, &n, 3) : NULL;
+    struct hdr_reader reader = {f, 0};
+    const stbi_io_callbacks io = {hdr_read, hdr_skip, hdr_eof};
+    float *px = sized ? stbi_loadf_from_callbacks(&io, &reader, &iw, &ih, &n, 3) : NULL;
     fclose(f);
+    if (reader.past_end) {
+        stbi_image_free(px);
+        return st_fail(err, ST_ERR_FORMAT, "%s: cut short: the file ends before its %d x %d "
+                       "texels do", path, iw, ih);
+    }
     if (!is_hdr)
         return st_fail(err, ST_ERR_FORMAT, "%s: not a Radiance HDR (float) image", path);
     if (!sized && iw > 0 && ih > 0)

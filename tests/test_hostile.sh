@@ -288,4 +288,35 @@ long=$(printf "%0244d" 0).exr
 $S render $R -o "$T/$long" 2> "$T/err"
 check "a legal 244-byte output name works" '[ -s "$T/$long" ]' "($(cat "$T/err"))"
 
+# ---- images cut short ---------------------------------------------------------------------------
+# A Radiance .hdr of 16 x 32 texels ($2: flat RGBE or rle, the run-length scanlines of the
+# format), less its last $3 bytes.
+hdr_file() {
+    python3 -c 'import sys
+out, kind, cut = sys.argv[1], sys.argv[2], int(sys.argv[3])
+W, H = 16, 32
+d = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n" % (H, W)
+for y in range(H):
+    px = [(128, 64 + y, 32, 129)] * W
+    if kind == "flat":
+        d += b"".join(bytes(p) for p in px)
+    else:  # a scanline: 2, 2, width, then each channel as one literal run of W bytes
+        d += bytes([2, 2, W >> 8, W & 255])
+        for c in range(4):
+            d += bytes([W]) + bytes(p[c] for p in px)
+open(out, "wb").write(d[:len(d) - cut] if cut else d)' "$1" "$2" "$3"
+}
+for kind in flat rle; do
+    hdr_file "$T/whole-$kind.hdr" $kind 0
+    $S render cornell-box $R --env "$T/whole-$kind.hdr" -o "$T/env.exr" 2> "$T/err"
+    check "a whole $kind .hdr map loads" '[ -s "$T/env.exr" ]' "($(cat "$T/err"))"
+    hdr_file "$T/cut-$kind.hdr" $kind 400
+    expect "a $kind .hdr map cut short (rows missing) is refused" 1 "^strata: error: $T/cut-$kind.hdr: cut short: the file ends before its 16 x 32 texels do" \
+        $S render cornell-box $R --env "$T/cut-$kind.hdr" -o "$T/env2.exr"
+done
+hdr_file "$T/cut2.hdr" flat 2
+expect "a flat .hdr map missing half of its last texel is refused" 1 "cut2.hdr: cut short" \
+    $S render cornell-box $R --env "$T/cut2.hdr" -o "$T/env2.exr"
+check "no image from a map cut short" '[ ! -e "$T/env2.exr" ]'
+
 echo "1..$n"
