@@ -88,6 +88,13 @@ expect "diff to a full disk exits 1" 1 "^strata: error: stdout: write failed" sh
 expect "the render summary to a full disk exits 1" 1 "^strata: error: stdout: write failed" sh -c "$S render --width 8 --height 8 --spp 1 -o $T/f.exr > /dev/full"
 expect "--discrepancy on a million points is refused with its cost" 2 "O(N^2) work, 1e+12 point pairs (about 4000 s" \
     timeout 60 $S pattern --sampler halton --count 1000000 --discrepancy
+expect "--crop 4294967296,0,2,2 is refused, not wrapped to 0" 2 "^strata: error: --crop 4294967296,0,2,2: expected X,Y,W,H" \
+    $S render $R --crop 4294967296,0,2,2 -o "$T/r.exr"
+expect "--sample-range 4294967296:2 is refused, not wrapped to 0:2" 2 "^strata: error: --sample-range 4294967296:2: expected K:M" \
+    $S render $R --sample-range 4294967296:2 -o "$T/r.exr"
+expect "a --max-spp too large for the film names --max-spp" 2 "^strata: error: --max-spp 1000000 with filter radius" \
+    $S render --width 16 --height 12 --spp 8 --quiet --adaptive --max-spp 1000000 -o "$T/r.exr"
+check "no image from refused integer options" '[ ! -e "$T/r.exr" ]'
 
 # ---- film arithmetic ---------------------------------------------------------------------
 expect "--filter-b outside [0, 1] is a usage error" 2 "^strata: error: --filter-b -1.57286e+06: must be in \[0, 1\]" $S render $R --filter mitchell --filter-b -1572861 -o "$T/b.exr"
