@@ -169,28 +169,28 @@ struct folder {
     folder &operator=(const folder &) = delete;
 };
 
-/* Every data: URI of the JSON text within ST_SCENE_MAX_DATA_URI_BYTES, checked
- * before tinygltf parses (and copies) it. A GLB's JSON chunk is scanned with
- * its binary chunk: a stray match there only costs a needless look. */
-void check_data_uris(const unsigned char *bytes, size_t size)
+/* Every string of the JSON text (a .gltf, or a GLB's JSON chunk) within
+ * ST_SCENE_MAX_DATA_URI_BYTES, checked before tinygltf parses (and copies)
+ * it. Every string, not only those spelled "data:...": an escape such as
+ * "\u0064ata:" decodes to the same URI, and a string's decoded length is
+ * never more than its length in the text, so the cap on the text holds for
+ * the value. No other glTF string comes near the cap. */
+void check_data_uris(const unsigned char *json, size_t len)
 {
-    static const char key[] = "\"data:";
-    const size_t k = sizeof key - 1;
-    for (size_t at = 0; at + k <= size;) {
-        const void *hit = memchr(bytes + at, '"', size - at);
-        if (!hit)
-            return;
-        at = size_t(static_cast<const unsigned char *>(hit) - bytes);
-        if (size - at < k || memcmp(bytes + at, key, k) != 0) {
-            at++;
+    for (size_t at = 0; at < len; at++) {
+        if (json[at] != '"')
             continue;
-        }
-        const void *close = memchr(bytes + at + 1, '"', size - at - 1);
-        size_t end = close ? size_t(static_cast<const unsigned char *>(close) - bytes) : size;
-        if (end - at - 1 > ST_SCENE_MAX_DATA_URI_BYTES)
-            fail("a data: URI of %zu bytes at byte %zu: more than %zu MiB, the limit", end - at - 1,
+        size_t end = at + 1;
+        while (end < len && json[end] != '"')
+            end += json[end] == '\\' ? 2 : 1;
+        end = end < len ? end : len;
+        if (end - at - 1 > ST_SCENE_MAX_DATA_URI_BYTES) {
+            bool plain = len - at > 6 && memcmp(json + at, "\"data:", 6) == 0;
+            fail("a %s of %zu bytes at byte %zu: more than %zu MiB, the limit",
+                 plain ? "data: URI" : "string (a data: URI written with escapes?)", end - at - 1,
                  at, ST_SCENE_MAX_DATA_URI_BYTES >> 20);
-        at = end + 1;
+        }
+        at = end;
     }
 }
 
@@ -352,7 +352,7 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     json_text(bytes, size, glb, &json, &json_len);
     check_nesting(json, json_len);
     check_required(bytes, size, glb);
-    check_data_uris(bytes, size);
+    check_data_uris(json, json_len);
     folder scene_folder(base_dir);
     fs_context ctx = {base_dir, scene_folder.fd};
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};

@@ -214,6 +214,9 @@ python3 -c 'import sys
 print("{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"byteLength\": 1, \"uri\": \"data:application/octet-stream;base64," + "A" * (65 << 20) + "\"}]}")' > "$T/datauri.gltf"
 expect "a 65 MiB data: URI is refused" 1 "datauri.gltf: a data: URI of .* bytes at byte [0-9]*: more than 64 MiB, the limit" \
     timeout 20 $S render "$T/datauri.gltf" $R -o "$T/z.exr"
+sed -i 's/"uri": "data:/"uri": "\\u0064ata:/' "$T/datauri.gltf"
+expect "a 65 MiB data: URI spelled with an escape (\\u0064ata:) is refused too" 1 "datauri.gltf: a string (a data: URI written with escapes?) of .* bytes at byte [0-9]*: more than 64 MiB" \
+    timeout 20 $S render "$T/datauri.gltf" $R -o "$T/z.exr"
 # a 48 kB PNG of 20000 x 20000 1-bit pixels (1.6 GB as RGBA) is refused by its header's size
 python3 -c 'import json, struct, sys, zlib
 def chunk(t, d): return struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
