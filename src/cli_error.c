@@ -10,9 +10,31 @@
 
 #include "st_outfile.h"
 
+/* A C0 control (ESC, BEL, newline...), DEL, or the second byte of a UTF-8 C1
+ * control (0xC2 0x80..0x9F, which terminals also obey: CSI is 0xC2 0x9B). */
+static int is_control(const unsigned char *p)
+{
+    return *p < 0x20 || *p == 0x7f || (p[0] == 0xc2 && p[1] >= 0x80 && p[1] <= 0x9f);
+}
+
+void st_cli_put_line(const char *prefix, const char *msg)
+{
+    fputs(prefix, stderr);
+    for (const unsigned char *p = (const unsigned char *)msg; *p; p++) {
+        if (!is_control(p)) {
+            fputc(*p, stderr);
+            continue;
+        }
+        if (p[0] == 0xc2) /* both bytes of a C1 control */
+            fprintf(stderr, "\\x%02X", *p++);
+        fprintf(stderr, "\\x%02X", *p);
+    }
+    fputc('\n', stderr);
+}
+
 int st_cli_fail(const st_error *err)
 {
-    fprintf(stderr, "strata: error: %s\n", err->msg[0] ? err->msg : st_status_text(err->status));
+    st_cli_put_line("strata: error: ", err->msg[0] ? err->msg : st_status_text(err->status));
     return err->status == ST_ERR_USAGE ? ST_CLI_EXIT_USAGE : ST_CLI_EXIT_FAIL;
 }
 

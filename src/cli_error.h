@@ -11,7 +11,13 @@
  * ST_CLI_HELP is no exit status: a parser's "help printed, exit 0". */
 enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };
 
-/* Prints "strata: error: MSG" and returns the exit status for err. */
+/* Prints prefix and msg as one line on stderr, every control character of
+ * msg (which may quote a scene's names or a parser's words: ESC, BEL, a
+ * newline that would forge a second "strata: error:" line) shown as \xNN. */
+void st_cli_put_line(const char *prefix, const char *msg);
+
+/* Prints "strata: error: MSG" (escaped as st_cli_put_line) and returns the
+ * exit status for err. */
 int st_cli_fail(const st_error *err);
 
 /* Prints a usage error and returns ST_CLI_EXIT_USAGE. */

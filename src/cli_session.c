@@ -35,7 +35,7 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
         return err->status;
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; i < s->scene->warning_count; i++)
-        fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
+        st_cli_put_line("strata: warning: ", s->scene->warnings[i]); /* scene text, escaped */
     st_cli_light_notes(s->scene, &a->opt);
     /* the camera is checked before the device starts, in the flag's words */
     st_scene_camera cam;

@@ -329,4 +329,22 @@ expect "a flat .hdr map missing half of its last texel is refused" 1 "cut2.hdr: 
     $S render cornell-box $R --env "$T/cut2.hdr" -o "$T/env2.exr"
 check "no image from a map cut short" '[ ! -e "$T/env2.exr" ]'
 
+# ---- scene text reaches the terminal escaped ------------------------------------------------------
+# (an extension name with ESC, BEL and a newline that would forge a second error line)
+esc_scene() {
+    python3 -c 'import json, sys
+g = json.load(open("tests/scenes/layout_u8.gltf"))
+g["buffers"][0]["uri"] = "inside.bin"
+g[sys.argv[2]] = ["EVIL\x1b[2J\x07\nstrata: error: forged\x9b"]
+json.dump(g, open(sys.argv[1], "w"))' "$1" "$2"
+}
+esc_scene "$T/cf/sub/esc_used.gltf" extensionsUsed
+$S render "$T/cf/sub/esc_used.gltf" $R -o "$T/esc.exr" 2> "$T/err"
+check "a scene's extension name is escaped in a warning (one line, \\x1B shown)" \
+    '[ "$(grep -c forged "$T/err")" = 1 ] && grep -q "EVIL\\\\x1B\[2J\\\\x07\\\\x0Astrata: error: forged\\\\xC2\\\\x9B, which" "$T/err" && ! grep -q "$(printf "\033")" "$T/err"' "($(cat -v "$T/err"))"
+esc_scene "$T/cf/sub/esc_req.gltf" extensionsRequired
+expect "a scene's extension name is escaped in an error" 1 "^strata: error: .*requires extension EVIL\\\\x1B\[2J\\\\x07\\\\x0Astrata: error: forged" \
+    $S render "$T/cf/sub/esc_req.gltf" $R -o "$T/esc.exr"
+check "the error is one line with no raw control character" '[ "$(wc -l < "$T/err")" = 1 ] && ! grep -q "$(printf "\007")" "$T/err"' "($(cat -v "$T/err"))"
+
 echo "1..$n"
