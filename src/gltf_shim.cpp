@@ -239,6 +239,8 @@ void check_glb(const unsigned char *b, size_t size)
     if (size < 12)
         fail("GLB header cut off (%zu bytes)", size);
     uint32_t length = le32(b + 8);
+    if (le32(b + 4) != 2)
+        fail("GLB version %u: strata reads version 2", le32(b + 4));
     if (length > size)
         fail("GLB header says %u bytes, the file has %zu", length, size);
     for (size_t off = 12; off < length;) {
@@ -314,6 +316,54 @@ bool supported(const char *ext)
     return false;
 }
 
+/* asset.version "MAJOR.MINOR": strata reads glTF 2 (a later major version
+ * may change anything, §3.2); a missing version is left to tinygltf. */
+void check_asset_version(const cJSON *root)
+{
+    const cJSON *asset = cJSON_GetObjectItemCaseSensitive(root, "asset");
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(asset, "version");
+    if (cJSON_IsString(v) && (strncmp(v->valuestring, "2.", 2) != 0 || !v->valuestring[2]))
+        fail("asset version \"%.40s\": strata reads glTF 2.x only", v->valuestring);
+}
+
+/* One size or offset of the schema: absent, or an integer >= 0 (tinygltf
+ * reads a negative or fractional one as 0 without a word). */
+void check_size(const cJSON *obj, const char *key, const char *what, int index)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (v && (!cJSON_IsNumber(v) || !(v->valuedouble >= 0.0) ||
+              v->valuedouble != std::floor(v->valuedouble) || v->valuedouble > 9007199254740992.0))
+        fail("%s %d: %s is not an integer >= 0", what, index, key);
+}
+
+/* The sizes and offsets of buffers, buffer views and accessors (with their
+ * sparse parts), checked in the JSON before tinygltf reads them. */
+void check_sizes(const cJSON *root)
+{
+    int i = 0;
+    const cJSON *e = nullptr;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(root, "buffers"))
+        check_size(e, "byteLength", "buffer", i++);
+    i = 0;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(root, "bufferViews")) {
+        for (const char *key : {"byteOffset", "byteLength", "byteStride"})
+            check_size(e, key, "bufferView", i);
+        i++;
+    }
+    i = 0;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(root, "accessors")) {
+        check_size(e, "byteOffset", "accessor", i);
+        check_size(e, "count", "accessor", i);
+        const cJSON *sparse = cJSON_GetObjectItemCaseSensitive(e, "sparse");
+        check_size(sparse, "count", "accessor (sparse)", i);
+        check_size(cJSON_GetObjectItemCaseSensitive(sparse, "indices"), "byteOffset",
+                   "accessor (sparse indices)", i);
+        check_size(cJSON_GetObjectItemCaseSensitive(sparse, "values"), "byteOffset",
+                   "accessor (sparse values)", i);
+        i++;
+    }
+}
+
 /* extensionsRequired, read from the JSON (a GLB's first chunk) before
  * tinygltf parses the rest, so that a Draco or meshopt file fails naming
  * the extension instead of on the buffers it cannot decode. */
@@ -328,6 +378,13 @@ void check_required(const unsigned char *bytes, size_t size, bool glb)
         len = le32(bytes + 12);
     }
     cJSON *root = cJSON_ParseWithLength(json, len);
+    try {
+        check_asset_version(root);
+        check_sizes(root);
+    } catch (...) {
+        cJSON_Delete(root);
+        throw;
+    }
     const cJSON *req = root ? cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired") : nullptr;
     std::string missing;
     const cJSON *e = nullptr;
@@ -411,6 +468,15 @@ void check_numbers(const std::vector<double> &v, size_t n, int node, const char 
 /* Local transform of a node (§3.5.3): its matrix, or T * R * S with the unit
  * quaternion R = (x, y, z, w) turned into a rotation matrix (Shoemake,
  * "Animating rotation with quaternion curves", SIGGRAPH 1985). */
+/* A node's matrix must be affine (§5.25: a TRS transform), its last row
+ * 0 0 0 1: strata transforms points and normals without a projective divide. */
+void check_affine(const mat4 &r, int idx)
+{
+    if (r.m[3] != 0.0 || r.m[7] != 0.0 || r.m[11] != 0.0 || r.m[15] != 1.0)
+        fail("node %d: matrix is not affine (last row %g %g %g %g, not 0 0 0 1)", idx, r.m[3],
+             r.m[7], r.m[11], r.m[15]);
+}
+
 mat4 node_local(const tinygltf::Node &n, int idx)
 {
     check_numbers(n.matrix, 16, idx, "matrix");
@@ -421,6 +487,7 @@ mat4 node_local(const tinygltf::Node &n, int idx)
     if (!n.matrix.empty()) {
         for (int i = 0; i < 16; i++)
             r.m[i] = n.matrix[size_t(i)];
+        check_affine(r, idx);
         return r;
     }
     double q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};

@@ -347,4 +347,38 @@ expect "a scene's extension name is escaped in an error" 1 "^strata: error: .*re
     $S render "$T/cf/sub/esc_req.gltf" $R -o "$T/esc.exr"
 check "the error is one line with no raw control character" '[ "$(wc -l < "$T/err")" = 1 ] && ! grep -q "$(printf "\007")" "$T/err"' "($(cat -v "$T/err"))"
 
+# ---- what tinygltf would take silently ----------------------------------------------------------
+# (layout_u8.gltf with one change, $2 a Python statement on g, into the folder of its buffer)
+edit_scene() {
+    python3 -c 'import json, sys
+g = json.load(open("tests/scenes/layout_u8.gltf"))
+g["buffers"][0]["uri"] = "inside.bin"
+exec(sys.argv[2])
+json.dump(g, open(sys.argv[1], "w"))' "$1" "$2"
+}
+edit_scene "$T/cf/sub/neg.gltf" 'g["accessors"][0]["byteOffset"] = -12'
+expect "an accessor's byteOffset -12 is refused" 1 "neg.gltf: accessor 0: byteOffset is not an integer >= 0" \
+    $S render "$T/cf/sub/neg.gltf" $R -o "$T/sil.exr"
+edit_scene "$T/cf/sub/frac.gltf" 'g["bufferViews"][0]["byteLength"] = 59.5'
+expect "a bufferView's byteLength 59.5 is refused" 1 "frac.gltf: bufferView 0: byteLength is not an integer >= 0" \
+    $S render "$T/cf/sub/frac.gltf" $R -o "$T/sil.exr"
+edit_scene "$T/cf/sub/v3.gltf" 'g["asset"]["version"] = "3.0"'
+expect "asset version 3.0 is refused" 1 'v3.gltf: asset version "3.0": strata reads glTF 2.x only' \
+    $S render "$T/cf/sub/v3.gltf" $R -o "$T/sil.exr"
+edit_scene "$T/cf/sub/proj.gltf" 'g["nodes"][0]["matrix"] = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0.5, 0, 0, 0, 1]'
+expect "a projective (non-affine) node matrix is refused" 1 "proj.gltf: node 0: matrix is not affine (last row 0 0 0.5 1" \
+    $S render "$T/cf/sub/proj.gltf" $R -o "$T/sil.exr"
+edit_scene "$T/cf/sub/affine.gltf" 'g["nodes"][0]["matrix"] = [2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 2, 3, 1]'
+$S render "$T/cf/sub/affine.gltf" $R -o "$T/sil.exr" 2> "$T/err"
+check "an affine node matrix still loads" '[ -s "$T/sil.exr" ]' "($(cat "$T/err"))"
+rm -f "$T/sil.exr"
+python3 -c 'import struct, sys
+text = open(sys.argv[1], "rb").read()
+text += b" " * (-len(text) % 4)
+body = struct.pack("<II", len(text), 0x4E4F534A) + text
+open(sys.argv[2], "wb").write(b"glTF" + struct.pack("<II", 99, 12 + len(body)) + body)' "$T/cf/sub/affine.gltf" "$T/cf/sub/v99.glb"
+expect "GLB version 99 is refused" 1 "v99.glb: GLB version 99: strata reads version 2" \
+    $S render "$T/cf/sub/v99.glb" $R -o "$T/sil.exr"
+check "no image from a refused scene" '[ ! -e "$T/sil.exr" ]'
+
 echo "1..$n"
