@@ -7,7 +7,7 @@
  * destination sees the old file or the complete new one; the fsync before it makes sure the new
  * name never points at data still only in the page cache after a crash.
  */
-#define _XOPEN_SOURCE 700 /* realpath(3) */
+#define _GNU_SOURCE /* fopencookie(3); realpath(3) */
 #include "st_outfile.h"
 
 #include <dirent.h>
@@ -33,7 +33,8 @@ static struct {
 } slots[SLOTS];
 
 struct st_outfile {
-    FILE *stream;
+    FILE *stream; /* over fd through write_cookie, so a failed write's errno is kept */
+    int fd;
     int err_no;  /* errno of the first failed write, 0 if none */
     int slot;    /* index into slots; -1 when written directly */
     int direct;  /* 1: a device, FIFO or stdout written in place, no temporary */
@@ -99,6 +100,52 @@ static int open_temporary(struct st_outfile *f, size_t size)
     }
     errno = EEXIST;
     return -1;
+}
+
+/* stdio's writes to the file: write(2) in full, the first failure's errno kept in err_no (a
+ * plain stdio stream only sets its error flag, and errno is gone by commit: a full disk would be
+ * reported as "Input/output error"). */
+static ssize_t write_cookie(void *cookie, const char *buf, size_t size)
+{
+    struct st_outfile *f = cookie;
+    size_t done = 0;
+    while (done < size) {
+        ssize_t w = write(f->fd, buf + done, size - done);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            if (f->err_no == 0)
+                f->err_no = w < 0 ? errno : EIO;
+            return 0; /* fopencookie(3): 0 is an error; the stream's error flag is set */
+        }
+        done += (size_t)w;
+    }
+    return (ssize_t)size;
+}
+
+static int seek_cookie(void *cookie, off64_t *offset, int whence)
+{
+    struct st_outfile *f = cookie;
+    off_t at = lseek(f->fd, (off_t)*offset, whence);
+    if (at < 0)
+        return -1;
+    *offset = at;
+    return 0;
+}
+
+static int close_cookie(void *cookie)
+{
+    struct st_outfile *f = cookie;
+    int rc = close(f->fd);
+    f->fd = -1;
+    return rc;
+}
+
+/* The stream over f->fd; NULL with errno set. */
+static FILE *open_stream(struct st_outfile *f)
+{
+    cookie_io_functions_t io = {NULL, write_cookie, seek_cookie, close_cookie};
+    return fopencookie(f, "wb", io);
 }
 
 /* After the temporary is gone (renamed or unlinked): frees the slot and f. */
@@ -217,7 +264,8 @@ st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
     int fd = direct ? open_direct(f, kind) : open_temporary(f, size);
     if (fd >= 0 && kind == REPLACE)
         keep_mode(fd, &sb);
-    if (fd >= 0 && !(f->stream = fdopen(fd, "wb"))) {
+    f->fd = fd;
+    if (fd >= 0 && !(f->stream = open_stream(f))) {
         int e = errno;
         close(fd);
         if (!direct)
@@ -249,9 +297,19 @@ static int note_failure(struct st_outfile *f)
     return -1;
 }
 
+/* Writes of at least this many bytes go to the file at once (after what the stream holds), as
+ * a stdio stream of a file with 4 KiB blocks would: their failure is seen by the caller, not
+ * only at commit. */
+#define DIRECT_WRITE_BYTES 4096
+
 int st_outfile_write(st_outfile *f, const void *data, size_t n)
 {
     errno = 0;
+    if (n >= DIRECT_WRITE_BYTES) {
+        if (fflush(f->stream) != 0 || write_cookie(f, data, n) != (ssize_t)n)
+            return note_failure(f);
+        return 0;
+    }
     if (n > 0 && fwrite(data, 1, n, f->stream) != n)
         return note_failure(f);
     return 0;
@@ -264,7 +322,7 @@ int st_outfile_write_at(st_outfile *f, const void *data, size_t n, uint64_t offs
         return note_failure(f);
     const char *p = data;
     while (n > 0) {
-        ssize_t w = pwrite(fileno(f->stream), p, n, (off_t)offset);
+        ssize_t w = pwrite(f->fd, p, n, (off_t)offset);
         if (w < 0 && errno == EINTR)
             continue;
         if (w <= 0) /* 0 for n > 0 means no progress: report it rather than spin */
@@ -286,7 +344,7 @@ static int finish_stream(struct st_outfile *f)
         e = EIO; /* a stream write failed and errno is long gone */
     if (e == 0 && fflush(f->stream) != 0)
         e = errno;
-    if (e == 0 && !f->direct && fsync(fileno(f->stream)) != 0)
+    if (e == 0 && !f->direct && fsync(f->fd) != 0)
         e = errno; /* a device or pipe has nothing to sync (EINVAL) */
     if (fclose(f->stream) != 0 && e == 0)
         e = errno;

@@ -94,6 +94,8 @@ expect "--sample-range 4294967296:2 is refused, not wrapped to 0:2" 2 "^strata: 
     $S render $R --sample-range 4294967296:2 -o "$T/r.exr"
 expect "a --max-spp too large for the film names --max-spp" 2 "^strata: error: --max-spp 1000000 with filter radius" \
     $S render --width 16 --height 12 --spp 8 --quiet --adaptive --max-spp 1000000 -o "$T/r.exr"
+expect "--csv to a full disk names the reason" 1 "^strata: error: /dev/full: cannot write (No space left on device)" \
+    $S pattern --sampler random --count 20000 --dims 2 --csv /dev/full
 check "no image from refused integer options" '[ ! -e "$T/r.exr" ]'
 
 # ---- film arithmetic ---------------------------------------------------------------------
