@@ -265,7 +265,14 @@ static int parse_device_or_png(int c, const char *v, int bench, st_cli_render_ar
                                   c == O_EXPOSURE ? "--exposure" : "--tonemap");
     if (c == O_EXPOSURE) {
         a->png_opt = "--exposure";
-        return st_cli_parse_float("--exposure", v, &a->exposure);
+        if (st_cli_parse_float("--exposure", v, &a->exposure) != ST_CLI_OK)
+            return ST_CLI_EXIT_USAGE;
+        /* 2^64 takes the faintest float radiance past white and the brightest stays finite
+         * through the tone curves; beyond it the curves overflow and the image goes black */
+        if (fabsf(a->exposure) > 64.0f)
+            return st_cli_usage_error("--exposure %s: must be in [-64, 64] (the image is scaled "
+                                      "by 2^EV; beyond that every curve saturates or overflows)", v);
+        return ST_CLI_OK;
     }
     if (c == O_TONEMAP) {
         a->png_opt = "--tonemap";

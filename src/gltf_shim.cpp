@@ -1827,6 +1827,28 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
 }
 
 /* The warnings as malloc'd C strings (a last line counts those left out). */
+/* The scene's extent (the largest side of its bounds) outside the range in
+ * which single-precision rays and their offsets still resolve it: at 1e13 and
+ * above, or 1e-16 and below, the render comes out empty, so say why. */
+void note_degenerate_scale(const st_gltf_data &out, notes &warn)
+{
+    if (out.tri_count == 0)
+        return;
+    double extent = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (size_t i = k; i < 9 * out.tri_count; i += 3) {
+            lo = std::min(lo, double(out.positions[i]));
+            hi = std::max(hi, double(out.positions[i]));
+        }
+        extent = std::max(extent, hi - lo);
+    }
+    if (extent >= 1e13 || extent <= 1e-16)
+        note(warn, "the scene spans %g units: beyond 1e13 or below 1e-16 single-precision rays "
+                   "cannot resolve it and the image may be empty; scale the model",
+             extent);
+}
+
 void take_warnings(const notes &warn, st_gltf_data &out)
 {
     std::vector<std::string> lines = warn.lines;
@@ -1858,6 +1880,7 @@ extern "C" st_status st_gltf_shim_load(const char *label, const unsigned char *b
         parse(model, bytes, size, base_dir, images, warn);
         densify_sparse(model);
         flatten(model, images, warn, *out);
+        note_degenerate_scale(*out, warn);
         take_warnings(warn, *out);
         return ST_OK;
     } catch (const shim_error &e) {

@@ -382,5 +382,22 @@ open(sys.argv[2], "wb").write(b"glTF" + struct.pack("<II", 99, 12 + len(body)) +
 expect "GLB version 99 is refused" 1 "v99.glb: GLB version 99: strata reads version 2" \
     $S render "$T/cf/sub/v99.glb" $R -o "$T/sil.exr"
 check "no image from a refused scene" '[ ! -e "$T/sil.exr" ]'
+for sc in 1e14 1e-17; do
+    edit_scene "$T/cf/sub/scale.gltf" "g['nodes'][0]['scale'] = [$sc] * 3"
+    $S render "$T/cf/sub/scale.gltf" $R -o "$T/scale.exr" 2> "$T/err"
+    check "a scene scaled by $sc is rendered with a warning about its extent" \
+        'grep -q "^strata: warning: .*scale.gltf: the scene spans .* units: beyond 1e13 or below 1e-16" "$T/err"' "($(cat "$T/err"))"
+done
+edit_scene "$T/cf/sub/scale.gltf" "g['nodes'][0]['scale'] = [1e12] * 3"
+$S render "$T/cf/sub/scale.gltf" $R -o "$T/scale.exr" 2> "$T/err"
+check "a scene scaled by 1e12 gets no such warning" '! grep -q "the scene spans" "$T/err"' "($(cat "$T/err"))"
+expect "--exposure 1000 (every tone curve overflows to black) is refused" 2 "^strata: error: --exposure 1000: must be in \[-64, 64\]" \
+    $S render $R --exposure 1000 --tonemap filmic -o "$T/exp.png"
+$S render $R --exposure 64 --tonemap filmic -o "$T/exp.png" 2> "$T/err"
+check "--exposure 64 with the filmic curve is not black" 'python3 -c "import sys, zlib, struct
+d = open(sys.argv[1], \"rb\").read()
+k = d.find(b\"IDAT\")
+raw = zlib.decompress(d[k + 4:k + 4 + struct.unpack(\">I\", d[k - 4:k])[0]])
+sys.exit(0 if max(raw) > 200 else 1)" "$T/exp.png"' "($(cat "$T/err"))"
 
 echo "1..$n"
