@@ -52,6 +52,14 @@ const st_device_info *st_device_get_info(const st_device *dev);
  * ST_ERR_DEVICE. Images do not depend on it: the film's sums are order-free integers. */
 st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err);
 
+/* Checks a work-group size before any launch: at most the device's CL_DEVICE_MAX_WORK_GROUP_SIZE
+ * and, on a CPU device, at most what one thread's stack holds. A CPU runtime (PoCL) runs a
+ * group's work-items in loops on one worker thread, its private variables (a traversal stack)
+ * side by side on that thread's stack, whose size is RLIMIT_STACK (glibc's default for new
+ * threads; 2 MiB when unlimited): trace_shadow_rays needs 2 to 2.3 KiB a work-item, so 4096
+ * overflowed an 8 MiB stack. ST_ERR_USAGE naming the field "local size" and the limit. */
+st_status st_device_check_local_size(const st_device *dev, size_t local, st_error *err);
+
 /* Builds the program from the embedded kernels, or from the .cl files in
  * $STRATA_KERNEL_DIR when set (for kernel development). Idempotent; the first
  * call's wall time is stored in *seconds (may be NULL). */

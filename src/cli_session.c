@@ -55,6 +55,11 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
         return err->status;
     s->build_seconds = st_cli_now() - t0;
     st_cli_catch_interrupts(); /* PoCL's LLVM put its own handlers over ours as the device began */
+    if (a->opt.local_size && st_device_check_local_size(s->dev, a->opt.local_size, err) != ST_OK) {
+        static const st_cli_option_name local[] = {{"local size", "--local-size"}, {NULL, NULL}};
+        st_cli_option_words(err, local);
+        return err->status;
+    }
     if (st_renderer_create(s->dev, s->scene, &s->renderer, err) != ST_OK)
         return err->status;
     return s->env_map ? st_renderer_set_env_map(s->renderer, s->env_map, err) : ST_OK;
