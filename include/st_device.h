@@ -44,6 +44,8 @@ st_status st_device_list(st_device_info **out, unsigned *count, st_error *err);
 st_status st_device_create(const char *spec, st_device **out, st_error *err);
 void st_device_destroy(st_device *dev); /* NULL: does nothing */
 const st_device_info *st_device_get_info(const st_device *dev);
+/* CL_DEVICE_MAX_MEM_ALLOC_SIZE: the most bytes of one buffer (0 when unknown). */
+unsigned long long st_device_max_alloc(const st_device *dev);
 
 /* Limits the device to n compute units (on a CPU: n threads) by running on an OpenCL sub-device
  * (clCreateSubDevices, CL_DEVICE_PARTITION_BY_COUNTS {n}); call before st_device_build. n equal

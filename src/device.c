@@ -280,6 +280,14 @@ void st_device_destroy(st_device *dev)
 
 const st_device_info *st_device_get_info(const st_device *dev) { return &dev->info; }
 
+unsigned long long st_device_max_alloc(const st_device *dev)
+{
+    cl_ulong max = 0;
+    if (clGetDeviceInfo(dev->id, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof max, &max, NULL) != CL_SUCCESS)
+        return 0;
+    return max;
+}
+
 st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err)
 {
     if (dev->program || dev->sub)

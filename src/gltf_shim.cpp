@@ -1760,6 +1760,19 @@ void note_missing_uvs(const Model &m, int mesh, const std::vector<uv_use> &use, 
     }
 }
 
+/* The most triangles a scene may make, every instance of a mesh counted: each
+ * takes about 200 bytes of vertex data here and as much again in the device's
+ * tree and buffers, so 2^24 is some 6 GB. A small file that instances a large
+ * buffer many times would otherwise ask for any amount. */
+const size_t max_triangles = size_t(1) << 24;
+
+void check_triangle_bound(size_t bound)
+{
+    if (bound > max_triangles)
+        fail("the scene makes up to %zu triangles, every instance counted: more than 2^24, the "
+             "limit (about 400 bytes of memory each)", bound);
+}
+
 void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data &out)
 {
     std::vector<instance> inst;
@@ -1785,6 +1798,7 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
         for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
             bound += primitive_bound(m, in.mesh, p); /* each <= its accessor's elements */
     }
+    check_triangle_bound(bound);
     out.positions = alloc_array<float>(bound, 9);
     out.normals = alloc_array<float>(bound, 9);
     out.uvs = alloc_array<float>(bound, 6);

@@ -406,4 +406,27 @@ expect "--local-size 4096 on an 8 MiB stack is refused with the limit, not a cra
 (ulimit -s 16384; timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --local-size 4096 -o "$T/ls.exr" 2> "$T/err")
 check "--local-size 4096 with a 16 MiB stack renders" '[ -s "$T/ls.exr" ]' "($(cat "$T/err"))"
 
+# ---- memory planned before it is asked for ------------------------------------------------------
+expect "a 16384 x 16384 film is refused before allocating, naming --width and --height" 2 "^strata: error: the render needs .*MiB.*: reduce --width and --height" \
+    timeout 120 $S render --width 16384 --height 16384 --spp 1 --quiet -o "$T/mem.exr"
+expect "an 8192 x 8192 render under ulimit -v 5000000 is refused, not a PoCL abort" 2 "^strata: error: the render needs about .* MiB of memory, more than the .* MiB the process may still take (ulimit -v): reduce --width and --height" \
+    sh -c "ulimit -v 5000000; exec timeout 120 $S render --width 8192 --height 8192 --spp 1 --quiet -o $T/mem.exr"
+expect "a wave of 2^26 work-items is refused naming --wave" 2 "^strata: error: the render needs .*: reduce --wave" \
+    timeout 120 $S render --width 1024 --height 1024 --spp 64 --quiet --wave 67108864 -o "$T/mem.exr"
+check "no image from a render that would not fit" '[ ! -e "$T/mem.exr" ]'
+# 100 instances of a mesh of 170000 (degenerate) triangles: 17 million, past the 2^24 cap
+python3 -c 'import json, sys
+n = 170000
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": list(range(100))}],
+     "nodes": [{"mesh": 0, "translation": [i, 0, 0]} for i in range(100)],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+     "buffers": [{"uri": "inst.bin", "byteLength": 36 + 3 * n}],
+     "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 3 * n}],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]},
+                   {"bufferView": 1, "componentType": 5121, "count": 3 * n, "type": "SCALAR"}]}
+json.dump(g, open(sys.argv[1], "w"))' "$T/cf/sub/inst.gltf"
+truncate -s $((36 + 3 * 170000)) "$T/cf/sub/inst.bin"
+expect "a small scene instancing 17 million triangles is refused by the triangle cap" 1 "inst.gltf: the scene makes up to 17000000 triangles, every instance counted: more than 2^24" \
+    sh -c "ulimit -v 4000000; exec timeout 120 $S render $T/cf/sub/inst.gltf $R -o $T/mem.exr"
+
 echo "1..$n"
