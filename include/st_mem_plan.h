@@ -23,6 +23,10 @@ typedef struct st_mem_plan {
     unsigned long long host_bytes;    /* read back and converted on the host */
 } st_mem_plan;
 
+/* The address space the process may still take: RLIMIT_AS less what it maps now; ~0 when
+ * unlimited. For loaders that size a decoded file before decoding it (environment maps). */
+unsigned long long st_mem_plan_host_left(void);
+
 /* Fills *plan for a render (adaptive: its per-pixel state too). */
 void st_mem_plan_make(size_t items, size_t pixels, int adaptive, st_mem_plan *plan);
 

@@ -31,7 +31,7 @@ void st_mem_plan_make(size_t items, size_t pixels, int adaptive, st_mem_plan *pl
 
 /* The address space the process may still take: RLIMIT_AS less what it maps now
  * (/proc/self/statm's first field, in pages); ~0 when unlimited or unknown. */
-static unsigned long long address_space_left(void)
+unsigned long long st_mem_plan_host_left(void)
 {
     struct rlimit rl;
     if (getrlimit(RLIMIT_AS, &rl) != 0 || rl.rlim_cur == RLIM_INFINITY)
@@ -69,7 +69,7 @@ st_status st_mem_plan_check(const st_device *dev, size_t items, size_t pixels, i
                        MIB(plan.device_bytes), MIB(info->global_mem), reduce);
     /* on a CPU device the buffers are the process's own memory */
     unsigned long long need = plan.host_bytes + (info->is_cpu ? plan.device_bytes : 0);
-    unsigned long long left = address_space_left();
+    unsigned long long left = st_mem_plan_host_left();
     if (need > left)
         return st_fail(err, ST_ERR_USAGE, "the render needs about %.0f MiB of memory, more than "
                        "the %.0f MiB the process may still take (ulimit -v): reduce %s",

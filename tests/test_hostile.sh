@@ -428,5 +428,9 @@ json.dump(g, open(sys.argv[1], "w"))' "$T/cf/sub/inst.gltf"
 truncate -s $((36 + 3 * 170000)) "$T/cf/sub/inst.bin"
 expect "a small scene instancing 17 million triangles is refused by the triangle cap" 1 "inst.gltf: the scene makes up to 17000000 triangles, every instance counted: more than 2^24" \
     sh -c "ulimit -v 4000000; exec timeout 120 $S render $T/cf/sub/inst.gltf $R -o $T/mem.exr"
+printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4096 +X 16384\n' > "$T/envbig.hdr"
+head -c 800000 /dev/zero >> "$T/envbig.hdr"
+expect "an 800 kB map claiming 2^26 texels under ulimit -v 3000000 is refused before decoding" 1 "envbig.hdr: 67108864 texels need about 4096 MiB, more than the .* MiB the process may still take (ulimit -v)" \
+    sh -c "ulimit -v 3000000; exec timeout 120 $S render cornell-box $R --env $T/envbig.hdr -o $T/mem.exr"
 
 echo "1..$n"
