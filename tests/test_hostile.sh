@@ -432,5 +432,11 @@ printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4096 +X 16384\n' > "$T/envbig.h
 head -c 800000 /dev/zero >> "$T/envbig.hdr"
 expect "an 800 kB map claiming 2^26 texels under ulimit -v 3000000 is refused before decoding" 1 "envbig.hdr: 67108864 texels need about 4096 MiB, more than the .* MiB the process may still take (ulimit -v)" \
     sh -c "ulimit -v 3000000; exec timeout 120 $S render cornell-box $R --env $T/envbig.hdr -o $T/mem.exr"
+$S render $R -o "$T/whole.png" 2> /dev/null
+size=$(stat -c %s "$T/whole.png")
+head -c $((size / 2)) "$T/whole.png" > "$T/half.png"
+head -c $((size - 12)) "$T/whole.png" > "$T/noend.png"
+expect "a PNG cut in half is an error" 1 "^strata: error: $T/half.png: cannot decode image" $S diff "$T/whole.png" "$T/half.png"
+expect "a PNG missing its IEND chunk is an error with a reason" 1 "^strata: error: $T/noend.png: cannot decode image (cut short or corrupt)" $S diff "$T/whole.png" "$T/noend.png"
 
 echo "1..$n"
