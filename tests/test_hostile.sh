@@ -403,6 +403,7 @@ sys.exit(0 if max(raw) > 200 else 1)" "$T/exp.png"' "($(cat "$T/err"))"
 # ---- work-group size: a CPU device runs a group on one thread's stack --------------------------
 expect "--local-size 4096 on an 8 MiB stack is refused with the limit, not a crash" 2 "^strata: error: --local-size 4096: a CPU device runs a group on one thread's stack of 8192 KiB (ulimit -s), which holds at most 2048" \
     sh -c "ulimit -s 8192; exec timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --local-size 4096 -o $T/ls.exr"
+# shellcheck disable=SC3045 # dash (sh here) has ulimit -s
 (ulimit -s 16384; timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --local-size 4096 -o "$T/ls.exr" 2> "$T/err")
 check "--local-size 4096 with a 16 MiB stack renders" '[ -s "$T/ls.exr" ]' "($(cat "$T/err"))"
 
