@@ -46,6 +46,8 @@ st_status st_device_list(st_device_info **out, unsigned *count, st_error *err);
 st_status st_device_create(const char *spec, st_device **out, st_error *err);
 void st_device_destroy(st_device *dev); /* NULL: does nothing */
 const st_device_info *st_device_get_info(const st_device *dev);
+/* CL_DEVICE_MAX_MEM_ALLOC_SIZE: the most bytes of one buffer (0 when unknown). */
+unsigned long long st_device_max_alloc(const st_device *dev);
 
 /* Limits the device to n compute units (on a CPU: n threads) by running on an OpenCL sub-device
  * (clCreateSubDevices, CL_DEVICE_PARTITION_BY_COUNTS {n}); call before st_device_build. n equal
@@ -63,6 +65,14 @@ unsigned st_device_default_lanes(const st_device_info *info);
 /* Builds the kernels for n lanes instead (1, 4, 8 or 16; --lanes): call
  * before st_device_build. Errors name the field "lanes" (ST_ERR_USAGE). */
 st_status st_device_set_lanes(st_device *dev, unsigned n, st_error *err);
+/* Checks a work-group size before any launch: at most the device's CL_DEVICE_MAX_WORK_GROUP_SIZE
+ * and, on a CPU device, at most what one thread's stack holds. A CPU runtime (PoCL) runs a
+ * group's work-items in loops on one worker thread, its private variables (a traversal stack)
+ * side by side on that thread's stack, whose size is RLIMIT_STACK (glibc's default for new
+ * threads; 2 MiB when unlimited): trace_shadow_rays needs 2 to 2.3 KiB a work-item, so 4096
+ * overflowed an 8 MiB stack. ST_ERR_USAGE naming the field "local size" and the limit. */
+st_status st_device_check_local_size(const st_device *dev, size_t local, st_error *err);
+
 /* Builds the program from the embedded kernels, or from the .cl files in
  * $STRATA_KERNEL_DIR when set (for kernel development). Idempotent; the first
  * call's wall time is stored in *seconds (may be NULL). */

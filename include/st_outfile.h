@@ -4,12 +4,20 @@
  * never leaves a partial file under the destination's name, nor a temporary beside it, and an
  * existing file of that name is replaced only when the new one is complete and on disk.
  *
+ * What the destination is decides how it is written: a new name or a regular file through a
+ * temporary and rename (a replaced file keeps its mode, and its owner where the writer may give
+ * it); a symbolic link by replacing its target, never the link; a character device (/dev/null,
+ * /dev/stdout on a terminal), a FIFO or "-" (stdout) directly, streamed, with no temporary (what
+ * was written to them cannot be taken back); anything else (a folder, a block device, a socket, a
+ * link to nothing) is refused by name. A non-regular file is never replaced.
+ *
  *   st_outfile *out;
  *   if (st_outfile_open(path, &out, err) != ST_OK) return err->status;
  *   fprintf(st_outfile_stream(out), ...);            (or st_outfile_write / st_outfile_write_at)
  *   return st_outfile_commit(out, err);              (or st_outfile_abort(out) to give up)
  *
- * The temporary is "<folder>/.<name>.tmp.<pid>.<n>", created with O_CREAT|O_EXCL (mode 0666 less
+ * The temporary is "<folder>/.<name>.tmp.<pid>.<n>" (<name> cut to NAME_MAX - 27 bytes, so the
+ * longest legal name has one), created with O_CREAT|O_EXCL (mode 0666 less
  * the umask, as fopen) in the destination's own folder, so the final rename(2) never crosses a file
  * system and two writers never share a temporary. Commit flushes, fsyncs, closes and renames;
  * whatever fails on the way removes the temporary.
@@ -64,13 +72,19 @@ st_status st_outfile_commit(st_outfile *f, st_error *err);
 void st_outfile_abort(st_outfile *f);
 
 /* Checks, before long work, that `path` could be written: refuses a folder and creates and removes
- * a temporary beside it (so a missing or read-only folder is found now, not after a render). The
- * same errors as st_outfile_open, or ST_ERR_IO "out.exr: is a folder". */
+ * a temporary beside it (so a missing or read-only folder is found now, not after a render); a
+ * device or FIFO is checked with access(2), not opened (a FIFO's open waits for a reader). The
+ * same errors as st_outfile_open, or ST_ERR_IO "out.exr: is a folder, not a file to write". */
 st_status st_outfile_check(const char *path, st_error *err);
 
 /* Unlinks every temporary that an open st_outfile of this process holds. Async-signal-safe: for a
  * SIGINT/SIGTERM handler, which then ends the process (the handles stay allocated). At most 64
  * outputs are open at once (st_outfile_open fails beyond that), each name below PATH_MAX. */
 void st_outfile_remove_temporaries(void);
+
+/* Removes the temporaries ".NAME.tmp.PID.N" in dest's folder that a process no longer running left
+ * behind (killed by SIGKILL, or by a crash): regular files of this user whose PID does not exist.
+ * Called by st_outfile_open before it creates a temporary there. */
+void st_outfile_remove_stale(const char *dest);
 
 #endif

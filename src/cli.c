@@ -37,8 +37,8 @@ static const char main_help[] =
 static int check_stdout(int rc)
 {
     errno = 0;
-    if (fflush(stdout) == 0 && !ferror(stdout))
-        return rc;
+    if ((fflush(stdout) == 0 && !ferror(stdout)) || rc != 0)
+        return rc; /* a failed command has said why already: one error line */
     int e = errno ? errno : EIO;
     fprintf(stderr, "strata: error: stdout: write failed (%s)\n", strerror(e));
     return rc ? rc : ST_CLI_EXIT_FAIL;

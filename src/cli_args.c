@@ -64,9 +64,14 @@ static const char render_help[] =
     "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
     "  --local-size N         OpenCL work-group size (default 64; the image does not change;\n"
-    "                         a CPU device's tile splat keeps one work-item per group)\n"
-    "  --packets auto|none|coherent|all   rays traced in packets, one per lane of a work-item\n"
-    "                         (--lanes): coherent = camera rays\n"
+    "                         a CPU device's tile splat keeps one work-item per group;
+"
+    "                         on a CPU at most (ulimit -s) / 4 KiB, 2048 for 8 MiB)
+"
+    "  --packets auto|none|coherent|all   rays traced in packets, one per lane of a work-item
+"
+    "                         (--lanes): coherent = camera rays
+"
     "                         and the shadow rays from their hits, all = every ray (shadow rays\n"
     "                         only in scenes without alpha); auto: coherent on CPU devices for\n"
     "                         scenes of 65536 triangles or more, else none (the image does not\n"
@@ -278,7 +283,14 @@ static int parse_device_or_png(int c, const char *v, int bench, st_cli_render_ar
                                   c == O_EXPOSURE ? "--exposure" : "--tonemap");
     if (c == O_EXPOSURE) {
         a->png_opt = "--exposure";
-        return st_cli_parse_float("--exposure", v, &a->exposure);
+        if (st_cli_parse_float("--exposure", v, &a->exposure) != ST_CLI_OK)
+            return ST_CLI_EXIT_USAGE;
+        /* 2^64 takes the faintest float radiance past white and the brightest stays finite
+         * through the tone curves; beyond it the curves overflow and the image goes black */
+        if (fabsf(a->exposure) > 64.0f)
+            return st_cli_usage_error("--exposure %s: must be in [-64, 64] (the image is scaled "
+                                      "by 2^EV; beyond that every curve saturates or overflows)", v);
+        return ST_CLI_OK;
     }
     if (c == O_TONEMAP) {
         a->png_opt = "--tonemap";
@@ -326,17 +338,33 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     }
 }
 
+/* n decimal integers of 0..2^32-1 separated by sep, nothing else (no sign,
+ * space or wrap-around: sscanf's %u takes "4294967296" as 0); 0 or -1. */
+static int parse_u32_list(const char *v, char sep, unsigned *out, int n)
+{
+    for (int i = 0; i < n; i++) {
+        char *end;
+        errno = 0;
+        unsigned long long x = *v >= '0' && *v <= '9' ? strtoull(v, &end, 10) : 0;
+        if (*v < '0' || *v > '9' || errno || x > UINT32_MAX || *end != (i + 1 < n ? sep : '\0'))
+            return -1;
+        out[i] = (unsigned)x;
+        v = end + 1;
+    }
+    return 0;
+}
+
 /* --crop X,Y,W,H: four unsigned integers (the window is checked against the
  * image size by st_render_check, once --width and --height are known). */
 static int parse_crop(const char *v, int bench, st_render_options *o)
 {
-    unsigned x, y, w, h;
-    char tail;
+    unsigned xywh[4];
     if (bench)
         return st_cli_usage_error("--crop: only `strata render` takes it");
-    if (sscanf(v, "%u,%u,%u,%u%c", &x, &y, &w, &h, &tail) != 4 || strchr(v, '-') ||
-        strchr(v, '+') || strchr(v, ' '))
-        return st_cli_usage_error("--crop %s: expected X,Y,W,H (four integers >= 0)", v);
+    if (parse_u32_list(v, ',', xywh, 4) != 0)
+        return st_cli_usage_error("--crop %s: expected X,Y,W,H (four integers in 0..%u)", v,
+                                  UINT32_MAX);
+    unsigned x = xywh[0], y = xywh[1], w = xywh[2], h = xywh[3];
     if (w == 0 || h == 0)
         return st_cli_usage_error("--crop %s: the window is empty", v);
     o->crop_x = x;
@@ -370,10 +398,10 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_HEIGHT: return st_cli_parse_u32("--height", v, 1, 32768, &o->height);
     case O_SPP: return st_cli_parse_u32("--spp", v, 1, 1u << 24, &o->spp);
     case O_SAMPLE_RANGE: {
-        unsigned k, m;
-        char tail;
-        if (sscanf(v, "%u:%u%c", &k, &m, &tail) != 2 || v[0] == '-' || strchr(v, '-'))
+        unsigned km[2];
+        if (parse_u32_list(v, ':', km, 2) != 0)
             return st_cli_usage_error("--sample-range %s: expected K:M (sample indices K..M-1)", v);
+        unsigned k = km[0], m = km[1];
         if (k >= m) /* M = 0 would mean "all samples": refuse rather than render them */
             return st_cli_usage_error("--sample-range %s: needs K < M <= spp", v);
         o->sample_begin = k;
@@ -474,7 +502,14 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);
     st_error err = {0};
-    if (st_render_check(&a->opt, &err) != ST_OK)
+    if (st_render_check(&a->opt, &err) != ST_OK) {
+        /* an adaptive render's film headroom is the --max-spp cap's, not --spp's */
+        if (a->opt.adaptive && !strncmp(err.msg, "spp ", 4)) {
+            char msg[sizeof err.msg];
+            snprintf(msg, sizeof msg, "max %.*s", (int)sizeof msg - 5, err.msg);
+            memcpy(err.msg, msg, sizeof msg);
+        }
         return st_cli_fail_options(&err, st_cli_render_option_names);
+    }
     return ST_CLI_OK;
 }

@@ -4,14 +4,37 @@
 
 #include <signal.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <unistd.h>
 
 #include "st_outfile.h"
 
+/* A C0 control (ESC, BEL, newline...), DEL, or the second byte of a UTF-8 C1
+ * control (0xC2 0x80..0x9F, which terminals also obey: CSI is 0xC2 0x9B). */
+static int is_control(const unsigned char *p)
+{
+    return *p < 0x20 || *p == 0x7f || (p[0] == 0xc2 && p[1] >= 0x80 && p[1] <= 0x9f);
+}
+
+void st_cli_put_line(const char *prefix, const char *msg)
+{
+    fputs(prefix, stderr);
+    for (const unsigned char *p = (const unsigned char *)msg; *p; p++) {
+        if (!is_control(p)) {
+            fputc(*p, stderr);
+            continue;
+        }
+        if (p[0] == 0xc2) /* both bytes of a C1 control */
+            fprintf(stderr, "\\x%02X", *p++);
+        fprintf(stderr, "\\x%02X", *p);
+    }
+    fputc('\n', stderr);
+}
+
 int st_cli_fail(const st_error *err)
 {
-    fprintf(stderr, "strata: error: %s\n", err->msg[0] ? err->msg : st_status_text(err->status));
+    st_cli_put_line("strata: error: ", err->msg[0] ? err->msg : st_status_text(err->status));
     return err->status == ST_ERR_USAGE ? ST_CLI_EXIT_USAGE : ST_CLI_EXIT_FAIL;
 }
 
@@ -36,9 +59,17 @@ static void on_interrupt(int sig)
 
 void st_cli_catch_interrupts(void)
 {
+    /* every signal whose default action ends the process and that may be caught; SIGKILL cannot
+     * be, and its temporaries are removed by the next write into their folder */
+    static const int ending[] = {SIGHUP,  SIGINT,  SIGQUIT,   SIGTERM, SIGALRM,
+                                 SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU};
     struct sigaction sa = {0};
     sa.sa_handler = on_interrupt;
     sigfillset(&sa.sa_mask); /* one handler at a time */
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    for (size_t i = 0; i < sizeof ending / sizeof ending[0]; i++)
+        sigaction(ending[i], &sa, NULL);
+    /* a closed pipe or a file-size limit is a failed write (EPIPE, EFBIG), reported by the
+     * writer with exit status 1 and its temporaries removed, not a silent death */
+    signal(SIGPIPE, SIG_IGN);
+    signal(SIGXFSZ, SIG_IGN);
 }

@@ -11,14 +11,23 @@
  * ST_CLI_HELP is no exit status: a parser's "help printed, exit 0". */
 enum { ST_CLI_OK = 0, ST_CLI_EXIT_FAIL = 1, ST_CLI_EXIT_USAGE = 2, ST_CLI_HELP = 3 };
 
-/* Prints "strata: error: MSG" and returns the exit status for err. */
+/* Prints prefix and msg as one line on stderr, every control character of
+ * msg (which may quote a scene's names or a parser's words: ESC, BEL, a
+ * newline that would forge a second "strata: error:" line) shown as \xNN. */
+void st_cli_put_line(const char *prefix, const char *msg);
+
+/* Prints "strata: error: MSG" (escaped as st_cli_put_line) and returns the
+ * exit status for err. */
 int st_cli_fail(const st_error *err);
 
 /* Prints a usage error and returns ST_CLI_EXIT_USAGE. */
 int st_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* SIGINT and SIGTERM remove every temporary output file of the process
- * (st_outfile_remove_temporaries) and exit 130 and 143. */
+/* Every catchable signal that would end the process (SIGHUP, SIGINT, SIGQUIT,
+ * SIGTERM, SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU) removes every
+ * temporary output file of the process (st_outfile_remove_temporaries) and
+ * exits 128 + its number (SIGINT 130, SIGTERM 143). SIGPIPE and SIGXFSZ are
+ * ignored: the write fails instead and the command exits 1. */
 void st_cli_catch_interrupts(void);
 
 #endif

@@ -220,6 +220,7 @@ static st_status merge(part *parts, int n, const char *const *outs, int nouts,
         rc = check_ranges(parts, n, partial, held, err);
     if (rc == ST_OK && st_device_create(device, &dev, err) != ST_OK)
         rc = st_cli_device_words(err);
+    st_cli_catch_interrupts(); /* PoCL's LLVM put its own handlers over ours as the device began */
     if (rc == ST_OK && (st_render_resolve(dev, total, w, h, &resolved, NULL, err) ||
                         st_cli_rgb_of(&resolved, &rgb, err)))
         rc = err->status;

@@ -95,7 +95,7 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
         return err->status;
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; i < s->scene->warning_count; i++)
-        fprintf(stderr, "strata: warning: %s\n", s->scene->warnings[i]);
+        st_cli_put_line("strata: warning: ", s->scene->warnings[i]); /* scene text, escaped */
     st_cli_light_notes(s->scene, &a->opt);
     /* the camera is checked before the device starts, in the flag's words */
     st_scene_camera cam;
@@ -117,6 +117,12 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     t0 = st_cli_now();
     st_status rc = st_device_build(s->dev, NULL, err);
     double built = st_cli_now();
+    st_cli_catch_interrupts(); /* PoCL's LLVM put its own handlers over ours as the device began */
+    if (rc == ST_OK && a->opt.local_size &&
+        (rc = st_device_check_local_size(s->dev, a->opt.local_size, err)) != ST_OK) {
+        static const st_cli_option_name local[] = {{"local size", "--local-size"}, {NULL, NULL}};
+        st_cli_option_words(err, local);
+    }
     if (rc == ST_OK)
         rc = st_renderer_create(s->dev, s->scene, &s->renderer, err);
     if (rc == ST_OK && s->env_map)

@@ -3,6 +3,7 @@
 #include "cli_text.h"
 
 #include <cjson/cJSON.h> /* Debian libcjson-dev */
+#include <errno.h>
 #include <string.h>
 
 #include "st_outfile.h"
@@ -13,7 +14,10 @@ st_status st_cli_write_text(const char *path, void (*emit)(FILE *, const void *)
 {
     if (!strcmp(path, "-")) {
         emit(stdout, ctx);
-        return fflush(stdout) == 0 ? ST_OK : st_fail(err, ST_ERR_IO, "stdout: write failed");
+        errno = 0;
+        if (fflush(stdout) == 0 && !ferror(stdout))
+            return ST_OK;
+        return st_fail(err, ST_ERR_IO, "stdout: write failed (%s)", strerror(errno ? errno : EIO));
     }
     st_outfile *out = NULL;
     if (st_outfile_open(path, &out, err) != ST_OK)

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include "embedded.h"
@@ -301,6 +302,14 @@ st_status st_device_set_lanes(st_device *dev, unsigned n, st_error *err)
     return ST_OK;
 }
 
+unsigned long long st_device_max_alloc(const st_device *dev)
+{
+    cl_ulong max = 0;
+    if (clGetDeviceInfo(dev->id, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof max, &max, NULL) != CL_SUCCESS)
+        return 0;
+    return max;
+}
+
 st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err)
 {
     if (dev->program || dev->sub)
@@ -501,6 +510,32 @@ st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...)
     }
     va_end(ap);
     return rc;
+}
+
+/* Stack bytes allowed per work-item on a CPU device: about twice what the deepest kernel
+ * (trace_shadow_rays) was seen to need, so a kernel that grows a little stays inside. */
+#define CPU_ITEM_STACK_BYTES 4096u
+
+st_status st_device_check_local_size(const st_device *dev, size_t local, st_error *err)
+{
+    size_t max = 0;
+    if (clGetDeviceInfo(dev->id, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max, &max, NULL) ==
+            CL_SUCCESS && max > 0 && local > max)
+        return st_fail(err, ST_ERR_USAGE, "local size %zu: more than the device's %zu "
+                       "work-items a group (CL_DEVICE_MAX_WORK_GROUP_SIZE)", local, max);
+    if (!dev->info.is_cpu)
+        return ST_OK;
+    struct rlimit rl;
+    size_t stack = (size_t)2 << 20; /* glibc's thread stack when RLIMIT_STACK is unlimited */
+    if (getrlimit(RLIMIT_STACK, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+        stack = (size_t)rl.rlim_cur;
+    size_t fit = stack / CPU_ITEM_STACK_BYTES;
+    if (local > fit)
+        return st_fail(err, ST_ERR_USAGE, "local size %zu: a CPU device runs a group on one "
+                       "thread's stack of %zu KiB (ulimit -s), which holds at most %zu "
+                       "work-items of %u bytes; use a smaller --local-size or raise ulimit -s",
+                       local, stack >> 10, fit, CPU_ITEM_STACK_BYTES);
+    return ST_OK;
 }
 
 st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err)

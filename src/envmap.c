@@ -1,6 +1,7 @@
 /* envmap.c — environment maps: reading, the sampling tables, the power (see
  * st_envmap.h; the convention and sampling: kernels/envmap.h). */
 #include "st_envmap.h"
+#include "st_mem_plan.h"
 
 #include <errno.h>
 #include <math.h>
@@ -103,6 +104,22 @@ st_status st_envmap_make(const float *rgb, st_u32 w, st_u32 h, const char *name,
     return ST_OK;
 }
 
+/* Bytes a map takes per texel while it loads and renders: the decoded RGB (and the EXR's own
+ * copy), the RGBA texels and their sampling CDF, and the device's copy of both. */
+#define ENV_BYTES_PER_TEXEL 64u
+
+/* Refuses, before decoding, a map whose texels would not fit in the address space the
+ * process may still take (ulimit -v): an 800 kB file can claim 2^26 texels, about 4 GB. */
+static st_status check_env_memory(const char *path, st_u64 texels, st_error *err)
+{
+    unsigned long long need = texels * ENV_BYTES_PER_TEXEL, left = st_mem_plan_host_left();
+    if (need > left)
+        return st_fail(err, ST_ERR_NOMEM, "%s: %llu texels need about %llu MiB, more than the "
+                       "%llu MiB the process may still take (ulimit -v); use a smaller map", path,
+                       (unsigned long long)texels, need >> 20, left >> 20);
+    return ST_OK;
+}
+
 /* R, G, B of an EXR's channels, 3 floats a texel (malloc'ed). */
 static st_status exr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st_error *err)
 {
@@ -113,7 +130,8 @@ static st_status exr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st
     if (hw * hh > ST_ENV_MAX_TEXELS)
         return st_fail(err, ST_ERR_FORMAT, "%s: %llu x %llu texels: an environment map has 1 to 2^26",
                        path, (unsigned long long)hw, (unsigned long long)hh);
-    if (st_image_load_exr(path, &img, NULL, NULL, err) != ST_OK)
+    if (check_env_memory(path, hw * hh, err) != ST_OK ||
+        st_image_load_exr(path, &img, NULL, NULL, err) != ST_OK)
         return err->status;
     int ch[3] = {st_image_find_channel(&img, "R"), st_image_find_channel(&img, "G"),
                  st_image_find_channel(&img, "B")};
@@ -138,6 +156,46 @@ static st_status exr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st
     return rc;
 }
 
+/* stb_image reads a .hdr through these callbacks so that a file cut short is
+ * seen: stb decodes past the end as zeros without a word (repeating the last
+ * texel of a flat file, and looping for ever on a zero run length in a
+ * run-length one), but it asks for bytes only when its decoder needs them, so
+ * a request that finds none left (or stbi__getn's exact request of a few
+ * bytes, shorter than its 128-byte buffer refill, left unfilled) means the
+ * pixels run past the end. Past the end every byte is 0xFF: a run length stb
+ * refuses or a run that advances, so the decoding ends either way. */
+struct hdr_reader {
+    FILE *f;
+    int past_end;
+};
+
+static int hdr_read(void *user, char *data, int size)
+{
+    struct hdr_reader *r = user;
+    if (size <= 0)
+        return 0;
+    size_t n = r->past_end ? 0 : fread(data, 1, (size_t)size, r->f);
+    if (n == 0 || (n < (size_t)size && size < 128)) {
+        r->past_end = 1;
+        memset(data + n, 0xFF, (size_t)size - n);
+        n = (size_t)size;
+    }
+    return (int)n;
+}
+
+static void hdr_skip(void *user, int n)
+{
+    struct hdr_reader *r = user;
+    if (fseek(r->f, n, SEEK_CUR) != 0)
+        r->past_end = 1;
+}
+
+static int hdr_eof(void *user)
+{
+    struct hdr_reader *r = user;
+    return feof(r->f) || ferror(r->f);
+}
+
 /* R, G, B of a Radiance .hdr (stb_image; an 8-bit image is refused). */
 static st_status hdr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st_error *err)
 {
@@ -148,8 +206,19 @@ static st_status hdr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st
     /* the size from the header first: the cap holds before any decoding */
     int sized = is_hdr && stbi_info_from_file(f, &iw, &ih, &n) &&
                 (st_u64)iw * (st_u64)ih <= ST_ENV_MAX_TEXELS;
-    float *px = sized ? stbi_loadf_from_file(f, &iw, &ih, &n, 3) : NULL;
+    if (sized && check_env_memory(path, (st_u64)iw * (st_u64)ih, err) != ST_OK) {
+        fclose(f);
+        return err->status;
+    }
+    struct hdr_reader reader = {f, 0};
+    const stbi_io_callbacks io = {hdr_read, hdr_skip, hdr_eof};
+    float *px = sized ? stbi_loadf_from_callbacks(&io, &reader, &iw, &ih, &n, 3) : NULL;
     fclose(f);
+    if (reader.past_end) {
+        stbi_image_free(px);
+        return st_fail(err, ST_ERR_FORMAT, "%s: cut short: the file ends before its %d x %d "
+                       "texels do", path, iw, ih);
+    }
     if (!is_hdr)
         return st_fail(err, ST_ERR_FORMAT, "%s: not a Radiance HDR (float) image", path);
     if (!sized && iw > 0 && ih > 0)

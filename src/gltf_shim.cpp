@@ -54,6 +54,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h> /* close(2) */
+
 namespace {
 
 using tinygltf::Model;
@@ -103,48 +105,49 @@ void note(notes &n, const char *fmt, ...)
  * through wordexp() (expanding "$VAR" and "~" in file names) and also look
  * for a missing file in the working directory. */
 struct fs_context {
-    const char *base_dir; /* NULL: no file access at all (embedded scenes) */
+    const char *base_dir; /* NULL: no file access at all (embedded scenes, standard input) */
+    int dir_fd;           /* base_dir opened, URIs are opened relative to it */
 };
 
+/* Whether tinygltf's joined path lies under the scene's folder by name (its
+ * "./" fallback does not); with no folder, yes, so that fs_read says why not.
+ * Nothing is opened here: a FIFO or device named by a URI must not be touched
+ * before fs_read refuses it. */
 bool fs_exists(const std::string &path, void *user)
 {
     const fs_context *ctx = static_cast<const fs_context *>(user);
-    if (!ctx->base_dir)
-        return false;
-    size_t n = strlen(ctx->base_dir);
-    if (path.compare(0, n, ctx->base_dir) != 0) /* tinygltf's "./" fallback */
-        return false;
-    FILE *f = fopen(path.c_str(), "rb");
-    if (!f)
-        return false;
-    fclose(f);
-    return true;
+    return !ctx->base_dir || path.compare(0, strlen(ctx->base_dir), ctx->base_dir) == 0;
 }
 
 std::string fs_expand(const std::string &path, void *) { return path; }
 
-/* Reads a buffer or image named by URI: only inside the scene's folder (no
- * "..", absolute path or symbolic link out of it) and within the size cap
- * (scene_fs.h). tinygltf puts *err after the joined path, which ends with the
- * URI. */
+/* The URI in tinygltf's joined path (base_dir, a '/' unless base_dir ends in
+ * one, the URI). */
+std::string uri_of(const fs_context *ctx, const std::string &path)
+{
+    size_t n = strlen(ctx->base_dir);
+    if (n > 0 && ctx->base_dir[n - 1] != '/' && path.size() > n && path[n] == '/')
+        n++;
+    return path.substr(n);
+}
+
+/* Reads a buffer or image named by URI: opened from the scene folder's
+ * descriptor one name at a time (no "..", absolute path or symbolic link out
+ * of it), a regular file within the size cap (scene_fs.h). tinygltf puts *err
+ * after the joined path, which ends with the URI. */
 bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path,
              void *user)
 {
     const fs_context *ctx = static_cast<const fs_context *>(user);
     if (!ctx->base_dir) {
-        *err = "built-in scenes may use data: URIs only";
-        return false;
-    }
-    if (!st_scene_fs_is_inside(ctx->base_dir, path.c_str())) {
-        *err = std::string("the URI leads outside the scene's folder '") +
-               (ctx->base_dir[0] ? ctx->base_dir : ".") + "'; refused";
+        *err = "a built-in scene or one on standard input has no folder: data: URIs only";
         return false;
     }
     unsigned char *data = nullptr;
     size_t size = 0;
     st_error e = {ST_OK, ""};
-    if (st_scene_fs_read(path.c_str(), ST_SCENE_MAX_FILE_BYTES, "a buffer or image", &data, &size,
-                         &e) != ST_OK) {
+    if (st_scene_fs_read_at(ctx->dir_fd, uri_of(ctx, path).c_str(), ST_SCENE_MAX_FILE_BYTES,
+                            "a buffer or image", &data, &size, &e) != ST_OK) {
         const char *why = strstr(e.msg, ": "); /* the path is tinygltf's to print */
         *err = why ? why + 2 : e.msg;
         return false;
@@ -154,28 +157,46 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
     return true;
 }
 
-/* Every data: URI of the JSON text within ST_SCENE_MAX_DATA_URI_BYTES, checked
- * before tinygltf parses (and copies) it. A GLB's JSON chunk is scanned with
- * its binary chunk: a stray match there only costs a needless look. */
-void check_data_uris(const unsigned char *bytes, size_t size)
+/* The scene's folder as a descriptor for the length of one load. */
+struct folder {
+    int fd = -1;
+    explicit folder(const char *base_dir)
+    {
+        if (base_dir && (fd = st_scene_fs_open_dir(base_dir)) < 0)
+            fail("cannot open the scene's folder '%s': %s", base_dir[0] ? base_dir : ".",
+                 strerror(errno));
+    }
+    ~folder()
+    {
+        if (fd >= 0)
+            close(fd);
+    }
+    folder(const folder &) = delete;
+    folder &operator=(const folder &) = delete;
+};
+
+/* Every string of the JSON text (a .gltf, or a GLB's JSON chunk) within
+ * ST_SCENE_MAX_DATA_URI_BYTES, checked before tinygltf parses (and copies)
+ * it. Every string, not only those spelled "data:...": an escape such as
+ * "\u0064ata:" decodes to the same URI, and a string's decoded length is
+ * never more than its length in the text, so the cap on the text holds for
+ * the value. No other glTF string comes near the cap. */
+void check_data_uris(const unsigned char *json, size_t len)
 {
-    static const char key[] = "\"data:";
-    const size_t k = sizeof key - 1;
-    for (size_t at = 0; at + k <= size;) {
-        const void *hit = memchr(bytes + at, '"', size - at);
-        if (!hit)
-            return;
-        at = size_t(static_cast<const unsigned char *>(hit) - bytes);
-        if (size - at < k || memcmp(bytes + at, key, k) != 0) {
-            at++;
+    for (size_t at = 0; at < len; at++) {
+        if (json[at] != '"')
             continue;
-        }
-        const void *close = memchr(bytes + at + 1, '"', size - at - 1);
-        size_t end = close ? size_t(static_cast<const unsigned char *>(close) - bytes) : size;
-        if (end - at - 1 > ST_SCENE_MAX_DATA_URI_BYTES)
-            fail("a data: URI of %zu bytes at byte %zu: more than %zu MiB, the limit", end - at - 1,
+        size_t end = at + 1;
+        while (end < len && json[end] != '"')
+            end += json[end] == '\\' ? 2 : 1;
+        end = end < len ? end : len;
+        if (end - at - 1 > ST_SCENE_MAX_DATA_URI_BYTES) {
+            bool plain = len - at > 6 && memcmp(json + at, "\"data:", 6) == 0;
+            fail("a %s of %zu bytes at byte %zu: more than %zu MiB, the limit",
+                 plain ? "data: URI" : "string (a data: URI written with escapes?)", end - at - 1,
                  at, ST_SCENE_MAX_DATA_URI_BYTES >> 20);
-        at = end + 1;
+        }
+        at = end;
     }
 }
 
@@ -224,6 +245,8 @@ void check_glb(const unsigned char *b, size_t size)
     if (size < 12)
         fail("GLB header cut off (%zu bytes)", size);
     uint32_t length = le32(b + 8);
+    if (le32(b + 4) != 2)
+        fail("GLB version %u: strata reads version 2", le32(b + 4));
     if (length > size)
         fail("GLB header says %u bytes, the file has %zu", length, size);
     for (size_t off = 12; off < length;) {
@@ -233,6 +256,54 @@ void check_glb(const unsigned char *b, size_t size)
         if (chunk > length - off - 8)
             fail("GLB chunk at byte %zu (%u bytes) runs past the end", off, chunk);
         off += 8 + size_t(chunk);
+    }
+}
+
+/* The deepest nesting of arrays and objects accepted in a scene's JSON.
+ * tinygltf converts its JSON tree to Values recursively (extras and extensions
+ * keep arbitrary depth), a few hundred bytes of stack per level, so a small
+ * file nested thousands deep overflows the stack; the glTF schema itself needs
+ * fewer than ten levels, and generous extras a few dozen. */
+const size_t max_json_depth = 256;
+
+/* Counts '[' and '{' outside strings (skipping escaped characters inside
+ * them) and refuses the text before it reaches tinygltf when they nest deeper
+ * than max_json_depth. Only the structure is looked at: malformed JSON is left
+ * for the parser to report. */
+void check_nesting(const unsigned char *json, size_t len)
+{
+    size_t depth = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = json[i];
+        if (in_string) {
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_json_depth)
+                fail("JSON nested more than %zu deep at byte %zu, the limit", max_json_depth, i);
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            depth--;
+        }
+    }
+}
+
+/* The JSON text of a .gltf, or of a GLB's first chunk (already checked by
+ * check_glb to lie inside the data). */
+void json_text(const unsigned char *bytes, size_t size, bool glb, const unsigned char **json,
+               size_t *len)
+{
+    *json = bytes;
+    *len = size;
+    if (glb) {
+        *len = size >= 20 ? le32(bytes + 12) : 0;
+        *json = bytes + (size >= 20 ? 20 : size);
+        if (*len > size - (size >= 20 ? 20 : size))
+            *len = 0;
     }
 }
 
@@ -251,6 +322,54 @@ bool supported(const char *ext)
     return false;
 }
 
+/* asset.version "MAJOR.MINOR": strata reads glTF 2 (a later major version
+ * may change anything, §3.2); a missing version is left to tinygltf. */
+void check_asset_version(const cJSON *root)
+{
+    const cJSON *asset = cJSON_GetObjectItemCaseSensitive(root, "asset");
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(asset, "version");
+    if (cJSON_IsString(v) && (strncmp(v->valuestring, "2.", 2) != 0 || !v->valuestring[2]))
+        fail("asset version \"%.40s\": strata reads glTF 2.x only", v->valuestring);
+}
+
+/* One size or offset of the schema: absent, or an integer >= 0 (tinygltf
+ * reads a negative or fractional one as 0 without a word). */
+void check_size(const cJSON *obj, const char *key, const char *what, int index)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (v && (!cJSON_IsNumber(v) || !(v->valuedouble >= 0.0) ||
+              v->valuedouble != std::floor(v->valuedouble) || v->valuedouble > 9007199254740992.0))
+        fail("%s %d: %s is not an integer >= 0", what, index, key);
+}
+
+/* The sizes and offsets of buffers, buffer views and accessors (with their
+ * sparse parts), checked in the JSON before tinygltf reads them. */
+void check_sizes(const cJSON *root)
+{
+    int i = 0;
+    const cJSON *e = nullptr;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(root, "buffers"))
+        check_size(e, "byteLength", "buffer", i++);
+    i = 0;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(root, "bufferViews")) {
+        for (const char *key : {"byteOffset", "byteLength", "byteStride"})
+            check_size(e, key, "bufferView", i);
+        i++;
+    }
+    i = 0;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(root, "accessors")) {
+        check_size(e, "byteOffset", "accessor", i);
+        check_size(e, "count", "accessor", i);
+        const cJSON *sparse = cJSON_GetObjectItemCaseSensitive(e, "sparse");
+        check_size(sparse, "count", "accessor (sparse)", i);
+        check_size(cJSON_GetObjectItemCaseSensitive(sparse, "indices"), "byteOffset",
+                   "accessor (sparse indices)", i);
+        check_size(cJSON_GetObjectItemCaseSensitive(sparse, "values"), "byteOffset",
+                   "accessor (sparse values)", i);
+        i++;
+    }
+}
+
 /* extensionsRequired, read from the JSON (a GLB's first chunk) before
  * tinygltf parses the rest, so that a Draco or meshopt file fails naming
  * the extension instead of on the buffers it cannot decode. */
@@ -265,6 +384,13 @@ void check_required(const unsigned char *bytes, size_t size, bool glb)
         len = le32(bytes + 12);
     }
     cJSON *root = cJSON_ParseWithLength(json, len);
+    try {
+        check_asset_version(root);
+        check_sizes(root);
+    } catch (...) {
+        cJSON_Delete(root);
+        throw;
+    }
     const cJSON *req = root ? cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired") : nullptr;
     std::string missing;
     const cJSON *e = nullptr;
@@ -284,9 +410,14 @@ void parse(Model &model, const unsigned char *bytes, size_t size, const char *ba
     const bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
     if (glb)
         check_glb(bytes, size);
+    const unsigned char *json;
+    size_t json_len;
+    json_text(bytes, size, glb, &json, &json_len);
+    check_nesting(json, json_len);
     check_required(bytes, size, glb);
-    check_data_uris(bytes, size);
-    fs_context ctx = {base_dir};
+    check_data_uris(json, json_len);
+    folder scene_folder(base_dir);
+    fs_context ctx = {base_dir, scene_folder.fd};
     tinygltf::FsCallbacks fs = {fs_exists, fs_expand, fs_read, fs_write, &ctx};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks(fs);
@@ -343,6 +474,15 @@ void check_numbers(const std::vector<double> &v, size_t n, int node, const char 
 /* Local transform of a node (§3.5.3): its matrix, or T * R * S with the unit
  * quaternion R = (x, y, z, w) turned into a rotation matrix (Shoemake,
  * "Animating rotation with quaternion curves", SIGGRAPH 1985). */
+/* A node's matrix must be affine (§5.25: a TRS transform), its last row
+ * 0 0 0 1: strata transforms points and normals without a projective divide. */
+void check_affine(const mat4 &r, int idx)
+{
+    if (r.m[3] != 0.0 || r.m[7] != 0.0 || r.m[11] != 0.0 || r.m[15] != 1.0)
+        fail("node %d: matrix is not affine (last row %g %g %g %g, not 0 0 0 1)", idx, r.m[3],
+             r.m[7], r.m[11], r.m[15]);
+}
+
 mat4 node_local(const tinygltf::Node &n, int idx)
 {
     check_numbers(n.matrix, 16, idx, "matrix");
@@ -353,6 +493,7 @@ mat4 node_local(const tinygltf::Node &n, int idx)
     if (!n.matrix.empty()) {
         for (int i = 0; i < 16; i++)
             r.m[i] = n.matrix[size_t(i)];
+        check_affine(r, idx);
         return r;
     }
     double q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
@@ -2056,6 +2197,15 @@ void note_missing_uvs(const Model &m, int mesh, const std::vector<uv_use> &use, 
     }
 }
 
+/* The cap on the triangles a scene makes (ST_GLTF_MAX_TRIANGLES), checked
+ * before the triangle arrays are allocated. */
+void check_triangle_bound(size_t bound)
+{
+    if (bound > ST_GLTF_MAX_TRIANGLES)
+        fail("the scene makes up to %zu triangles, every instance counted: more than 2^24, the "
+             "limit (about 400 bytes of memory each)", bound);
+}
+
 void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data &out)
 {
     std::vector<instance> inst;
@@ -2080,11 +2230,8 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
             note_morph_targets(m, in.mesh, warn);
         }
         bound += mesh_bound(m, in.mesh); /* each primitive's <= its accessor's elements */
-        if (bound > ST_GLTF_MAX_TRIANGLES)
-            fail("more than %u triangles (nodes and instances sharing a mesh counted each "
-                 "time): more than strata takes",
-                 ST_GLTF_MAX_TRIANGLES);
     }
+    check_triangle_bound(bound);
     if (!m.animations.empty())
         note(warn, "%zu animation%s not played: the rest pose is rendered (default node "
                    "transforms and morph weights)",
@@ -2144,6 +2291,28 @@ void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data
 }
 
 /* The warnings as malloc'd C strings (a last line counts those left out). */
+/* The scene's extent (the largest side of its bounds) outside the range in
+ * which single-precision rays and their offsets still resolve it: at 1e13 and
+ * above, or 1e-16 and below, the render comes out empty, so say why. */
+void note_degenerate_scale(const st_gltf_data &out, notes &warn)
+{
+    if (out.tri_count == 0)
+        return;
+    double extent = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (size_t i = k; i < 9 * out.tri_count; i += 3) {
+            lo = std::min(lo, double(out.positions[i]));
+            hi = std::max(hi, double(out.positions[i]));
+        }
+        extent = std::max(extent, hi - lo);
+    }
+    if (extent >= 1e13 || extent <= 1e-16)
+        note(warn, "the scene spans %g units: beyond 1e13 or below 1e-16 single-precision rays "
+                   "cannot resolve it and the image may be empty; scale the model",
+             extent);
+}
+
 void take_warnings(const notes &warn, st_gltf_data &out)
 {
     std::vector<std::string> lines = warn.lines;
@@ -2175,6 +2344,7 @@ extern "C" st_status st_gltf_shim_load(const char *label, const unsigned char *b
         parse(model, bytes, size, base_dir, images, warn);
         densify_sparse(model);
         flatten(model, images, warn, *out);
+        note_degenerate_scale(*out, warn);
         take_warnings(warn, *out);
         return ST_OK;
     } catch (const shim_error &e) {

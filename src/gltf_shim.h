@@ -24,9 +24,12 @@ extern "C" {
 /* At most this many warnings are kept; a last one counts the rest. */
 #define ST_GLTF_MAX_WARNINGS 32
 /* At most this many triangles (EXT_mesh_gpu_instancing instances and nodes
- * sharing a mesh counted each time), checked before the triangle arrays
- * (196 bytes a triangle: about 12.3 GiB here) are allocated. */
-#define ST_GLTF_MAX_TRIANGLES (1u << 26)
+ * sharing a mesh counted each time), checked before the triangle arrays are
+ * allocated: each takes about 200 bytes of vertex data here and as much
+ * again in the device's tree and buffers, so 2^24 is some 6 GB. A small
+ * file that instances a large buffer many times would otherwise ask for
+ * any amount. */
+#define ST_GLTF_MAX_TRIANGLES (1u << 24)
 
 /* A material of the file (§3.9). Factors as in the file (defaults filled);
  * *_tex index st_gltf_data.textures, -1 for none. alpha_mode: 0 OPAQUE,

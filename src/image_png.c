@@ -207,7 +207,7 @@ st_status st_image_load_png(const char *path, st_image *img, st_error *err)
     if (!px) {
         const char *why = stbi_failure_reason();
         return st_fail(err, ST_ERR_FORMAT, "%s: cannot decode image (%s)", path,
-                       why ? why : "unknown reason");
+                       why && *why ? why : "cut short or corrupt");
     }
     st_error local = {ST_OK, ""};
     if (st_image_create(img, (uint32_t)w, (uint32_t)h, 3, NULL, &local) != ST_OK) {

@@ -1,5 +1,5 @@
-/* outfile.c — a user's file written to an exclusive temporary beside it, then renamed into place
- * (see include/st_outfile.h for the contract).
+/* outfile.c — a user's file written to an exclusive temporary beside it, then renamed into place;
+ * a device, a FIFO or "-" written directly (see include/st_outfile.h for the contract).
  *
  * Invariant: from st_outfile_open until commit or abort the temporary exists and is ours alone
  * (O_EXCL); after either, it is gone — renamed over the destination on a successful commit,
@@ -7,11 +7,14 @@
  * destination sees the old file or the complete new one; the fsync before it makes sure the new
  * name never points at data still only in the page cache after a crash.
  */
+#define _GNU_SOURCE /* fopencookie(3); realpath(3) */
 #include "st_outfile.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,11 +33,14 @@ static struct {
 } slots[SLOTS];
 
 struct st_outfile {
-    FILE *stream;
+    FILE *stream; /* over fd through write_cookie, so a failed write's errno is kept */
+    int fd;
     int err_no;  /* errno of the first failed write, 0 if none */
-    int slot;    /* index into slots */
-    char *path;  /* destination */
-    char *temp;  /* "<folder>/.<name>.tmp.<pid>.<n>" */
+    int slot;    /* index into slots; -1 when written directly */
+    int direct;  /* 1: a device, FIFO or stdout written in place, no temporary */
+    char *path;  /* destination as the user named it (for messages) */
+    char *dest;  /* what is renamed over: path, or a symbolic link's target */
+    char *temp;  /* "<folder>/.<name>.tmp.<pid>.<n>"; NULL when direct */
 };
 
 static int claim_slot(void)
@@ -66,12 +72,18 @@ void st_outfile_remove_temporaries(void)
  * hostile folder) leaves names of ours behind. */
 #define TEMP_TRIES 100
 
-/* Formats the n-th temporary name for path into f->temp (sized by open_temporary). */
+/* The most bytes of the destination's name kept in a temporary's name: with ".", ".tmp.", a pid
+ * and a counter (at most 1 + 5 + 10 + 1 + 10 bytes) the temporary of the longest legal name still
+ * fits in NAME_MAX. */
+#define TEMP_NAME_KEEP (NAME_MAX - 27)
+
+/* Formats the n-th temporary name for f->dest into f->temp (sized by open_temporary). */
 static void temp_name(struct st_outfile *f, size_t size, unsigned n)
 {
-    const char *slash = strrchr(f->path, '/');
-    int dir = slash ? (int)(slash - f->path) + 1 : 0;
-    snprintf(f->temp, size, "%.*s.%s.tmp.%ld.%u", dir, f->path, f->path + dir, (long)getpid(), n);
+    const char *slash = strrchr(f->dest, '/');
+    int dir = slash ? (int)(slash - f->dest) + 1 : 0;
+    snprintf(f->temp, size, "%.*s.%.*s.tmp.%ld.%u", dir, f->dest, TEMP_NAME_KEEP, f->dest + dir,
+             (long)getpid(), n);
 }
 
 /* Creates the temporary exclusively; returns its fd, or -1 with errno set. A process-wide
@@ -82,12 +94,58 @@ static int open_temporary(struct st_outfile *f, size_t size)
     for (int tries = 0; tries < TEMP_TRIES; tries++) {
         temp_name(f, size, atomic_fetch_add(&serial, 1u));
         list_temporary(f);
-        int fd = open(f->temp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        int fd = open(f->temp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
         if (fd >= 0 || errno != EEXIST)
             return fd;
     }
     errno = EEXIST;
     return -1;
+}
+
+/* stdio's writes to the file: write(2) in full, the first failure's errno kept in err_no (a
+ * plain stdio stream only sets its error flag, and errno is gone by commit: a full disk would be
+ * reported as "Input/output error"). */
+static ssize_t write_cookie(void *cookie, const char *buf, size_t size)
+{
+    struct st_outfile *f = cookie;
+    size_t done = 0;
+    while (done < size) {
+        ssize_t w = write(f->fd, buf + done, size - done);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0) {
+            if (f->err_no == 0)
+                f->err_no = w < 0 ? errno : EIO;
+            return 0; /* fopencookie(3): 0 is an error; the stream's error flag is set */
+        }
+        done += (size_t)w;
+    }
+    return (ssize_t)size;
+}
+
+static int seek_cookie(void *cookie, off64_t *offset, int whence)
+{
+    struct st_outfile *f = cookie;
+    off_t at = lseek(f->fd, (off_t)*offset, whence);
+    if (at < 0)
+        return -1;
+    *offset = at;
+    return 0;
+}
+
+static int close_cookie(void *cookie)
+{
+    struct st_outfile *f = cookie;
+    int rc = close(f->fd);
+    f->fd = -1;
+    return rc;
+}
+
+/* The stream over f->fd; NULL with errno set. */
+static FILE *open_stream(struct st_outfile *f)
+{
+    cookie_io_functions_t io = {NULL, write_cookie, seek_cookie, close_cookie};
+    return fopencookie(f, "wb", io);
 }
 
 /* After the temporary is gone (renamed or unlinked): frees the slot and f. */
@@ -96,43 +154,128 @@ static void release(struct st_outfile *f)
     if (f->slot >= 0)
         atomic_store(&slots[f->slot].used, 0);
     free(f->path);
+    free(f->dest);
     free(f->temp);
     free(f);
+}
+
+/* How a destination is written. */
+enum kind { NEW_FILE, REPLACE, DIRECT_STDOUT, DIRECT };
+
+/* Sorts path by what it names (following a symbolic link to its target): a new name or a regular
+ * file is replaced through a temporary, "-", a character device or a FIFO is written in place, and
+ * anything else is refused by name. *dest gets the name to replace (malloc'd: the path, or the
+ * link's resolved target), *sb the existing file's status. */
+static st_status classify(const char *path, enum kind *kind, char **dest, struct stat *sb,
+                          st_error *err)
+{
+    *dest = NULL;
+    if (!path || !path[0])
+        return st_fail(err, ST_ERR_USAGE, "output: empty file name");
+    if (!strcmp(path, "-")) {
+        *kind = DIRECT_STDOUT;
+        return ST_OK;
+    }
+    int link = lstat(path, sb) == 0 && S_ISLNK(sb->st_mode);
+    if (stat(path, sb) != 0) {
+        if (errno != ENOENT || link)
+            return st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path,
+                           link ? "a symbolic link to a missing file" : strerror(errno));
+        *kind = NEW_FILE;
+    } else if (S_ISREG(sb->st_mode)) {
+        *kind = REPLACE;
+    } else if (S_ISCHR(sb->st_mode) || S_ISFIFO(sb->st_mode)) {
+        *kind = DIRECT;
+    } else {
+        return st_fail(err, ST_ERR_IO, "%s: is %s, not a file to write; refused", path,
+                       S_ISDIR(sb->st_mode) ? "a folder" : S_ISBLK(sb->st_mode) ? "a block device"
+                       : S_ISSOCK(sb->st_mode) ? "a socket" : "a special file");
+    }
+    /* a link's target is replaced, so the temporary goes beside the target; a device or FIFO is
+     * opened by the name given (/dev/stdout's target may be no name at all: "pipe:[N]") */
+    *dest = link && *kind == REPLACE ? realpath(path, NULL) : strdup(path);
+    if (!*dest)
+        return st_fail(err, ST_ERR_NOMEM, "%s: cannot resolve the output's name", path);
+    return ST_OK;
+}
+
+/* Opens a device, FIFO or stdout for writing in place: no temporary, nothing to rename. */
+static int open_direct(struct st_outfile *f, enum kind kind)
+{
+    if (kind == DIRECT_STDOUT) {
+        fflush(stdout); /* whatever stdio holds for fd 1 goes first */
+        return dup(STDOUT_FILENO);
+    }
+    return open(f->dest, O_WRONLY | O_NOCTTY | O_CLOEXEC);
+}
+
+/* Gives a replacement the mode (and, where allowed, the owner) of the file it replaces. The
+ * owner first: chown(2) clears set-user-ID bits that the mode then restores. */
+static void keep_mode(int fd, const struct stat *old)
+{
+    if ((old->st_uid != geteuid() || old->st_gid != getegid()) &&
+        fchown(fd, old->st_uid, old->st_gid) != 0) {
+        /* only root may give a file away: the new file is then the writer's own */
+    }
+    (void)fchmod(fd, old->st_mode & 07777);
 }
 
 st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
 {
     *out = NULL;
-    if (!path || !path[0])
-        return st_fail(err, ST_ERR_USAGE, "output: empty file name");
-    size_t size = strlen(path) + 48; /* ".", ".tmp.", a pid and a counter */
-    if (size > PATH_MAX)
+    enum kind kind;
+    char *dest;
+    struct stat sb;
+    if (classify(path, &kind, &dest, &sb, err) != ST_OK)
+        return err->status;
+    int direct = kind == DIRECT || kind == DIRECT_STDOUT;
+    const char *slash = dest ? strrchr(dest, '/') : NULL;
+    size_t dir = slash ? (size_t)(slash - dest) + 1 : 0;
+    size_t size = dest ? dir + strlen(dest + dir) + 48 : 0; /* ".", ".tmp.", a pid, a counter */
+    if (!direct && dir + 28 + (strlen(dest + dir) < TEMP_NAME_KEEP ? strlen(dest + dir)
+                                                                   : TEMP_NAME_KEEP) >= PATH_MAX) {
+        free(dest);
         return st_fail(err, ST_ERR_IO, "%.200s...: file name too long", path);
+    }
     struct st_outfile *f = calloc(1, sizeof *f);
     if (f) {
-        f->slot = claim_slot();
+        f->slot = -1;
+        f->direct = direct;
+        f->dest = dest;
+        dest = NULL;
         f->path = strdup(path);
-        f->temp = malloc(size);
+        if (!direct) {
+            f->slot = claim_slot();
+            f->temp = malloc(size);
+        }
     }
-    if (f && f->slot < 0) {
+    free(dest);
+    if (f && !direct && f->slot < 0) {
         release(f);
         return st_fail(err, ST_ERR_IO, "%s: more than %d outputs open at once", path, SLOTS);
     }
-    if (!f || !f->path || !f->temp) {
+    if (!f || !f->path || (!direct && !f->temp)) {
         if (f)
             release(f);
         return st_fail(err, ST_ERR_NOMEM, "%s: cannot allocate an output file", path);
     }
-    int fd = open_temporary(f, size);
-    if (fd >= 0 && !(f->stream = fdopen(fd, "wb"))) {
+    if (!direct)
+        st_outfile_remove_stale(f->dest);
+    int fd = direct ? open_direct(f, kind) : open_temporary(f, size);
+    if (fd >= 0 && kind == REPLACE)
+        keep_mode(fd, &sb);
+    f->fd = fd;
+    if (fd >= 0 && !(f->stream = open_stream(f))) {
         int e = errno;
         close(fd);
-        unlink(f->temp);
+        if (!direct)
+            unlink(f->temp);
         fd = -1;
         errno = e;
     }
     if (fd < 0) {
-        st_status s = st_fail(err, ST_ERR_IO, "%s: cannot create (%s)", path, strerror(errno));
+        st_status s = st_fail(err, ST_ERR_IO, "%s: cannot %s (%s)", path,
+                              direct ? "open" : "create", strerror(errno));
         release(f);
         return s;
     }
@@ -154,9 +297,19 @@ static int note_failure(struct st_outfile *f)
     return -1;
 }
 
+/* Writes of at least this many bytes go to the file at once (after what the stream holds), as
+ * a stdio stream of a file with 4 KiB blocks would: their failure is seen by the caller, not
+ * only at commit. */
+#define DIRECT_WRITE_BYTES 4096
+
 int st_outfile_write(st_outfile *f, const void *data, size_t n)
 {
     errno = 0;
+    if (n >= DIRECT_WRITE_BYTES) {
+        if (fflush(f->stream) != 0 || write_cookie(f, data, n) != (ssize_t)n)
+            return note_failure(f);
+        return 0;
+    }
     if (n > 0 && fwrite(data, 1, n, f->stream) != n)
         return note_failure(f);
     return 0;
@@ -169,7 +322,7 @@ int st_outfile_write_at(st_outfile *f, const void *data, size_t n, uint64_t offs
         return note_failure(f);
     const char *p = data;
     while (n > 0) {
-        ssize_t w = pwrite(fileno(f->stream), p, n, (off_t)offset);
+        ssize_t w = pwrite(f->fd, p, n, (off_t)offset);
         if (w < 0 && errno == EINTR)
             continue;
         if (w <= 0) /* 0 for n > 0 means no progress: report it rather than spin */
@@ -191,8 +344,8 @@ static int finish_stream(struct st_outfile *f)
         e = EIO; /* a stream write failed and errno is long gone */
     if (e == 0 && fflush(f->stream) != 0)
         e = errno;
-    if (e == 0 && fsync(fileno(f->stream)) != 0)
-        e = errno;
+    if (e == 0 && !f->direct && fsync(f->fd) != 0)
+        e = errno; /* a device or pipe has nothing to sync (EINVAL) */
     if (fclose(f->stream) != 0 && e == 0)
         e = errno;
     f->stream = NULL;
@@ -205,10 +358,10 @@ st_status st_outfile_commit(st_outfile *f, st_error *err)
     int e = finish_stream(f);
     if (e != 0)
         s = st_fail(err, ST_ERR_IO, "%s: cannot write (%s)", f->path, strerror(e));
-    else if (rename(f->temp, f->path) != 0)
+    else if (!f->direct && rename(f->temp, f->dest) != 0)
         s = st_fail(err, ST_ERR_IO, "%s: cannot rename into place (%s)", f->path,
                     strerror(errno));
-    if (s != ST_OK)
+    if (s != ST_OK && !f->direct)
         unlink(f->temp);
     release(f);
     return s;
@@ -219,18 +372,66 @@ void st_outfile_abort(st_outfile *f)
     if (!f)
         return;
     fclose(f->stream);
-    unlink(f->temp);
+    if (!f->direct) /* what went to a device or pipe cannot be taken back */
+        unlink(f->temp);
     release(f);
 }
 
 st_status st_outfile_check(const char *path, st_error *err)
 {
+    enum kind kind;
+    char *dest;
     struct stat sb;
-    if (path && stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
-        return st_fail(err, ST_ERR_IO, "%s: is a folder", path);
+    if (classify(path, &kind, &dest, &sb, err) != ST_OK)
+        return err->status;
+    free(dest);
+    /* a device or FIFO is not opened now: a FIFO's open waits for its reader */
+    if (kind == DIRECT && access(path, W_OK) != 0)
+        return st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
+    if (kind == DIRECT || kind == DIRECT_STDOUT)
+        return ST_OK;
     st_outfile *f;
     if (st_outfile_open(path, &f, err) != ST_OK)
         return err->status;
     st_outfile_abort(f);
     return ST_OK;
+}
+
+/* The pid in a temporary's name ".NAME.tmp.PID.N", or 0 when name is not one. */
+static long temp_pid(const char *name)
+{
+    const char *tmp = name[0] == '.' ? strstr(name + 1, ".tmp.") : NULL;
+    while (tmp && strstr(tmp + 1, ".tmp."))
+        tmp = strstr(tmp + 1, ".tmp."); /* the last ".tmp." (NAME may hold one) */
+    if (!tmp || tmp == name + 1)
+        return 0;
+    char *end;
+    long pid = strtol(tmp + 5, &end, 10);
+    if (pid <= 0 || *end != '.' || end[1] < '0' || end[1] > '9')
+        return 0;
+    strtoul(end + 1, &end, 10);
+    return *end == '\0' ? pid : 0;
+}
+
+void st_outfile_remove_stale(const char *dest)
+{
+    const char *slash = strrchr(dest, '/');
+    char folder[PATH_MAX];
+    snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - dest) + 1 : 1,
+             slash ? dest : ".");
+    DIR *d = opendir(folder);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        long pid = temp_pid(e->d_name);
+        struct stat sb;
+        /* ours to remove: a regular file of this user whose writer no longer runs (kill(2) with
+         * signal 0 only asks whether the pid exists) */
+        if (pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH &&
+            fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(sb.st_mode) &&
+            sb.st_uid == geteuid())
+            unlinkat(dirfd(d), e->d_name, 0);
+    }
+    closedir(d);
 }

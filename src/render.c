@@ -11,6 +11,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "st_mem_plan.h"
 #include "st_sampling.h"
 #include "filters.h"
 #include "st_lights.h"
@@ -669,7 +670,8 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_shading sh = make_shading(r, o);
     r->plan = st_plan_make(r, o, &p, &sh);
     r->ran_count = 0;
-    st_status rc = st_wave_create(r->dev, wave, pixels, o->adaptive, &w, err);
+    st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, err) != ST_OK
+                       ? err->status : st_wave_create(r->dev, wave, pixels, o->adaptive, &w, err);
     if (rc != ST_OK)
         return rc;
     rc = bind_stages(r, &p, &sh, &w, err);

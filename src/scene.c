@@ -754,6 +754,31 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     return ST_OK;
 }
 
+/* Reads the scene file spec (a regular file, or standard input for "-") into
+ * *file and names in *dir the folder its URIs resolve against: none (NULL)
+ * for standard input, whose folder is unknown; for a symbolic link (as
+ * /dev/stdin, or /proc/self/fd/N, redirected from a file) the folder of the
+ * file it leads to, never the link's own folder (/dev). */
+static st_status read_scene_file(const char *spec, unsigned char **file, size_t *size,
+                                 char **dir, st_error *err)
+{
+    *dir = NULL;
+    if (!strcmp(spec, "-"))
+        return st_scene_fs_read_stdin(ST_SCENE_MAX_FILE_BYTES, file, size, err);
+    st_status status = st_scene_fs_read(spec, ST_SCENE_MAX_FILE_BYTES, "a scene file", file,
+                                        size, err);
+    if (status != ST_OK)
+        return status;
+    char *real = st_scene_fs_link_target(spec);
+    *dir = dir_of(real ? real : spec);
+    free(real);
+    if (*dir)
+        return ST_OK;
+    free(*file);
+    *file = NULL;
+    return st_fail(err, ST_ERR_NOMEM, "%s: out of memory", spec);
+}
+
 /* ---- public API ------------------------------------------------------------------ */
 
 st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
@@ -768,21 +793,16 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
     st_gltf_data g = {0};
     st_scene *s = NULL;
     st_status status;
-    if (is_builtin_spec(spec)) {
+    if (is_builtin_spec(spec) && strcmp(spec, "-") != 0) {
         const st_embedded_file *e = find_builtin(spec);
         if (!e)
             return unknown_builtin(spec, err);
         bytes = e->data;
         size = e->size;
     } else {
-        if ((status = st_scene_fs_read(spec, ST_SCENE_MAX_FILE_BYTES, "a scene file", &file,
-                                       &size, err)) != ST_OK)
+        if ((status = read_scene_file(spec, &file, &size, &dir, err)) != ST_OK)
             return status;
         bytes = file;
-        if (!(dir = dir_of(spec))) {
-            status = st_fail(err, ST_ERR_NOMEM, "%s: out of memory", spec);
-            goto done;
-        }
     }
     /* dir stays NULL for a built-in scene: the shim then opens no file. */
     if ((status = st_gltf_shim_load(spec, bytes, size, dir, &g, err)) != ST_OK)

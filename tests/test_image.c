@@ -572,8 +572,9 @@ static void exr_load_missing_file_is_io_error(void **state)
     assert_non_null(strstr(err.msg, "No such file or directory"));
 }
 
-/* Saving into a missing folder, and onto an existing folder's name (rename(2) would fail at the
- * very end): ST_ERR_IO naming the file, and the folder holds exactly what it held before. */
+/* Saving into a missing folder, and onto an existing folder's name (refused when the output is
+ * opened: st_outfile never replaces what is not a regular file): ST_ERR_IO naming the file, and
+ * the folder holds exactly what it held before. */
 static void unwritable_path_fails_leaves_nothing(void **state, const char *ext)
 {
     scratch *s = *state;

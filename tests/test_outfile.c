@@ -17,12 +17,14 @@
 #include "st_outfile.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 static void put_file(const char *path, const char *text)
@@ -195,16 +197,17 @@ static void outfile_unwritable_folder_fails_naming_path(void **state)
     assert_int_equal(rmdir(sub), 0); /* still empty */
 }
 
-/* The destination is a folder: the rename fails at commit, the temporary goes, the folder stays. */
+/* The rename fails at commit (a folder took the new name meanwhile): the temporary goes, the
+ * folder stays. */
 static void outfile_failed_rename_removes_temporary(void **state)
 {
     (void)state;
     char path[512];
     snprintf(path, sizeof path, "%s", scratch_path("taken"));
-    assert_int_equal(mkdir(path, 0755), 0);
     st_outfile *f = NULL;
     st_error err = {ST_OK, ""};
     assert_int_equal(st_outfile_open(path, &f, &err), ST_OK);
+    assert_int_equal(mkdir(path, 0755), 0);
     fputs("data", st_outfile_stream(f));
     assert_int_equal(st_outfile_commit(f, &err), ST_ERR_IO);
     assert_message_names(&err, path);
@@ -333,6 +336,146 @@ static void outfile_check_finds_unwritable_destinations(void **state)
     assert_non_null(strstr(err.msg, "is a folder"));
 }
 
+/* ---- what the destination is ---------------------------------------------------------------- */
+
+/* Writes text to path through an st_outfile and commits; returns the status. */
+static st_status write_text(const char *path, const char *text, st_error *err)
+{
+    st_outfile *f = NULL;
+    if (st_outfile_open(path, &f, err) != ST_OK)
+        return err->status;
+    fputs(text, st_outfile_stream(f));
+    return st_outfile_commit(f, err);
+}
+
+/* A folder is refused when the output is opened, by name, before anything is written. */
+static void outfile_folder_refused_at_open(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", scratch_path("d.exr"));
+    assert_int_equal(mkdir(path, 0755), 0);
+    st_outfile *f = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &f, &err), ST_ERR_IO);
+    assert_null(f);
+    assert_message_names(&err, path);
+    assert_non_null(strstr(err.msg, "is a folder"));
+    assert_int_equal(scratch_entries(NULL, 0), 1);
+}
+
+/* A replaced file keeps its mode (the new one would otherwise get 0666 less the umask). */
+static void outfile_replacement_keeps_mode(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", scratch_path("m.csv"));
+    put_file(path, "old");
+    assert_int_equal(chmod(path, 0640), 0);
+    st_error err = {ST_OK, ""};
+    assert_int_equal(write_text(path, "new", &err), ST_OK);
+    struct stat sb;
+    assert_int_equal(stat(path, &sb), 0);
+    assert_int_equal(sb.st_mode & 07777, 0640);
+    assert_string_equal(content(path), "new");
+}
+
+/* A symbolic link stays a link: its target gets the new content. A link to nothing is refused. */
+static void outfile_symlink_target_replaced(void **state)
+{
+    (void)state;
+    char target[512], link[512], dangling[512];
+    snprintf(target, sizeof target, "%s", scratch_path("target.csv"));
+    snprintf(link, sizeof link, "%s", scratch_path("link.csv"));
+    snprintf(dangling, sizeof dangling, "%s", scratch_path("dangling.csv"));
+    put_file(target, "old");
+    assert_int_equal(symlink("target.csv", link), 0);
+    st_error err = {ST_OK, ""};
+    assert_int_equal(write_text(link, "new", &err), ST_OK);
+    struct stat sb;
+    assert_int_equal(lstat(link, &sb), 0);
+    assert_true(S_ISLNK(sb.st_mode));
+    assert_string_equal(content(target), "new");
+    assert_int_equal(symlink("nowhere.csv", dangling), 0);
+    assert_int_equal(write_text(dangling, "new", &err), ST_ERR_IO);
+    assert_message_names(&err, dangling);
+    assert_int_equal(scratch_entries(NULL, 0), 3); /* target, link, dangling: no temporary */
+}
+
+/* A FIFO is written directly (a reader gets the bytes) and stays a FIFO; no temporary. */
+static void outfile_fifo_written_directly(void **state)
+{
+    (void)state;
+    char path[512], got[16] = {0};
+    snprintf(path, sizeof path, "%s", scratch_path("pipe"));
+    assert_int_equal(mkfifo(path, 0600), 0);
+    int rd = open(path, O_RDONLY | O_NONBLOCK); /* a reader, so the writer's open returns */
+    assert_true(rd >= 0);
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_check(path, &err), ST_OK);
+    assert_int_equal(write_text(path, "through", &err), ST_OK);
+    assert_int_equal(read(rd, got, sizeof got - 1), 7);
+    close(rd);
+    assert_string_equal(got, "through");
+    struct stat sb;
+    assert_int_equal(lstat(path, &sb), 0);
+    assert_true(S_ISFIFO(sb.st_mode));
+    assert_int_equal(scratch_entries(NULL, 0), 1);
+}
+
+/* /dev/null is written directly and stays a character device (replacing it needs root, which
+ * the writer may well be). */
+static void outfile_device_written_directly(void **state)
+{
+    (void)state;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_check("/dev/null", &err), ST_OK);
+    assert_int_equal(write_text("/dev/null", "gone", &err), ST_OK);
+    struct stat sb;
+    assert_int_equal(lstat("/dev/null", &sb), 0);
+    assert_true(S_ISCHR(sb.st_mode));
+}
+
+/* The longest legal name (NAME_MAX bytes less a little) still has a temporary short enough. */
+static void outfile_long_name_works(void **state)
+{
+    (void)state;
+    char name[256], path[512];
+    memset(name, 'n', 244);
+    name[244] = '\0';
+    snprintf(path, sizeof path, "%s", scratch_path(name));
+    st_error err = {ST_OK, ""};
+    assert_int_equal(write_text(path, "long", &err), ST_OK);
+    assert_string_equal(content(path), "long");
+    assert_int_equal(scratch_entries(NULL, 0), 1);
+}
+
+/* Temporaries of a process that no longer runs go on the next write into the folder; those of a
+ * running process, and files merely like them, stay. */
+static void outfile_stale_temporaries_removed(void **state)
+{
+    (void)state;
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0)
+        _exit(0);
+    assert_int_equal(waitpid(child, NULL, 0), child); /* now a pid that does not run */
+    char dead[512], alive[512], other[512], name[64];
+    snprintf(name, sizeof name, ".x.exr.tmp.%ld.3", (long)child);
+    snprintf(dead, sizeof dead, "%s", scratch_path(name));
+    snprintf(name, sizeof name, ".x.exr.tmp.%ld.3", (long)getppid());
+    snprintf(alive, sizeof alive, "%s", scratch_path(name));
+    snprintf(other, sizeof other, "%s", scratch_path(".x.tmp.notapid"));
+    put_file(dead, "partial");
+    put_file(alive, "partial");
+    put_file(other, "kept");
+    st_error err = {ST_OK, ""};
+    assert_int_equal(write_text(scratch_path("y.csv"), "new", &err), ST_OK);
+    assert_int_equal(access(dead, F_OK), -1);
+    assert_int_equal(access(alive, F_OK), 0);
+    assert_int_equal(access(other, F_OK), 0);
+}
+
 int main(void)
 {
 #define T(name) cmocka_unit_test_setup_teardown(name, scratch_make, scratch_remove)
@@ -350,6 +493,13 @@ int main(void)
         T(outfile_write_failure_removes_temporary),
         T(outfile_write_at_failure_removes_temporary),
         T(outfile_flush_failure_removes_temporary),
+        T(outfile_folder_refused_at_open),
+        T(outfile_replacement_keeps_mode),
+        T(outfile_symlink_target_replaced),
+        T(outfile_fifo_written_directly),
+        T(outfile_device_written_directly),
+        T(outfile_long_name_works),
+        T(outfile_stale_temporaries_removed),
     };
 #undef T
     return cmocka_run_group_tests_name("outfile", tests, NULL, NULL);

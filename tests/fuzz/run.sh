@@ -2,7 +2,9 @@
 # tests/fuzz/run.sh SECONDS NAME... — runs each libFuzzer harness
 # build/fuzz/fuzz_NAME for SECONDS, seeded from the project's files (glTF:
 # tests/scenes and scenes; EXR: tests/golden and two tiny renders, an image and
-# a split part), its new inputs kept in build/fuzz/corpus-NAME. TAP output: a
+# a split part), its new inputs kept in build/fuzz/corpus-NAME. Inputs run up
+# to 1 MiB (a deep nesting needs kilobytes), and the glTF harness mutates with
+# tests/fuzz/gltf.dict. TAP output: a
 # harness is ok when libFuzzer found no crash, leak, sanitizer report or
 # timeout; what it found is left in build/fuzz/ (crash-*, leak-*, timeout-*).
 secs=$1
@@ -18,15 +20,15 @@ failed=0
 for name in "$@"; do
     n=$((n + 1))
     case $name in
-        gltf) from="tests/scenes scenes" ;;
-        exr) from="tests/golden $seeds" ;;
-        *) from="" ;;
+        gltf) from="tests/scenes scenes" dict=-dict=tests/fuzz/gltf.dict ;;
+        exr) from="tests/golden $seeds" dict="" ;;
+        *) from="" dict="" ;;
     esac
     corpus=build/fuzz/corpus-$name
     mkdir -p "$corpus"
     log=build/fuzz/fuzz_$name.log
-    # shellcheck disable=SC2086 # $from is a list of folders
-    if build/fuzz/fuzz_$name -max_total_time="$secs" -timeout=20 -rss_limit_mb=3072 -malloc_limit_mb=4200 \
+    # shellcheck disable=SC2086 # $from is a list of folders, $dict empty or one word
+    if build/fuzz/fuzz_$name -max_total_time="$secs" -max_len=1048576 $dict -timeout=20 -rss_limit_mb=3072 -malloc_limit_mb=4200 \
         -artifact_prefix=build/fuzz/ -print_final_stats=1 "$corpus" $from > "$log" 2>&1; then
         echo "ok $n - fuzz_$name: $(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$') runs in ${secs} s, nothing found"
     else
