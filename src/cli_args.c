@@ -64,14 +64,10 @@ static const char render_help[] =
     "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
     "  --wave N               work-items per wave (default 262144; the image does not change)\n"
     "  --local-size N         OpenCL work-group size (default 64; the image does not change;\n"
-    "                         a CPU device's tile splat keeps one work-item per group;
-"
-    "                         on a CPU at most (ulimit -s) / 4 KiB, 2048 for 8 MiB)
-"
-    "  --packets auto|none|coherent|all   rays traced in packets, one per lane of a work-item
-"
-    "                         (--lanes): coherent = camera rays
-"
+    "                         a CPU device's tile splat keeps one work-item per group;\n"
+    "                         on a CPU at most (ulimit -s) / 4 KiB, 2048 for 8 MiB)\n"
+    "  --packets auto|none|coherent|all   rays traced in packets, one per lane of a work-item\n"
+    "                         (--lanes): coherent = camera rays\n"
     "                         and the shadow rays from their hits, all = every ray (shadow rays\n"
     "                         only in scenes without alpha); auto: coherent on CPU devices for\n"
     "                         scenes of 65536 triangles or more, else none (the image does not\n"

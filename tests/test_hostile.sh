@@ -275,13 +275,13 @@ reader=$!
 $S $PAT --csv "$T/fifo" 2> "$T/err"
 st=$?
 wait $reader
-check "--csv to a FIFO streams into it (exit 0, 5 rows read)" '[ $st = 0 ] && [ "$(wc -l < "$T/fifo.out")" = 5 ]' "(status $st, $(cat "$T/err"))"
+check "--csv to a FIFO streams into it (exit 0, a header and 5 rows read)" '[ $st = 0 ] && [ "$(wc -l < "$T/fifo.out")" = 6 ]' "(status $st, $(cat "$T/err"))"
 check "the FIFO is still a FIFO" '[ -p "$T/fifo" ]'
 # (a link of our own to /proc/self/fd/1, as /dev/stdout is: a failure must not replace /dev's)
 ln -s /proc/self/fd/1 "$T/stdout"
 rows=$($S $PAT --csv "$T/stdout" | wc -l)
 check "--csv to a link to /proc/self/fd/1 (as /dev/stdout) writes the rows into the pipe" \
-    '[ "$rows" = 5 ] && [ -L "$T/stdout" ]' "($rows rows)"
+    '[ "$rows" = 6 ] && [ -L "$T/stdout" ]' "($rows rows: a header and 5)"
 if mknod "$T/null" c 1 3 2> /dev/null; then
     $S $PAT --csv "$T/null" 2> "$T/err"
     check "--csv to a character device (a null device node) leaves it a device" '[ -c "$T/null" ]' "($(cat "$T/err"))"
@@ -290,7 +290,7 @@ else
 fi
 echo old > "$T/target.csv" && chmod 640 "$T/target.csv" && ln -s target.csv "$T/link.csv"
 $S $PAT --csv "$T/link.csv" 2> "$T/err"
-check "--csv on a symbolic link replaces its target and keeps the link" '[ -L "$T/link.csv" ] && [ "$(wc -l < "$T/target.csv")" = 5 ]' "($(cat "$T/err"))"
+check "--csv on a symbolic link replaces its target and keeps the link" '[ -L "$T/link.csv" ] && [ "$(wc -l < "$T/target.csv")" = 6 ]' "($(cat "$T/err"))"
 check "the replaced target keeps its mode 640" '[ "$(stat -c %a "$T/target.csv")" = 640 ]' "($(stat -c %a "$T/target.csv"))"
 python3 -c 'import socket, sys; socket.socket(socket.AF_UNIX).bind(sys.argv[1])' "$T/sock"
 expect "an output that is a socket is refused by name" 1 "^strata: error: $T/sock: is a socket, not a file to write" \
