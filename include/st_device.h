@@ -29,6 +29,8 @@ typedef struct st_device_info {
     unsigned long long local_mem; /* CL_DEVICE_LOCAL_MEM_SIZE: one work-group's __local bytes */
     unsigned float_width; /* CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT */
     unsigned lanes;       /* the kernels' lane width ST_W (kernels/lanes.h): 1, 4, 8 or 16 */
+    int compiles_at_launch; /* PoCL: each kernel is compiled at its first launch (per
+                               work-group size and grid size class), not in the build */
 } st_device_info;
 
 typedef struct st_device st_device;

@@ -40,7 +40,9 @@ static st_status warm_render(st_renderer *r, const st_render_options *w, st_erro
     return rc;
 }
 
-/* PoCL compiles each kernel at its first launch, and compiles it again for
+/* Where the driver compiles at launch (PoCL, st_device_info.compiles_at_launch;
+ * a GPU driver compiles in the build, and Oclgrind interprets): PoCL
+ * compiles each kernel at its first launch, and compiles it again for
  * a launch of 2^16 work-items or more (its "smallgrid" variant is for fewer),
  * which would otherwise fall in the render's first wave, its rate and its
  * time. So before the render: a render of 8 x 8 pixels with the render's own
@@ -128,7 +130,7 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     if (rc == ST_OK && s->env_map)
         rc = st_renderer_set_env_map(s->renderer, s->env_map, err);
     double created = st_cli_now();
-    if (rc == ST_OK)
+    if (rc == ST_OK && st_device_get_info(s->dev)->compiles_at_launch)
         rc = warm_up(s->renderer, &a->opt, err);
     s->build_seconds = (built - t0) + (st_cli_now() - created);
     st_cli_notice_stop(&notice);

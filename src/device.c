@@ -101,6 +101,7 @@ static void fill_info(cl_platform_id p, cl_device_id d, unsigned pi, unsigned di
     clGetDeviceInfo(d, CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT, sizeof width, &width, NULL);
     info->float_width = width;
     info->lanes = st_device_default_lanes(info);
+    info->compiles_at_launch = strstr(info->platform_name, "Portable Computing Language") != NULL;
     size_t n = 0;
     if (clGetDeviceInfo(d, CL_DEVICE_EXTENSIONS, 0, NULL, &n) == CL_SUCCESS && n > 0) {
         char *ext = malloc(n + 1);

@@ -41,8 +41,11 @@ run "poisson (tiled), blackman-harris" render $D --spp 2 --sampler poisson --fil
 run "filter importance sampling" render $D --spp 2 --sampler halton --reconstruction fis -o "$T/g.exr"
 run "adaptive sampling" render $D --adaptive --spp 3 --min-spp 2 --max-spp 4 --sampler random -o "$T/h.exr"
 # Oclgrind is a "gpu", where --packets auto is none: the packet kernels asked for
-run "packets of 8 rays (camera, shadow), direct" render $D --spp 2 --integrator direct --packets coherent -o "$T/k.exr"
-run "packets of 8 rays (every closest hit), path" render $D --spp 2 --max-depth 2 --packets all -o "$T/l.exr"
+# oclgrind is a GPU-like device (one lane by default): --lanes builds the
+# CPU's widths, so the packet and shade kernels' lanes are checked too
+run "packets of 8 rays (camera, shadow), shade in 8 lanes, direct" render $D --spp 2 --integrator direct --packets coherent --lanes 8 -o "$T/k.exr"
+run "packets of 8 rays (every closest hit), path" render $D --spp 2 --max-depth 2 --packets all --lanes 8 -o "$T/l.exr"
+run "packets of 1 ray (one lane), direct" render $D --spp 2 --integrator direct --packets all -o "$T/n.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
