@@ -130,6 +130,15 @@ typedef void (*st_progress_fn)(void *ctx, double fraction);
  * sampling, whose samples are not per pixel, the whole image even for a crop. */
 void st_render_region(const st_render_options *o, st_u32 region[4]);
 
+/* Whether an adaptive render of o is rendered uniformly instead: every
+ * sampler but random spreads its samples across a pixel's sample indices
+ * (strata, digits of a net, a sequence's prefixes), and giving pixels
+ * different counts breaks that stratification between neighbours, which
+ * measured worse than uniform at equal cost on landscape frames; random has
+ * none to lose. Such a render is the uniform one at the mean spp, its spp
+ * map spp everywhere. */
+int st_render_adaptive_falls_back(const st_render_options *o);
+
 /* Renders into *out: channels R, G, B (resolved, linear) and W (Σ f); *sums,
  * when not NULL, receives the raw fixed-point film (an st_film_pixel per
  * pixel: ST_FILM_SUMS int64, Σ f L for R, G, B, and Σ f; malloc'ed, caller

@@ -528,6 +528,12 @@ int st_cli_converge(int argc, char **argv)
             s->adaptive = adaptive;
             snprintf(s->name, sizeof s->name, "%s%s", st_sampler_names[s->sampler],
                      adaptive ? "+adaptive" : "");
+            if (adaptive) {
+                st_render_options o = c->r.opt;
+                o.sampler = s->sampler;
+                o.adaptive = 1;
+                st_cli_adaptive_note(&o);
+            }
         }
     double total = 0, done = 0;
     for (st_u32 i = 0; i < ns; i++) {

@@ -108,6 +108,8 @@ int st_cli_render(int argc, char **argv)
     st_render_region(&a.opt, region);
     st_i64 *sums = NULL;
     int opened = st_cli_session_open(&a, &s, &err) == ST_OK;
+    if (opened)
+        st_cli_adaptive_note(&a.opt);
     /* the render's own progress, after the kernels are compiled (which the
      * session's notice covers) */
     st_cli_progress_init(&prog, "render", a.quiet);

@@ -137,6 +137,14 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     return rc;
 }
 
+void st_cli_adaptive_note(const st_render_options *o)
+{
+    if (st_render_adaptive_falls_back(o))
+        fprintf(stderr, "strata: note: --adaptive with sampler %s renders uniformly at %u spp: %s "
+                "(only random stays adaptive)\n", st_sampler_names[o->sampler], o->spp,
+                ST_CLI_ADAPTIVE_FALLBACK);
+}
+
 void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
 {
     float env[3];
@@ -242,8 +250,12 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     if (o->adaptive) {
         st_u32 pilot, max_spp;
         st_render_adaptive_counts(o, &pilot, &max_spp);
-        ATTR("adaptive", "mean_spp %u, min_spp %u, max_spp %u, noise_threshold %.9g", o->spp,
-             pilot, max_spp, (double)o->noise_threshold);
+        if (st_render_adaptive_falls_back(o))
+            ATTR("adaptive", "fallback: uniform at mean_spp %u (sampler %s: %s)", o->spp,
+                 st_sampler_names[o->sampler], ST_CLI_ADAPTIVE_FALLBACK);
+        else
+            ATTR("adaptive", "mean_spp %u, min_spp %u, max_spp %u, noise_threshold %.9g",
+                 o->spp, pilot, max_spp, (double)o->noise_threshold);
         TYPED("samples_total", ST_ATTR_DOUBLE, "%llu", (unsigned long long)st->samples);
     }
     ATTR("integrator", "%s", st_integrator_names[o->integrator]);

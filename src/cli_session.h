@@ -30,6 +30,11 @@ void st_cli_session_close(st_cli_session *s);
  * render without --env takes (st_scene.env_default) and the option that
  * changes it; a `strata: warning:` when nothing lights the render at all. */
 void st_cli_light_notes(const st_scene *scene, const st_render_options *o);
+/* One `strata: note:` line when an adaptive request for o's sampler is
+ * rendered uniformly instead (st_render_adaptive_falls_back says why). */
+void st_cli_adaptive_note(const st_render_options *o);
+/* The words the note and the EXR header give for that fallback. */
+#define ST_CLI_ADAPTIVE_FALLBACK "its stratification across a pixel's samples is lost when pixels get different counts, so adaptive sampling would lose to uniform at equal cost"
 /* Prints the error (and a kernel build's compiler log); returns the exit status. */
 int st_cli_session_fail(const st_cli_session *s, const st_error *err);
 /* Rewrites an error of st_device_create in the CLI's words: the device

@@ -637,6 +637,37 @@ static void plan_items(const st_renderer *r, const st_render_options *o, st_para
     }
 }
 
+int st_render_adaptive_falls_back(const st_render_options *o)
+{
+    return o->adaptive && o->sampler != ST_SAMPLER_RANDOM;
+}
+
+/* An adaptive request for a sampler it would lose with: the uniform render
+ * of the same mean spp, and its spp map (every pixel spp) as an adaptive
+ * render's. */
+static st_status render_fallback(st_renderer *r, const st_render_options *o, st_image *out,
+                                 st_i64 **sums, st_render_stats *st, st_progress_fn progress,
+                                 void *progress_ctx, st_error *err)
+{
+    st_render_options u = *o;
+    u.adaptive = 0;
+    u.min_spp = u.max_spp = 0;
+    u.noise_threshold = 0.0f;
+    size_t pixels = (size_t)o->width * o->height;
+    st_u32 *map = malloc(pixels * sizeof *map);
+    if (!map)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory for the spp map");
+    for (size_t i = 0; i < pixels; i++)
+        map[i] = o->spp;
+    st_status rc = st_render(r, &u, out, sums, st, progress, progress_ctx, err);
+    if (rc != ST_OK) {
+        free(map);
+        return rc;
+    }
+    st->spp_map = map;
+    return ST_OK;
+}
+
 st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, st_i64 **sums,
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err)
@@ -648,6 +679,8 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
         *sums = NULL;
     if (st_render_check(o, err) != ST_OK)
         return err->status;
+    if (st_render_adaptive_falls_back(o))
+        return render_fallback(r, o, out, sums, st, progress, progress_ctx, err);
     size_t pixels = (size_t)o->width * o->height;
     st_scene_camera cam;
     st_render_options so = *o; /* what the sampler is made for */

@@ -518,6 +518,7 @@ static void tile_splat_equals_per_sample(void **state)
     st_render_options adaptive = small(24, 20, 16); /* its later samples weighted */
     adaptive.adaptive = 1;
     adaptive.min_spp = 4;
+    adaptive.sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
     assert_true(same_film_both_splats("cornell-box", adaptive));
     adaptive.reconstruction = ST_RECON_FIS;
     assert_false(same_film_both_splats("cornell-box", adaptive));

@@ -191,6 +191,7 @@ static void generate_rays_equals_two_kernels(void **state)
     st_render_options adaptive = small(24, 20, 16);
     adaptive.adaptive = 1;
     adaptive.min_spp = 4;
+    adaptive.sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
     adaptive.wave = 700;
     same_first_stages(r, adaptive);
     st_render_options crop = small(40, 30, 3);
@@ -278,6 +279,7 @@ static void splat_pixels_equals_per_sample(void **state)
     st_render_options adaptive = small(24, 20, 16);
     adaptive.adaptive = 1;
     adaptive.min_spp = 4;
+    adaptive.sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
     st_render_options ref = adaptive;
     ref.profile = 1;
     forced.splat = ST_SPLAT_PER_SAMPLE;
@@ -379,6 +381,7 @@ static void shade_lanes_equal_shade_hits(void **state)
     more[0].wave = 1000;
     more[1].adaptive = 1;
     more[1].min_spp = 4;
+    more[1].sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
     more[1].wave = 700;
     more[3].local_size = 3;
     more[3].wave = 997;

@@ -59,7 +59,7 @@ pic signal/gibbs-lanczos.png signal --function step --filter lanczos --png @ > /
 pic signal/blur-gaussian.png signal --function step --filter gaussian --png @ > /dev/null
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-pic adaptive/spp-map.png render --adaptive --spp 64 --width 256 --height 256 \
+pic adaptive/spp-map.png render --sampler random --adaptive --spp 64 --width 256 --height 256 \
     --quiet --spp-map @ -o "$tmp/adaptive.exr"
 pic sampling/error-spectrum.png converge --sampler random,best-candidate,sobol,zsobol \
     --spp-list 4 --width 128 --height 128 --region 36,28,56,28 --integrator direct \
