@@ -27,6 +27,8 @@ typedef struct st_cli_render_args {
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
     st_u32 threads;           /* --threads N; 0: every compute unit */
     st_u32 lanes;             /* --lanes N; 0: the device's (st_device_default_lanes) */
+    int said;                 /* the scene's warnings and notes are printed already (a
+                                 second session of one command opens it quietly) */
     float exposure;           /* --exposure EV (PNG) */
     st_u32 tonemap;           /* --tonemap: an st_tonemap (PNG) */
     const char *png_opt;      /* a PNG-only option seen (for its error) */

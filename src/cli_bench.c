@@ -43,6 +43,7 @@ static double build_seconds(const st_cli_render_args *a, int cold)
         st_cli_render_args tiny = *a;
         tiny.opt.width = tiny.opt.height = 8;
         tiny.opt.spp = 1;
+        tiny.said = 1;
         st_error err = {0};
         st_cli_session s;
         st_image img = {0};

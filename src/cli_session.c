@@ -96,9 +96,10 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     if (a->env_file && st_envmap_load(a->env_file, &s->env_map, err) != ST_OK)
         return err->status;
     s->load_seconds = st_cli_now() - t0;
-    for (st_u32 i = 0; i < s->scene->warning_count; i++)
+    for (st_u32 i = 0; !a->said && i < s->scene->warning_count; i++)
         st_cli_put_line("strata: warning: ", s->scene->warnings[i]); /* scene text, escaped */
-    st_cli_light_notes(s->scene, &a->opt);
+    if (!a->said)
+        st_cli_light_notes(s->scene, &a->opt);
     /* the camera is checked before the device starts, in the flag's words */
     st_scene_camera cam;
     if (st_scene_view_camera(s->scene, a->opt.camera, &cam, err) != ST_OK) {

@@ -45,4 +45,7 @@ rmse=$(mean_of "$T/p.exr" "$T/p0.exr")
 check "its default environment is off (the same image as --env 0)" "[ '$rmse' = 0 ]" "(rmse $rmse)"
 rmse=$(mean_of "$T/p.exr" "$T/black.exr")
 check "and it is lit" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.05) }'" "(rmse $rmse)"
+"$S" bench cornell-box --width 8 --height 8 --spp 1 > /dev/null 2> "$T/err7"
+check "bench says the lighting default once, though it opens the scene for its build timings too" \
+    "[ \$(grep -c '^strata: note: cornell-box: lit by its own lights alone' '$T/err7') -eq 1 ]" "($(cat "$T/err7"))"
 echo "1..$n"
