@@ -1,57 +1,160 @@
-/* integrator.h — one path vertex as a sequence of named steps, which
- * shade.cl runs in order: the surface at the hit, alpha cut-outs, emission
- * with MIS, next-event estimation, the BSDF bounce and Russian roulette.
- * OpenCL only. The conventions (integrators, sample dimensions, MIS) are
- * described at the top of shade.cl. */
+/* integrator.h — one path vertex of ST_W paths at once, one path per lane
+ * (lanes.h), the steps shade.cl's shade_hits runs in order: each lane
+ * gathers its item (the ray, the hit, the material times its textures, the
+ * path, the sample's dimensions, the light it samples), the arithmetic is
+ * done once for all lanes (the surface, emission with MIS, next-event
+ * estimation, the BSDF bounce, Russian roulette), and each lane stores its
+ * own results. The same text runs at every width: 1 on a GPU (one item per
+ * work-item, its SIMT hardware making the lanes) and 4, 8 or 16 on a CPU,
+ * where PoCL keeps the lanes in SSE, AVX2 or AVX-512 registers (it widens
+ * none of a single item's float3 arithmetic itself). A lane computes at
+ * every width what it computes at width 1, bit for bit (tests/
+ * test_render_paths.c, shade_at_every_width): lanes never mix, a branch
+ * taken only where some lane needs it changes no lane's value, and the
+ * statements are the same.
+ *
+ * What is one item's by nature stays one item's, in the gather: memory
+ * reads, texture lookups (each lane its own texture and footprint), the
+ * choice of a light from a CDF, the sampler's dimensions (but the random
+ * sampler's hashes, made in lanes), alpha cut-outs, KHR_materials_unlit
+ * and a path that ends at a cut-out. OpenCL only. The conventions
+ * (integrators, sample dimensions, MIS) are described at the top of
+ * shade.cl. */
 #ifndef ST_INTEGRATOR_H
 #define ST_INTEGRATOR_H
 
 #define ST_DIMS_PER_VERTEX 6u
 #define ST_RR_START_DEPTH 3u
 
-/* The part of a path (st_path) that a vertex reads and changes, held in
- * private values for the vertex: PoCL kept a private st_path, whose fields
- * are arrays that vload3 and vstore3 address, in an array with one slot per
- * work-item (with the copied ray, many loads and stores per hit). */
-typedef struct st_walk {
-    float3 beta, radiance;
-    float bsdf_pdf, env_pdf;
-    st_u32 depth;
-} st_walk;
+/* Next-event estimation's kinds of light sample (st_vertex_in.lkind). */
+#define ST_LIGHT_NONE 0
+#define ST_LIGHT_AREA 1      /* a point on an emissive triangle */
+#define ST_LIGHT_ENV 2       /* a direction from the environment map */
+#define ST_LIGHT_ENV_LOCAL 3 /* a uniform environment's cosine direction about the shading normal */
+#define ST_LIGHT_POINT 4     /* a point or spot light */
+#define ST_LIGHT_DISTANT 5   /* a directional light */
 
-/* Path gp's st_walk. */
-static st_walk walk_load(__global const st_path *gp)
+/* What a vertex gathers per lane: an array of ST_W per value, lane k at
+ * index k, read as lanes by ST_VLOAD. */
+typedef struct st_vertex_in {
+    float o[3][ST_W], d[3][ST_W];          /* the ray */
+    float t[ST_W], bu[ST_W], bv[ST_W];     /* the hit */
+    float travelled[ST_W];                 /* the path's length at the hit (ray cones) */
+    float n0[3][ST_W], n1[3][ST_W], n2[3][ST_W]; /* the triangle's vertex normals */
+    float ng[3][ST_W];                     /* its geometric normal, on their side */
+    float base[3][ST_W], le[3][ST_W];      /* base colour and emission, textured */
+    float metallic[ST_W], roughness[ST_W], spec[4][ST_W], ior[ST_W];
+    float beta[3][ST_W], rad[3][ST_W], bsdf_pdf[ST_W];
+    float emit_pdf[ST_W]; /* a hit: light_pdf of its triangle; a miss: the environment's
+                             sampling density of the ray's direction (emission_weight) */
+    st_u32 depth[ST_W];
+    st_u32 key[ST_W], prim[ST_W];
+    float u[6][ST_W]; /* the vertex's sample dimensions 2 + 6 depth + j */
+    /* next-event estimation's light sample (light_gather): a point (area,
+     * point) or direction (distant, environment), its radiance or
+     * intensity, an area light's normal or a spot's axis, the density to
+     * divide by, a spot's cone (cos outer, cos inner) */
+    float lp[3][ST_W], ll[3][ST_W], lnl[3][ST_W], lq[ST_W], lco[ST_W], lci[ST_W];
+    int lkind[ST_W];
+    float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
+} st_vertex_in;
+
+#define ST_LV(a) ST_VLOAD(ST_W, a)
+#define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
+
+/* Lanes of a 3-vector into three arrays of ST_W floats, and back. */
+ST_HOT void lv3_store(st_lv3 v, float (*out)[ST_W])
 {
-    st_walk w = {vload3(0, gp->beta), vload3(0, gp->radiance), gp->bsdf_pdf, gp->env_pdf,
-                 gp->depth};
-    return w;
+    ST_VSTORE(ST_W, v.x, out[0]);
+    ST_VSTORE(ST_W, v.y, out[1]);
+    ST_VSTORE(ST_W, v.z, out[2]);
 }
 
-/* Writes w back to path gp. */
-static void walk_store(__global st_path *gp, const st_walk *w)
+/* Lane k of three arrays as a float3, and a float3 into lane k. */
+static float3 lane3(const float (*a)[ST_W], st_u32 k)
 {
-    vstore3(w->beta, 0, gp->beta);
-    vstore3(w->radiance, 0, gp->radiance);
-    gp->bsdf_pdf = w->bsdf_pdf;
-    gp->env_pdf = w->env_pdf;
-    gp->depth = w->depth;
+    return (float3)(a[0][k], a[1][k], a[2][k]);
 }
 
-/* What the steps know of the surface point a ray reached. */
-typedef struct st_surface {
-    float3 pos, wo;  /* the point, and the direction back along the ray */
-    float3 ng, ns;   /* geometric and shading normals */
-    float3 tu, tv;   /* the shading frame's tangents (surface_frame; not for Lambert) */
-    float4 base;     /* base colour (RGB) and alpha, textured */
-    float3 le;       /* emitted radiance, textured */
-    float3 albedo;   /* the Lambertian part's albedo, (1 - metallic) x base colour */
-    st_brdf brdf;    /* the glTF BRDF (bsdf.h) */
-    st_dir wo_local; /* wo in the shading frame (surface_frame) */
-    int lambert;     /* no specular lobe (metallic and specularFactor 0): the cheap path,
-                        albedo = base colour; brdf is then not made */
-    int unlit;       /* KHR_materials_unlit */
-    float travelled; /* path length at the point (ray-cone width) */
-} st_surface;
+static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
+{
+    a[0][k] = v.x;
+    a[1][k] = v.y;
+    a[2][k] = v.z;
+}
+
+/* ---- one item's parts: the gather ----------------------------------------- */
+
+/* The material of the triangle hit at h, its factors times their textures
+ * (looked up with the ray cone's footprint: width at the hit, cos_nd its
+ * slant), and vertex colours; the normal map's texel in *nmap (its w: 0
+ * without a normal map). */
+typedef struct st_material_at {
+    float4 base, spec, nmap;
+    float3 le;
+    float metallic, roughness, ior, normal_scale;
+    st_u32 flags, alpha_mode;
+    float alpha_cutoff;
+} st_material_at;
+
+static st_material_at material_at(const st_scene_refs *s, const st_params *p,
+                                  const st_shading *sh, st_hit h, float cos_nd, float travelled)
+{
+    st_u32 t = h.prim;
+    __global const st_material *m = &s->materials[s->tri_material[t]]; /* fields as needed */
+    st_material_at a;
+    a.spec = vload4(0, m->specular);
+    a.metallic = m->metallic;
+    a.roughness = m->roughness;
+    a.ior = m->ior;
+    a.base = vload4(0, m->base_color);
+    a.le = vload4(0, m->emission).xyz;
+    a.flags = m->flags;
+    a.alpha_mode = m->alpha_mode;
+    a.alpha_cutoff = m->alpha_cutoff;
+    a.normal_scale = m->normal_scale;
+    a.nmap = (float4)(0.0f);
+    if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
+        __global const st_tri_colors *c = &s->colors[t];
+        a.base *= (1.0f - h.u - h.v) * vload4(0, c->c0) + h.u * vload4(0, c->c1) +
+                  h.v * vload4(0, c->c2);
+    }
+    if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
+        m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
+        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE) {
+        float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+        float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
+        float b1 = h.u, b2 = h.v;
+        st_u32 f = sh->texture_filter;
+        st_tex_refs x = tex_refs(s);
+        a.base *= tex_lookup(x, m->base_color_tex, t, b1, b2, width, cos_nd, f);
+        a.le *= tex_lookup(x, m->emission_tex, t, b1, b2, width, cos_nd, f).xyz;
+        float4 mr = tex_lookup(x, m->metallic_roughness_tex, t, b1, b2, width, cos_nd, f);
+        a.metallic *= mr.z;
+        a.roughness *= mr.y;
+        a.spec.w *= tex_lookup(x, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
+        a.spec.xyz *= tex_lookup(x, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
+        if (m->normal_tex != ST_NO_TEXTURE)
+            a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
+    }
+    return a;
+}
+
+/* Whether a ray goes on through the surface of material a: an alpha MASK
+ * cut-out, or BLEND coverage (passes with probability 1 - alpha, drawn from
+ * the counter hash keyed by the seed ^ key, the sample, the triangle and
+ * depth). */
+static int alpha_passes_keyed(const st_params *p, const st_material_at *a, st_sample smp,
+                              st_u32 prim, st_u32 depth, st_u32 key)
+{
+    if (a->alpha_mode == ST_ALPHA_OPAQUE)
+        return 0;
+    float u = st_rng_unit(st_rng_key(p->seed ^ key, smp.pixel, smp.index), prim ^ (depth << 24));
+    return a->alpha_mode == ST_ALPHA_MASK ? a->base.w < a->alpha_cutoff : u >= a->base.w;
+}
+
+/* The key of the rays a path follows (shadow rays: shadow.h). */
+#define ST_PATH_ALPHA_KEY 0xa1fa0000u
 
 /* The shading normal ns bent by a normal map's texel c (tangent-space
  * normal 2 c - 1, x and y times normalTexture.scale) in the frame of the
@@ -59,19 +162,19 @@ typedef struct st_surface {
  * cross(ns, tangent). Kept at least a little above the geometric surface
  * ng, so that a map cannot turn the shading side over; ns stays where the
  * triangle has no tangent (no texture coordinates). */
-static float3 normal_mapped(const st_scene_refs *s, st_hit h, float3 ns, float3 ng, float4 c,
-                            float scale)
+static float3 normal_mapped(const st_scene_refs *s, st_u32 prim, float bu, float bv, float3 ns,
+                            float3 ng, float3 c, float scale)
 {
-    __global const st_tri_tangents *tt = &s->tangents[h.prim];
-    float3 tg = (1.0f - h.u - h.v) * vload4(0, tt->t0).xyz + h.u * vload4(0, tt->t1).xyz +
-                h.v * vload4(0, tt->t2).xyz;
+    __global const st_tri_tangents *tt = &s->tangents[prim];
+    float3 tg = (1.0f - bu - bv) * vload4(0, tt->t0).xyz + bu * vload4(0, tt->t1).xyz +
+                bv * vload4(0, tt->t2).xyz;
     float w = tt->t0[3];
     tg -= ns * dot(ns, tg);
     float len = length(tg);
     if (!(len > 1e-6f) || w == 0.0f)
         return ns;
     tg /= len;
-    float3 t = 2.0f * c.xyz - 1.0f;
+    float3 t = 2.0f * c - 1.0f;
     float3 n = t.x * scale * tg + t.y * scale * w * cross(ns, tg) + t.z * ns;
     float up = dot(n, ng);
     if (up < 0.01f)
@@ -80,133 +183,10 @@ static float3 normal_mapped(const st_scene_refs *s, st_hit h, float3 ns, float3 
     return len > 0.0f ? n / len : ns;
 }
 
-/* The material's factors at hit h times their textures, looked up with the
- * ray cone's footprint; the BRDF made from them; the normal map. */
-static void surface_material(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                             st_hit h, st_surface *v)
-{
-    st_u32 t = h.prim;
-    __global const st_material *m = &s->materials[s->tri_material[t]]; /* fields as needed */
-    float4 spec = vload4(0, m->specular);
-    float metallic = m->metallic, roughness = m->roughness;
-    v->base = vload4(0, m->base_color);
-    v->le = vload4(0, m->emission).xyz;
-    if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
-        __global const st_tri_colors *c = &s->colors[t];
-        v->base *= (1.0f - h.u - h.v) * vload4(0, c->c0) + h.u * vload4(0, c->c1) +
-                   h.v * vload4(0, c->c2);
-    }
-    if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
-        m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
-        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE) {
-        float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
-        float width = p->camera.forward[3] > 0.5f ? px : px * v->travelled;
-        float cos_nd = dot(v->ng, v->wo), b1 = h.u, b2 = h.v;
-        st_u32 f = sh->texture_filter;
-        st_tex_refs x = tex_refs(s);
-        v->base *= tex_lookup(x, m->base_color_tex, t, b1, b2, width, cos_nd, f);
-        v->le *= tex_lookup(x, m->emission_tex, t, b1, b2, width, cos_nd, f).xyz;
-        float4 mr = tex_lookup(x, m->metallic_roughness_tex, t, b1, b2, width, cos_nd, f);
-        metallic *= mr.z;
-        roughness *= mr.y;
-        spec.w *= tex_lookup(x, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
-        spec.xyz *= tex_lookup(x, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
-        if (m->normal_tex != ST_NO_TEXTURE)
-            v->ns = normal_mapped(s, h, v->ns, v->ng,
-                                  tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f),
-                                  m->normal_scale);
-    }
-    v->lambert = !(metallic > 0.0f || spec.w > 0.0f); /* no specular lobe: the cheap path */
-    v->albedo = v->base.xyz;
-    if (!v->lambert) {
-        float c[3] = {v->base.x, v->base.y, v->base.z}, sc[3] = {spec.x, spec.y, spec.z};
-        v->brdf = st_brdf_make(c, metallic, roughness, spec.w, sc, m->ior);
-        v->albedo = (float3)(v->brdf.diffuse[0], v->brdf.diffuse[1], v->brdf.diffuse[2]);
-    }
-    v->unlit = (m->flags & ST_MAT_UNLIT) != 0u;
-}
-
-/* The surface at hit h of the ray from o along d, which starts path_length
- * along the path: position, normals (ng on the side its shading normals
- * face) and the material (surface_material). Forced inline: as a call it
- * kept the caller's st_surface and st_scene_refs in memory per work-item. */
-ST_HOT st_surface surface_at_ray(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                                 float3 o, float3 d, float path_length, st_hit h)
-{
-    st_surface v;
-    st_u32 t = h.prim;
-    v.wo = -d;
-    v.pos = o - v.wo * h.t;
-    v.travelled = path_length + h.t;
-    v.ng = facing_normal(s->normals, t);
-    v.ns = normalize((1.0f - h.u - h.v) * vload4(0, s->normals[t].n0).xyz +
-                     h.u * vload4(0, s->normals[t].n1).xyz + h.v * vload4(0, s->normals[t].n2).xyz);
-    surface_material(s, p, sh, h, &v);
-    return v;
-}
-
-/* surface_at_ray for the ray r. */
-static st_surface surface_at(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                             const st_wave_ray *r, st_hit h)
-{
-    return surface_at_ray(s, p, sh, vload3(0, r->o), vload3(0, r->d), r->path_length, h);
-}
-
-/* The shading frame around ns (once ns faces the ray's side) and wo in it;
- * wo below the shading normal's horizon (interpolated normals at a
- * silhouette) is lifted just above it, so the BRDF does not go black there. */
-static void surface_frame(st_surface *v)
-{
-    if (v->lambert)
-        return;
-    basis(v->ns, &v->tu, &v->tv);
-    float z = fmax(dot(v->wo, v->ns), 1e-4f);
-    st_dir w = {dot(v->wo, v->tu), dot(v->wo, v->tv), z};
-    v->wo_local = st_dir_normalize(w);
-}
-
-/* f(wo, wi) cos θi at the surface for a direction wi above it, and in *pdf
- * the density with which bsdf_bounce would choose wi. */
-static float3 surface_f_cos(const st_surface *v, float3 wi, float *pdf)
-{
-    float c = dot(v->ns, wi);
-    if (v->lambert) {
-        *pdf = c / ST_PI_F;
-        return v->albedo * *pdf;
-    }
-    st_dir li = {dot(wi, v->tu), dot(wi, v->tv), c};
-    float f[3];
-    st_brdf b = v->brdf; /* the calls get a copy: with v's own, v would live in memory */
-    st_brdf_eval(&b, v->wo_local, li, f);
-    *pdf = st_brdf_pdf(&b, v->wo_local, li);
-    return (float3)(f[0], f[1], f[2]) * c;
-}
-
-/* Whether the ray goes on through the surface: an alpha MASK cut-out, or
- * BLEND coverage (passes with probability 1 - alpha, drawn from the counter
- * hash keyed by the seed ^ key, the sample, the triangle and depth).
- * Forced inline, as surface_at_ray. */
-ST_HOT int alpha_passes_keyed(const st_scene_refs *s, const st_params *p, const st_surface *v,
-                              st_sample smp, st_u32 prim, st_u32 depth, st_u32 key)
-{
-    __global const st_material *m = &s->materials[s->tri_material[prim]];
-    if (m->alpha_mode == ST_ALPHA_OPAQUE)
-        return 0;
-    float u = st_rng_unit(st_rng_key(p->seed ^ key, smp.pixel, smp.index), prim ^ (depth << 24));
-    return m->alpha_mode == ST_ALPHA_MASK ? v->base.w < m->alpha_cutoff : u >= v->base.w;
-}
-
-/* alpha_passes_keyed for the rays the path follows (shadow rays: shadow.h). */
-static int alpha_passes(const st_scene_refs *s, const st_params *p, const st_surface *v,
-                        st_sample smp, st_u32 prim, st_u32 depth)
-{
-    return alpha_passes_keyed(s, p, v, smp, prim, depth, 0xa1fa0000u);
-}
-
 /* The probabilities with which next-event estimation samples the
- * environment and the area lights (next_event): both take what the punctual
- * lights leave, split by power (st_shading.env_pick). The MIS weights at an
- * emitter and at a miss use these same numbers. */
+ * environment and the area lights (light_gather): both take what the
+ * punctual lights leave, split by power (st_shading.env_pick). The MIS
+ * weights at an emitter and at a miss use these same numbers. */
 static float env_choice(const st_shading *sh)
 {
     return (1.0f - sh->punct_share) * sh->env_pick;
@@ -219,7 +199,7 @@ static float area_choice(const st_shading *sh)
 
 /* The environment map's radiance at map coordinates (u, v) (nearest
  * texel: kernels/envmap.h) times the env factor, and in *pdf the density in
- * solid angle with which env_sample picks that direction. */
+ * solid angle with which env_gather picks that direction. */
 static float3 env_map_at(__global const float *env_cdf, __global const float *env_texels,
                          const st_shading *sh, float u, float v, float *pdf)
 {
@@ -230,7 +210,7 @@ static float3 env_map_at(__global const float *env_cdf, __global const float *en
 }
 
 /* The environment's radiance arriving against the world direction d; with a
- * map, *pdf becomes env_sample's density of d (a uniform environment leaves
+ * map, *pdf becomes env_gather's density of d (a uniform environment leaves
  * *pdf alone: its density depends on the surface, st_path.env_pdf). */
 static float3 env_radiance(const st_scene_refs *s, const st_shading *sh, float3 d, float *pdf)
 {
@@ -242,109 +222,87 @@ static float3 env_radiance(const st_scene_refs *s, const st_shading *sh, float3 
     return env_map_at(s->env_cdf, s->env_texels, sh, u, v, pdf);
 }
 
-/* A direction *wi towards the environment from (u1, u2), its density *pdf
- * in solid angle (0: none usable) and the radiance along it: the map's
- * importance sampling by luminance, or for a uniform environment a
- * cosine-distributed direction about the shading normal. */
-static float3 env_sample(const st_scene_refs *s, const st_shading *sh, const st_surface *v,
-                         float u1, float u2, float3 *wi, float *pdf)
+/* Lane k's environment sample from (u1, u2): the map's importance sampling
+ * by luminance (a world direction, its radiance and density x choice), or
+ * for a uniform environment (u1, u2) themselves, which light_sample turns
+ * into a cosine-distributed direction about the shading normal in lanes. */
+static void env_gather(const st_scene_refs *s, const st_shading *sh, float u1, float u2, st_u32 k,
+                       st_vertex_in *l)
 {
-    if (sh->env_size[0] == 0u) {
-        float cz;
-        *wi = cosine_direction(v->ns, u1, u2, &cz);
-        *pdf = cz > 0.0f ? cz / ST_PI_F : 0.0f;
-        return vload4(0, sh->env).xyz;
+    float choice = env_choice(sh), pdf;
+    if (sh->env_size[0] == 0u) { /* the direction is made in lanes (light_sample) */
+        set_lane3(l->lp, k, (float3)(u1, u2, 0.0f));
+        set_lane3(l->ll, k, vload4(0, sh->env).xyz);
+        l->lq[k] = choice;
+        l->lkind[k] = ST_LIGHT_ENV_LOCAL;
+        return;
     }
     float u, w, dm[3], dw[3];
     st_env_sample(s->env_cdf, sh->env_size[0], sh->env_size[1], u1, u2, &u, &w);
     st_env_direction(u, w, dm);
     st_env_rotate(sh->env_rot, 1, dm, dw);
-    *wi = (float3)(dw[0], dw[1], dw[2]);
-    float3 le = env_map_at(s->env_cdf, s->env_texels, sh, u, w, pdf);
-    if (!(dot(*wi, v->ns) > 0.0f))
-        *pdf = 0.0f;
-    return le;
+    set_lane3(l->lp, k, (float3)(dw[0], dw[1], dw[2]));
+    set_lane3(l->ll, k, env_map_at(s->env_cdf, s->env_texels, sh, u, w, &pdf));
+    l->lq[k] = pdf * choice;
+    l->lkind[k] = ST_LIGHT_ENV;
 }
 
-/* The weight of the emission seen along the ray (one-sided; 0: none): 1
- * for a camera ray, and for a ray made by a BSDF sample (depth > 0) the MIS
- * weight against sampling the same light. The caller adds beta x le x w in
- * one expression, as the compiler may fuse it. */
-static float emission_weight(const st_scene_refs *s, const st_shading *sh, const st_surface *v,
-                             const st_walk *pa, st_hit h, float cos_o)
+/* Lane k's punctual light, picked by power with u (probability punct_share
+ * x its share of their power): a delta light, which no BSDF sample can
+ * hit, so its sample takes weight 1 (no MIS). A spot's cone goes to the
+ * lanes, which weigh its intensity (punctual_intensity); other lights get a
+ * cone that passes everything. */
+static void punctual_gather(const st_scene_refs *s, const st_shading *sh, float u, st_u32 k,
+                            st_vertex_in *l)
 {
-    float3 le = v->le;
-    if (!(cos_o > 0.0f && (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f)))
-        return 0.0f;
-    if (pa->depth == 0u)
-        return 1.0f;
-    float pdf_light = s->light_pdf[h.prim] * area_choice(sh) * h.t * h.t / cos_o;
-    return power_heuristic(pa->bsdf_pdf, pdf_light);
-}
-
-/* Writes the shadow ray *out towards the point (origin, wi, tmax), adding c
- * when unoccluded; none (*out left alone) unless tmax > 0. Straight to the
- * wave's buffer: a private st_shadow_ray returned by value stayed in memory
- * per work-item on PoCL. */
-static void shadow_towards(__global st_shadow_ray *out, float3 origin, float3 wi, float tmax,
-                           float3 c)
-{
-    if (!(tmax > 0.0f))
+    st_u32 j = pick_light(s->punct_cdf, sh->punct_count, &u);
+    __global const st_punctual *pl = &s->punctual[j];
+    st_u32 kind = (st_u32)pl->pos[3];
+    l->lq[k] = sh->punct_share * st_cdf_prob(s->punct_cdf, j);
+    set_lane3(l->ll, k, vload4(0, pl->intensity).xyz);
+    if (kind == ST_PUNCT_DIRECTIONAL) {
+        set_lane3(l->lp, k, -vload4(0, pl->dir).xyz);
+        l->lkind[k] = ST_LIGHT_DISTANT;
         return;
-    vstore3(origin, 0, out->o);
-    out->tmax = tmax;
-    vstore3(wi, 0, out->d);
-    vstore3(c, 0, out->contribution);
-}
-
-/* Next-event estimation towards a punctual light, picked by power with u
- * (probability punct_share x its share of their power): a delta light,
- * which no BSDF sample can hit, so its sample takes weight 1 (no MIS). The
- * shadow ray ends at the light, or for a directional one goes to infinity
- * against its direction; it adds beta f cos I / (d² P(pick)) (d = 1 and I
- * the irradiance for a directional light). */
-static void punctual_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                           const st_surface *v, float3 beta, float3 origin, float u,
-                           __global st_shadow_ray *out)
-{
-    st_u32 k = pick_light(s->punct_cdf, sh->punct_count, &u);
-    float prob = sh->punct_share * (s->punct_cdf[k] - (k ? s->punct_cdf[k - 1u] : 0.0f));
-    __global const st_punctual *l = &s->punctual[k];
-    float3 wi;
-    float tmax = INFINITY, dist2 = 1.0f, pdf_bsdf;
-    if ((st_u32)l->pos[3] == ST_PUNCT_DIRECTIONAL) {
-        wi = -vload4(0, l->dir).xyz;
-    } else {
-        wi = vload4(0, l->pos).xyz - origin;
-        dist2 = dot(wi, wi);
-        float dist = sqrt(dist2);
-        wi /= dist;
-        tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
     }
-    if (!(prob > 0.0f && tmax > 0.0f && dot(v->ns, wi) > 0.0f && dot(v->ng, wi) > 0.0f))
-        return;
-    float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
-    shadow_towards(out, origin, wi, tmax, beta * fc * punctual_intensity(l, wi) / (dist2 * prob));
+    set_lane3(l->lp, k, vload4(0, pl->pos).xyz);
+    l->lkind[k] = ST_LIGHT_POINT;
+    if (kind == ST_PUNCT_SPOT) {
+        set_lane3(l->lnl, k, vload4(0, pl->dir).xyz);
+        l->lco[k] = pl->dir[3];
+        l->lci[k] = pl->intensity[3];
+    }
 }
 
-/* Next-event estimation: a punctual light (with probability punct_share:
- * punctual_event), else the environment (env_sample) or one point on one
- * emissive triangle, chosen by power (env_choice, area_choice), as a
- * shadow ray *out with what it adds when unoccluded; *out is left alone
- * (tmax 0) when the sample cannot contribute. One stratified dimension makes each choice
- * and then the sample's first coordinate (pick_light). In the path
- * integrator the environment and area samples are weighted by the power
- * heuristic against the BSDF sample (surface_f_cos's pdf). */
-static void next_event(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                       const st_surface *v, const st_walk *pa, float3 origin, st_sample_id *id,
-                       st_u32 dim, __global st_shadow_ray *out)
+/* Lane k's area-light sample: the triangle picked by power with u, the
+ * point uniform in its area, its facing normal, emission and density per
+ * area x choice. */
+static void area_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh, float u,
+                        float u2, st_u32 k, st_vertex_in *l)
 {
-    float3 beta = pa->beta;
-    int path = p->integrator == ST_INTEGRATOR_PATH;
-    float w = 1.0f, pdf_bsdf, u = st_sample_dim(p, id, dim), pe = sh->env_pick;
+    st_u32 lt = s->light_tri[pick_light(s->light_cdf, p->light_count, &u)];
+    set_lane3(l->lp, k, triangle_point(s->tris, lt, u, u2));
+    set_lane3(l->lnl, k, facing_normal(s->normals, lt));
+    set_lane3(l->ll, k, light_emission(s, lt, u, u2, sh->texture_filter));
+    l->lq[k] = s->light_pdf[lt] * area_choice(sh);
+    l->lkind[k] = ST_LIGHT_AREA;
+}
+
+/* Lane k's light sample for next-event estimation: a punctual light (with
+ * probability punct_share), else the environment or one point on one
+ * emissive triangle, chosen by power (env_pick). One stratified dimension
+ * makes each choice and then the sample's first coordinate (pick_light). */
+static void light_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                         st_u32 k, st_vertex_in *l)
+{
+    float u = l->u[0][k], u2 = l->u[1][k], pe = sh->env_pick;
+    l->lkind[k] = ST_LIGHT_NONE;
+    l->lco[k] = -1.0f; /* a cone that passes every direction (punctual_gather) */
+    l->lci[k] = 0.0f;
+    set_lane3(l->lnl, k, (float3)(0.0f));
     if (sh->punct_count > 0u) { /* u both chooses and stays stratified (pick_light) */
         if (u < sh->punct_share) {
-            punctual_event(s, p, sh, v, beta, origin, u / sh->punct_share, out);
+            punctual_gather(s, sh, u / sh->punct_share, k, l);
             return;
         }
         u = fmin((u - sh->punct_share) / (1.0f - sh->punct_share), 0.99999994f);
@@ -352,84 +310,205 @@ static void next_event(const st_scene_refs *s, const st_params *p, const st_shad
     int take_env = u < pe;
     if (pe > 0.0f && pe < 1.0f)
         u = take_env ? u / pe : fmin((u - pe) / (1.0f - pe), 0.99999994f);
-    float3 wi, c;
-    float tmax, u2 = st_sample_dim(p, id, dim + 1u);
-    if (take_env) {
-        float pdf_env, choice = env_choice(sh);
-        float3 le = env_sample(s, sh, v, u, u2, &wi, &pdf_env);
-        if (!(pdf_env > 0.0f && dot(wi, v->ng) > 0.0f))
-            return;
-        float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
-        w = path ? power_heuristic(pdf_env * choice, pdf_bsdf) : 1.0f;
-        c = beta * fc * le * (w / (pdf_env * choice));
-        tmax = INFINITY;
-    } else if (p->light_count > 0u) {
-        float choice = area_choice(sh);
-        st_u32 lt = s->light_tri[pick_light(s->light_cdf, p->light_count, &u)];
-        float3 q = triangle_point(s->tris, lt, u, u2), nl = facing_normal(s->normals, lt);
-        wi = q - origin;
-        float dist2 = dot(wi, wi), dist = sqrt(dist2);
-        wi /= dist;
-        float cos_l = -dot(nl, wi), cos_s = dot(v->ns, wi);
-        if (!(cos_l > 0.0f && cos_s > 0.0f && dot(v->ng, wi) > 0.0f))
-            return;
-        float pdf_light = s->light_pdf[lt] * dist2 / cos_l;
-        float3 fc = surface_f_cos(v, wi, &pdf_bsdf);
-        w = path ? power_heuristic(pdf_light * choice, pdf_bsdf) : 1.0f;
-        float3 lel = light_emission(s, lt, u, u2, sh->texture_filter);
-        c = beta * fc * lel * (w / pdf_light) / choice;
-        tmax = dist * (1.0f - 1e-3f) - p->ray_eps;
-    } else {
-        return;
-    }
-    shadow_towards(out, origin, wi, tmax, c);
+    if (take_env)
+        env_gather(s, sh, u, u2, k, l);
+    else if (p->light_count > 0u)
+        area_gather(s, p, sh, u, u2, k, l);
 }
 
-/* The BSDF sample: a cosine-weighted direction for a Lambertian surface,
- * else one from the BRDF's mixture (bsdf.h); beta *= f cos / pdf, bsdf_pdf
- * = pdf and env_pdf = cos / π for MIS where the ray ends. Returns 0 when the
- * direction is below the geometric surface (the path ends). */
-static int bsdf_bounce(const st_params *p, const st_surface *v, st_walk *pa, st_sample_id *id,
-                       st_u32 dim, float3 *wi)
+/* ---- the lanes' arithmetic ------------------------------------------------ */
+
+/* What the steps know of ST_W surface points. */
+typedef struct st_vertex {
+    st_lv3 pos, wo;     /* the points, and the directions back along the rays */
+    st_lv3 ng, ns;      /* geometric and shading normals, turned to the ray's side */
+    st_lv3 tu, tv;      /* the shading frame's tangents */
+    st_lv3 albedo;      /* the Lambertian part's albedo ((1 - metallic) x base colour) */
+    st_brdf brdf;       /* the glTF BRDF (bsdf.h), where glossy */
+    st_dir wo_local;    /* wo in the shading frame, where glossy */
+    st_li glossy;       /* the lanes with a specular lobe (metallic or specular > 0) */
+    st_lv3 beta, rad;   /* the paths' throughput and radiance */
+} st_vertex;
+
+/* The shading normal interpolated from the vertex normals, bent by the
+ * normal map where a lane has one (one lane at a time: normal_mapped reads
+ * the triangle's tangents). */
+ST_HOT st_lv3 shading_normal(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped, st_lv3 ng)
 {
-    float cz, u1 = st_sample_dim(p, id, dim + 2u), u2 = st_sample_dim(p, id, dim + 3u);
-    float3 weight;
-    if (v->lambert) {
-        *wi = cosine_direction(v->ns, u1, u2, &cz);
-        weight = v->albedo;
-        pa->bsdf_pdf = cz / ST_PI_F;
-    } else {
-        st_brdf b = v->brdf; /* a copy, as in surface_f_cos */
-        st_dir li = st_brdf_sample(&b, v->wo_local, u1, u2);
-        cz = li.z;
-        *wi = normalize(li.x * v->tu + li.y * v->tv + li.z * v->ns);
-        float f[3], pdf = st_brdf_pdf(&b, v->wo_local, li);
-        st_brdf_eval(&b, v->wo_local, li, f);
-        if (!(pdf > 0.0f))
-            return 0;
-        weight = (float3)(f[0], f[1], f[2]) * (cz / pdf);
-        pa->bsdf_pdf = pdf;
+    st_lf bu = ST_LV(l->bu), bv = ST_LV(l->bv), w0 = 1.0f - bu - bv;
+    st_lv3 n0 = ST_LV3_OF(l->n0), n1 = ST_LV3_OF(l->n1), n2 = ST_LV3_OF(l->n2);
+    st_lv3 sum = st_lv3_make(w0 * n0.x + bu * n1.x + bv * n2.x, w0 * n0.y + bu * n1.y + bv * n2.y,
+                             w0 * n0.z + bu * n1.z + bv * n2.z);
+    st_lv3 ns = st_lv3_div(sum, sqrt(st_lv3_dot(sum, sum)));
+    if (!nmapped)
+        return ns;
+    float nsa[3][ST_W], nga[3][ST_W];
+    lv3_store(ns, nsa);
+    lv3_store(ng, nga);
+    for (st_u32 k = 0; k < ST_W; k++)
+        if ((nmapped >> k) & 1u)
+            set_lane3(nsa, k, normal_mapped(s, l->prim[k], l->bu[k], l->bv[k], lane3(nsa, k),
+                                            lane3(nga, k), lane3(l->nmap, k), l->nscale[k]));
+    return ST_LV3_OF(nsa);
+}
+
+/* The emission seen along each lane's ray, weighted: 1 for a camera ray,
+ * and for a ray made by a BSDF sample (depth > 0) the MIS weight against
+ * sampling the same light (an emitter's density per area turned to solid
+ * angle, t² / cos; the environment's as gathered). Emitters are one-sided. */
+ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li miss, st_lf cos_o)
+{
+    st_lv3 le = ST_LV3_OF(l->le);
+    st_lf t = ST_LV(l->t), q = ST_LV(l->emit_pdf);
+    q = ST_SELECT(ST_W, q * area_choice(sh) * t * t / cos_o, q, miss);
+    st_li seen = (miss || cos_o > 0.0f) && (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f);
+    st_lf w = ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(ST_LV(l->bsdf_pdf), q),
+                        ST_LV(l->depth) > 0u);
+    return st_lv3_scale(le, ST_SELECT(ST_W, ST_LF(0.0f), w, seen));
+}
+
+/* The surface at each lane's hit: position, normals (turned to the side
+ * the ray arrived on), the shading frame and the BRDF where glossy. */
+ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
+                                st_li miss, const st_shading *sh, st_lf *cos_o)
+{
+    st_vertex v;
+    st_lv3 d = ST_LV3_OF(l->d);
+    v.wo = st_lv3_neg(d);
+    v.pos = st_lv3_along(ST_LV3_OF(l->o), d, ST_LV(l->t));
+    v.ng = ST_LV3_OF(l->ng);
+    v.ns = shading_normal(s, l, nmapped, v.ng);
+    *cos_o = st_lv3_dot(v.ng, v.wo);
+    v.beta = ST_LV3_OF(l->beta);
+    v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
+    v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
+    v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
+    st_basis(v.ns, &v.tu, &v.tv);
+    st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
+    v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
+    v.albedo = ST_LV3_OF(l->base);
+    if (ST_ANY(ST_W, v.glossy)) {
+        st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
+        st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
+        v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior));
+        v.albedo = st_lv3_select(
+            v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
+            v.glossy);
+        /* wo below the shading normal's horizon (interpolated normals at a
+         * silhouette) is lifted just above it, so the BRDF does not go
+         * black there */
+        st_lf z = fmax(st_lv3_dot(v.wo, v.ns), 1e-4f);
+        v.wo_local = st_dir_normalize(st_lv3_make(st_lv3_dot(v.wo, v.tu), st_lv3_dot(v.wo, v.tv), z));
     }
-    if (!(cz > 0.0f) || dot(*wi, v->ng) <= 0.0f)
-        return 0;
-    pa->beta *= weight;
-    pa->env_pdf = cz / ST_PI_F;
-    return 1;
+    return v;
+}
+
+/* The direction with local coordinates w (in the frame tu, tv, ns). */
+ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
+{
+    st_lv3 d = st_lv3_make(w.x * v->tu.x + w.y * v->tv.x + w.z * v->ns.x,
+                           w.x * v->tu.y + w.y * v->tv.y + w.z * v->ns.y,
+                           w.x * v->tu.z + w.y * v->tv.z + w.z * v->ns.z);
+    return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
+}
+
+/* f(wo, wi) cos θi for directions wi above the surface, and in *pdf the
+ * density with which vertex_bounce would choose wi. */
+ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
+{
+    st_lf c = st_lv3_dot(v->ns, wi);
+    *pdf = c / ST_PI_F;
+    st_lv3 f = st_lv3_scale(v->albedo, *pdf);
+    if (ST_ANY(ST_W, v->glossy)) {
+        st_dir li = st_lv3_make(st_lv3_dot(wi, v->tu), st_lv3_dot(wi, v->tv), c);
+        st_lf fk[3];
+        st_brdf_eval(&v->brdf, v->wo_local, li, fk);
+        *pdf = ST_SELECT(ST_W, *pdf, st_brdf_pdf(&v->brdf, v->wo_local, li), v->glossy);
+        f = st_lv3_select(f, st_lv3_scale(st_lv3_make(fk[0], fk[1], fk[2]), c), v->glossy);
+    }
+    return f;
+}
+
+/* Next-event estimation's shadow rays, from the light samples gathered:
+ * the direction and distance to the light, the cosines it needs, and what
+ * the ray adds when unoccluded, beta f cos L w / q, with q the sample's
+ * density in solid angle (x its choice) and w the power heuristic's weight
+ * against the BSDF sample in the path integrator (1 for a delta light).
+ * *tmax: the ray's length; 0 where none. */
+ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 origin, int mis,
+                           float eps, st_lv3 *wi, st_lf *tmax)
+{
+    st_li kind = ST_LV(l->lkind);
+    st_li at_point = kind == ST_LIGHT_AREA || kind == ST_LIGHT_POINT;
+    st_li in_frame = kind == ST_LIGHT_ENV_LOCAL, area = kind == ST_LIGHT_AREA;
+    st_lv3 lp = ST_LV3_OF(l->lp);
+    st_dir wl = lp;
+    *wi = lp;
+    if (ST_ANY(ST_W, in_frame)) {
+        wl = st_cosine_sample(lp.x, lp.y);
+        *wi = st_lv3_select(*wi, vertex_world(v, wl), in_frame);
+    }
+    st_lv3 to = st_lv3_sub(lp, origin);
+    st_lf dist2 = st_lv3_dot(to, to), dist = sqrt(dist2);
+    *wi = st_lv3_select(*wi, st_lv3_div(to, dist), at_point);
+    dist2 = ST_SELECT(ST_W, ST_LF(1.0f), dist2, at_point);
+    *tmax = ST_SELECT(ST_W, ST_LF(INFINITY), dist * (1.0f - 1e-3f) - eps, at_point);
+    st_lf cos_l = -st_lv3_dot(ST_LV3_OF(l->lnl), *wi);
+    st_lf q = ST_LV(l->lq) * dist2 * ST_SELECT(ST_W, ST_LF(1.0f), wl.z / ST_PI_F, in_frame) /
+              ST_SELECT(ST_W, ST_LF(1.0f), cos_l, area);
+    /* a spot's falloff, t² with t = (cos - cos_outer) / max(1e-3, cos_inner
+     * - cos_outer) clamped to [0, 1] (KHR_lights_punctual); 1 elsewhere */
+    st_lf co = ST_LV(l->lco), tc = (cos_l - co) / fmax(1e-3f, ST_LV(l->lci) - co);
+    tc = st_clamp01(ST_SELECT(ST_W, ST_LF(1.0f), tc, kind == ST_LIGHT_POINT));
+    st_li ok = kind != ST_LIGHT_NONE && st_lv3_dot(v->ns, *wi) > 0.0f &&
+               st_lv3_dot(v->ng, *wi) > 0.0f && (!area || cos_l > 0.0f) && *tmax > 0.0f &&
+               q > 0.0f;
+    st_lf pdf_bsdf;
+    st_lv3 fc = surface_f_cos(v, *wi, &pdf_bsdf);
+    st_li weigh = kind == ST_LIGHT_AREA || kind == ST_LIGHT_ENV || in_frame; /* not delta */
+    st_lf w = mis ? ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(q, pdf_bsdf), weigh)
+                  : ST_LF(1.0f);
+    *tmax = ST_SELECT(ST_W, ST_LF(0.0f), *tmax, ok);
+    st_lv3 c = st_lv3_mul(st_lv3_mul(v->beta, fc), ST_LV3_OF(l->ll));
+    return st_lv3_scale(c, tc * tc * (w / q));
+}
+
+/* The BSDF sample: a cosine-weighted direction where Lambertian, else one
+ * from the BRDF's mixture (bsdf.h); beta *= f cos / pdf. *pdf: its density
+ * (for MIS where the ray ends), *cz its cosine. Returns the lanes whose
+ * direction lies above both surfaces (the others' paths end). */
+ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lv3 *wi, st_lf *pdf, st_lf *cz)
+{
+    st_dir w = st_cosine_sample(u1, u2);
+    *pdf = w.z / ST_PI_F;
+    st_lv3 weight = v->albedo;
+    if (ST_ANY(ST_W, v->glossy)) {
+        st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
+        st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
+        st_brdf_eval(&v->brdf, v->wo_local, g, f);
+        w = st_lv3_select(w, g, v->glossy);
+        *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
+        weight = st_lv3_select(weight, st_lv3_scale(st_lv3_make(f[0], f[1], f[2]), g.z / gp),
+                               v->glossy);
+    }
+    *cz = w.z;
+    *wi = vertex_world(v, w);
+    st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
+    v->beta = st_lv3_select(v->beta, st_lv3_mul(v->beta, weight), ok);
+    return ok;
 }
 
 /* Russian roulette from the ST_RR_START_DEPTH-th vertex on: the path ends
- * with probability q = max(0.05, 1 - max beta) and survivors divide by
- * 1 - q. Returns 0 when it ends. */
-static int roulette(const st_params *p, st_walk *pa, st_sample_id *id, st_u32 dim)
+ * with probability q = max(0.05, 1 - max beta) (u below q) and survivors
+ * divide by 1 - q. Returns the lanes that go on. */
+ST_HOT st_li roulette(st_vertex *v, st_lu depth, st_lf u)
 {
-    if (pa->depth + 1u < ST_RR_START_DEPTH)
-        return 1;
-    float3 beta = pa->beta;
-    float q = fmax(0.05f, 1.0f - fmax(beta.x, fmax(beta.y, beta.z)));
-    if (st_sample_dim(p, id, dim + 5u) < q)
-        return 0;
-    pa->beta = beta / (1.0f - q);
-    return 1;
+    st_li play = depth + 1u >= ST_RR_START_DEPTH;
+    st_lv3 b = v->beta;
+    st_lf q = fmax(0.05f, 1.0f - fmax(b.x, fmax(b.y, b.z)));
+    st_li ends = play && u < q;
+    v->beta = st_lv3_select(b, st_lv3_div(b, 1.0f - q), play && !ends);
+    return !ends;
 }
 
 #endif

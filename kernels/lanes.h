@@ -145,4 +145,78 @@ static inline unsigned st_mask_bits16(int16 m)
 }
 #endif
 
+/* A 3-vector in n lanes: x, y and z each n wide (st_v3x<n>), defined for
+ * every width, passed by value so that the compiler keeps its lanes in
+ * registers (as private arrays PoCL kept them on the stack). */
+#define ST_DEFINE_V3X(n)                                                                   \
+    typedef struct ST_CAT(st_v3x, n) {                                                     \
+        ST_VEC(float, n) x, y, z;                                                          \
+    } ST_CAT(st_v3x, n);
+ST_DEFINE_V3X(1)
+#ifdef __OPENCL_VERSION__
+ST_DEFINE_V3X(4)
+ST_DEFINE_V3X(8)
+ST_DEFINE_V3X(16)
+#endif
+
+/* The stages' lanes, ST_W of them: a float, an int (a mask: see the top),
+ * an unsigned int and a 3-vector per lane. */
+typedef ST_VEC(float, ST_W) st_lf;
+typedef ST_VEC(int, ST_W) st_li;
+#ifdef __OPENCL_VERSION__
+typedef ST_VEC(uint, ST_W) st_lu;
+#else
+typedef unsigned st_lu;
+#endif
+typedef ST_CAT(st_v3x, ST_W) st_lv3;
+
+/* Lanes of floats from unsigned ints, rounded to nearest (convert_float). */
+#define ST_TO_FLOAT(n, x) ST_CAT(ST_TO_FLOAT_, n)(x)
+#define ST_TO_FLOAT_1(x) ((float)(x))
+#define ST_TO_FLOAT_4(x) convert_float4(x)
+#define ST_TO_FLOAT_8(x) convert_float8(x)
+#define ST_TO_FLOAT_16(x) convert_float16(x)
+
+/* 3-vectors of lanes: float3's arithmetic, lane by lane. Each is one
+ * statement, so that a lane computes the same at every width (OpenCL
+ * contracts a * b + c into fma within a statement, alike at every width). */
+static inline st_lv3 st_lv3_make(st_lf x, st_lf y, st_lf z)
+{
+    st_lv3 v = {x, y, z};
+    return v;
+}
+static inline st_lv3 st_lv3_add(st_lv3 a, st_lv3 b)
+{
+    return st_lv3_make(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static inline st_lv3 st_lv3_sub(st_lv3 a, st_lv3 b)
+{
+    return st_lv3_make(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static inline st_lv3 st_lv3_mul(st_lv3 a, st_lv3 b)
+{
+    return st_lv3_make(a.x * b.x, a.y * b.y, a.z * b.z);
+}
+static inline st_lv3 st_lv3_scale(st_lv3 a, st_lf s)
+{
+    return st_lv3_make(a.x * s, a.y * s, a.z * s);
+}
+static inline st_lv3 st_lv3_div(st_lv3 a, st_lf s)
+{
+    return st_lv3_make(a.x / s, a.y / s, a.z / s);
+}
+static inline st_lv3 st_lv3_neg(st_lv3 a) { return st_lv3_make(-a.x, -a.y, -a.z); }
+static inline st_lf st_lv3_dot(st_lv3 a, st_lv3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+/* a + b s: a point along a ray, or a step along a normal. */
+static inline st_lv3 st_lv3_along(st_lv3 a, st_lv3 b, st_lf s)
+{
+    return st_lv3_make(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
+/* a in the lanes of mask m, b in the others. */
+static inline st_lv3 st_lv3_select(st_lv3 b, st_lv3 a, st_li m)
+{
+    return st_lv3_make(ST_SELECT(ST_W, b.x, a.x, m), ST_SELECT(ST_W, b.y, a.y, m),
+                       ST_SELECT(ST_W, b.z, a.z, m));
+}
+
 #endif

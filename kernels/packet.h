@@ -29,15 +29,9 @@
 
 #define ST_PACKET ST_W
 
-typedef ST_VEC(float, ST_W) st_lf; /* a float per ray */
-typedef ST_VEC(int, ST_W) st_li;   /* a mask per ray */
-typedef ST_VEC(uint, ST_W) st_lu;  /* an index per ray */
-
-/* A packet's rays: per lane the single-ray setup (for the node test) and
- * the origins and directions as lanes (for the triangle test); live: bit j
- * set when lane j carries a ray. */
-typedef ST_CAT(st_v3x, ST_W) st_lv3; /* a 3-vector per ray */
-
+/* A packet's rays (lanes.h's st_lf, st_li, st_lv3 per ray): per lane the
+ * single-ray setup (for the node test) and the origins and directions as
+ * lanes (for the triangle test); live: bit j set when lane j carries a ray. */
 typedef struct st_packet {
     st_trace_ray r[ST_PACKET];
     st_lv3 o, d;

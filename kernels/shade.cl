@@ -1,5 +1,6 @@
-/* shade.cl — one path vertex per work-item: emission (with MIS), next-event
- * estimation towards the emissive triangles, and the next bounce.
+/* shade.cl — one path vertex of ST_W items per work-item (integrator.h: the
+ * vertex written once over lanes): emission (with MIS), next-event
+ * estimation, and the next bounce.
  *
  * Integrators (pbrt's conventions; pbr-book 4ed §13.4):
  *  direct: the emission seen at the camera hit plus area-light sampling at
@@ -52,24 +53,6 @@
 #include "bsdf.h"
 #include "integrator.h"
 #include "shadow.h"
-#include "shade_lanes.h"
-
-/* A path that left the scene along d sees the environment, weighted by MIS
- * where next-event estimation samples it too (see the top). */
-static void shade_miss(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                       st_walk *pa, float3 d)
-{
-    float3 env = vload4(0, sh->env).xyz;
-    if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f) {
-        float pdf_env = pa->env_pdf, choice = env_choice(sh);
-        float3 le = env_radiance(s, sh, d, &pdf_env);
-        float w = pa->depth > 0u && p->integrator == ST_INTEGRATOR_PATH && choice > 0.0f
-                      ? power_heuristic(pa->bsdf_pdf, pdf_env * choice)
-                      : 1.0f;
-        pa->radiance = pa->radiance + pa->beta * le * w;
-    }
-    pa->depth = ST_PATH_DEAD;
-}
 
 /* The ray item i follows next: from o along d, path_length along the path. */
 static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_length)
@@ -80,198 +63,235 @@ static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_le
     r->path_length = path_length;
 }
 
-/* The rest of a vertex on surface v after emission, alpha and unlit (see
- * shade_item): next-event estimation's shadow ray and the bounce, or the
- * path's end. */
-static void shade_scatter(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                          st_surface *v, st_walk *pa, __global const st_sample *smp,
-                          __global const st_u32 *pmj02, __global st_shadow_ray *shadow,
-                          __global st_wave_ray *ray)
+/* Lane k's sample dimensions at its depth, where the vertex reads them
+ * (integrator.h's u): 0 and 1 for next-event estimation, and in the path
+ * integrator 2 and 3 for the bounce and 5 for Russian roulette. The random
+ * sampler's are made in lanes instead (dims_random). */
+static void dims_gather(const st_params *p, st_sample smp, __global const st_u32 *pmj02,
+                        st_u32 depth, st_u32 k, st_vertex_in *l)
 {
-    if (pa->depth >= p->max_depth) {
-        pa->depth = ST_PATH_DEAD;
+    if (p->sampler == ST_SAMPLER_RANDOM || depth >= p->max_depth)
         return;
-    }
-    surface_frame(v);
-    st_sample_id id = st_sample_resume(p, smp->pixel, smp->index, smp->key, smp->word);
+    st_sample_id id = st_sample_resume(p, smp.pixel, smp.index, smp.key, smp.word);
     id.pmj02 = pmj02;
-    st_u32 dim = 2u + ST_DIMS_PER_VERTEX * pa->depth;
-    float3 origin = v->pos + v->ng * p->ray_eps, wi;
-    next_event(s, p, sh, v, pa, origin, &id, dim, shadow);
-    if (p->integrator != ST_INTEGRATOR_PATH || !bsdf_bounce(p, v, pa, &id, dim, &wi) ||
-        !roulette(p, pa, &id, dim)) {
-        pa->depth = ST_PATH_DEAD;
-    } else {
-        ray_store(ray, origin, wi, v->travelled);
-        pa->depth++;
-    }
+    st_u32 dim = 2u + ST_DIMS_PER_VERTEX * depth;
+    l->u[0][k] = st_sample_dim(p, &id, dim);
+    l->u[1][k] = st_sample_dim(p, &id, dim + 1u);
+    if (p->integrator != ST_INTEGRATOR_PATH)
+        return;
+    l->u[2][k] = st_sample_dim(p, &id, dim + 2u);
+    l->u[3][k] = st_sample_dim(p, &id, dim + 3u);
+    if (depth + 1u >= ST_RR_START_DEPTH)
+        l->u[5][k] = st_sample_dim(p, &id, dim + 5u);
 }
 
-/* One vertex of item i's path, if live: reads hit, ray, path and sample;
- * adds the emission it sees to the path's radiance, writes the shadow ray of
- * next-event estimation (tmax 0: none) and the next ray, or ends the path
- * (depth ST_PATH_DEAD). Forced inline; the values p and sh by pointer: as
- * by-value parameters PoCL copied them for every work-item (callgrind). The
- * path, ray and sample are read field by field where used, never copied
- * whole into private structs (see st_walk). */
-ST_HOT void shade_item(st_u32 i, const st_params *p,
-                       const st_shading *sh ST_SCENE_BUFFERS(ST_SCENE_PARAM)
-                           ST_WAVE_BUFFERS(ST_WAVE_PARAM))
+/* st_rng_unit(key, dim) of a key and a dimension per lane. */
+ST_HOT st_lf rng_unit_lanes(st_lu key, st_lu dim)
+{
+    st_lu h = dim + 0x9e3779b9u;
+    ST_HASH32_MIX(h);
+    st_lu x = key ^ h;
+    ST_HASH32_MIX(x);
+    return ST_TO_FLOAT(ST_W, x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
+}
+
+/* dims_gather's dimensions for the random sampler, all lanes at once. */
+ST_HOT void dims_random(st_vertex_in *l)
+{
+    st_lu key = ST_LV(l->key), dim = 2u + ST_DIMS_PER_VERTEX * ST_LV(l->depth);
+    for (st_u32 j = 0; j < 6u; j++)
+        if (j != 4u)
+            ST_VSTORE(ST_W, rng_unit_lanes(key, dim + j), l->u[j]);
+}
+
+/* Lane k's part of the vertex of item i: the shadow ray cleared; a dead
+ * path left alone; a ray that goes on through a cut-out and a
+ * KHR_materials_unlit surface (its colour, from either side, and no more)
+ * done here. Otherwise the lane's inputs are gathered (bit k of *miss set
+ * for a ray that left the scene, of *nmapped for a normal-mapped surface)
+ * and it returns 1: the lanes do the rest. */
+ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                         st_u32 i, st_u32 k, __global const st_sample *sample,
+                         __global st_wave_ray *ray, __global const st_hit *hit,
+                         __global st_path *path, __global st_shadow_ray *shadow,
+                         __global const st_u32 *pmj02, st_vertex_in *l, st_u32 *miss,
+                         st_u32 *nmapped)
 {
     shadow[i].tmax = 0.0f;
     __global st_path *gp = &path[i];
-    if (gp->depth == ST_PATH_DEAD)
-        return;
+    st_u32 depth = gp->depth;
+    if (depth == ST_PATH_DEAD)
+        return 0;
     gp->closest_rays++;
-    st_walk pa = walk_load(gp);
     st_hit h = hit[i];
-    st_scene_refs s = ST_SCENE_REFS_INIT;
     __global st_wave_ray *r = &ray[i];
-    float3 d = vload3(0, r->d);
-    if (h.prim == ST_NO_HIT) {
-        shade_miss(&s, p, sh, &pa, d);
-        walk_store(gp, &pa);
-        return;
+    float3 o = vload3(0, r->o), d = vload3(0, r->d), beta = vload3(0, gp->beta);
+    set_lane3(l->beta, k, beta);
+    set_lane3(l->rad, k, vload3(0, gp->radiance));
+    l->bsdf_pdf[k] = gp->bsdf_pdf;
+    l->depth[k] = depth;
+    if (h.prim == ST_NO_HIT) { /* the environment, weighed in lanes (seen_emission) */
+        float pdf = gp->env_pdf;
+        float3 env = vload4(0, sh->env).xyz, le = (float3)(0.0f);
+        if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f)
+            le = env_radiance(s, sh, d, &pdf);
+        set_lane3(l->le, k, le);
+        l->emit_pdf[k] = pdf * env_choice(sh);
+        *miss |= 1u << k;
+        return 1;
     }
+    float travelled = r->path_length + h.t;
+    float3 ng = facing_normal(s->normals, h.prim), pos = o + d * h.t;
+    st_material_at a = material_at(s, p, sh, h, dot(ng, -d), travelled);
     st_sample smp = sample[i];
-    st_surface v = surface_at_ray(&s, p, sh, vload3(0, r->o), d, r->path_length, h);
-    if (alpha_passes(&s, p, &v, smp, h.prim, pa.depth)) { /* go on through */
-        ray_store(r, v.pos - v.wo * p->ray_eps, -v.wo, v.travelled);
-        return;
+    if (alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_PATH_ALPHA_KEY)) { /* go on through */
+        ray_store(r, pos + d * p->ray_eps, d, travelled);
+        return 0;
     }
-    if (v.unlit) { /* KHR_materials_unlit: its colour, from either side, and no more */
-        pa.radiance = pa.radiance + pa.beta * v.base.xyz;
-        pa.depth = ST_PATH_DEAD;
-        walk_store(gp, &pa);
-        return;
+    if (a.flags & ST_MAT_UNLIT) {
+        vstore3(vload3(0, gp->radiance) + beta * a.base.xyz, 0, gp->radiance);
+        gp->depth = ST_PATH_DEAD;
+        return 0;
     }
-    float cos_o = dot(v.ng, v.wo);
-    float we = emission_weight(&s, sh, &v, &pa, h, cos_o);
-    if (we > 0.0f)
-        pa.radiance = pa.radiance + pa.beta * v.le * we;
-    if (cos_o < 0.0f) /* shade the side the ray arrived on */
-        v.ng = -v.ng;
-    if (dot(v.ns, v.ng) < 0.0f)
-        v.ns = -v.ns;
-    shade_scatter(&s, p, sh, &v, &pa, &sample[i], pmj02, &shadow[i], r);
-    walk_store(gp, &pa);
+    set_lane3(l->o, k, o);
+    set_lane3(l->d, k, d);
+    l->t[k] = h.t, l->bu[k] = h.u, l->bv[k] = h.v;
+    l->travelled[k] = travelled;
+    l->prim[k] = h.prim;
+    l->key[k] = smp.key;
+    __global const st_tri_normals *n = &s->normals[h.prim];
+    set_lane3(l->n0, k, vload4(0, n->n0).xyz);
+    set_lane3(l->n1, k, vload4(0, n->n1).xyz);
+    set_lane3(l->n2, k, vload4(0, n->n2).xyz);
+    set_lane3(l->ng, k, ng);
+    set_lane3(l->base, k, a.base.xyz);
+    set_lane3(l->le, k, a.le);
+    l->metallic[k] = a.metallic, l->roughness[k] = a.roughness, l->ior[k] = a.ior;
+    l->spec[0][k] = a.spec.x, l->spec[1][k] = a.spec.y, l->spec[2][k] = a.spec.z;
+    l->spec[3][k] = a.spec.w;
+    l->emit_pdf[k] = s->light_pdf[h.prim];
+    if (a.nmap.w > 0.0f) {
+        set_lane3(l->nmap, k, a.nmap.xyz);
+        l->nscale[k] = a.normal_scale;
+        *nmapped |= 1u << k;
+    }
+    dims_gather(p, smp, pmj02, depth, k, l);
+    return 1;
 }
 
-/* The stage's arguments, passed on to shade_item. */
-#define ST_ARG(name, ...) , name
-#define ST_STAGE_ARGS &p, &sh ST_SCENE_BUFFERS(ST_ARG) ST_WAVE_BUFFERS(ST_ARG)
+/* What the lanes leave for each lane to store (vertex_store). */
+typedef struct st_vertex_out {
+    float rad[3][ST_W], beta[3][ST_W], origin[3][ST_W];
+    float shadow_d[3][ST_W], contribution[3][ST_W], tmax[ST_W]; /* the shadow ray */
+    float next_d[3][ST_W], bsdf_pdf[ST_W], env_pdf[ST_W];      /* the next ray */
+} st_vertex_out;
 
-/* One vertex of every live path (shade_item); its shadow ray is traced by
- * the next stage, trace_shadow_rays (the default: render.c). */
+/* Lane k's results into item i: the radiance; the shadow ray (where
+ * `shadowed`); the next ray and the path one vertex deeper (where `goes`),
+ * else the path ended. */
+ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i, st_u32 k,
+                         int shadowed, int goes, __global st_wave_ray *ray,
+                         __global st_path *path, __global st_shadow_ray *shadow)
+{
+    __global st_path *gp = &path[i];
+    vstore3(lane3(o->rad, k), 0, gp->radiance);
+    float3 origin = lane3(o->origin, k);
+    if (shadowed && o->tmax[k] > 0.0f) {
+        __global st_shadow_ray *sr = &shadow[i];
+        vstore3(origin, 0, sr->o);
+        sr->tmax = o->tmax[k];
+        vstore3(lane3(o->shadow_d, k), 0, sr->d);
+        vstore3(lane3(o->contribution, k), 0, sr->contribution);
+    }
+    if (!goes) {
+        gp->depth = ST_PATH_DEAD;
+        return;
+    }
+    vstore3(lane3(o->beta, k), 0, gp->beta);
+    gp->bsdf_pdf = o->bsdf_pdf[k];
+    gp->env_pdf = o->env_pdf[k];
+    gp->depth = l->depth[k] + 1u;
+    ray_store(&ray[i], origin, lane3(o->next_d, k), l->travelled[k]);
+}
+
+/* One vertex of items first .. first + n - 1 (n <= ST_W), lane k item
+ * first + k: the gather (vertex_gather), the lanes' arithmetic (integrator.h)
+ * and each lane's store. Lanes that shade nothing keep zeros: every lane
+ * holds numbers, and masks keep their results. */
+ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                        st_u32 first, st_u32 n, __global const st_sample *sample,
+                        __global st_wave_ray *ray, __global const st_hit *hit,
+                        __global st_path *path, __global st_shadow_ray *shadow,
+                        __global const st_u32 *pmj02)
+{
+    st_vertex_in l = {{{0}}};
+    st_u32 live = 0u, miss = 0u, nmapped = 0u;
+    for (st_u32 k = 0; k < n; k++)
+        live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
+                                      pmj02, &l, &miss, &nmapped) << k;
+    if (!live)
+        return;
+    if (p->sampler == ST_SAMPLER_RANDOM)
+        dims_random(&l);
+    st_li missed = ST_BITS_MASK(ST_W, miss);
+    st_lf cos_o;
+    st_vertex v = vertex_surface(s, &l, nmapped, missed, sh, &cos_o);
+    st_lu depth = ST_LV(l.depth);
+    st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
+    st_vertex_out o;
+    lv3_store(v.rad, o.rad);
+    if (scatters) {
+        st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
+        lv3_store(origin, o.origin);
+        for (st_u32 k = 0; k < ST_W; k++)
+            if ((scatters >> k) & 1u)
+                light_gather(s, p, sh, k, &l);
+        int path_mis = p->integrator == ST_INTEGRATOR_PATH;
+        st_lf tmax;
+        lv3_store(light_sample(&l, &v, origin, path_mis, p->ray_eps, &wi, &tmax), o.contribution);
+        lv3_store(wi, o.shadow_d);
+        ST_VSTORE(ST_W, tmax, o.tmax);
+        if (p->integrator == ST_INTEGRATOR_PATH) {
+            st_lf pdf, cz;
+            st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), &wi, &pdf, &cz);
+            on = on && roulette(&v, depth, ST_LV(l.u[5]));
+            goes = ST_MASK_BITS(ST_W, on) & scatters;
+            lv3_store(v.beta, o.beta);
+            lv3_store(wi, o.next_d);
+            ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
+            ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
+        }
+    }
+    for (st_u32 k = 0; k < n; k++)
+        if ((live >> k) & 1u)
+            vertex_store(&o, &l, first + k, k, (scatters >> k) & 1u, (goes >> k) & 1u, ray, path,
+                         shadow);
+}
+
+/* The stage kernels' ST_W items per work-item: work-item g shades items
+ * ST_W g .. ST_W g + ST_W - 1 (global size item_count / ST_W rounded up). */
+#define ST_SHADE_LANES_ITEMS                                                                \
+    st_u32 first = ST_W * get_global_id(0);                                                 \
+    if (first >= p.item_count)                                                              \
+        return;                                                                             \
+    st_u32 n = min((st_u32)ST_W, p.item_count - first);                                     \
+    st_scene_refs s = ST_SCENE_REFS_INIT;                                                   \
+    shade_lanes(&s, &p, &sh, first, n, sample, ray, hit, path, shadow, pmj02)
+
+/* One vertex of every live path; its shadow ray is traced by the next
+ * stage, trace_shadow_rays (the default: src/plan.c). */
 __kernel void shade_hits(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i < p.item_count)
-        shade_item(i, ST_STAGE_ARGS);
+    ST_SHADE_LANES_ITEMS;
 }
 
-/* shade_hits and trace_shadow_rays in one work-item: the shadow ray is
+/* shade_hits and trace_shadow_rays in one work-item: the shadow rays are
  * traced at once, while the vertex is fresh (only when asked: on PoCL it ran
- * more instructions than the two stages; render.c). The same floats
- * are added in the same order, so the film is the same. */
+ * more instructions than the two stages). The same floats are added in the
+ * same order, so the film is the same. */
 __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
-    shade_item(i, ST_STAGE_ARGS);
-    st_scene_refs sc = ST_SCENE_REFS_INIT;
-    trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
-}
-
-/* Fast lane k's results into item i: what shade_item leaves at a direct
- * render's first vertex (the shadow ray or none, the radiance, the path
- * ended, one more closest ray). */
-ST_HOT void shade_lanes_store(st_u32 i, st_u32 k, float (*rad)[ST_W], float (*org)[ST_W],
-                              float (*dir)[ST_W], float (*con)[ST_W], const float *tmax,
-                              __global st_shadow_ray *shadow, __global st_path *path)
-{
-    __global st_shadow_ray *sr = &shadow[i];
-    sr->tmax = 0.0f;
-    if (tmax[k] > 0.0f) {
-        vstore3((float3)(org[0][k], org[1][k], org[2][k]), 0, sr->o);
-        sr->tmax = tmax[k];
-        vstore3((float3)(dir[0][k], dir[1][k], dir[2][k]), 0, sr->d);
-        vstore3((float3)(con[0][k], con[1][k], con[2][k]), 0, sr->contribution);
-    }
-    __global st_path *gp = &path[i];
-    gp->closest_rays++;
-    vstore3((float3)(rad[0][k], rad[1][k], rad[2][k]), 0, gp->radiance);
-    gp->depth = ST_PATH_DEAD;
-}
-
-/* A 3-vector of lanes into three arrays of ST_W floats. */
-ST_HOT void lv3_store(st_lv3 v, float (*out)[ST_W])
-{
-    ST_VSTORE(ST_W, v.x, out[0]);
-    ST_VSTORE(ST_W, v.y, out[1]);
-    ST_VSTORE(ST_W, v.z, out[2]);
-}
-
-/* The fast lanes (bit k of `fast`: item first + k) of one work-item of
- * shade_hits_lanes (shade_lanes.h); returns the lanes it shaded (those whose
- * normal PoCL's normalize would not rescale). */
-ST_HOT st_u32 shade_lanes_run(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                              st_u32 first, st_u32 n, st_u32 fast,
-                              __global const st_sample *sample, __global const st_wave_ray *ray,
-                              __global const st_hit *hit, __global st_path *path,
-                              __global st_shadow_ray *shadow, __global const st_u32 *pmj02)
-{
-    st_shade_lanes l;
-    for (st_u32 k = 0; k < ST_W; k++)
-        shade_lanes_gather(s, p, first + (k < n ? k : 0u), (fast >> k) & 1u, k, sample, ray, hit,
-                           path, pmj02, &l);
-    if (p->sampler == ST_SAMPLER_RANDOM) { /* dimensions 2 and 3: vertex 0's light sample */
-        st_lu key = ST_VLOAD(ST_W, l.key);
-        ST_VSTORE(ST_W, rng_unit_lanes(key, 2u), l.u);
-        ST_VSTORE(ST_W, rng_unit_lanes(key, 3u), l.u2);
-    }
-    for (st_u32 k = 0; k < ST_W; k++)
-        shade_lanes_gather_light(s, p, sh, k, &l);
-    st_shade_lanes_out o;
-    st_lv3 ns, ng;
-    shade_lanes_surface(&l, p->ray_eps, &ns, &ng, &o);
-    shade_lanes_light(&l, p, sh, ns, ng, &o);
-    float rad[3][ST_W], org[3][ST_W], dir[3][ST_W], con[3][ST_W], tmax[ST_W];
-    int ok[ST_W];
-    lv3_store(o.radiance, rad);
-    lv3_store(o.origin, org);
-    lv3_store(o.wi, dir);
-    lv3_store(o.contribution, con);
-    ST_VSTORE(ST_W, o.tmax, tmax);
-    ST_VSTORE(ST_W, o.fast, ok);
-    for (st_u32 k = 0; k < ST_W; k++) {
-        if (!ok[k])
-            fast &= ~(1u << k);
-        if ((fast >> k) & 1u)
-            shade_lanes_store(first + k, k, rad, org, dir, con, tmax, shadow, path);
-    }
-    return fast;
-}
-
-/* shade_hits for ST_W items per work-item (global size item_count / ST_W
- * rounded up): work-item g shades items W g .. W g + W - 1, the fast lanes
- * in lanes (shade_lanes.h), every other by shade_item, so the film is
- * shade_hits' at every width (the plan chooses, src/plan.c; test
- * shade_lanes_equal_shade_hits in tests/test_render_paths.c). */
-__kernel void shade_hits_lanes(ST_STAGE_PARAMS)
-{
-    st_u32 first = ST_W * get_global_id(0);
-    if (first >= p.item_count)
-        return;
-    st_u32 n = min((st_u32)ST_W, p.item_count - first), fast = 0u;
-    st_scene_refs s = ST_SCENE_REFS_INIT;
-    if (st_shade_lanes_render_fast(&p, &sh))
-        for (st_u32 k = 0; k < n; k++)
-            fast |= (st_u32)shade_lanes_item_fast(&s, first + k, path, hit) << k;
-    if (fast)
-        fast = shade_lanes_run(&s, &p, &sh, first, n, fast, sample, ray, hit, path, shadow, pmj02);
+    ST_SHADE_LANES_ITEMS;
     for (st_u32 k = 0; k < n; k++)
-        if (!((fast >> k) & 1u))
-            shade_item(first + k, ST_STAGE_ARGS);
+        trace_shadow_item(nodes, &s, &p, &sh, shadow, path, sample, first + k);
 }

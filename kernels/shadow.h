@@ -1,6 +1,6 @@
 /* shadow.h — shadow rays through alpha cut-outs and blended surfaces: a
  * shadow ray sees a material's alpha as a camera ray does (integrator.h's
- * alpha_passes), so a cut-out casts a cut-out shadow. OpenCL only; needs
+ * alpha_passes_keyed), so a cut-out casts a cut-out shadow. OpenCL only; needs
  * trace.h and integrator.h. Test: tests/test_shading.c
  * (alpha_cutout_casts_cutout_shadow). */
 #ifndef ST_SHADOW_H
@@ -14,7 +14,7 @@
  * Any hit on a triangle of an opaque material blocks it at once, so a scene
  * without alpha pays one any-hit query as before. A hit on a MASK or BLEND
  * material instead walks the hits front to back: each is alpha-tested (its
- * texture and vertex colour included, through surface_at), the first that
+ * texture and vertex colour included, through material_at), the first that
  * does not let the ray pass blocks it, and one that does sends it on from
  * just beyond (ray_eps, as alpha_passes' camera rays go on). Each step
  * moves the origin forward, so the walk ends. */
@@ -29,9 +29,9 @@ static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene
         return 1;
     float travelled = 0.0f;
     while (st_intersect4_closest(nodes, &r, &h)) {
-        st_wave_ray w = {{r.o[0], r.o[1], r.o[2]}, r.tmax, {r.d[0], r.d[1], r.d[2]}, travelled};
-        st_surface v = surface_at(s, p, sh, &w, h);
-        if (!alpha_passes_keyed(s, p, &v, smp, h.prim, depth, ST_SHADOW_ALPHA_KEY))
+        float3 ng = facing_normal(s->normals, h.prim), d = (float3)(r.d[0], r.d[1], r.d[2]);
+        st_material_at a = material_at(s, p, sh, h, dot(ng, -d), travelled + h.t);
+        if (!alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_SHADOW_ALPHA_KEY))
             return 1;
         float step = h.t + p->ray_eps;
         for (int a = 0; a < 3; ++a)

@@ -399,31 +399,6 @@ typedef struct st_params {
     st_u32 region_x, region_y, region_w, region_h;
 } st_params;
 
-/* Whether shade_hits_lanes shades a hit on material m in its lanes
- * (kernels/shade_lanes.h): what shade_item treats as opaque, untextured, lit
- * Lambertian without vertex colours. The host runs shade_hits_lanes by default
- * only for scenes with such a material (render.c). */
-ST_FN int st_shade_lanes_material(const ST_GLOBAL st_material *m)
-{
-    return m->alpha_mode == ST_ALPHA_OPAQUE &&
-           (m->flags & (ST_MAT_UNLIT | ST_MAT_VERTEX_COLOR)) == 0u &&
-           m->base_color_tex == ST_NO_TEXTURE && m->emission_tex == ST_NO_TEXTURE &&
-           m->metallic_roughness_tex == ST_NO_TEXTURE && m->specular_tex == ST_NO_TEXTURE &&
-           m->specular_color_tex == ST_NO_TEXTURE && m->normal_tex == ST_NO_TEXTURE &&
-           !(m->metallic > 0.0f || m->specular[3] > 0.0f);
-}
-
-/* Whether shade_hits_lanes may shade items of a render in its lanes
- * (kernels/shade_lanes.h): direct lighting whose next-event estimation
- * takes only area lights (no punctual lights, no environment). The host
- * runs shade_hits_lanes by default only then (src/plan.c). */
-ST_FN int st_shade_lanes_render_fast(const st_params *p, const st_shading *sh)
-{
-    return p->integrator == ST_INTEGRATOR_DIRECT && p->max_depth > 0u && p->light_count > 0u &&
-           sh->punct_count == 0u && sh->env_pick == 0.0f;
-}
-
-
 /* ---- the wavefront state and the film --------------------------------------
  * Every buffer the stage kernels share, declared once. The lists below
  * (X-macros, as Cycles' state_template.h) give each buffer's name, element

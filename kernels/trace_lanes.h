@@ -18,12 +18,6 @@
 #define ST_I ST_VEC(int, ST_N)
 #define ST_V3 ST_CAT(st_v3x, ST_N)
 
-/* A 3-vector in lanes: x, y and z each ST_N wide. Passed by value, so that
- * the compiler keeps its lanes in registers. */
-typedef struct ST_V3 {
-    ST_F x, y, z;
-} ST_V3;
-
 /* Slab test (Kay & Kajiya, "Ray Tracing Complex Scenes", SIGGRAPH 1986) in
  * Williams et al.'s form ("An Efficient and Robust Ray-Box Intersection
  * Algorithm", JGT 2005) of ST_N boxes by their near and far planes on each

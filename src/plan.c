@@ -100,8 +100,7 @@ int st_plan_gathers(const st_plan *pl, const st_params *p)
            !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count && !p->adaptive_scaled;
 }
 
-st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p,
-                     const st_shading *sh)
+st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p)
 {
     const st_plan_force *f = &r->force;
     const st_device_info *info = st_device_get_info(r->dev);
@@ -115,16 +114,6 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
                                                         : !info->is_cpu;
     /* tracing shadow rays in shade measured no faster than their own stage */
     pl.shadows_in_shade = f->shadow == ST_SHADOW_IN_SHADE;
-    /* shade_hits_lanes where the kernels have lanes to fill (a CPU
-     * device's) and they may be taken (direct lighting by area lights of a
-     * scene with a material that takes them); with no fast lane it runs
-     * more instructions than shade_hits */
-    if (pl.shadows_in_shade)
-        pl.shade_lanes = 0;
-    else if (f->shade != ST_SHADE_AUTO)
-        pl.shade_lanes = f->shade == ST_SHADE_LANES;
-    else
-        pl.shade_lanes = info->lanes > 1u && st_shade_lanes_render_fast(p, sh) && r->lanes_materials;
     pl.splat = plan_splat(r, o);
     plan_bins(r, o, pl.splat, p);
     if (!p->bins && (pl.splat == ST_SPLAT_TILES || pl.splat == ST_SPLAT_TILES_ALONE))
@@ -134,7 +123,7 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
 
 void st_renderer_force(st_renderer *r, const st_plan_force *f)
 {
-    static const st_plan_force none = {0, 0, 0, 0};
+    static const st_plan_force none = {0, 0, 0};
     r->force = f ? *f : none;
 }
 

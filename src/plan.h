@@ -21,9 +21,6 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 /* The first stages: generate_samples then generate_camera_rays (which reads
  * the sample back), or one kernel, generate_rays. */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
-/* Shade: shade_hits, one item per work-item, or shade_hits_lanes, ST_W,
- * the common case of direct lighting in lanes (kernels/shade_lanes.h). */
-enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_LANES };
 
 /* Choices forced for tests and measurements (st_renderer_force): each
  * *_AUTO (0) unless set, the plan's own choice then. */
@@ -31,7 +28,6 @@ typedef struct st_plan_force {
     int splat;    /* ST_SPLAT_* */
     int shadow;   /* ST_SHADOW_* */
     int generate; /* ST_GENERATE_* */
-    int shade;    /* ST_SHADE_* */
 } st_plan_force;
 
 typedef struct st_plan {
@@ -39,17 +35,15 @@ typedef struct st_plan {
     int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
     int fused_generate;   /* generate_rays, not generate_samples + generate_camera_rays */
     int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
-    int shade_lanes;      /* shade_hits_lanes, ST_W items per work-item */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
                              wave allows it: st_plan_gathers) */
 } st_plan;
 
 typedef struct st_renderer st_renderer;
 
-/* The plan of a render of o on r with parameters p and shading sh; fills
- * p's bins for the tile splat (bins 0: none). */
-st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p,
-                     const st_shading *sh);
+/* The plan of a render of o on r with parameters p; fills p's bins for
+ * the tile splat (bins 0: none). */
+st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p);
 /* Whether a wave of p gathers its splat by pixel (splat_pixels). */
 int st_plan_gathers(const st_plan *pl, const st_params *p);
 /* Work-items per splat_tiles work-group. */

@@ -156,7 +156,6 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->shade_lanes, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
         return err->status;
@@ -415,18 +414,15 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                       err);
 }
 
-/* Stage shade over the wave's n items: shade_hits_shadowed, shade_hits_lanes
- * (ceil(n / 8) work-items) or shade_hits. */
+/* Stage shade over the wave's n items, ST_W per work-item (ceil(n / ST_W)
+ * work-items): shade_hits, or shade_hits_shadowed with its shadow rays. */
 static st_status run_shade(st_renderer *r, const st_params *p, size_t n,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    if (r->plan.shadows_in_shade)
-        return run_kernel(r, r->shade_shadowed, ST_STAGE_SHADE, p, n, o->local_size, o, st, err);
+    cl_kernel kl = r->plan.shadows_in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
     size_t lanes = r->plan.lanes;
-    if (r->plan.shade_lanes)
-        return run_kernel(r, r->shade_lanes, ST_STAGE_SHADE, p, (n + lanes - 1u) / lanes, o->local_size, o, st,
-                          err);
-    return run_stage(r, ST_STAGE_SHADE, p, n, o, st, err);
+    return run_kernel(r, kl, ST_STAGE_SHADE, p, (n + lanes - 1u) / lanes, o->local_size, o, st,
+                      err);
 }
 
 /* One wave: items [first, first + n) of the render's item space. */
@@ -701,7 +697,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (o->adaptive)
         pr.total = (double)o->spp * pixels;
     st_shading sh = make_shading(r, o);
-    r->plan = st_plan_make(r, o, &p, &sh);
+    r->plan = st_plan_make(r, o, &p);
     r->ran_count = 0;
     st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, err) != ST_OK
                        ? err->status : st_wave_create(r->dev, wave, pixels, o->adaptive, &w, err);

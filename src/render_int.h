@@ -26,11 +26,9 @@ struct st_renderer {
     cl_kernel adaptive[ST_ADAPTIVE_KERNELS]; /* adaptive.cl, by ST_ADAPTIVE_* */
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
     cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
-    cl_kernel shade_lanes; /* shade_hits_lanes: ST_STAGE_SHADE, ST_W items per work-item */
     /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl) */
     cl_kernel trace_packet, shadow_packet;
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
-    int lanes_materials; /* some material takes shade_hits_lanes' fast lanes */
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
     const st_envmap *env_map; /* borrowed (st_renderer_set_env_map); NULL: none */

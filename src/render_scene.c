@@ -175,15 +175,12 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
         st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK ||
         st_device_kernel(dev, "shade_hits_shadowed", &r->shade_shadowed, err) != ST_OK ||
-        st_device_kernel(dev, "shade_hits_lanes", &r->shade_lanes, err) != ST_OK ||
         st_device_kernel(dev, "trace_rays_packet", &r->trace_packet, err) != ST_OK ||
         st_device_kernel(dev, "trace_shadow_rays_packet", &r->shadow_packet, err) != ST_OK)
         goto fail;
     r->all_opaque = 1;
-    for (st_u32 m = 0; m < scene->material_count; m++) {
+    for (st_u32 m = 0; m < scene->material_count; m++)
         r->all_opaque &= scene->materials[m].alpha_mode == ST_ALPHA_OPAQUE;
-        r->lanes_materials |= st_shade_lanes_material(&scene->materials[m]);
-    }
     st_bvh_destroy(bvh);
     *out = r;
     return ST_OK;

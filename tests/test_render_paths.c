@@ -1,11 +1,12 @@
-/* test_render_paths.c — the first stages in one kernel (generate_rays),
- * the box filter's splat gathered by pixel (splat_pixels) and shade ST_W
- * items per work-item (shade_hits_lanes, at every lane width) against the
- * kernels they replace on the same render: the films (raw 64-bit sums), the
- * counts (splats, rays, clamped, non-finite) and the images equal bit for
- * bit, over wave sizes below, at and above the region's pixel count, crops,
- * odd image sizes, spp 1 and spp that divide nothing, several samplers and
- * both integrators; and each path runs only its own kernels. */
+/* test_render_paths.c — the first stages in one kernel (generate_rays) and
+ * the box filter's splat gathered by pixel (splat_pixels) against the
+ * kernels they replace on the same render, and shade (ST_W items per
+ * work-item) built at every lane width against the device's own: the films
+ * (raw 64-bit sums), the counts (splats, rays, clamped, non-finite) and the
+ * images equal bit for bit, over wave sizes below, at and above the
+ * region's pixel count, crops, odd image sizes, spp 1 and spp that divide
+ * nothing, several samplers, both integrators and every kind of material
+ * and light; and each path runs only its own kernels. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -307,105 +308,80 @@ static void splat_pixels_equals_per_sample(void **state)
     st_scene_destroy(scene);
 }
 
-/* Renders o with shade forced to ST_SHADE_ITEM and LANES: the same film,
- * image and counts. */
-static void same_shade(st_renderer *r, st_render_options o)
+/* Renders o of scene `name` on the fixture's device and on `on` (another
+ * lane width): the same film, image and counts, and both ran shade_hits. */
+static void same_at_width(const char *name, const st_render_options *o)
 {
-    int in_shade = forced.shadow == ST_SHADOW_IN_SHADE;
-    forced.shade = ST_SHADE_ITEM;
-    run a = render_run(r, o);
-    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits") &&
-                !ran(r, "shade_hits_lanes"));
-    forced.shade = ST_SHADE_LANES;
-    run b = render_run(r, o);
-    assert_true(ran(r, in_shade ? "shade_hits_shadowed" : "shade_hits_lanes"));
-    assert_true(ran(r, "trace_shadow_rays") == !in_shade);
-    forced.shade = ST_SHADE_AUTO;
-    assert_same_run(&a, &b, &o);
+    st_scene *scene = NULL;
+    st_device *other = on;
+    on = NULL;
+    st_renderer *r = renderer_for(name, &scene);
+    run a = render_run(r, *o);
+    assert_true(ran(r, forced.shadow == ST_SHADOW_IN_SHADE ? "shade_hits_shadowed" : "shade_hits"));
+    st_renderer_destroy(r);
+    on = other;
+    st_error err = {0};
+    if (st_renderer_create(on, scene, &r, &err) != ST_OK)
+        fail_msg("renderer %s: %s", name, err.msg);
+    run b = render_run(r, *o);
+    assert_true(ran(r, forced.shadow == ST_SHADOW_IN_SHADE ? "shade_hits_shadowed" : "shade_hits"));
+    assert_same_run(&a, &b, o);
     run_free(&a);
     run_free(&b);
-}
-
-/* same_shade on each scene (those under ../shared where it is present),
- * direct lighting at each wave size, halton and random in turn. */
-static void same_shade_direct(const char *const *scenes, size_t n, const st_u32 *waves,
-                              size_t nw)
-{
-    for (size_t k = 0; k < n; k++) {
-        if (strncmp(scenes[k], "../shared", 9) == 0 && access(scenes[k], R_OK) != 0) {
-            print_message("note: %s not found; skipped\n", scenes[k]);
-            continue;
-        }
-        st_scene *scene = NULL;
-        st_renderer *r = renderer_for(scenes[k], &scene);
-        for (size_t w = 0; w < nw; w++) {
-            st_render_options o = small(37, 23, 3);
-            o.integrator = ST_INTEGRATOR_DIRECT;
-            o.sampler = w % 2 ? ST_SAMPLER_RANDOM : ST_SAMPLER_HALTON;
-            o.wave = waves[w];
-            same_shade(r, o);
-        }
-        st_renderer_destroy(r);
-        st_scene_destroy(scene);
-    }
-}
-
-/* The bench Cornell box (where ../shared holds it) and the built-in one,
- * all fast lanes but for misses; tests/scenes/shade_mix.gltf, fast lanes
- * beside textured, alpha, vertex-coloured and metallic ones and misses, lit
- * by an emitter with an emissive texture too; textures.gltf (alpha MASK and
- * BLEND, textures, no Lambertian material), punctual.gltf (punctual lights)
- * and the Khronos models with emitters (none Lambertian), where shade_item
- * takes every lane: direct lighting over wave sizes that are and are not
- * multiples of the lane width; the variants (paths take shade_item throughout); a tiled
- * sampler, an adaptive render, a work-group size of 3 and shadow rays
- * traced in shade (which takes shade_hits_shadowed either way), direct. */
-static void shade_lanes_equal_shade_hits(void **state)
-{
-    (void)state;
-    static const char *const scenes[] = {
-        "../shared/scenes/bench/cornell.gltf", "cornell-box", "tests/scenes/shade_mix.gltf",
-        "tests/scenes/textures.gltf", "tests/scenes/punctual.gltf",
-        "../shared/scenes/khronos/VC/VC.gltf",
-        "../shared/scenes/khronos/EmissiveStrengthTest/EmissiveStrengthTest.gltf"};
-    static const st_u32 waves[] = {0, 8, 333, 851, 1000, 1001};
-    same_shade_direct(scenes, sizeof scenes / sizeof scenes[0], waves,
-                      sizeof waves / sizeof waves[0]);
-    st_scene *scene = NULL;
-    st_renderer *r = renderer_for("cornell-box", &scene);
-    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
-        same_shade(r, variant_options(&variants[v]));
-    st_render_options more[4] = {small(30, 20, 4), small(24, 20, 16), small(30, 20, 3),
-                                 small(30, 20, 3)};
-    more[0].sampler = ST_SAMPLER_POISSON;
-    more[0].wave = 1000;
-    more[1].adaptive = 1;
-    more[1].min_spp = 4;
-    more[1].sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
-    more[1].wave = 700;
-    more[3].local_size = 3;
-    more[3].wave = 997;
-    for (int k = 0; k < 4; k++) {
-        more[k].integrator = ST_INTEGRATOR_DIRECT;
-        forced.shadow = k == 2 ? ST_SHADOW_IN_SHADE : ST_SHADOW_AUTO; /* more[2]: in shade */
-        same_shade(r, more[k]);
-    }
-    forced.shadow = ST_SHADOW_AUTO;
     st_renderer_destroy(r);
     st_scene_destroy(scene);
 }
 
-/* shade_hits_lanes built at the other lane widths (1, 4, 16 and 8, but
- * for the fixture's own) against shade_hits: the Cornell boxes and the mixed
- * scene, direct lighting, both samplers of its fast paths (the random
- * sampler's dimensions are made in lanes), waves that fill no last lane. */
-static void shade_lanes_at_every_width(void **state)
+/* The scenes of the shade comparison: area lights on Lambertian boxes
+ * (the bench's Cornell box where ../shared holds it, and the built-in one),
+ * tests/scenes/shade_mix.gltf (textured, alpha, vertex-coloured and
+ * metallic materials beside Lambertian ones, an emitter with an emissive
+ * texture, misses), textures.gltf (MASK and BLEND, textures),
+ * punctual.gltf (point, spot and directional lights) and Khronos models
+ * (vertex colours; emissive strength; DamagedHelmet's textured GGX with a
+ * normal map and emission). */
+static const char *const shade_scenes[] = {
+    "../shared/scenes/bench/cornell.gltf", "cornell-box", "tests/scenes/shade_mix.gltf",
+    "tests/scenes/textures.gltf", "tests/scenes/punctual.gltf",
+    "../shared/scenes/khronos/VC/VC.gltf",
+    "../shared/scenes/khronos/EmissiveStrengthTest/EmissiveStrengthTest.gltf",
+    "../shared/scenes/khronos/DamagedHelmet/DamagedHelmet.glb"};
+
+/* Shade at lane width `on` against the fixture's on each scene: both
+ * integrators, a uniform environment or the scene's own lighting, the
+ * random sampler (its dimensions made in lanes) and Halton, waves that fill
+ * no last lane. */
+static void same_shade_scenes(void)
+{
+    static const st_u32 waves[] = {0, 333, 1001};
+    for (size_t k = 0; k < sizeof shade_scenes / sizeof shade_scenes[0]; k++) {
+        if (strncmp(shade_scenes[k], "../shared", 9) == 0 && access(shade_scenes[k], R_OK) != 0) {
+            print_message("note: %s not found; skipped\n", shade_scenes[k]);
+            continue;
+        }
+        for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
+            st_render_options o = small(37, 23, 3);
+            o.integrator = w == 1 ? ST_INTEGRATOR_DIRECT : ST_INTEGRATOR_PATH;
+            o.sampler = w == 2 ? ST_SAMPLER_HALTON : ST_SAMPLER_RANDOM;
+            o.wave = waves[w];
+            if (w == 0) { /* the environment sampled beside the scene's lights */
+                o.env_given = 1;
+                o.env[0] = 0.6f, o.env[1] = 0.7f, o.env[2] = 0.8f;
+            }
+            same_at_width(shade_scenes[k], &o);
+        }
+    }
+}
+
+/* shade_hits built at the other lane widths (1, 4, 8 and 16 but for the
+ * fixture's own) against the fixture's, bit for bit: same_shade_scenes,
+ * the variants (samplers, crops), an adaptive render and shadow rays
+ * traced in shade (shade_hits_shadowed). A lane's arithmetic reordered at
+ * one width, or a lane that reads another's values, fails it. */
+static void shade_at_every_width(void **state)
 {
     (void)state;
     static const unsigned widths[] = {1, 4, 8, 16};
-    static const char *const scenes[] = {"../shared/scenes/bench/cornell.gltf", "cornell-box",
-                                         "tests/scenes/shade_mix.gltf"};
-    static const st_u32 waves[] = {0, 333, 1001};
     for (size_t k = 0; k < sizeof widths / sizeof widths[0]; k++) {
         if (widths[k] == st_device_get_info(dev)->lanes)
             continue;
@@ -413,8 +389,22 @@ static void shade_lanes_at_every_width(void **state)
         if (st_device_create(NULL, &on, &err) != ST_OK ||
             st_device_set_lanes(on, widths[k], &err) != ST_OK || st_device_build(on, NULL, &err))
             fail_msg("device at %u lanes: %s", widths[k], err.msg);
-        same_shade_direct(scenes, sizeof scenes / sizeof scenes[0], waves,
-                          sizeof waves / sizeof waves[0]);
+        same_shade_scenes();
+        for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+            st_render_options o = variant_options(&variants[v]);
+            same_at_width("cornell-box", &o);
+        }
+        st_render_options adaptive = small(24, 20, 16);
+        adaptive.adaptive = 1;
+        adaptive.min_spp = 4;
+        adaptive.sampler = ST_SAMPLER_RANDOM;
+        adaptive.wave = 700;
+        same_at_width("cornell-box", &adaptive);
+        st_render_options shadowed = small(30, 20, 3);
+        shadowed.integrator = ST_INTEGRATOR_PATH;
+        forced.shadow = ST_SHADOW_IN_SHADE;
+        same_at_width("tests/scenes/shade_mix.gltf", &shadowed);
+        forced.shadow = ST_SHADOW_AUTO;
         st_device_destroy(on);
         on = NULL;
     }
@@ -425,8 +415,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generate_rays_equals_two_kernels),
         cmocka_unit_test(splat_pixels_equals_per_sample),
-        cmocka_unit_test(shade_lanes_equal_shade_hits),
-        cmocka_unit_test(shade_lanes_at_every_width),
+        cmocka_unit_test(shade_at_every_width),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
 }
