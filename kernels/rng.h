@@ -11,7 +11,7 @@
 #define ST_RNG_H
 
 /* lowbias32's steps on x, a 32-bit unsigned value or vector of them (lanes
- * in kernels/shade_lanes.h). */
+ * in shade.cl's rng_unit_lanes). */
 #define ST_HASH32_MIX(x)                                                                  \
     do {                                                                                    \
         (x) ^= (x) >> 16;                                                                   \

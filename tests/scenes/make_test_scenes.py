@@ -85,9 +85,9 @@ two_uv        the quad, unlit white, seen as textured_quad is: TEXCOORD_0 consta
 shade_mix     six 1 x 1 quads of a 3 x 2 ground (z = 0) under two one-sided
               emitters facing down at z = 1.5 (the camera above, orthographic and
               wider than the ground, sees through their backs and past the
-              ground's edges): white and red Lambertian quads (shade_hits_lanes' fast
-              lanes), and a textured, an alpha MASK, a vertex-coloured and a
-              metallic one (shade_item's); the emitter over x > 0 has an
+              ground's edges): white and red Lambertian quads beside a
+              textured, an alpha MASK, a vertex-coloured and a metallic one,
+              so that shade's lanes mix them; the emitter over x > 0 has an
               emissive texture (grey | white), the one over x < 0 none.
 tangent_ramp  the quad (u along +x, v along -y, as glTF's v runs down the
               image), white and Lambertian, without TANGENT, whose constant
