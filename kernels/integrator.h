@@ -433,10 +433,10 @@ ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
  * the direction and distance to the light, the cosines it needs, and what
  * the ray adds when unoccluded, beta f cos L w / q, with q the sample's
  * density in solid angle (x its choice) and w the power heuristic's weight
- * against the BSDF sample in the path integrator (1 for a delta light).
+ * against the BSDF sample (1 for a delta light, which no BSDF sample hits).
  * *tmax: the ray's length; 0 where none. */
-ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 origin, int mis,
-                           float eps, st_lv3 *wi, st_lf *tmax)
+ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 origin, float eps,
+                           st_lv3 *wi, st_lf *tmax)
 {
     st_li kind = ST_LV(l->lkind);
     st_li at_point = kind == ST_LIGHT_AREA || kind == ST_LIGHT_POINT;
@@ -466,8 +466,7 @@ ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 ori
     st_lf pdf_bsdf;
     st_lv3 fc = surface_f_cos(v, *wi, &pdf_bsdf);
     st_li weigh = kind == ST_LIGHT_AREA || kind == ST_LIGHT_ENV || in_frame; /* not delta */
-    st_lf w = mis ? ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(q, pdf_bsdf), weigh)
-                  : ST_LF(1.0f);
+    st_lf w = ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(q, pdf_bsdf), weigh);
     *tmax = ST_SELECT(ST_W, ST_LF(0.0f), *tmax, ok);
     st_lv3 c = st_lv3_mul(st_lv3_mul(v->beta, fc), ST_LV3_OF(l->ll));
     return st_lv3_scale(c, tc * tc * (w / q));

@@ -3,13 +3,19 @@
  * estimation, and the next bounce.
  *
  * Integrators (pbrt's conventions; pbr-book 4ed §13.4):
- *  direct: the emission seen at the camera hit plus area-light sampling at
- *          that hit (no bounce), so shadows are soft.
- *  path:   at each vertex, next-event estimation and cosine-weighted BSDF
- *          sampling combined by multiple importance sampling with the power
- *          heuristic (Veach & Guibas, SIGGRAPH 1995); Russian roulette from
- *          the fourth vertex on. max_depth counts the vertices at which light
- *          is gathered (pbrt's maxdepth; Mitsuba's max_depth is one more).
+ *  direct: the emission seen at the camera hit, and at that hit one light
+ *          sample (next-event estimation) and one BSDF sample, combined by
+ *          multiple importance sampling with the power heuristic (Veach &
+ *          Guibas, SIGGRAPH 1995), as pbrt-v4's and Mitsuba's direct
+ *          integrators do: the BSDF sample's ray adds the emission it meets
+ *          (or the environment's), weighted, and ends there. So smooth
+ *          surfaces, which light sampling alone cannot resolve, reflect
+ *          their lights, and shadows are soft.
+ *  path:   at each vertex, next-event estimation and BSDF sampling combined
+ *          the same way; Russian roulette from the fourth vertex on.
+ *          max_depth counts the vertices at which light is gathered (pbrt's
+ *          maxdepth; Mitsuba's max_depth is one more): direct is a path of
+ *          max_depth 1.
  * Materials: the glTF metallic-roughness BRDF (bsdf.h; a Lambertian one,
  * specularFactor 0, takes the cheap cosine path), its factors times their
  * textures (texture.h); KHR_materials_unlit shows its base colour from
@@ -25,7 +31,7 @@
  * by power (st_shading.env_pick; dimension 0 rescaled): a uniform one by a
  * cosine-distributed direction, a map by its luminance (envmap.h), and a
  * shadow ray to infinity adds beta x f cos / (pdf x choice) x radiance when
- * unoccluded. In the path integrator that sample and the BSDF sample are
+ * unoccluded. That sample and the BSDF sample are
  * weighted by the power heuristic (at a miss the map gives its pdf of the
  * ray's direction; for a uniform one st_path.env_pdf keeps the cosine pdf
  * of the BSDF sample's direction); the area-light samples likewise.
@@ -64,9 +70,9 @@ static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_le
 }
 
 /* Lane k's sample dimensions at its depth, where the vertex reads them
- * (integrator.h's u): 0 and 1 for next-event estimation, and in the path
- * integrator 2 and 3 for the bounce and 5 for Russian roulette. The random
- * sampler's are made in lanes instead (dims_random). */
+ * (integrator.h's u): 0 and 1 for next-event estimation, 2 and 3 for the
+ * bounce, and 5 for Russian roulette where it plays. The random sampler's
+ * are made in lanes instead (dims_random). */
 static void dims_gather(const st_params *p, st_sample smp, __global const st_u32 *pmj02,
                         st_u32 depth, st_u32 k, st_vertex_in *l)
 {
@@ -77,8 +83,6 @@ static void dims_gather(const st_params *p, st_sample smp, __global const st_u32
     st_u32 dim = 2u + ST_DIMS_PER_VERTEX * depth;
     l->u[0][k] = st_sample_dim(p, &id, dim);
     l->u[1][k] = st_sample_dim(p, &id, dim + 1u);
-    if (p->integrator != ST_INTEGRATOR_PATH)
-        return;
     l->u[2][k] = st_sample_dim(p, &id, dim + 2u);
     l->u[3][k] = st_sample_dim(p, &id, dim + 3u);
     if (depth + 1u >= ST_RR_START_DEPTH)
@@ -246,21 +250,17 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
         for (st_u32 k = 0; k < ST_W; k++)
             if ((scatters >> k) & 1u)
                 light_gather(s, p, sh, k, &l);
-        int path_mis = p->integrator == ST_INTEGRATOR_PATH;
-        st_lf tmax;
-        lv3_store(light_sample(&l, &v, origin, path_mis, p->ray_eps, &wi, &tmax), o.contribution);
+        st_lf tmax, pdf, cz;
+        lv3_store(light_sample(&l, &v, origin, p->ray_eps, &wi, &tmax), o.contribution);
         lv3_store(wi, o.shadow_d);
         ST_VSTORE(ST_W, tmax, o.tmax);
-        if (p->integrator == ST_INTEGRATOR_PATH) {
-            st_lf pdf, cz;
-            st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), &wi, &pdf, &cz);
-            on = on && roulette(&v, depth, ST_LV(l.u[5]));
-            goes = ST_MASK_BITS(ST_W, on) & scatters;
-            lv3_store(v.beta, o.beta);
-            lv3_store(wi, o.next_d);
-            ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
-            ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
-        }
+        st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), &wi, &pdf, &cz);
+        on = on && roulette(&v, depth, ST_LV(l.u[5]));
+        goes = ST_MASK_BITS(ST_W, on) & scatters;
+        lv3_store(v.beta, o.beta);
+        lv3_store(wi, o.next_d);
+        ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
+        ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)

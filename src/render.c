@@ -435,9 +435,10 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
                                    run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
-     * max_depth vertices; the last one only adds emission (MIS). Shadow
-     * rays in shade: timed as its stage. */
-    st_u32 vertices = p->integrator == ST_INTEGRATOR_DIRECT ? 1u : p->max_depth + 1u;
+     * max_depth vertices; the last one only adds emission (MIS), as the
+     * direct integrator's second (max_depth 1). Shadow rays in shade: timed
+     * as its stage. */
+    st_u32 vertices = p->max_depth + 1u;
     int in_shade = r->plan.shadows_in_shade;
     for (st_u32 v = 0; v < vertices; v++) {
         if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) || run_shade(r, p, n, o, st, err))

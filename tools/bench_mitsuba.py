@@ -97,7 +97,7 @@ def sensor_dict(mi, camera, width, height, spp):
 def integrator_dict(kind):
     if kind == "path":
         return {"type": "path", "max_depth": 5, "rr_depth": 3}
-    return {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0}
+    return {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1}
 
 
 def scene_dict(mi, path, kind, folder, width, height, spp):
