@@ -367,6 +367,27 @@ ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li m
     return st_lv3_scale(le, ST_SELECT(ST_W, ST_LF(0.0f), w, seen));
 }
 
+/* Where a glossy lane's mirror direction of wo about the shading normal
+ * falls below the geometric surface (an interpolated or normal-mapped ns
+ * tilted far from ng), ns bent towards ng: to the half vector of wo and
+ * that mirror direction lifted just above the surface (the shading normal
+ * adaptation of Keller et al., "The Iray Light Transport Simulation and
+ * Rendering System", 2017). The specular lobe then reflects into the
+ * upper hemisphere instead of losing its energy through the surface, which
+ * rendered black rims on glossy normal-mapped surfaces. Lambertian lanes
+ * keep their normal. */
+ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
+{
+    st_lf c = 2.0f * st_lv3_dot(wo, ns);
+    st_lv3 r = st_lv3_make(c * ns.x - wo.x, c * ns.y - wo.y, c * ns.z - wo.z);
+    st_lf below = 0.01f - st_lv3_dot(r, ng);
+    st_lv3 lifted = st_lv3_along(r, ng, below);
+    lifted = st_lv3_div(lifted, sqrt(st_lv3_dot(lifted, lifted)));
+    st_lv3 h = st_lv3_add(wo, lifted);
+    h = st_lv3_div(h, sqrt(st_lv3_dot(h, h)));
+    return st_lv3_select(ns, h, glossy && below > 0.0f);
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
@@ -383,9 +404,11 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
-    st_basis(v.ns, &v.tu, &v.tv);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
     v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
+    if (ST_ANY(ST_W, v.glossy))
+        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy);
+    st_basis(v.ns, &v.tu, &v.tv);
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};

@@ -513,9 +513,15 @@ st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...)
     return rc;
 }
 
-/* Stack bytes allowed per work-item on a CPU device: about twice what the deepest kernel
- * (trace_shadow_rays) was seen to need, so a kernel that grows a little stays inside. */
-#define CPU_ITEM_STACK_BYTES 4096u
+/* Stack bytes allowed per work-item on a CPU device, where PoCL keeps a group's
+ * work-items' private values on one thread's stack: at one lane about twice what the
+ * deepest kernel (trace_shadow_rays) was seen to need, and per further lane what shade's
+ * gathered lanes add (its private arrays hold ST_W values each), with room to spare: a
+ * group of 4096 work-items was seen to need 16 MiB at 1 lane, 24 at 8 and 48 at 16. */
+static size_t cpu_item_stack_bytes(const st_device *dev)
+{
+    return 4096u + 1024u * (dev->info.lanes - 1u);
+}
 
 st_status st_device_check_local_size(const st_device *dev, size_t local, st_error *err)
 {
@@ -530,12 +536,12 @@ st_status st_device_check_local_size(const st_device *dev, size_t local, st_erro
     size_t stack = (size_t)2 << 20; /* glibc's thread stack when RLIMIT_STACK is unlimited */
     if (getrlimit(RLIMIT_STACK, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
         stack = (size_t)rl.rlim_cur;
-    size_t fit = stack / CPU_ITEM_STACK_BYTES;
+    size_t bytes = cpu_item_stack_bytes(dev), fit = stack / bytes;
     if (local > fit)
         return st_fail(err, ST_ERR_USAGE, "local size %zu: a CPU device runs a group on one "
                        "thread's stack of %zu KiB (ulimit -s), which holds at most %zu "
-                       "work-items of %u bytes; use a smaller --local-size or raise ulimit -s",
-                       local, stack >> 10, fit, CPU_ITEM_STACK_BYTES);
+                       "work-items of %zu bytes at %u lanes; use a smaller --local-size or "
+                       "raise ulimit -s", local, stack >> 10, fit, bytes, dev->info.lanes);
     return ST_OK;
 }
 

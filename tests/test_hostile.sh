@@ -401,11 +401,17 @@ raw = zlib.decompress(d[k + 4:k + 4 + struct.unpack(\">I\", d[k - 4:k])[0]])
 sys.exit(0 if max(raw) > 200 else 1)" "$T/exp.png"' "($(cat "$T/err"))"
 
 # ---- work-group size: a CPU device runs a group on one thread's stack --------------------------
-expect "--local-size 4096 on an 8 MiB stack is refused with the limit, not a crash" 2 "^strata: error: --local-size 4096: a CPU device runs a group on one thread's stack of 8192 KiB (ulimit -s), which holds at most 2048" \
-    sh -c "ulimit -s 8192; exec timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --local-size 4096 -o $T/ls.exr"
+expect "--local-size 4096 on an 8 MiB stack is refused with the limit, not a crash" 2 "^strata: error: --local-size 4096: a CPU device runs a group on one thread's stack of 8192 KiB (ulimit -s), which holds at most 2048 work-items of 4096 bytes at 1 lanes" \
+    sh -c "ulimit -s 8192; exec timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --lanes 1 --local-size 4096 -o $T/ls.exr"
+expect "--local-size 4096 at 16 lanes on a 32 MiB stack is refused: each lane takes stack" 2 "^strata: error: --local-size 4096: .* at 16 lanes" \
+    sh -c "ulimit -s 32768; exec timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --lanes 16 --local-size 4096 -o $T/ls.exr"
 # shellcheck disable=SC3045 # dash (sh here) has ulimit -s
-(ulimit -s 16384; timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --local-size 4096 -o "$T/ls.exr" 2> "$T/err")
-check "--local-size 4096 with a 16 MiB stack renders" '[ -s "$T/ls.exr" ]' "($(cat "$T/err"))"
+(ulimit -s 16384; timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --lanes 1 --local-size 4096 -o "$T/ls.exr" 2> "$T/err")
+check "--local-size 4096 at 1 lane with a 16 MiB stack renders" '[ -s "$T/ls.exr" ]' "($(cat "$T/err"))"
+rm -f "$T/ls.exr"
+# shellcheck disable=SC3045
+(ulimit -s 81920; timeout 300 $S render cornell-box --width 256 --height 256 --spp 1 --quiet --integrator direct --lanes 16 --local-size 4096 -o "$T/ls.exr" 2> "$T/err")
+check "--local-size 4096 at 16 lanes with an 80 MiB stack renders" '[ -s "$T/ls.exr" ]' "($(cat "$T/err"))"
 
 # ---- memory planned before it is asked for ------------------------------------------------------
 expect "a 16384 x 16384 film is refused before allocating, naming --width and --height" 2 "^strata: error: the render needs .*MiB.*: reduce --width and --height" \
