@@ -48,7 +48,7 @@ ifeq ($(FUZZ),1)
   BUILD    := build/fuzz
 endif
 
-LIB_C    := $(filter-out src/main.c,$(wildcard src/*.c))
+LIB_C    := $(filter-out src/cli/main.c,$(wildcard src/*.c))
 LIB_CXX  := $(wildcard src/*.cpp)
 LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/%.o) \
             $(BUILD)/embedded.o $(BUILD)/version.o
@@ -74,12 +74,12 @@ deps:
 
 # OpenEXR's Python binding (pip's OpenEXR: Debian 12 packages none), in a venv
 # of its own, for the test that reads strata's EXRs with another library
-# (tests/test_exr_python.sh). Without a network it is left out with a note,
+# (tests/cli/test_exr_python.sh). Without a network it is left out with a note,
 # and that test skips saying so.
 PYEXR := build/pyexr/bin/python
 $(PYEXR):
 	@python3 -m venv build/pyexr && build/pyexr/bin/pip install -q OpenEXR numpy \
-	  || { rm -rf build/pyexr; echo "deps: OpenEXR's Python binding unavailable (pip failed); tests/test_exr_python.sh will skip"; }
+	  || { rm -rf build/pyexr; echo "deps: OpenEXR's Python binding unavailable (pip failed); tests/cli/test_exr_python.sh will skip"; }
 
 strata: $(BUILD)/strata
 	cp $< $@
@@ -133,7 +133,7 @@ UNIT_NAMES   := bsdf bvh diff filter filters fixed image image_meta image_spectr
                 outfile pattern pixel_tile plot pmj02 progress sampler samplers sampling scene \
                 sheet signal tonemap
 IMAGE_NAMES  := render
-IMAGE_SH     := tests/test_pictures.sh tests/test_crop.sh tests/test_split.sh
+IMAGE_SH     := tests/image/test_pictures.sh tests/image/test_crop.sh tests/image/test_split.sh
 TEST_UNIT    := $(UNIT_NAMES:%=$(BUILD)/tests/test_%)
 TEST_IMAGE   := $(IMAGE_NAMES:%=$(BUILD)/tests/test_%)
 TEST_DEVICE  := $(filter-out $(TEST_UNIT) $(TEST_IMAGE),$(TEST_BIN))
@@ -162,7 +162,7 @@ test-cli: deps strata $(BUILD)/make_icosphere
 test-sanitize: deps
 	$(MAKE) SANITIZE=1 build/asan/strata build/asan/tests/test_scene
 	@ASAN_OPTIONS=detect_leaks=0 STRATA=build/asan/strata \
-	    sh tests/run.sh build/asan/tests/test_scene tests/test_khronos.sh
+	    sh tests/run.sh build/asan/tests/test_scene tests/cli/test_khronos.sh
 
 # `make fuzz` builds the harnesses; `make test-fuzz` runs each for
 # FUZZ_SECONDS, seeded from the project's scenes and EXRs (tests/fuzz/run.sh).
@@ -204,7 +204,7 @@ bench: deps strata $(ICOSPHERE)
 
 # The peers of tools/bench_peers.sh: tools/bench_embree.c, which this
 # builds against Debian's Embree 3 (libembree-dev, in deps because
-# tests/test_bench_embree.sh checks that peer's rays against strata's);
+# tests/cli/test_bench_embree.sh checks that peer's rays against strata's);
 # Mitsuba 3 from PyPI in a venv of its own, and Debian's libllvm19 for
 # Mitsuba's LLVM variant (bench_mitsuba.py points DRJIT_LIBLLVM_PATH at it),
 # only for benchmarks.
@@ -247,7 +247,7 @@ build/envmaps/%.hdr: $(BUILD)/make_envmap
 	$(BUILD)/make_envmap $* $@
 
 # The README's pictures, each made by its one line in tools/make_pictures.sh
-# (tests/test_pictures.sh checks that a few of them are up to date).
+# (tests/image/test_pictures.sh checks that a few of them are up to date).
 pictures: deps strata $(ENVMAPS)
 	sh tools/make_pictures.sh
 	@echo "pictures: the README's discrepancy table (paste it in where it differs):"

@@ -1,16 +1,16 @@
-/* st_sampler.h — the sampler as a concept on the host: names, what each kind
+/* st_sampling.h — the sampler as a concept on the host: names, what each kind
  * is (per-pixel or tiled, scrambled or not), the check of a render's sampler
  * settings, and the preparation of st_params' sampler fields. The per-sample
  * functions the kernels run (radical inverse, Halton index, Sobol, ...) stay
- * in kernels/samplers.h; the tiles of the tiled samplers come from the
+ * in kernels/sample/samplers.h; the tiles of the tiled samplers come from the
  * sampling module (st_sampling.h).
  *
  * A sampler is an ST_SAMPLER_* value (st_shared.h). Nothing here allocates or
  * prints; the check returns ST_ERR_USAGE with a message naming the field
  * ("spp 70000: ..."), which the CLI may rewrite as the option that sets it.
  *
- * Tests: tests/test_sampler.c (names, predicates, preparation, the Halton
- * check); tests/test_samplers.c guards kernels/samplers.h. */
+ * Tests: tests/unit/test_sampling_settings.c (names, predicates, preparation, the Halton
+ * check); tests/unit/test_sampling_kernels.c guards kernels/sample/samplers.h. */
 #ifndef ST_SAMPLER_H
 #define ST_SAMPLER_H
 

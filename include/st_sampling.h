@@ -21,7 +21,7 @@
  *   - Errors: ST_ERR_USAGE (bad argument, message names it), ST_ERR_NOMEM.
  *     Nothing here prints.
  *
- * Tests: tests/test_sampling.c (poisson_*, best_candidate_*, star_discrepancy_*,
+ * Tests: tests/unit/test_sampling_point_sets.c (poisson_*, best_candidate_*, star_discrepancy_*,
  * l2_star_*, spectrum_*). */
 #ifndef ST_SAMPLING_HOST_H /* kernels/ may hold a shared header of the same file name */
 #define ST_SAMPLING_HOST_H
@@ -99,7 +99,7 @@ st_status st_sampling_best_candidate_tile(st_u32 count, st_u32 seed, float **poi
 
 /* The tile the tiled samplers (poisson, best-candidate) render from: a torus
  * of side x side pixels with exactly spp points inside every pixel, spaced
- * as blue noise across pixel borders (src/pixel_tile.c). Built in spp
+ * as blue noise across pixel borders (src/sampling/pixel_tile.c). Built in spp
  * passes, each adding one point to every pixel:
  *   best-candidate: point n (0-based, over the whole tile) is, of
  *     m(n) = min(max(1, ST_PIXEL_TILE_K n), ST_PIXEL_TILE_MAX_M) candidates,
@@ -153,7 +153,7 @@ st_status st_sampling_pixel_tile(st_u32 sampler, st_u32 side, st_u32 spp, st_u32
 st_status st_sampling_pad_tables(st_u32 sampler, st_u32 spp, st_u32 seed, st_u32 **words,
                                  st_u32 *count, st_error *err);
 
-/* The tables of the pmj02 sampler (src/pmj02.c): `sets` progressive
+/* The tables of the pmj02 sampler (src/sampling/pmj02.c): `sets` progressive
  * multi-jittered (0,2) sequences of 2^log2n points each (Christensen, Kensler
  * and Kilpatrick 2018): every prefix of 2^m points is a (0,m,2)-net, each
  * elementary interval of area 2^-m, of every shape 2^-i x 2^-(m-i), holding
@@ -201,7 +201,7 @@ double st_l2_star_discrepancy(const float *pts, st_u32 n, st_u32 dims);
 /* The smallest distance between two of n points (x,y pairs in [0,1]^2),
  * measured in the unit square, or, with torus, per axis the shorter way
  * round the unit torus (a tile's own measure: it repeats). Exact: a grid
- * search, and every pair where the grid cannot decide (src/spacing.c).
+ * search, and every pair where the grid cannot decide (src/sampling/spacing.c).
  * Scaled by sqrt(n) it compares patterns of any size: a hexagonal lattice
  * has sqrt(2/sqrt(3)) = 1.075, Mitchell's best-candidate about 0.75.
  * NaN for n < 2, pts NULL, or no memory. */
@@ -237,7 +237,7 @@ void st_spectrum_radial(const double *power, st_u32 kmax, double *radial, st_u32
  * ADDED to power[((ky + h/2) mod h) w + (kx + w/2) mod w], so k = 0 sits at
  * (w/2, h/2) and callers can average over seeds. Independent values of
  * variance s^2 give E[P(k)] = s^2 at every k != 0. 2-D FFT by FFTW
- * (src/image_spectrum.c). Errors: ST_ERR_USAGE (NULL arrays, empty or more
+ * (src/sampling/image_spectrum.c). Errors: ST_ERR_USAGE (NULL arrays, empty or more
  * than 2^28 pixels), ST_ERR_NOMEM. */
 st_status st_spectrum_image(const double *values, st_u32 w, st_u32 h, double *power,
                             st_error *err);

@@ -1,7 +1,7 @@
 /* render.c — the pass loop (see st_render.h): a render's options checked and
  * turned into kernel parameters, its item space cut into waves pushed
  * through the stage kernels, then resolve and read-back. The scene on the
- * device is render_scene.c's, the wave buffers wave.c's, the adaptive rounds
+ * device is device_scene.c's, the wave buffers wave.c's, the adaptive rounds
  * adaptive.c's. */
 #include "render_int.h"
 #include "plan.h"

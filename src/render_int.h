@@ -1,5 +1,5 @@
 /* render_int.h — the renderer's inside, shared by the files that make it
- * up: render_scene.c (the scene on the device), render.c (the pass loop),
+ * up: device_scene.c (the scene on the device), render.c (the pass loop),
  * adaptive.c (adaptive rounds). Not a public header. */
 #ifndef ST_RENDER_INT_H
 #define ST_RENDER_INT_H
@@ -68,7 +68,7 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
                              const st_render_options *o, st_u64 total, st_progress_state *pr,
                              st_render_stats *st, st_error *err);
 
-/* The camera basis of a view at an image aspect (render_scene.c). */
+/* The camera basis of a view at an image aspect (device_scene.c). */
 st_camera st_render_camera(const st_scene_camera *c, st_u32 w, st_u32 h);
 
 #endif

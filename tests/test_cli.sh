@@ -62,11 +62,11 @@ OCL_ICD_VENDORS="$T/novendors" $S render $R -o "$T/nv.exr" > /dev/null 2>&1
 check "no OpenCL platform: render writes nothing" '[ ! -e "$T/nv.exr" ]'
 mkdir "$T/kernels"
 cp kernels/*.cl kernels/*.h "$T/kernels/"
-printf '\n__kernel void broken(void) { this is not C; }\n' >> "$T/kernels/film.cl"
+printf '\n__kernel void broken(void) { this is not C; }\n' >> "$T/kernels/film/film.cl"
 STRATA_KERNEL_DIR="$T/kernels" $S render $R -o "$T/kb.exr" > "$T/out" 2> "$T/err"
 st=$?
 check "a kernel that fails to build: exit 1 and the cause" '[ $st -eq 1 ] && grep -q "^strata: error: kernel build failed on .*CL_BUILD_PROGRAM_FAILURE" "$T/err"'
-check "a kernel that fails to build: the compiler log names the file" 'grep -q "kernels/film.cl:[0-9]*:[0-9]*:" "$T/err" && [ ! -e "$T/kb.exr" ]'
+check "a kernel that fails to build: the compiler log names the file" 'grep -q "kernels/film/film.cl:[0-9]*:[0-9]*:" "$T/err" && [ ! -e "$T/kb.exr" ]'
 
 # strata pattern
 $S pattern --sampler halton --scramble none --count 1000 --dims 3 --csv "$T/h.csv" > /dev/null 2>&1
