@@ -1,4 +1,4 @@
-/* render_scene.c — the scene on the device: triangles in BVH order with
+/* device_scene.c — the scene on the device: triangles in BVH order with
  * their normals, materials, texture coordinates and light table, uploaded
  * once per renderer; and the camera basis of a view. */
 #include "render_int.h"
