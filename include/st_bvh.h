@@ -1,8 +1,8 @@
 /* st_bvh.h — bounding volume hierarchy over a triangle soup, built on the host
  * with binned SAH and flattened depth first for the kernels.
  *
- * The layout (st_bvh_node, st_bvh_wide_node, st_triangle) is kernels/st_shared.h's;
- * the traversals that read it are kernels/trace.h's, shared by host and device:
+ * The layout (st_bvh_node, st_bvh_wide_node, st_triangle) is kernels/shared/st_shared.h's;
+ * the traversals that read it are kernels/geom/trace.h's, shared by host and device:
  * st_intersect_closest and st_intersect_any on the binary tree (the host's
  * reference), st_intersect4_closest and st_intersect4_any on the same tree
  * collapsed ST_BVH_WIDTH-wide (the kernels'). Guarantees of a built tree:
@@ -60,7 +60,7 @@ st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, s
  * leaves (st_bvh_pack_leaves). */
 void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials);
 
-/* Collapses bvh->nodes into bvh->wide (src/bvh_wide.c; st_bvh_build calls
+/* Collapses bvh->nodes into bvh->wide (src/bvh/bvh_wide.c; st_bvh_build calls
  * it): each wide node takes its binary node's two children and, while it has
  * fewer than ST_BVH_WIDTH, opens the interior child of largest surface area
  * (the one a ray is likeliest to enter). A tree so deep that the traversal

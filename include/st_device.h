@@ -28,7 +28,7 @@ typedef struct st_device_info {
     unsigned long long global_mem;
     unsigned long long local_mem; /* CL_DEVICE_LOCAL_MEM_SIZE: one work-group's __local bytes */
     unsigned float_width; /* CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT */
-    unsigned lanes;       /* the kernels' lane width ST_W (kernels/lanes.h): 1, 4, 8 or 16 */
+    unsigned lanes;       /* the kernels' lane width ST_W (kernels/shared/lanes.h): 1, 4, 8 or 16 */
     int compiles_at_launch; /* PoCL: each kernel is compiled at its first launch (per
                                work-group size and grid size class), not in the build */
 } st_device_info;
@@ -59,7 +59,7 @@ unsigned long long st_device_max_alloc(const st_device *dev);
 st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *err);
 
 /* The lane width the kernels are built for unless asked otherwise (ST_W,
- * kernels/lanes.h): on a CPU device its preferred float vector width
+ * kernels/shared/lanes.h): on a CPU device its preferred float vector width
  * rounded down to 4, 8 or 16 (PoCL reports the ISA's: 8 for AVX2, 16 for
  * AVX-512), so that a work-item's lanes fill a vector register; elsewhere
  * 1, a GPU's work-items being its lanes already. */

@@ -1,5 +1,5 @@
 /* st_envmap.h — an environment map read from an equirectangular EXR or
- * Radiance .hdr file (kernels/envmap.h: the convention and the sampling),
+ * Radiance .hdr file (kernels/integrator/envmap.h: the convention and the sampling),
  * with the tables that importance-sample it by luminance and its integral
  * for the choice among lights by power. Host only; the renderer uploads it
  * (st_renderer_set_env_map). */
@@ -16,7 +16,7 @@
 typedef struct st_envmap {
     st_u32 width, height;
     float *texels;   /* width x height x 4: linear RGB radiance and 0, row 0 at the top (+Y) */
-    float *cdf;      /* height + width x height: the sampling table (kernels/envmap.h) */
+    float *cdf;      /* height + width x height: the sampling table (kernels/integrator/envmap.h) */
     double integral; /* ∫ L dω over the sphere of the mean of R, G, B (texels constant over
                         their cells, each cell's exact solid angle) */
 } st_envmap;

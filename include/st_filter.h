@@ -1,6 +1,6 @@
 /* st_filter.h — the reconstruction filter as a concept: its names and
  * defaults, the check of its parameters, and what the host derives from its
- * profile f(x) (kernels/filters.h: st_filter_eval_1d, the very code the splat
+ * profile f(x) (kernels/film/filters.h: st_filter_eval_1d, the very code the splat
  * kernel runs): the integral ∫ f, the importance-sampling table of |f|,
  * samples of the profile and the frequency response. The renderer
  * (render.c), the filter lab (`strata filter`) and the 1-D signal lab
@@ -13,8 +13,8 @@
  * ("filter radius 9: must be in [0.0625, 8]"), which the CLI may rewrite as the
  * option that sets it.
  *
- * Tests: tests/test_filter.c (integral, FIS table, profile, response, check);
- * tests/test_filters.c guards the evaluation in kernels/filters.h. */
+ * Tests: tests/unit/test_filter.c (integral, FIS table, profile, response, check);
+ * tests/unit/test_filter_kernels.c guards the evaluation in kernels/film/filters.h. */
 #ifndef ST_FILTER_H
 #define ST_FILTER_H
 

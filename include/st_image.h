@@ -11,7 +11,7 @@
  * Files are written through st_outfile (st_outfile.h): a temporary in the destination folder,
  * renamed into place when complete, so a failed save leaves neither a partial file nor a temporary
  * behind (an existing file of the same name survives a failed save). The container and the choice
- * of format by extension are src/image.c; each format (image_exr.c, image_png.c) needs only them. Errors: every failing call returns a status and fills err with one
+ * of format by extension are src/image/image.c; each format (image_exr.c, image_png.c) needs only them. Errors: every failing call returns a status and fills err with one
  * line that starts with the path: ST_ERR_IO when the file system refuses (cannot create, open,
  * write, rename), ST_ERR_FORMAT when a file or image content is invalid, ST_ERR_USAGE for a bad
  * argument (unknown extension, bad channel list), ST_ERR_NOMEM when memory runs out. Nothing here

@@ -19,7 +19,7 @@
  *
  * Coordinates: data y grows upwards in every panel (row 0 of a heat map is its
  * bottom row); pixel coordinates (st_plot_rect) grow right and down, as in the
- * PNG. Tests: tests/test_plot.c. */
+ * PNG. Tests: tests/unit/test_plot.c. */
 #ifndef ST_PLOT_H
 #define ST_PLOT_H
 

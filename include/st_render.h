@@ -18,7 +18,7 @@
 #include "st_filter.h"
 #include "st_image.h"
 #include "st_names.h"
-#include "st_sampler.h"
+#include "st_sampling.h"
 #include "st_scene.h"
 #include "st_shared.h"
 
@@ -49,7 +49,7 @@ typedef struct st_render_options {
     int env_given;     /* 1: env below; 0: scene->default_env */
     float env[3];      /* uniform environment radiance, linear RGB (a map set with
                           st_renderer_set_env_map replaces it) */
-    float env_rotate;  /* the environment's turn about +Y, degrees (kernels/envmap.h) */
+    float env_rotate;  /* the environment's turn about +Y, degrees (kernels/integrator/envmap.h) */
     st_u32 texture_filter; /* ST_TEXFILTER_* (default trilinear) */
     /* --crop: only the window [crop_x, crop_x + crop_w) x [crop_y, crop_y +
      * crop_h) of the image, each pixel equal to the full render's bit for
@@ -64,7 +64,7 @@ typedef struct st_render_options {
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
  * ST_RECON_*; st_name_lookup returns the index or -1. Sampler and filter
- * names, defaults and checks: st_sampler.h, st_filter.h. */
+ * names, defaults and checks: st_sampling.h, st_filter.h. */
 extern const char *const st_integrator_names[2];
 extern const char *const st_reconstruction_names[2];
 
@@ -79,11 +79,11 @@ void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32
 st_status st_render_check(const st_render_options *o, st_error *err);
 
 /* Which rays are traced in packets of ST_W per work-item (packet_path;
- * kernels/packet.h), same film bit for bit but for ties between triangles:
+ * kernels/geom/packet.h), same film bit for bit but for ties between triangles:
  * AUTO the device's lanes' and scene size's (st_renderer_packets), NONE one
  * ray per work-item, COHERENT the camera rays and the shadow rays from their
  * hits, ALL every ray. Shadow rays only in scenes whose materials are all
- * opaque. The other choices of kernel are the renderer's own (src/plan.c). */
+ * opaque. The other choices of kernel are the renderer's own (src/render/plan.c). */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,

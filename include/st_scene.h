@@ -33,8 +33,8 @@
  * ST_ERR_FORMAT for anything malformed ("FILE: what is wrong", tinygltf's own
  * message included; a missing .bin, or an image a material uses that cannot
  * be read or decoded, is a format error), ST_ERR_USAGE for an unknown
- * built-in name, ST_ERR_NOMEM. Tests: tests/test_scene.c, tests/test_texture.c,
- * tests/test_khronos.sh. */
+ * built-in name, ST_ERR_NOMEM. Tests: tests/unit/test_scene.c, tests/device/test_texture.c,
+ * tests/cli/test_khronos.sh. */
 #ifndef ST_SCENE_H
 #define ST_SCENE_H
 

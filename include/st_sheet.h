@@ -5,7 +5,7 @@
  * as 8-bit sRGB (st_image_srgb_quantize of R, G, B), enlarged without smoothing by the whole
  * factor max(1, floor(256 / width)) (the inset by max(1, floor(that width / inset width))), so
  * every image pixel stays a visible square. Written through st_outfile (no partial file).
- * Nothing here prints. Tests: tests/test_sheet.c. */
+ * Nothing here prints. Tests: tests/unit/test_sheet.c. */
 #ifndef ST_SHEET_H
 #define ST_SHEET_H
 

@@ -9,7 +9,7 @@
  *                   (the weighted average the renderer's film computes), or the
  *                   lecture's convolution Σ_i r((x - x_i)/T) f(x_i) / ∫ r(u) du
  *
- * r is any of strata's filters (kernels/filters.h, the splat kernel's own
+ * r is any of strata's filters (kernels/film/filters.h, the splat kernel's own
  * st_filter_eval_1d) with radius, sigma and tau in units of the sample
  * spacing T. A sine of frequency f sampled below the Nyquist rate (f > 1/(2T))
  * comes back at the alias frequency |f - k/T|, k = round(f T).
@@ -20,7 +20,7 @@
  * [0, L) is all interior. The sinc sum is truncated to that window: the tail
  * of Σ sinc(u - i) f(x_i) left out is an oscillating series whose terms fall as
  * 1/(π |u - i|), so the truncation error is of the order 1/(π^2 M) for a
- * margin of M samples (tests/test_signal.c states the bound it checks).
+ * margin of M samples (tests/unit/test_signal.c states the bound it checks).
  *
  * Spectra are magnitudes of FFTW's DFT with a periodic Hann window
  * w_j = 1/2 - 1/2 cos(2πj/n) (Harris, "On the Use of Windows for Harmonic
@@ -34,7 +34,7 @@
  * malloc'ed; st_signal_result_free releases them. Nothing here prints.
  * Errors: ST_ERR_USAGE naming the option (--spacing, --points, ...) for bad
  * options, ST_ERR_NOMEM when memory runs out or FFTW cannot plan a transform.
- * Tests: tests/test_signal.c, tests/test_signal.sh. */
+ * Tests: tests/unit/test_signal.c, tests/cli/test_signal.sh. */
 #ifndef ST_SIGNAL_H
 #define ST_SIGNAL_H
 

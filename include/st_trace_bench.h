@@ -33,7 +33,7 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
                          st_trace_bench_result *out, st_error *err);
 
 /* Rays traced alone, in one launch of one kernel, for the tests that
- * compare the single-ray and the packet kernels (kernels/packet.h) with
+ * compare the single-ray and the packet kernels (kernels/geom/packet.h) with
  * each other and with the host: st_trace_closest gives the closest hits of
  * rays[0 .. n) through trace_rays, or trace_rays_packet when packets;
  * st_trace_shadow whether each ray (o, d, tmax; tmax <= 0: no ray) is

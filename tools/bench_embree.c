@@ -10,7 +10,7 @@
  *     bench --rays` traces, with its default view (st_render_defaults: 512 x
  *     512, seed 0, the scene's default camera), tmin 0, tmax infinite;
  *   - a triangle of a one-sided material is culled when met from behind, as
- *     strata's traversal culls it (kernels/trace.h: det = e1 . (d x e2) must
+ *     strata's traversal culls it (kernels/geom/trace.h: det = e1 . (d x e2) must
  *     be positive), by an Embree intersection filter on the one-sided
  *     triangles' geometry (Debian's Embree is built without its compile-time
  *     culling). The filter costs Embree time (a call per candidate hit on
@@ -157,7 +157,7 @@ static float ray_lane(const struct RTCRayN *ray, unsigned n, unsigned field, uns
     return ((const float *)ray)[field * n + i];
 }
 
-/* strata's side rule (kernels/trace.h, st_intersect_triangle): a one-sided
+/* strata's side rule (kernels/geom/trace.h, st_intersect_triangle): a one-sided
  * triangle counts only where det = e1 . (d x e2) > 0, the ray meeting the
  * side from which v0, v1, v2 run counter-clockwise. geometryUserPtr is the
  * geometry's vertices, 9 floats per triangle. */

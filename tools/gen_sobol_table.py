@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""gen_sobol_table.py — writes kernels/sobol_table.h, the generator matrices of
+"""gen_sobol_table.py — writes kernels/sample/sobol_table.h, the generator matrices of
 the Sobol' sequence for the first ST_SOBOL_DIMS dimensions, from Joe and
 Kuo's direction numbers new-joe-kuo-6.21201 (S. Joe and F. Y. Kuo,
 "Constructing Sobol sequences with better two-dimensional projections",
@@ -15,7 +15,7 @@ first digit in the most significant bit, with Joe and Kuo's recurrence
   m_k = 2^s m_{k-s} xor m_{k-s} xor sum_{i=1}^{s-1} 2^i a_i m_{k-i};
 dimension 0 is the van der Corput sequence (every m_k = 1).
 
-Usage: tools/gen_sobol_table.py [new-joe-kuo-6.21201] > kernels/sobol_table.h
+Usage: tools/gen_sobol_table.py [new-joe-kuo-6.21201] > kernels/sample/sobol_table.h
 """
 import sys
 

@@ -2,7 +2,7 @@
 (tools/bench_mitsuba.py): the triangle primitives
 under the default scene's nodes, in world space (translation/rotation/scale
 or matrix; buffers as data: URIs or files beside the .gltf), each with its
-material, and the first camera node. Not strata's importer (src/scene.c):
+material, and the first camera node. Not strata's importer (src/scene/scene.c):
 an independent reading, so that a peer sees the scene as the file says.
 """
 import base64

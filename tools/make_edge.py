@@ -4,7 +4,7 @@ left part of the view, x < 0.37, over an empty (black) background, seen
 straight on by an orthogonal-looking narrow perspective camera. With
 --max-depth 0 every pixel away from the quad's edge sees one constant value,
 so its error estimate is 0, while pixels on the edge mix 1 and 0: the test
-scene of adaptive sampling (tests/test_render.c). Standard library only."""
+scene of adaptive sampling (tests/image/test_render.c). Standard library only."""
 import base64, json, struct, sys
 
 def main(out):

@@ -1,5 +1,5 @@
 /* make_envmap.c — writes an equirectangular environment map as a Radiance
- * .hdr (stb_image_write), in strata's convention (kernels/envmap.h: +Y up,
+ * .hdr (stb_image_write), in strata's convention (kernels/integrator/envmap.h: +Y up,
  * the centre column looking along -Z, the right quarter along +X):
  *   sky      an outdoor sky: a gradient from a pale horizon to a blue zenith,
  *            a sun disc of 2.5 degrees radius (radiance 250) at 40 degrees
@@ -23,7 +23,7 @@
 
 #define PI 3.14159265358979323846
 
-/* The direction of map coordinates (u, v): kernels/envmap.h's formula,
+/* The direction of map coordinates (u, v): kernels/integrator/envmap.h's formula,
  * written out here so that the tool does not depend on the renderer. */
 static void direction(double u, double v, double d[3])
 {

@@ -3,7 +3,7 @@
 # Every picture is one `pic NAME COMMAND...` line below, with @ standing for its
 # path: the one place each picture's command is written. Environment:
 #   P=DIR       where to write them (default scenes/pictures)
-#   ONLY="A B"  make only these names (tests/test_pictures.sh re-renders a few
+#   ONLY="A B"  make only these names (tests/image/test_pictures.sh re-renders a few
 #               this way and requires them equal to the committed files)
 #   S=BINARY    the strata to run (default ./strata)
 #   E=DIR       the environment maps and their tool (default build/envmaps and

@@ -1,6 +1,6 @@
 /* bvh.c — binned-SAH bounding volume hierarchy over triangles, built on the
  * host and flattened depth first into st_bvh_node (include/st_bvh.h lists the
- * guarantees of a built tree; kernels/trace.h traverses it).
+ * guarantees of a built tree; kernels/geom/trace.h traverses it).
  *
  * Cost model, the surface area heuristic (MacDonald & Booth 1990; Wald,
  * "On fast Construction of SAH-based Bounding Volume Hierarchies", IEEE
@@ -39,7 +39,7 @@
  * Boxes are the exact bounds of their triangles (min and max of vertex
  * coordinates: no rounding). That a Moller-Trumbore hit which rounding places
  * a hair outside its triangle is still found is the traversal's business:
- * trace.h widens the slab interval relative to t. tests/test_bvh.c compares
+ * trace.h widens the slab interval relative to t. tests/unit/test_bvh.c compares
  * the traversal with a brute-force loop over the same triangle test, bit for
  * bit.
  *

@@ -27,9 +27,8 @@
 #include "cli_names.h"
 #include "cli_progress.h"
 #include "cli_session.h"
-#include "st_pattern.h"
-#include "st_plot.h"
 #include "st_sampling.h"
+#include "st_plot.h"
 
 #define MAX_SERIES 16
 #define MAX_SPP 32
@@ -390,7 +389,7 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
     o.sampler = se->sampler;
     o.adaptive = se->adaptive;
     o.spp = c->spp[k]; /* adaptive: the mean, so both cost the same */
-    st_u32 runs = st_pattern_is_random(o.sampler, o.scramble) || o.adaptive ? c->seeds : 1;
+    st_u32 runs = st_sampling_pattern_is_random(o.sampler, o.scramble) || o.adaptive ? c->seeds : 1;
     double sum = 0, sum2 = 0, rel = 0, samples = 0;
     for (st_u32 r = 0; r < runs; r++) {
         st_image img = {0};
@@ -539,7 +538,7 @@ int st_cli_converge(int argc, char **argv)
     for (st_u32 i = 0; i < ns; i++) {
         st_render_options o = c->r.opt;
         o.adaptive = ss[i].adaptive;
-        total += c->nspp * (st_pattern_is_random(ss[i].sampler, o.scramble) || o.adaptive
+        total += c->nspp * (st_sampling_pattern_is_random(ss[i].sampler, o.scramble) || o.adaptive
                                 ? c->seeds : 1);
     }
     st_error err = {0};

@@ -10,7 +10,7 @@
 #include "st_filter.h"
 #include "st_names.h"
 #include "st_render.h"
-#include "st_sampler.h"
+#include "st_sampling.h"
 #include "st_scene.h"
 #include "st_signal.h"
 #include "st_tonemap.h"

@@ -14,10 +14,9 @@
 #include "cli_names.h"
 #include "rng.h"
 #include "samplers.h"
-#include "st_pattern.h"
+#include "st_sampling.h"
 #include "st_plot.h"
 #include "st_render.h"
-#include "st_sampling.h"
 
 static const char pattern_help[] =
     "usage: strata pattern --sampler NAME --count N [options]\n"
@@ -101,10 +100,10 @@ static int parse(int argc, char **argv, pattern_args *a)
             break;
         }
         case P_COUNT:
-            rc = st_cli_parse_u32("--count", v, 1, ST_PATTERN_MAX_COUNT, &a->count);
+            rc = st_cli_parse_u32("--count", v, 1, ST_SAMPLING_PATTERN_MAX_COUNT, &a->count);
             a->have_count = 1;
             break;
-        case P_DIMS: rc = st_cli_parse_u32("--dims", v, 1, ST_PATTERN_MAX_DIMS, &a->dims); break;
+        case P_DIMS: rc = st_cli_parse_u32("--dims", v, 1, ST_SAMPLING_PATTERN_MAX_DIMS, &a->dims); break;
         case P_SEED: rc = st_cli_parse_u32("--seed", v, 0, 0xffffffffu, &a->seed); break;
         case P_SCRAMBLE:
             if (strcmp(v, "on") && strcmp(v, "none"))
@@ -224,7 +223,7 @@ static st_status spectrum(const pattern_args *a, st_u32 n0, st_error *err)
         kmax = (st_u32)(2.0 * sqrt((double)n0));
         kmax = kmax < 32 ? 32 : kmax > 256 ? 256 : kmax;
     }
-    st_u32 side = 2 * kmax + 1, runs = st_pattern_is_random(a->sampler, a->scramble) ? a->seeds : 1;
+    st_u32 side = 2 * kmax + 1, runs = st_sampling_pattern_is_random(a->sampler, a->scramble) ? a->seeds : 1;
     double *power = calloc((size_t)side * side, sizeof *power);
     double *radial = calloc(kmax + 1, sizeof *radial);
     st_u32 *counts = calloc(kmax + 1, sizeof *counts);
@@ -236,7 +235,7 @@ static st_status spectrum(const pattern_args *a, st_u32 n0, st_error *err)
     for (st_u32 r = 0; r < runs && rc == ST_OK; r++) {
         float *pts;
         st_u32 n;
-        rc = st_pattern_make(a->sampler, a->count, a->dims, a->seed + r, a->scramble, &pts, &n, err);
+        rc = st_sampling_pattern(a->sampler, a->count, a->dims, a->seed + r, a->scramble, &pts, &n, err);
         if (rc == ST_OK)
             rc = st_spectrum_periodogram(pts, n, a->dims, kmax, power, err);
         free(pts);
@@ -285,7 +284,7 @@ int st_cli_pattern(int argc, char **argv)
     st_error err = {0};
     float *pts = NULL;
     st_u32 n = 0;
-    if (st_pattern_make(a.sampler, a.count, a.dims, a.seed, a.scramble, &pts, &n, &err))
+    if (st_sampling_pattern(a.sampler, a.count, a.dims, a.seed, a.scramble, &pts, &n, &err))
         return st_cli_fail(&err);
     points_ctx pc = {pts, n, a.dims};
     if ((a.csv && st_cli_write_text(a.csv, emit_points, &pc, &err)) ||

@@ -1,6 +1,6 @@
 /* filter.c — the filter module (st_filter.h): names, defaults, the parameter
  * check, and the quantities the host derives from the profile f(x). The
- * profile itself is kernels/filters.h's st_filter_eval_1d, shared with the
+ * profile itself is kernels/film/filters.h's st_filter_eval_1d, shared with the
  * splat kernel, so every number here describes the filter that renders. */
 #include "st_filter.h"
 

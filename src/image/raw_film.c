@@ -1,4 +1,4 @@
-/* film.c — raw film sums to and from images (see st_film.h). */
+/* raw_film.c — raw film sums to and from images (see st_film.h). */
 #include "st_film.h"
 
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /* envmap.c — environment maps: reading, the sampling tables, the power (see
- * st_envmap.h; the convention and sampling: kernels/envmap.h). */
+ * st_envmap.h; the convention and sampling: kernels/integrator/envmap.h). */
 #include "st_envmap.h"
 #include "st_mem_plan.h"
 
@@ -24,7 +24,7 @@ static double luminance(const float *c)
 }
 
 /* The marginal and conditional CDFs of f_ij = luminance x sin θ_j (the
- * layout of kernels/envmap.h); a row that is black everywhere (probability
+ * layout of kernels/integrator/envmap.h); a row that is black everywhere (probability
  * 0, never chosen) gets a uniform CDF. Returns Σ f, 0 when all are black. */
 static double build_cdf(const float *texels, st_u32 w, st_u32 h, float *cdf)
 {

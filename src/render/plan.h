@@ -22,7 +22,7 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
  * the sample back), or one kernel, generate_rays. */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
 /* Shade: shade_hits, one item per work-item, or shade_hits_lanes, ST_W,
- * the common case of direct lighting in lanes (kernels/shade_lanes.h). */
+ * the common case of direct lighting in lanes (kernels/integrator/shade_lanes.h). */
 enum { ST_SHADE_AUTO, ST_SHADE_ITEM, ST_SHADE_LANES };
 
 /* Choices forced for tests and measurements (st_renderer_force): each

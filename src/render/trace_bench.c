@@ -77,7 +77,7 @@ st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o,
 }
 
 /* Work-items of a packet kernel over n rays: one per packet of the
- * device's lane width (kernels/packet.h). */
+ * device's lane width (kernels/geom/packet.h). */
 static size_t packet_items(const st_renderer *r, size_t n)
 {
     size_t lanes = st_device_get_info(r->dev)->lanes;

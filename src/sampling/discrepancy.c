@@ -5,7 +5,7 @@
  * B = [0,a) x [0,b) of |#{x_i in B}/N - area(B)| (closed boxes as limits).
  * Invariant: both functions read the points only; counts are exact integers
  * and every box the sup can be attained at is visited, so the result is exact
- * up to double rounding of a*b - count/N. Tests: tests/test_sampling.c
+ * up to double rounding of a*b - count/N. Tests: tests/unit/test_sampling_point_sets.c
  * star_discrepancy_*, l2_star_*. */
 #include "st_sampling.h"
 

@@ -1,5 +1,5 @@
-/* pattern.c — point sets for the laboratory (see st_pattern.h). */
-#include "st_pattern.h"
+/* pattern.c — point sets for the laboratory (see st_sampling.h). */
+#include "st_sampling.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -7,10 +7,8 @@
 
 #include "rng.h"
 #include "samplers.h"
-#include "st_sampler.h"
-#include "st_sampling.h"
 
-int st_pattern_is_random(st_u32 sampler, st_u32 scramble)
+int st_sampling_pattern_is_random(st_u32 sampler, st_u32 scramble)
 {
     if (sampler == ST_SAMPLER_UNIFORM)
         return 0;
@@ -69,18 +67,18 @@ static st_status tiled(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
     return ST_OK;
 }
 
-st_status st_pattern_make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
+st_status st_sampling_pattern(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
                           st_u32 scramble, float **points, st_u32 *out_count, st_error *err)
 {
     *points = NULL;
     *out_count = 0;
     if (sampler >= ST_SAMPLER_COUNT)
         return st_fail(err, ST_ERR_USAGE, "unknown sampler %u", sampler);
-    if (count < 1 || count > ST_PATTERN_MAX_COUNT)
+    if (count < 1 || count > ST_SAMPLING_PATTERN_MAX_COUNT)
         return st_fail(err, ST_ERR_USAGE, "count %u: must be in 1..%u", count,
-                       ST_PATTERN_MAX_COUNT);
-    if (dims < 1 || dims > ST_PATTERN_MAX_DIMS)
-        return st_fail(err, ST_ERR_USAGE, "dims %u: must be in 1..%u", dims, ST_PATTERN_MAX_DIMS);
+                       ST_SAMPLING_PATTERN_MAX_COUNT);
+    if (dims < 1 || dims > ST_SAMPLING_PATTERN_MAX_DIMS)
+        return st_fail(err, ST_ERR_USAGE, "dims %u: must be in 1..%u", dims, ST_SAMPLING_PATTERN_MAX_DIMS);
     if (ST_SAMPLER_IS_TILED(sampler))
         return tiled(sampler, count, dims, seed, points, out_count, err);
     st_params p;

@@ -1,9 +1,9 @@
-/* sampler.c — the sampler module on the host (st_sampler.h): names,
+/* sampler.c — the sampler module on the host (st_sampling.h): names,
  * predicates, the check of a render's sampler settings and the preparation
  * of the per-render fields the kernels' samplers.h reads. Invariant: the
  * check accepts exactly the settings whose Halton indices st_halton_index
  * (samplers.h) computes without wrapping past 2^32. */
-#include "st_sampler.h"
+#include "st_sampling.h"
 
 #include <string.h>
 

@@ -8,7 +8,7 @@
  *
  * Invariant: the sum is direct and in double, so P is exact up to rounding;
  * results are ADDED to the caller's array, never overwritten. Tests:
- * tests/test_sampling.c spectrum_*. */
+ * tests/unit/test_sampling_point_sets.c spectrum_*. */
 #include "st_sampling.h"
 
 #include <math.h>

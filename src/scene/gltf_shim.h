@@ -1,11 +1,11 @@
-/* gltf_shim.h — private C interface of the tinygltf shim (src/gltf_shim.cpp),
- * the one C++ file of strata. Used only by src/scene.c.
+/* gltf_shim.h — private C interface of the tinygltf shim (src/scene/gltf_shim.cpp),
+ * the one C++ file of strata. Used only by src/scene/scene.c.
  *
  * The shim parses one glTF 2.0 document (JSON .gltf or binary .glb, chosen by
  * the "glTF" magic of the bytes, not by the file name), validates every index,
  * accessor and bufferView range it uses, flattens the default scene (or
  * scene 0) into world-space triangles, and decodes (stb_image) the images its
- * materials use. Only plain C types cross this header: kernels/st_shared.h
+ * materials use. Only plain C types cross this header: kernels/shared/st_shared.h
  * uses _Static_assert, which C++ does not accept. */
 #ifndef ST_GLTF_SHIM_H
 #define ST_GLTF_SHIM_H

@@ -1,7 +1,7 @@
 #!/bin/sh
 # test_packets_cli.sh — which rays `--packets auto` traces in packets, as
 # `strata bench` reports it: coherent rays on a CPU device for a scene of at
-# least 65,536 triangles (src/plan.c, ST_PACKET_MIN_TRIANGLES), none for a
+# least 65,536 triangles (src/render/plan.c, ST_PACKET_MIN_TRIANGLES), none for a
 # small one; an explicit choice is kept. --lanes builds the kernels at the
 # width asked, which bench and the EXR header name with the kernels that
 # ran, and leaves the image as it is. TAP output.

@@ -1,5 +1,5 @@
-/* test_envmap.c — environment maps (--env FILE, kernels/envmap.h,
- * src/envmap.c) and next-event estimation's choice among lights by power.
+/* test_envmap.c — environment maps (--env FILE, kernels/integrator/envmap.h,
+ * src/render/envmap.c) and next-event estimation's choice among lights by power.
  *
  * On the host, the distribution against its definition: the convention's
  * directions, the rotation, the pdf integrating to 1 over the sphere (Monte

@@ -1,6 +1,6 @@
 /* test_layout.c — every struct and field that the host and the kernels
  * share (ST_LAYOUT_STRUCTS, ST_LAYOUT_FIELDS in st_shared.h) has the same
- * size and offset on the device (kernels/layout.cl) as on the host, and the
+ * size and offset on the device (kernels/shared/layout.cl) as on the host, and the
  * wavefront buffers are sized from their element types. */
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,6 +1,6 @@
 /* test_leaf.c — the kernels test a leaf's triangles together (trace.h:
  * st_leaf_closest, st_leaf_any on a leaf block, one float4
- * Moller-Trumbore): on the device, through kernels/leaf_probe.cl, their hits
+ * Moller-Trumbore): on the device, through kernels/geom/leaf_probe.cl, their hits
  * are the scalar loop's (st_intersect_triangle over the leaf's triangles in
  * order) field by field, bit for bit, for every ray against every leaf of a
  * mesh made to tie: a height field whose triangles share edges and vertices,

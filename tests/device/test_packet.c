@@ -1,4 +1,4 @@
-/* test_packet.c — packets of ST_W rays per work-item (kernels/packet.h), at
+/* test_packet.c — packets of ST_W rays per work-item (kernels/geom/packet.h), at
  * every lane width the kernels build for (1, 4, 8, 16): every
  * lane's closest hit is the single-ray kernel's bit for bit (prim, t, u, v)
  * and every shadow ray is blocked exactly where the single-ray kernel says,

@@ -1,4 +1,4 @@
-/* test_sampler_render.c — every sampler in the renderer (issue: samplers):
+/* test_render_samplers.c — every sampler in the renderer (issue: samplers):
  * deterministic for a fixed seed, and converging to the same image: against
  * a 2048-spp Sobol reference of the default scene (direct lighting, 24 x 24),
  * the RMSE at 64 spp is well below the RMSE at 4 spp for each sampler. For

@@ -1,4 +1,4 @@
-/* test_texture.c — textures: the lookups of kernels/texture.h (run here on
+/* test_texture.c — textures: the lookups of kernels/integrator/texture.h (run here on
  * the host, the device's own code), the mip chains of st_scene_build_mips,
  * and textured renders on the device (constant textures times factors, the
  * environment light, alpha cut-outs, and texture filtering on the

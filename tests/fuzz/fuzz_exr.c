@@ -1,5 +1,5 @@
 /* fuzz_exr.c — libFuzzer harness for the EXR reader that `strata merge` and
- * `strata diff` use (st_image_load_exr, src/image_exr.c, on OpenEXR's core C
+ * `strata diff` use (st_image_load_exr, src/image/image_exr.c, on OpenEXR's core C
  * library): any bytes as a file, loaded with their attributes, then taken as
  * a split render's raw film (st_film_from_image) as merge does. ASan and
  * UBSan watch; an error must carry a message. Built by `make fuzz`, run by

@@ -1,5 +1,5 @@
-/* fuzz_gltf.c — libFuzzer harness for the glTF importer (src/gltf_shim.cpp
- * behind src/gltf_shim.h): any bytes, as a .gltf or .glb, parsed, validated,
+/* fuzz_gltf.c — libFuzzer harness for the glTF importer (src/scene/gltf_shim.cpp
+ * behind src/scene/gltf_shim.h): any bytes, as a .gltf or .glb, parsed, validated,
  * flattened and their images decoded, with no file access (as a built-in
  * scene: URIs other than data: are refused). ASan and UBSan find what a
  * malformed file does wrong; the status must be ST_OK or an error with a

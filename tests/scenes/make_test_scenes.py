@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""make_test_scenes.py - writes the small glTF files that tests/test_scene.c loads.
+"""make_test_scenes.py - writes the small glTF files that tests/unit/test_scene.c loads.
 
 Development tool, standard library only; its output is committed next to it.
 Run from the repository root: python3 tests/scenes/make_test_scenes.py

@@ -1,4 +1,4 @@
-/* test_bsdf.c — the glTF metallic-roughness BRDF of kernels/bsdf.h, run
+/* test_bsdf.c — the glTF metallic-roughness BRDF of kernels/integrator/bsdf.h, run
  * here on the host (the device's own code).
  *
  * Expected values come from definitions, not from the code under test:

@@ -1,4 +1,4 @@
-/* test_bvh.c — the BVH (src/bvh.c) and the shared traversal (kernels/trace.h)
+/* test_bvh.c — the BVH (src/bvh/bvh.c) and the shared traversal (kernels/geom/trace.h)
  * against their definitions:
  *   - closest hit through the tree = closest hit of a brute-force loop over
  *     every input triangle (same t to the bit; same triangle, or one at the

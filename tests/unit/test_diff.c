@@ -1,4 +1,4 @@
-/* test_diff.c — guards src/diff.c (include/st_diff.h).
+/* test_diff.c — guards src/image/diff.c (include/st_diff.h).
  *
  * Expected values come from closed forms: an offset d on every sample gives RMSE = max = d and
  * PSNR = 20 log10(1/d); offsets of +d and -d alternating also give RMSE d; an offset d on half the

@@ -1,7 +1,7 @@
-/* test_filter.c — guards src/filter.c, the filter module (st_filter.h): the
+/* test_filter.c — guards src/filter/filter.c, the filter module (st_filter.h): the
  * integral, the FIS table, the profile, the frequency response, the
- * parameter check, names and defaults. (test_filters.c guards the evaluation
- * f(x) in kernels/filters.h.)
+ * parameter check, names and defaults. (test_filter_kernels.c guards the evaluation
+ * f(x) in kernels/film/filters.h.)
  *
  * Expected values are derived here, independently of the module:
  *   - integrals by a composite Simpson rule written below, 2^16 intervals,

@@ -1,4 +1,4 @@
-/* test_filters.c — guards kernels/filters.h, the reconstruction filters the
+/* test_filter_kernels.c — guards kernels/film/filters.h, the reconstruction filters the
  * splat kernel and `strata filter` evaluate.
  *
  * Each filter is checked against its formula evaluated in double by code

@@ -1,4 +1,4 @@
-/* test_fixed.c — guards kernels/fixed.h, the 64-bit fixed-point film sums.
+/* test_fixed.c — guards kernels/shared/fixed.h, the 64-bit fixed-point film sums.
  *
  * A value v is stored as round(v 2^24), ties to even. The expected integer is
  * computed here exactly from v's mantissa and exponent (frexpf), with the

@@ -1,4 +1,4 @@
-/* test_image.c — guards src/image.c, src/image_exr.c and src/image_png.c (include/st_image.h).
+/* test_image.c — guards src/image/image.c, src/image/image_exr.c and src/image/image_png.c (include/st_image.h).
  *
  * Expected values are derived independently of the code under test: EXR round trips compare bit
  * patterns; PNG codes are recomputed here from the IEC 61966-2-1 formula and read back with
@@ -680,7 +680,7 @@ static void srgb_decode_inverts_encode(void **state)
 
 /* ---- PNG ----------------------------------------------------------------------------------- */
 
-/* The OETF written out again, independently of src/image_png.c. */
+/* The OETF written out again, independently of src/image/image_png.c. */
 static int reference_code(double x)
 {
     if (!(x > 0))

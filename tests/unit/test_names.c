@@ -1,4 +1,4 @@
-/* test_names.c — guards src/names.c (include/st_names.h): lookup ignores case; the nearest name
+/* test_names.c — guards src/base/names.c (include/st_names.h): lookup ignores case; the nearest name
  * follows the rule the header states (a prefix of 3+ bytes, or at most max(2, len/3) edits and
  * fewer than the name's length). Distances here are counted by hand. */
 #include <setjmp.h>

@@ -1,4 +1,4 @@
-/* test_outfile.c — guards src/outfile.c (include/st_outfile.h): the temporary-then-rename writer
+/* test_outfile.c — guards src/base/outfile.c (include/st_outfile.h): the temporary-then-rename writer
  * every strata output goes through.
  *
  * Each test works in a fresh folder under /tmp and checks the folder's listing afterwards: a

@@ -1,4 +1,4 @@
-/* test_plot.c — guards src/plot.c: every picture is a valid PNG of the stated
+/* test_plot.c — guards src/lab/plot.c: every picture is a valid PNG of the stated
  * size (read back with cairo), ink lands where st_plot_data_rect says the data
  * maps (a point, a line, a marker, a heat-map cell of the expected viridis
  * colour), and failed saves leave nothing behind. Pixel colours are compared

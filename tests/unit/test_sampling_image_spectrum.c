@@ -1,4 +1,4 @@
-/* test_image_spectrum.c — st_spectrum_image (src/image_spectrum.c) against
+/* test_sampling_image_spectrum.c — st_spectrum_image (src/sampling/image_spectrum.c) against
  * closed forms: a single bright pixel has a flat spectrum a^2 / N; a cosine
  * of frequency (3, 2) puts N/4 at +-(3, 2) and nothing elsewhere; results
  * accumulate; the mean over many white-noise images is flat at the variance

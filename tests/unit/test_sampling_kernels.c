@@ -1,4 +1,4 @@
-/* test_samplers.c — guards kernels/samplers.h and kernels/rng.h, the sample
+/* test_sampling_kernels.c — guards kernels/sample/samplers.h and kernels/shared/rng.h, the sample
  * positions that the kernels and `strata pattern` share.
  *
  * Expected values are derived here, independently of the headers:
@@ -35,7 +35,6 @@
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
-#include "st_sampler.h"
 #include "st_sampling.h"
 
 typedef unsigned __int128 u128;
@@ -881,7 +880,7 @@ static void sobol_global_index_lands_in_its_pixel(void **state)
  * of its first 2^m points in each interval [k 2^-m, (k+1) 2^-m) (each
  * generator matrix is upper triangular with unit diagonal, and Owen
  * scrambling maps elementary intervals onto elementary intervals). Equality
- * with scipy in every dimension is tests/test_sobol_scipy.sh. */
+ * with scipy in every dimension is tests/cli/test_sobol_scipy.sh. */
 static void sobol_global_dimensions_stratified(void **state)
 {
     (void)state;

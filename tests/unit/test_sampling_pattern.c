@@ -1,4 +1,4 @@
-/* test_pattern.c — the laboratory's point sets (st_pattern.h): the lecture's
+/* test_sampling_pattern.c — the laboratory's point sets (st_sampling.h): the lecture's
  * discrepancy ordering measured over seeds, Poisson-disk minimum distances,
  * best-candidate spacing against jittered, determinism per seed. */
 #include <math.h>
@@ -9,14 +9,13 @@
 #include <stdlib.h>
 #include <cmocka.h>
 
-#include "st_pattern.h"
 #include "st_sampling.h"
 
 static float *make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed, st_u32 *n)
 {
     float *pts;
     st_error err = {0};
-    if (st_pattern_make(sampler, count, dims, seed, 1, &pts, n, &err) != ST_OK)
+    if (st_sampling_pattern(sampler, count, dims, seed, 1, &pts, n, &err) != ST_OK)
         fail_msg("%s", err.msg);
     return pts;
 }
@@ -95,7 +94,7 @@ static void patterns_deterministic_per_seed(void **state)
         float *a = make(s, 64, 4, 5, &n1), *b = make(s, 64, 4, 5, &n2), *c = make(s, 64, 4, 6, &n3);
         assert_int_equal(n1, n2);
         assert_memory_equal(a, b, sizeof(float) * 4 * n1);
-        if (st_pattern_is_random(s, 1) && n1 == n3) {
+        if (st_sampling_pattern_is_random(s, 1) && n1 == n3) {
             int same = 1;
             for (st_u32 i = 0; i < 4 * n1; i++)
                 same &= a[i] == c[i];
@@ -117,11 +116,11 @@ static void zsobol_unscrambled_still_follows_the_seed(void **state)
     float *a, *c;
     st_u32 n;
     st_error err = {0};
-    assert_int_equal(st_pattern_make(ST_SAMPLER_ZSOBOL, 64, 4, 5, 0, &a, &n, &err), ST_OK);
-    assert_int_equal(st_pattern_make(ST_SAMPLER_ZSOBOL, 64, 4, 6, 0, &c, &n, &err), ST_OK);
+    assert_int_equal(st_sampling_pattern(ST_SAMPLER_ZSOBOL, 64, 4, 5, 0, &a, &n, &err), ST_OK);
+    assert_int_equal(st_sampling_pattern(ST_SAMPLER_ZSOBOL, 64, 4, 6, 0, &c, &n, &err), ST_OK);
     assert_memory_not_equal(a, c, sizeof(float) * 4 * 64);
-    assert_true(st_pattern_is_random(ST_SAMPLER_ZSOBOL, 0));
-    assert_false(st_pattern_is_random(ST_SAMPLER_SOBOL, 0));
+    assert_true(st_sampling_pattern_is_random(ST_SAMPLER_ZSOBOL, 0));
+    assert_false(st_sampling_pattern_is_random(ST_SAMPLER_SOBOL, 0));
     free(a);
     free(c);
 }
@@ -132,11 +131,11 @@ static void pattern_rejects_bad_sizes(void **state)
     float *p;
     st_u32 n;
     st_error err = {0};
-    assert_int_equal(st_pattern_make(ST_SAMPLER_HALTON, 0, 2, 0, 1, &p, &n, &err), ST_ERR_USAGE);
+    assert_int_equal(st_sampling_pattern(ST_SAMPLER_HALTON, 0, 2, 0, 1, &p, &n, &err), ST_ERR_USAGE);
     st_error_clear(&err);
-    assert_int_equal(st_pattern_make(ST_SAMPLER_HALTON, 4, 0, 0, 1, &p, &n, &err), ST_ERR_USAGE);
+    assert_int_equal(st_sampling_pattern(ST_SAMPLER_HALTON, 4, 0, 0, 1, &p, &n, &err), ST_ERR_USAGE);
     st_error_clear(&err);
-    assert_int_equal(st_pattern_make(99, 4, 2, 0, 1, &p, &n, &err), ST_ERR_USAGE);
+    assert_int_equal(st_sampling_pattern(99, 4, 2, 0, 1, &p, &n, &err), ST_ERR_USAGE);
 }
 
 int main(void)

@@ -1,4 +1,4 @@
-/* test_pixel_tile.c — guards st_sampling_pixel_tile (src/pixel_tile.c), the
+/* test_sampling_pixel_tile.c — guards st_sampling_pixel_tile (src/sampling/pixel_tile.c), the
  * tile the tiled samplers render from.
  *
  * Independent checks: point j lies in pixel j mod side^2 (floor of its

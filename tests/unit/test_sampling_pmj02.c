@@ -1,5 +1,5 @@
-/* test_pmj02.c — guards the pmj02 sampler: its tables (src/pmj02.c,
- * st_sampling_pmj02) and the values st_sample_dim (kernels/samplers.h) reads
+/* test_sampling_pmj02.c — guards the pmj02 sampler: its tables (src/sampling/pmj02.c,
+ * st_sampling_pmj02) and the values st_sample_dim (kernels/sample/samplers.h) reads
  * from them, which the kernels and `strata pattern` share.
  *
  * Independent check, from the definition of a (0,m,2)-net: a point set of
@@ -23,8 +23,6 @@
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
-#include "st_pattern.h"
-#include "st_sampler.h"
 #include "st_sampling.h"
 
 /* 1 when the n = 2^m points (x, y) at xy[stride k], xy[stride k + 1] are a
@@ -243,7 +241,7 @@ static void renderer_pairs_are_nets(void **state)
 }
 
 /* `strata pattern --sampler pmj02` shows the renderer's pixel dimensions:
- * st_pattern_make's points are st_sample_dim's at pixel (0, 0), read from
+ * st_sampling_pattern's points are st_sample_dim's at pixel (0, 0), read from
  * the tables the renderer makes for spp = count (render.c: ST_PMJ02_SETS
  * sets of 2^ceil(log2 spp) points from the seed); 1024 points: a net. */
 static void pattern_shows_the_renderer_points(void **state)
@@ -254,7 +252,7 @@ static void pattern_shows_the_renderer_points(void **state)
         st_u32 n = 0, count = counts[c], log2n = count == 1024 ? 10u : 7u;
         float *pts = NULL;
         st_error err = {0};
-        if (st_pattern_make(ST_SAMPLER_PMJ02, count, 4, 3, 1, &pts, &n, &err) != ST_OK)
+        if (st_sampling_pattern(ST_SAMPLER_PMJ02, count, 4, 3, 1, &pts, &n, &err) != ST_OK)
             fail_msg("%s", err.msg);
         assert_int_equal(n, count);
         st_params p;

@@ -1,5 +1,5 @@
-/* test_sampling.c — guards the host side of the sampling module
- * (src/poisson_disk.c, src/best_candidate.c, src/discrepancy.c, src/spectrum.c).
+/* test_sampling_point_sets.c — guards the host side of the sampling module
+ * (src/sampling/poisson_disk.c, src/sampling/best_candidate.c, src/sampling/discrepancy.c, src/sampling/spectrum.c).
  *
  * Expected values are derived independently of the code under test: minimum
  * distances by brute force over the 9 periodic images of the tile (not the

@@ -1,6 +1,6 @@
-/* test_sampler.c — guards src/sampler.c, the sampler module (st_sampler.h):
- * names, predicates, preparation and the Halton index check. (test_samplers.c
- * guards the per-sample functions of kernels/samplers.h.)
+/* test_sampling_settings.c — guards src/sampling/sampler.c, the sampler module (st_sampling.h):
+ * names, predicates, preparation and the Halton index check. (test_sampling_kernels.c
+ * guards the per-sample functions of kernels/sample/samplers.h.)
  *
  * The Halton limit is derived here: at width x height the pixel scales are
  * 2^e2 >= min(width, 128) and 3^e3 >= min(height, 128), the stride their
@@ -14,7 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "st_sampler.h"
+#include "st_sampling.h"
 
 static void sampler_names_and_predicates(void **state)
 {

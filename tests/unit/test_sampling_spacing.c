@@ -1,4 +1,4 @@
-/* test_spacing.c — guards st_min_distance_2d (src/spacing.c), the smallest
+/* test_sampling_spacing.c — guards st_min_distance_2d (src/sampling/spacing.c), the smallest
  * distance between two points that `strata pattern --discrepancy` reports.
  *
  * Independent checks: against every pair compared here (plain and on the

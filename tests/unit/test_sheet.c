@@ -1,4 +1,4 @@
-/* test_sheet.c — guards src/sheet.c (include/st_sheet.h). Layout-independent checks on the
+/* test_sheet.c — guards src/lab/sheet.c (include/st_sheet.h). Layout-independent checks on the
  * PNG: every image pixel appears as a square of its exact sRGB code, enlarged by the factor the
  * header states, so the count of a colour that only one image holds is known in advance
  * (w * h * factor^2, plus the inset's share); the sheet's size is st_sheet_size's. */

@@ -1,4 +1,4 @@
-/* test_signal.c — guards src/signal.c, the 1-D sampling and reconstruction
+/* test_signal.c — guards src/lab/signal.c, the 1-D sampling and reconstruction
  * laboratory, against the lecture's definitions computed here independently
  * (brute-force sums, closed forms), with these tolerances:
  *

@@ -1,4 +1,4 @@
-/* test_tonemap.c — guards src/tonemap.c (include/st_tonemap.h) against its definitions. Expected
+/* test_tonemap.c — guards src/image/tonemap.c (include/st_tonemap.h) against its definitions. Expected
  * values: exposure is an exact power of two; Reinhard's grey x maps to x/(1+x); Hable's filmic
  * values were computed from the formula in Python 3 (h(1)/h(11.2) = 0.304300561467247,
  * h(0.5)/h(11.2) = 0.17196964226803543, h(4)/h(11.2) = 0.7132380109726539). */
