@@ -10,7 +10,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
-#include "embedded.h"
+#include "st_embedded.h"
 
 #define MAX_KERNELS 32
 

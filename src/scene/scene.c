@@ -23,7 +23,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "embedded.h"
+#include "st_embedded.h"
 #include "scene_fs.h"
 #include "gltf_shim.h"
 #include "texture.h"
