@@ -1,4 +1,4 @@
-/* test_progress.c — guards src/cli/cli_progress.c, the progress lines on stderr
+/* test_cli_progress.c — guards src/cli/cli_progress.c, the progress lines on stderr
  * off a terminal: the rate and the time left are counted from the first
  * report (a first wave that carried set-up work must not slow them), a line
  * comes at least every interval even when no report arrives, and the
