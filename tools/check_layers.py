@@ -8,7 +8,9 @@ the layers below, lowest first; include/st_*.h belong to the modules listed in
 HEADERS; the kernels (kernels/<folder>/) are below every module. It checks:
 
   1. the Makefile's MODULES are the folders of src/, in the order of LAYERS
-     (so a new folder has to be given its place here first);
+     (so a new folder has to be given its place here first), and no source,
+     kernel or test lies outside the folders the build and `make test` read
+     (src/<module>/, kernels/<folder>/, tests/<layer>/);
   2. every quoted #include of src/, include/ and kernels/ names one file, found
      as the compiler finds it (the including file's folder, include/, the
      module folders, the kernel folders) and by no other name in those
@@ -90,6 +92,15 @@ def check_modules(root):
         fault("src", "folders %s, but the layers name %s" % (folders, modules))
     if makefile_modules(root) != modules:
         fault("Makefile", "MODULES %s, not the layers' order %s" % (makefile_modules(root), modules))
+    stray = [("src", SOURCE + (".cpp",), "src/<module>/, where the build looks"),
+             (KERNELS, (".cl", ".h"), "kernels/<folder>/, where the build looks"),
+             ("tests", ("",), "tests/<layer>/, where make test looks")]
+    for folder, ends, where in stray:
+        for name in listdir(os.path.join(root, folder)):
+            rel = os.path.join(folder, name)
+            if os.path.isfile(os.path.join(root, rel)) and name.endswith(ends) and \
+                    (folder != "tests" or name.startswith("test_")):
+                fault(rel, "outside %s" % where)
     return modules
 
 

@@ -3,7 +3,8 @@
 # is passes, and the check fails, naming the file, on each kind of fault put
 # into a scratch copy: an include of a module above, one of a module in the
 # same layer, a kernel file that includes a host header, a private header
-# used by another module, a folder of src/ with no place in the layers, and,
+# used by another module, a folder of src/ with no place in the layers, a
+# source, kernel or test outside the folders the build reads, and,
 # from objects, a call up to a higher module and two files calling each
 # other. TAP output.
 . tests/tap.sh
@@ -46,6 +47,18 @@ check "an include found nowhere is named" 'fails "src/scene/scene.c:[0-9]*" "non
 copy
 mkdir "$T/r/src/extra"
 check "a folder of src/ outside the layers is named" 'fails "src" "folders"'
+
+copy
+printf '/* x */\n' > "$T/r/src/extra.c"
+check "a source file outside the module folders is named" 'fails "src/extra.c" "outside src/<module>/"'
+
+copy
+printf '/* x */\n' > "$T/r/kernels/extra.cl"
+check "a kernel outside the kernel folders is named" 'fails "kernels/extra.cl" "outside kernels/<folder>/"'
+
+copy
+mkdir "$T/r/tests" && printf '#!/bin/sh\n' > "$T/r/tests/test_extra.sh"
+check "a test outside the layer folders is named" 'fails "tests/test_extra.sh" "outside tests/<layer>/"'
 
 copy
 printf '/* x */\n' > "$T/r/include/st_extra.h"
