@@ -23,7 +23,12 @@ CC       ?= cc
 CXX      ?= c++
 OPT      ?= -O2
 WARN     := -Wall -Wextra
-CPPFLAGS += -Iinclude -Isrc -Ikernels -I/usr/include/OpenEXR
+# The modules, lowest first (docs/DESIGN.md; tests/unit/test_layers.sh checks
+# that each includes only the ones below it), and the kernels' folders, which
+# are also the kernels' include search path (tools/embed.c, STRATA_KERNEL_DIR).
+MODULES     := base image device sampling filter bvh scene render lab cli
+KERNEL_DIRS := shared sample geom integrator film
+CPPFLAGS += -Iinclude $(MODULES:%=-Isrc/%) $(KERNEL_DIRS:%=-Ikernels/%) -I/usr/include/OpenEXR
 CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(WARN)
 CXXFLAGS += -std=c++17 $(OPT) -g $(WARN) -I/usr/include/stb -I/usr/include/nlohmann
 LDLIBS   += -ltinygltf -lOpenEXRCore-3_1 -lcairo -lpng -lcjson -lz -lfftw3 -lstb -lOpenCL -lstdc++ -lm -lpthread
@@ -48,14 +53,19 @@ ifeq ($(FUZZ),1)
   BUILD    := build/fuzz
 endif
 
-LIB_C    := $(filter-out src/cli/main.c,$(wildcard src/*.c))
-LIB_CXX  := $(wildcard src/*.cpp)
-LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/%.o) \
+LIB_C    := $(filter-out src/cli/main.c,$(wildcard src/*/*.c))
+LIB_CXX  := $(wildcard src/*/*.cpp)
+LIB_OBJ  := $(LIB_C:src/%.c=$(BUILD)/obj/%.o) $(LIB_CXX:src/%.cpp=$(BUILD)/obj/%.o) \
             $(BUILD)/embedded.o $(BUILD)/version.o
-KERNELS  := $(wildcard kernels/*.cl) $(wildcard kernels/*.h)
+HEADERS  := $(wildcard include/*.h) $(wildcard src/*/*.h) $(wildcard kernels/*/*.h)
+# The kernel sources in the order of their file names, whatever their folder
+# (the order they were always compiled in, one program).
+KERNEL_CL := $(foreach n,$(sort $(notdir $(wildcard kernels/*/*.cl))),$(wildcard kernels/*/$(n)))
+KERNELS  := $(wildcard kernels/*/*.cl) $(wildcard kernels/*/*.h)
 SCENES   := $(wildcard scenes/*.gltf)
-TESTS_C  := $(wildcard tests/test_*.c)
-TEST_BIN := $(TESTS_C:tests/%.c=$(BUILD)/tests/%)
+# Test programs are built into $(BUILD)/tests/ whatever their layer's folder.
+TESTS_C  := $(wildcard tests/unit/test_*.c tests/device/test_*.c tests/image/test_*.c)
+TEST_BIN := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TESTS_C)))
 
 .PHONY: all deps bench-deps test test-unit test-device test-image test-cli test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
 all: strata
@@ -84,16 +94,18 @@ $(PYEXR):
 strata: $(BUILD)/strata
 	cp $< $@
 
-$(BUILD)/strata: $(BUILD)/main.o $(BUILD)/libstrata.a
+$(BUILD)/strata: $(BUILD)/obj/cli/main.o $(BUILD)/libstrata.a
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/libstrata.a: $(LIB_OBJ)
 	rm -f $@ && ar rcs $@ $^
 
-$(BUILD)/%.o: src/%.c $(wildcard include/*.h) $(wildcard src/*.h) $(wildcard kernels/*.h) | $(BUILD)
+$(BUILD)/obj/%.o: src/%.c $(HEADERS)
+	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
 
-$(BUILD)/%.o: src/%.cpp $(wildcard include/*.h) $(wildcard src/*.h) | $(BUILD)
+$(BUILD)/obj/%.o: src/%.cpp $(HEADERS)
+	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c -o $@ $<
 
 # Kernels and built-in scenes are compiled into the binary (tools/embed.c).
@@ -101,7 +113,7 @@ $(BUILD)/embed: tools/embed.c | $(BUILD)
 	$(CC) -std=c11 -O1 $(WARN) -o $@ $<
 
 $(BUILD)/embedded.c: $(BUILD)/embed $(KERNELS) $(SCENES)
-	$(BUILD)/embed $@ $(wildcard kernels/*.cl) -- $(SCENES)
+	$(BUILD)/embed $@ kernels $(KERNEL_DIRS:%=-I %) $(KERNEL_CL:kernels/%=%) -- $(SCENES)
 
 $(BUILD)/embedded.o: $(BUILD)/embedded.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
@@ -115,37 +127,38 @@ $(BUILD)/version.c: FORCE | $(BUILD)
 $(BUILD)/version.o: $(BUILD)/version.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c -o $@ $<
 
-$(BUILD)/tests/%: tests/%.c $(BUILD)/libstrata.a | $(BUILD)
-	@mkdir -p $(BUILD)/tests
-	$(CC) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(BUILD)/libstrata.a -lcmocka $(LDFLAGS) $(LDLIBS)
+# One rule per layer's folder: make takes the one whose source exists.
+define TEST_RULE
+$$(BUILD)/tests/%: tests/$(1)/%.c tests/device_fixture.h tests/scratch.h $$(BUILD)/libstrata.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(CPPFLAGS) -Itests $$(CFLAGS) -o $$@ $$< $$(BUILD)/libstrata.a -lcmocka $$(LDFLAGS) $$(LDLIBS)
+endef
+$(foreach l,unit device image,$(eval $(call TEST_RULE,$(l))))
 
 $(BUILD):
 	mkdir -p $(BUILD)
 
-# The tests in four layers (docs/TESTING.md). unit: host code alone, no
-# OpenCL device, seconds; image: whole renders against committed or
-# independently rendered images; device: the kernels through the library;
-# cli: the command-line scripts. A test program not named below is a device
-# test and a script a cli test, so a new test lands in a layer that may use
-# the device. `make test` runs every layer, prints each one's time and ends
-# with one line "N passed, N failed" over all of them.
-UNIT_NAMES   := bsdf bvh diff filter filters fixed image image_meta image_spectrum names \
-                outfile pattern pixel_tile plot pmj02 progress sampler samplers sampling scene \
-                sheet signal tonemap
-IMAGE_NAMES  := render
-IMAGE_SH     := tests/image/test_pictures.sh tests/image/test_crop.sh tests/image/test_split.sh
-TEST_UNIT    := $(UNIT_NAMES:%=$(BUILD)/tests/test_%)
-TEST_IMAGE   := $(IMAGE_NAMES:%=$(BUILD)/tests/test_%)
-TEST_DEVICE  := $(filter-out $(TEST_UNIT) $(TEST_IMAGE),$(TEST_BIN))
-TEST_CLI_SH  := $(filter-out $(IMAGE_SH),$(wildcard tests/test_*.sh))
+# The tests in four layers (docs/TESTING.md), a folder each under tests/.
+# unit: host code alone, no OpenCL device, seconds (with the check of the
+# modules' layering); device: the kernels through the library; image: whole
+# renders against committed or independently rendered images; cli: the
+# command-line scripts. `make test` runs every layer, prints each one's time
+# and ends with one line "N passed, N failed" over all of them.
+layer_bins    = $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(wildcard tests/$(1)/test_*.c)))
+TEST_UNIT    := $(call layer_bins,unit)
+UNIT_SH      := $(wildcard tests/unit/test_*.sh)
+TEST_DEVICE  := $(call layer_bins,device)
+TEST_IMAGE   := $(call layer_bins,image)
+IMAGE_SH     := $(wildcard tests/image/test_*.sh)
+TEST_CLI_SH  := $(wildcard tests/cli/test_*.sh)
 RUN_TESTS    := BUILD=$(BUILD) sh tests/run.sh
 
 test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere
-	@$(RUN_TESTS) --layer unit $(TEST_UNIT) --layer device $(TEST_DEVICE) \
+	@$(RUN_TESTS) --layer unit $(TEST_UNIT) $(UNIT_SH) --layer device $(TEST_DEVICE) \
 	    --layer image $(TEST_IMAGE) $(IMAGE_SH) --layer cli $(TEST_CLI_SH)
 
 test-unit: $(TEST_UNIT)
-	@$(RUN_TESTS) --layer unit $(TEST_UNIT)
+	@$(RUN_TESTS) --layer unit $(TEST_UNIT) $(UNIT_SH)
 
 test-device: deps $(TEST_DEVICE)
 	@$(RUN_TESTS) --layer device $(TEST_DEVICE)

@@ -76,7 +76,8 @@ st_status st_device_set_lanes(st_device *dev, unsigned n, st_error *err);
 st_status st_device_check_local_size(const st_device *dev, size_t local, st_error *err);
 
 /* Builds the program from the embedded kernels, or from the .cl files in
- * $STRATA_KERNEL_DIR when set (for kernel development). Idempotent; the first
+ * $STRATA_KERNEL_DIR when set (for kernel development: a folder laid out as
+ * kernels/, its subfolders on the include path). Idempotent; the first
  * call's wall time is stored in *seconds (may be NULL). */
 st_status st_device_build(st_device *dev, double *seconds, st_error *err);
 /* The compiler log of the last build (empty string if none). */

@@ -1,12 +1,19 @@
-/* st_sampling.h — the host side of the sampling laboratory: the pixel tiles
- * of the tiled samplers (spp points in every pixel, uploaded once to the
- * device by the renderer), toroidal Poisson-disk and best-candidate tiles of
- * the unit square (without pixels), the star and L2-star discrepancy of a
- * point set, its Fourier periodogram and the power spectrum of an image. The per-sample sampler functions that the kernels run (radical
- * inverse, Halton, Hammersley, Sobol, ...) live in the shared kernel headers,
- * not here.
+/* st_sampling.h — the sampling module on the host (src/sampling/), in three
+ * parts:
+ *   1. the sampler as a concept: names, kinds, the check of a render's
+ *      sampler settings and the preparation of st_params' sampler fields;
+ *   2. the point sets of the laboratory (`strata pattern`), from the same
+ *      functions of the shared kernel headers that the renderer runs;
+ *   3. the pixel tiles of the tiled samplers (spp points in every pixel,
+ *      uploaded once to the device by the renderer), toroidal Poisson-disk
+ *      and best-candidate tiles of the unit square (without pixels), the star
+ *      and L2-star discrepancy of a point set, its Fourier periodogram and the
+ *      power spectrum of an image.
+ * The per-sample sampler functions that the kernels run (radical inverse,
+ * Halton, Hammersley, Sobol, ...) live in the shared kernel headers
+ * (kernels/sample/samplers.h), not here.
  *
- * Conventions
+ * Conventions (part 3)
  *   - Points are float x,y pairs in [0,1)^2 unless a stride says otherwise.
  *   - Tiles are toroidal: every distance is measured on the unit torus,
  *     d(p,q)^2 = sum_k min(|p_k-q_k|, 1-|p_k-q_k|)^2, so a tile repeated on a
@@ -21,13 +28,84 @@
  *   - Errors: ST_ERR_USAGE (bad argument, message names it), ST_ERR_NOMEM.
  *     Nothing here prints.
  *
- * Tests: tests/unit/test_sampling_point_sets.c (poisson_*, best_candidate_*, star_discrepancy_*,
- * l2_star_*, spectrum_*). */
+ * Tests: tests/unit/test_sampling_*.c, one per part or file: settings (part 1),
+ * kernels (kernels/sample/samplers.h), pattern (part 2), point_sets (poisson_*,
+ * best_candidate_*, star_discrepancy_*, l2_star_*, spectrum_*), pixel_tile,
+ * pmj02, spacing, image_spectrum. */
 #ifndef ST_SAMPLING_HOST_H /* kernels/ may hold a shared header of the same file name */
 #define ST_SAMPLING_HOST_H
 
 #include "st_error.h"
 #include "st_shared.h"
+
+/* ---- 1. the sampler as a concept ---- */
+
+/* The sampler as a concept on the host: names, what each kind is (per-pixel
+ * or tiled, scrambled or not), the check of a render's sampler settings, and
+ * the preparation of st_params' sampler fields. The tiles of the tiled
+ * samplers are part 3's.
+ *
+ * A sampler is an ST_SAMPLER_* value (st_shared.h). Nothing here allocates or
+ * prints; the check returns ST_ERR_USAGE with a message naming the field
+ * ("spp 70000: ..."), which the CLI may rewrite as the option that sets it.
+ *
+ * Tests: tests/unit/test_sampling_settings.c (names, predicates, preparation, the Halton
+ * check); tests/unit/test_sampling_kernels.c guards kernels/sample/samplers.h. */
+
+/* Names, indexed by ST_SAMPLER_*. */
+extern const char *const st_sampler_names[ST_SAMPLER_COUNT];
+/* The ST_SAMPLER_* of a name, or -1. */
+int st_sampler_lookup(const char *name);
+
+/* Whether the scramble switch changes the sampler (stratified: the order of
+ * its strata; halton, hammersley, sobol: digit scrambling). */
+int st_sampler_takes_scramble(st_u32 sampler);
+
+/* Whether the sampler places its points across pixels from a host-made tile
+ * (poisson, best-candidate) rather than per pixel; the kernels test the same
+ * ST_SAMPLER_IS_TILED. Per-pixel sampling is what filter importance sampling
+ * and adaptive rounds need. */
+int st_sampler_is_tiled(st_u32 sampler);
+
+/* Checks that sampler is known and that its indices fit in 32 bits for a
+ * width x height image at spp samples per pixel: Halton's global index is
+ * stride * spp, with stride = 2^e2 3^e3 the pixel scales (st_sampler_prepare).
+ * ST_ERR_USAGE naming the field ("sampler", "spp"). */
+st_status st_sampler_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32 spp,
+                           st_error *err);
+
+/* Fills p's sampler fields (stratified grid, Halton scales and their
+ * inverses) from p->width, p->height and p->spp (pbrt-v4's HaltonSampler
+ * constructor for the pixel scales). */
+void st_sampler_prepare(st_params *p);
+
+/* ---- 2. the laboratory's point sets ---- */
+
+/* A sampler's point set as the laboratory sees it: the
+ * samples of one pixel with spp = count, from the same functions of the
+ * shared kernel headers that the renderer runs (kernels/sample/samplers.h), or, for
+ * the tiled samplers, the renderer's tile (st_sampling_pixel_tile). So
+ * `strata pattern --sampler halton --scramble none` prints
+ * (Φ2(i), Φ3(i), Φ5(i), ...) and hammersley (i/N, Φ2(i), ...).
+ * Tests: tests/unit/test_sampling_pattern.c. */
+
+/* Largest --count and --dims. */
+#define ST_SAMPLING_PATTERN_MAX_COUNT 1048576u
+#define ST_SAMPLING_PATTERN_MAX_DIMS 256u
+
+/* The first `dims` dimensions of `count` points of sampler `sampler`
+ * (ST_SAMPLER_*), seed and scramble as for a render; *points holds
+ * *out_count * dims floats in [0, 1), point-major, malloc'ed (caller frees).
+ * *out_count equals count except for the tiled samplers (poisson,
+ * best-candidate), whose tile of side x side pixels with spp points in each
+ * (side = floor(sqrt(count)), spp = count / side^2) holds side^2 spp <= count. */
+st_status st_sampling_pattern(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
+                          st_u32 scramble, float **points, st_u32 *out_count, st_error *err);
+
+/* Whether the pattern changes with the seed (spectra average over seeds). */
+int st_sampling_pattern_is_random(st_u32 sampler, st_u32 scramble);
+
+/* ---- 3. tiles, discrepancy and spectra ---- */
 
 /* Largest tiles accepted: 2^22 Poisson points (~6 s, ~0.2 GiB of work
  * memory); 2^20 best-candidate points (minutes: see the cost below). */

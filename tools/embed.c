@@ -1,12 +1,25 @@
 /* embed.c — build-time tool: writes a C file holding the OpenCL kernel sources
- * (with their quoted #includes inlined from kernels/, and #line markers so that
- * build logs name the real file and line) and the built-in scenes, so that the
- * strata binary runs from any directory.
+ * (with their quoted #includes inlined, and #line markers so that build logs
+ * name the real file and line), the kernels' include folders and the built-in
+ * scenes, so that the strata binary runs from any directory.
  *
- * usage: embed OUT.c KERNEL.cl... -- SCENE.gltf... */
+ * usage: embed OUT.c ROOT [-I DIR]... KERNEL.cl... -- SCENE.gltf...
+ *
+ * The kernels live in folders under ROOT (kernels/shared, kernels/geom, ...);
+ * KERNEL and each DIR are relative to ROOT. `#include "name"` is looked up as
+ * a compiler does with -I: in the including file's folder, then in each DIR.
+ * A name found in two of the DIRs is an error, so the order of the folders
+ * never decides silently which header a kernel gets. A kernel's name in the
+ * binary is its path under ROOT ("film/film.cl"): with STRATA_KERNEL_DIR the
+ * device reads that path under the given folder, with -I for each DIR. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define MAX_DIRS 32
+static const char *root;
+static const char *dirs[MAX_DIRS];
+static int ndirs;
 
 typedef struct buf { char *p; size_t n, cap; } buf;
 
@@ -24,9 +37,48 @@ static void put(buf *b, const char *s, size_t n)
 
 static void puts_(buf *b, const char *s) { put(b, s, strlen(s)); }
 
+static const char *base_name(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+static int readable(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (f)
+        fclose(f);
+    return f != NULL;
+}
+
+/* The file an `#include "name"` in a file of folder `dir` means (see the top). */
+static void resolve(const char *from, const char *dir, const char *name, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/%s", dir, name);
+    if (readable(out))
+        return;
+    int found = 0;
+    char cand[600];
+    for (int i = 0; i < ndirs; i++) {
+        snprintf(cand, sizeof cand, "%s/%s/%s", root, dirs[i], name);
+        if (!readable(cand))
+            continue;
+        if (found++) {
+            fprintf(stderr, "embed: %s: \"%s\" is both %s and %s\n", from, name, out, cand);
+            exit(1);
+        }
+        snprintf(out, cap, "%s", cand);
+    }
+    if (!found) {
+        fprintf(stderr, "embed: %s: cannot find \"%s\" in its folder or the -I folders\n", from,
+                name);
+        exit(1);
+    }
+}
+
 /* Appends file `path` to b, replacing each line `#include "name"` by the
- * file dir/name, at every include: the headers' own guards keep one copy,
- * and a header written to be included once per parameter (trace_lanes.h)
+ * file it means (resolve), at every include: the headers' own guards keep one
+ * copy, and a header written to be included once per parameter (trace_lanes.h)
  * gets its copies. depth bounds a header that includes itself. */
 static void inline_file(buf *b, const char *dir, const char *path, int depth)
 {
@@ -41,9 +93,10 @@ static void inline_file(buf *b, const char *dir, const char *path, int depth)
         lineno++;
         char name[256];
         if (sscanf(line, " #include \"%255[^\"]\"", name) == 1) {
-            char sub[600];
-            snprintf(sub, sizeof sub, "%s/%s", dir, name);
-            inline_file(b, dir, sub, depth + 1);
+            char sub[600], subdir[600];
+            resolve(path, dir, name, sub, sizeof sub);
+            snprintf(subdir, sizeof subdir, "%.*s", (int)(base_name(sub) - sub - 1), sub);
+            inline_file(b, subdir, sub, depth + 1);
             snprintf(mark, sizeof mark, "#line %u \"%s\"\n", lineno + 1, path);
             puts_(b, mark);
             continue;
@@ -64,12 +117,6 @@ static void read_whole(buf *b, const char *path)
     fclose(f);
 }
 
-static const char *base_name(const char *path)
-{
-    const char *s = strrchr(path, '/');
-    return s ? s + 1 : path;
-}
-
 static void emit_array(FILE *out, const char *sym, unsigned i, const buf *b)
 {
     fprintf(out, "static const unsigned char %s_%u[%zu] = {", sym, i, b->n + 1);
@@ -80,19 +127,30 @@ static void emit_array(FILE *out, const char *sym, unsigned i, const buf *b)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) { fprintf(stderr, "usage: embed OUT.c K.cl... -- S.gltf...\n"); return 2; }
+    if (argc < 3) {
+        fprintf(stderr, "usage: embed OUT.c ROOT [-I DIR]... K.cl... -- S.gltf...\n");
+        return 2;
+    }
+    root = argv[2];
+    int first = 3;
+    while (first + 1 < argc && !strcmp(argv[first], "-I")) {
+        if (ndirs == MAX_DIRS) { fprintf(stderr, "embed: more than %d -I folders\n", MAX_DIRS); return 2; }
+        dirs[ndirs++] = argv[first + 1];
+        first += 2;
+    }
     FILE *out = fopen(argv[1], "w");
     if (!out) { perror(argv[1]); return 1; }
     fprintf(out, "/* generated by tools/embed.c: do not edit */\n#include \"st_embedded.h\"\n");
     int sep = argc;
-    for (int i = 2; i < argc; i++)
+    for (int i = first; i < argc; i++)
         if (!strcmp(argv[i], "--")) { sep = i; break; }
     unsigned nk = 0, ns = 0;
-    for (int i = 2; i < sep; i++, nk++) {
+    for (int i = first; i < sep; i++, nk++) {
         buf b = {0};
-        char dir[512];
-        snprintf(dir, sizeof dir, "%.*s", (int)(base_name(argv[i]) - argv[i] - 1), argv[i]);
-        inline_file(&b, dir[0] ? dir : ".", argv[i], 0);
+        char path[600], dir[600];
+        snprintf(path, sizeof path, "%s/%s", root, argv[i]);
+        snprintf(dir, sizeof dir, "%.*s", (int)(base_name(path) - path - 1), path);
+        inline_file(&b, dir, path, 0);
         emit_array(out, "kernel", nk, &b);
         free(b.p);
     }
@@ -103,9 +161,13 @@ int main(int argc, char **argv)
         free(b.p);
     }
     fprintf(out, "const st_embedded_file st_embedded_kernels[] = {\n");
-    for (int i = 2, k = 0; i < sep; i++, k++)
-        fprintf(out, "  {\"%s\", kernel_%d, sizeof kernel_%d - 1},\n", base_name(argv[i]), k, k);
+    for (int i = first, k = 0; i < sep; i++, k++)
+        fprintf(out, "  {\"%s\", kernel_%d, sizeof kernel_%d - 1},\n", argv[i], k, k);
     fprintf(out, "  {0, 0, 0}};\nconst unsigned st_embedded_kernel_count = %u;\n", nk);
+    fprintf(out, "const char *const st_embedded_kernel_dirs[] = {");
+    for (int i = 0; i < ndirs; i++)
+        fprintf(out, "\"%s\", ", dirs[i]);
+    fprintf(out, "0};\n");
     fprintf(out, "const st_embedded_file st_embedded_scenes[] = {\n");
     for (int i = sep + 1, k = 0; i < argc; i++, k++)
         fprintf(out, "  {\"%s\", scene_%d, sizeof scene_%d - 1},\n", base_name(argv[i]), k, k);

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli_args.h"
 #include "cli_error.h"
 #include "st_device.h"
 #include "st_filter.h"
@@ -16,6 +15,8 @@
 #include "st_signal.h"
 #include "st_tonemap.h"
 #include "st_trace_bench.h"
+
+const char *const st_cli_texfilter_names[3] = {"none", "bilinear", "trilinear"};
 
 int st_cli_unknown_name(const char *opt, const char *value, const char *const *names, int count)
 {

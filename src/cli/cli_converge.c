@@ -29,7 +29,6 @@
 #include "cli_session.h"
 #include "st_sampling.h"
 #include "st_plot.h"
-#include "st_sampling.h"
 
 #define MAX_SERIES 16
 #define MAX_SPP 32

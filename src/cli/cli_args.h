@@ -40,9 +40,6 @@ typedef struct st_cli_render_args {
  * Returns ST_CLI_OK, ST_CLI_HELP (help printed) or ST_CLI_EXIT_USAGE. */
 int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_args *a);
 
-/* --texture-filter's names, by ST_TEXFILTER_* (also for the shell completion). */
-extern const char *const st_cli_texfilter_names[3];
-
 /* Filter parameters as given on a command line (NULL: not given), checked
  * against the filter kind already in *f (a parameter the filter does not
  * take is a usage error) and applied over its defaults. */

@@ -20,4 +20,7 @@ int st_cli_unknown_option(const char *cmd, const char *arg, const struct option 
  * accept. Returns 0, or ST_CLI_EXIT_USAGE for an unknown table. */
 int st_cli_print_names(const char *table);
 
+/* --texture-filter's names, by ST_TEXFILTER_* (also for the shell completion). */
+extern const char *const st_cli_texfilter_names[3];
+
 #endif

@@ -36,7 +36,6 @@
 #include "rng.h"
 #include "samplers.h"
 #include "st_sampling.h"
-#include "st_sampling.h"
 
 typedef unsigned __int128 u128;
 

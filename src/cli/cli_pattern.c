@@ -17,7 +17,6 @@
 #include "st_sampling.h"
 #include "st_plot.h"
 #include "st_render.h"
-#include "st_sampling.h"
 
 static const char pattern_help[] =
     "usage: strata pattern --sampler NAME --count N [options]\n"

@@ -16,22 +16,6 @@
 #include "filters.h"
 #include "st_lights.h"
 
-
-const char *const st_stage_names[ST_STAGE_COUNT] = {
-    "generate_samples", "generate_camera_rays", "generate_rays", "trace_rays", "shade_hits",
-    "trace_shadow_rays", "bin_samples", "splat_samples", "splat_tiles", "splat_pixels", "resolve_film"};
-
-const char *const st_integrator_names[2] = {"direct", "path"};
-const char *const st_reconstruction_names[2] = {"splat", "fis"};
-const char *const st_packet_names[4] = {"auto", "none", "coherent", "all"};
-
-double st_render_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 st_render_options st_render_defaults(void)
 {
     st_render_options o;
@@ -706,7 +690,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
         return rc;
     rc = bind_stages(r, &p, &sh, &w, err);
     if (rc == ST_OK && o->adaptive)
-        rc = st_render_adaptive(r, &p, &w, o, total, &pr, st, err);
+        rc = st_render_adaptive(r, &p, &w, o, total, &pr, st, st_render_items, err);
     else if (rc == ST_OK)
         rc = st_render_items(r, &p, &w, o, first, total, &pr, st, err);
     if (!o->adaptive)

@@ -423,7 +423,7 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
     unsigned n = st_embedded_kernel_count;
     const char *src[MAX_KERNELS];
     char *owned[MAX_KERNELS] = {0};
-    char options[1200];
+    char options[4096];
     st_status rc = ST_OK;
     for (unsigned i = 0; i < n && i < MAX_KERNELS; i++) {
         src[i] = (const char *)st_embedded_kernels[i].data;
@@ -437,12 +437,20 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
             src[i] = owned[i];
         }
     }
-    /* the kernel directory (its path already fits in 1024 bytes: read above) */
-    int own_dir = dir && *dir;
-    snprintf(options, sizeof options, "-cl-std=CL1.2 -DST_W=%u%s%s%s%s", dev->info.lanes,
-             own_dir ? " -I" : "", own_dir ? dir : "",
-             is_oclgrind(dev) ? " -cl-opt-disable -DST_NO_FORCED_INLINE" : "",
-             is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "");
+    int used = snprintf(options, sizeof options, "-cl-std=CL1.2 -DST_W=%u%s%s", dev->info.lanes,
+                        is_oclgrind(dev) ? " -cl-opt-disable -DST_NO_FORCED_INLINE" : "",
+                        is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "");
+    /* the kernel directory's include folders, the search path the embedded sources were
+     * inlined with (tools/embed.c) */
+    for (unsigned i = 0; dir && *dir && st_embedded_kernel_dirs[i] && used > 0; i++) {
+        size_t left = sizeof options - (size_t)used;
+        int n = snprintf(options + used, left, " -I%s/%s", dir, st_embedded_kernel_dirs[i]);
+        if (n < 0 || (size_t)n >= left) {
+            rc = st_fail(err, ST_ERR_USAGE, "%s: kernel directory path too long (STRATA_KERNEL_DIR)", dir);
+            goto done;
+        }
+        used += n;
+    }
     double t0 = now_seconds();
     cl_int code;
     dev->program = clCreateProgramWithSource(dev->context, n, src, NULL, &code);

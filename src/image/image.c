@@ -1,10 +1,10 @@
-/* image.c — the st_image container and the choice of file format by extension.
+/* image.c — the st_image container.
  *
  * Invariant: an st_image owns exactly one buffer of width*height*channels 4-byte samples, reached
  * through both img->data (FLOAT channels) and img->udata (UINT channels); channel names are
  * distinct, non-empty and NUL-terminated. The format files (image_exr.c, image_png.c) depend on
  * this file only, never on each other: they build and check images here, and only the dispatch
- * below names both formats.
+ * by extension (image_file.c, above them) names both formats.
  */
 #include "image_int.h"
 
@@ -109,39 +109,4 @@ st_status st_image_check(const char *path, const st_image *img, st_error *err)
     if (check_names(names, img->channels, &local) != ST_OK)
         return st_fail(err, ST_ERR_USAGE, "%s: %s", path, local.msg + strlen("image: "));
     return ST_OK;
-}
-
-/* ---- format by extension ------------------------------------------------------------------- */
-
-/* The extension of the last path component, including the dot ("" when there is none). */
-static const char *extension_of(const char *path)
-{
-    const char *base = strrchr(path, '/');
-    base = base ? base + 1 : path;
-    const char *dot = strrchr(base, '.');
-    return dot ? dot : "";
-}
-
-st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
-                        st_error *err)
-{
-    const char *ext = extension_of(path);
-    if (strcasecmp(ext, ".exr") == 0)
-        return st_image_save_exr(path, img, attrs, nattrs, err);
-    if (strcasecmp(ext, ".png") == 0)
-        return st_image_save_png_text(path, img, attrs, nattrs, err);
-    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
-                   path, ext);
-}
-
-st_status st_image_load(const char *path, st_image *img, st_error *err)
-{
-    const char *ext = extension_of(path);
-    if (strcasecmp(ext, ".exr") == 0)
-        return st_image_load_exr(path, img, NULL, NULL, err);
-    if (strcasecmp(ext, ".png") == 0)
-        return st_image_load_png(path, img, err);
-    memset(img, 0, sizeof *img);
-    return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
-                   path, ext);
 }

@@ -16,9 +16,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS] = {
-    "adaptive_moments", "adaptive_estimate", "adaptive_blend"};
-
 /* β above: the share of the mean estimate every pixel is given. */
 #define ADAPTIVE_DEFENSIVE 0.1
 
@@ -148,12 +145,12 @@ static st_status launch(st_renderer *r, int k, const st_params *p, st_wave *w, s
 /* Step 1: the pilot's `total` items in waves, each wave's moments taken. */
 static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                            st_u64 total, st_progress_state *pr, st_render_stats *st,
-                           st_error *err)
+                           st_render_items_fn items, st_error *err)
 {
     st_status rc = ST_OK;
     for (st_u64 first = 0; rc == ST_OK && first < total; first += w->items) {
         st_u64 n = total - first < w->items ? total - first : w->items;
-        rc = st_render_items(r, p, w, o, first, n, pr, st, err);
+        rc = items(r, p, w, o, first, n, pr, st, err);
         if (rc == ST_OK)
             rc = launch(r, ST_ADAPTIVE_MOMENTS, p, w, err);
     }
@@ -185,7 +182,7 @@ static st_status plan(st_renderer *r, st_params *p, st_wave *w, const st_render_
  * leaves the list once its m is reached. */
 static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                             const ranked *rk, st_u32 pilot, st_progress_state *pr,
-                            st_render_stats *st, st_error *err)
+                            st_render_stats *st, st_render_items_fn items, st_error *err)
 {
     st_status rc = ST_OK;
     st_u32 lo = 0;
@@ -196,7 +193,7 @@ static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_r
             continue;
         p->adaptive_count = count;
         p->adaptive_base = pilot + lo;
-        rc = st_render_items(r, p, w, o, 0, (st_u64)count * (hi - lo), pr, st, err);
+        rc = items(r, p, w, o, 0, (st_u64)count * (hi - lo), pr, st, err);
         st->samples += (st_u64)count * (hi - lo);
         lo = hi;
     }
@@ -207,7 +204,7 @@ static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_r
 
 st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
                              const st_render_options *o, st_u64 total, st_progress_state *pr,
-                             st_render_stats *st, st_error *err)
+                             st_render_stats *st, st_render_items_fn items, st_error *err)
 {
     st_u32 pilot, max_spp;
     st_render_adaptive_counts(o, &pilot, &max_spp);
@@ -220,7 +217,7 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
     for (int k = 0; k < ST_ADAPTIVE_KERNELS && rc == ST_OK; k++)
         rc = st_wave_bind_film(r->adaptive[k], p, w, err);
     if (rc == ST_OK)
-        rc = run_pilot(r, p, w, o, total, pr, st, err);
+        rc = run_pilot(r, p, w, o, total, pr, st, items, err);
     st->samples = total;
     if (rc == ST_OK)
         rc = plan(r, p, w, o, pilot, max_spp, m, err);
@@ -229,7 +226,7 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
     if (rc == ST_OK)
         rc = upload_plan(r, w, m, pilot, rk, err);
     if (rc == ST_OK)
-        rc = run_rounds(r, p, w, o, rk, pilot, pr, st, err);
+        rc = run_rounds(r, p, w, o, rk, pilot, pr, st, items, err);
     if (rc == ST_OK)
         rc = launch(r, ST_ADAPTIVE_BLEND, p, w, err);
     free(rk);

@@ -7,8 +7,6 @@
 
 #include "rng.h"
 #include "samplers.h"
-#include "st_sampling.h"
-#include "st_sampling.h"
 
 int st_sampling_pattern_is_random(st_u32 sampler, st_u32 scramble)
 {

@@ -93,8 +93,6 @@ enum {
     O_PACKETS, O_LANES
 };
 
-const char *const st_cli_texfilter_names[3] = {"none", "bilinear", "trilinear"};
-
 static const struct option options[] = {
     {"width", required_argument, 0, O_WIDTH},
     {"height", required_argument, 0, O_HEIGHT},

@@ -1,6 +1,9 @@
 /* render_int.h — the renderer's inside, shared by the files that make it
- * up: device_scene.c (the scene on the device), render.c (the pass loop),
- * adaptive.c (adaptive rounds). Not a public header. */
+ * up, lowest first: render_names.c (the kernels' and options' names),
+ * device_scene.c (the scene on the device), adaptive.c (adaptive rounds),
+ * render.c (the pass loop). Each calls only the ones before it: adaptive.c
+ * is handed the pass loop's wave runner rather than calling back up into
+ * render.c. Not a public header. */
 #ifndef ST_RENDER_INT_H
 #define ST_RENDER_INT_H
 
@@ -8,6 +11,8 @@
 #include "st_envmap.h"
 #include "st_render.h"
 #include "wave.h"
+
+#include <time.h>
 
 #define ST_RAN_MAX 16 /* distinct kernels one render launches, at most */
 
@@ -55,18 +60,30 @@ typedef struct st_progress_state {
     double done, total;
 } st_progress_state;
 
-double st_render_now(void);
+/* Seconds on the monotonic clock. */
+static inline double st_render_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
 
 /* Items [first, first + total) of the current item space, in waves. */
 st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                           st_u64 first, st_u64 total, st_progress_state *pr,
                           st_render_stats *st, st_error *err);
+/* st_render_items' type, as adaptive.c is handed it. */
+typedef st_status (*st_render_items_fn)(st_renderer *r, st_params *p, st_wave *w,
+                                        const st_render_options *o, st_u64 first, st_u64 total,
+                                        st_progress_state *pr, st_render_stats *st,
+                                        st_error *err);
 
 /* An adaptive render (adaptive.c): the pilot's `total` items (its plan
- * from render.c), the allocation, the later samples and the blend. */
+ * from render.c), the allocation, the later samples and the blend, each
+ * run of items by `items` (st_render_items). */
 st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
                              const st_render_options *o, st_u64 total, st_progress_state *pr,
-                             st_render_stats *st, st_error *err);
+                             st_render_stats *st, st_render_items_fn items, st_error *err);
 
 /* The camera basis of a view at an image aspect (device_scene.c). */
 st_camera st_render_camera(const st_scene_camera *c, st_u32 w, st_u32 h);

@@ -24,8 +24,6 @@
 #include "rng.h"
 #include "samplers.h"
 #include "st_sampling.h"
-#include "st_sampling.h"
-#include "st_sampling.h"
 
 /* 1 when the n = 2^m points (x, y) at xy[stride k], xy[stride k + 1] are a
  * (0,m,2)-net; otherwise names the first overfull interval in *why. */

@@ -10,7 +10,6 @@
 #include <cmocka.h>
 
 #include "st_sampling.h"
-#include "st_sampling.h"
 
 static float *make(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed, st_u32 *n)
 {

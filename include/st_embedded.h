@@ -9,9 +9,13 @@ typedef struct st_embedded_file {
     unsigned long size;
 } st_embedded_file;
 
-/* Kernel sources, #includes inlined, with #line markers. NULL-terminated. */
+/* Kernel sources, #includes inlined, with #line markers, named by their path
+ * under kernels/ ("film/film.cl"). NULL-terminated. */
 extern const st_embedded_file st_embedded_kernels[];
 extern const unsigned st_embedded_kernel_count;
+/* The kernels' include folders under kernels/ ("shared", ...), their search
+ * path for a quoted #include. NULL-terminated. */
+extern const char *const st_embedded_kernel_dirs[];
 /* Built-in scenes by file name ("cornell-box.gltf"). NULL-terminated. */
 extern const st_embedded_file st_embedded_scenes[];
 extern const unsigned st_embedded_scene_count;

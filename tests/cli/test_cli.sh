@@ -60,8 +60,16 @@ st=$?
 check "no OpenCL platform: exit 1 naming make deps" '[ $st -eq 1 ] && grep -q "^strata: error: no OpenCL platform found: run .make deps." "$T/err"'
 OCL_ICD_VENDORS="$T/novendors" $S render $R -o "$T/nv.exr" > /dev/null 2>&1
 check "no OpenCL platform: render writes nothing" '[ ! -e "$T/nv.exr" ]'
-mkdir "$T/kernels"
-cp kernels/*.cl kernels/*.h "$T/kernels/"
+# STRATA_KERNEL_DIR: the kernels read from a copy of kernels/, their includes found
+# through its folders (the search path tools/embed.c inlines them with)
+cp -R kernels "$T/kernels"
+$S render $R -o "$T/emb.exr" > /dev/null 2>&1
+STRATA_KERNEL_DIR="$T/kernels" $S render $R -o "$T/kd.exr" > /dev/null 2> "$T/err"
+check "STRATA_KERNEL_DIR: the same image as the embedded kernels" '[ -e "$T/kd.exr" ] && $S diff "$T/emb.exr" "$T/kd.exr" --max-rmse 0 > /dev/null'
+printf '\nthis is not C;\n' >> "$T/kernels/film/filters.h"
+STRATA_KERNEL_DIR="$T/kernels" $S render $R -o "$T/kh.exr" > /dev/null 2> "$T/err"
+check "a header of a kernel folder that fails to build: the log names it" 'grep -q "kernels/film/filters.h:[0-9]*:[0-9]*:" "$T/err" && [ ! -e "$T/kh.exr" ]'
+cp kernels/film/filters.h "$T/kernels/film/filters.h"
 printf '\n__kernel void broken(void) { this is not C; }\n' >> "$T/kernels/film/film.cl"
 STRATA_KERNEL_DIR="$T/kernels" $S render $R -o "$T/kb.exr" > "$T/out" 2> "$T/err"
 st=$?
