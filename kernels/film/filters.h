@@ -21,7 +21,7 @@
  *                    Harmonic Analysis with the DFT", Proc. IEEE 1978, over
  *                    [-r, r]: a0 - a1 cos(2πt) + a2 cos(4πt) - a3 cos(6πt),
  *                    t = (x + r) / 2r (as LuxCore and Cycles use it)
- * Tests: test_filters.c. */
+ * Tests: test_filter_kernels.c. */
 #ifndef ST_FILTERS_H
 #define ST_FILTERS_H
 
@@ -39,7 +39,7 @@ ST_HOT st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
     /* the second piece has a double root at t = 2: in factored form,
      * 6k(t) = (2 - t)^2 ((-B-6C) t + 2B + 6C), it keeps its relative accuracy
      * near t = 2 (the expanded sum of terms near 100 cancelled to errors of
-     * 6e-6: test_filters.c filters_match_formulas) */
+     * 6e-6: test_filter_kernels.c filters_match_formulas) */
     if (t < 2.0f) {
         st_f32 u = 2.0f - t;
         return u * u * ((-b - 6.0f * c) * t + 2.0f * b + 6.0f * c) * (1.0f / 6.0f);
@@ -128,7 +128,7 @@ ST_FN st_lanczos_turn st_lanczos_turn_of(const st_filter *f)
  * δ = π / τ, turning (sin, cos) through ±δ (t) once per tap. Three sines
  * per axis where two per tap were. Starting at the tap nearest 0 keeps the
  * relative accuracy where sinc divides by a small x; the turns' rounding
- * adds about an ulp per tap (test_filters.c: within 1e-5 of the formula). */
+ * adds about an ulp per tap (test_filter_kernels.c: within 1e-5 of the formula). */
 ST_HOT st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
 {
     st_f32 ax = fabs(x), y = x / f->tau;

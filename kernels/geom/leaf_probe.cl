@@ -1,7 +1,7 @@
 /* leaf_probe.cl — the vector leaf tests of trace.h (st_leaf_closest,
  * st_leaf_any) beside the scalar loop they replace (st_intersect_triangle
  * over the leaf's triangles in order), compiled by the device's own compiler
- * with the same contraction, so that tests/test_leaf.c can check them equal
+ * with the same contraction, so that tests/device/test_leaf.c can check them equal
  * bit for bit. Not a stage of the renderer. */
 #include "st_shared.h"
 #include "trace.h"

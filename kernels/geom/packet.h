@@ -23,7 +23,7 @@
  * single ray's bit for bit, and its hit is the single ray's unless two
  * triangles tie at exactly the same t (then the one met first wins, as for
  * a single ray, but the order can differ).
- * Tests: tests/test_packet.c, tests/test_render.c. */
+ * Tests: tests/device/test_packet.c, tests/image/test_render.c. */
 #ifndef ST_PACKET_H
 #define ST_PACKET_H
 

@@ -44,7 +44,7 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
 
 /* Packets (packet.h): work-item g takes items W g .. W g + W - 1 of the
  * wave (W = ST_W), lane j item W g + j; the host launches ceil(item_count /
- * W) work-items (src/render.c), so the last packet's lanes past item_count
+ * W) work-items (src/render/render.c), so the last packet's lanes past item_count
  * are masked. */
 static st_u32 packet_first(void) { return (st_u32)get_global_id(0) * ST_PACKET; }
 

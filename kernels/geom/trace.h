@@ -21,7 +21,7 @@
  * tested against brute force. The BVH is the one st_bvh_build writes
  * (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH. On the
  * device the compiler may contract a * b + c into fma, so t, u, v can differ
- * from the host's in the last bits. Tests: tests/test_bvh.c
+ * from the host's in the last bits. Tests: tests/unit/test_bvh.c
  * (closest_equals_brute_force_*, triangle_*). */
 #ifndef ST_TRACE_H
 #define ST_TRACE_H
@@ -53,7 +53,7 @@ ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
  * grows with the triangle's condition |e1||e2| / |e1 x e2|: a hit computed up
  * to 2.4e-4 t before its box's entry (thin triangles, grazing rays) is still
  * found, so that the traversal agrees with a brute-force loop over the same
- * triangle test (tests/test_bvh.c). Cost: boxes entered within that fraction
+ * triangle test (tests/unit/test_bvh.c). Cost: boxes entered within that fraction
  * beyond the current closest hit are still opened. */
 #define ST_TRACE_SLAB_WIDEN 1.000244140625f
 
@@ -220,7 +220,7 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
  * per node - 1) x depth entries. A wide tree is no deeper than the binary one
  * (ST_BVH_MAX_DEPTH), so nodes of 4 children need 3 x 64; for nodes of 8 the
  * collapse keeps 7 x depth within the same bound, or falls back to 4 children
- * (src/bvh_wide.c), so that the private memory per work-item stays that of
+ * (src/bvh/bvh_wide.c), so that the private memory per work-item stays that of
  * the 4-wide tree (PoCL allots it to every work-item of a group, up to 4096). */
 #define ST_BVH4_STACK (3 * ST_BVH_MAX_DEPTH)
 
@@ -335,7 +335,7 @@ ST_HOT st_leaf_f st_leaf_e2(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 a, st_le
 
 /* The triangle test of a leaf's lanes at once (block l of n triangles),
  * lane j = triangle first + j, for one ray (broadcast to the lanes): each
- * lane's t, u, v is st_intersect_triangle's bit for bit (tests/test_leaf.c
+ * lane's t, u, v is st_intersect_triangle's bit for bit (tests/device/test_leaf.c
  * checks it on the device). Returns the lanes that hit at t in (0, tmax) as
  * bits (lane j -> bit j), and their t, u, v. */
 ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
@@ -502,7 +502,7 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const s
 /* Whether any triangle is hit at t in (0, ray->tmax) through the wide tree:
  * stops at the first (no ordering: any occluder will do), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
- * can look at what it met (kernels/shadow.h: its material's alpha). */
+ * can look at what it met (kernels/integrator/shadow.h: its material's alpha). */
 ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {

@@ -2,7 +2,7 @@
  * (glTF 2.0 specification, appendix B) with KHR_materials_specular and
  * KHR_materials_ior, in the local shading frame (z along the shading
  * normal). The part above `#ifdef __OPENCL_VERSION__` compiles as C11 too,
- * so tests/test_bsdf.c runs the device's own code.
+ * so tests/unit/test_bsdf.c runs the device's own code.
  *
  *   f = (1 - m) c / π (1 - max3 F_d)  +  F D V
  * with m the metallic factor, c the base colour and, with s = (1 - |v.h|)^5,
@@ -26,7 +26,7 @@
  *
  * Written once over lanes (lanes.h): every value is an st_lf, ST_W
  * materials at once in the kernels (integrator.h), one float on the host,
- * where tests/test_bsdf.c runs this very code; a branch is a mask and a
+ * where tests/unit/test_bsdf.c runs this very code; a branch is a mask and a
  * select, so that every lane computes what width 1 computes. */
 #ifndef ST_BSDF_H
 #define ST_BSDF_H

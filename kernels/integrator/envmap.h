@@ -1,7 +1,7 @@
 /* envmap.h — the equirectangular environment map as both sides use it: the
  * mapping between directions and map coordinates, the rotation about +Y,
  * and the piecewise-constant distribution that importance-samples it.
- * Compiled by the host (src/envmap.c builds the tables; the tests sample
+ * Compiled by the host (src/render/envmap.c builds the tables; the tests sample
  * and check them) and the kernels (shade.cl), so both run the same code.
  * Include after st_shared.h.
  *

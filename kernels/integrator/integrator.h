@@ -198,7 +198,7 @@ static float area_choice(const st_shading *sh)
 }
 
 /* The environment map's radiance at map coordinates (u, v) (nearest
- * texel: kernels/envmap.h) times the env factor, and in *pdf the density in
+ * texel: kernels/integrator/envmap.h) times the env factor, and in *pdf the density in
  * solid angle with which env_gather picks that direction. */
 static float3 env_map_at(__global const float *env_cdf, __global const float *env_texels,
                          const st_shading *sh, float u, float v, float *pdf)

@@ -279,7 +279,7 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
     shade_lanes(&s, &p, &sh, first, n, sample, ray, hit, path, shadow, pmj02)
 
 /* One vertex of every live path; its shadow ray is traced by the next
- * stage, trace_shadow_rays (the default: src/plan.c). */
+ * stage, trace_shadow_rays (the default: src/render/plan.c). */
 __kernel void shade_hits(ST_STAGE_PARAMS)
 {
     ST_SHADE_LANES_ITEMS;

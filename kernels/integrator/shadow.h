@@ -1,7 +1,7 @@
 /* shadow.h — shadow rays through alpha cut-outs and blended surfaces: a
  * shadow ray sees a material's alpha as a camera ray does (integrator.h's
  * alpha_passes_keyed), so a cut-out casts a cut-out shadow. OpenCL only; needs
- * trace.h and integrator.h. Test: tests/test_shading.c
+ * trace.h and integrator.h. Test: tests/device/test_shading.c
  * (alpha_cutout_casts_cutout_shadow). */
 #ifndef ST_SHADOW_H
 #define ST_SHADOW_H

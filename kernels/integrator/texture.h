@@ -1,5 +1,5 @@
 /* texture.h — texture lookups, shared by the kernels (shade_hits) and the host
- * (the scene loader's mip chains, the light table, tests/test_texture.c), so
+ * (the scene loader's mip chains, the light table, tests/device/test_texture.c), so
  * the tests run the device's own code. Included after st_shared.h (ST_FN,
  * ST_GLOBAL, ST_CONSTANT, st_texture).
  *
@@ -28,7 +28,7 @@
  * w the cone's width at the hit, n the surface normal, d the ray direction,
  * t_a = width x height x |uv area| the triangle's area in texels, p_a its
  * world area. Delta is split into the triangle's part (st_tri_uv.lod) and the
- * texture's (st_texture.lod_bias). Tests: tests/test_texture.c. */
+ * texture's (st_texture.lod_bias). Tests: tests/device/test_texture.c. */
 #ifndef ST_TEXTURE_H
 #define ST_TEXTURE_H
 

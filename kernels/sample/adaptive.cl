@@ -1,4 +1,4 @@
-/* adaptive.cl — adaptive sampling's device side (the plan: src/adaptive.c).
+/* adaptive.cl — adaptive sampling's device side (the plan: src/render/adaptive.c).
  *
  * A pilot of N0 samples per pixel is splatted as usual; adaptive_moments
  * keeps, per pixel, the sums of Y = (r + g + b) / 3 and Y² of its own

@@ -13,7 +13,7 @@
  *   stratified       one jittered point per cell of an nx x ny grid
  * A float result is the largest float <= the exact value, so results stay in
  * [0, 1) and the unscrambled sequences equal the definition to the last bit.
- * Tests: test_samplers.c. */
+ * Tests: test_sampling_kernels.c. */
 #ifndef ST_SAMPLERS_H
 #define ST_SAMPLERS_H
 
@@ -108,7 +108,7 @@ ST_FN st_f32 st_radical_inverse(st_u32 base, st_u32 n)
  * "Ciphers with Arbitrary Finite Domains", CT-RSA 2002), then the result is
  * rotated by the key. Every step mixes in key bits, so different keys give
  * different permutations (an earlier version drew each key from only a few
- * hundred permutations at n = 16: test_samplers.c permute_*). */
+ * hundred permutations at n = 16: test_sampling_kernels.c permute_*). */
 ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
 {
     if (n <= 1u)
@@ -337,7 +337,7 @@ ST_FN void st_stratified_grid(st_u32 n, st_u32 *nx, st_u32 *ny)
 }
 
 /* The sampler fields of st_params (stratified grid, Halton scales) are
- * filled on the host by st_sampler_prepare (src/sampler.c). */
+ * filled on the host by st_sampler_prepare (src/sampling/sampler.c). */
 
 /* The samplers that read a per-pixel scramble key in every dimension
  * (st_sample_id.pixel_key); Halton and global Sobol' read one only in the
@@ -430,7 +430,7 @@ ST_FN st_u32 st_sample_word(const st_params *p, const st_sample_id *id)
  * that st_sample_begin made (carried in st_sample): nothing is hashed or
  * solved again; only ZSobol, which reads (px, py), splits the pixel's index
  * (the others get (0, 0), which they never read: a 32-bit divide per hit
- * was measurable). The same identity as st_sample_begin's (test_samplers.c);
+ * was measurable). The same identity as st_sample_begin's (test_sampling_kernels.c);
  * pmj02 is not set. Forced inline: a returned struct stayed in memory. */
 ST_HOT st_sample_id st_sample_resume(const st_params *p, st_u32 pixel, st_u32 s, st_u32 key,
                                      st_u32 word)

@@ -11,8 +11,8 @@
  * separate arrays, so a CPU's lanes have to be written out).
  *
  * ST_W is the width of the stages that take several items per work-item
- * (packets of rays, kernels/packet.h): chosen per device by the host
- * (st_device_default_lanes, src/device.c; --lanes) and passed as -DST_W=n; 1 where it is not
+ * (packets of rays, kernels/geom/packet.h): chosen per device by the host
+ * (st_device_default_lanes, src/device/device.c; --lanes) and passed as -DST_W=n; 1 where it is not
  * given (the host's C). ST_BVH_WIDTH (a wide node's boxes) and ST_LEAF_MAX (a
  * leaf's triangles) are widths of the tree's layout, fixed whatever ST_W.
  *

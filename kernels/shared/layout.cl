@@ -1,6 +1,6 @@
 /* layout.cl — reports the device's own sizes and offsets of every shared
  * struct and field (ST_LAYOUT_STRUCTS, ST_LAYOUT_FIELDS in st_shared.h), so
- * tests/test_layout.c can compare them with the host's. */
+ * tests/device/test_layout.c can compare them with the host's. */
 #include "st_shared.h"
 
 /* Writes out[]: the size of each struct of ST_LAYOUT_STRUCTS, then the

@@ -6,7 +6,7 @@
  * The mixing function is "lowbias32" from Chris Wellons, "Prospecting for Hash
  * Functions" (2018, nullprogram.com/blog/2018/07/31/): a 32-bit bijection with
  * low avalanche bias. Keys are chained so each argument is fully mixed.
- * Tests: test_samplers.c rng_*. */
+ * Tests: test_sampling_kernels.c rng_*. */
 #ifndef ST_RNG_H
 #define ST_RNG_H
 

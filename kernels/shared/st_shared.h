@@ -1,6 +1,6 @@
 /* st_shared.h — every layout and constant that the host (C11) and the kernels
  * (OpenCL C 1.2) must agree on. It compiles under both compilers; the host
- * static-asserts each struct's size and offsets, and tests/test_layout.c asks the
+ * static-asserts each struct's size and offsets, and tests/device/test_layout.c asks the
  * device for its own. Only fixed-size types cross: no int/long/size_t/bool, no
  * float3 (OpenCL sizes it as four floats), no pointers. Arrays of 4 floats are
  * read with vload4 on the device.
@@ -82,13 +82,13 @@ typedef float st_f32;
 #define ST_SAMPLER_PMJ02BN 12u /* the same, blue noise as well (pbrt-v4's "pmj02bn") */
 #define ST_SAMPLER_COUNT 13u
 /* pmj02, pmj02bn: ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, at most
- * 2^ST_PMJ02_MAX_LOG2 (the spp limit), uploaded per render (src/pmj02.c) */
+ * 2^ST_PMJ02_MAX_LOG2 (the spp limit), uploaded per render (src/sampling/pmj02.c) */
 #define ST_PMJ02_MAX_LOG2 12u
 #define ST_PMJ02_SETS 16u
 #define ST_SAMPLER_IS_TILED(s) ((s) == ST_SAMPLER_POISSON || (s) == ST_SAMPLER_BEST_CANDIDATE)
 /* tiled samplers' later dimensions: ST_PMJ02_SETS tiles of one pixel (the
  * sampler's own pattern on the unit torus) of min(spp, ST_PAD_MAX_POINTS)
- * points each, uploaded in pmj02's place (src/pixel_tile.c, samplers.h) */
+ * points each, uploaded in pmj02's place (src/sampling/pixel_tile.c, samplers.h) */
 #define ST_PAD_MAX_POINTS 1024u
 
 /* Reconstruction filters (render --filter, strata filter). */
@@ -144,7 +144,7 @@ typedef struct st_bvh_node {
 } st_bvh_node;
 
 /* Wide BVH node: ST_BVH_WIDTH children of the binary tree collapsed into
- * one (src/bvh_wide.c), their boxes as structure of arrays, lo[axis][child]
+ * one (src/bvh/bvh_wide.c), their boxes as structure of arrays, lo[axis][child]
  * and hi[axis][child], so that one node is one vector slab test (trace.h:
  * float8 for 8, float4 for 4).
  * count[k] == 0: child[k] is an interior node's index; count[k] = 1..4:
@@ -170,7 +170,7 @@ typedef struct st_bvh_wide_node {
  * A block fills ST_LEAF_UNITS(n) units of ST_LEAF_UNIT bytes (a 2-triangle
  * leaf, the commonest, 80 bytes: two cache lines wherever it starts). The
  * blocks follow the wide tree's nodes in its own array, in slot order, so
- * that the kernels take one buffer (src/bvh_wide.c). */
+ * that the kernels take one buffer (src/bvh/bvh_wide.c). */
 #define ST_LEAF_MAX 4 /* triangles per leaf at most */
 #define ST_LEAF_ROWS 9
 #define ST_LEAF_V0 0
@@ -225,7 +225,7 @@ typedef struct st_tri_normals {
 #define ST_MAT_VERTEX_COLOR 2u /* some triangle of it has a COLOR_0 other than white */
 #define ST_MAT_DOUBLE_SIDED 4u /* glTF doubleSided: its triangles are hit from both sides */
 
-/* A glTF metallic-roughness material (the BRDF: kernels/bsdf.h), emitting
+/* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
  * texture where *_tex is a texture descriptor index (ST_NO_TEXTURE: none):
  * base_color_tex (sRGB RGB, linear alpha), emission_tex (sRGB),
@@ -319,7 +319,7 @@ typedef struct st_shading {
      * 0 without them) rather than the area lights and environment */
     st_u32 punct_count;
     st_f32 punct_share;
-    /* the environment map (--env FILE; kernels/envmap.h), env_size 0 x 0
+    /* the environment map (--env FILE; kernels/integrator/envmap.h), env_size 0 x 0
      * without one (env is then the uniform radiance, else (1, 1, 1)); its
      * rotation about +Y as (cos, sin); and env_pick, the probability that
      * next-event estimation samples the environment rather than the area
@@ -403,8 +403,8 @@ typedef struct st_params {
  * Every buffer the stage kernels share, declared once. The lists below
  * (X-macros, as Cycles' state_template.h) give each buffer's name, element
  * type and extent; the host derives sizes and allocation from them
- * (src/wave.c), the kernels their parameter lists (ST_STAGE_PARAMS), and
- * the layout probe (kernels/layout.cl) checks every field on the device. */
+ * (src/render/wave.c), the kernels their parameter lists (ST_STAGE_PARAMS), and
+ * the layout probe (kernels/shared/layout.cl) checks every field on the device. */
 
 #define ST_PATH_DEAD 0xffffffffu /* st_path.depth of a path that has ended */
 #define ST_NO_HIT 0xffffffffu    /* st_hit.prim of a ray that left the scene */
@@ -547,7 +547,7 @@ typedef struct st_tile_point {
     X(fis_cdf, st_f32)                                                                      \
     X(pmj02, st_u32) /* pmj02's tables: x, y words of each point (st_sampling_pmj02) */    \
     X(env_texels, st_f32) /* the environment map's RGB0 texels (st_renderer_set_env_map) */ \
-    X(env_cdf, st_f32)    /* its sampling table (kernels/envmap.h) */
+    X(env_cdf, st_f32)    /* its sampling table (kernels/integrator/envmap.h) */
 
 #ifdef __OPENCL_VERSION__
 /* Whether a sample lies on the image (a tiled sampler's point may not: its
@@ -575,8 +575,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
 #endif
 
 
-/* Every shared struct and field, for the layout probe (kernels/layout.cl
- * reports the device's sizes and offsets; tests/test_layout.c compares them
+/* Every shared struct and field, for the layout probe (kernels/shared/layout.cl
+ * reports the device's sizes and offsets; tests/device/test_layout.c compares them
  * with the host's). */
 #define ST_LAYOUT_STRUCTS(X)                                                                \
     X(st_bvh_node) X(st_bvh_wide_node) X(st_triangle) X(st_tri_normals) X(st_material)         \
