@@ -4,7 +4,7 @@
  * The layout (st_bvh_node, st_bvh_wide_node, st_triangle) is kernels/shared/st_shared.h's;
  * the traversals that read it are kernels/geom/trace.h's, shared by host and device:
  * st_intersect_closest and st_intersect_any on the binary tree (the host's
- * reference), st_intersect4_closest and st_intersect4_any on the same tree
+ * reference), st_intersect_wide_closest and st_intersect_wide_any on the same tree
  * collapsed ST_BVH_WIDTH-wide (the kernels'). Guarantees of a built tree:
  *   - nodes[0] is the root; an interior node's first child is the next node,
  *     its second child is nodes[offset]; meta = count << 2 | split axis;
@@ -64,7 +64,7 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
  * it): each wide node takes its binary node's two children and, while it has
  * fewer than ST_BVH_WIDTH, opens the interior child of largest surface area
  * (the one a ray is likeliest to enter). A tree so deep that the traversal
- * stack could overflow at that width (7 x depth > ST_BVH4_STACK, depth > 27)
+ * stack could overflow at that width (7 x depth > ST_BVH_WIDE_STACK, depth > 27)
  * is made of nodes of at most four children instead. The leaves' blocks
  * follow the nodes (st_shared.h; their rows left zero, see
  * st_bvh_pack_leaves). ST_ERR_NOMEM on allocation failure. */

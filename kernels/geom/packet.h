@@ -102,7 +102,7 @@ ST_HOT st_u32 st_packet_node(const ST_GLOBAL st_bvh_wide_node *n, const st_packe
 }
 
 /* Pushes interior child `first` with entry distance e above base, keeping
- * the entries above base sorted far to near (st_intersect4_closest's order). */
+ * the entries above base sorted far to near (st_intersect_wide_closest's order). */
 ST_HOT void st_packet_push(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp, st_u32 first,
                            st_f32 e)
 {
@@ -122,7 +122,7 @@ ST_HOT st_f32 st_packet_max(st_lf t, st_u32 live)
     return ST_HMAX(ST_W, ST_SELECT(ST_W, (st_lf)(-INFINITY), t, ST_BITS_MASK(ST_W, live)));
 }
 
-/* A packet's closest hits, lane j as st_intersect4_closest's for ray j (the
+/* A packet's closest hits, lane j as st_intersect_wide_closest's for ray j (the
  * contract above): hit t, u, v and prim per lane; prim ST_NO_HIT and t =
  * tmax on a miss. Lanes not live come back as misses. */
 typedef struct st_packet_hits {
@@ -133,8 +133,8 @@ typedef struct st_packet_hits {
 ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_packet *pk,
                               st_lf tmax, st_packet_hits *h)
 {
-    st_u32 stack[ST_BVH4_STACK];
-    st_f32 entry[ST_BVH4_STACK], bound[ST_PACKET];
+    st_u32 stack[ST_BVH_WIDE_STACK];
+    st_f32 entry[ST_BVH_WIDE_STACK], bound[ST_PACKET];
     st_u32 sp = 0u, node = 0u;
     h->t = tmax;
     h->u = h->v = (st_lf)(0.0f);
@@ -179,12 +179,12 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
 }
 
 /* The live lanes that some triangle blocks at t in (0, tmax) (any hit, as
- * st_intersect4_any): a lane stops taking part once blocked, the packet
+ * st_intersect_wide_any): a lane stops taking part once blocked, the packet
  * once all are. */
 ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const st_packet *pk,
                                  st_lf tmax)
 {
-    st_u32 stack[ST_BVH4_STACK];
+    st_u32 stack[ST_BVH_WIDE_STACK];
     st_f32 bound[ST_PACKET];
     st_u32 sp = 0u, node = 0u, open = pk->live;
     ST_VSTORE(ST_W, tmax, bound);

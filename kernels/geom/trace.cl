@@ -25,7 +25,7 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
     r.d[0] = w.d[0]; r.d[1] = w.d[1]; r.d[2] = w.d[2];
     r.tmax = w.tmax;
     st_hit h;
-    if (!st_intersect4_closest(nodes, &r, &h))
+    if (!st_intersect_wide_closest(nodes, &r, &h))
         h.prim = ST_NO_HIT;
     hit[i] = h;
 }

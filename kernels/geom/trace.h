@@ -14,7 +14,7 @@
  * of st_intersect_triangle over all triangles: the box test is conservative
  * for the rounding of the slab test and of Moller-Trumbore's t (see
  * ST_TRACE_SLAB_WIDEN). The kernels trace the wide tree (8 children)
- * (st_intersect4_closest, st_intersect4_any: one vector slab test per node,
+ * (st_intersect_wide_closest, st_intersect_wide_any: one vector slab test per node,
  * one vector Moller-Trumbore test per leaf of up to four triangles; both
  * written once over lanes, trace_lanes.h);
  * the binary tree's traversal stays as the host's reference, and both are
@@ -222,7 +222,7 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
  * collapse keeps 7 x depth within the same bound, or falls back to 4 children
  * (src/bvh/bvh_wide.c), so that the private memory per work-item stays that of
  * the 4-wide tree (PoCL allots it to every work-item of a group, up to 4096). */
-#define ST_BVH4_STACK (3 * ST_BVH_MAX_DEPTH)
+#define ST_BVH_WIDE_STACK (3 * ST_BVH_MAX_DEPTH)
 
 /* The slab test of a wide node's ST_BVH_WIDTH boxes for one ray: a mask,
  * bit k set when the ray meets child k's box at some t in [0, tmax], and
@@ -421,7 +421,7 @@ ST_FN void st_leaf_closest(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit 
     }
 }
 
-/* hit->t is ray->tmax on entry (st_intersect4_any_hit). */
+/* hit->t is ray->tmax on entry (st_intersect_wide_any_hit). */
 ST_FN int st_leaf_any(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
     for (st_u32 j = 0u; j < n; ++j) {
@@ -455,12 +455,12 @@ ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
  * visited next (Wald et al. 2008 order children front to back the same way);
  * a popped child whose entry lies beyond the closest hit so far is skipped
  * with the same widening as the box test. */
-ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
+ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
     st_trace_ray r;
-    st_u32 stack[ST_BVH4_STACK];
-    st_f32 entry[ST_BVH4_STACK];
+    st_u32 stack[ST_BVH_WIDE_STACK];
+    st_f32 entry[ST_BVH_WIDE_STACK];
     st_u32 sp = 0u, node = 0u;
     st_trace_setup(&r, ray);
     hit->t = ray->tmax;
@@ -503,11 +503,11 @@ ST_FN int st_intersect4_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const s
  * stops at the first (no ordering: any occluder will do), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/integrator/shadow.h: its material's alpha). */
-ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
+ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
     st_trace_ray r;
-    st_u32 stack[ST_BVH4_STACK];
+    st_u32 stack[ST_BVH_WIDE_STACK];
     st_u32 sp = 0u, node = 0u;
     st_trace_setup(&r, ray);
     hit->t = ray->tmax;
@@ -532,11 +532,11 @@ ST_FN int st_intersect4_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const s
     }
 }
 
-/* st_intersect4_any_hit without the hit. */
-ST_FN int st_intersect4_any(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray)
+/* st_intersect_wide_any_hit without the hit. */
+ST_FN int st_intersect_wide_any(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray)
 {
     st_hit hit;
-    return st_intersect4_any_hit(nodes, ray, &hit);
+    return st_intersect_wide_any_hit(nodes, ray, &hit);
 }
 
 #endif

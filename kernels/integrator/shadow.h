@@ -23,12 +23,12 @@ static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene
                           st_u32 depth)
 {
     st_hit h;
-    if (!st_intersect4_any_hit(nodes, &r, &h))
+    if (!st_intersect_wide_any_hit(nodes, &r, &h))
         return 0;
     if (s->materials[s->tri_material[h.prim]].alpha_mode == ST_ALPHA_OPAQUE)
         return 1;
     float travelled = 0.0f;
-    while (st_intersect4_closest(nodes, &r, &h)) {
+    while (st_intersect_wide_closest(nodes, &r, &h)) {
         float3 ng = facing_normal(s->normals, h.prim), d = (float3)(r.d[0], r.d[1], r.d[2]);
         st_material_at a = material_at(s, p, sh, h, dot(ng, -d), travelled + h.t);
         if (!alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_SHADOW_ALPHA_KEY))

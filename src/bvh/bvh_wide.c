@@ -173,9 +173,9 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
     collapse(&b);
     /* the traversal stack holds (width - 1) x depth entries at most: a tree
-     * too deep for ST_BVH4_STACK at full width is made of 4-child nodes,
+     * too deep for ST_BVH_WIDE_STACK at full width is made of 4-child nodes,
      * whose depth <= ST_BVH_MAX_DEPTH keeps it within (trace.h) */
-    if ((st_u32)(b.width - 1) * b.depth > ST_BVH4_STACK) {
+    if ((st_u32)(b.width - 1) * b.depth > ST_BVH_WIDE_STACK) {
         b.width = 4;
         collapse(&b);
     }

@@ -10,7 +10,7 @@
  *   - any hit = existence of a closest hit, for random tmax, and false/true
  *     with tmax at/just past the closest t;
  *   - both for the binary tree's traversal (the host reference) and the wide
- *     one the kernels run (st_intersect4_*), whose tree is checked as well;
+ *     one the kernels run (st_intersect_wide_*), whose tree is checked as well;
  *   - the flattened tree is what st_bvh.h promises: preorder numbering, boxes
  *     containing children and triangles, leaves of 1..4 covering every BVH
  *     slot once, order a permutation, tris[i] = input triangle order[i];
@@ -351,7 +351,7 @@ static void check_wide_structure(const st_bvh *bvh, const float *p, uint32_t n)
     /* the traversal's stack bound: all but one child pushed per level */
     uint32_t most = wide_children_max(bvh);
     assert_true(most <= ST_BVH_WIDTH);
-    assert_true((most ? most - 1 : 0) * depth <= ST_BVH4_STACK);
+    assert_true((most ? most - 1 : 0) * depth <= ST_BVH_WIDE_STACK);
     for (uint32_t k = 0; k < n; ++k)
         assert_int_equal(covered[k], 1);
     check_leaf_blocks(bvh);
@@ -445,8 +445,8 @@ static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st
                            int exists, const st_hit *want)
 {
     st_hit got;
-    assert_int_equal(st_intersect4_closest(bvh->wide, ray, &got), exists);
-    assert_int_equal(st_intersect4_any(bvh->wide, ray), exists);
+    assert_int_equal(st_intersect_wide_closest(bvh->wide, ray, &got), exists);
+    assert_int_equal(st_intersect_wide_any(bvh->wide, ray), exists);
     if (!exists) {
         assert_int_equal(got.prim, ST_NO_HIT);
         return;
@@ -460,9 +460,9 @@ static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st
     }
     st_ray shorter = *ray;
     shorter.tmax = want->t;
-    assert_false(st_intersect4_any(bvh->wide, &shorter));
+    assert_false(st_intersect_wide_any(bvh->wide, &shorter));
     shorter.tmax = nextafterf(want->t, INFINITY);
-    assert_true(st_intersect4_any(bvh->wide, &shorter));
+    assert_true(st_intersect_wide_any(bvh->wide, &shorter));
 }
 
 /* Builds, checks the structure, then compares `rays` random rays with the
@@ -706,7 +706,7 @@ static void add_bushy(st_bvh_node *nodes, uint32_t *n, uint32_t *leaves, int lev
  * and a bushy sibling: the collapse opens the bushy side first (larger
  * area), so each wide node takes seven of its pieces and the chain's next
  * node, and at full width the wide tree is as deep as the chain: 7 x 40 >
- * ST_BVH4_STACK. It must fall back to nodes of four children, whose stack
+ * ST_BVH_WIDE_STACK. It must fall back to nodes of four children, whose stack
  * bound 3 x depth holds. */
 static void collapse_keeps_stack_bound_on_a_deep_chain(void **state)
 {
@@ -734,7 +734,7 @@ static void collapse_keeps_stack_bound_on_a_deep_chain(void **state)
     uint32_t most = wide_children_max(bvh);
     assert_true(most >= 2 && most <= 4);
     assert_true(bvh->wide_depth >= CHAIN && bvh->wide_depth <= bvh->depth);
-    assert_true((most - 1) * bvh->wide_depth <= ST_BVH4_STACK);
+    assert_true((most - 1) * bvh->wide_depth <= ST_BVH_WIDE_STACK);
     st_bvh_destroy(bvh);
 }
 
@@ -757,8 +757,8 @@ static void build_empty_scene_has_no_hits(void **state)
         assert_false(st_intersect_closest(bvh->nodes, bvh->tris, &ray, &hit));
         assert_int_equal(hit.prim, ST_NO_HIT);
         assert_false(st_intersect_any(bvh->nodes, bvh->tris, &ray));
-        assert_false(st_intersect4_closest(bvh->wide, &ray, &hit));
-        assert_false(st_intersect4_any(bvh->wide, &ray));
+        assert_false(st_intersect_wide_closest(bvh->wide, &ray, &hit));
+        assert_false(st_intersect_wide_any(bvh->wide, &ray));
     }
     check_wide_structure(bvh, NULL, 0);
     st_bvh_destroy(bvh);
