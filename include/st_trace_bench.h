@@ -19,7 +19,7 @@ extern const char *const st_ray_set_names[ST_RAYS_COUNT]; /* "camera", "random" 
  * (camera, width, height, seed). tmax is infinite. ST_ERR_USAGE for an
  * unknown set or a camera index the scene does not have. */
 st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o, int set,
-                              st_u64 first, size_t n, st_wave_ray *out, st_error *err);
+                              st_u64 first, size_t n, st_ray *out, st_error *err);
 
 typedef struct st_trace_bench_result {
     st_u64 rays, hits;
@@ -41,8 +41,8 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
  * blocked[i] 1 blocked, 0 clear, -1 not traced. Launched with
  * o->local_size. */
 st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packets,
-                           const st_wave_ray *rays, size_t n, st_hit *hits, st_error *err);
+                           const st_ray *rays, size_t n, st_hit *hits, st_error *err);
 st_status st_trace_shadow(st_renderer *r, const st_render_options *o, int packets,
-                          const st_wave_ray *rays, size_t n, int *blocked, st_error *err);
+                          const st_ray *rays, size_t n, int *blocked, st_error *err);
 
 #endif

@@ -258,7 +258,7 @@ static void warm_build(RTCDevice dev)
 
 typedef struct pass {
     RTCScene scene;
-    const st_wave_ray *rays;
+    const st_ray *rays;
     float *t;              /* per ray: the hit's t, INFINITY on a miss */
     size_t count;          /* rays [0, count) */
     int eight;             /* rtcIntersect8 instead of rtcIntersect1 */
@@ -271,7 +271,7 @@ static void trace_one(pass *p, size_t begin, size_t end, unsigned long long *hit
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (size_t i = begin; i < end; i++) {
-        const st_wave_ray *r = &p->rays[i];
+        const st_ray *r = &p->rays[i];
         struct RTCRayHit rh;
         rh.ray.org_x = r->o[0], rh.ray.org_y = r->o[1], rh.ray.org_z = r->o[2];
         rh.ray.dir_x = r->d[0], rh.ray.dir_y = r->d[1], rh.ray.dir_z = r->d[2];
@@ -294,7 +294,7 @@ static void trace_eight(pass *p, size_t begin, size_t end, unsigned long long *h
         _Alignas(32) int valid[8];
         for (unsigned k = 0; k < 8; k++) {
             size_t i = b + k < end ? b + k : b; /* a short tail repeats a live ray, masked off */
-            const st_wave_ray *r = &p->rays[i];
+            const st_ray *r = &p->rays[i];
             valid[k] = b + k < end ? -1 : 0;
             rh.ray.org_x[k] = r->o[0], rh.ray.org_y[k] = r->o[1], rh.ray.org_z[k] = r->o[2];
             rh.ray.dir_x[k] = r->d[0], rh.ray.dir_y[k] = r->d[1], rh.ray.dir_z[k] = r->d[2];
@@ -328,7 +328,7 @@ static void *trace_worker(void *arg)
 
 /* Rays [0, count) on `threads` pthreads; returns the seconds from the first
  * thread's start to the last one's end, *hits the rays that hit. */
-static double trace_pass(RTCScene scene, const st_wave_ray *rays, float *t, size_t count,
+static double trace_pass(RTCScene scene, const st_ray *rays, float *t, size_t count,
                          int eight, unsigned threads, unsigned long long *hits)
 {
     pass p = {scene, rays, t, count, eight, 0, 0};
@@ -353,7 +353,7 @@ typedef struct result {
 } result;
 
 /* An untimed pass over the first wave, then the timed pass over all. */
-static result measure(RTCScene scene, const st_wave_ray *rays, float *t, size_t count, int eight,
+static result measure(RTCScene scene, const st_ray *rays, float *t, size_t count, int eight,
                       unsigned threads)
 {
     result r;
@@ -382,7 +382,7 @@ typedef struct run {
 
 /* Builds the scene under one side rule (cull: strata's) and times both
  * calls over all rays; *bvh_seconds the build's time. */
-static void measure_rule(RTCDevice dev, const st_scene *s, int cull, const st_wave_ray *rays,
+static void measure_rule(RTCDevice dev, const st_scene *s, int cull, const st_ray *rays,
                          size_t count, unsigned threads, run *m, double *bvh_seconds)
 {
     m->present = 1;
@@ -399,7 +399,7 @@ static void measure_rule(RTCDevice dev, const st_scene *s, int cull, const st_wa
 /* Traces the sample of `n` rays (ray k * count / n) with strata's trace_rays
  * kernel and counts, for each run present, the rays on which its two calls'
  * hits agree with strata's. */
-static void check(const st_scene *s, const st_render_options *o, const st_wave_ray *rays,
+static void check(const st_scene *s, const st_render_options *o, const st_ray *rays,
                   size_t count, size_t n, run *const *runs, int run_count)
 {
     if (!n)
@@ -407,7 +407,7 @@ static void check(const st_scene *s, const st_render_options *o, const st_wave_r
     st_error err = {0};
     st_device *dev = NULL;
     st_renderer *r = NULL;
-    st_wave_ray *sample = malloc(n * sizeof *sample);
+    st_ray *sample = malloc(n * sizeof *sample);
     st_hit *hits = malloc(n * sizeof *hits);
     size_t *at = malloc(n * sizeof *at);
     if (!sample || !hits || !at)
@@ -536,7 +536,7 @@ int main(int argc, char **argv)
     if (st_scene_load(a.scene, &s, &err))
         die(err.status == ST_ERR_USAGE ? 2 : 1, "%s", err.msg);
     st_render_options o = st_render_defaults();
-    st_wave_ray *rays = malloc(a.count * sizeof *rays);
+    st_ray *rays = malloc(a.count * sizeof *rays);
     if (!rays)
         die(1, "out of memory for %lu rays", a.count);
     if (st_trace_bench_rays(s, &o, a.set, 0, a.count, rays, &err))

@@ -12,17 +12,13 @@
  * then the any hit by each; every search starts from the ray's tmax, and
  * a miss leaves {tmax, 0, 0, ST_NO_HIT}. */
 __kernel void probe_leaf(__global const st_bvh_wide_node *nodes, __global const st_triangle *tris,
-                         __global const st_wave_ray *rays, __global const uint *slot, uint slots,
+                         __global const st_ray *rays, __global const uint *slot, uint slots,
                          uint n, __global st_hit *out)
 {
     uint i = get_global_id(0);
     if (i >= n * slots)
         return;
-    st_wave_ray w = rays[i / slots];
-    st_ray r;
-    r.o[0] = w.o[0]; r.o[1] = w.o[1]; r.o[2] = w.o[2];
-    r.d[0] = w.d[0]; r.d[1] = w.d[1]; r.d[2] = w.d[2];
-    r.tmax = w.tmax;
+    st_ray r = rays[i / slots];
     uint node = slot[i % slots] / ST_BVH_WIDTH, k = slot[i % slots] % ST_BVH_WIDTH;
     uint count = nodes[node].count[k];
     const __global float *l = st_trace_leaf(nodes, nodes[node].child[k]);

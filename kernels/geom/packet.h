@@ -33,7 +33,7 @@
  * single-ray setup (for the node test) and the origins and directions as
  * lanes (for the triangle test); live: bit j set when lane j carries a ray. */
 typedef struct st_packet {
-    st_trace_ray r[ST_PACKET];
+    st_slab_consts r[ST_PACKET];
     st_lv3 o, d;
     st_u32 live;
 } st_packet;

@@ -19,11 +19,7 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
     st_u32 i = get_global_id(0);
     if (i >= p.item_count || path[i].depth == ST_PATH_DEAD)
         return;
-    st_wave_ray w = ray[i];
-    st_ray r;
-    r.o[0] = w.o[0]; r.o[1] = w.o[1]; r.o[2] = w.o[2];
-    r.d[0] = w.d[0]; r.d[1] = w.d[1]; r.d[2] = w.d[2];
-    r.tmax = w.tmax;
+    st_ray r = ray[i];
     st_hit h;
     if (!st_intersect_wide_closest(nodes, &r, &h))
         h.prim = ST_NO_HIT;
@@ -48,15 +44,12 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
  * are masked. */
 static st_u32 packet_first(void) { return (st_u32)get_global_id(0) * ST_PACKET; }
 
-/* Lane j's ray *r from origin o, direction d and bound t, and its bound
- * *tmax (-1, below every hit, for a lane not taken); returns take as the
- * lane's bit. */
-ST_HOT st_u32 packet_lane(st_ray *r, float *tmax, __global const float *o,
-                          __global const float *d, float t, int take)
+/* Lane j's ray *r, a copy of *w, and its bound *tmax (-1, below every hit,
+ * for a lane not taken); returns take as the lane's bit. */
+ST_HOT st_u32 packet_lane(st_ray *r, float *tmax, __global const st_ray *w, int take)
 {
-    r->o[0] = o[0]; r->o[1] = o[1]; r->o[2] = o[2];
-    r->d[0] = d[0]; r->d[1] = d[1]; r->d[2] = d[2];
-    r->tmax = *tmax = take ? t : -1.0f;
+    *r = *w;
+    r->tmax = *tmax = take ? w->tmax : -1.0f;
     return take ? 1u : 0u;
 }
 
@@ -70,8 +63,8 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         st_u32 i = first + j;
         int take = i < p.item_count && path[i].depth != ST_PATH_DEAD;
-        __global const st_wave_ray *w = &ray[take ? i : 0u];
-        live |= packet_lane(&r[j], &tmax[j], w->o, w->d, w->tmax, take) << j;
+        __global const st_ray *w = &ray[take ? i : 0u];
+        live |= packet_lane(&r[j], &tmax[j], w, take) << j;
     }
     if (live == 0u)
         return;
@@ -103,9 +96,9 @@ __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
     float tmax[ST_PACKET];
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         st_u32 i = first + j;
-        __global const st_shadow_ray *s = &shadow[i < p.item_count ? i : 0u];
-        int take = i < p.item_count && s->tmax > 0.0f;
-        live |= packet_lane(&r[j], &tmax[j], s->o, s->d, s->tmax, take) << j;
+        __global const st_shadow *s = &shadow[i < p.item_count ? i : 0u];
+        int take = i < p.item_count && s->ray.tmax > 0.0f;
+        live |= packet_lane(&r[j], &tmax[j], &s->ray, take) << j;
     }
     if (live == 0u)
         return;

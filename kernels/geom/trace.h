@@ -36,15 +36,8 @@
  * st_bvh_build guarantees depth <= ST_BVH_MAX_DEPTH. */
 #define ST_BVH_MAX_DEPTH 64
 
-typedef struct st_ray {
-    st_f32 o[3], d[3], tmax;
-} st_ray;
-
 /* Hits are st_hit (st_shared.h), as the wavefront stores them. */
 
-#ifndef __OPENCL_VERSION__
-ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
-#endif
 
 /* Far-end widening of the slab interval: t0 <= t1 * (1 + 2^-12). It covers
  * the rounding of (b - o) * inv in the three slabs (1 + 2 gamma(3) would do:
@@ -63,13 +56,13 @@ ST_STATIC_ASSERT(sizeof(st_ray) == 28, "st_ray: 7 floats");
  * start, in floats from its lo[0] (lo[a] at W a, hi[a] at 3 W + W a, W =
  * ST_BVH_WIDTH), so that the wide slab test loads them without choosing per
  * node. */
-typedef struct st_trace_ray {
+typedef struct st_slab_consts {
     st_f32 o[3], inv[3];
     st_u32 neg;
     st_u32 plane[6];
-} st_trace_ray;
+} st_slab_consts;
 
-ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
+ST_FN void st_trace_setup(st_slab_consts *r, const st_ray *ray)
 {
     for (int a = 0; a < 3; ++a) {
         r->o[a] = ray->o[a];
@@ -108,7 +101,7 @@ ST_FN void st_trace_setup(st_trace_ray *r, const st_ray *ray)
 
 /* Whether the ray meets binary node n's box at some t in [0, tmax]: the
  * slab test of one box, its near planes chosen by the ray's signs. */
-ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_trace_ray *r, st_f32 tmax)
+ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_slab_consts *r, st_f32 tmax)
 {
     st_u32 neg = r->neg;
     st_f32 tn;
@@ -157,7 +150,7 @@ ST_FN st_u32 st_trace_descend(const ST_GLOBAL st_bvh_node *n, st_u32 node, st_u3
 ST_FN int st_intersect_closest(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL st_triangle *tris,
                                const st_ray *ray, st_hit *hit)
 {
-    st_trace_ray r;
+    st_slab_consts r;
     st_u32 stack[ST_BVH_MAX_DEPTH];
     st_u32 sp = 0u, node = 0u;
     st_trace_setup(&r, ray);
@@ -188,7 +181,7 @@ ST_FN int st_intersect_closest(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOB
 ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL st_triangle *tris,
                            const st_ray *ray)
 {
-    st_trace_ray r;
+    st_slab_consts r;
     st_hit hit;
     st_u32 stack[ST_BVH_MAX_DEPTH];
     st_u32 sp = 0u, node = 0u;
@@ -231,7 +224,7 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
  * setup says they start; the host tests them one by one at width 1, lane k
  * computing what the vector's lane k does. */
 #ifdef __OPENCL_VERSION__
-ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_trace_ray *r, st_f32 tmax,
+ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_consts *r, st_f32 tmax,
                            st_f32 *tn)
 {
     const ST_GLOBAL st_f32 *b = n->lo[0];
@@ -245,7 +238,7 @@ ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_trace_r
     return ST_MASK_BITS(ST_BVH_WIDTH, in);
 }
 #else
-ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_trace_ray *r, st_f32 tmax,
+ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_slab_consts *r, st_f32 tmax,
                            st_f32 *tn)
 {
     st_u32 mask = 0u;
@@ -458,7 +451,7 @@ ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
 ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
-    st_trace_ray r;
+    st_slab_consts r;
     st_u32 stack[ST_BVH_WIDE_STACK];
     st_f32 entry[ST_BVH_WIDE_STACK];
     st_u32 sp = 0u, node = 0u;
@@ -506,7 +499,7 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
 ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
-    st_trace_ray r;
+    st_slab_consts r;
     st_u32 stack[ST_BVH_WIDE_STACK];
     st_u32 sp = 0u, node = 0u;
     st_trace_setup(&r, ray);

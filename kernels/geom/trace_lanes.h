@@ -30,7 +30,7 @@
  * box the ray meets at some t in [0, tmax] (the far end widened:
  * ST_TRACE_SLAB_WIDEN), and in *tn each box's entry distance. */
 ST_HOT ST_I ST_CAT(st_slab_test, ST_N)(ST_F nx, ST_F fx, ST_F ny, ST_F fy, ST_F nz, ST_F fz,
-                                       const st_trace_ray *r, ST_F tmax, ST_F *tn)
+                                       const st_slab_consts *r, ST_F tmax, ST_F *tn)
 {
     ST_F t, t0 = (ST_F)(0.0f), t1 = tmax;
     t = (nx - r->o[0]) * r->inv[0];

@@ -61,7 +61,7 @@
 #include "shadow.h"
 
 /* The ray item i follows next: from o along d, path_length along the path. */
-static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_length)
+static void ray_store(__global st_ray *r, float3 o, float3 d, float path_length)
 {
     vstore3(o, 0, r->o);
     r->tmax = INFINITY;
@@ -116,19 +116,19 @@ ST_HOT void dims_random(st_vertex_in *l)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
-                         __global st_wave_ray *ray, __global const st_hit *hit,
-                         __global st_path *path, __global st_shadow_ray *shadow,
+                         __global st_ray *ray, __global const st_hit *hit,
+                         __global st_path *path, __global st_shadow *shadow,
                          __global const st_u32 *pmj02, st_vertex_in *l, st_u32 *miss,
                          st_u32 *nmapped)
 {
-    shadow[i].tmax = 0.0f;
+    shadow[i].ray.tmax = 0.0f;
     __global st_path *gp = &path[i];
     st_u32 depth = gp->depth;
     if (depth == ST_PATH_DEAD)
         return 0;
     gp->closest_rays++;
     st_hit h = hit[i];
-    __global st_wave_ray *r = &ray[i];
+    __global st_ray *r = &ray[i];
     float3 o = vload3(0, r->o), d = vload3(0, r->d), beta = vload3(0, gp->beta);
     set_lane3(l->beta, k, beta);
     set_lane3(l->rad, k, vload3(0, gp->radiance));
@@ -194,17 +194,17 @@ typedef struct st_vertex_out {
  * `shadowed`); the next ray and the path one vertex deeper (where `goes`),
  * else the path ended. */
 ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i, st_u32 k,
-                         int shadowed, int goes, __global st_wave_ray *ray,
-                         __global st_path *path, __global st_shadow_ray *shadow)
+                         int shadowed, int goes, __global st_ray *ray,
+                         __global st_path *path, __global st_shadow *shadow)
 {
     __global st_path *gp = &path[i];
     vstore3(lane3(o->rad, k), 0, gp->radiance);
     float3 origin = lane3(o->origin, k);
     if (shadowed && o->tmax[k] > 0.0f) {
-        __global st_shadow_ray *sr = &shadow[i];
-        vstore3(origin, 0, sr->o);
-        sr->tmax = o->tmax[k];
-        vstore3(lane3(o->shadow_d, k), 0, sr->d);
+        __global st_shadow *sr = &shadow[i];
+        vstore3(origin, 0, sr->ray.o);
+        sr->ray.tmax = o->tmax[k];
+        vstore3(lane3(o->shadow_d, k), 0, sr->ray.d);
         vstore3(lane3(o->contribution, k), 0, sr->contribution);
     }
     if (!goes) {
@@ -224,8 +224,8 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
  * holds numbers, and masks keep their results. */
 ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                         st_u32 first, st_u32 n, __global const st_sample *sample,
-                        __global st_wave_ray *ray, __global const st_hit *hit,
-                        __global st_path *path, __global st_shadow_ray *shadow,
+                        __global st_ray *ray, __global const st_hit *hit,
+                        __global st_path *path, __global st_shadow *shadow,
                         __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};

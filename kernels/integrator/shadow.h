@@ -51,16 +51,13 @@ static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene
  * order. */
 ST_HOT void trace_shadow_item(__global const st_bvh_wide_node *nodes, const st_scene_refs *sc,
                               const st_params *p, const st_shading *sh,
-                              __global const st_shadow_ray *shadow, __global st_path *path,
+                              __global const st_shadow *shadow, __global st_path *path,
                               __global const st_sample *sample, st_u32 i)
 {
-    st_shadow_ray s = shadow[i];
-    if (!(s.tmax > 0.0f))
+    st_shadow s = shadow[i];
+    if (!(s.ray.tmax > 0.0f))
         return;
-    st_ray r;
-    r.o[0] = s.o[0]; r.o[1] = s.o[1]; r.o[2] = s.o[2];
-    r.d[0] = s.d[0]; r.d[1] = s.d[1]; r.d[2] = s.d[2];
-    r.tmax = s.tmax;
+    st_ray r = s.ray;
     __global st_path *pa = &path[i];
     int blocked = shadow_blocked(nodes, sc, p, sh, r, sample[i], pa->depth);
     float3 l = blocked ? (float3)(0.0f) : vload3(0, s.contribution);

@@ -108,7 +108,7 @@ ST_HOT st_sample item_sample(const st_params *p, __global const st_tile_point *t
 /* Writes item i's camera ray through smp's film position and resets its
  * path: beta = 1, bsdf pdf 0, radiance 0, depth 0 (ST_PATH_DEAD for a
  * dropped point outside the image), no rays traced. */
-ST_HOT void start_path(const st_params *p, st_sample smp, st_u32 i, __global st_wave_ray *ray,
+ST_HOT void start_path(const st_params *p, st_sample smp, st_u32 i, __global st_ray *ray,
                        __global st_path *path)
 {
     float2 f = (float2)(smp.film[0], smp.film[1]);
@@ -121,7 +121,7 @@ ST_HOT void start_path(const st_params *p, st_sample smp, st_u32 i, __global st_
     int ortho = fw.w > 0.5f;
     float3 d = ortho ? fw.xyz : normalize(fw.xyz + sx * r.xyz + sy * u.xyz);
     float3 start = ortho ? o.xyz + sx * r.xyz + sy * u.xyz : o.xyz;
-    st_wave_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
+    st_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
     ray[i] = ray_out;
     st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
                      st_sample_on_film(p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, 0.0f, 0u};

@@ -428,13 +428,15 @@ typedef struct st_sample {
     st_u32 key, word;
 } st_sample;
 
-/* A ray of the wavefront. path_length: the distance the path travelled
- * before this ray's origin; the ray cone's width there is the pixel's
- * spread times it (shade.cl, texture level of detail). */
-typedef struct st_wave_ray {
+/* A ray, the one of strata (the wavefront's, the traversal's, the tests'
+ * and the benchmark's): from o along d (not necessarily of unit length)
+ * up to t = tmax. path_length: for a path's ray, the distance the path
+ * travelled before o, the ray cone's width there being the pixel's spread
+ * times it (shade.cl, texture level of detail); 0 elsewhere. */
+typedef struct st_ray {
     st_f32 o[3], tmax;
     st_f32 d[3], path_length;
-} st_wave_ray;
+} st_ray;
 
 /* The closest hit of a ray: t, barycentrics u, v of v1 and v2 (the point is
  * v0 + u e1 + v e2) and the BVH-order triangle, ST_NO_HIT on a miss. */
@@ -457,12 +459,11 @@ typedef struct st_path {
 } st_path;
 
 /* A shadow ray and what it adds to its path's radiance when nothing blocks
- * it; tmax 0: this vertex made none. */
-typedef struct st_shadow_ray {
-    st_f32 o[3], tmax;
-    st_f32 d[3], pad0;
-    st_f32 contribution[3], pad1;
-} st_shadow_ray;
+ * it; ray.tmax 0: this vertex made none. */
+typedef struct st_shadow {
+    st_ray ray;
+    st_f32 contribution[3], pad;
+} st_shadow;
 
 /* Per work-item slot, summed over the waves (the same slot in every wave,
  * so no atomics): splats made, closest and shadow rays traced. */
@@ -505,10 +506,10 @@ typedef struct st_tile_point {
 /* The per-render state: X(name, element type, extent). */
 #define ST_WAVE_BUFFERS(X)                                                                  \
     X(sample, st_sample, ST_PER_ITEM)                                                       \
-    X(ray, st_wave_ray, ST_PER_ITEM)                                                        \
+    X(ray, st_ray, ST_PER_ITEM)                                                        \
     X(hit, st_hit, ST_PER_ITEM)                                                             \
     X(path, st_path, ST_PER_ITEM)                                                           \
-    X(shadow, st_shadow_ray, ST_PER_ITEM)                                                   \
+    X(shadow, st_shadow, ST_PER_ITEM)                                                   \
     X(tally, st_tally, ST_PER_ITEM)                                                         \
     X(bin_count, st_u32, ST_PER_BIN) /* samples per bin; 0 between waves (film.cl) */      \
     X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
@@ -583,7 +584,7 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
     X(st_tri_tangents) X(st_tri_colors) X(st_punctual)                                      \
-    X(st_wave_ray) X(st_hit) X(st_path) X(st_shadow_ray) X(st_tally) X(st_film_pixel)       \
+    X(st_ray) X(st_hit) X(st_path) X(st_shadow) X(st_tally) X(st_film_pixel)       \
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
     X(st_bvh_node, bmin) X(st_bvh_node, offset) X(st_bvh_node, bmax) X(st_bvh_node, meta)   \
@@ -625,12 +626,11 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, region_w) X(st_params, region_h)                                           \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index) X(st_sample, key)           \
     X(st_sample, word)                                                                      \
-    X(st_wave_ray, o) X(st_wave_ray, tmax) X(st_wave_ray, d) X(st_wave_ray, path_length)    \
+    X(st_ray, o) X(st_ray, tmax) X(st_ray, d) X(st_ray, path_length)                        \
     X(st_hit, t) X(st_hit, u) X(st_hit, v) X(st_hit, prim)                                  \
     X(st_path, beta) X(st_path, bsdf_pdf) X(st_path, radiance) X(st_path, depth)            \
     X(st_path, closest_rays) X(st_path, shadow_rays) X(st_path, env_pdf)                    \
-    X(st_shadow_ray, o) X(st_shadow_ray, tmax) X(st_shadow_ray, d)                          \
-    X(st_shadow_ray, contribution)                                                          \
+    X(st_shadow, ray) X(st_shadow, contribution)                                            \
     X(st_tally, splats) X(st_tally, closest_rays) X(st_tally, shadow_rays)                  \
     X(st_film_pixel, sum) X(st_pixel, rgb) X(st_pixel, weight)                              \
     X(st_film_stats, clamped) X(st_film_stats, nonfinite) X(st_film_stats, zero_weight)     \
@@ -667,10 +667,10 @@ ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
 ST_STATIC_ASSERT(sizeof(st_params) == 256, "st_params: 256 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 24, "st_sample: 24 bytes");
-ST_STATIC_ASSERT(sizeof(st_wave_ray) == 32, "st_wave_ray: 32 bytes");
+ST_STATIC_ASSERT(sizeof(st_ray) == 32, "st_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
 ST_STATIC_ASSERT(sizeof(st_path) == 48, "st_path: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_shadow_ray) == 48, "st_shadow_ray: 48 bytes");
+ST_STATIC_ASSERT(sizeof(st_shadow) == 48, "st_shadow: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_film_pixel) == 32, "st_film_pixel: 32 bytes");
 #endif
 

@@ -20,12 +20,12 @@ static st_u32 ray_key(st_u32 seed, int set, st_u64 i)
 }
 
 /* generate_camera_rays' formula, for the film point (fx, fy). */
-static st_wave_ray camera_ray(const st_camera *c, const st_render_options *o, float fx, float fy)
+static st_ray camera_ray(const st_camera *c, const st_render_options *o, float fx, float fy)
 {
     float sx = (2.0f * fx / (float)o->width - 1.0f) * c->origin[3] * c->right[3];
     float sy = (1.0f - 2.0f * fy / (float)o->height) * c->origin[3];
     int ortho = c->forward[3] > 0.5f;
-    st_wave_ray r = {{0}, INFINITY, {0}, 0.0f};
+    st_ray r = {{0}, INFINITY, {0}, 0.0f};
     float len2 = 0.0f;
     for (int a = 0; a < 3; a++) {
         float side = sx * c->right[a] + sy * c->up[a];
@@ -41,9 +41,9 @@ static st_wave_ray camera_ray(const st_camera *c, const st_render_options *o, fl
 
 /* Origin uniform in the box, direction uniform on the sphere (z = 1 - 2u,
  * azimuth 2 pi v: Archimedes' hat-box theorem). */
-static st_wave_ray random_ray(const st_scene *s, st_u32 key)
+static st_ray random_ray(const st_scene *s, st_u32 key)
 {
-    st_wave_ray r = {{0}, INFINITY, {0}, 0.0f};
+    st_ray r = {{0}, INFINITY, {0}, 0.0f};
     for (int a = 0; a < 3; a++) {
         float t = st_rng_unit(key, (st_u32)a);
         r.o[a] = s->bounds_min[a] + t * (s->bounds_max[a] - s->bounds_min[a]);
@@ -58,7 +58,7 @@ static st_wave_ray random_ray(const st_scene *s, st_u32 key)
 }
 
 st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o, int set,
-                              st_u64 first, size_t n, st_wave_ray *out, st_error *err)
+                              st_u64 first, size_t n, st_ray *out, st_error *err)
 {
     if (set < 0 || set >= ST_RAYS_COUNT)
         return st_fail(err, ST_ERR_USAGE, "ray set %d: expected camera or random", set);
@@ -86,7 +86,7 @@ static size_t packet_items(const st_renderer *r, size_t n)
 
 /* One wave: rays [first, first + n) uploaded, traced (timed), hits counted. */
 static st_status trace_wave(st_renderer *r, const st_render_options *o, int set, st_u64 first,
-                            size_t n, st_wave *w, st_wave_ray *rays, st_hit *hits,
+                            size_t n, st_wave *w, st_ray *rays, st_hit *hits,
                             st_trace_bench_result *res, st_error *err)
 {
     st_params p;
@@ -120,7 +120,7 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
         wave = count ? (size_t)count : 1;
     st_wave w;
     memset(&w, 0, sizeof w);
-    st_wave_ray *rays = malloc(wave * sizeof *rays);
+    st_ray *rays = malloc(wave * sizeof *rays);
     st_hit *hits = malloc(wave * sizeof *hits);
     st_params p;
     memset(&p, 0, sizeof p);
@@ -168,7 +168,7 @@ static st_status launch_alone(st_renderer *r, const st_render_options *o, cl_ker
 }
 
 st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packets,
-                           const st_wave_ray *rays, size_t n, st_hit *hits, st_error *err)
+                           const st_ray *rays, size_t n, st_hit *hits, st_error *err)
 {
     st_wave w;
     memset(&w, 0, sizeof w);
@@ -187,17 +187,15 @@ st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packe
 /* Shadow rays of contribution (1, 1, 1): radiance 1 clear, 0 blocked, and
  * shadow_rays 1 where traced. */
 st_status st_trace_shadow(st_renderer *r, const st_render_options *o, int packets,
-                          const st_wave_ray *rays, size_t n, int *blocked, st_error *err)
+                          const st_ray *rays, size_t n, int *blocked, st_error *err)
 {
     st_wave w;
     memset(&w, 0, sizeof w);
-    st_shadow_ray *s = calloc(n ? n : 1, sizeof *s);
+    st_shadow *s = calloc(n ? n : 1, sizeof *s);
     st_path *path = malloc((n ? n : 1) * sizeof *path);
     st_status rc = s && path ? ST_OK : st_fail(err, ST_ERR_NOMEM, "out of memory for %zu rays", n);
     for (size_t i = 0; !rc && i < n; i++) {
-        memcpy(s[i].o, rays[i].o, sizeof s[i].o);
-        memcpy(s[i].d, rays[i].d, sizeof s[i].d);
-        s[i].tmax = rays[i].tmax;
+        s[i].ray = rays[i];
         s[i].contribution[0] = s[i].contribution[1] = s[i].contribution[2] = 1.0f;
     }
     if (!rc)

@@ -50,7 +50,7 @@ static void wave_sizes_follow_the_list(void **state)
     memset(&w, 0, sizeof w);
     w.items = 100;
     w.pixels = 12;
-    assert_int_equal(st_wave_bytes(&w, ST_WAVE_ray), 100 * sizeof(st_wave_ray));
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_ray), 100 * sizeof(st_ray));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_path), 100 * sizeof(st_path));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_film), 12 * sizeof(st_film_pixel));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_pilot_film), sizeof(st_film_pixel));

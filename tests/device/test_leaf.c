@@ -87,13 +87,13 @@ static float *make_mesh(uint32_t *base)
  * straight down the z axis; 1: from a random side), an edge's midpoint (2),
  * a random point of an edge (3) or inside (4, 5); tmax infinite, the
  * distance to that point (about the hit's t) or half of it. */
-static st_wave_ray aim(const float *pos, uint32_t r, uint64_t *seed)
+static st_ray aim(const float *pos, uint32_t r, uint64_t *seed)
 {
     const float *v = pos + 9 * (r % TRIS);
     float b1 = frand(seed), b2 = frand(seed) * (1.0f - b1);
     float bary[6][2] = {{0, 0}, {1, 0}, {0.5f, 0.5f}, {b1, 1.0f - b1}, {b1, b2}, {b2, b1}};
     float p[3], o[3], d[3], len = 0.0f;
-    st_wave_ray w = {{0}, INFINITY, {0}, 0.0f};
+    st_ray w = {{0}, INFINITY, {0}, 0.0f};
     float dist = 0.2f + 1.8f * frand(seed);
     for (int a = 0; a < 3; a++) {
         float e1 = v[3 + a] - v[a], e2 = v[6 + a] - v[a];
@@ -131,7 +131,7 @@ static uint32_t leaf_slots(const st_bvh *bvh, uint32_t *slot, uint32_t *leaf_of,
 }
 
 /* Runs leaf_probe.cl: 4 hits per (ray, slot) pair. */
-static st_hit *probe(const st_bvh *bvh, const st_wave_ray *rays, const uint32_t *slot,
+static st_hit *probe(const st_bvh *bvh, const st_ray *rays, const uint32_t *slot,
                      uint32_t slots)
 {
     st_error err = {0};
@@ -171,7 +171,7 @@ static void leaf_test_equals_scalar_loop(void **state)
     (void)state;
     uint32_t *base = malloc(TRIS * sizeof *base), *slot = malloc(TRIS * sizeof *slot);
     uint32_t *leaf_of = malloc(TRIS * sizeof *leaf_of), *twin = malloc(TRIS * sizeof *twin);
-    st_wave_ray *rays = malloc(RAYS * sizeof *rays);
+    st_ray *rays = malloc(RAYS * sizeof *rays);
     assert_true(base && slot && leaf_of && twin && rays);
     float *pos = make_mesh(base);
     st_bvh *bvh = NULL;

@@ -30,11 +30,11 @@
  * 0.01 rad of a random camera ray, as neighbouring pixels are), 1 random,
  * 2 camera rays turned round (most leave the scene), 3 random rays whose
  * tmax is cut (cut_tmax). */
-static st_wave_ray *make_rays(const st_scene *s, int kind, size_t n)
+static st_ray *make_rays(const st_scene *s, int kind, size_t n)
 {
     st_render_options o = st_render_defaults();
     st_error err = {0};
-    st_wave_ray *r = malloc(n * sizeof *r);
+    st_ray *r = malloc(n * sizeof *r);
     assert_non_null(r);
     int set = kind == 0 || kind == 2 ? ST_RAYS_CAMERA : ST_RAYS_RANDOM;
     if (st_trace_bench_rays(s, &o, set, 0, n, r, &err) != ST_OK)
@@ -42,7 +42,7 @@ static st_wave_ray *make_rays(const st_scene *s, int kind, size_t n)
     for (size_t i = 0; i < n; i++) {
         if (kind == 0 && i % 8) {
             float k = 0.01f * (float)(i % 8);
-            st_wave_ray b = r[i - i % 8];
+            st_ray b = r[i - i % 8];
             float d[3] = {b.d[0] + k * b.d[1], b.d[1] - k * b.d[0] + 0.5f * k * b.d[2], b.d[2]};
             float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
             for (int a = 0; a < 3; a++) {
@@ -68,7 +68,7 @@ static st_bvh *host_bvh(const st_scene *s)
 }
 
 /* Brute force on the host: every triangle, the closest (or any) hit. */
-static st_hit brute_closest(const st_bvh *bvh, const st_wave_ray *w)
+static st_hit brute_closest(const st_bvh *bvh, const st_ray *w)
 {
     st_ray r;
     memcpy(r.o, w->o, sizeof r.o);
@@ -83,7 +83,7 @@ static st_hit brute_closest(const st_bvh *bvh, const st_wave_ray *w)
 /* tmax of hitting rays cut to the single-ray kernel's own hit t (rays 3 k:
  * that hit itself excluded, t < tmax), to half of it (3 k + 1: a miss) or
  * to 1.5 t (3 k + 2: the same hit). */
-static void cut_tmax(st_renderer *r, st_wave_ray *w, size_t n)
+static void cut_tmax(st_renderer *r, st_ray *w, size_t n)
 {
     st_error err = {0};
     st_render_options o = st_render_defaults();
@@ -100,7 +100,7 @@ static void cut_tmax(st_renderer *r, st_wave_ray *w, size_t n)
  * to fma, trace.h: at most 1 ray in 1000 may differ there), but for the
  * rays 3 k of an edge set, whose tmax is the device's own hit t, which the
  * host's t may lie on either side of. */
-static void check_closest(st_renderer *r, const st_bvh *bvh, const st_wave_ray *w, size_t n,
+static void check_closest(st_renderer *r, const st_bvh *bvh, const st_ray *w, size_t n,
                           int edge, const char *what)
 {
     st_error err = {0};
@@ -132,7 +132,7 @@ static void check_closest(st_renderer *r, const st_bvh *bvh, const st_wave_ray *
 /* Shadow rays: packet == single ray exactly; tmax <= 0 (every 7th ray
  * here) is no ray for either; both agree with brute force's any hit (edge:
  * as for check_closest). */
-static void check_shadow(st_renderer *r, const st_bvh *bvh, st_wave_ray *w, size_t n, int edge,
+static void check_shadow(st_renderer *r, const st_bvh *bvh, st_ray *w, size_t n, int edge,
                          const char *what)
 {
     st_error err = {0};
@@ -200,7 +200,7 @@ static void packets_equal_single_rays_at(st_device *d)
                 char what[64];
                 snprintf(what, sizeof what, "%u lanes: %s %s %zu", st_device_get_info(d)->lanes,
                          scenes[sc], kinds[kind], counts[c]);
-                st_wave_ray *w = make_rays(s, kind, counts[c]);
+                st_ray *w = make_rays(s, kind, counts[c]);
                 if (kind == 3)
                     cut_tmax(r, w, counts[c]);
                 check_closest(r, bvh, w, counts[c], kind == 3, what);

@@ -21,10 +21,10 @@
 
 #define N_RAYS 20000
 
-static st_wave_ray *make_rays(const st_scene *s, const st_render_options *o, int set, size_t n)
+static st_ray *make_rays(const st_scene *s, const st_render_options *o, int set, size_t n)
 {
     st_error err = {0};
-    st_wave_ray *r = malloc(n * sizeof *r);
+    st_ray *r = malloc(n * sizeof *r);
     assert_non_null(r);
     if (st_trace_bench_rays(s, o, set, 0, n, r, &err) != ST_OK)
         fail_msg("rays: %s", err.msg);
@@ -39,7 +39,7 @@ static void random_rays_are_uniform(void **state)
     (void)state;
     st_scene *s = fixture_scene("cornell-box");
     st_render_options o = st_render_defaults();
-    st_wave_ray *r = make_rays(s, &o, ST_RAYS_RANDOM, N_RAYS);
+    st_ray *r = make_rays(s, &o, ST_RAYS_RANDOM, N_RAYS);
     double mean[3] = {0, 0, 0};
     for (size_t i = 0; i < N_RAYS; i++) {
         double len2 = 0.0;
@@ -70,7 +70,7 @@ static void camera_rays_start_at_the_camera(void **state)
     st_error err = {0};
     assert_int_equal(st_scene_view_camera(s, -1, &c, &err), ST_OK);
     assert_false(c.orthographic);
-    st_wave_ray *r = make_rays(s, &o, ST_RAYS_CAMERA, N_RAYS);
+    st_ray *r = make_rays(s, &o, ST_RAYS_CAMERA, N_RAYS);
     double th = tan(0.5 * c.yfov), half_diag = sqrt(th * th * (1.0 + 4.0)); /* aspect 2 */
     double min_cos = 1.0 / sqrt(1.0 + half_diag * half_diag);
     for (size_t i = 0; i < N_RAYS; i++) {
@@ -93,7 +93,7 @@ static void rays_are_a_function_of_the_index(void **state)
     st_render_options o = st_render_defaults();
     st_error err = {0};
     for (int set = 0; set < ST_RAYS_COUNT; set++) {
-        st_wave_ray *all = make_rays(s, &o, set, 100), part[40];
+        st_ray *all = make_rays(s, &o, set, 100), part[40];
         assert_int_equal(st_trace_bench_rays(s, &o, set, 50, 40, part, &err), ST_OK);
         assert_memory_equal(all + 50, part, sizeof part);
         free(all);
@@ -103,7 +103,7 @@ static void rays_are_a_function_of_the_index(void **state)
 }
 
 /* Host count of closest hits over the same rays (trace.h on the host). */
-static st_u64 host_hits(const st_scene *s, const st_wave_ray *w, size_t n)
+static st_u64 host_hits(const st_scene *s, const st_ray *w, size_t n)
 {
     st_error err = {0};
     st_bvh *bvh = NULL;
@@ -138,7 +138,7 @@ static void device_hits_match_the_host(void **state)
         assert_int_equal(st_renderer_create(dev, s, &r, &err), ST_OK);
         for (int set = 0; set < ST_RAYS_COUNT; set++) {
             st_render_options o = st_render_defaults();
-            st_wave_ray *w = make_rays(s, &o, set, N_RAYS);
+            st_ray *w = make_rays(s, &o, set, N_RAYS);
             st_u64 host = host_hits(s, w, N_RAYS);
             st_trace_bench_result a, b;
             assert_int_equal(st_trace_bench(r, &o, set, N_RAYS, &a, &err), ST_OK);

@@ -118,7 +118,7 @@ static void device_closest_check(int one_sided)
     for (int t = 1; one_sided && t < TRIS; t += 2)
         bvh->tris[t].v0[3] = ST_TRI_ONE_SIDED;
     st_bvh_pack_leaves(bvh);
-    st_wave_ray *rays = calloc(RAYS, sizeof *rays);
+    st_ray *rays = calloc(RAYS, sizeof *rays);
     st_hit *hit = calloc(RAYS, sizeof *hit);
     for (int i = 0; i < RAYS; i++) {
         float d[3] = {frand(&seed) - 0.5f, frand(&seed) - 0.5f, frand(&seed) - 0.5f};
@@ -154,8 +154,7 @@ static void device_closest_check(int one_sided)
     assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_hit], sizeof *hit * RAYS, hit, &err), ST_OK);
     int hits = 0;
     for (int i = 0; i < RAYS; i++) {
-        const st_wave_ray *wr = &rays[i];
-        st_ray r = {{wr->o[0], wr->o[1], wr->o[2]}, {wr->d[0], wr->d[1], wr->d[2]}, wr->tmax};
+        st_ray r = rays[i];
         st_hit best = {r.tmax, 0, 0, ST_NO_HIT};
         for (st_u32 t = 0; t < TRIS; t++) {
             st_hit h = best;

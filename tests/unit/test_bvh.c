@@ -900,7 +900,7 @@ static void triangle_hit_excludes_t_zero(void **state)
 {
     (void)state;
     st_triangle tri = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}};
-    st_ray ray = {{0.25f, 0.25f, 0.0f}, {0, 0, 1}, INFINITY};
+    st_ray ray = {{0.25f, 0.25f, 0.0f}, INFINITY, {0, 0, 1}, 0.0f};
     st_hit hit = {INFINITY, 0, 0, ST_NO_HIT};
     assert_false(st_intersect_triangle(&tri, &ray, 0, &hit));
     ray.o[2] = -1.0f;
@@ -910,7 +910,7 @@ static void triangle_hit_excludes_t_zero(void **state)
     one_sided.v0[3] = ST_TRI_ONE_SIDED;
     hit.t = INFINITY;
     assert_false(st_intersect_triangle(&one_sided, &ray, 0, &hit)); /* from behind (-z) */
-    st_ray front = {{0.25f, 0.25f, 1.0f}, {0, 0, -1}, INFINITY};
+    st_ray front = {{0.25f, 0.25f, 1.0f}, INFINITY, {0, 0, -1}, 0.0f};
     assert_true(st_intersect_triangle(&one_sided, &front, 0, &hit));
     assert_true(hit.t == 1.0f);
     st_triangle degenerate = {{0, 0, 0, 0}, {1, 0, 0, 0}, {2, 0, 0, 0}};
