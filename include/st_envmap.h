@@ -2,7 +2,7 @@
  * Radiance .hdr file (kernels/integrator/envmap.h: the convention and the sampling),
  * with the tables that importance-sample it by luminance and its integral
  * for the choice among lights by power. Host only; the renderer uploads it
- * (st_renderer_set_env_map). */
+ * (st_render_options.env_map). */
 #ifndef ST_ENVMAP_H_HOST
 #define ST_ENVMAP_H_HOST
 

@@ -46,9 +46,11 @@ typedef struct st_render_options {
      * textures are filtered (the scene itself is never changed) */
     st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera;
                           ST_CAMERA_AUTO: scene->auto_camera */
-    int env_given;     /* 1: env below; 0: scene->default_env */
-    float env[3];      /* uniform environment radiance, linear RGB (a map set with
-                          st_renderer_set_env_map replaces it) */
+    int env_given;     /* 1: env below; 0: the default (st_render_env) */
+    float env[3];      /* the environment's radiance, linear RGB: uniform, or the map's
+                          scale */
+    const struct st_envmap *env_map; /* an equirectangular map (borrowed; it must
+                          outlive the renders that use it); NULL: uniform */
     float env_rotate;  /* the environment's turn about +Y, degrees (kernels/integrator/envmap.h) */
     st_u32 texture_filter; /* ST_TEXFILTER_* (default trilinear) */
     /* --crop: only the window [crop_x, crop_x + crop_w) x [crop_y, crop_y +
@@ -113,13 +115,9 @@ int st_renderer_packets(const st_renderer *r, const st_render_options *o);
  * launched, in order ("lanes 8: generate_samples, generate_camera_rays,
  * ..."); valid until the next call or render. */
 const char *st_renderer_ran(st_renderer *r);
-/* Makes the equirectangular map m the environment of the renders that
- * follow (replacing the uniform st_render_options.env; NULL: back to it)
- * and uploads it. m is borrowed and must outlive those renders. */
-struct st_envmap;
-st_status st_renderer_set_env_map(st_renderer *r, const struct st_envmap *m, st_error *err);
-
-/* The environment radiance a render of scene with options o sees. */
+/* The environment radiance a render of scene with options o sees (a map's
+ * scale where o has a map): o->env where given, else 1 with a map and
+ * the scene's default lighting (st_scene.default_env) without. */
 void st_render_env(const st_scene *scene, const st_render_options *o, float env[3]);
 
 typedef void (*st_progress_fn)(void *ctx, double fraction);

@@ -233,9 +233,7 @@ static int parse_env(const char *v, st_cli_render_args *a)
     a->env_file = NULL;
     size_t len = strlen(v);
     if (len > 4 && (!strcasecmp(v + len - 4, ".exr") || !strcasecmp(v + len - 4, ".hdr"))) {
-        a->env_file = v;
-        a->opt.env_given = 1;
-        a->opt.env[0] = a->opt.env[1] = a->opt.env[2] = 1.0f;
+        a->env_file = v; /* the session reads it into opt.env_map */
         return ST_CLI_OK;
     }
     float c[3];

@@ -60,7 +60,7 @@ static st_status print_json(const trace_report *r, st_error *err)
     return st_cli_put_json(root, err);
 }
 
-int st_cli_bench_trace(const st_cli_render_args *a)
+int st_cli_bench_trace(st_cli_render_args *a)
 {
     st_error err = {0};
     st_cli_session s;

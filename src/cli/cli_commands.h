@@ -9,7 +9,7 @@ int st_cli_render(int argc, char **argv);
 int st_cli_bench(int argc, char **argv);
 /* bench --rays: the trace benchmark (cli_bench_trace.c), a part of bench */
 struct st_cli_render_args;
-int st_cli_bench_trace(const struct st_cli_render_args *a);
+int st_cli_bench_trace(struct st_cli_render_args *a);
 int st_cli_devices(int argc, char **argv);
 int st_cli_diff(int argc, char **argv);
 int st_cli_pattern(int argc, char **argv);

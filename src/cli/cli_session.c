@@ -87,7 +87,7 @@ static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *e
     return warm_render(r, &w, err);
 }
 
-st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err)
+st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error *err)
 {
     memset(s, 0, sizeof *s);
     double t0 = st_cli_now();
@@ -95,6 +95,7 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
         return err->status;
     if (a->env_file && st_envmap_load(a->env_file, &s->env_map, err) != ST_OK)
         return err->status;
+    a->opt.env_map = s->env_map; /* the view's environment, in every render's options */
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; !a->said && i < s->scene->warning_count; i++)
         st_cli_put_line("strata: warning: ", s->scene->warnings[i]); /* scene text, escaped */
@@ -128,8 +129,6 @@ st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st
     }
     if (rc == ST_OK)
         rc = st_renderer_create(s->dev, s->scene, &s->renderer, err);
-    if (rc == ST_OK && s->env_map)
-        rc = st_renderer_set_env_map(s->renderer, s->env_map, err);
     double created = st_cli_now();
     if (rc == ST_OK && st_device_get_info(s->dev)->compiles_at_launch)
         rc = warm_up(s->renderer, &a->opt, err);
@@ -162,7 +161,7 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
         [ST_ENV_ENCLOSED] = "the camera is inside a closed model; no environment (--env 1 for "
                             "a white one)",
     };
-    if (!o->env_given)
+    if (!o->env_given && !o->env_map)
         fprintf(stderr, "strata: note: %s: %s\n", scene->name, why[scene->env_default]);
     else if (!has_env && scene->emitted_power <= 0.0)
         fprintf(stderr, "strata: warning: %s: no light at all (nothing emits and --env is 0): "

@@ -24,7 +24,10 @@ typedef struct st_cli_session {
     double build_seconds; /* the program's build and the first launch of its kernels */
 } st_cli_session;
 
-st_status st_cli_session_open(const st_cli_render_args *a, st_cli_session *s, st_error *err);
+/* Opens the session of a's render: the scene, --env's map (recorded in
+ * a->opt.env_map, so that every render of a's options sees it), the
+ * device and the renderer. */
+st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error *err);
 void st_cli_session_close(st_cli_session *s);
 /* The lighting default, said: one `strata: note:` naming the default a
  * render without --env takes (st_scene.env_default) and the option that

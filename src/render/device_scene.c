@@ -163,7 +163,7 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
         goto fail;
     st_bvh_set_sides(bvh, scene->tri_material, scene->materials);
     r->bvh_seconds = st_render_now() - t0;
-    if (upload_scene(r, bvh, err) != ST_OK || st_renderer_set_env_map(r, NULL, err) != ST_OK ||
+    if (upload_scene(r, bvh, err) != ST_OK || st_renderer_upload_env_map(r, NULL, err) != ST_OK ||
         st_device_build(dev, NULL, err) != ST_OK)
         goto fail;
     for (int k = 0; k < ST_STAGE_COUNT; k++)
@@ -199,7 +199,7 @@ void st_renderer_destroy(st_renderer *r)
     free(r);
 }
 
-st_status st_renderer_set_env_map(st_renderer *r, const st_envmap *m, st_error *err)
+st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_error *err)
 {
     static const float none[4]; /* device buffers are never empty */
     size_t n = m ? (size_t)m->width * m->height : 0;

@@ -290,7 +290,8 @@ static st_status prepare_fis(st_renderer *r, const st_render_options *o, st_erro
 
 void st_render_env(const st_scene *scene, const st_render_options *o, float env[3])
 {
-    memcpy(env, o->env_given ? o->env : scene->default_env, 3 * sizeof(float));
+    static const float one[3] = {1.0f, 1.0f, 1.0f};
+    memcpy(env, o->env_given ? o->env : o->env_map ? one : scene->default_env, 3 * sizeof(float));
 }
 
 static st_shading make_shading(const st_renderer *r, const st_render_options *o)
@@ -299,8 +300,7 @@ static st_shading make_shading(const st_renderer *r, const st_render_options *o)
     memset(&sh, 0, sizeof sh);
     const st_scene *s = r->scene;
     st_render_env(s, o, sh.env);
-    if (r->env_map) { /* the map replaces the uniform radiance (st_renderer_set_env_map) */
-        sh.env[0] = sh.env[1] = sh.env[2] = 1.0f;
+    if (r->env_map) { /* the map, scaled by env (its upload: st_render) */
         sh.env_size[0] = r->env_map->width;
         sh.env_size[1] = r->env_map->height;
     }
@@ -667,6 +667,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_render_options so = *o; /* what the sampler is made for */
     so.spp = sampler_spp(o);
     if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
+        (r->env_map != o->env_map && st_renderer_upload_env_map(r, o->env_map, err) != ST_OK) ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
         prepare_pmj02(r, &so, err) != ST_OK)
         return err->status;

@@ -25,7 +25,7 @@ struct st_renderer {
     const st_scene *scene;
     /* ST_SCENE_BUFFERS: the scene, uploaded once; tile, fis_cdf and pmj02
      * are the per-render inputs (render.c), env_texels and env_cdf the
-     * environment map's (st_renderer_set_env_map) */
+     * environment map's (st_renderer_upload_env_map) */
     cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
     cl_kernel k[ST_STAGE_COUNT];
     cl_kernel adaptive[ST_ADAPTIVE_KERNELS]; /* adaptive.cl, by ST_ADAPTIVE_* */
@@ -36,7 +36,8 @@ struct st_renderer {
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
-    const st_envmap *env_map; /* borrowed (st_renderer_set_env_map); NULL: none */
+    const st_envmap *env_map; /* the map uploaded, a render's st_render_options.env_map
+                                 (borrowed); NULL: none */
     float ray_eps;
     double bvh_seconds;
     /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],
@@ -69,6 +70,11 @@ static inline double st_render_now(void)
 }
 
 /* Items [first, first + total) of the current item space, in waves. */
+/* Uploads map m (NULL: none, a placeholder) as the environment of the
+ * renders that follow: st_render calls it when its options name another
+ * map than the one uploaded (device_scene.c). */
+st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_error *err);
+
 st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                           st_u64 first, st_u64 total, st_progress_state *pr,
                           st_render_stats *st, st_error *err);

@@ -439,8 +439,7 @@ static void plane_shows_irradiance(const st_envmap *m, double rot, float emit, s
 {
     st_scene *s = white_plane(emit);
     st_render_options o = st_render_defaults();
-    o.env_given = 1;
-    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    o.env_map = m;
     o.env_rotate = (float)rot;
     o.width = 16;
     o.height = 12;
@@ -450,7 +449,7 @@ static void plane_shows_irradiance(const st_envmap *m, double rot, float emit, s
     st_error err = {0};
     st_renderer *r = NULL;
     st_image img = {0};
-    if (st_renderer_create(dev, s, &r, &err) || st_renderer_set_env_map(r, m, &err) ||
+    if (st_renderer_create(dev, s, &r, &err) ||
         st_render(r, &o, &img, NULL, NULL, NULL, NULL, &err))
         fail_msg("render: %s", err.msg);
     const double z[3] = {0, 0, 1};
