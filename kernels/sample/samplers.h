@@ -365,6 +365,19 @@ typedef struct st_sample_id {
     const ST_GLOBAL st_u32 *pmj02; /* pmj02's tables (st_sampling_pmj02); NULL: none given */
 } st_sample_id;
 
+/* The key of a pixel's pair of dimensions (dim / 2): the samplers that
+ * shuffle or scramble per (pixel, pair) draw from it. */
+ST_FN st_u32 st_pair_key(st_u32 pixel_key, st_u32 dim)
+{
+    return st_hash32(pixel_key ^ st_hash32(dim >> 1));
+}
+
+/* The dimensions a sampler leaves to the counter hash (past its own). */
+ST_FN st_f32 st_hashed_dim(const st_sample_id *id, st_u32 dim)
+{
+    return st_rng_unit(id->key, dim);
+}
+
 /* Reverses the first `digits` base-b digits of x (the inverse of the radical
  * inverse on those digits). */
 ST_FN st_u32 st_inverse_radical_inverse(st_u32 x, st_u32 base, st_u32 digits)
@@ -376,6 +389,49 @@ ST_FN st_u32 st_inverse_radical_inverse(st_u32 x, st_u32 base, st_u32 digits)
         x = next;
     }
     return index;
+}
+
+/* The multiplicative inverse of a modulo m (a and m coprime), by the
+ * extended Euclidean algorithm. */
+ST_FN st_u32 st_mult_inverse(st_u32 a, st_u32 m)
+{
+    st_i64 t = 0, nt = 1, r = m, nr = a % m;
+    while (nr != 0) {
+        st_i64 q = r / nr, tmp = t - q * nt;
+        t = nt;
+        nt = tmp;
+        tmp = r - q * nr;
+        r = nr;
+        nr = tmp;
+    }
+    if (t < 0)
+        t += m;
+    return (st_u32)t;
+}
+
+/* Halton's constants of a render (st_params.halton_*, made on the host by
+ * st_sampler_prepare): the pixel scales 2^e2 >= width and 3^e3 >= height
+ * (each capped at ST_HALTON_MAX_RESOLUTION) make the first two dimensions
+ * land one index per pixel per stride; the inverses solve the Chinese
+ * remainder problem of st_halton_index. */
+ST_FN void st_halton_setup(st_params *p)
+{
+    st_u32 s2 = 1, e2 = 0, s3 = 1, e3 = 0;
+    st_u32 rx = p->width < ST_HALTON_MAX_RESOLUTION ? p->width : ST_HALTON_MAX_RESOLUTION;
+    st_u32 ry = p->height < ST_HALTON_MAX_RESOLUTION ? p->height : ST_HALTON_MAX_RESOLUTION;
+    while (s2 < rx) {
+        s2 *= 2u;
+        e2++;
+    }
+    while (s3 < ry) {
+        s3 *= 3u;
+        e3++;
+    }
+    p->halton_exp2 = e2;
+    p->halton_exp3 = e3;
+    p->halton_stride = s2 * s3;
+    p->halton_inv2 = s2 > 1u ? st_mult_inverse(s3 % s2, s2) : 0u;
+    p->halton_inv3 = s3 > 1u ? st_mult_inverse(s2 % s3, s3) : 0u;
 }
 
 /* Halton index of the pixel's sample: the first two dimensions, scaled by 2^e2
@@ -391,6 +447,26 @@ ST_FN st_u32 st_halton_index(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
     st_u32 d3 = st_inverse_radical_inverse(py % ST_HALTON_MAX_RESOLUTION, 3u, p->halton_exp3);
     st_u64 h = (st_u64)d2 * s3 * p->halton_inv2 + (st_u64)d3 * s2 * p->halton_inv3;
     return (st_u32)(h % stride) + s * stride;
+}
+
+/* Halton (pbrt-v4's HaltonSampler): dimension d is the radical inverse in
+ * the d-th prime of the sample's index in the sequence (st_halton_index),
+ * the pixel dimensions with the pixel's digits shifted out; scrambled,
+ * the pixel dimensions per pixel and the others per render. */
+ST_FN st_f32 st_halton_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (dim >= ST_PRIME_COUNT)
+        return st_hashed_dim(id, dim);
+    st_u32 n = id->index;
+    if (dim == 0u)
+        n >>= p->halton_exp2;
+    else if (dim == 1u)
+        n /= p->halton_stride >> p->halton_exp2;
+    if (!p->scramble)
+        return st_radical_inverse(st_primes[dim], n);
+    st_u32 key = dim < 2u ? st_pair_key(st_pixel_key(p, id->pixel), dim) ^ dim
+                          : st_hash32(p->seed ^ st_hash32(dim));
+    return st_radical_inverse_scrambled(st_primes[dim], n, key);
 }
 
 /* Sample s of the pixel with index pixel = py * width + px. */
@@ -522,141 +598,163 @@ ST_FN st_u32 st_oa_symbol(const st_params *p, const st_sample_id *id, st_u32 dim
     return st_permute(c, q, st_hash32(id->pixel_key ^ 0x0a0a0a0au ^ dim));
 }
 
-/* Dimension `dim` of sample id, in [0, 1), for every sampler (st_sample_dim). */
+/* Uniform: the pixel's centre in the pixel dimensions, hashed past them. */
+ST_FN st_f32 st_uniform_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    return dim < 2u ? st_stratified_coord(p, id, dim, 0u, 0.5f) : st_hashed_dim(id, dim);
+}
+
+/* Stratified: jittered strata in every pair of dimensions, the strata of
+ * pairs past the pixel's shuffled per (pixel, pair). */
+ST_FN st_f32 st_stratified_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    return st_stratified_coord(p, id, dim,
+                               (p->scramble || dim >= 2u) ? st_pair_key(id->pixel_key, dim) : 0u,
+                               st_rng_unit(id->key, dim));
+}
+
+/* Hammersley: i / N in the first dimension, the radical inverses of i in
+ * the primes after it; scrambled, a Cranley-Patterson rotation of the first
+ * and per-pixel digit permutations of the others. */
+ST_FN st_f32 st_hammersley_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (dim == 0u) {
+        if (!p->scramble)
+            return st_ratio_floor(id->sample, p->spp);
+        /* rotation by u = U 2^-24, which keeps one point per 1/N: (i/N + u)
+         * mod 1 = ((i 2^24 + U N) mod N 2^24) / N 2^24, exact in integers
+         * and then rounded down like every value here (a float sum could
+         * carry a point a float past either edge of 1/N) */
+        st_u64 den = (st_u64)p->spp << 24;
+        st_u64 num = ((st_u64)id->sample << 24) + (st_u64)(st_hash32(id->pixel_key) >> 8) * p->spp;
+        return st_ratio_floor(num % den, den);
+    }
+    if (dim > ST_PRIME_COUNT)
+        return st_hashed_dim(id, dim);
+    if (!p->scramble)
+        return st_radical_inverse(st_primes[dim - 1u], id->sample);
+    return st_radical_inverse_scrambled(st_primes[dim - 1u], id->sample,
+                                        st_hash32(id->pixel_key ^ dim));
+}
+
+/* Padded Sobol' (pbrt's PaddedSobolSampler): the (0,2)-sequence in each
+ * pair, the index shuffled per (pixel, pair) past the pixel's pair, each
+ * pair Owen-scrambled. */
+ST_FN st_f32 st_padded_sobol_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    st_u32 key = st_pair_key(id->pixel_key, dim);
+    st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, key);
+    st_u32 bits = st_sobol_bits(i, dim & 1u);
+    if (p->scramble || dim >= 2u)
+        bits = st_owen_scramble(bits, st_hash32(key ^ (dim & 1u)));
+    return st_bits_to_unit(bits);
+}
+
+/* Global Sobol' (pbrt-v4's SobolSampler): the sample's index in one
+ * sequence over the image (st_sobol_global_index); the pixel dimensions
+ * are its digits past the m-th. */
+ST_FN st_f32 st_sobol_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (dim >= ST_SOBOL_DIMS)
+        return st_hashed_dim(id, dim);
+    st_u32 bits = st_sobol_sample_bits(id->index, dim);
+    if (dim < 2u) {
+        bits <<= p->sobol_log2;
+        /* Owen-scrambled per pixel (pbrt leaves them: its box filter takes
+         * the edge, ours does not, and index 0 sits on it) */
+        if (p->scramble)
+            bits = st_owen_scramble(bits, st_pair_key(st_pixel_key(p, id->pixel), dim) ^ dim);
+        return st_bits_to_unit(bits);
+    }
+    if (p->scramble)
+        bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim)));
+    return st_bits_to_unit(bits);
+}
+
+/* Joint (correlated multi-jittered) stratification: the pixel and light
+ * pairs from one orthogonal array, the other pairs stratified. */
+ST_FN st_f32 st_joint_stratified_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (dim < 4u) {
+        st_u32 c = st_oa_symbol(p, id, dim);
+        if (c < p->strat_nx)
+            return st_cell_coord(c, p->strat_nx, st_rng_unit(id->key, dim));
+    }
+    return st_stratified_coord(p, id, dim, st_pair_key(id->pixel_key, dim),
+                               st_rng_unit(id->key, dim));
+}
+
+/* ZSobol' (pbrt-v4's ZSobolSampler): Sobol' at the Morton index of the
+ * pixel and sample, shuffled per pair. */
+ST_FN st_f32 st_zsobol_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    st_u32 bits = st_sobol_bits(st_zsobol_index(p, id->px, id->py, id->sample, dim >> 1), dim & 1u);
+    if (p->scramble)
+        bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim ^ 0x2a5e5u)));
+    return st_bits_to_unit(bits);
+}
+
+/* pmj02 and pmj02bn (pbrt-v4's PMJ02BNSampler; pmj02bn's tables are blue
+ * noise too, st_sampling_pmj02bn; pmj02's are not): each pair of
+ * dimensions reads one of the ST_PMJ02_SETS sequences of 2^ceil(log2 spp)
+ * points, chosen by a hash of (pixel, pair); the pixel pair at the sample
+ * index, later pairs at an index permuted per (pixel, pair) so that pairs
+ * do not correlate. A random digital shift per (pixel, pair) (the xor of
+ * the digits with one random word, which maps elementary intervals onto
+ * elementary intervals) keeps every 2^m prefix a (0,m,2)-net and keeps
+ * pixels that share a sequence apart. pmj02bn shifts on the torus instead
+ * (the addition of the word mod 2^32, pbrt-v4's Cranley-Patterson
+ * rotation), which keeps its blue noise (every distance) and its
+ * stratification up to one interval's wrap, where a digital shift would
+ * scatter the spacing. No tables (a host caller that gave none): hashed. */
+ST_FN st_f32 st_pmj02_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (!id->pmj02)
+        return st_hashed_dim(id, dim);
+    st_u32 key = st_pair_key(id->pixel_key, dim), set = st_hash32(key ^ 0x706d6a32u) % ST_PMJ02_SETS;
+    st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, key);
+    st_u32 at = (set << st_log2_ceil(p->spp)) + i;
+    st_u32 word = id->pmj02[2u * at + (dim & 1u)], shift = st_hash32(key ^ (dim & 1u));
+    return st_bits_to_unit(p->sampler == ST_SAMPLER_PMJ02BN ? word + shift : word ^ shift);
+}
+
+/* Poisson disk and best candidate past the film's dimensions (which the
+ * tile gives: generate.cl): one of the sampler's own one-pixel tiles per
+ * (pixel, pair), read at the sample index permuted per (pixel, pair),
+ * shifted on the torus (the addition of a random word mod 2^32) per
+ * (pixel, pair) and per block of n samples (st_sampling_pad_tables). No
+ * tables (a host caller that gave none): hashed. */
+ST_FN st_f32 st_tiled_pad_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    if (!id->pmj02 || dim < 2u)
+        return st_hashed_dim(id, dim);
+    st_u32 key = st_pair_key(id->pixel_key, dim), set = st_hash32(key ^ 0x70616473u) % ST_PMJ02_SETS;
+    st_u32 n = p->spp < ST_PAD_MAX_POINTS ? p->spp : ST_PAD_MAX_POINTS;
+    st_u32 i = st_permute(id->sample, p->spp, key), j = i % n;
+    st_u32 shift = st_hash32(key ^ st_hash32(i / n) ^ (dim & 1u));
+    return st_bits_to_unit(id->pmj02[2u * (set * n + j) + (dim & 1u)] + shift);
+}
+
+/* Dimension `dim` of sample id, in [0, 1), for every sampler: the dispatch
+ * to each sampler's own function (st_sample_dim). */
 ST_COLD st_f32 st_sample_dim_any(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
-/* per pixel and pair of dimensions: computed only by the samplers that use it
- * (Halton's and global Sobol's pixel dimensions from the pixel's key made here) */
-#define ST_PAIR_KEY_OF(pixel_key) (st_hash32((pixel_key) ^ st_hash32(dim >> 1)))
-#define ST_PAIR_KEY ST_PAIR_KEY_OF(id->pixel_key)
     switch (p->sampler) {
-    case ST_SAMPLER_UNIFORM:
-        if (dim < 2u)
-            return st_stratified_coord(p, id, dim, 0u, 0.5f);
-        break;
-    case ST_SAMPLER_STRATIFIED:
-        return st_stratified_coord(p, id, dim, (p->scramble || dim >= 2u) ? ST_PAIR_KEY : 0u,
-                                   st_rng_unit(id->key, dim));
-    case ST_SAMPLER_HALTON: {
-        if (dim >= ST_PRIME_COUNT)
-            break;
-        st_u32 n = id->index;
-        if (dim == 0u)
-            n >>= p->halton_exp2;
-        else if (dim == 1u)
-            n /= p->halton_stride >> p->halton_exp2;
-        if (!p->scramble)
-            return st_radical_inverse(st_primes[dim], n);
-        /* pixel dimensions scrambled per pixel, the others per render */
-        st_u32 key = dim < 2u ? ST_PAIR_KEY_OF(st_pixel_key(p, id->pixel)) ^ dim
-                              : st_hash32(p->seed ^ st_hash32(dim));
-        return st_radical_inverse_scrambled(st_primes[dim], n, key);
-    }
-    case ST_SAMPLER_HAMMERSLEY: {
-        if (dim == 0u) {
-            if (!p->scramble)
-                return st_ratio_floor(id->sample, p->spp);
-            /* Cranley-Patterson rotation by u = U 2^-24, which keeps one point
-             * per 1/N: (i/N + u) mod 1 = ((i 2^24 + U N) mod N 2^24) / N 2^24,
-             * exact in integers and then rounded down like every value here (a
-             * float sum could carry a point a float past either edge of 1/N) */
-            st_u64 den = (st_u64)p->spp << 24;
-            st_u64 num = ((st_u64)id->sample << 24) +
-                         (st_u64)(st_hash32(id->pixel_key) >> 8) * p->spp;
-            return st_ratio_floor(num % den, den);
-        }
-        if (dim > ST_PRIME_COUNT)
-            break;
-        if (!p->scramble)
-            return st_radical_inverse(st_primes[dim - 1u], id->sample);
-        return st_radical_inverse_scrambled(st_primes[dim - 1u], id->sample,
-                                            st_hash32(id->pixel_key ^ dim));
-    }
-    case ST_SAMPLER_PADDED_SOBOL: {
-        /* pixel dimensions: the (0,2)-sequence itself; later pairs: index
-         * shuffled per pair (pbrt's PaddedSobolSampler) */
-        st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, ST_PAIR_KEY);
-        st_u32 bits = st_sobol_bits(i, dim & 1u);
-        if (p->scramble || dim >= 2u)
-            bits = st_owen_scramble(bits, st_hash32(ST_PAIR_KEY ^ (dim & 1u)));
-        return st_bits_to_unit(bits);
-    }
-    case ST_SAMPLER_SOBOL: {
-        if (dim >= ST_SOBOL_DIMS)
-            break;
-        st_u32 bits = st_sobol_sample_bits(id->index, dim);
-        if (dim < 2u) { /* the position within the pixel: its digits past the m-th */
-            bits <<= p->sobol_log2;
-            /* Owen-scrambled per pixel (pbrt leaves them: its box filter
-             * takes the edge, ours does not, and index 0 sits on it) */
-            if (p->scramble)
-                bits = st_owen_scramble(bits, ST_PAIR_KEY_OF(st_pixel_key(p, id->pixel)) ^ dim);
-            return st_bits_to_unit(bits);
-        }
-        if (p->scramble)
-            bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim)));
-        return st_bits_to_unit(bits);
-    }
-    case ST_SAMPLER_JOINT_STRATIFIED:
-        if (dim < 4u) { /* pixel and light pairs: one orthogonal array */
-            st_u32 c = st_oa_symbol(p, id, dim);
-            if (c < p->strat_nx)
-                return st_cell_coord(c, p->strat_nx, st_rng_unit(id->key, dim));
-        }
-        return st_stratified_coord(p, id, dim, ST_PAIR_KEY, st_rng_unit(id->key, dim));
-    case ST_SAMPLER_ZSOBOL: {
-        st_u32 bits = st_sobol_bits(st_zsobol_index(p, id->px, id->py, id->sample, dim >> 1), dim & 1u);
-        if (p->scramble)
-            bits = st_owen_scramble(bits, st_hash32(p->seed ^ st_hash32(dim ^ 0x2a5e5u)));
-        return st_bits_to_unit(bits);
-    }
+    case ST_SAMPLER_UNIFORM: return st_uniform_dim(p, id, dim);
+    case ST_SAMPLER_STRATIFIED: return st_stratified_dim(p, id, dim);
+    case ST_SAMPLER_HALTON: return st_halton_dim(p, id, dim);
+    case ST_SAMPLER_HAMMERSLEY: return st_hammersley_dim(p, id, dim);
+    case ST_SAMPLER_PADDED_SOBOL: return st_padded_sobol_dim(p, id, dim);
+    case ST_SAMPLER_SOBOL: return st_sobol_dim(p, id, dim);
+    case ST_SAMPLER_JOINT_STRATIFIED: return st_joint_stratified_dim(p, id, dim);
+    case ST_SAMPLER_ZSOBOL: return st_zsobol_dim(p, id, dim);
     case ST_SAMPLER_PMJ02:
-    case ST_SAMPLER_PMJ02BN: {
-        /* pbrt-v4's PMJ02BNSampler (pmj02bn's tables are blue noise too,
-         * st_sampling_pmj02bn; pmj02's are not): each pair of dimensions reads one of the
-         * ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, chosen by a hash of
-         * (pixel, pair); the pixel pair at the sample index, later pairs at an
-         * index permuted per (pixel, pair) so that pairs do not correlate. A
-         * random digital shift per (pixel, pair) (the xor of the digits with
-         * one random word, which maps elementary intervals onto elementary
-         * intervals) keeps every 2^m prefix a (0,m,2)-net and keeps pixels
-         * that share a sequence apart. pmj02bn shifts on the torus instead
-         * (the addition of the word mod 2^32, pbrt-v4's Cranley-Patterson
-         * rotation), which keeps its blue noise (every distance) and its
-         * stratification up to one interval's wrap, where a digital shift
-         * would scatter the spacing. No tables (a host caller that gave
-         * none): the hash below. */
-        if (!id->pmj02)
-            break;
-        st_u32 key = ST_PAIR_KEY, set = st_hash32(key ^ 0x706d6a32u) % ST_PMJ02_SETS;
-        st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, key);
-        st_u32 at = (set << st_log2_ceil(p->spp)) + i;
-        st_u32 word = id->pmj02[2u * at + (dim & 1u)], shift = st_hash32(key ^ (dim & 1u));
-        return st_bits_to_unit(p->sampler == ST_SAMPLER_PMJ02BN ? word + shift : word ^ shift);
-    }
+    case ST_SAMPLER_PMJ02BN: return st_pmj02_dim(p, id, dim);
     case ST_SAMPLER_POISSON:
-    case ST_SAMPLER_BEST_CANDIDATE: {
-        /* dimensions past the film's (which the tile gives: generate.cl):
-         * one of the sampler's own one-pixel tiles per (pixel, pair), read
-         * at the sample index permuted per (pixel, pair), shifted on the
-         * torus (the addition of a random word mod 2^32) per (pixel, pair)
-         * and per block of n samples (st_sampling_pad_tables). No tables (a
-         * host caller that gave none): the hash below. */
-        if (!id->pmj02 || dim < 2u)
-            break;
-        st_u32 key = ST_PAIR_KEY, set = st_hash32(key ^ 0x70616473u) % ST_PMJ02_SETS;
-        st_u32 n = p->spp < ST_PAD_MAX_POINTS ? p->spp : ST_PAD_MAX_POINTS;
-        st_u32 i = st_permute(id->sample, p->spp, key), j = i % n;
-        st_u32 shift = st_hash32(key ^ st_hash32(i / n) ^ (dim & 1u));
-        return st_bits_to_unit(id->pmj02[2u * (set * n + j) + (dim & 1u)] + shift);
+    case ST_SAMPLER_BEST_CANDIDATE: return st_tiled_pad_dim(p, id, dim);
+    default: return st_hashed_dim(id, dim);
     }
-    default:
-        break;
-    }
-    return st_rng_unit(id->key, dim);
 }
-#undef ST_PAIR_KEY
-#undef ST_PAIR_KEY_OF
 
 /* Dimension `dim` of sample id, in [0, 1): the random sampler's hash inline,
  * the others through st_sample_dim_any with a copy of id. On PoCL the call

@@ -32,23 +32,6 @@ int st_sampler_is_tiled(st_u32 sampler)
     return ST_SAMPLER_IS_TILED(sampler);
 }
 
-/* x such that x * a = 1 (mod m), for gcd(a, m) = 1 (extended Euclid). */
-static st_u32 mult_inverse(st_u32 a, st_u32 m)
-{
-    st_i64 t = 0, nt = 1, r = m, nr = a % m;
-    while (nr != 0) {
-        st_i64 q = r / nr, tmp = t - q * nt;
-        t = nt;
-        nt = tmp;
-        tmp = r - q * nr;
-        r = nr;
-        nr = tmp;
-    }
-    if (t < 0)
-        t += m;
-    return (st_u32)t;
-}
-
 /* The smallest m with 2^m >= width and height (pbrt-v4's SobolSampler
  * scale), at most 16. */
 static st_u32 sobol_log2(st_u32 width, st_u32 height)
@@ -75,23 +58,11 @@ static st_status sobol_check(st_u32 sampler, st_u32 width, st_u32 height, st_u32
     return ST_OK;
 }
 
-/* The pixel scales 2^e2 >= width and 3^e3 >= height (each capped at
- * ST_HALTON_MAX_RESOLUTION) make the first two Halton dimensions land one
- * index per pixel per stride; the inverses solve the Chinese remainder
- * problem of st_halton_index. */
+/* The per-render constants of the samplers that have them. */
 void st_sampler_prepare(st_params *p)
 {
     st_stratified_grid(p->spp, &p->strat_nx, &p->strat_ny);
-    st_u32 s2 = 1, e2 = 0, s3 = 1, e3 = 0;
-    st_u32 rx = p->width < ST_HALTON_MAX_RESOLUTION ? p->width : ST_HALTON_MAX_RESOLUTION;
-    st_u32 ry = p->height < ST_HALTON_MAX_RESOLUTION ? p->height : ST_HALTON_MAX_RESOLUTION;
-    while (s2 < rx) { s2 *= 2u; e2++; }
-    while (s3 < ry) { s3 *= 3u; e3++; }
-    p->halton_exp2 = e2;
-    p->halton_exp3 = e3;
-    p->halton_stride = s2 * s3;
-    p->halton_inv2 = s2 > 1u ? mult_inverse(s3 % s2, s2) : 0u;
-    p->halton_inv3 = s3 > 1u ? mult_inverse(s2 % s3, s3) : 0u;
+    st_halton_setup(p);
     p->sobol_log2 = sobol_log2(p->width, p->height);
 }
 
