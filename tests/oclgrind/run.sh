@@ -40,11 +40,12 @@ run "best-candidate (tiled), triangle" render $D --spp 2 --sampler best-candidat
 run "poisson (tiled), blackman-harris" render $D --spp 2 --sampler poisson --filter blackman-harris -o "$T/f.exr"
 run "filter importance sampling" render $D --spp 2 --sampler halton --reconstruction fis -o "$T/g.exr"
 run "adaptive sampling" render $D --adaptive --spp 3 --min-spp 2 --max-spp 4 --sampler random -o "$T/h.exr"
-# Oclgrind is a "gpu", where --packets auto is none: the packet kernels asked for
-# oclgrind is a GPU-like device (one lane by default): --lanes builds the
-# CPU's widths, so the packet and shade kernels' lanes are checked too
+# oclgrind is a GPU-like device (one lane by default, where --packets auto is
+# none): --lanes builds the CPU's widths, so the packet and shade kernels'
+# lanes are checked too, at AVX2's 8 and AVX-512's 16
 run "packets of 8 rays (camera, shadow), shade in 8 lanes, direct" render $D --spp 2 --integrator direct --packets coherent --lanes 8 -o "$T/k.exr"
 run "packets of 8 rays (every closest hit), path" render $D --spp 2 --max-depth 2 --packets all --lanes 8 -o "$T/l.exr"
+run "packets of 16 rays, shade in 16 lanes, path" render $D --spp 2 --max-depth 2 --packets all --lanes 16 -o "$T/l16.exr"
 run "packets of 1 ray (one lane), direct" render $D --spp 2 --integrator direct --packets all -o "$T/n.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
