@@ -357,7 +357,7 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
  * ST_W lanes at once, one sample a lane (filter_lanes.h: each lane's the
  * width-1 values, so the same integers as splat_item), then each sample's
  * splat in turn. A lane past n weighs a sample of no taps. */
-ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
+ST_HOT void splat_items(const st_params *p, __global const st_u32 *item, st_u32 n,
                         __global const st_sample *sample, __global const st_path *path,
                         __global st_tally *tally, __global st_film_stats *stats,
                         __global const st_f32 *splat_scale, splat_dest *d)
@@ -524,99 +524,17 @@ __kernel void bin_scatter(ST_STAGE_PARAMS)
     bin_item[bin_start[b] + atomic_inc(&bin_count[b])] = i;
 }
 
-/* The pixels of bin b within the region, [x0, x1) x [y0, y1) (empty: x0 >= x1). */
-static int4 bin_pixels(const st_params *p, st_u32 b)
-{
-    int side = (int)p->bin_side, bx = (int)(b % p->bins_x) * side, by = (int)(b / p->bins_x) * side;
-    int rx = (int)p->region_x, ry = (int)p->region_y;
-    return (int4)(max(bx, rx), min(min(bx + side, (int)p->width), rx + (int)p->region_w),
-                  max(by, ry), min(min(by + side, (int)p->height), ry + (int)p->region_h));
-}
-
-/* Whether the wave holds an item of a pixel of q (bin_pixels) where items
- * follow region pixels (st_items_by_region_pixel): the wave's items are the
- * region pixels s0, s0 + 1, ... (mod npix), min(item_count, npix) of them;
- * a row of q is the interval [a, a + w) of region pixels, which meets them
- * where it holds s0 or the first of them at or after s0 lies below
- * a + w. */
-static int bin_in_wave(const st_params *p, int4 q)
-{
-    st_u32 npix = p->region_w * p->region_h, s0 = (st_u32)(p->first_item % npix);
-    st_u32 c = min(p->item_count, npix), w = (st_u32)(q.y - q.x);
-    if (q.x >= q.y || q.z >= q.w)
-        return 0;
-    for (int y = q.z; y < q.w; y++) {
-        st_u32 a = (st_u32)(y - (int)p->region_y) * p->region_w + (st_u32)(q.x - (int)p->region_x);
-        if ((a <= s0 && s0 < a + w) || (a + npix - s0) % npix < c)
-            return 1;
-    }
-    return 0;
-}
-
-/* Work-item lid of n's share of bin b's items where they follow region
- * pixels: its pixels of q, every n-th, and each one's items in the wave,
- * every npix-th from the first (generate.cl's region_item), splatted ST_W
- * at a time (splat_items). A sample's film position lies in its pixel or
- * on its far edges, so its taps stay within r + 1 of the tile: in the
- * window. */
-static void splat_bin_by_pixel(const st_params *p, int4 q, st_u32 lid, st_u32 n,
-                               __global const st_sample *sample, __global const st_path *path,
-                               __global st_tally *tally, __global st_film_stats *stats,
-                               __global const st_f32 *splat_scale, splat_dest *d)
-{
-    st_u32 npix = p->region_w * p->region_h, s0 = (st_u32)(p->first_item % npix);
-    st_u32 w = (st_u32)(q.y - q.x), count = w * (st_u32)(q.w - q.z);
-    st_u32 item[ST_W], k = 0;
-    for (st_u32 t = lid; t < count; t += n) {
-        st_u32 x = (st_u32)q.x + t % w - p->region_x, y = (st_u32)q.z + t / w - p->region_y;
-        st_u32 j = y * p->region_w + x;
-        for (st_u32 i = (j + npix - s0) % npix; i < p->item_count; i += npix) {
-            item[k++] = i;
-            if (k == ST_W) {
-                splat_items(p, item, k, sample, path, tally, stats, splat_scale, d);
-                k = 0;
-            }
-        }
-    }
-    if (k)
-        splat_items(p, item, k, sample, path, tally, stats, splat_scale, d);
-}
-
-/* Work-item lid of n's share of bin b's items from the counting sort,
- * ST_W at a time (splat_items). */
-static void splat_bin_sorted(const st_params *p, st_u32 b, st_u32 lid, st_u32 n,
-                             __global const st_u32 *bin_start, __global const st_u32 *bin_item,
-                             __global const st_sample *sample, __global const st_path *path,
-                             __global st_tally *tally, __global st_film_stats *stats,
-                             __global const st_f32 *splat_scale, splat_dest *d)
-{
-    st_u32 end = bin_start[b + 1], item[ST_W];
-    for (st_u32 j = bin_start[b] + lid * ST_W; j < end; j += n * ST_W) {
-        st_u32 k = min((st_u32)ST_W, end - j);
-        for (st_u32 l = 0; l < k; l++)
-            item[l] = bin_item[j + l];
-        splat_items(p, item, k, sample, path, tally, stats, splat_scale, d);
-    }
-}
-
 /* Work-group b owns bin b: its samples' splats go into acc, the window of
  * the tile and an apron of ceil(r) + 1 pixels on each side (which holds every
  * tap: taps() stays within r + 0.5 of the sample), then each window pixel's
  * nonzero sums go to the film with one atomic add each. acc holds
  * (bin_side + 2 apron)^2 pixels of four longs (render.c sizes it from
  * CL_DEVICE_LOCAL_MEM_SIZE). A work-group of one work-item (CPU devices:
- * render.c) adds into its window without atomics. The bin's items come
- * from the counting sort, or, where they follow region pixels
- * (st_items_by_region_pixel: render.c then skips the sort), from its
- * pixels. */
+ * render.c) adds into its window without atomics. */
 __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 {
     st_u32 b = get_group_id(0), lid = get_local_id(0), n = get_local_size(0);
-    int by_pixel = st_items_by_region_pixel(&p);
-    if (b >= p.bins)
-        return;
-    int4 q = bin_pixels(&p, b);
-    if (by_pixel ? !bin_in_wave(&p, q) : bin_start[b] == bin_start[b + 1])
+    if (b >= p.bins || bin_start[b] == bin_start[b + 1])
         return; /* the whole group */
     int apron = (int)ceil(p.filter.radius) + 1, side = (int)p.bin_side + 2 * apron;
     int ox = (int)(b % p.bins_x * p.bin_side) - apron, oy = (int)(b / p.bins_x * p.bin_side) - apron;
@@ -624,11 +542,11 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
-    if (by_pixel)
-        splat_bin_by_pixel(&p, q, lid, n, sample, path, tally, stats, splat_scale, &d);
-    else
-        splat_bin_sorted(&p, b, lid, n, bin_start, bin_item, sample, path, tally, stats,
-                         splat_scale, &d);
+    /* ST_W items at a time, their weights in lanes */
+    st_u32 end = bin_start[b + 1];
+    for (st_u32 j = bin_start[b] + lid * ST_W; j < end; j += n * ST_W)
+        splat_items(&p, bin_item + j, min((st_u32)ST_W, end - j), sample, path, tally, stats,
+                    splat_scale, &d);
     barrier(CLK_LOCAL_MEM_FENCE);
     for (int j = (int)lid; j < side * side; j += (int)n) {
         int x = ox + j % side, y = oy + j / side;
@@ -645,7 +563,7 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
         if (v.w != 0)
             atom_add(a + 3, v.w);
     }
-    if (lid == 0 && !by_pixel)
+    if (lid == 0)
         bin_count[b] = 0; /* for the next wave's bin_samples */
 }
 

@@ -574,17 +574,6 @@ typedef struct st_tile_point {
     X(env_texels, st_f32) /* the environment map's RGB0 texels (st_renderer_set_env_map) */ \
     X(env_cdf, st_f32)    /* its sampling table (kernels/envmap.h) */
 
-/* Whether a wave's item i is the sample of region pixel (first_item + i) mod
- * (region_w region_h) whose film position lies in that pixel or on its far
- * edges (generate.cl's region_item; a per-pixel sampler outside adaptive
- * rounds, splatted), so that splat_tiles finds a bin's items by its pixels,
- * without the counting sort (film.cl; render.c skips bin_samples). */
-static inline int st_items_by_region_pixel(const st_params *p)
-{
-    return !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count &&
-           p->reconstruction == ST_RECON_SPLAT;
-}
-
 #ifdef __OPENCL_VERSION__
 /* Whether a sample lies on the image (a tiled sampler's point may not: its
  * tile repeats past the image's edge). */

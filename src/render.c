@@ -206,9 +206,8 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
 }
 
 /* Reconstruction of a wave: splat_samples, or the counting sort by bin
- * (three kernels, timed as the stage bin_samples; none where items follow
- * region pixels) and splat_tiles, one work-group per bin
- * (st_plan_tile_group). */
+ * (three kernels, timed as the stage bin_samples) and splat_tiles, one
+ * work-group per bin (st_plan_tile_group). */
 static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_options *o,
                             st_render_stats *st, st_error *err)
 {
@@ -218,14 +217,10 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
         return run_stage(r, ST_STAGE_SPLAT_PIXELS, p, n < npix ? n : npix, o, st, err);
     if (!p->bins)
         return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
-    /* where items follow region pixels, splat_tiles finds a bin's items by
-     * its pixels: no counting sort */
-    if (!st_items_by_region_pixel(p) &&
-        (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
-         run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, st, err) ||
-         run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, st, err)))
-        return err->status;
-    if (run_kernel(r, r->k[ST_STAGE_SPLAT_TILES], ST_STAGE_SPLAT_TILES, p, p->bins * group,
+    if (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
+        run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, st, err) ||
+        run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, st, err) ||
+        run_kernel(r, r->k[ST_STAGE_SPLAT_TILES], ST_STAGE_SPLAT_TILES, p, p->bins * group,
                    group, o, st, err))
         return err->status;
     return ST_OK;

@@ -474,11 +474,7 @@ static int same_film_both_splats(const char *name, st_render_options o)
         assert_int_equal(st[0].clamped, st[k].clamped);
         assert_int_equal(st[0].nonfinite, st[k].nonfinite);
         assert_true(tiles == (st[k].stage_seconds[ST_STAGE_SPLAT_TILES] > 0.0));
-        /* the counting sort runs only where items do not follow region
-         * pixels (st_items_by_region_pixel): a tiled sampler's, an adaptive
-         * render's rounds */
-        int sorted = ST_SAMPLER_IS_TILED(o.sampler) || o.adaptive;
-        assert_true((tiles && sorted) == (st[k].stage_seconds[ST_STAGE_BIN] > 0.0));
+        assert_true(tiles == (st[k].stage_seconds[ST_STAGE_BIN] > 0.0));
         assert_true(tiles == (st[k].stage_seconds[ST_STAGE_SPLAT] == 0.0));
     }
     for (int k = 0; k < 3; k++)
