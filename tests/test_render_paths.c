@@ -435,7 +435,8 @@ static st_renderer *renderer_on(st_device *d, st_scene *scene)
  * the gather's half pixel; mitchell with its own B, C as well, whose
  * products a lane must contract as width 1 does; lanczos with τ below its
  * radius), waves and bins whose items fill no last lane, an adaptive render
- * (its rounds' splats weighted), a tiled sampler (points off the image). */
+ * (its rounds' splats weighted), a crop, one wave, waves narrower than an
+ * image row, and a tiled sampler (points off the image). */
 static st_render_options splat_case(size_t k)
 {
     static const st_u32 kinds[] = {ST_FILTER_BOX,         ST_FILTER_TRIANGLE,
@@ -468,13 +469,29 @@ static st_render_options splat_case(size_t k)
         o.sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
         o.filter = st_filter_default(ST_FILTER_LANCZOS);
         return o;
+    case 3: /* a crop: the region is its window and apron */
+        o = small(41, 29, 6);
+        o.wave = 500;
+        o.crop_x = 5, o.crop_y = 7, o.crop_w = 13, o.crop_h = 9;
+        o.filter = st_filter_default(ST_FILTER_LANCZOS);
+        return o;
+    case 4: /* one wave, larger than a bin's pixels times spp */
+        o = small(70, 45, 5);
+        o.wave = 0;
+        o.filter = st_filter_default(ST_FILTER_MITCHELL);
+        return o;
+    case 5: /* waves narrower than an image row */
+        o = small(37, 23, 2);
+        o.wave = 29;
+        o.filter = st_filter_default(ST_FILTER_MITCHELL);
+        return o;
     default:
         o.sampler = ST_SAMPLER_POISSON;
         o.filter = st_filter_default(ST_FILTER_MITCHELL);
         return o;
     }
 }
-#define SPLAT_CASES 11u
+#define SPLAT_CASES 14u
 
 /* splat_tiles, whose weights are made ST_W samples at a time in lanes
  * (filter_lanes.h), built at 1, 4, 8 and 16 lanes, owned by one work-item
