@@ -136,52 +136,58 @@ static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_d
     st_filter flt = p->filter;
     st_u32 px = s.pixel % p->width, py = s.pixel / p->width;
     float wx, wy;
-    st_filter_taps(&flt, d->turn, (int)px, 1, s.film[0], &wx);
-    st_filter_taps(&flt, d->turn, (int)py, 1, s.film[1], &wy);
+    st_filter_taps1(&flt, d->turn, (int)px, 1, 1, s.film[0], &wx);
+    st_filter_taps1(&flt, d->turn, (int)py, 1, 1, s.film[1], &wy);
     float w = wx * wy;
     w = w > 0.0f ? 1.0f : w < 0.0f ? -1.0f : 0.0f;
     add_fixed(p, d, (int)px, (int)py, fixed_splat4(w * d->scale, (float4)(L, 1.0f), clamped));
     return 1u;
 }
 
+/* A sample's taps (taps(): first and last x, first and last y) and their
+ * 1-D weights, column k's at x[k st], row j's at y[j st] (st: the lanes the
+ * weights were made in, filter_lanes.h); none for box, whose weight is 1
+ * at every tap. */
+typedef struct tap_weights {
+    int4 t;
+    const float *x, *y;
+    int st;
+} tap_weights;
+
 /* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
- * with the separable weights f(dx) f(dy): the integers of st_fixed_splat(f
- * d->scale, L) (fixed_splat4). Box weighs 1 at every tap within the radius
- * (taps), so its sums are the same at every tap: made once. Returns the
- * splats made. */
-static st_u32 splat_taps(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+ * with the separable weights f(dx) f(dy) (w): the integers of
+ * st_fixed_splat(f d->scale, L) (fixed_splat4). Box weighs 1 at every tap
+ * within the radius (taps), so its sums are the same at every tap: made
+ * once. Returns the splats made. */
+static st_u32 splat_taps(const st_params *p, tap_weights w, float3 L, const splat_dest *d,
                          st_u32 *clamped)
 {
-    st_filter flt = p->filter;
-    int4 t = sample_taps(p, s);
+    int4 t = w.t;
     int nx = t.y - t.x + 1, ny = t.w - t.z + 1;
-    if (nx <= 0 || ny <= 0)
-        return 0u;
     float4 L1 = (float4)(L, 1.0f);
-    if (flt.kind == ST_FILTER_BOX) {
+    if (p->filter.kind == ST_FILTER_BOX) {
         long4 v = fixed_splat4(d->scale, L1, clamped);
         for (int y = t.z; y <= t.w; y++)
             for (int x = t.x; x <= t.y; x++)
                 add_fixed(p, d, x, y, v);
         return (st_u32)nx * (st_u32)ny;
     }
-    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    st_filter_taps(&flt, d->turn, t.x, nx, s.film[0], wx);
-    st_filter_taps(&flt, d->turn, t.z, ny, s.film[1], wy);
     for (int y = t.z; y <= t.w; y++)
         for (int x = t.x; x <= t.y; x++)
-            add_fixed(p, d, x, y, fixed_splat4(wx[x - t.x] * wy[y - t.z] * d->scale, L1, clamped));
+            add_fixed(p, d, x, y,
+                      fixed_splat4(w.x[(x - t.x) * w.st] * w.y[(y - t.z) * w.st] * d->scale, L1,
+                                   clamped));
     return (st_u32)nx * (st_u32)ny;
 }
 
-/* Largest |w[k]| of n weights, a NaN passed over as fmax would (a
+/* Largest |w[k st]| of n weights, a NaN passed over as fmax would (a
  * comparison, which compiles to one maxss, where fmax's NaN rule took four
  * instructions per weight). */
-ST_HOT float max_abs(const float *w, int n)
+ST_HOT float max_abs(const float *w, int n, int st)
 {
     float m = 0.0f;
     for (int k = 0; k < n; k++) {
-        float a = fabs(w[k]);
+        float a = fabs(w[k * st]);
         m = a > m ? a : m;
     }
     return m;
@@ -192,26 +198,26 @@ ST_HOT float max_abs(const float *w, int n)
  * the largest |wx|, |wy| and |L1| (float rounding is monotone), so a bound
  * within ST_SPLAT_MAX (and L1 2^24 finite) lets each tap skip
  * fixed_splat4's test with the same integers. NaN fails the test. */
-ST_HOT int window_fits(const float *wx, int nx, const float *wy, int ny, float scale, float4 L1)
+ST_HOT int window_fits(tap_weights w, int nx, int ny, float scale, float4 L1)
 {
     float4 a = fabs(L1);
     float l = fmax(fmax(a.x, a.y), fmax(a.z, a.w));
-    float bound = max_abs(wx, nx) * max_abs(wy, ny) * fabs(scale) * l;
+    float bound = max_abs(w.x, nx, w.st) * max_abs(w.y, ny, w.st) * fabs(scale) * l;
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
 
 /* One row of splat_window_unclamped's taps with scale 1, two at a time
- * (the loop's own work halved): row[k] += round(wx[k] wy Ls). */
-ST_HOT void splat_row(__local long4 *row, const float *wx, int nx, float wy, float4 Ls)
+ * (the loop's own work halved): row[k] += round(wx[k st] wy Ls). */
+ST_HOT void splat_row(__local long4 *row, const float *wx, int st, int nx, float wy, float4 Ls)
 {
     int k = 0;
     for (; k + 2 <= nx; k += 2) {
-        float2 w = vload2(0, wx + k) * wy;
+        float2 w = (float2)(wx[k * st], wx[(k + 1) * st]) * wy;
         row[k] += fixed_from_scaled4(w.x * Ls);
         row[k + 1] += fixed_from_scaled4(w.y * Ls);
     }
     if (k < nx)
-        row[k] += fixed_from_scaled4(wx[k] * wy * Ls);
+        row[k] += fixed_from_scaled4(wx[k * st] * wy * Ls);
 }
 
 /* The taps of a sample that fits (window_fits) into a window of this
@@ -219,18 +225,18 @@ ST_HOT void splat_row(__local long4 *row, const float *wx, int nx, float wy, flo
  * add. (w L) 2^24 = w (L 2^24) exactly (a power of two, no overflow: tested
  * in window_fits; an underflow rounds to the integer 0 either way), so the
  * integers are fixed_splat4's. */
-ST_HOT void splat_window_unclamped(__local long4 *row, int side, const float *wx, int nx,
-                                   const float *wy, int ny, float scale, float4 L1)
+ST_HOT void splat_window_unclamped(__local long4 *row, int side, tap_weights w, int nx, int ny,
+                                   float scale, float4 L1)
 {
     float4 Ls = L1 * ST_FIXED_SCALE;
     if (scale == 1.0f) { /* w 1 = w: the same integers without the product */
         for (int j = 0; j < ny; j++, row += side)
-            splat_row(row, wx, nx, wy[j], Ls);
+            splat_row(row, w.x, w.st, nx, w.y[j * w.st], Ls);
         return;
     }
     for (int j = 0; j < ny; j++, row += side)
         for (int k = 0; k < nx; k++)
-            row[k] += fixed_from_scaled4(wx[k] * wy[j] * scale * Ls);
+            row[k] += fixed_from_scaled4(w.x[k * w.st] * w.y[j * w.st] * scale * Ls);
 }
 
 /* Adds v to window pixel a: plainly when the window is this work-item's
@@ -249,36 +255,32 @@ ST_HOT void add_window(__local long4 *a, long4 v, int alone)
 }
 
 /* splat_taps into a work-group's window (d->acc), which holds every tap:
- * the 1-D weights once per sample and axis, then per tap one product, one
- * vector conversion and one add of four sums (add_window); box's sums are
- * made once (splat_taps). Returns the splats made. */
-ST_HOT st_u32 splat_window(const st_params *p, st_sample s, float3 L, const splat_dest *d,
+ * per tap one product, one vector conversion and one add of four sums
+ * (add_window); box's sums are made once (splat_taps). Returns the splats
+ * made. */
+ST_HOT st_u32 splat_window(const st_params *p, tap_weights w, float3 L, const splat_dest *d,
                            st_u32 *clamped)
 {
-    st_filter flt = p->filter;
-    int4 t = sample_taps(p, s);
+    int4 t = w.t;
     int nx = t.y - t.x + 1, ny = t.w - t.z + 1;
-    if (nx <= 0 || ny <= 0)
-        return 0u;
     float4 L1 = (float4)(L, 1.0f);
     __local long4 *row = d->acc + (t.z - d->oy) * d->side + (t.x - d->ox);
-    if (flt.kind == ST_FILTER_BOX) {
+    if (p->filter.kind == ST_FILTER_BOX) {
         long4 v = fixed_splat4(d->scale, L1, clamped);
         for (int j = 0; j < ny; j++, row += d->side)
             for (int k = 0; k < nx; k++)
                 add_window(row + k, v, d->alone);
         return (st_u32)nx * (st_u32)ny;
     }
-    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    st_filter_taps(&flt, d->turn, t.x, nx, s.film[0], wx);
-    st_filter_taps(&flt, d->turn, t.z, ny, s.film[1], wy);
-    if (d->alone && window_fits(wx, nx, wy, ny, d->scale, L1)) {
-        splat_window_unclamped(row, d->side, wx, nx, wy, ny, d->scale, L1);
+    if (d->alone && window_fits(w, nx, ny, d->scale, L1)) {
+        splat_window_unclamped(row, d->side, w, nx, ny, d->scale, L1);
         return (st_u32)nx * (st_u32)ny;
     }
     for (int j = 0; j < ny; j++, row += d->side)
         for (int k = 0; k < nx; k++)
-            add_window(row + k, fixed_splat4(wx[k] * wy[j] * d->scale, L1, clamped), d->alone);
+            add_window(row + k,
+                       fixed_splat4(w.x[k * w.st] * w.y[j * w.st] * d->scale, L1, clamped),
+                       d->alone);
     return (st_u32)nx * (st_u32)ny;
 }
 
@@ -300,28 +302,92 @@ ST_HOT float3 item_radiance(st_u32 i, __global const st_path *path,
     return L;
 }
 
-/* Item i's sample (on the film) to d: adds the splats made and the path's
- * rays to tally[i]; counts a non-finite radiance, and the sample once if
- * any of its splats clamped. */
-static void splat_item(const st_params *p, st_u32 i, __global const st_sample *sample,
-                       __global const st_path *path, __global st_tally *tally,
-                       __global st_film_stats *stats, __global const st_f32 *splat_scale,
-                       splat_dest *d)
+/* Whether a sample's splat takes weights from filter_lanes.h: not box's
+ * (1 at every tap) nor filter importance sampling's (its own pixel). */
+ST_HOT int splat_weighs(const st_params *p)
 {
-    st_sample s = sample[i];
+    return p->filter.kind != ST_FILTER_BOX && p->reconstruction != ST_RECON_FIS;
+}
+
+/* Item i's sample s (on the film) to d with its taps' weights w (where
+ * splat_weighs): adds the splats made and the path's rays to tally[i];
+ * counts a non-finite radiance, and the sample once if any of its splats
+ * clamped. */
+static void splat_weighted(const st_params *p, st_u32 i, st_sample s, tap_weights w,
+                           __global const st_path *path, __global st_tally *tally,
+                           __global st_film_stats *stats, __global const st_f32 *splat_scale,
+                           splat_dest *d)
+{
     st_tally t;
     float3 L = item_radiance(i, path, tally, stats, &t);
     st_u32 clamped = 0u;
     d->scale = p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
     if (p->reconstruction == ST_RECON_FIS)
         t.splats += splat_fis(p, s, L, d, &clamped);
+    else if (w.t.y < w.t.x || w.t.w < w.t.z)
+        ; /* no pixel within the radius */
     else if (d->acc)
-        t.splats += splat_window(p, s, L, d, &clamped);
+        t.splats += splat_window(p, w, L, d, &clamped);
     else
-        t.splats += splat_taps(p, s, L, d, &clamped);
+        t.splats += splat_taps(p, w, L, d, &clamped);
     tally[i] = t;
     if (clamped)
         atomic_inc(&stats->clamped);
+}
+
+/* Item i's sample to d, its weights made alone (width 1). */
+static void splat_item(const st_params *p, st_u32 i, __global const st_sample *sample,
+                       __global const st_path *path, __global st_tally *tally,
+                       __global st_film_stats *stats, __global const st_f32 *splat_scale,
+                       splat_dest *d)
+{
+    st_sample s = sample[i];
+    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
+    tap_weights w = {sample_taps(p, s), wx, wy, 1};
+    int nx = w.t.y - w.t.x + 1, ny = w.t.w - w.t.z + 1;
+    if (splat_weighs(p) && nx > 0 && ny > 0) {
+        st_filter flt = p->filter;
+        st_filter_taps1(&flt, d->turn, w.t.x, nx, nx, s.film[0], wx);
+        st_filter_taps1(&flt, d->turn, w.t.z, ny, ny, s.film[1], wy);
+    }
+    splat_weighted(p, i, s, w, path, tally, stats, splat_scale, d);
+}
+
+/* The items item[0 .. n) (n <= ST_W) to d: their taps' weights made in
+ * ST_W lanes at once, one sample a lane (filter_lanes.h: each lane's the
+ * width-1 values, so the same integers as splat_item), then each sample's
+ * splat in turn. A lane past n weighs a sample of no taps. */
+ST_HOT void splat_items(const st_params *p, __global const st_u32 *item, st_u32 n,
+                        __global const st_sample *sample, __global const st_path *path,
+                        __global st_tally *tally, __global st_film_stats *stats,
+                        __global const st_f32 *splat_scale, splat_dest *d)
+{
+    float sx[ST_W], sy[ST_W], wx[ST_MAX_TAPS * ST_W], wy[ST_MAX_TAPS * ST_W];
+    int lx[ST_W], ly[ST_W], nx[ST_W], ny[ST_W], mx = 0, my = 0;
+    int4 t[ST_W];
+    for (st_u32 l = 0; l < ST_W; l++) {
+        st_sample s = sample[item[l < n ? l : 0]];
+        t[l] = sample_taps(p, s);
+        sx[l] = l < n ? s.film[0] : 0.5f;
+        sy[l] = l < n ? s.film[1] : 0.5f;
+        lx[l] = l < n ? t[l].x : 0;
+        ly[l] = l < n ? t[l].z : 0;
+        nx[l] = l < n ? max(t[l].y - t[l].x + 1, 0) : 0;
+        ny[l] = l < n ? max(t[l].w - t[l].z + 1, 0) : 0;
+        mx = max(mx, nx[l]);
+        my = max(my, ny[l]);
+    }
+    if (splat_weighs(p)) {
+        st_filter flt = p->filter;
+        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, ST_VLOAD(ST_W, lx), ST_VLOAD(ST_W, nx), mx,
+                                     ST_VLOAD(ST_W, sx), wx);
+        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, ST_VLOAD(ST_W, ly), ST_VLOAD(ST_W, ny), my,
+                                     ST_VLOAD(ST_W, sy), wy);
+    }
+    for (st_u32 l = 0; l < n; l++) {
+        tap_weights w = {t[l], wx + l, wy + l, ST_W};
+        splat_weighted(p, item[l], sample[item[l]], w, path, tally, stats, splat_scale, d);
+    }
 }
 
 /* Reads sample and path; adds to film (weighted by splat_scale in an
@@ -476,8 +542,11 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
-    for (st_u32 j = bin_start[b] + lid; j < bin_start[b + 1]; j += n)
-        splat_item(&p, bin_item[j], sample, path, tally, stats, splat_scale, &d);
+    /* ST_W items at a time, their weights in lanes */
+    st_u32 end = bin_start[b + 1];
+    for (st_u32 j = bin_start[b] + lid * ST_W; j < end; j += n * ST_W)
+        splat_items(&p, bin_item + j, min((st_u32)ST_W, end - j), sample, path, tally, stats,
+                    splat_scale, &d);
     barrier(CLK_LOCAL_MEM_FENCE);
     for (int j = (int)lid; j < side * side; j += (int)n) {
         int x = ox + j % side, y = oy + j / side;

@@ -30,60 +30,13 @@
  * (st_shared.h derives both from ST_FILTER_MAX_RADIUS_PX). */
 #define ST_FILTER_MAX_RADIUS ((st_f32)ST_FILTER_MAX_RADIUS_PX)
 
-ST_HOT st_f32 st_mitchell_1d(st_f32 t, st_f32 b, st_f32 c)
-{
-    if (t < 1.0f)
-        return ((12.0f - 9.0f * b - 6.0f * c) * t * t * t +
-                (-18.0f + 12.0f * b + 6.0f * c) * t * t + (6.0f - 2.0f * b)) *
-               (1.0f / 6.0f);
-    /* the second piece has a double root at t = 2: in factored form,
-     * 6k(t) = (2 - t)^2 ((-B-6C) t + 2B + 6C), it keeps its relative accuracy
-     * near t = 2 (the expanded sum of terms near 100 cancelled to errors of
-     * 6e-6: test_filter_kernels.c filters_match_formulas) */
-    if (t < 2.0f) {
-        st_f32 u = 2.0f - t;
-        return u * u * ((-b - 6.0f * c) * t + 2.0f * b + 6.0f * c) * (1.0f / 6.0f);
-    }
-    return 0.0f;
-}
+#include "lanes.h"
 
 ST_FN st_f32 st_sinc(st_f32 x)
 {
     if (fabs(x) < 1e-5f)
         return 1.0f;
     return sin(ST_PI_F * x) / (ST_PI_F * x);
-}
-
-/* f(x) of filter f, one axis. */
-ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
-{
-    st_f32 ax = fabs(x), r = f->radius;
-    if (!(ax <= r))
-        return 0.0f;
-    switch (f->kind) {
-    case ST_FILTER_BOX:
-        return 1.0f;
-    case ST_FILTER_TRIANGLE:
-        return r - ax;
-    case ST_FILTER_GAUSSIAN: {
-        st_f32 k = -0.5f / (f->sigma * f->sigma);
-        return exp(k * ax * ax) - exp(k * r * r);
-    }
-    case ST_FILTER_MITCHELL:
-        return st_mitchell_1d(2.0f * ax / r, f->b, f->c);
-    case ST_FILTER_CATMULL_ROM:
-        return st_mitchell_1d(2.0f * ax / r, 0.0f, 0.5f);
-    case ST_FILTER_LANCZOS:
-        return st_sinc(ax) * st_sinc(ax / f->tau);
-    case ST_FILTER_BLACKMAN_HARRIS: {
-        /* |x|: the window is even, and f(-x) == f(x) must hold bit for bit */
-        st_f32 t = 2.0f * ST_PI_F * (ax + r) / (2.0f * r);
-        return 0.35875f - 0.48829f * cos(t) + 0.14128f * cos(2.0f * t) -
-               0.01168f * cos(3.0f * t);
-    }
-    default:
-        return 0.0f;
-    }
 }
 
 /* sin(π x) and cos(π x): OpenCL's sinpi and cospi, whose argument
@@ -122,91 +75,57 @@ ST_FN st_lanczos_turn st_lanczos_turn_of(const st_filter *f)
     return t;
 }
 
-/* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at the taps x_k = x_c + j of
- * one axis (st_filter_taps), j = k - c, from the tap c nearest 0: sin(π x_k) =
- * (-1)^j sin(π x_c), and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ,
- * δ = π / τ, turning (sin, cos) through ±δ (t) once per tap. Three sines
- * per axis where two per tap were. Starting at the tap nearest 0 keeps the
- * relative accuracy where sinc divides by a small x; the turns' rounding
- * adds about an ulp per tap (test_filter_kernels.c: within 1e-5 of the formula). */
-ST_HOT st_f32 st_lanczos_tap(const st_filter *f, st_f32 x, st_f32 s1, st_f32 s2)
+/* f(x) of filter f, one axis (below). */
+ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x);
+
+/* The taps' weights in lanes (filter_lanes.h): width 1 for the host and a
+ * kernel's one sample, and the kernels' ST_W. */
+#define ST_N 1
+#include "filter_lanes.h"
+#undef ST_N
+#if ST_W != 1
+#define ST_N ST_W
+#include "filter_lanes.h"
+#undef ST_N
+#endif
+
+/* f(x) of filter f, one axis. */
+ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
 {
-    st_f32 ax = fabs(x), y = x / f->tau;
-    if (!(ax <= f->radius))
+    st_f32 ax = fabs(x), r = f->radius;
+    if (!(ax <= r))
         return 0.0f;
-    st_f32 a = ax < 1e-5f ? 1.0f : s1 / (ST_PI_F * x);
-    st_f32 b = fabs(y) < 1e-5f ? 1.0f : s2 / (ST_PI_F * y);
-    return a * b;
-}
-
-ST_FN void st_lanczos_taps(const st_filter *f, st_lanczos_turn t, const st_f32 *x, int n, int c,
-                           st_f32 *w)
-{
-    st_f32 a = x[c] / f->tau, s1 = st_sinpi(x[c]);
-    st_f32 sa = st_sinpi(a), ca = st_cospi(a);
-    for (int dir = -1; dir <= 1; dir += 2) {
-        st_f32 s2 = sa, c2 = ca, sk = s1;
-        for (int k = c; k >= 0 && k < n; k += dir) {
-            w[k] = st_lanczos_tap(f, x[k], sk, s2);
-            st_f32 next = s2 * t.c + (st_f32)dir * c2 * t.s;
-            c2 = c2 * t.c - (st_f32)dir * s2 * t.s;
-            s2 = next;
-            sk = -sk;
-        }
-    }
-}
-
-/* The 1-D weights of all n > 0 taps of one axis: w[k] = f(x_k) at the pixel
- * centres lo + k + 1/2 of a sample at s, x_k = lo + k + 1/2 - s (n <=
- * ST_MAX_TAPS), with lanczos' turn t (st_lanczos_turn_of(f)). Every splat
- * path (film.cl) takes its weights from here, so the paths add the same
- * integers. The same values as st_filter_eval_1d per tap, but for lanczos
- * (st_lanczos_taps: within float rounding). */
-ST_FN void st_filter_taps(const st_filter *f, st_lanczos_turn t, int lo, int n, st_f32 s,
-                          st_f32 *w)
-{
-    st_f32 r = f->radius;
     switch (f->kind) {
-    case ST_FILTER_BOX: /* st_filter_eval_1d's box, without its call per tap */
-        for (int k = 0; k < n; k++)
-            w[k] = fabs((st_f32)(lo + k) + 0.5f - s) <= r ? 1.0f : 0.0f;
-        return;
-    case ST_FILTER_MITCHELL:
-    case ST_FILTER_CATMULL_ROM: {
-        /* st_filter_eval_1d's expression, without its call and switch per tap */
-        int m = f->kind == ST_FILTER_MITCHELL;
-        st_f32 b = m ? f->b : 0.0f, c = m ? f->c : 0.5f;
-        for (int k = 0; k < n; k++) {
-            st_f32 ax = fabs((st_f32)(lo + k) + 0.5f - s);
-            w[k] = ax <= r ? st_mitchell_1d(2.0f * ax / r, b, c) : 0.0f;
-        }
-        return;
+    case ST_FILTER_BOX:
+        return 1.0f;
+    case ST_FILTER_TRIANGLE:
+        return r - ax;
+    case ST_FILTER_GAUSSIAN: {
+        st_f32 k = -0.5f / (f->sigma * f->sigma);
+        return exp(k * ax * ax) - exp(k * r * r);
     }
-    case ST_FILTER_LANCZOS: {
-        st_f32 x[ST_MAX_TAPS];
-        for (int k = 0; k < n; k++)
-            x[k] = (st_f32)(lo + k) + 0.5f - s;
-        /* the tap nearest 0 (of two, the first): the pixel whose centre is
-         * nearest s, ceil(s) - 1, or the end of the range nearest it (x_k
-         * is exact there; only a pixel left of 0 could round into a tie);
-         * ceil(s) as truncation, plus one where that fell below s (a call
-         * with tests of large and special values on the device) */
-        int c = (int)s + ((st_f32)(int)s < s) - 1 - lo;
-        c = c < 0 ? 0 : c >= n ? n - 1 : c;
-        st_lanczos_taps(f, t, x, n, c, w);
-        return;
+    case ST_FILTER_MITCHELL:
+        return st_mitchell_1d1(2.0f * ax / r, f->b, f->c);
+    case ST_FILTER_CATMULL_ROM:
+        return st_mitchell_1d1(2.0f * ax / r, 0.0f, 0.5f);
+    case ST_FILTER_LANCZOS:
+        return st_sinc(ax) * st_sinc(ax / f->tau);
+    case ST_FILTER_BLACKMAN_HARRIS: {
+        /* |x|: the window is even, and f(-x) == f(x) must hold bit for bit */
+        st_f32 t = 2.0f * ST_PI_F * (ax + r) / (2.0f * r);
+        return 0.35875f - 0.48829f * cos(t) + 0.14128f * cos(2.0f * t) -
+               0.01168f * cos(3.0f * t);
     }
     default:
-        for (int k = 0; k < n; k++)
-            w[k] = st_filter_eval_1d(f, (st_f32)(lo + k) + 0.5f - s);
+        return 0.0f;
     }
 }
 
-/* st_filter_taps with the filter's own turn (a caller with a single sample). */
+/* st_filter_taps1 with the filter's own turn (a caller with a single sample). */
 ST_FN void st_filter_taps_1d(const st_filter *f, int lo, int n, st_f32 s, st_f32 *w)
 {
     if (n > 0)
-        st_filter_taps(f, st_lanczos_turn_of(f), lo, n, s, w);
+        st_filter_taps1(f, st_lanczos_turn_of(f), lo, n, n, s, w);
 }
 
 ST_FN st_f32 st_filter_eval(const st_filter *f, st_f32 x, st_f32 y)

@@ -56,6 +56,14 @@
 #define ST_VSTORE_8(v, p) vstore8(v, 0, p)
 #define ST_VSTORE_16(v, p) vstore16(v, 0, p)
 
+/* Each lane of v converted to the scalar type T (float, int), as a C cast
+ * does (float to int truncates): n lanes of T. */
+#define ST_CONVERT(T, n, v) ST_CAT(ST_CONVERT_, n)(T, v)
+#define ST_CONVERT_1(T, v) ((T)(v))
+#define ST_CONVERT_4(T, v) convert_##T##4(v)
+#define ST_CONVERT_8(T, v) convert_##T##8(v)
+#define ST_CONVERT_16(T, v) convert_##T##16(v)
+
 /* Whether any lane of mask m is set. */
 #define ST_ANY(n, m) ST_CAT(ST_ANY_, n)(m)
 #define ST_ANY_1(m) ((m) != 0)

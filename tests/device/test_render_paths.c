@@ -1,8 +1,9 @@
 /* test_render_paths.c — the first stages in one kernel (generate_rays) and
  * the box filter's splat gathered by pixel (splat_pixels) against the
  * kernels they replace on the same render, and shade (ST_W items per
- * work-item) built at every lane width against the device's own: the films
- * (raw 64-bit sums), the counts (splats, rays, clamped, non-finite) and the
+ * work-item) and the tile splat's weights (splat_tiles) built at every lane
+ * width against the device's own or the per-sample splat: the films (raw
+ * 64-bit sums), the counts (splats, rays, clamped, non-finite) and the
  * images equal bit for bit, over wave sizes below, at and above the
  * region's pixel count, crops, odd image sizes, spp 1 and spp that divide
  * nothing, several samplers, both integrators and every kind of material
@@ -410,12 +411,139 @@ static void shade_at_every_width(void **state)
     }
 }
 
+/* A renderer of `scene` on device d (the fixture's or one at another width). */
+static st_renderer *renderer_on(st_device *d, st_scene *scene)
+{
+    st_renderer *r = NULL;
+    st_error err = {0};
+    if (st_renderer_create(d, scene, &r, &err) != ST_OK)
+        fail_msg("renderer: %s", err.msg);
+    return r;
+}
+
+/* The renders of splat_lanes_at_every_width: every filter (box wider than
+ * the gather's half pixel; mitchell with its own B, C as well, whose
+ * products a lane must contract as width 1 does; lanczos with τ below its
+ * radius), waves and bins whose items fill no last lane, an adaptive render
+ * (its rounds' splats weighted), a crop, one wave, waves narrower than an
+ * image row, and a tiled sampler (points off the image). */
+static st_render_options splat_case(size_t k)
+{
+    static const st_u32 kinds[] = {ST_FILTER_BOX,         ST_FILTER_TRIANGLE,
+                                   ST_FILTER_GAUSSIAN,    ST_FILTER_MITCHELL,
+                                   ST_FILTER_CATMULL_ROM, ST_FILTER_LANCZOS,
+                                   ST_FILTER_BLACKMAN_HARRIS};
+    size_t nk = sizeof kinds / sizeof kinds[0];
+    st_render_options o = small(37, 23, 3);
+    o.wave = 333;
+    o.sampler = ST_SAMPLER_HALTON;
+    o.filter = st_filter_default(kinds[k % nk]);
+    if (k < nk) {
+        if (kinds[k] == ST_FILTER_BOX)
+            o.filter.radius = 1.5f;
+        return o;
+    }
+    switch (k - nk) {
+    case 0: /* mitchell's own parameters, a radius that is no integer */
+        o.filter = st_filter_default(ST_FILTER_MITCHELL);
+        o.filter.b = 0.2f, o.filter.c = 0.45f, o.filter.radius = 2.5f;
+        return o;
+    case 1:
+        o.filter = st_filter_default(ST_FILTER_LANCZOS);
+        o.filter.radius = 2.0f, o.filter.tau = 1.5f;
+        return o;
+    case 2:
+        o = small(24, 20, 16);
+        o.adaptive = 1;
+        o.min_spp = 4;
+        o.sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
+        o.filter = st_filter_default(ST_FILTER_LANCZOS);
+        return o;
+    case 3: /* a crop: the region is its window and apron */
+        o = small(41, 29, 6);
+        o.wave = 500;
+        o.crop_x = 5, o.crop_y = 7, o.crop_w = 13, o.crop_h = 9;
+        o.filter = st_filter_default(ST_FILTER_LANCZOS);
+        return o;
+    case 4: /* one wave, larger than a bin's pixels times spp */
+        o = small(70, 45, 5);
+        o.wave = 0;
+        o.filter = st_filter_default(ST_FILTER_MITCHELL);
+        return o;
+    case 5: /* waves narrower than an image row */
+        o = small(37, 23, 2);
+        o.wave = 29;
+        o.filter = st_filter_default(ST_FILTER_MITCHELL);
+        return o;
+    default:
+        o.sampler = ST_SAMPLER_POISSON;
+        o.filter = st_filter_default(ST_FILTER_MITCHELL);
+        return o;
+    }
+}
+#define SPLAT_CASES 14u
+
+/* splat_tiles, whose weights are made ST_W samples at a time in lanes
+ * (filter_lanes.h), built at 1, 4, 8 and 16 lanes, owned by one work-item
+ * and shared by a work-group, against splat_samples on the fixture's device,
+ * whose weights are made one sample at a time (width 1): films, images and
+ * counts equal bit for bit for each of splat_case's renders; and the hot
+ * furnace, whose splats clamp (a sample counts once). */
+static void splat_lanes_at_every_width(void **state)
+{
+    (void)state;
+    static const unsigned widths[] = {1, 4, 8, 16};
+    static const int tiles[] = {ST_SPLAT_TILES_ALONE, ST_SPLAT_TILES};
+    st_scene *box = fixture_scene("cornell-box"), *hot = fixture_scene("tests/scenes/hot-furnace.gltf");
+    st_renderer *ref = renderer_on(dev, box), *ref_hot = renderer_on(dev, hot);
+    for (size_t w = 0; w < sizeof widths / sizeof widths[0]; w++) {
+        st_error err = {0};
+        st_device *d = dev;
+        if (widths[w] != st_device_get_info(dev)->lanes &&
+            (st_device_create(NULL, &d, &err) != ST_OK ||
+             st_device_set_lanes(d, widths[w], &err) != ST_OK || st_device_build(d, NULL, &err)))
+            fail_msg("device at %u lanes: %s", widths[w], err.msg);
+        on = d;
+        st_renderer *r = renderer_on(d, box), *r_hot = renderer_on(d, hot);
+        for (size_t k = 0; k <= SPLAT_CASES; k++) {
+            st_render_options o = k < SPLAT_CASES ? splat_case(k) : small(20, 12, 3);
+            if (k == SPLAT_CASES) {
+                o.max_depth = 0;
+                o.filter = st_filter_default(ST_FILTER_LANCZOS);
+            }
+            forced.splat = ST_SPLAT_PER_SAMPLE;
+            run a = render_run(k < SPLAT_CASES ? ref : ref_hot, o);
+            for (size_t t = 0; t < 2; t++) {
+                forced.splat = tiles[t];
+                run b = render_run(k < SPLAT_CASES ? r : r_hot, o);
+                assert_true(ran(k < SPLAT_CASES ? r : r_hot, "splat_tiles"));
+                assert_same_run(&a, &b, &o);
+                if (k == SPLAT_CASES)
+                    assert_true(b.st.clamped > 0u); /* and a's count: assert_same_run */
+                run_free(&b);
+            }
+            forced.splat = ST_SPLAT_AUTO;
+            run_free(&a);
+        }
+        st_renderer_destroy(r);
+        st_renderer_destroy(r_hot);
+        if (d != dev)
+            st_device_destroy(d);
+        on = NULL;
+    }
+    st_renderer_destroy(ref);
+    st_renderer_destroy(ref_hot);
+    st_scene_destroy(box);
+    st_scene_destroy(hot);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(generate_rays_equals_two_kernels),
         cmocka_unit_test(splat_pixels_equals_per_sample),
         cmocka_unit_test(shade_at_every_width),
+        cmocka_unit_test(splat_lanes_at_every_width),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
 }

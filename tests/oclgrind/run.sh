@@ -47,6 +47,11 @@ run "packets of 8 rays (camera, shadow), shade in 8 lanes, direct" render $D --s
 run "packets of 8 rays (every closest hit), path" render $D --spp 2 --max-depth 2 --packets all --lanes 8 -o "$T/l.exr"
 run "packets of 16 rays, shade in 16 lanes, path" render $D --spp 2 --max-depth 2 --packets all --lanes 16 -o "$T/l16.exr"
 run "packets of 1 ray (one lane), direct" render $D --spp 2 --integrator direct --packets all -o "$T/n.exr"
+# the splat's filter weights in lanes (kernels/filter_lanes.h), its tiles
+# shared by a work-group here: lanczos' turns in 8 lanes, catmull-rom's in
+# 4 with an adaptive render's weighted rounds
+run "splat weights in 8 lanes, lanczos" render $D --spp 2 --integrator direct --filter lanczos --lanes 8 -o "$T/q.exr"
+run "splat weights in 4 lanes, catmull-rom, adaptive" render $D --spp 8 --adaptive --sampler random --filter catmull-rom --lanes 4 -o "$T/r.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"

@@ -1,0 +1,151 @@
+/* filter_lanes.h — the 1-D weights of a filter's taps, written once over
+ * ST_N lanes (lanes.h), each lane one sample's axis; filters.h includes it
+ * once per width it needs, with ST_N defined, and gets st_mitchell_1d<N>,
+ * st_lanczos_tap<N> and st_filter_taps<N>:
+ *   1: the host's C, and a kernel's splat of one sample (the reference);
+ *   ST_W: a kernel's splat of ST_W samples at once (film.cl).
+ * A lane of any width computes what width 1 computes, with the same
+ * operations in the same statements (OpenCL contracts a * b + c into fma
+ * within a statement, so the statements must match too): a value that is
+ * the same in every lane (the filter's parameters) is broadcast before
+ * it takes part in lane arithmetic (clang contracts a scalar product added
+ * to lanes differently), which changes no lane's arithmetic, and a branch of width 1 is a select of both
+ * arms. So the film's integers do not depend on the width
+ * (test_render_paths.c, test_packets_cli.sh). No include guard: one copy
+ * per ST_N. */
+#ifndef ST_N
+#error "define ST_N (the lane count) before including filter_lanes.h"
+#endif
+
+#define ST_F ST_VEC(float, ST_N)
+#define ST_I ST_VEC(int, ST_N)
+
+/* Mitchell and Netravali's cubic k_{B,C}(t) (filters.h's formula), t >= 0,
+ * both pieces computed and the one of each lane selected. B and C come in
+ * lanes: a product of two scalars added to lanes would not be contracted
+ * into an fma as width 1 contracts it. */
+ST_HOT ST_F ST_CAT(st_mitchell_1d, ST_N)(ST_F t, ST_F b, ST_F c)
+{
+    ST_F near = ((12.0f - 9.0f * b - 6.0f * c) * t * t * t +
+                 (-18.0f + 12.0f * b + 6.0f * c) * t * t + (6.0f - 2.0f * b)) *
+                (1.0f / 6.0f);
+    /* the second piece has a double root at t = 2: in factored form,
+     * 6k(t) = (2 - t)^2 ((-B-6C) t + 2B + 6C), it keeps its relative accuracy
+     * near t = 2 (the expanded sum of terms near 100 cancelled to errors of
+     * 6e-6: test_filter_kernels.c filters_match_formulas) */
+    ST_F u = 2.0f - t;
+    ST_F far = u * u * ((-b - 6.0f * c) * t + 2.0f * b + 6.0f * c) * (1.0f / 6.0f);
+    ST_F k = ST_SELECT(ST_N, (ST_F)(0.0f), far, t < 2.0f);
+    return ST_SELECT(ST_N, k, near, t < 1.0f);
+}
+
+/* Lanczos' weight sinc(x) sinc(x / τ) at a tap x from s1 = sin(π x) and
+ * s2 = sin(π x / τ) (st_lanczos_taps<N> turns them from tap to tap); 0
+ * beyond the radius. */
+ST_HOT ST_F ST_CAT(st_lanczos_tap, ST_N)(const st_filter *f, ST_F x, ST_F s1, ST_F s2)
+{
+    ST_F ax = fabs(x), y = x / f->tau;
+    ST_F a = ST_SELECT(ST_N, s1 / (ST_PI_F * x), (ST_F)(1.0f), ax < 1e-5f);
+    ST_F b = ST_SELECT(ST_N, s2 / (ST_PI_F * y), (ST_F)(1.0f), fabs(y) < 1e-5f);
+    return ST_SELECT(ST_N, (ST_F)(0.0f), a * b, ax <= f->radius);
+}
+
+/* The offset x_k = lo + k + 1/2 - s of tap k from the sample at s. */
+ST_HOT ST_F ST_CAT(st_tap_offset, ST_N)(ST_I lo, int k, ST_F s)
+{
+    return ST_CONVERT(float, ST_N, lo + k) + 0.5f - s;
+}
+
+/* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at taps 0 .. m - 1, from
+ * each lane's tap c nearest 0, j = k - c: sin(π x_k) = (-1)^j sin(π x_c),
+ * and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ, δ = π / τ, turning (sin,
+ * cos) through ±δ (t) once per tap away from c, in the order of a loop
+ * from c outwards; a lane past its own taps, or not yet at its c, keeps
+ * its sines (select). Three sines per axis where two per tap were.
+ * Starting at the tap nearest 0 keeps the relative accuracy where sinc
+ * divides by a small x; the turns' rounding adds about an ulp per tap
+ * (test_filter_kernels.c: within 1e-5 of the formula). */
+ST_FN void ST_CAT(st_lanczos_taps, ST_N)(const st_filter *f, st_lanczos_turn t, ST_I lo,
+                                         ST_I n, int m, ST_F s, st_f32 *w)
+{
+    /* the tap nearest 0 (of two, the first): the pixel whose centre is
+     * nearest s, ceil(s) - 1, or the end of the range nearest it (x_k
+     * is exact there; only a pixel left of 0 could round into a tie);
+     * ceil(s) as truncation, plus one where that fell below s (a call
+     * with tests of large and special values on the device) */
+    ST_I ts = ST_CONVERT(int, ST_N, s);
+    ST_I c = ts + ST_SELECT(ST_N, (ST_I)(0), (ST_I)(1), ST_CONVERT(float, ST_N, ts) < s) - 1 - lo;
+    c = ST_SELECT(ST_N, c, (ST_I)(0), c < 0);
+    c = ST_SELECT(ST_N, c, n - 1, c >= n);
+    ST_F xc = ST_CONVERT(float, ST_N, lo + c) + 0.5f - s;
+    ST_F a = xc / f->tau, s1 = st_sinpi(xc);
+    ST_F sa = st_sinpi(a), ca = st_cospi(a);
+    ST_F s2k[ST_MAX_TAPS], s1k[ST_MAX_TAPS];
+    for (int dir = -1; dir <= 1; dir += 2) {
+        ST_F s2 = sa, c2 = ca, sk = s1;
+        for (int j = 0; j < m; j++) {
+            int k = dir > 0 ? j : m - 1 - j;
+            ST_I on = dir > 0 ? (ST_I)(k) >= c : (ST_I)(k) <= c;
+            s2k[k] = dir > 0 ? ST_SELECT(ST_N, s2k[k], s2, on) : s2;
+            s1k[k] = dir > 0 ? ST_SELECT(ST_N, s1k[k], sk, on) : sk;
+            ST_F next = s2 * t.c + (st_f32)dir * c2 * t.s;
+            ST_F c2n = c2 * t.c - (st_f32)dir * s2 * t.s;
+            s2 = ST_SELECT(ST_N, s2, next, on);
+            c2 = ST_SELECT(ST_N, c2, c2n, on);
+            sk = ST_SELECT(ST_N, sk, -sk, on);
+        }
+    }
+    for (int k = 0; k < m; k++)
+        ST_VSTORE(ST_N,
+                  ST_CAT(st_lanczos_tap, ST_N)(f, ST_CAT(st_tap_offset, ST_N)(lo, k, s), s1k[k],
+                                               s2k[k]),
+                  w + k * ST_N);
+}
+
+/* The 1-D weights of taps 0 .. m - 1 of ST_N samples' axes, lane l a
+ * sample at s_l whose taps are the pixel centres lo_l + k + 1/2 (k < n_l <=
+ * m <= ST_MAX_TAPS): w[k ST_N + l] = f(x_k), x_k = lo_l + k + 1/2 - s_l, with
+ * lanczos' turn t (st_lanczos_turn_of(f)). A lane's weights past its n_l
+ * are whatever the formula gives there. Every splat path (film.cl) takes its
+ * weights from here, so the paths add the same integers. The same values as
+ * st_filter_eval_1d per tap, but for lanczos (st_lanczos_taps<N>: within
+ * float rounding). */
+ST_FN void ST_CAT(st_filter_taps, ST_N)(const st_filter *f, st_lanczos_turn t, ST_I lo, ST_I n,
+                                        int m, ST_F s, st_f32 *w)
+{
+    st_f32 r = f->radius;
+    switch (f->kind) {
+    case ST_FILTER_BOX: /* st_filter_eval_1d's box, without its call per tap */
+        for (int k = 0; k < m; k++)
+            ST_VSTORE(ST_N,
+                      ST_SELECT(ST_N, (ST_F)(0.0f), (ST_F)(1.0f),
+                                fabs(ST_CAT(st_tap_offset, ST_N)(lo, k, s)) <= r),
+                      w + k * ST_N);
+        return;
+    case ST_FILTER_MITCHELL:
+    case ST_FILTER_CATMULL_ROM: {
+        /* st_filter_eval_1d's expression, without its call and switch per tap */
+        int mi = f->kind == ST_FILTER_MITCHELL;
+        st_f32 b = mi ? f->b : 0.0f, c = mi ? f->c : 0.5f;
+        for (int k = 0; k < m; k++) {
+            ST_F ax = fabs(ST_CAT(st_tap_offset, ST_N)(lo, k, s));
+            ST_F v = ST_CAT(st_mitchell_1d, ST_N)(2.0f * ax / r, (ST_F)(b), (ST_F)(c));
+            ST_VSTORE(ST_N, ST_SELECT(ST_N, (ST_F)(0.0f), v, ax <= r), w + k * ST_N);
+        }
+        return;
+    }
+    case ST_FILTER_LANCZOS:
+        ST_CAT(st_lanczos_taps, ST_N)(f, t, lo, n, m, s, w);
+        return;
+    default: /* one lane at a time (exp, cos): st_filter_eval_1d's own value */
+        for (int k = 0; k < m; k++) {
+            st_f32 x[ST_N];
+            ST_VSTORE(ST_N, ST_CAT(st_tap_offset, ST_N)(lo, k, s), x);
+            for (int l = 0; l < ST_N; l++)
+                w[k * ST_N + l] = st_filter_eval_1d(f, x[l]);
+        }
+    }
+}
+
+#undef ST_F
+#undef ST_I
