@@ -57,6 +57,7 @@ typedef struct st_vertex_in {
     float lp[3][ST_W], ll[3][ST_W], lnl[3][ST_W], lq[ST_W], lco[ST_W], lci[ST_W];
     int lkind[ST_W];
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
+    float transmission[ST_W], absorb[3][ST_W]; /* KHR_materials_transmission, volume */
 } st_vertex_in;
 
 #define ST_LV(a) ST_VLOAD(ST_W, a)
@@ -91,8 +92,8 @@ static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
  * without a normal map). */
 typedef struct st_material_at {
     float4 base, spec, nmap;
-    float3 le;
-    float metallic, roughness, ior, normal_scale;
+    float3 le, absorb;
+    float metallic, roughness, ior, normal_scale, transmission;
     st_u32 flags, alpha_mode;
     float alpha_cutoff;
 } st_material_at;
@@ -113,6 +114,8 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     a.alpha_mode = m->alpha_mode;
     a.alpha_cutoff = m->alpha_cutoff;
     a.normal_scale = m->normal_scale;
+    a.transmission = m->transmission;
+    a.absorb = vload3(0, m->absorption);
     a.nmap = (float4)(0.0f);
     if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
@@ -121,7 +124,8 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     }
     if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
         m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
-        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE) {
+        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
+        m->transmission_tex != ST_NO_TEXTURE) {
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
         float b1 = h.u, b2 = h.v;
@@ -134,6 +138,7 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.roughness *= mr.y;
         a.spec.w *= tex_lookup(x, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
         a.spec.xyz *= tex_lookup(x, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
+        a.transmission *= tex_lookup(x, m->transmission_tex, t, b1, b2, width, cos_nd, f).x;
         if (m->normal_tex != ST_NO_TEXTURE)
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
@@ -325,8 +330,10 @@ typedef struct st_vertex {
     st_lv3 tu, tv;      /* the shading frame's tangents */
     st_lv3 albedo;      /* the Lambertian part's albedo ((1 - metallic) x base colour) */
     st_brdf brdf;       /* the glTF BRDF (bsdf.h), where glossy */
+    st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h), where transmissive */
     st_dir wo_local;    /* wo in the shading frame, where glossy */
-    st_li glossy;       /* the lanes with a specular lobe (metallic or specular > 0) */
+    st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
+    st_li trans;        /* the lanes with transmission > 0 (a subset of glossy) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -353,7 +360,7 @@ ST_HOT st_lv3 shading_normal(const st_scene_refs *s, st_vertex_in *l, st_u32 nma
 }
 
 /* The emission seen along each lane's ray, weighted: 1 for a camera ray,
- * and for a ray made by a BSDF sample (depth > 0) the MIS weight against
+ * and for a ray made by a BSDF sample (depth > 0, not a refraction) the MIS weight against
  * sampling the same light (an emitter's density per area turned to solid
  * angle, t² / cos; the environment's as gathered). Emitters are one-sided. */
 ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li miss, st_lf cos_o)
@@ -362,8 +369,9 @@ ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li m
     st_lf t = ST_LV(l->t), q = ST_LV(l->emit_pdf);
     q = ST_SELECT(ST_W, q * area_choice(sh) * t * t / cos_o, q, miss);
     st_li seen = (miss || cos_o > 0.0f) && (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f);
-    st_lf w = ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(ST_LV(l->bsdf_pdf), q),
-                        ST_LV(l->depth) > 0u);
+    st_lf pb = ST_LV(l->bsdf_pdf); /* 0 after a refraction: no light sample makes that ray */
+    st_lf w = ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(pb, q),
+                        ST_LV(l->depth) > 0u && pb > 0.0f);
     return st_lv3_scale(le, ST_SELECT(ST_W, ST_LF(0.0f), w, seen));
 }
 
@@ -380,17 +388,27 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.ns = shading_normal(s, l, nmapped, v.ng);
     *cos_o = st_lv3_dot(v.ng, v.wo);
     v.beta = ST_LV3_OF(l->beta);
+    st_lf tr = ST_LV(l->transmission);
+    v.trans = tr > 0.0f && !miss;
+    if (ST_ANY(ST_W, v.trans)) { /* the medium inside absorbs along the segment (Beer-Lambert) */
+        st_lv3 a = ST_LV3_OF(l->absorb);
+        st_lf t = ST_LV(l->t);
+        st_lv3 att = st_lv3_make(exp(-a.x * t), exp(-a.y * t), exp(-a.z * t));
+        v.beta = st_lv3_select(v.beta, st_lv3_mul(v.beta, att), v.trans && *cos_o < 0.0f);
+    }
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_basis(v.ns, &v.tu, &v.tv);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
-    v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
+    v.glossy = (metallic > 0.0f || specular > 0.0f || v.trans) && !miss;
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
-        v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior));
+        v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
+        if (ST_ANY(ST_W, v.trans)) /* entering where the ray meets the front */
+            v.diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
             v.glossy);
@@ -412,6 +430,19 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
     return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
 }
 
+/* Where a lane is transmissive, f[3] and *pdf (the BRDF's at li) become
+ * the whole material's (bsdf_dielectric.h); the other lanes keep theirs
+ * bit for bit. */
+ST_HOT void bsdf_with_transmission(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
+{
+    st_lf ft[3];
+    st_bsdf_eval(&v->brdf, &v->diel, v->wo_local, li, ft);
+    st_lf pt = st_bsdf_pdf(&v->brdf, &v->diel, v->wo_local, li);
+    for (int k = 0; k < 3; k++)
+        f[k] = ST_SELECT(ST_W, f[k], ft[k], v->trans);
+    *pdf = ST_SELECT(ST_W, *pdf, pt, v->trans);
+}
+
 /* f(wo, wi) cos θi for directions wi above the surface, and in *pdf the
  * density with which vertex_bounce would choose wi. */
 ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
@@ -423,7 +454,10 @@ ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
         st_dir li = st_lv3_make(st_lv3_dot(wi, v->tu), st_lv3_dot(wi, v->tv), c);
         st_lf fk[3];
         st_brdf_eval(&v->brdf, v->wo_local, li, fk);
-        *pdf = ST_SELECT(ST_W, *pdf, st_brdf_pdf(&v->brdf, v->wo_local, li), v->glossy);
+        st_lf gp = st_brdf_pdf(&v->brdf, v->wo_local, li);
+        if (ST_ANY(ST_W, v->trans))
+            bsdf_with_transmission(v, li, fk, &gp);
+        *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
         f = st_lv3_select(f, st_lv3_scale(st_lv3_make(fk[0], fk[1], fk[2]), c), v->glossy);
     }
     return f;
@@ -473,26 +507,43 @@ ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 ori
 }
 
 /* The BSDF sample: a cosine-weighted direction where Lambertian, else one
- * from the BRDF's mixture (bsdf.h); beta *= f cos / pdf. *pdf: its density
- * (for MIS where the ray ends), *cz its cosine. Returns the lanes whose
- * direction lies above both surfaces (the others' paths end). */
-ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lv3 *wi, st_lf *pdf, st_lf *cz)
+ * from the BRDF's mixture (bsdf.h), or where transmissive from the whole
+ * material's (bsdf_dielectric.h, u3 choosing reflection or refraction);
+ * beta *= f |cos| / pdf. *pdf: its density (for MIS where the ray ends;
+ * 0 for a refraction, which next-event estimation, on the side the ray
+ * came from, cannot make: its emission then takes weight 1), *cz its
+ * cosine (< 0: refracted). Returns the lanes whose direction lies on one
+ * side of both surfaces, above or (refracted) below (the others' paths
+ * end). */
+ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *wi, st_lf *pdf,
+                           st_lf *cz)
 {
     st_dir w = st_cosine_sample(u1, u2);
     *pdf = w.z / ST_PI_F;
     st_lv3 weight = v->albedo;
     if (ST_ANY(ST_W, v->glossy)) {
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
+        if (ST_ANY(ST_W, v->trans))
+            g = st_lv3_select(g, st_bsdf_sample(&v->brdf, &v->diel, v->wo_local, u1, u2, u3),
+                              v->trans);
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);
+        if (ST_ANY(ST_W, v->trans))
+            bsdf_with_transmission(v, g, f, &gp);
         w = st_lv3_select(w, g, v->glossy);
         *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
-        weight = st_lv3_select(weight, st_lv3_scale(st_lv3_make(f[0], f[1], f[2]), g.z / gp),
+        st_lf gz = ST_SELECT(ST_W, g.z, -g.z, v->trans && g.z < 0.0f);
+        weight = st_lv3_select(weight, st_lv3_scale(st_lv3_make(f[0], f[1], f[2]), gz / gp),
                                v->glossy);
     }
     *cz = w.z;
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
+    if (ST_ANY(ST_W, v->trans)) {
+        st_li through = v->trans && *cz < 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) < 0.0f;
+        ok = ok || through;
+        *pdf = ST_SELECT(ST_W, *pdf, ST_LF(0.0f), through);
+    }
     v->beta = st_lv3_select(v->beta, st_lv3_mul(v->beta, weight), ok);
     return ok;
 }

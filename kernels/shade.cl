@@ -47,8 +47,8 @@
  * camera's cone has the pixel's width and no spread.
  * Sample dimensions of vertex k: 2 + 6k + {0: light choice and first
  * coordinate on it (or the environment direction's first), 1: second
- * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: unused,
- * 5: Russian roulette}. BLEND coverage draws from
+ * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: reflection or
+ * refraction (read only at a transmissive surface), 5: Russian roulette}. BLEND coverage draws from
  * the counter hash, keyed by the triangle. */
 #include "st_shared.h"
 #include "rng.h"
@@ -57,6 +57,7 @@
 #include "texture.h"
 #include "lights.h"
 #include "bsdf.h"
+#include "bsdf_dielectric.h"
 #include "integrator.h"
 #include "shadow.h"
 
@@ -74,7 +75,7 @@ static void ray_store(__global st_wave_ray *r, float3 o, float3 d, float path_le
  * bounce, and 5 for Russian roulette where it plays. The random sampler's
  * are made in lanes instead (dims_random). */
 static void dims_gather(const st_params *p, st_sample smp, __global const st_u32 *pmj02,
-                        st_u32 depth, st_u32 k, st_vertex_in *l)
+                        st_u32 depth, st_u32 k, int transmissive, st_vertex_in *l)
 {
     if (p->sampler == ST_SAMPLER_RANDOM || depth >= p->max_depth)
         return;
@@ -85,6 +86,8 @@ static void dims_gather(const st_params *p, st_sample smp, __global const st_u32
     l->u[1][k] = st_sample_dim(p, &id, dim + 1u);
     l->u[2][k] = st_sample_dim(p, &id, dim + 2u);
     l->u[3][k] = st_sample_dim(p, &id, dim + 3u);
+    if (transmissive)
+        l->u[4][k] = st_sample_dim(p, &id, dim + 4u);
     if (depth + 1u >= ST_RR_START_DEPTH)
         l->u[5][k] = st_sample_dim(p, &id, dim + 5u);
 }
@@ -99,12 +102,13 @@ ST_HOT st_lf rng_unit_lanes(st_lu key, st_lu dim)
     return ST_TO_FLOAT(ST_W, x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
 }
 
-/* dims_gather's dimensions for the random sampler, all lanes at once. */
-ST_HOT void dims_random(st_vertex_in *l)
+/* dims_gather's dimensions for the random sampler, all lanes at once (4
+ * only where some lane is transmissive). */
+ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 {
     st_lu key = ST_LV(l->key), dim = 2u + ST_DIMS_PER_VERTEX * ST_LV(l->depth);
     for (st_u32 j = 0; j < 6u; j++)
-        if (j != 4u)
+        if (j != 4u || transmissive)
             ST_VSTORE(ST_W, rng_unit_lanes(key, dim + j), l->u[j]);
 }
 
@@ -119,7 +123,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
                          __global st_wave_ray *ray, __global const st_hit *hit,
                          __global st_path *path, __global st_shadow_ray *shadow,
                          __global const st_u32 *pmj02, st_vertex_in *l, st_u32 *miss,
-                         st_u32 *nmapped)
+                         st_u32 *nmapped, st_u32 *trans)
 {
     shadow[i].tmax = 0.0f;
     __global st_path *gp = &path[i];
@@ -174,18 +178,23 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     l->spec[0][k] = a.spec.x, l->spec[1][k] = a.spec.y, l->spec[2][k] = a.spec.z;
     l->spec[3][k] = a.spec.w;
     l->emit_pdf[k] = s->light_pdf[h.prim];
+    l->transmission[k] = a.transmission;
+    if (a.transmission > 0.0f) {
+        set_lane3(l->absorb, k, a.absorb);
+        *trans |= 1u << k;
+    }
     if (a.nmap.w > 0.0f) {
         set_lane3(l->nmap, k, a.nmap.xyz);
         l->nscale[k] = a.normal_scale;
         *nmapped |= 1u << k;
     }
-    dims_gather(p, smp, pmj02, depth, k, l);
+    dims_gather(p, smp, pmj02, depth, k, a.transmission > 0.0f, l);
     return 1;
 }
 
 /* What the lanes leave for each lane to store (vertex_store). */
 typedef struct st_vertex_out {
-    float rad[3][ST_W], beta[3][ST_W], origin[3][ST_W];
+    float rad[3][ST_W], beta[3][ST_W], origin[3][ST_W], next_o[3][ST_W];
     float shadow_d[3][ST_W], contribution[3][ST_W], tmax[ST_W]; /* the shadow ray */
     float next_d[3][ST_W], bsdf_pdf[ST_W], env_pdf[ST_W];      /* the next ray */
 } st_vertex_out;
@@ -215,7 +224,7 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
     gp->bsdf_pdf = o->bsdf_pdf[k];
     gp->env_pdf = o->env_pdf[k];
     gp->depth = l->depth[k] + 1u;
-    ray_store(&ray[i], origin, lane3(o->next_d, k), l->travelled[k]);
+    ray_store(&ray[i], lane3(o->next_o, k), lane3(o->next_d, k), l->travelled[k]);
 }
 
 /* One vertex of items first .. first + n - 1 (n <= ST_W), lane k item
@@ -229,14 +238,14 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
                         __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};
-    st_u32 live = 0u, miss = 0u, nmapped = 0u;
+    st_u32 live = 0u, miss = 0u, nmapped = 0u, trans = 0u;
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
-                                      pmj02, &l, &miss, &nmapped) << k;
+                                      pmj02, &l, &miss, &nmapped, &trans) << k;
     if (!live)
         return;
     if (p->sampler == ST_SAMPLER_RANDOM)
-        dims_random(&l);
+        dims_random(&l, trans != 0u);
     st_li missed = ST_BITS_MASK(ST_W, miss);
     st_lf cos_o;
     st_vertex v = vertex_surface(s, &l, nmapped, missed, sh, &cos_o);
@@ -254,13 +263,20 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
         lv3_store(light_sample(&l, &v, origin, p->ray_eps, &wi, &tmax), o.contribution);
         lv3_store(wi, o.shadow_d);
         ST_VSTORE(ST_W, tmax, o.tmax);
-        st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), &wi, &pdf, &cz);
+        st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), ST_LV(l.u[4]), &wi, &pdf, &cz);
         on = on && roulette(&v, depth, ST_LV(l.u[5]));
         goes = ST_MASK_BITS(ST_W, on) & scatters;
+        /* a refracted ray goes on from the other side, where no uniform
+         * environment's light sample reaches (env_pdf 0) */
+        st_lv3 next_o = origin;
+        if (trans)
+            next_o = st_lv3_select(origin, st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)),
+                                   cz < 0.0f);
+        lv3_store(next_o, o.next_o);
         lv3_store(v.beta, o.beta);
         lv3_store(wi, o.next_d);
         ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
-        ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
+        ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o.env_pdf);
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)

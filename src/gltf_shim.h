@@ -48,6 +48,10 @@ typedef struct st_gltf_material {
     int specular_tex, specular_color_tex; /* specularTexture (A), specularColorTexture */
     int normal_tex;        /* normalTexture */
     float normal_scale;    /* normalTexture.scale, 1 by default */
+    float transmission;    /* KHR_materials_transmission's transmissionFactor, 0 by default */
+    int transmission_tex;  /* its transmissionTexture (R) */
+    float attenuation[4];  /* KHR_materials_volume: attenuationColor RGB (1) and
+                              attenuationDistance (+infinity) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the
