@@ -57,7 +57,7 @@ typedef struct st_vertex_in {
     float lp[3][ST_W], ll[3][ST_W], lnl[3][ST_W], lq[ST_W], lco[ST_W], lci[ST_W];
     int lkind[ST_W];
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
-    float transmission[ST_W], absorb[3][ST_W]; /* KHR_materials_transmission, volume */
+    float transmission[ST_W]; /* KHR_materials_transmission */
 } st_vertex_in;
 
 #define ST_LV(a) ST_VLOAD(ST_W, a)
@@ -390,12 +390,6 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.beta = ST_LV3_OF(l->beta);
     st_lf tr = ST_LV(l->transmission);
     v.trans = tr > 0.0f && !miss;
-    if (ST_ANY(ST_W, v.trans)) { /* the medium inside absorbs along the segment (Beer-Lambert) */
-        st_lv3 a = ST_LV3_OF(l->absorb);
-        st_lf t = ST_LV(l->t);
-        st_lv3 att = st_lv3_make(exp(-a.x * t), exp(-a.y * t), exp(-a.z * t));
-        v.beta = st_lv3_select(v.beta, st_lv3_mul(v.beta, att), v.trans && *cos_o < 0.0f);
-    }
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);

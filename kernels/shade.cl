@@ -180,8 +180,11 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     l->emit_pdf[k] = s->light_pdf[h.prim];
     l->transmission[k] = a.transmission;
     if (a.transmission > 0.0f) {
-        set_lane3(l->absorb, k, a.absorb);
         *trans |= 1u << k;
+        /* met from inside: the medium absorbed along the segment (Beer-Lambert;
+         * the item's own exp, which a vector's lanes would round otherwise) */
+        if (dot(ng, d) > 0.0f)
+            set_lane3(l->beta, k, beta * exp(-a.absorb * h.t));
     }
     if (a.nmap.w > 0.0f) {
         set_lane3(l->nmap, k, a.nmap.xyz);

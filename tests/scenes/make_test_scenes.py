@@ -128,6 +128,14 @@ specgloss     the quad with KHR_materials_pbrSpecularGlossiness (required) in tw
               1), specular (0.2, 0.3, 0.4), glossiness 0.75), and glossiness 0.5
               with a 2 x 1 RGBA specularGlossinessTexture (RGB (10, 20, 30) A
               64 | RGB (200, 100, 50) A 255) and a diffuseTexture.
+glass_slab    a unit glass cube (KHR_materials_transmission 1, ior 1.5,
+              KHR_materials_volume attenuationColor 0.5 after 1) face-on to an
+              orthographic camera; glass_furnace: a smooth and a rough (0.5)
+              glass sphere side by side, nothing else; glass: a Lambertian
+              floor and wall under a quad light, a smooth glass sphere, a rough
+              one that absorbs and a half-transmissive tinted one of ior 1.33;
+              glass_mitsuba: the same without the light, the third sphere fully
+              transmissive and smooth (what Mitsuba's dielectrics match).
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -1098,10 +1106,24 @@ def write_glass():
             extensionsUsed=GLASS_EXTENSIONS[:1])
     write_json("glass_furnace.gltf", g)
 
+    tinted = dict(glass_material(roughness=0.2, base=(0.9, 0.7, 0.3), transmission=0.5),
+                  extensions={"KHR_materials_transmission": {"transmissionFactor": 0.5},
+                              "KHR_materials_ior": {"ior": 1.33}})
+    write_json("glass.gltf", glass_scene(tinted, light=True))
+    # what Mitsuba's dielectric and roughdielectric match: transmission 1, metallic 0
+    tinted = dict(glass_material(base=(0.9, 0.7, 0.3)),
+                  extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                              "KHR_materials_ior": {"ior": 1.33}})
+    write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
+
+
+def glass_scene(third, light):
+    """A Lambertian floor and back wall, a quad light above (where `light`),
+    a smooth glass sphere, a rough one with absorption and `third`."""
     b = Blob()
     lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
-    floor, wall, light = b.quad(0.0), b.quad(0.0), b.quad(0.0)
-    prims = [floor, wall, light] + [sphere_prim(b, 0.45) for _ in range(3)]
+    floor, wall, lamp = b.quad(0.0), b.quad(0.0), b.quad(0.0)
+    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45) for _ in range(3)]
     for k, p in enumerate(prims):
         p["material"] = k
     materials = [
@@ -1113,10 +1135,7 @@ def write_glass():
          "emissiveFactor": [1.0, 1.0, 1.0],
          "extensions": dict(lambert, KHR_materials_emissive_strength={"emissiveStrength": 6.0})},
         glass_material(),
-        glass_material(roughness=0.3, attenuation=((0.3, 0.6, 0.9), 0.5)),
-        dict(glass_material(roughness=0.2, base=(0.9, 0.7, 0.3), transmission=0.5),
-             extensions={"KHR_materials_transmission": {"transmissionFactor": 0.5},
-                         "KHR_materials_ior": {"ior": 1.33}})]
+        glass_material(roughness=0.3, attenuation=((0.3, 0.6, 0.9), 0.5)), third]
     r90 = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # +z normal to +y
     nodes = [{"mesh": 0, "rotation": r90, "scale": [2.0, 2.0, 1.0]},
              {"mesh": 1, "translation": [0.0, 1.0, -1.5], "scale": [2.0, 1.0, 1.0]},
@@ -1128,14 +1147,15 @@ def write_glass():
              {"mesh": 5, "translation": [1.0, 0.45, 0.0]},
              {"name": "camera", "camera": 0, "translation": [0.0, 1.2, 4.0],
               "rotation": [-0.0998, 0.0, 0.0, 0.995]}]
+    if not light:
+        del nodes[2]
     meshes = [{"primitives": [p]} for p in prims]
-    g = doc(meshes, b.accessors, b.views, b.buffers(), nodes=nodes,
-            scenes=[{"nodes": list(range(len(nodes)))}],
-            cameras=[{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}],
-            materials=materials,
-            extensionsUsed=GLASS_EXTENSIONS + ["KHR_materials_ior",
-                                               "KHR_materials_emissive_strength"])
-    write_json("glass.gltf", g)
+    return doc(meshes, b.accessors, b.views, b.buffers(), nodes=nodes,
+               scenes=[{"nodes": list(range(len(nodes)))}],
+               cameras=[{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}],
+               materials=materials,
+               extensionsUsed=GLASS_EXTENSIONS + ["KHR_materials_ior",
+                                                  "KHR_materials_emissive_strength"])
 
 
 def write_shade_mix():
