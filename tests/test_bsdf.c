@@ -20,6 +20,7 @@
 
 #include "bsdf.h"
 #include "bsdf_dielectric.h"
+#include "bsdf_coat.h"
 
 #define PI 3.14159265358979323846
 
@@ -307,16 +308,18 @@ static st_brdf glass(float c, float m, float r, float tr, float eta, st_dielectr
 /* Monte Carlo energy of the material towards wo: E[f |cos| / pdf] over the
  * whole sphere, the transmitted samples times η² (the radiance BTDF's
  * 1 / η² undone: what is left is the share of power that goes on). */
-static double sampled_energy(const st_brdf *b, const st_dielectric *d, st_dir wo, int n,
-                             double *se)
+static const st_coat no_coat = {0.0f, 0.5f};
+
+static double sampled_energy_coated(const st_brdf *b, const st_dielectric *d, const st_coat *c,
+                                    st_dir wo, int n, double *se)
 {
     uint64_t s = 21;
     double sum = 0.0, sum2 = 0.0;
     for (int i = 0; i < n; i++) {
         float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s), u3 = (float)next_unit(&s);
-        st_dir wi = st_bsdf_sample(b, d, wo, u1, u2, u3);
-        float f[3], pdf = st_bsdf_pdf(b, d, wo, wi);
-        st_bsdf_eval(b, d, wo, wi, f);
+        st_dir wi = st_coated_sample(b, d, c, wo, u1, u2, u3);
+        float f[3], pdf = st_coated_pdf(b, d, c, wo, wi);
+        st_coated_eval(b, d, c, wo, wi, f);
         double w = pdf > 0.0f && wi.z != 0.0f ? f[0] * fabs(wi.z) / pdf : 0.0;
         if (wi.z < 0.0f)
             w *= (double)d->eta * d->eta;
@@ -326,6 +329,12 @@ static double sampled_energy(const st_brdf *b, const st_dielectric *d, st_dir wo
     double mean = sum / n;
     *se = sqrt(fmax(0.0, sum2 / n - mean * mean) / n);
     return mean;
+}
+
+static double sampled_energy(const st_brdf *b, const st_dielectric *d, st_dir wo, int n,
+                             double *se)
+{
+    return sampled_energy_coated(b, d, &no_coat, wo, n, se);
 }
 
 /* A smooth white dielectric loses nothing: R + T = 1 from either side,
@@ -407,8 +416,8 @@ static st_dir mirror(st_dir w)
     return m;
 }
 
-/* Reciprocity: reflections f(wo, wi) = f(wi, wo); refractions, the
- * generalised form f(wo, wi) / η(wo)² = f(wi, wo) / η(wi)², i.e. with wo's
+/* Reciprocity, bare and under a clear coat: reflections f(wo, wi) =
+ * f(wi, wo); refractions, the generalised form f(wo, wi) / η(wo)² = f(wi, wo) / η(wi)², i.e. with wo's
  * side at 1, f(wo, wi; η) = f(mirror wi, mirror wo; 1 / η) / η². */
 static void dielectric_is_reciprocal(void **state)
 {
@@ -423,12 +432,15 @@ static void dielectric_is_reciprocal(void **state)
         st_brdf br = glass(c, 0.0f, r, 1.0f, 1.0f / eta, &dr);
         st_dir wo = dir_from(0.01 + 0.99 * next_unit(&s), 2 * PI * next_unit(&s));
         st_dir wi = dir_from(-1.0 + 2.0 * next_unit(&s), 2 * PI * next_unit(&s));
+        /* half of them under a clear coat (bsdf_coat.h) */
+        st_coat cc = st_coat_make(i % 2 ? (float)next_unit(&s) : 0.0f,
+                                  (float)(0.05 + next_unit(&s)));
         float f[3], g[3];
-        st_bsdf_eval(&b, &d, wo, wi, f);
+        st_coated_eval(&b, &d, &cc, wo, wi, f);
         if (wi.z > 0.0f) {
-            st_bsdf_eval(&b, &d, wi, wo, g);
+            st_coated_eval(&b, &d, &cc, wi, wo, g);
         } else {
-            st_bsdf_eval(&br, &dr, mirror(wi), mirror(wo), g);
+            st_coated_eval(&br, &dr, &cc, mirror(wi), mirror(wo), g);
             for (int k = 0; k < 3; k++)
                 g[k] /= eta * eta;
             refractions += f[0] > 0.0f;
@@ -444,17 +456,19 @@ static void dielectric_is_reciprocal(void **state)
 
 /* The mixture's pdf over the whole sphere (z in [-1, 1]) by the midpoint
  * rule: 1 less the share of samples lost (none for these). */
-static double sphere_pdf(const st_brdf *b, const st_dielectric *d, st_dir wo, int nz, int nphi)
+static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
+                         int nz, int nphi)
 {
     double sum = 0.0;
     for (int i = 0; i < nz; i++)
         for (int j = 0; j < nphi; j++)
-            sum += st_bsdf_pdf(b, d, wo,
+            sum += st_coated_pdf(b, d, c, wo,
                                dir_from(-1.0 + 2.0 * (i + 0.5) / nz, 2 * PI * (j + 0.5) / nphi));
     return sum * 4.0 * PI / ((double)nz * nphi);
 }
 
-/* Chi-square of st_bsdf_sample against st_bsdf_pdf over the sphere: SZ x
+/* Chi-square of st_coated_sample against st_coated_pdf (bare, coated, with
+ * and without transmission) over the sphere: SZ x
  * SPHI bins of equal solid angle in (cos θ in [-1, 1], φ), expected counts
  * from the pdf by SQ x SQ midpoint quadrature inside each bin (the refracted
  * peak is narrow), one more bin
@@ -467,29 +481,33 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, st_dir wo, in
 static void transmission_sampler_passes_chi_square(void **state)
 {
     (void)state;
-    const float params[][5] = {/* base, metallic, roughness, transmission, η */
-                               {1.0f, 0.0f, 0.3f, 1.0f, 1.5f},
-                               {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f},
-                               {0.7f, 0.2f, 0.6f, 0.6f, 1.33f},
-                               {0.9f, 0.0f, 0.8f, 1.0f, 2.0f}};
+    const float params[][7] = {/* base, metallic, roughness, transmission, η, coat, its roughness */
+                               {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f},
+                               {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f},
+                               {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f},
+                               {0.9f, 0.0f, 0.8f, 1.0f, 2.0f, 0.0f, 0.0f},
+                               {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f},
+                               {0.6f, 1.0f, 0.5f, 0.0f, 1.5f, 0.7f, 0.4f},
+                               {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.5f}};
     const double zs[] = {0.9, 0.35};
     const int n = 1000000;
     static double obs[SZ * SPHI + 1], expct[SZ * SPHI + 1];
-    for (int p = 0; p < 4; p++)
+    for (int p = 0; p < 7; p++)
         for (int k = 0; k < 2; k++) {
             st_dielectric d;
             st_brdf b = glass(params[p][0], params[p][1], params[p][2], params[p][3],
                               params[p][4], &d);
+            st_coat cc = st_coat_make(params[p][5], params[p][6]);
             st_dir wo = dir_from(zs[k], 0.5);
-            double integral = sphere_pdf(&b, &d, wo, 4000, 512);
+            double integral = sphere_pdf(&b, &d, &cc, wo, 4000, 512);
             double total = 0.0;
             for (int i = 0; i < SZ; i++)
                 for (int j = 0; j < SPHI; j++) {
                     double e = 0.0;
                     for (int a = 0; a < SQ; a++)
                         for (int c = 0; c < SQ; c++)
-                            e += st_bsdf_pdf(&b, &d, wo,
-                                             dir_from(-1.0 + 2.0 * (i + (a + 0.5) / SQ) / SZ,
+                            e += st_coated_pdf(&b, &d, &cc, wo,
+                                               dir_from(-1.0 + 2.0 * (i + (a + 0.5) / SQ) / SZ,
                                                       2 * PI * (j + (c + 0.5) / SQ) / SPHI));
                     expct[i * SPHI + j] = e / (SQ * SQ) * 4 * PI / (SZ * SPHI) * n;
                     obs[i * SPHI + j] = 0.0;
@@ -502,9 +520,9 @@ static void transmission_sampler_passes_chi_square(void **state)
             for (int i = 0; i < n; i++) {
                 float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s),
                       u3 = (float)next_unit(&s);
-                st_dir wi = st_bsdf_sample(&b, &d, wo, u1, u2, u3);
+                st_dir wi = st_coated_sample(&b, &d, &cc, wo, u1, u2, u3);
                 int bin = SZ * SPHI;
-                if (st_bsdf_pdf(&b, &d, wo, wi) > 0.0f) {
+                if (st_coated_pdf(&b, &d, &cc, wo, wi) > 0.0f) {
                     double phi = atan2(wi.y, wi.x);
                     int iz = (int)((wi.z + 1.0) / 2.0 * SZ),
                         ip = (int)((phi < 0 ? phi + 2 * PI : phi) / (2 * PI) * SPHI);
@@ -537,6 +555,42 @@ static void transmission_sampler_passes_chi_square(void **state)
         }
 }
 
+/* A clear coat over white bases reflects at most what it receives: over a
+ * Lambertian base, a white metal and smooth glass (R + T), from normal to
+ * grazing; a full coat over a black Lambertian base reflects exactly its
+ * own lobe, 0.04 at normal incidence when smooth (the coat's F0). */
+static void coat_furnace(void **state)
+{
+    (void)state;
+    const float bases[][5] = {/* base, metallic, roughness, transmission, specular */
+                              {1.0f, 0.0f, 1.0f, 0.0f, 0.0f},
+                              {1.0f, 1.0f, 0.0f, 0.0f, 1.0f},
+                              {1.0f, 1.0f, 0.5f, 0.0f, 1.0f},
+                              {1.0f, 0.0f, 0.0f, 1.0f, 1.0f}};
+    const double zs[] = {0.95, 0.5, 0.15};
+    for (int p = 0; p < 4; p++)
+        for (int k = 0; k < 3; k++)
+            for (int r = 0; r < 2; r++) {
+                const float base[3] = {1.0f, 1.0f, 1.0f};
+                st_dielectric d = st_dielectric_make(bases[p][3], bases[p][1], base, 1.5f, 1);
+                st_brdf b = st_brdf_make(base, bases[p][1], bases[p][2], bases[p][4], base, 1.5f,
+                                         bases[p][3]);
+                st_coat c = st_coat_make(1.0f, r ? 0.4f : 0.0f);
+                double se, a = sampled_energy_coated(&b, &d, &c, dir_from(zs[k], 0.3), 200000,
+                                                     &se);
+                if (!(a <= 1.0 + 5.0 * se + 2e-3) || !(a > 0.3))
+                    fail_msg("base %d, coat roughness %d, wo.z %g: energy %.5f +- %.5f", p, r,
+                             zs[k], a, se);
+            }
+    const float black[3] = {0.0f, 0.0f, 0.0f};
+    st_dielectric d = st_dielectric_make(0.0f, 0.0f, black, 1.5f, 1);
+    st_brdf b = st_brdf_make(black, 0.0f, 1.0f, 0.0f, black, 1.5f, 0.0f);
+    st_coat c = st_coat_make(1.0f, 0.0f);
+    double se, a = sampled_energy_coated(&b, &d, &c, dir_from(1.0, 0.0), 100000, &se);
+    if (fabs(a - 0.04) > 5.0 * se + 1e-3)
+        fail_msg("smooth coat over black: %.5f +- %.5f, want 0.04", a, se);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -553,6 +607,7 @@ int main(void)
         cmocka_unit_test(transmission_mixture_energy),
         cmocka_unit_test(dielectric_is_reciprocal),
         cmocka_unit_test(transmission_sampler_passes_chi_square),
+        cmocka_unit_test(coat_furnace),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
