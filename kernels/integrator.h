@@ -58,6 +58,7 @@ typedef struct st_vertex_in {
     int lkind[ST_W];
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
     float transmission[ST_W]; /* KHR_materials_transmission */
+    float coat[ST_W], coat_rough[ST_W]; /* KHR_materials_clearcoat */
 } st_vertex_in;
 
 #define ST_LV(a) ST_VLOAD(ST_W, a)
@@ -93,7 +94,7 @@ static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
 typedef struct st_material_at {
     float4 base, spec, nmap;
     float3 le, absorb;
-    float metallic, roughness, ior, normal_scale, transmission;
+    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough;
     st_u32 flags, alpha_mode;
     float alpha_cutoff;
 } st_material_at;
@@ -115,7 +116,9 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     a.alpha_cutoff = m->alpha_cutoff;
     a.normal_scale = m->normal_scale;
     a.transmission = m->transmission;
-    a.absorb = vload3(0, m->absorption);
+    a.absorb = a.transmission > 0.0f ? vload3(0, m->absorption) : (float3)(0.0f);
+    a.coat = m->clearcoat;
+    a.coat_rough = m->clearcoat_roughness;
     a.nmap = (float4)(0.0f);
     if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
@@ -125,7 +128,8 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
         m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
         m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
-        m->transmission_tex != ST_NO_TEXTURE) {
+        m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
+        m->clearcoat_roughness_tex != ST_NO_TEXTURE) {
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
         float b1 = h.u, b2 = h.v;
@@ -139,6 +143,8 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.spec.w *= tex_lookup(x, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
         a.spec.xyz *= tex_lookup(x, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
         a.transmission *= tex_lookup(x, m->transmission_tex, t, b1, b2, width, cos_nd, f).x;
+        a.coat *= tex_lookup(x, m->clearcoat_tex, t, b1, b2, width, cos_nd, f).x;
+        a.coat_rough *= tex_lookup(x, m->clearcoat_roughness_tex, t, b1, b2, width, cos_nd, f).y;
         if (m->normal_tex != ST_NO_TEXTURE)
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
@@ -330,10 +336,14 @@ typedef struct st_vertex {
     st_lv3 tu, tv;      /* the shading frame's tangents */
     st_lv3 albedo;      /* the Lambertian part's albedo ((1 - metallic) x base colour) */
     st_brdf brdf;       /* the glTF BRDF (bsdf.h), where glossy */
-    st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h), where transmissive */
+    st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h), where layered */
+    st_coat coat;       /* the clear coat (bsdf_coat.h), where layered */
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_li trans;        /* the lanes with transmission > 0 (a subset of glossy) */
+    st_li layered;      /* the lanes with transmission or a clear coat (a subset of glossy) */
+    st_u32 trans_bits;  /* trans as bits, lane k bit k: 0 skips their work */
+    st_u32 layer_bits;  /* layered as bits */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -376,9 +386,13 @@ ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li m
 }
 
 /* The surface at each lane's hit: position, normals (turned to the side
- * the ray arrived on), the shading frame and the BRDF where glossy. */
+ * the ray arrived on), the shading frame and the BRDF where glossy, with
+ * the transmission lobe where bit k of trans_bits is set (lane k has
+ * transmission > 0: vertex_gather) and the clear coat where coat_bits'
+ * is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_li miss, const st_shading *sh, st_lf *cos_o)
+                                st_u32 trans_bits, st_u32 coat_bits, st_li miss,
+                                const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
     st_lv3 d = ST_LV3_OF(l->d);
@@ -388,21 +402,26 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.ns = shading_normal(s, l, nmapped, v.ng);
     *cos_o = st_lv3_dot(v.ng, v.wo);
     v.beta = ST_LV3_OF(l->beta);
-    st_lf tr = ST_LV(l->transmission);
-    v.trans = tr > 0.0f && !miss;
+    v.trans_bits = trans_bits;
+    v.layer_bits = trans_bits | coat_bits;
+    v.trans = ST_BITS_MASK(ST_W, trans_bits);
+    v.layered = ST_BITS_MASK(ST_W, v.layer_bits);
+    st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_basis(v.ns, &v.tu, &v.tv);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
-    v.glossy = (metallic > 0.0f || specular > 0.0f || v.trans) && !miss;
+    v.glossy = (metallic > 0.0f || specular > 0.0f || v.layered) && !miss;
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
-        if (ST_ANY(ST_W, v.trans)) /* entering where the ray meets the front */
+        if (v.layer_bits) { /* entering where the ray meets the front */
             v.diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
+            v.coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
+        }
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
             v.glossy);
@@ -424,17 +443,17 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
     return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
 }
 
-/* Where a lane is transmissive, f[3] and *pdf (the BRDF's at li) become
- * the whole material's (bsdf_dielectric.h); the other lanes keep theirs
- * bit for bit. */
-ST_HOT void bsdf_with_transmission(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
+/* Where a lane is layered (transmissive or coated), f[3] and *pdf (the
+ * BRDF's at li) become the whole material's (bsdf_coat.h: the coat over
+ * bsdf_dielectric.h's material); the other lanes keep theirs bit for bit. */
+ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
 {
     st_lf ft[3];
-    st_bsdf_eval(&v->brdf, &v->diel, v->wo_local, li, ft);
-    st_lf pt = st_bsdf_pdf(&v->brdf, &v->diel, v->wo_local, li);
+    st_coated_eval(&v->brdf, &v->diel, &v->coat, v->wo_local, li, ft);
+    st_lf pt = st_coated_pdf(&v->brdf, &v->diel, &v->coat, v->wo_local, li);
     for (int k = 0; k < 3; k++)
-        f[k] = ST_SELECT(ST_W, f[k], ft[k], v->trans);
-    *pdf = ST_SELECT(ST_W, *pdf, pt, v->trans);
+        f[k] = ST_SELECT(ST_W, f[k], ft[k], v->layered);
+    *pdf = ST_SELECT(ST_W, *pdf, pt, v->layered);
 }
 
 /* f(wo, wi) cos θi for directions wi above the surface, and in *pdf the
@@ -449,8 +468,8 @@ ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
         st_lf fk[3];
         st_brdf_eval(&v->brdf, v->wo_local, li, fk);
         st_lf gp = st_brdf_pdf(&v->brdf, v->wo_local, li);
-        if (ST_ANY(ST_W, v->trans))
-            bsdf_with_transmission(v, li, fk, &gp);
+        if (v->layer_bits)
+            bsdf_with_layers(v, li, fk, &gp);
         *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
         f = st_lv3_select(f, st_lv3_scale(st_lv3_make(fk[0], fk[1], fk[2]), c), v->glossy);
     }
@@ -517,13 +536,14 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     st_lv3 weight = v->albedo;
     if (ST_ANY(ST_W, v->glossy)) {
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
-        if (ST_ANY(ST_W, v->trans))
-            g = st_lv3_select(g, st_bsdf_sample(&v->brdf, &v->diel, v->wo_local, u1, u2, u3),
-                              v->trans);
+        if (v->layer_bits)
+            g = st_lv3_select(
+                g, st_coated_sample(&v->brdf, &v->diel, &v->coat, v->wo_local, u1, u2, u3),
+                v->layered);
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);
-        if (ST_ANY(ST_W, v->trans))
-            bsdf_with_transmission(v, g, f, &gp);
+        if (v->layer_bits)
+            bsdf_with_layers(v, g, f, &gp);
         w = st_lv3_select(w, g, v->glossy);
         *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
         st_lf gz = ST_SELECT(ST_W, g.z, -g.z, v->trans && g.z < 0.0f);
@@ -533,7 +553,7 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     *cz = w.z;
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
-    if (ST_ANY(ST_W, v->trans)) {
+    if (v->trans_bits) {
         st_li through = v->trans && *cz < 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) < 0.0f;
         ok = ok || through;
         *pdf = ST_SELECT(ST_W, *pdf, ST_LF(0.0f), through);

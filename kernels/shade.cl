@@ -58,6 +58,7 @@
 #include "lights.h"
 #include "bsdf.h"
 #include "bsdf_dielectric.h"
+#include "bsdf_coat.h"
 #include "integrator.h"
 #include "shadow.h"
 
@@ -116,14 +117,15 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
  * path left alone; a ray that goes on through a cut-out and a
  * KHR_materials_unlit surface (its colour, from either side, and no more)
  * done here. Otherwise the lane's inputs are gathered (bit k of *miss set
- * for a ray that left the scene, of *nmapped for a normal-mapped surface)
+ * for a ray that left the scene, of *nmapped for a normal-mapped surface,
+ * of *trans for a transmissive one, of *coated for a clear-coated one)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
                          __global st_wave_ray *ray, __global const st_hit *hit,
                          __global st_path *path, __global st_shadow_ray *shadow,
                          __global const st_u32 *pmj02, st_vertex_in *l, st_u32 *miss,
-                         st_u32 *nmapped, st_u32 *trans)
+                         st_u32 *nmapped, st_u32 *trans, st_u32 *coated)
 {
     shadow[i].tmax = 0.0f;
     __global st_path *gp = &path[i];
@@ -179,6 +181,10 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     l->spec[3][k] = a.spec.w;
     l->emit_pdf[k] = s->light_pdf[h.prim];
     l->transmission[k] = a.transmission;
+    if (a.coat > 0.0f) {
+        l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
+        *coated |= 1u << k;
+    }
     if (a.transmission > 0.0f) {
         *trans |= 1u << k;
         /* met from inside: the medium absorbed along the segment (Beer-Lambert;
@@ -197,16 +203,17 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
 
 /* What the lanes leave for each lane to store (vertex_store). */
 typedef struct st_vertex_out {
-    float rad[3][ST_W], beta[3][ST_W], origin[3][ST_W], next_o[3][ST_W];
+    float rad[3][ST_W], beta[3][ST_W], origin[3][ST_W];
+    float next_o[3][ST_W]; /* a refracted ray's origin, on the other side (bits `refracted`) */
     float shadow_d[3][ST_W], contribution[3][ST_W], tmax[ST_W]; /* the shadow ray */
     float next_d[3][ST_W], bsdf_pdf[ST_W], env_pdf[ST_W];      /* the next ray */
 } st_vertex_out;
 
 /* Lane k's results into item i: the radiance; the shadow ray (where
- * `shadowed`); the next ray and the path one vertex deeper (where `goes`),
- * else the path ended. */
+ * `shadowed`); the next ray and the path one vertex deeper (where `goes`;
+ * from the other side where `refracted`), else the path ended. */
 ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i, st_u32 k,
-                         int shadowed, int goes, __global st_wave_ray *ray,
+                         int shadowed, int goes, int refracted, __global st_wave_ray *ray,
                          __global st_path *path, __global st_shadow_ray *shadow)
 {
     __global st_path *gp = &path[i];
@@ -227,7 +234,8 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
     gp->bsdf_pdf = o->bsdf_pdf[k];
     gp->env_pdf = o->env_pdf[k];
     gp->depth = l->depth[k] + 1u;
-    ray_store(&ray[i], lane3(o->next_o, k), lane3(o->next_d, k), l->travelled[k]);
+    ray_store(&ray[i], refracted ? lane3(o->next_o, k) : origin, lane3(o->next_d, k),
+              l->travelled[k]);
 }
 
 /* One vertex of items first .. first + n - 1 (n <= ST_W), lane k item
@@ -241,19 +249,20 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
                         __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};
-    st_u32 live = 0u, miss = 0u, nmapped = 0u, trans = 0u;
+    st_u32 live = 0u, miss = 0u, nmapped = 0u, trans = 0u, coated = 0u;
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
-                                      pmj02, &l, &miss, &nmapped, &trans) << k;
+                                      pmj02, &l, &miss, &nmapped, &trans, &coated) << k;
     if (!live)
         return;
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(&l, trans != 0u);
     st_li missed = ST_BITS_MASK(ST_W, miss);
     st_lf cos_o;
-    st_vertex v = vertex_surface(s, &l, nmapped, missed, sh, &cos_o);
+    st_vertex v = vertex_surface(s, &l, nmapped, trans, coated, missed, sh, &cos_o);
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
+    st_u32 refracted = 0u;
     st_vertex_out o;
     lv3_store(v.rad, o.rad);
     if (scatters) {
@@ -269,22 +278,21 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
         st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), ST_LV(l.u[4]), &wi, &pdf, &cz);
         on = on && roulette(&v, depth, ST_LV(l.u[5]));
         goes = ST_MASK_BITS(ST_W, on) & scatters;
-        /* a refracted ray goes on from the other side, where no uniform
-         * environment's light sample reaches (env_pdf 0) */
-        st_lv3 next_o = origin;
-        if (trans)
-            next_o = st_lv3_select(origin, st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)),
-                                   cz < 0.0f);
-        lv3_store(next_o, o.next_o);
         lv3_store(v.beta, o.beta);
         lv3_store(wi, o.next_d);
         ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
-        ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o.env_pdf);
+        ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
+        if (trans) { /* a refracted ray goes on from the other side, where no
+                      * uniform environment's light sample reaches (env_pdf 0) */
+            refracted = ST_MASK_BITS(ST_W, cz < 0.0f) & goes;
+            lv3_store(st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)), o.next_o);
+            ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o.env_pdf);
+        }
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)
-            vertex_store(&o, &l, first + k, k, (scatters >> k) & 1u, (goes >> k) & 1u, ray, path,
-                         shadow);
+            vertex_store(&o, &l, first + k, k, (scatters >> k) & 1u, (goes >> k) & 1u,
+                         (refracted >> k) & 1u, ray, path, shadow);
 }
 
 /* The stage kernels' ST_W items per work-item: work-item g shades items

@@ -8,6 +8,7 @@
  * §3.7.2.2 morph targets, §3.7.3 skins, and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
  * KHR_materials_transmission, KHR_materials_volume (attenuation),
+ * KHR_materials_clearcoat (no clearcoatNormalTexture),
  * KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness (converted),
  * KHR_texture_transform, KHR_mesh_quantization, KHR_lights_punctual and
  * EXT_mesh_gpu_instancing.
@@ -314,7 +315,7 @@ const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
     "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
     "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness",
-    "KHR_materials_transmission", "KHR_materials_volume"};
+    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat"};
 
 bool supported(const char *ext)
 {
@@ -2022,6 +2023,36 @@ void read_transmission_volume(const Model &m, size_t i, texture_table &table, no
     }
 }
 
+/* KHR_materials_clearcoat of material i: clearcoatFactor and
+ * clearcoatRoughnessFactor (0, 0) with their textures (R and G, linear).
+ * clearcoatNormalTexture is not read: the coat takes the base's shading
+ * normal (a warning). */
+void read_clearcoat(const Model &m, size_t i, texture_table &table, notes &warn,
+                    st_gltf_material &o)
+{
+    o.clearcoat = o.clearcoat_roughness = 0.0f;
+    o.clearcoat_tex = o.clearcoat_roughness_tex = -1;
+    auto cc = m.materials[i].extensions.find("KHR_materials_clearcoat");
+    if (cc == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = cc->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_clearcoat", i);
+    o.clearcoat = float(ext_number(v, "clearcoatFactor", 0.0, what));
+    o.clearcoat_roughness = float(ext_number(v, "clearcoatRoughnessFactor", 0.0, what));
+    if (!(o.clearcoat >= 0.0f && o.clearcoat <= 1.0f) ||
+        !(o.clearcoat_roughness >= 0.0f && o.clearcoat_roughness <= 1.0f))
+        fail("%s: clearcoatFactor and clearcoatRoughnessFactor must lie in [0, 1]", what);
+    o.clearcoat_tex = texture_ref(m, ext_texture_info(v, "clearcoatTexture", what), false, i,
+                                  "clearcoatTexture", table, warn);
+    o.clearcoat_roughness_tex =
+        texture_ref(m, ext_texture_info(v, "clearcoatRoughnessTexture", what), false, i,
+                    "clearcoatRoughnessTexture", table, warn);
+    if (v.IsObject() && v.Has("clearcoatNormalTexture"))
+        note(warn, "%s: clearcoatNormalTexture is not read (the coat takes the base's normal)",
+                 what);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -2152,6 +2183,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
                                            "metallicRoughnessTexture", table, warn);
     read_specular_ior_unlit(m, i, table, warn, o);
     read_transmission_volume(m, i, table, warn, o);
+    read_clearcoat(m, i, table, warn, o);
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;

@@ -52,6 +52,8 @@ typedef struct st_gltf_material {
     int transmission_tex;  /* its transmissionTexture (R) */
     float attenuation[4];  /* KHR_materials_volume: attenuationColor RGB (1) and
                               attenuationDistance (+infinity) */
+    float clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors (0, 0) */
+    int clearcoat_tex, clearcoat_roughness_tex; /* clearcoatTexture (R), ..RoughnessTexture (G) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

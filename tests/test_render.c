@@ -666,6 +666,40 @@ static void glass_furnace(void **state)
     st_image_free(&img);
 }
 
+/* A full smooth clear coat (KHR_materials_clearcoat, ior 1.5) over a black
+ * Lambertian base reflects the coat's Fresnel alone, F0 = 0.04 face-on: in
+ * a uniform environment of radiance 1 an orthographic camera sees 0.04
+ * (tests/scenes/coat_quad.gltf, left quad); over a white base (right) the
+ * coat and what the base returns through it stay below 1 and above what
+ * the base would return through the coat if the coat took F90 everywhere
+ * (0.04 + 0.96 x 0.5). Breaks with a coat that is not added, or that adds
+ * without taking from the base. */
+static void coat_matches_its_fresnel(void **state)
+{
+    (void)state;
+    st_render_options o = small(32, 16, 256);
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    o.integrator = ST_INTEGRATOR_PATH;
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    st_image img = render("tests/scenes/coat_quad.gltf", &o, NULL);
+    double black = 0.0, white = 0.0;
+    for (st_u32 y = 2; y < 14; y++)
+        for (st_u32 x = 2; x < 30; x++) {
+            if (x >= 14 && x < 18)
+                continue;
+            double v = img.data[4 * (y * 32 + x) + 1];
+            if (x < 16)
+                black += v;
+            else
+                white += v;
+        }
+    black /= 12 * 12, white /= 12 * 12;
+    if (fabs(black - 0.04) > 0.002 || !(white < 1.0) || !(white > 0.52))
+        fail_msg("coat over black %.5f (0.04), over white %.5f (0.52 .. 1)", black, white);
+    st_image_free(&img);
+}
+
 /* The default scene against tests/golden/cornell-box-48.exr (made by
  * `strata render --width 48 --height 48 --spp 16 --seed 7 -o ...` when the
  * renderer was checked by eye and by the tests above). RMSE below 0.01 (the
@@ -693,6 +727,7 @@ int main(void)
         cmocka_unit_test(bvh_device_closest_equals_brute_force),
         cmocka_unit_test(glass_slab_matches_closed_form),
         cmocka_unit_test(glass_furnace),
+        cmocka_unit_test(coat_matches_its_fresnel),
         cmocka_unit_test(bvh_device_closest_equals_brute_force_one_sided),
         cmocka_unit_test(render_same_bits_twice),
         cmocka_unit_test(one_renderer_many_views),

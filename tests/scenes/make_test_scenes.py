@@ -136,6 +136,10 @@ glass_slab    a unit glass cube (KHR_materials_transmission 1, ior 1.5,
               one that absorbs and a half-transmissive tinted one of ior 1.33;
               glass_mitsuba: the same without the light, the third sphere fully
               transmissive and smooth (what Mitsuba's dielectrics match).
+coat_quad     two quads face-on to an orthographic camera, Lambertian black
+              (left) and white (right) under a full smooth clear coat; coat:
+              glass's floor, wall and light with a coated red Lambertian
+              sphere, a coated rough gold one and coated glass.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -1117,6 +1121,45 @@ def write_glass():
     write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
 
 
+def write_coat():
+    """coat_quad: two quads side by side face-on to an orthographic camera,
+    both Lambertian (specularFactor 0) under a full smooth clear coat: black
+    (left) and white (right). coat: glass.gltf's floor, wall and light with
+    three coated spheres: a red Lambertian base (coat 1, roughness 0), a
+    rough gold metal (coat 0.7, roughness 0.3) and glass (coat 0.5, 0.1)."""
+    b = Blob()
+    left, right = b.quad(0.0), b.quad(0.0)
+    left["material"], right["material"] = 0, 1
+
+    def coated(rgb, coat=1.0, rough=0.0, metallic=0.0, roughness=1.0, extra=None):
+        ext = {"KHR_materials_clearcoat": {"clearcoatFactor": coat,
+                                           "clearcoatRoughnessFactor": rough}}
+        if metallic == 0.0 and extra is None:
+            ext["KHR_materials_specular"] = {"specularFactor": 0.0}
+        ext.update(extra or {})
+        return {"pbrMetallicRoughness": {"baseColorFactor": list(rgb) + [1.0],
+                                         "metallicFactor": metallic,
+                                         "roughnessFactor": roughness},
+                "extensions": ext}
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0]},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0]}, ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[coated((0.0, 0.0, 0.0)), coated((1.0, 1.0, 1.0))],
+            extensionsUsed=["KHR_materials_clearcoat", "KHR_materials_specular"])
+    write_json("coat_quad.gltf", g)
+    glass = coated((1.0, 1.0, 1.0), 0.5, 0.1, roughness=0.0,
+                   extra={"KHR_materials_transmission": {"transmissionFactor": 1.0}})
+    g = glass_scene(glass, light=True)
+    g["materials"][3] = coated((0.8, 0.1, 0.1))
+    g["materials"][4] = coated((1.0, 0.8, 0.4), 0.7, 0.3, metallic=1.0, roughness=0.5)
+    g["extensionsUsed"].append("KHR_materials_clearcoat")
+    write_json("coat.gltf", g)
+
+
 def glass_scene(third, light):
     """A Lambertian floor and back wall, a quad light above (where `light`),
     a smooth glass sphere, a rough one with absorption and `third`."""
@@ -1371,6 +1414,7 @@ def main():
     write_shadows()
     write_shade_mix()
     write_glass()
+    write_coat()
     write_quantized()
     write_bad()
 
