@@ -17,8 +17,13 @@
  *          maxdepth; Mitsuba's max_depth is one more): direct is a path of
  *          max_depth 1.
  * Materials: the glTF metallic-roughness BRDF (bsdf.h; a Lambertian one,
- * specularFactor 0, takes the cheap cosine path), its factors times their
- * textures (texture.h); KHR_materials_unlit shows its base colour from
+ * specularFactor 0, takes the cheap cosine path), with transmission
+ * (bsdf_dielectric.h: the path refracts and goes on from the other side;
+ * KHR_materials_volume's absorption on the segments inside) and a clear
+ * coat (bsdf_coat.h) where the material has them, its factors times their
+ * textures (texture.h). Next-event estimation samples lights on the side
+ * the ray arrived from only; a refracted BSDF sample's emission takes MIS
+ * weight 1 (bsdf_pdf 0: no light sample makes it). KHR_materials_unlit shows its base colour from
  * either side and ends the path; emitters are one-sided on the side their
  * shading normals face. Alpha MASK cut-outs and
  * BLEND (as stochastic coverage: a ray passes with probability 1 - alpha)
