@@ -329,6 +329,13 @@ static void light_gather(const st_scene_refs *s, const st_params *p, const st_sh
 
 /* ---- the lanes' arithmetic ------------------------------------------------ */
 
+/* The layers of ST_W surface points, where some lane has them (kept out of
+ * st_vertex, so that a vertex without them stays as small as before). */
+typedef struct st_layers {
+    st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h) */
+    st_coat coat;       /* the clear coat (bsdf_coat.h) */
+} st_layers;
+
 /* What the steps know of ST_W surface points. */
 typedef struct st_vertex {
     st_lv3 pos, wo;     /* the points, and the directions back along the rays */
@@ -336,8 +343,7 @@ typedef struct st_vertex {
     st_lv3 tu, tv;      /* the shading frame's tangents */
     st_lv3 albedo;      /* the Lambertian part's albedo ((1 - metallic) x base colour) */
     st_brdf brdf;       /* the glTF BRDF (bsdf.h), where glossy */
-    st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h), where layered */
-    st_coat coat;       /* the clear coat (bsdf_coat.h), where layered */
+    st_layers *lay;     /* the layers, where layered (layer_bits) */
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_li trans;        /* the lanes with transmission > 0 (a subset of glossy) */
@@ -391,7 +397,7 @@ ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li m
  * transmission > 0: vertex_gather) and the clear coat where coat_bits'
  * is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_u32 trans_bits, st_u32 coat_bits, st_li miss,
+                                st_u32 trans_bits, st_u32 coat_bits, st_layers *lay, st_li miss,
                                 const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
@@ -402,6 +408,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.ns = shading_normal(s, l, nmapped, v.ng);
     *cos_o = st_lv3_dot(v.ng, v.wo);
     v.beta = ST_LV3_OF(l->beta);
+    v.lay = lay;
     v.trans_bits = trans_bits;
     v.layer_bits = trans_bits | coat_bits;
     v.trans = ST_BITS_MASK(ST_W, trans_bits);
@@ -419,8 +426,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
         if (v.layer_bits) { /* entering where the ray meets the front */
-            v.diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
-            v.coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
+            lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
+            lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
         }
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
@@ -449,8 +456,8 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
 ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
 {
     st_lf ft[3];
-    st_coated_eval(&v->brdf, &v->diel, &v->coat, v->wo_local, li, ft);
-    st_lf pt = st_coated_pdf(&v->brdf, &v->diel, &v->coat, v->wo_local, li);
+    st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
+    st_lf pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
     for (int k = 0; k < 3; k++)
         f[k] = ST_SELECT(ST_W, f[k], ft[k], v->layered);
     *pdf = ST_SELECT(ST_W, *pdf, pt, v->layered);
@@ -538,7 +545,7 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
         if (v->layer_bits)
             g = st_lv3_select(
-                g, st_coated_sample(&v->brdf, &v->diel, &v->coat, v->wo_local, u1, u2, u3),
+                g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, u1, u2, u3),
                 v->layered);
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);

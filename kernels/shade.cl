@@ -114,23 +114,29 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 {
     st_lu key = ST_LV(l->key), dim = 2u + ST_DIMS_PER_VERTEX * ST_LV(l->depth);
     for (st_u32 j = 0; j < 6u; j++)
-        if (j != 4u || transmissive)
+        if (j != 4u)
             ST_VSTORE(ST_W, rng_unit_lanes(key, dim + j), l->u[j]);
+    if (transmissive)
+        ST_VSTORE(ST_W, rng_unit_lanes(key, dim + 4u), l->u[4]);
 }
+
+/* The lanes' kinds, lane k bit k (vertex_gather sets them). */
+typedef struct st_lane_bits {
+    st_u32 miss, nmapped, trans, coated;
+} st_lane_bits;
 
 /* Lane k's part of the vertex of item i: the shadow ray cleared; a dead
  * path left alone; a ray that goes on through a cut-out and a
  * KHR_materials_unlit surface (its colour, from either side, and no more)
- * done here. Otherwise the lane's inputs are gathered (bit k of *miss set
- * for a ray that left the scene, of *nmapped for a normal-mapped surface,
- * of *trans for a transmissive one, of *coated for a clear-coated one)
+ * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
+ * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
+ * of b->trans for a transmissive one, of b->coated for a clear-coated one)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
                          __global st_wave_ray *ray, __global const st_hit *hit,
                          __global st_path *path, __global st_shadow_ray *shadow,
-                         __global const st_u32 *pmj02, st_vertex_in *l, st_u32 *miss,
-                         st_u32 *nmapped, st_u32 *trans, st_u32 *coated)
+                         __global const st_u32 *pmj02, st_vertex_in *l, st_lane_bits *b)
 {
     shadow[i].tmax = 0.0f;
     __global st_path *gp = &path[i];
@@ -152,7 +158,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
             le = env_radiance(s, sh, d, &pdf);
         set_lane3(l->le, k, le);
         l->emit_pdf[k] = pdf * env_choice(sh);
-        *miss |= 1u << k;
+        b->miss |= 1u << k;
         return 1;
     }
     float travelled = r->path_length + h.t;
@@ -188,10 +194,10 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     l->transmission[k] = a.transmission;
     if (a.coat > 0.0f) {
         l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
-        *coated |= 1u << k;
+        b->coated |= 1u << k;
     }
     if (a.transmission > 0.0f) {
-        *trans |= 1u << k;
+        b->trans |= 1u << k;
         /* met from inside: the medium absorbed along the segment (Beer-Lambert;
          * the item's own exp, which a vector's lanes would round otherwise) */
         if (dot(ng, d) > 0.0f)
@@ -200,7 +206,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     if (a.nmap.w > 0.0f) {
         set_lane3(l->nmap, k, a.nmap.xyz);
         l->nscale[k] = a.normal_scale;
-        *nmapped |= 1u << k;
+        b->nmapped |= 1u << k;
     }
     dims_gather(p, smp, pmj02, depth, k, a.transmission > 0.0f, l);
     return 1;
@@ -214,24 +220,30 @@ typedef struct st_vertex_out {
     float next_d[3][ST_W], bsdf_pdf[ST_W], env_pdf[ST_W];      /* the next ray */
 } st_vertex_out;
 
+/* What vertex_store does for a lane (bits of its `what`). */
+#define ST_STORE_SHADOWED 1u /* a shadow ray */
+#define ST_STORE_GOES 2u     /* the next ray */
+#define ST_STORE_REFRACTED 4u /* ..., which starts on the other side */
+
 /* Lane k's results into item i: the radiance; the shadow ray (where
- * `shadowed`); the next ray and the path one vertex deeper (where `goes`;
- * from the other side where `refracted`), else the path ended. */
+ * `what` has ST_STORE_SHADOWED); the next ray and the path one vertex
+ * deeper (ST_STORE_GOES; from the other side with ST_STORE_REFRACTED),
+ * else the path ended. */
 ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i, st_u32 k,
-                         int shadowed, int goes, int refracted, __global st_wave_ray *ray,
+                         st_u32 what, __global st_wave_ray *ray,
                          __global st_path *path, __global st_shadow_ray *shadow)
 {
     __global st_path *gp = &path[i];
     vstore3(lane3(o->rad, k), 0, gp->radiance);
     float3 origin = lane3(o->origin, k);
-    if (shadowed && o->tmax[k] > 0.0f) {
+    if ((what & ST_STORE_SHADOWED) && o->tmax[k] > 0.0f) {
         __global st_shadow_ray *sr = &shadow[i];
         vstore3(origin, 0, sr->o);
         sr->tmax = o->tmax[k];
         vstore3(lane3(o->shadow_d, k), 0, sr->d);
         vstore3(lane3(o->contribution, k), 0, sr->contribution);
     }
-    if (!goes) {
+    if (!(what & ST_STORE_GOES)) {
         gp->depth = ST_PATH_DEAD;
         return;
     }
@@ -239,7 +251,8 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
     gp->bsdf_pdf = o->bsdf_pdf[k];
     gp->env_pdf = o->env_pdf[k];
     gp->depth = l->depth[k] + 1u;
-    ray_store(&ray[i], refracted ? lane3(o->next_o, k) : origin, lane3(o->next_d, k),
+    float3 from = (what & ST_STORE_REFRACTED) ? lane3(o->next_o, k) : origin;
+    ray_store(&ray[i], from, lane3(o->next_d, k),
               l->travelled[k]);
 }
 
@@ -254,17 +267,20 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
                         __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};
-    st_u32 live = 0u, miss = 0u, nmapped = 0u, trans = 0u, coated = 0u;
+    st_u32 live = 0u;
+    st_lane_bits b = {0u, 0u, 0u, 0u};
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
-                                      pmj02, &l, &miss, &nmapped, &trans, &coated) << k;
+                                      pmj02, &l, &b) << k;
+    st_u32 miss = b.miss, trans = b.trans;
     if (!live)
         return;
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(&l, trans != 0u);
     st_li missed = ST_BITS_MASK(ST_W, miss);
     st_lf cos_o;
-    st_vertex v = vertex_surface(s, &l, nmapped, trans, coated, missed, sh, &cos_o);
+    st_layers lay;
+    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, &lay, missed, sh, &cos_o);
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
     st_u32 refracted = 0u;
@@ -296,8 +312,11 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)
-            vertex_store(&o, &l, first + k, k, (scatters >> k) & 1u, (goes >> k) & 1u,
-                         (refracted >> k) & 1u, ray, path, shadow);
+            vertex_store(&o, &l, first + k, k,
+                         ((scatters >> k) & 1u) * ST_STORE_SHADOWED +
+                             ((goes >> k) & 1u) * ST_STORE_GOES +
+                             ((refracted >> k) & 1u) * ST_STORE_REFRACTED,
+                         ray, path, shadow);
 }
 
 /* The stage kernels' ST_W items per work-item: work-item g shades items
