@@ -346,10 +346,8 @@ typedef struct st_vertex {
     st_layers *lay;     /* the layers, where layered (layer_bits) */
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
-    st_li trans;        /* the lanes with transmission > 0 (a subset of glossy) */
-    st_li layered;      /* the lanes with transmission or a clear coat (a subset of glossy) */
-    st_u32 trans_bits;  /* trans as bits, lane k bit k: 0 skips their work */
-    st_u32 layer_bits;  /* layered as bits */
+    st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
+    st_u32 layer_bits;  /* the lanes with transmission or a clear coat (subsets of glossy) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -411,15 +409,15 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.lay = lay;
     v.trans_bits = trans_bits;
     v.layer_bits = trans_bits | coat_bits;
-    v.trans = ST_BITS_MASK(ST_W, trans_bits);
-    v.layered = ST_BITS_MASK(ST_W, v.layer_bits);
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_basis(v.ns, &v.tu, &v.tv);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
-    v.glossy = (metallic > 0.0f || specular > 0.0f || v.layered) && !miss;
+    v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
+    if (v.layer_bits)
+        v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits);
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
@@ -458,9 +456,10 @@ ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf
     st_lf ft[3];
     st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
     st_lf pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
+    st_li layered = ST_BITS_MASK(ST_W, v->layer_bits);
     for (int k = 0; k < 3; k++)
-        f[k] = ST_SELECT(ST_W, f[k], ft[k], v->layered);
-    *pdf = ST_SELECT(ST_W, *pdf, pt, v->layered);
+        f[k] = ST_SELECT(ST_W, f[k], ft[k], layered);
+    *pdf = ST_SELECT(ST_W, *pdf, pt, layered);
 }
 
 /* f(wo, wi) cos θi for directions wi above the surface, and in *pdf the
@@ -546,14 +545,14 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
         if (v->layer_bits)
             g = st_lv3_select(
                 g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, u1, u2, u3),
-                v->layered);
+                ST_BITS_MASK(ST_W, v->layer_bits));
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);
         if (v->layer_bits)
             bsdf_with_layers(v, g, f, &gp);
         w = st_lv3_select(w, g, v->glossy);
         *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
-        st_lf gz = ST_SELECT(ST_W, g.z, -g.z, v->trans && g.z < 0.0f);
+        st_lf gz = ST_SELECT(ST_W, g.z, -g.z, g.z < 0.0f); /* refracted (transmissive lanes) */
         weight = st_lv3_select(weight, st_lv3_scale(st_lv3_make(f[0], f[1], f[2]), gz / gp),
                                v->glossy);
     }
@@ -561,7 +560,7 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
     if (v->trans_bits) {
-        st_li through = v->trans && *cz < 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) < 0.0f;
+        st_li through = ST_BITS_MASK(ST_W, v->trans_bits) && *cz < 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) < 0.0f;
         ok = ok || through;
         *pdf = ST_SELECT(ST_W, *pdf, ST_LF(0.0f), through);
     }
