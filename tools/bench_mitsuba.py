@@ -8,7 +8,9 @@ by Mitsuba 3, for comparison; not a test.
 render reads the glTF scene with tools/gltf_scene.py and builds the same
 scene for Mitsuba (the glTF is not Mitsuba's format): each primitive a mesh
 with flat (face) normals and a `diffuse` BSDF of its base colour (the bench
-scene's materials are Lambertian: specularFactor 0, roughness 1), an
+scene's materials are Lambertian: specularFactor 0, roughness 1; a
+transmissive one a dielectric: glass_dict), with the file's vertex normals
+where it has them, an
 emissive one an `area` emitter of radiance emissiveFactor x emissiveStrength
 (one-sided, on the side the vertices run counter-clockwise, as glTF's and
 Mitsuba's front); the camera node's `perspective` sensor of the same
@@ -37,7 +39,8 @@ wrong light or material) or when the block RMSE exceeds twice the noise's
 share (per-pixel RMSE / 16; a moved or mirrored camera keeps the means).
 Usage: python3 tools/bench_mitsuba.py render SCENE.gltf path|direct [OUT.exr]
        python3 tools/bench_mitsuba.py compare A.exr B.exr
-       (environment: WIDTH, HEIGHT, SPP, RUNS, SEED, VARIANT, TOL)
+       (environment: WIDTH, HEIGHT, SPP, RUNS, SEED, VARIANT, TOL, MAX_DEPTH (strata's
+       --max-depth, 4), ENV (R,G,B: a uniform environment, strata's --env))
 """
 import json
 import math
@@ -54,25 +57,62 @@ import gltf_scene
 LIBLLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
 
 
-def write_ply(path, triangles):
-    """Binary PLY of unshared vertices (3 per triangle), as Mitsuba reads it."""
+def write_ply(path, triangles, normals=None):
+    """Binary PLY of unshared vertices (3 per triangle), with their normals
+    where given, as Mitsuba reads it."""
     n = len(triangles)
-    head = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\n"
-            "property float x\nproperty float y\nproperty float z\n"
-            "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (3 * n, n))
+    props = "property float x\nproperty float y\nproperty float z\n"
+    verts = triangles.reshape(-1, 3)
+    if normals is not None:
+        props += "property float nx\nproperty float ny\nproperty float nz\n"
+        verts = np.concatenate([verts, normals.reshape(-1, 3)], axis=1)
+    head = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\n%s"
+            "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (
+                3 * n, props, n))
     faces = np.zeros(n, dtype=[("k", "u1"), ("i", "<i4", 3)])
     faces["k"] = 3
     faces["i"] = np.arange(3 * n, dtype=np.int32).reshape(n, 3)
     with open(path, "wb") as f:
         f.write(head.encode())
-        f.write(triangles.astype("<f4").tobytes())
+        f.write(verts.astype("<f4").tobytes())
         f.write(faces.tobytes())
+
+
+def glass_dict(m, rgb):
+    """KHR_materials_transmission at factor 1 on a dielectric (metallic 0)
+    as Mitsuba's `dielectric` (roughness 0) or `roughdielectric` (GGX, alpha
+    roughness², visible normals), the ior of KHR_materials_ior (1.5), the
+    base colour as the transmittance; KHR_materials_volume's attenuation as
+    a purely absorbing `homogeneous` medium inside (sigma_t = -ln(colour) /
+    distance), which needs the `volpath` integrator."""
+    ext = m.get("extensions", {})
+    pbr = m.get("pbrMetallicRoughness", {})
+    if ext["KHR_materials_transmission"].get("transmissionFactor", 0.0) != 1.0 or \
+            pbr.get("metallicFactor", 1.0) != 0.0:
+        sys.exit("bench_mitsuba: only transmissionFactor 1 on metallic 0 has a Mitsuba match")
+    r = pbr.get("roughnessFactor", 1.0)
+    bsdf = {"type": "dielectric" if r == 0.0 else "roughdielectric",
+            "int_ior": ext.get("KHR_materials_ior", {}).get("ior", 1.5), "ext_ior": 1.0,
+            "specular_transmittance": {"type": "rgb", "value": rgb}}
+    if r > 0.0:
+        bsdf.update(distribution="ggx", alpha=r * r)
+    shape = {"bsdf": bsdf}
+    vol = ext.get("KHR_materials_volume")
+    if vol and "attenuationDistance" in vol:
+        sigma = [-math.log(max(c, 1e-30)) / vol["attenuationDistance"]
+                 for c in vol.get("attenuationColor", [1, 1, 1])]
+        top = max(max(sigma), 1e-30)  # an RGB value must lie in [0, 1]: scaled
+        shape["interior"] = {"type": "homogeneous", "albedo": 0.0, "scale": top,
+                             "sigma_t": {"type": "rgb", "value": [c / top for c in sigma]}}
+    return shape
 
 
 def material_dict(m):
     """A glTF material as Mitsuba's BSDF (and area emitter, if it emits)."""
     pbr = m.get("pbrMetallicRoughness", {})
     rgb = pbr.get("baseColorFactor", [1, 1, 1, 1])[:3]
+    if "KHR_materials_transmission" in m.get("extensions", {}):
+        return glass_dict(m, rgb)
     shape = {"bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": rgb}}}
     strength = m.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get(
         "emissiveStrength", 1.0)
@@ -94,9 +134,10 @@ def sensor_dict(mi, camera, width, height, spp):
                      "pixel_format": "rgb", "rfilter": {"type": "box"}}}
 
 
-def integrator_dict(kind):
-    if kind == "path":
-        return {"type": "path", "max_depth": 5, "rr_depth": 3}
+def integrator_dict(kind, media):
+    if kind == "path":  # MAX_DEPTH: strata's --max-depth (Mitsuba counts one more)
+        return {"type": "volpath" if media else "path",
+                "max_depth": int(os.environ.get("MAX_DEPTH", 4)) + 1, "rr_depth": 3}
     return {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1}
 
 
@@ -104,13 +145,18 @@ def scene_dict(mi, path, kind, folder, width, height, spp):
     prims, camera = gltf_scene.load(path)
     if camera is None:
         sys.exit("bench_mitsuba: %s: no camera node" % path)
-    d = {"type": "scene", "integrator": integrator_dict(kind),
-         "sensor": sensor_dict(mi, camera, width, height, spp)}
+    d = {"type": "scene", "sensor": sensor_dict(mi, camera, width, height, spp)}
+    media = False
     for k, p in enumerate(prims):
         ply = os.path.join(folder, "mesh%d.ply" % k)
-        write_ply(ply, p.triangles)
-        d["mesh%d" % k] = {"type": "ply", "filename": ply, "face_normals": True,
+        write_ply(ply, p.triangles, p.normals)
+        d["mesh%d" % k] = {"type": "ply", "filename": ply, "face_normals": p.normals is None,
                            **material_dict(p.material)}
+        media = media or "interior" in d["mesh%d" % k]
+    d["integrator"] = integrator_dict(kind, media)
+    if "ENV" in os.environ:  # strata's --env R,G,B: a uniform environment
+        rgb = [float(c) for c in os.environ["ENV"].split(",")]
+        d["env"] = {"type": "constant", "radiance": {"type": "rgb", "value": rgb}}
     return d
 
 

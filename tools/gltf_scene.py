@@ -13,8 +13,9 @@ from collections import namedtuple
 import numpy as np
 
 # triangles: float64, n x 3 x 3 (world space); material: the glTF material
-# object (a dict, {} when the primitive has none).
-Primitive = namedtuple("Primitive", "name triangles material")
+# object (a dict, {} when the primitive has none); normals: the NORMAL of
+# each triangle corner in world space (n x 3 x 3, unit), None without.
+Primitive = namedtuple("Primitive", "name triangles material normals", defaults=(None,))
 # matrix: the camera node's 4x4 world matrix (the camera looks down its -z);
 # yfov in radians.
 Camera = namedtuple("Camera", "matrix yfov")
@@ -70,6 +71,12 @@ def load(path):
             pos = pos @ m[:3, :3].T + m[:3, 3]
             idx = accessor(p["indices"]).ravel() if "indices" in p else np.arange(len(pos))
             material = g["materials"][p["material"]] if "material" in p else {}
+            normals = None
+            if "NORMAL" in p["attributes"]:  # normals go by the inverse transpose
+                nrm = accessor(p["attributes"]["NORMAL"]).astype(np.float64)
+                nrm = nrm @ np.linalg.inv(m[:3, :3])
+                nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+                normals = nrm[idx].reshape(-1, 3, 3)
             prims.append(Primitive(n.get("name", mesh.get("name", "mesh%d" % i)),
-                                   pos[idx].reshape(-1, 3, 3), material))
+                                   pos[idx].reshape(-1, 3, 3), material, normals))
     return prims, camera

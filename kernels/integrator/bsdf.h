@@ -39,6 +39,7 @@
 #define ST_SINF(x) sinf(x)
 #define ST_FMAXF(a, b) fmaxf(a, b)
 #define ST_FMINF(a, b) fminf(a, b)
+#define ST_FABSF(x) fabsf(x)
 #else
 #define ST_SQRTF(x) sqrt(x)
 /* the accurate sine, not native_: PoCL's native_sin of a vector differs
@@ -48,6 +49,7 @@
 #define ST_SINF(x) sin(x)
 #define ST_FMAXF(a, b) fmax(a, b)
 #define ST_FMINF(a, b) fmin(a, b)
+#define ST_FABSF(x) fabs(x)
 #endif
 
 /* Lanes of the value c. */
@@ -80,12 +82,16 @@ ST_FN st_lf st_clamp01(st_lf x)
 
 /* The BRDF of a material: base colour c, metallic m, roughness, specular
  * (KHR_materials_specular's specularFactor x texture A) and specular colour
- * (factor x texture RGB), index of refraction (KHR_materials_ior, 1.5). */
+ * (factor x texture RGB), index of refraction (KHR_materials_ior, 1.5),
+ * transmission (KHR_materials_transmission, 0): the opaque dielectric
+ * parts keep 1 - transmission of their weight, the rest being
+ * bsdf_dielectric.h's lobe. */
 ST_FN st_brdf st_brdf_make(const st_lf *c, st_lf m, st_lf roughness, st_lf specular,
-                           const st_lf *specular_colour, st_lf ior)
+                           const st_lf *specular_colour, st_lf ior, st_lf transmission)
 {
     st_brdf b;
     m = st_clamp01(m);
+    st_lf dm = (1.0f - m) * (1.0f - st_clamp01(transmission)); /* the opaque dielectric's */
     specular = st_clamp01(specular);
     st_lf r = st_clamp01(roughness);
     st_lf q = (ior - 1.0f) / (ior + 1.0f);
@@ -93,9 +99,9 @@ ST_FN st_brdf st_brdf_make(const st_lf *c, st_lf m, st_lf roughness, st_lf specu
     for (int k = 0; k < 3; k++) {
         st_lf f0d = ST_FMINF(q * q * specular_colour[k], 1.0f) * specular;
         b.fd0 = ST_FMAXF(b.fd0, f0d);
-        b.diffuse[k] = (1.0f - m) * c[k];
-        b.f0[k] = (1.0f - m) * f0d + m * c[k];
-        b.f90[k] = (1.0f - m) * specular + m;
+        b.diffuse[k] = dm * c[k];
+        b.f0[k] = dm * f0d + m * c[k];
+        b.f90[k] = dm * specular + m;
     }
     b.fd90 = specular;
     b.alpha = ST_FMAXF(r * r, ST_BRDF_MIN_ALPHA);

@@ -57,6 +57,8 @@ typedef struct st_vertex_in {
     float lp[3][ST_W], ll[3][ST_W], lnl[3][ST_W], lq[ST_W], lco[ST_W], lci[ST_W];
     int lkind[ST_W];
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
+    float transmission[ST_W]; /* KHR_materials_transmission */
+    float coat[ST_W], coat_rough[ST_W]; /* KHR_materials_clearcoat */
 } st_vertex_in;
 
 #define ST_LV(a) ST_VLOAD(ST_W, a)
@@ -91,8 +93,8 @@ static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
  * without a normal map). */
 typedef struct st_material_at {
     float4 base, spec, nmap;
-    float3 le;
-    float metallic, roughness, ior, normal_scale;
+    float3 le, absorb;
+    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough;
     st_u32 flags, alpha_mode;
     float alpha_cutoff;
 } st_material_at;
@@ -113,6 +115,10 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     a.alpha_mode = m->alpha_mode;
     a.alpha_cutoff = m->alpha_cutoff;
     a.normal_scale = m->normal_scale;
+    a.transmission = m->transmission;
+    a.absorb = a.transmission > 0.0f ? vload3(0, m->absorption) : (float3)(0.0f);
+    a.coat = m->clearcoat;
+    a.coat_rough = m->clearcoat_roughness;
     a.nmap = (float4)(0.0f);
     if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
@@ -121,7 +127,9 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     }
     if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
         m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
-        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE) {
+        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
+        m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
+        m->clearcoat_roughness_tex != ST_NO_TEXTURE) {
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
         float b1 = h.u, b2 = h.v;
@@ -134,6 +142,9 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.roughness *= mr.y;
         a.spec.w *= tex_lookup(x, m->specular_tex, t, b1, b2, width, cos_nd, f).w;
         a.spec.xyz *= tex_lookup(x, m->specular_color_tex, t, b1, b2, width, cos_nd, f).xyz;
+        a.transmission *= tex_lookup(x, m->transmission_tex, t, b1, b2, width, cos_nd, f).x;
+        a.coat *= tex_lookup(x, m->clearcoat_tex, t, b1, b2, width, cos_nd, f).x;
+        a.coat_rough *= tex_lookup(x, m->clearcoat_roughness_tex, t, b1, b2, width, cos_nd, f).y;
         if (m->normal_tex != ST_NO_TEXTURE)
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
@@ -318,6 +329,13 @@ static void light_gather(const st_scene_refs *s, const st_params *p, const st_sh
 
 /* ---- the lanes' arithmetic ------------------------------------------------ */
 
+/* The layers of ST_W surface points, where some lane has them (kept out of
+ * st_vertex, so that a vertex without them stays as small as before). */
+typedef struct st_layers {
+    st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h) */
+    st_coat coat;       /* the clear coat (bsdf_coat.h) */
+} st_layers;
+
 /* What the steps know of ST_W surface points. */
 typedef struct st_vertex {
     st_lv3 pos, wo;     /* the points, and the directions back along the rays */
@@ -325,8 +343,11 @@ typedef struct st_vertex {
     st_lv3 tu, tv;      /* the shading frame's tangents */
     st_lv3 albedo;      /* the Lambertian part's albedo ((1 - metallic) x base colour) */
     st_brdf brdf;       /* the glTF BRDF (bsdf.h), where glossy */
+    st_layers *lay;     /* the layers, where layered (layer_bits) */
     st_dir wo_local;    /* wo in the shading frame, where glossy */
-    st_li glossy;       /* the lanes with a specular lobe (metallic or specular > 0) */
+    st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
+    st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
+    st_u32 layer_bits;  /* the lanes with transmission or a clear coat (subsets of glossy) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -353,7 +374,7 @@ ST_HOT st_lv3 shading_normal(const st_scene_refs *s, st_vertex_in *l, st_u32 nma
 }
 
 /* The emission seen along each lane's ray, weighted: 1 for a camera ray,
- * and for a ray made by a BSDF sample (depth > 0) the MIS weight against
+ * and for a ray made by a BSDF sample (depth > 0, not a refraction) the MIS weight against
  * sampling the same light (an emitter's density per area turned to solid
  * angle, t² / cos; the environment's as gathered). Emitters are one-sided. */
 ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li miss, st_lf cos_o)
@@ -362,8 +383,9 @@ ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li m
     st_lf t = ST_LV(l->t), q = ST_LV(l->emit_pdf);
     q = ST_SELECT(ST_W, q * area_choice(sh) * t * t / cos_o, q, miss);
     st_li seen = (miss || cos_o > 0.0f) && (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f);
-    st_lf w = ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(ST_LV(l->bsdf_pdf), q),
-                        ST_LV(l->depth) > 0u);
+    st_lf pb = ST_LV(l->bsdf_pdf); /* 0 after a refraction: no light sample makes that ray */
+    st_lf w = ST_SELECT(ST_W, ST_LF(1.0f), st_power_heuristic(pb, q),
+                        ST_LV(l->depth) > 0u && pb > 0.0f);
     return st_lv3_scale(le, ST_SELECT(ST_W, ST_LF(0.0f), w, seen));
 }
 
@@ -389,9 +411,13 @@ ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
 }
 
 /* The surface at each lane's hit: position, normals (turned to the side
- * the ray arrived on), the shading frame and the BRDF where glossy. */
+ * the ray arrived on), the shading frame and the BRDF where glossy, with
+ * the transmission lobe where bit k of trans_bits is set (lane k has
+ * transmission > 0: vertex_gather) and the clear coat where coat_bits'
+ * is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_li miss, const st_shading *sh, st_lf *cos_o)
+                                st_u32 trans_bits, st_u32 coat_bits, st_layers *lay, st_li miss,
+                                const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
     st_lv3 d = ST_LV3_OF(l->d);
@@ -401,11 +427,17 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.ns = shading_normal(s, l, nmapped, v.ng);
     *cos_o = st_lv3_dot(v.ng, v.wo);
     v.beta = ST_LV3_OF(l->beta);
+    v.lay = lay;
+    v.trans_bits = trans_bits;
+    v.layer_bits = trans_bits | coat_bits;
+    st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
     v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
+    if (v.layer_bits)
+        v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits);
     if (ST_ANY(ST_W, v.glossy))
         v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy);
     st_basis(v.ns, &v.tu, &v.tv);
@@ -413,7 +445,11 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
-        v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior));
+        v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
+        if (v.layer_bits) { /* entering where the ray meets the front */
+            lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
+            lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
+        }
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
             v.glossy);
@@ -435,6 +471,20 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
     return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
 }
 
+/* Where a lane is layered (transmissive or coated), f[3] and *pdf (the
+ * BRDF's at li) become the whole material's (bsdf_coat.h: the coat over
+ * bsdf_dielectric.h's material); the other lanes keep theirs bit for bit. */
+ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
+{
+    st_lf ft[3];
+    st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
+    st_lf pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
+    st_li layered = ST_BITS_MASK(ST_W, v->layer_bits);
+    for (int k = 0; k < 3; k++)
+        f[k] = ST_SELECT(ST_W, f[k], ft[k], layered);
+    *pdf = ST_SELECT(ST_W, *pdf, pt, layered);
+}
+
 /* f(wo, wi) cos θi for directions wi above the surface, and in *pdf the
  * density with which vertex_bounce would choose wi. */
 ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
@@ -446,7 +496,10 @@ ST_HOT st_lv3 surface_f_cos(const st_vertex *v, st_lv3 wi, st_lf *pdf)
         st_dir li = st_lv3_make(st_lv3_dot(wi, v->tu), st_lv3_dot(wi, v->tv), c);
         st_lf fk[3];
         st_brdf_eval(&v->brdf, v->wo_local, li, fk);
-        *pdf = ST_SELECT(ST_W, *pdf, st_brdf_pdf(&v->brdf, v->wo_local, li), v->glossy);
+        st_lf gp = st_brdf_pdf(&v->brdf, v->wo_local, li);
+        if (v->layer_bits)
+            bsdf_with_layers(v, li, fk, &gp);
+        *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
         f = st_lv3_select(f, st_lv3_scale(st_lv3_make(fk[0], fk[1], fk[2]), c), v->glossy);
     }
     return f;
@@ -496,26 +549,44 @@ ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 ori
 }
 
 /* The BSDF sample: a cosine-weighted direction where Lambertian, else one
- * from the BRDF's mixture (bsdf.h); beta *= f cos / pdf. *pdf: its density
- * (for MIS where the ray ends), *cz its cosine. Returns the lanes whose
- * direction lies above both surfaces (the others' paths end). */
-ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lv3 *wi, st_lf *pdf, st_lf *cz)
+ * from the BRDF's mixture (bsdf.h), or where transmissive from the whole
+ * material's (bsdf_dielectric.h, u3 choosing reflection or refraction);
+ * beta *= f |cos| / pdf. *pdf: its density (for MIS where the ray ends;
+ * 0 for a refraction, which next-event estimation, on the side the ray
+ * came from, cannot make: its emission then takes weight 1), *cz its
+ * cosine (< 0: refracted). Returns the lanes whose direction lies on one
+ * side of both surfaces, above or (refracted) below (the others' paths
+ * end). */
+ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *wi, st_lf *pdf,
+                           st_lf *cz)
 {
     st_dir w = st_cosine_sample(u1, u2);
     *pdf = w.z / ST_PI_F;
     st_lv3 weight = v->albedo;
     if (ST_ANY(ST_W, v->glossy)) {
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
+        if (v->layer_bits)
+            g = st_lv3_select(
+                g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, u1, u2, u3),
+                ST_BITS_MASK(ST_W, v->layer_bits));
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);
+        if (v->layer_bits)
+            bsdf_with_layers(v, g, f, &gp);
         w = st_lv3_select(w, g, v->glossy);
         *pdf = ST_SELECT(ST_W, *pdf, gp, v->glossy);
-        weight = st_lv3_select(weight, st_lv3_scale(st_lv3_make(f[0], f[1], f[2]), g.z / gp),
+        st_lf gz = ST_SELECT(ST_W, g.z, -g.z, g.z < 0.0f); /* refracted (transmissive lanes) */
+        weight = st_lv3_select(weight, st_lv3_scale(st_lv3_make(f[0], f[1], f[2]), gz / gp),
                                v->glossy);
     }
     *cz = w.z;
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
+    if (v->trans_bits) {
+        st_li through = ST_BITS_MASK(ST_W, v->trans_bits) && *cz < 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) < 0.0f;
+        ok = ok || through;
+        *pdf = ST_SELECT(ST_W, *pdf, ST_LF(0.0f), through);
+    }
     v->beta = st_lv3_select(v->beta, st_lv3_mul(v->beta, weight), ok);
     return ok;
 }

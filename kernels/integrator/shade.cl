@@ -17,8 +17,13 @@
  *          maxdepth; Mitsuba's max_depth is one more): direct is a path of
  *          max_depth 1.
  * Materials: the glTF metallic-roughness BRDF (bsdf.h; a Lambertian one,
- * specularFactor 0, takes the cheap cosine path), its factors times their
- * textures (texture.h); KHR_materials_unlit shows its base colour from
+ * specularFactor 0, takes the cheap cosine path), with transmission
+ * (bsdf_dielectric.h: the path refracts and goes on from the other side;
+ * KHR_materials_volume's absorption on the segments inside) and a clear
+ * coat (bsdf_coat.h) where the material has them, its factors times their
+ * textures (texture.h). Next-event estimation samples lights on the side
+ * the ray arrived from only; a refracted BSDF sample's emission takes MIS
+ * weight 1 (bsdf_pdf 0: no light sample makes it). KHR_materials_unlit shows its base colour from
  * either side and ends the path; emitters are one-sided on the side their
  * shading normals face. Alpha MASK cut-outs and
  * BLEND (as stochastic coverage: a ray passes with probability 1 - alpha)
@@ -47,8 +52,8 @@
  * camera's cone has the pixel's width and no spread.
  * Sample dimensions of vertex k: 2 + 6k + {0: light choice and first
  * coordinate on it (or the environment direction's first), 1: second
- * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: unused,
- * 5: Russian roulette}. BLEND coverage draws from
+ * coordinate, 2,3: BSDF direction (2 also picks the lobe), 4: reflection or
+ * refraction (read only at a transmissive surface), 5: Russian roulette}. BLEND coverage draws from
  * the counter hash, keyed by the triangle. */
 #include "st_shared.h"
 #include "rng.h"
@@ -57,6 +62,8 @@
 #include "texture.h"
 #include "lights.h"
 #include "bsdf.h"
+#include "bsdf_dielectric.h"
+#include "bsdf_coat.h"
 #include "integrator.h"
 #include "shadow.h"
 
@@ -74,7 +81,7 @@ static void ray_store(__global st_ray *r, float3 o, float3 d, float path_length)
  * bounce, and 5 for Russian roulette where it plays. The random sampler's
  * are made in lanes instead (dims_random). */
 static void dims_gather(const st_params *p, st_sample smp, __global const st_u32 *pmj02,
-                        st_u32 depth, st_u32 k, st_vertex_in *l)
+                        st_u32 depth, st_u32 k, int transmissive, st_vertex_in *l)
 {
     if (p->sampler == ST_SAMPLER_RANDOM || depth >= p->max_depth)
         return;
@@ -85,6 +92,8 @@ static void dims_gather(const st_params *p, st_sample smp, __global const st_u32
     l->u[1][k] = st_sample_dim(p, &id, dim + 1u);
     l->u[2][k] = st_sample_dim(p, &id, dim + 2u);
     l->u[3][k] = st_sample_dim(p, &id, dim + 3u);
+    if (transmissive)
+        l->u[4][k] = st_sample_dim(p, &id, dim + 4u);
     if (depth + 1u >= ST_RR_START_DEPTH)
         l->u[5][k] = st_sample_dim(p, &id, dim + 5u);
 }
@@ -99,27 +108,35 @@ ST_HOT st_lf rng_unit_lanes(st_lu key, st_lu dim)
     return ST_TO_FLOAT(ST_W, x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
 }
 
-/* dims_gather's dimensions for the random sampler, all lanes at once. */
-ST_HOT void dims_random(st_vertex_in *l)
+/* dims_gather's dimensions for the random sampler, all lanes at once (4
+ * only where some lane is transmissive). */
+ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 {
     st_lu key = ST_LV(l->key), dim = 2u + ST_DIMS_PER_VERTEX * ST_LV(l->depth);
     for (st_u32 j = 0; j < 6u; j++)
         if (j != 4u)
             ST_VSTORE(ST_W, rng_unit_lanes(key, dim + j), l->u[j]);
+    if (transmissive)
+        ST_VSTORE(ST_W, rng_unit_lanes(key, dim + 4u), l->u[4]);
 }
+
+/* The lanes' kinds, lane k bit k (vertex_gather sets them). */
+typedef struct st_lane_bits {
+    st_u32 miss, nmapped, trans, coated;
+} st_lane_bits;
 
 /* Lane k's part of the vertex of item i: the shadow ray cleared; a dead
  * path left alone; a ray that goes on through a cut-out and a
  * KHR_materials_unlit surface (its colour, from either side, and no more)
- * done here. Otherwise the lane's inputs are gathered (bit k of *miss set
- * for a ray that left the scene, of *nmapped for a normal-mapped surface)
+ * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
+ * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
+ * of b->trans for a transmissive one, of b->coated for a clear-coated one)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
                          __global st_ray *ray, __global const st_hit *hit,
                          __global st_path *path, __global st_shadow *shadow,
-                         __global const st_u32 *pmj02, st_vertex_in *l, st_u32 *miss,
-                         st_u32 *nmapped)
+                         __global const st_u32 *pmj02, st_vertex_in *l, st_lane_bits *b)
 {
     shadow[i].ray.tmax = 0.0f;
     __global st_path *gp = &path[i];
@@ -141,7 +158,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
             le = env_radiance(s, sh, d, &pdf);
         set_lane3(l->le, k, le);
         l->emit_pdf[k] = pdf * env_choice(sh);
-        *miss |= 1u << k;
+        b->miss |= 1u << k;
         return 1;
     }
     float travelled = r->path_length + h.t;
@@ -174,40 +191,59 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     l->spec[0][k] = a.spec.x, l->spec[1][k] = a.spec.y, l->spec[2][k] = a.spec.z;
     l->spec[3][k] = a.spec.w;
     l->emit_pdf[k] = s->light_pdf[h.prim];
+    l->transmission[k] = a.transmission;
+    if (a.coat > 0.0f) {
+        l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
+        b->coated |= 1u << k;
+    }
+    if (a.transmission > 0.0f) {
+        b->trans |= 1u << k;
+        /* met from inside: the medium absorbed along the segment (Beer-Lambert;
+         * the item's own exp, which a vector's lanes would round otherwise) */
+        if (dot(ng, d) > 0.0f)
+            set_lane3(l->beta, k, beta * exp(-a.absorb * h.t));
+    }
     if (a.nmap.w > 0.0f) {
         set_lane3(l->nmap, k, a.nmap.xyz);
         l->nscale[k] = a.normal_scale;
-        *nmapped |= 1u << k;
+        b->nmapped |= 1u << k;
     }
-    dims_gather(p, smp, pmj02, depth, k, l);
+    dims_gather(p, smp, pmj02, depth, k, a.transmission > 0.0f, l);
     return 1;
 }
 
 /* What the lanes leave for each lane to store (vertex_store). */
 typedef struct st_vertex_out {
     float rad[3][ST_W], beta[3][ST_W], origin[3][ST_W];
+    float next_o[3][ST_W]; /* a refracted ray's origin, on the other side (bits `refracted`) */
     float shadow_d[3][ST_W], contribution[3][ST_W], tmax[ST_W]; /* the shadow ray */
     float next_d[3][ST_W], bsdf_pdf[ST_W], env_pdf[ST_W];      /* the next ray */
 } st_vertex_out;
 
+/* What vertex_store does for a lane (bits of its `what`). */
+#define ST_STORE_SHADOWED 1u /* a shadow ray */
+#define ST_STORE_GOES 2u     /* the next ray */
+#define ST_STORE_REFRACTED 4u /* ..., which starts on the other side */
+
 /* Lane k's results into item i: the radiance; the shadow ray (where
- * `shadowed`); the next ray and the path one vertex deeper (where `goes`),
+ * `what` has ST_STORE_SHADOWED); the next ray and the path one vertex
+ * deeper (ST_STORE_GOES; from the other side with ST_STORE_REFRACTED),
  * else the path ended. */
 ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i, st_u32 k,
-                         int shadowed, int goes, __global st_ray *ray,
+                         st_u32 what, __global st_ray *ray,
                          __global st_path *path, __global st_shadow *shadow)
 {
     __global st_path *gp = &path[i];
     vstore3(lane3(o->rad, k), 0, gp->radiance);
     float3 origin = lane3(o->origin, k);
-    if (shadowed && o->tmax[k] > 0.0f) {
+    if ((what & ST_STORE_SHADOWED) && o->tmax[k] > 0.0f) {
         __global st_shadow *sr = &shadow[i];
         vstore3(origin, 0, sr->ray.o);
         sr->ray.tmax = o->tmax[k];
         vstore3(lane3(o->shadow_d, k), 0, sr->ray.d);
         vstore3(lane3(o->contribution, k), 0, sr->contribution);
     }
-    if (!goes) {
+    if (!(what & ST_STORE_GOES)) {
         gp->depth = ST_PATH_DEAD;
         return;
     }
@@ -215,7 +251,9 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
     gp->bsdf_pdf = o->bsdf_pdf[k];
     gp->env_pdf = o->env_pdf[k];
     gp->depth = l->depth[k] + 1u;
-    ray_store(&ray[i], origin, lane3(o->next_d, k), l->travelled[k]);
+    float3 from = (what & ST_STORE_REFRACTED) ? lane3(o->next_o, k) : origin;
+    ray_store(&ray[i], from, lane3(o->next_d, k),
+              l->travelled[k]);
 }
 
 /* One vertex of items first .. first + n - 1 (n <= ST_W), lane k item
@@ -229,19 +267,23 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
                         __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};
-    st_u32 live = 0u, miss = 0u, nmapped = 0u;
+    st_u32 live = 0u;
+    st_lane_bits b = {0u, 0u, 0u, 0u};
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
-                                      pmj02, &l, &miss, &nmapped) << k;
+                                      pmj02, &l, &b) << k;
+    st_u32 miss = b.miss, trans = b.trans;
     if (!live)
         return;
     if (p->sampler == ST_SAMPLER_RANDOM)
-        dims_random(&l);
+        dims_random(&l, trans != 0u);
     st_li missed = ST_BITS_MASK(ST_W, miss);
     st_lf cos_o;
-    st_vertex v = vertex_surface(s, &l, nmapped, missed, sh, &cos_o);
+    st_layers lay;
+    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, &lay, missed, sh, &cos_o);
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
+    st_u32 refracted = 0u;
     st_vertex_out o;
     lv3_store(v.rad, o.rad);
     if (scatters) {
@@ -254,18 +296,27 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
         lv3_store(light_sample(&l, &v, origin, p->ray_eps, &wi, &tmax), o.contribution);
         lv3_store(wi, o.shadow_d);
         ST_VSTORE(ST_W, tmax, o.tmax);
-        st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), &wi, &pdf, &cz);
+        st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), ST_LV(l.u[4]), &wi, &pdf, &cz);
         on = on && roulette(&v, depth, ST_LV(l.u[5]));
         goes = ST_MASK_BITS(ST_W, on) & scatters;
         lv3_store(v.beta, o.beta);
         lv3_store(wi, o.next_d);
         ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
         ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
+        if (trans) { /* a refracted ray goes on from the other side, where no
+                      * uniform environment's light sample reaches (env_pdf 0) */
+            refracted = ST_MASK_BITS(ST_W, cz < 0.0f) & goes;
+            lv3_store(st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)), o.next_o);
+            ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o.env_pdf);
+        }
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)
-            vertex_store(&o, &l, first + k, k, (scatters >> k) & 1u, (goes >> k) & 1u, ray, path,
-                         shadow);
+            vertex_store(&o, &l, first + k, k,
+                         ((scatters >> k) & 1u) * ST_STORE_SHADOWED +
+                             ((goes >> k) & 1u) * ST_STORE_GOES +
+                             ((refracted >> k) & 1u) * ST_STORE_REFRACTED,
+                         ray, path, shadow);
 }
 
 /* The stage kernels' ST_W items per work-item: work-item g shades items

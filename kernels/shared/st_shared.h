@@ -231,8 +231,11 @@ typedef struct st_tri_normals {
  * base_color_tex (sRGB RGB, linear alpha), emission_tex (sRGB),
  * metallic_roughness_tex (linear; metallic in B, roughness in G),
  * specular_tex (KHR_materials_specular's specularTexture, linear, A),
- * specular_color_tex (specularColorTexture, sRGB RGB) and normal_tex (the
- * normal map, read in the frame of st_tri_tangents). */
+ * specular_color_tex (specularColorTexture, sRGB RGB), normal_tex (the
+ * normal map, read in the frame of st_tri_tangents), transmission_tex
+ * (KHR_materials_transmission's transmissionTexture, linear, R),
+ * clearcoat_tex and clearcoat_roughness_tex (KHR_materials_clearcoat's
+ * clearcoatTexture, R, and clearcoatRoughnessTexture, G; linear). */
 typedef struct st_material {
     st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
     st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
@@ -246,7 +249,14 @@ typedef struct st_material {
     st_u32 specular_tex, specular_color_tex;
     st_u32 normal_tex;     /* normalTexture: tangent-space normals, linear RGB */
     st_f32 normal_scale;   /* normalTexture.scale: multiplies the normal's x and y */
-    st_u32 pad[3];
+    st_f32 transmission;   /* KHR_materials_transmission's transmissionFactor, 0 */
+    st_u32 transmission_tex;
+    st_f32 absorption[3];  /* KHR_materials_volume: the medium inside absorbs
+                              exp(-absorption x distance) per channel, absorption =
+                              -ln(attenuationColor) / attenuationDistance (0: clear) */
+    st_f32 clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors, 0 and 0 */
+    st_u32 clearcoat_tex, clearcoat_roughness_tex;
+    st_u32 pad[2];
 } st_material;
 
 /* A KHR_lights_punctual light in world space (st_lights.h). */
@@ -597,7 +607,10 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_material, base_color_tex) X(st_material, emission_tex)                             \
     X(st_material, metallic_roughness_tex) X(st_material, flags) X(st_material, specular)   \
     X(st_material, ior) X(st_material, specular_tex) X(st_material, specular_color_tex)     \
-    X(st_material, normal_tex) X(st_material, normal_scale)                                 \
+    X(st_material, normal_tex) X(st_material, normal_scale) X(st_material, transmission)    \
+    X(st_material, transmission_tex) X(st_material, absorption) X(st_material, clearcoat)   \
+    X(st_material, clearcoat_roughness) X(st_material, clearcoat_tex)                       \
+    X(st_material, clearcoat_roughness_tex)                                                 \
     X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
     X(st_tri_colors, c0) X(st_tri_colors, c1) X(st_tri_colors, c2)                          \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
@@ -653,7 +666,7 @@ ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
                  "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 112, "st_material: 112 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 144, "st_material: 144 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");

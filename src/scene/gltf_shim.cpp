@@ -7,6 +7,8 @@
  * §3.9 materials, §3.10 cameras, §4.4 the GLB container; and the extensions
  * §3.7.2.2 morph targets, §3.7.3 skins, and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
+ * KHR_materials_transmission, KHR_materials_volume (attenuation),
+ * KHR_materials_clearcoat (no clearcoatNormalTexture),
  * KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness (converted),
  * KHR_texture_transform, KHR_mesh_quantization, KHR_lights_punctual and
  * EXT_mesh_gpu_instancing.
@@ -312,7 +314,8 @@ void json_text(const unsigned char *bytes, size_t size, bool glb, const unsigned
 const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
     "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
-    "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness"};
+    "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat"};
 
 bool supported(const char *ext)
 {
@@ -1984,6 +1987,72 @@ void ext_numbers(const tinygltf::Value &obj, const char *key, int n, float *out,
     }
 }
 
+/* KHR_materials_transmission (transmissionFactor 0, transmissionTexture's R)
+ * and KHR_materials_volume's attenuation (attenuationColor 1,
+ * attenuationDistance +infinity) of material i. The volume's thickness is
+ * a rasteriser's stand-in for the geometry a path tracer follows: unused. */
+void read_transmission_volume(const Model &m, size_t i, texture_table &table, notes &warn,
+                              st_gltf_material &o)
+{
+    const tinygltf::ExtensionMap &exts = m.materials[i].extensions;
+    char what[64];
+    o.transmission = 0.0f;
+    o.transmission_tex = -1;
+    o.attenuation[0] = o.attenuation[1] = o.attenuation[2] = 1.0f;
+    o.attenuation[3] = INFINITY;
+    auto tr = exts.find("KHR_materials_transmission");
+    if (tr != exts.end()) {
+        snprintf(what, sizeof what, "material %zu: KHR_materials_transmission", i);
+        o.transmission = float(ext_number(tr->second, "transmissionFactor", 0.0, what));
+        if (!(o.transmission >= 0.0f && o.transmission <= 1.0f))
+            fail("%s: transmissionFactor %g is not in [0, 1]", what, double(o.transmission));
+        o.transmission_tex = texture_ref(m, ext_texture_info(tr->second, "transmissionTexture",
+                                                             what),
+                                         false, i, "transmissionTexture", table, warn);
+    }
+    auto vol = exts.find("KHR_materials_volume");
+    if (vol != exts.end()) {
+        snprintf(what, sizeof what, "material %zu: KHR_materials_volume", i);
+        ext_numbers(vol->second, "attenuationColor", 3, o.attenuation, what);
+        o.attenuation[3] = float(ext_number(vol->second, "attenuationDistance", INFINITY, what));
+        for (int k = 0; k < 3; k++)
+            if (!(o.attenuation[k] >= 0.0f && o.attenuation[k] <= 1.0f))
+                fail("%s: attenuationColor must lie in [0, 1]", what);
+        if (!(o.attenuation[3] > 0.0f))
+            fail("%s: attenuationDistance %g is not > 0", what, double(o.attenuation[3]));
+    }
+}
+
+/* KHR_materials_clearcoat of material i: clearcoatFactor and
+ * clearcoatRoughnessFactor (0, 0) with their textures (R and G, linear).
+ * clearcoatNormalTexture is not read: the coat takes the base's shading
+ * normal (a warning). */
+void read_clearcoat(const Model &m, size_t i, texture_table &table, notes &warn,
+                    st_gltf_material &o)
+{
+    o.clearcoat = o.clearcoat_roughness = 0.0f;
+    o.clearcoat_tex = o.clearcoat_roughness_tex = -1;
+    auto cc = m.materials[i].extensions.find("KHR_materials_clearcoat");
+    if (cc == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = cc->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_clearcoat", i);
+    o.clearcoat = float(ext_number(v, "clearcoatFactor", 0.0, what));
+    o.clearcoat_roughness = float(ext_number(v, "clearcoatRoughnessFactor", 0.0, what));
+    if (!(o.clearcoat >= 0.0f && o.clearcoat <= 1.0f) ||
+        !(o.clearcoat_roughness >= 0.0f && o.clearcoat_roughness <= 1.0f))
+        fail("%s: clearcoatFactor and clearcoatRoughnessFactor must lie in [0, 1]", what);
+    o.clearcoat_tex = texture_ref(m, ext_texture_info(v, "clearcoatTexture", what), false, i,
+                                  "clearcoatTexture", table, warn);
+    o.clearcoat_roughness_tex =
+        texture_ref(m, ext_texture_info(v, "clearcoatRoughnessTexture", what), false, i,
+                    "clearcoatRoughnessTexture", table, warn);
+    if (v.IsObject() && v.Has("clearcoatNormalTexture"))
+        note(warn, "%s: clearcoatNormalTexture is not read (the coat takes the base's normal)",
+                 what);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -2113,6 +2182,8 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     o.metallic_roughness_tex = texture_ref(m, pbr.metallicRoughnessTexture, false, i,
                                            "metallicRoughnessTexture", table, warn);
     read_specular_ior_unlit(m, i, table, warn, o);
+    read_transmission_volume(m, i, table, warn, o);
+    read_clearcoat(m, i, table, warn, o);
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;

@@ -48,6 +48,12 @@ typedef struct st_gltf_material {
     int specular_tex, specular_color_tex; /* specularTexture (A), specularColorTexture */
     int normal_tex;        /* normalTexture */
     float normal_scale;    /* normalTexture.scale, 1 by default */
+    float transmission;    /* KHR_materials_transmission's transmissionFactor, 0 by default */
+    int transmission_tex;  /* its transmissionTexture (R) */
+    float attenuation[4];  /* KHR_materials_volume: attenuationColor RGB (1) and
+                              attenuationDistance (+infinity) */
+    float clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors (0, 0) */
+    int clearcoat_tex, clearcoat_roughness_tex; /* clearcoatTexture (R), ..RoughnessTexture (G) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

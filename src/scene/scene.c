@@ -458,11 +458,23 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->metallic_roughness_tex = texture_index(in->metallic_roughness_tex);
         memcpy(m->specular, in->specular, sizeof m->specular);
         m->ior = in->ior;
-        m->flags = (in->unlit ? ST_MAT_UNLIT : 0u) | (in->double_sided ? ST_MAT_DOUBLE_SIDED : 0u);
+        /* a transmissive surface is met from inside too, where the ray leaves */
+        m->flags = (in->unlit ? ST_MAT_UNLIT : 0u) |
+                   (in->double_sided || in->transmission > 0.0f ? ST_MAT_DOUBLE_SIDED : 0u);
         m->specular_tex = texture_index(in->specular_tex);
         m->specular_color_tex = texture_index(in->specular_color_tex);
         m->normal_tex = texture_index(in->normal_tex);
         m->normal_scale = in->normal_scale;
+        m->transmission = in->transmission;
+        m->transmission_tex = texture_index(in->transmission_tex);
+        m->clearcoat = in->clearcoat;
+        m->clearcoat_roughness = in->clearcoat_roughness;
+        m->clearcoat_tex = texture_index(in->clearcoat_tex);
+        m->clearcoat_roughness_tex = texture_index(in->clearcoat_roughness_tex);
+        for (int k = 0; k < 3; k++) /* Beer-Lambert: attenuationColor after attenuationDistance */
+            m->absorption[k] = isinf(in->attenuation[3]) || in->attenuation[k] >= 1.0f
+                                   ? 0.0f
+                                   : -logf(fmaxf(in->attenuation[k], 1e-30f)) / in->attenuation[3];
     }
     if (need_default) {
         st_material *m = &s->materials[g->material_count];
@@ -475,6 +487,7 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->ior = 1.5f;
         m->specular_tex = m->specular_color_tex = m->normal_tex = ST_NO_TEXTURE;
         m->normal_scale = 1.0f;
+        m->transmission_tex = m->clearcoat_tex = m->clearcoat_roughness_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

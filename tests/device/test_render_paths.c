@@ -343,7 +343,8 @@ static void same_at_width(const char *name, const st_render_options *o)
  * normal map and emission). */
 static const char *const shade_scenes[] = {
     "../shared/scenes/bench/cornell.gltf", "cornell-box", "tests/scenes/shade_mix.gltf",
-    "tests/scenes/textures.gltf", "tests/scenes/punctual.gltf",
+    "tests/scenes/textures.gltf", "tests/scenes/punctual.gltf", "tests/scenes/glass.gltf",
+    "tests/scenes/coat.gltf",
     "../shared/scenes/khronos/VC/VC.gltf",
     "../shared/scenes/khronos/EmissiveStrengthTest/EmissiveStrengthTest.gltf",
     "../shared/scenes/khronos/DamagedHelmet/DamagedHelmet.glb"};

@@ -78,7 +78,7 @@ static st_image render_furnace(const st_scene *s, st_u32 spp)
 static double albedo_head_on(float roughness)
 {
     const float one[3] = {1.0f, 1.0f, 1.0f};
-    st_brdf b = st_brdf_make(one, 1.0f, roughness, 1.0f, one, 1.5f);
+    st_brdf b = st_brdf_make(one, 1.0f, roughness, 1.0f, one, 1.5f, 0.0f);
     st_dir wo = {0.0f, 0.0f, 1.0f};
     const int nz = 200000;
     double sum = 0.0;

@@ -128,6 +128,18 @@ specgloss     the quad with KHR_materials_pbrSpecularGlossiness (required) in tw
               1), specular (0.2, 0.3, 0.4), glossiness 0.75), and glossiness 0.5
               with a 2 x 1 RGBA specularGlossinessTexture (RGB (10, 20, 30) A
               64 | RGB (200, 100, 50) A 255) and a diffuseTexture.
+glass_slab    a unit glass cube (KHR_materials_transmission 1, ior 1.5,
+              KHR_materials_volume attenuationColor 0.5 after 1) face-on to an
+              orthographic camera; glass_furnace: a smooth and a rough (0.5)
+              glass sphere side by side, nothing else; glass: a Lambertian
+              floor and wall under a quad light, a smooth glass sphere, a rough
+              one that absorbs and a half-transmissive tinted one of ior 1.33;
+              glass_mitsuba: the same without the light, the third sphere fully
+              transmissive and smooth (what Mitsuba's dielectrics match).
+coat_quad     two quads face-on to an orthographic camera, Lambertian black
+              (left) and white (right) under a full smooth clear coat; coat:
+              glass's floor, wall and light with a coated red Lambertian
+              sphere, a coated rough gold one and coated glass.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -1004,6 +1016,191 @@ def write_quantized():
         write_json(name, g)
 
 
+def cube_prim(b, half):
+    """A cube of side 2 half about the origin, flat normals, faces outwards."""
+    pos, nrm, ind = [], [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            n = [0.0, 0.0, 0.0]
+            n[axis] = sign
+            u, v = [0.0] * 3, [0.0] * 3
+            u[(axis + 1) % 3], v[(axis + 2) % 3] = 1.0, 1.0
+            if sign < 0:
+                u, v = v, u
+            base = len(pos) // 3
+            for a, c in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                pos += [half * (n[k] + a * u[k] + c * v[k]) for k in range(3)]
+                nrm += n
+            ind += [base, base + 1, base + 2, base, base + 2, base + 3]
+    lo, hi = [-half] * 3, [half] * 3
+    return {"attributes": {"POSITION": b.accessor(f32(pos), 5126, 24, "VEC3", min=lo, max=hi),
+                           "NORMAL": b.accessor(f32(nrm), 5126, 24, "VEC3")},
+            "indices": b.accessor(struct.pack("<36H", *ind), 5123, 36, "SCALAR")}
+
+
+def sphere_prim(b, radius, rings=16, segments=24):
+    """A UV sphere with smooth normals, outwards."""
+    pos, nrm, ind = [], [], []
+    for i in range(rings + 1):
+        th = math.pi * i / rings
+        for j in range(segments + 1):
+            ph = 2.0 * math.pi * j / segments
+            n = [math.sin(th) * math.cos(ph), math.cos(th), -math.sin(th) * math.sin(ph)]
+            nrm += n
+            pos += [radius * c for c in n]
+    for i in range(rings):
+        for j in range(segments):
+            a, c = i * (segments + 1) + j, (i + 1) * (segments + 1) + j
+            if i > 0:
+                ind += [a, c, a + 1]
+            if i < rings - 1:
+                ind += [a + 1, c, c + 1]
+    count = len(pos) // 3
+    return {"attributes": {"POSITION": b.accessor(f32(pos), 5126, count, "VEC3",
+                                                  min=[-radius] * 3, max=[radius] * 3),
+                           "NORMAL": b.accessor(f32(nrm), 5126, count, "VEC3")},
+            "indices": b.accessor(struct.pack("<%dH" % len(ind), *ind), 5123, len(ind),
+                                  "SCALAR")}
+
+
+def glass_material(roughness=0.0, base=(1.0, 1.0, 1.0), transmission=1.0, metallic=0.0,
+                   attenuation=None):
+    ext = {"KHR_materials_transmission": {"transmissionFactor": transmission}}
+    if attenuation is not None:
+        ext["KHR_materials_volume"] = {"attenuationColor": list(attenuation[0]),
+                                       "attenuationDistance": attenuation[1]}
+    return {"pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0],
+                                     "metallicFactor": metallic, "roughnessFactor": roughness},
+            "extensions": ext}
+
+
+GLASS_EXTENSIONS = ["KHR_materials_transmission", "KHR_materials_volume",
+                    "KHR_materials_specular"]
+
+
+def write_glass():
+    """glass_slab: a unit glass cube face-on to an orthographic camera
+    (attenuationColor 0.5 after 1, the cube's depth); glass_furnace: a
+    smooth and a rough glass sphere side by side, nothing else; glass: a
+    scene for the lanes and for Mitsuba, a Lambertian floor and back wall
+    under a quad light, a smooth glass sphere, a rough one with absorption
+    and a half-transmissive tinted one."""
+    b = Blob()
+    cube = cube_prim(b, 0.5)
+    cube["material"] = 0
+    g = doc([{"primitives": [cube]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node()], scenes=[{"nodes": [0, 1]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 1.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[glass_material(attenuation=((0.5, 0.5, 0.5), 1.0))],
+            extensionsUsed=GLASS_EXTENSIONS[:2])
+    write_json("glass_slab.gltf", g)
+
+    b = Blob()
+    spheres = [sphere_prim(b, 0.8), sphere_prim(b, 0.8)]
+    spheres[0]["material"], spheres[1]["material"] = 0, 1
+    g = doc([{"primitives": [spheres[0]]}, {"primitives": [spheres[1]]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0]},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0]}, ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[glass_material(), glass_material(roughness=0.5)],
+            extensionsUsed=GLASS_EXTENSIONS[:1])
+    write_json("glass_furnace.gltf", g)
+
+    tinted = dict(glass_material(roughness=0.2, base=(0.9, 0.7, 0.3), transmission=0.5),
+                  extensions={"KHR_materials_transmission": {"transmissionFactor": 0.5},
+                              "KHR_materials_ior": {"ior": 1.33}})
+    write_json("glass.gltf", glass_scene(tinted, light=True))
+    # what Mitsuba's dielectric and roughdielectric match: transmission 1, metallic 0
+    tinted = dict(glass_material(base=(0.9, 0.7, 0.3)),
+                  extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                              "KHR_materials_ior": {"ior": 1.33}})
+    write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
+
+
+def write_coat():
+    """coat_quad: two quads side by side face-on to an orthographic camera,
+    both Lambertian (specularFactor 0) under a full smooth clear coat: black
+    (left) and white (right). coat: glass.gltf's floor, wall and light with
+    three coated spheres: a red Lambertian base (coat 1, roughness 0), a
+    rough gold metal (coat 0.7, roughness 0.3) and glass (coat 0.5, 0.1)."""
+    b = Blob()
+    left, right = b.quad(0.0), b.quad(0.0)
+    left["material"], right["material"] = 0, 1
+
+    def coated(rgb, coat=1.0, rough=0.0, metallic=0.0, roughness=1.0, extra=None):
+        ext = {"KHR_materials_clearcoat": {"clearcoatFactor": coat,
+                                           "clearcoatRoughnessFactor": rough}}
+        if metallic == 0.0 and extra is None:
+            ext["KHR_materials_specular"] = {"specularFactor": 0.0}
+        ext.update(extra or {})
+        return {"pbrMetallicRoughness": {"baseColorFactor": list(rgb) + [1.0],
+                                         "metallicFactor": metallic,
+                                         "roughnessFactor": roughness},
+                "extensions": ext}
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0]},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0]}, ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[coated((0.0, 0.0, 0.0)), coated((1.0, 1.0, 1.0))],
+            extensionsUsed=["KHR_materials_clearcoat", "KHR_materials_specular"])
+    write_json("coat_quad.gltf", g)
+    glass = coated((1.0, 1.0, 1.0), 0.5, 0.1, roughness=0.0,
+                   extra={"KHR_materials_transmission": {"transmissionFactor": 1.0}})
+    g = glass_scene(glass, light=True)
+    g["materials"][3] = coated((0.8, 0.1, 0.1))
+    g["materials"][4] = coated((1.0, 0.8, 0.4), 0.7, 0.3, metallic=1.0, roughness=0.5)
+    g["extensionsUsed"].append("KHR_materials_clearcoat")
+    write_json("coat.gltf", g)
+
+
+def glass_scene(third, light):
+    """A Lambertian floor and back wall, a quad light above (where `light`),
+    a smooth glass sphere, a rough one with absorption and `third`."""
+    b = Blob()
+    lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
+    floor, wall, lamp = b.quad(0.0), b.quad(0.0), b.quad(0.0)
+    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45) for _ in range(3)]
+    for k, p in enumerate(prims):
+        p["material"] = k
+    materials = [
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0},
+         "extensions": lambert},
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.3, 0.2, 1.0], "metallicFactor": 0.0},
+         "extensions": lambert},
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+         "emissiveFactor": [1.0, 1.0, 1.0],
+         "extensions": dict(lambert, KHR_materials_emissive_strength={"emissiveStrength": 6.0})},
+        glass_material(),
+        glass_material(roughness=0.3, attenuation=((0.3, 0.6, 0.9), 0.5)), third]
+    r90 = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # +z normal to +y
+    nodes = [{"mesh": 0, "rotation": r90, "scale": [2.0, 2.0, 1.0]},
+             {"mesh": 1, "translation": [0.0, 1.0, -1.5], "scale": [2.0, 1.0, 1.0]},
+             {"mesh": 2, "translation": [0.0, 2.5, 0.0], "rotation": [math.sqrt(0.5), 0.0, 0.0,
+                                                                      math.sqrt(0.5)],
+              "scale": [0.6, 0.6, 1.0]},
+             {"mesh": 3, "translation": [-1.0, 0.45, 0.0]},
+             {"mesh": 4, "translation": [0.0, 0.45, 0.3]},
+             {"mesh": 5, "translation": [1.0, 0.45, 0.0]},
+             {"name": "camera", "camera": 0, "translation": [0.0, 1.2, 4.0],
+              "rotation": [-0.0998, 0.0, 0.0, 0.995]}]
+    if not light:
+        del nodes[2]
+    meshes = [{"primitives": [p]} for p in prims]
+    return doc(meshes, b.accessors, b.views, b.buffers(), nodes=nodes,
+               scenes=[{"nodes": list(range(len(nodes)))}],
+               cameras=[{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}],
+               materials=materials,
+               extensionsUsed=GLASS_EXTENSIONS + ["KHR_materials_ior",
+                                                  "KHR_materials_emissive_strength"])
+
+
 def write_shade_mix():
     spec0 = {"KHR_materials_specular": {"specularFactor": 0.0}}
 
@@ -1216,6 +1413,8 @@ def main():
     write_specgloss()
     write_shadows()
     write_shade_mix()
+    write_glass()
+    write_coat()
     write_quantized()
     write_bad()
 

@@ -19,6 +19,8 @@
 #include <stdio.h>
 
 #include "bsdf.h"
+#include "bsdf_dielectric.h"
+#include "bsdf_coat.h"
 
 #define PI 3.14159265358979323846
 
@@ -41,7 +43,7 @@ static st_dir dir_from(double z, double phi)
 static st_brdf material(float c, float metallic, float roughness, float specular)
 {
     const float base[3] = {c, c, c}, white[3] = {1.0f, 1.0f, 1.0f};
-    return st_brdf_make(base, metallic, roughness, specular, white, 1.5f);
+    return st_brdf_make(base, metallic, roughness, specular, white, 1.5f, 0.0f);
 }
 
 /* ∫ g(w) dω over the upper hemisphere by the midpoint rule in (z, φ)
@@ -291,6 +293,304 @@ static void sampler_passes_chi_square(void **state)
         }
 }
 
+/* ---- transmission (bsdf_dielectric.h) -------------------------------------- */
+
+/* A material with transmission tr, metallic m, base colour c, roughness r
+ * and the relative ior eta (wi's side over wo's) in *d. */
+static st_brdf glass(float c, float m, float r, float tr, float eta, st_dielectric *d)
+{
+    const float base[3] = {c, c, c}, white[3] = {1.0f, 1.0f, 1.0f};
+    float ior = eta >= 1.0f ? eta : 1.0f / eta;
+    *d = st_dielectric_make(tr, m, base, ior, eta >= 1.0f);
+    return st_brdf_make(base, m, r, 1.0f, white, ior, tr);
+}
+
+/* Monte Carlo energy of the material towards wo: E[f |cos| / pdf] over the
+ * whole sphere, the transmitted samples times η² (the radiance BTDF's
+ * 1 / η² undone: what is left is the share of power that goes on). */
+static const st_coat no_coat = {0.0f, 0.5f};
+
+static double sampled_energy_coated(const st_brdf *b, const st_dielectric *d, const st_coat *c,
+                                    st_dir wo, int n, double *se)
+{
+    uint64_t s = 21;
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < n; i++) {
+        float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s), u3 = (float)next_unit(&s);
+        st_dir wi = st_coated_sample(b, d, c, wo, u1, u2, u3);
+        float f[3], pdf = st_coated_pdf(b, d, c, wo, wi);
+        st_coated_eval(b, d, c, wo, wi, f);
+        double w = pdf > 0.0f && wi.z != 0.0f ? f[0] * fabs(wi.z) / pdf : 0.0;
+        if (wi.z < 0.0f)
+            w *= (double)d->eta * d->eta;
+        sum += w;
+        sum2 += w * w;
+    }
+    double mean = sum / n;
+    *se = sqrt(fmax(0.0, sum2 / n - mean * mean) / n);
+    return mean;
+}
+
+static double sampled_energy(const st_brdf *b, const st_dielectric *d, st_dir wo, int n,
+                             double *se)
+{
+    return sampled_energy_coated(b, d, &no_coat, wo, n, se);
+}
+
+/* A smooth white dielectric loses nothing: R + T = 1 from either side,
+ * total internal reflection included (leaving at 0.3 is past the critical
+ * angle of 1.5); rough ones lose only what single scattering loses (<= 1;
+ * from inside at α = 1 microfacet total internal reflection sends over half
+ * below the surface, so the floor is 0.3). */
+static void dielectric_furnace(void **state)
+{
+    (void)state;
+    const float etas[] = {1.5f, 1.0f / 1.5f, 1.33f};
+    const double zs[] = {0.95, 0.6, 0.3};
+    for (int e = 0; e < 3; e++)
+        for (int k = 0; k < 3; k++) {
+            st_dielectric d;
+            st_brdf b = glass(1.0f, 0.0f, 0.0f, 1.0f, etas[e], &d);
+            double se, a = sampled_energy(&b, &d, dir_from(zs[k], 0.7), 200000, &se);
+            if (fabs(a - 1.0) > 5.0 * se + 2e-3)
+                fail_msg("smooth, η %g, wo.z %g: R + T = %.5f +- %.5f, want 1", etas[e], zs[k],
+                         a, se);
+            const float rough[] = {0.3f, 0.7f, 1.0f};
+            for (int r = 0; r < 3; r++) {
+                b = glass(1.0f, 0.0f, rough[r], 1.0f, etas[e], &d);
+                a = sampled_energy(&b, &d, dir_from(zs[k], 0.7), 100000, &se);
+                if (!(a <= 1.0 + 5.0 * se + 1e-3) || !(a > 0.3))
+                    fail_msg("roughness %g, η %g, wo.z %g: energy %.5f +- %.5f", rough[r],
+                             etas[e], zs[k], a, se);
+            }
+        }
+}
+
+/* Half transmissive, half opaque, partly metal: the energy is the mixture's
+ * and still at most 1; a white smooth one with transmission 1 and metallic
+ * 0 keeps everything, one of base colour 0.5 transmits half as much. */
+static void transmission_mixture_energy(void **state)
+{
+    (void)state;
+    st_dielectric d;
+    st_brdf b = glass(0.9f, 0.3f, 0.4f, 0.5f, 1.5f, &d);
+    double se, a = sampled_energy(&b, &d, dir_from(0.7, 0.1), 200000, &se);
+    if (!(a <= 1.0 + 5.0 * se) || !(a > 0.5))
+        fail_msg("mixture: energy %.5f +- %.5f", a, se);
+    /* smooth, base colour 0.5: R + 0.5 T with R the Fresnel reflectance at normal incidence */
+    b = glass(0.5f, 0.0f, 0.0f, 1.0f, 1.5f, &d);
+    double r = st_fresnel_dielectric(1.0f, 1.5f), want = r + 0.5 * (1.0 - r);
+    a = sampled_energy(&b, &d, dir_from(1.0, 0.0), 200000, &se);
+    if (fabs(a - want) > 5.0 * se + 2e-3)
+        fail_msg("tinted: energy %.5f +- %.5f, want %.5f", a, se, want);
+}
+
+/* The Fresnel reflectance against its definition in double, (rs² + rp²) / 2
+ * with Snell's cos_t, 1 past the critical angle; 0.04 at normal incidence
+ * for 1.5. */
+static void fresnel_matches_definition(void **state)
+{
+    (void)state;
+    assert_float_equal(st_fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-6f);
+    const double etas[] = {1.5, 1.0 / 1.5, 2.4, 1.0 / 1.33};
+    for (int e = 0; e < 4; e++)
+        for (int i = 0; i <= 100; i++) {
+            double c = i / 100.0, eta = etas[e], s2 = (1.0 - c * c) / (eta * eta), want = 1.0;
+            if (s2 < 1.0) {
+                double ct = sqrt(1.0 - s2), rs = (c - eta * ct) / (c + eta * ct),
+                       rp = (eta * c - ct) / (eta * c + ct);
+                want = 0.5 * (rs * rs + rp * rp);
+            }
+            double got = st_fresnel_dielectric((float)c, (float)eta);
+            if (fabs(got - want) > 1e-5)
+                fail_msg("η %g, cos %g: F %.7f, definition %.7f", eta, c, got, want);
+        }
+}
+
+/* The direction mirrored in the surface's plane (z -> -z): an isotropic
+ * BSDF is the same seen from below, so the reverse of a pair with wo above
+ * and wi below is (mirror(wi), mirror(wo)) with η inverted. */
+static st_dir mirror(st_dir w)
+{
+    st_dir m = {w.x, w.y, -w.z};
+    return m;
+}
+
+/* Reciprocity, bare and under a clear coat: reflections f(wo, wi) =
+ * f(wi, wo); refractions, the generalised form f(wo, wi) / η(wo)² = f(wi, wo) / η(wi)², i.e. with wo's
+ * side at 1, f(wo, wi; η) = f(mirror wi, mirror wo; 1 / η) / η². */
+static void dielectric_is_reciprocal(void **state)
+{
+    (void)state;
+    uint64_t s = 13;
+    int refractions = 0;
+    for (int i = 0; i < 4000; i++) {
+        float eta = next_unit(&s) < 0.5 ? 1.5f : 1.0f / 1.5f;
+        st_dielectric d, dr;
+        float r = (float)(0.1 + 0.9 * next_unit(&s)), c = (float)next_unit(&s);
+        st_brdf b = glass(c, 0.0f, r, 1.0f, eta, &d);
+        st_brdf br = glass(c, 0.0f, r, 1.0f, 1.0f / eta, &dr);
+        st_dir wo = dir_from(0.01 + 0.99 * next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir wi = dir_from(-1.0 + 2.0 * next_unit(&s), 2 * PI * next_unit(&s));
+        /* half of them under a clear coat (bsdf_coat.h) */
+        st_coat cc = st_coat_make(i % 2 ? (float)next_unit(&s) : 0.0f,
+                                  (float)(0.05 + next_unit(&s)));
+        float f[3], g[3];
+        st_coated_eval(&b, &d, &cc, wo, wi, f);
+        if (wi.z > 0.0f) {
+            st_coated_eval(&b, &d, &cc, wi, wo, g);
+        } else {
+            st_coated_eval(&br, &dr, &cc, mirror(wi), mirror(wo), g);
+            for (int k = 0; k < 3; k++)
+                g[k] /= eta * eta;
+            refractions += f[0] > 0.0f;
+        }
+        for (int k = 0; k < 3; k++)
+            if (fabsf(f[k] - g[k]) > 2e-3f * fmaxf(1e-2f, fabsf(f[k])))
+                fail_msg("η %g, roughness %g, wi.z %g: f %g, reversed %g", eta, r, wi.z, f[k],
+                         g[k]);
+    }
+    if (refractions < 300)
+        fail_msg("only %d refractions with f > 0", refractions);
+}
+
+/* The mixture's pdf over the whole sphere (z in [-1, 1]) by the midpoint
+ * rule: 1 less the share of samples lost (none for these). */
+static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
+                         int nz, int nphi)
+{
+    double sum = 0.0;
+    for (int i = 0; i < nz; i++)
+        for (int j = 0; j < nphi; j++)
+            sum += st_coated_pdf(b, d, c, wo,
+                               dir_from(-1.0 + 2.0 * (i + 0.5) / nz, 2 * PI * (j + 0.5) / nphi));
+    return sum * 4.0 * PI / ((double)nz * nphi);
+}
+
+/* Chi-square of st_coated_sample against st_coated_pdf (bare, coated, with
+ * and without transmission) over the sphere: SZ x
+ * SPHI bins of equal solid angle in (cos θ in [-1, 1], φ), expected counts
+ * from the pdf by SQ x SQ midpoint quadrature inside each bin (the refracted
+ * peak is narrow), one more bin
+ * for samples lost (expected: what the pdf leaves of 1), bins expecting
+ * under 5 merged. Significance 1e-4 (Wilson-Hilferty, z = 3.719), as the
+ * BRDF's test. The pdf is checked to integrate to the samples kept. */
+#define SZ 32
+#define SPHI 32
+#define SQ 24
+static void transmission_sampler_passes_chi_square(void **state)
+{
+    (void)state;
+    const float params[][7] = {/* base, metallic, roughness, transmission, η, coat, its roughness */
+                               {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f},
+                               {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f},
+                               {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f},
+                               {0.9f, 0.0f, 0.8f, 1.0f, 2.0f, 0.0f, 0.0f},
+                               {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f},
+                               {0.6f, 1.0f, 0.5f, 0.0f, 1.5f, 0.7f, 0.4f},
+                               {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.5f}};
+    const double zs[] = {0.9, 0.35};
+    const int n = 1000000;
+    static double obs[SZ * SPHI + 1], expct[SZ * SPHI + 1];
+    for (int p = 0; p < 7; p++)
+        for (int k = 0; k < 2; k++) {
+            st_dielectric d;
+            st_brdf b = glass(params[p][0], params[p][1], params[p][2], params[p][3],
+                              params[p][4], &d);
+            st_coat cc = st_coat_make(params[p][5], params[p][6]);
+            st_dir wo = dir_from(zs[k], 0.5);
+            double integral = sphere_pdf(&b, &d, &cc, wo, 4000, 512);
+            double total = 0.0;
+            for (int i = 0; i < SZ; i++)
+                for (int j = 0; j < SPHI; j++) {
+                    double e = 0.0;
+                    for (int a = 0; a < SQ; a++)
+                        for (int c = 0; c < SQ; c++)
+                            e += st_coated_pdf(&b, &d, &cc, wo,
+                                               dir_from(-1.0 + 2.0 * (i + (a + 0.5) / SQ) / SZ,
+                                                      2 * PI * (j + (c + 0.5) / SQ) / SPHI));
+                    expct[i * SPHI + j] = e / (SQ * SQ) * 4 * PI / (SZ * SPHI) * n;
+                    obs[i * SPHI + j] = 0.0;
+                    total += expct[i * SPHI + j];
+                }
+            expct[SZ * SPHI] = fmax(0.0, n - total);
+            obs[SZ * SPHI] = 0.0;
+            uint64_t s = 31 + (uint64_t)p;
+            int lost = 0;
+            for (int i = 0; i < n; i++) {
+                float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s),
+                      u3 = (float)next_unit(&s);
+                st_dir wi = st_coated_sample(&b, &d, &cc, wo, u1, u2, u3);
+                int bin = SZ * SPHI;
+                if (st_coated_pdf(&b, &d, &cc, wo, wi) > 0.0f) {
+                    double phi = atan2(wi.y, wi.x);
+                    int iz = (int)((wi.z + 1.0) / 2.0 * SZ),
+                        ip = (int)((phi < 0 ? phi + 2 * PI : phi) / (2 * PI) * SPHI);
+                    bin = (iz < SZ ? (iz < 0 ? 0 : iz) : SZ - 1) * SPHI +
+                          (ip < SPHI ? ip : SPHI - 1);
+                } else {
+                    lost++;
+                }
+                obs[bin] += 1.0;
+            }
+            double kept = 1.0 - (double)lost / n;
+            if (fabs(integral - kept) > 5.0 * sqrt(kept * (1.0 - kept) / n) + 3e-3)
+                fail_msg("material %d, wo.z %g: ∫ pdf dω = %.5f, samples kept %.5f", p, zs[k],
+                         integral, kept);
+            double chi2 = 0.0, eo = 0.0, oo = 0.0;
+            int dof = -1;
+            for (int i = 0; i <= SZ * SPHI; i++) {
+                eo += expct[i];
+                oo += obs[i];
+                if (eo >= 5.0) {
+                    chi2 += (oo - eo) * (oo - eo) / eo;
+                    dof++;
+                    eo = oo = 0.0;
+                }
+            }
+            double h = 2.0 / (9.0 * dof), limit = dof * pow(1.0 - h + 3.719 * sqrt(h), 3.0);
+            if (!(chi2 < limit))
+                fail_msg("material %d, wo.z %g: chi-square %.1f over %d dof, limit %.1f", p,
+                         zs[k], chi2, dof, limit);
+        }
+}
+
+/* A clear coat over white bases reflects at most what it receives: over a
+ * Lambertian base, a white metal and smooth glass (R + T), from normal to
+ * grazing; a full coat over a black Lambertian base reflects exactly its
+ * own lobe, 0.04 at normal incidence when smooth (the coat's F0). */
+static void coat_furnace(void **state)
+{
+    (void)state;
+    const float bases[][5] = {/* base, metallic, roughness, transmission, specular */
+                              {1.0f, 0.0f, 1.0f, 0.0f, 0.0f},
+                              {1.0f, 1.0f, 0.0f, 0.0f, 1.0f},
+                              {1.0f, 1.0f, 0.5f, 0.0f, 1.0f},
+                              {1.0f, 0.0f, 0.0f, 1.0f, 1.0f}};
+    const double zs[] = {0.95, 0.5, 0.15};
+    for (int p = 0; p < 4; p++)
+        for (int k = 0; k < 3; k++)
+            for (int r = 0; r < 2; r++) {
+                const float base[3] = {1.0f, 1.0f, 1.0f};
+                st_dielectric d = st_dielectric_make(bases[p][3], bases[p][1], base, 1.5f, 1);
+                st_brdf b = st_brdf_make(base, bases[p][1], bases[p][2], bases[p][4], base, 1.5f,
+                                         bases[p][3]);
+                st_coat c = st_coat_make(1.0f, r ? 0.4f : 0.0f);
+                double se, a = sampled_energy_coated(&b, &d, &c, dir_from(zs[k], 0.3), 200000,
+                                                     &se);
+                if (!(a <= 1.0 + 5.0 * se + 2e-3) || !(a > 0.3))
+                    fail_msg("base %d, coat roughness %d, wo.z %g: energy %.5f +- %.5f", p, r,
+                             zs[k], a, se);
+            }
+    const float black[3] = {0.0f, 0.0f, 0.0f};
+    st_dielectric d = st_dielectric_make(0.0f, 0.0f, black, 1.5f, 1);
+    st_brdf b = st_brdf_make(black, 0.0f, 1.0f, 0.0f, black, 1.5f, 0.0f);
+    st_coat c = st_coat_make(1.0f, 0.0f);
+    double se, a = sampled_energy_coated(&b, &d, &c, dir_from(1.0, 0.0), 100000, &se);
+    if (fabs(a - 0.04) > 5.0 * se + 1e-3)
+        fail_msg("smooth coat over black: %.5f +- %.5f, want 0.04", a, se);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -302,6 +602,12 @@ int main(void)
         cmocka_unit_test(white_metal_albedo),
         cmocka_unit_test(pdf_integrates_to_one),
         cmocka_unit_test(sampler_passes_chi_square),
+        cmocka_unit_test(fresnel_matches_definition),
+        cmocka_unit_test(dielectric_furnace),
+        cmocka_unit_test(transmission_mixture_energy),
+        cmocka_unit_test(dielectric_is_reciprocal),
+        cmocka_unit_test(transmission_sampler_passes_chi_square),
+        cmocka_unit_test(coat_furnace),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
