@@ -799,6 +799,65 @@ static void build_is_deterministic(void **state)
     free(p);
 }
 
+/* Every array of two trees the same, byte for byte. */
+static void assert_same_tree(const st_bvh *a, const st_bvh *b)
+{
+    assert_int_equal(a->tri_count, b->tri_count);
+    assert_int_equal(a->node_count, b->node_count);
+    assert_int_equal(a->depth, b->depth);
+    assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
+    assert_memory_equal(a->order, b->order, a->tri_count * sizeof *a->order);
+    assert_memory_equal(a->tris, b->tris, a->tri_count * sizeof *a->tris);
+    assert_int_equal(a->wide_count, b->wide_count);
+    assert_int_equal(a->wide_depth, b->wide_depth);
+    assert_int_equal(a->leaf_slots, b->leaf_slots);
+    assert_memory_equal(a->wide, b->wide, (a->wide_count + a->leaf_slots) * sizeof *a->wide);
+}
+
+/* Triangles in the plane z = 0, each z coordinate +0 or -0 at random: the
+ * boxes' z bounds are zeros of either sign, which keep the sign one pass
+ * would give them only if bounds gathered in pieces are combined in input
+ * order (min and max keep the later of equal values). */
+static float *signed_zeros(rng *r, uint32_t n)
+{
+    float *p = soup(r, n, 0.02f);
+    for (uint32_t i = 0; i < 3 * n; ++i)
+        p[3 * i + 2] = rng_u32(r) & 1u ? 0.0f : -0.0f;
+    return p;
+}
+
+/* The tree is the same whatever the thread count (st_bvh_build_threads):
+ * 1, 2, 3 and 7 threads, on scenes of both builders (below and above the
+ * cluster grid's threshold), with many equal centroids (one grid cell) and
+ * with zeros of both signs; and st_bvh_build's own choice. Each build is
+ * also checked against the definitions. */
+static void build_same_tree_whatever_the_threads(void **state)
+{
+    (void)state;
+    rng r = {31};
+    const uint32_t sizes[4] = {3000, 70000, 70000, 70000};
+    for (int k = 0; k < 4; ++k) {
+        uint32_t n = sizes[k];
+        float *p = k == 0 ? soup(&r, n, 0.05f) : k == 1 ? soup(&r, n, 0.02f)
+                 : k == 2 ? coincident(&r, n) : signed_zeros(&r, n);
+        st_bvh *one = NULL, *other = NULL;
+        st_error err = {0};
+        assert_int_equal(st_bvh_build_threads(p, n, 1, &one, &err), ST_OK);
+        check_structure(one, p, n);
+        const unsigned threads[5] = {2, 3, 7, ST_BVH_MAX_THREADS, 0};
+        for (int t = 0; t < 5; ++t) {
+            assert_int_equal(st_bvh_build_threads(p, n, threads[t], &other, &err), ST_OK);
+            assert_same_tree(one, other);
+            st_bvh_destroy(other);
+        }
+        assert_int_equal(st_bvh_build(p, n, &other, &err), ST_OK);
+        assert_same_tree(one, other);
+        st_bvh_destroy(other);
+        st_bvh_destroy(one);
+        free(p);
+    }
+}
+
 /* 1M random triangles: structure checked; speed printed as a TAP comment. */
 static void build_million_triangles_structure(void **state)
 {
@@ -971,6 +1030,7 @@ int main(void)
         cmocka_unit_test(build_empty_scene_has_no_hits),
         cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
         cmocka_unit_test(build_is_deterministic),
+        cmocka_unit_test(build_same_tree_whatever_the_threads),
         cmocka_unit_test(build_million_triangles_structure),
         cmocka_unit_test(build_overflowing_areas_keeps_structure),
         cmocka_unit_test(triangle_hit_matches_barycentric_construction),
