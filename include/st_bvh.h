@@ -68,8 +68,9 @@ st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigne
  * two-sided from its material's ST_MAT_DOUBLE_SIDED flag: tri_material[i]
  * is input triangle i's index into materials. st_bvh_build leaves every
  * triangle two-sided; every traversal of a scene's triangles (the renderer's
- * and the host's references) marks them so, to cull alike. Repacks the
- * leaves (st_bvh_pack_leaves). */
+ * and the host's references) marks them so, to cull alike. Updates the
+ * leaf blocks' sides words to match (their rows do not change), as
+ * st_bvh_pack_leaves would. */
 void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials);
 
 /* Collapses bvh->nodes into bvh->wide (src/bvh_wide.c; st_bvh_build calls
@@ -84,8 +85,11 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
 
 /* For src/bvh*.c. st_bvh_collapse_wide on `threads` threads (as
  * st_bvh_build_threads counts them), filling the leaf blocks as well when
- * `pack` (st_bvh_pack_leaves' rows, from bvh->tris). */
-st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, st_error *err);
+ * `pack` (st_bvh_pack_leaves' rows, from bvh->tris), in `room` (room for
+ * node_count + 1 wide nodes, owned by the call from then on) or, when NULL,
+ * memory of its own. */
+st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, st_bvh_wide_node *room,
+                                       st_error *err);
 
 /* For src/bvh*.c: the thread count for `work` items (triangles, nodes) from
  * a requested count (0: one per online processor, one below a size where
@@ -100,9 +104,9 @@ typedef void st_bvh_job(void *ctx, unsigned t);
 void st_bvh_parallel(unsigned threads, st_bvh_job *job, void *ctx);
 
 /* Fills every leaf block of bvh->wide from bvh->tris (their first
- * triangles and counts as the collapse placed them): st_bvh_build calls it,
- * st_bvh_set_sides again for the sides; whoever changes bvh->tris after
- * (tests) calls it before tracing the wide tree. */
+ * triangles and counts as the collapse placed them; st_bvh_build fills
+ * them so); whoever changes bvh->tris after (tests) calls it before tracing
+ * the wide tree. */
 void st_bvh_pack_leaves(st_bvh *bvh);
 
 /* Frees the tree and its arrays. NULL is a no-op. */

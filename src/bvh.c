@@ -882,12 +882,12 @@ static st_u32 plan_build(grid *g, st_u32 first, st_u32 last, st_u32 depth)
 
 /* A subtree below the plan, built by one thread: triangles [begin, end) at
  * `depth` with bounds and centroid bounds; built, `count` nodes (deepest
- * leaf at max_depth) at arena `arena`, node `at`, and `base` the first of
+ * leaf at max_depth) at node `at` of the arena, and `base` the first of
  * them in the tree. */
 typedef struct task {
     box bounds, cb;
     st_u32 begin, end, depth;
-    st_u32 arena, at, count, max_depth;
+    st_u32 at, count, max_depth;
     st_u32 base;
 } task;
 
@@ -943,8 +943,11 @@ static void grid_scatter(cell *cells, const float *positions, st_u32 lo_i, st_u3
  *     clusters); each cell's slots are then split between the shares in
  *     share order, so the scatter puts every triangle where one pass would;
  *   - subtrees: each plan leaf is a task, built by whichever thread takes it
- *     into that thread's arena, node offsets relative to its first node;
- *     leaves name triangles, which are in place already;
+ *     into that thread's buffer (reused from task to task), node offsets
+ *     relative to its first node, then copied to the next free nodes of the
+ *     arena shared by the threads (the wide tree's memory, which the
+ *     collapse overwrites: no pages of its own); leaves name triangles,
+ *     which are in place already;
  *   - stitch: one thread lays the plan's nodes and the tasks' subtrees out
  *     depth first, as one thread building them in turn would (each task's
  *     size is known now), then the threads copy the subtrees to their
@@ -959,11 +962,12 @@ typedef struct cluster_job {
     ref *refs;
     task *tasks;
     st_u32 task_count;
-    st_bvh_node *arena[ST_BVH_MAX_THREADS];
-    st_u32 arena_cap;
+    st_bvh_node *arena;                      /* room for 2n - 1 nodes */
+    st_bvh_node *local[ST_BVH_MAX_THREADS];  /* each thread's buffer */
+    st_u32 local_cap[ST_BVH_MAX_THREADS];
     st_bvh_node *nodes;
     st_triangle *tris;
-    atomic_uint next, next_tris;
+    atomic_uint next, next_tris, arena_used;
 } cluster_job;
 
 static void count_run(void *ctx, unsigned t)
@@ -1015,24 +1019,37 @@ static void scatter_run(void *ctx, unsigned t)
     grid_scatter(j->part[t], j->positions, lo, hi, j->cell_of, j->refs);
 }
 
-/* The tasks this thread takes, into its arena; then their triangles'
- * input indices into the output order (the references are final there). */
+/* Thread t's buffer, grown to at least `nodes` nodes; 0 if out of memory. */
+static int local_room(cluster_job *j, unsigned t, st_u32 nodes)
+{
+    if (j->local_cap[t] >= nodes)
+        return 1;
+    nodes = nodes > 4096u ? nodes : 4096u;
+    st_bvh_node *grown = realloc(j->local[t], (size_t)nodes * sizeof *grown);
+    if (!grown)
+        return 0;
+    j->local[t] = grown;
+    j->local_cap[t] = nodes;
+    return 1;
+}
+
+/* The tasks this thread takes, each into its buffer (a subtree of m
+ * triangles has at most 2m - 1 nodes) and then the arena; then their
+ * triangles' input indices into the output order (the references are
+ * final there). A task left undone (count 0) is out of memory. */
 static void subtree_run(void *ctx, unsigned t)
 {
     cluster_job *j = ctx;
-    st_u32 used = 0;
-    j->arena[t] = malloc((size_t)j->arena_cap * sizeof *j->arena[t]);
-    if (!j->arena[t])
-        return; /* the other threads take its share; none left is out of memory */
     for (st_u32 k; (k = take(&j->next)) < j->task_count;) {
         task *x = &j->tasks[k];
-        builder b = {j->refs, j->arena[t] + used, 0, 0};
+        if (!local_room(j, t, 2u * (x->end - x->begin) - 1u))
+            continue;
+        builder b = {j->refs, j->local[t], 0, 0};
         build_node(&b, x->begin, x->end, x->depth, &x->bounds, &x->cb);
-        x->arena = t;
-        x->at = used;
+        x->at = (st_u32)atomic_fetch_add(&j->arena_used, b.node_count);
         x->count = b.node_count;
         x->max_depth = b.depth;
-        used += b.node_count;
+        memcpy(j->arena + x->at, j->local[t], (size_t)b.node_count * sizeof *j->arena);
         for (st_u32 i = x->begin; i < x->end; ++i)
             j->cell_of[i] = ref_id(&j->refs[i]);
     }
@@ -1101,7 +1118,7 @@ static void place_run(void *ctx, unsigned t)
     (void)t;
     for (st_u32 k; (k = take(&j->next)) < j->task_count;) {
         const task *x = &j->tasks[k];
-        const st_bvh_node *from = j->arena[x->arena] + x->at;
+        const st_bvh_node *from = j->arena + x->at;
         st_bvh_node *to = j->nodes + x->base;
         memcpy(to, from, (size_t)x->count * sizeof *to);
         for (st_u32 i = 0; i < x->count; ++i)
@@ -1120,7 +1137,7 @@ static void tris_run(void *ctx, unsigned t)
 static void cluster_job_free(cluster_job *j)
 {
     for (unsigned t = 0; t < j->threads; ++t) {
-        free(j->arena[t]);
+        free(j->local[t]);
         if (t > 0u)
             free(j->part[t]);
     }
@@ -1139,9 +1156,10 @@ static void count_cells(cluster_job *j)
 }
 
 /* The clustered build of n >= GRID_MIN_TRIS triangles into bvh (its order
- * array serves as scratch for the cells until it is written). */
+ * array serves as scratch for the cells until it is written), `arena` room
+ * for 2n - 1 nodes. */
 static st_status build_clustered(st_bvh *bvh, const float *positions, const box *cb, unsigned threads,
-                                 st_error *err)
+                                 st_bvh_node *arena, st_error *err)
 {
     st_u32 n = bvh->tri_count;
     grid g = {0};
@@ -1156,7 +1174,7 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
     j.refs = (ref *)(void *)bvh->tris;
     j.nodes = bvh->nodes;
     j.tris = bvh->tris;
-    j.arena_cap = 2u * n - 1u;
+    j.arena = arena;
     g.cells = malloc(j.cells * sizeof *g.cells);
     g.clusters = malloc(j.cells * sizeof *g.clusters);
     g.plans = malloc((2u * j.cells - 1u) * sizeof *g.plans);
@@ -1237,7 +1255,8 @@ static void make_empty(st_bvh *bvh)
  * touches are the ones the output needs anyway. */
 ST_STATIC_ASSERT(sizeof(ref) <= sizeof(st_triangle), "refs must fit in the triangle array");
 
-static st_status build_tree(const float *positions, st_bvh *bvh, unsigned threads, st_error *err)
+static st_status build_tree(const float *positions, st_bvh *bvh, unsigned threads, st_bvh_node *arena,
+                            st_error *err)
 {
     st_u32 n = bvh->tri_count;
     box bounds, cb;
@@ -1245,7 +1264,7 @@ static st_status build_tree(const float *positions, st_bvh *bvh, unsigned thread
     if (bad < n)
         return st_fail(err, ST_ERR_FORMAT, "bvh: triangle %u has a non-finite vertex coordinate", bad);
     if (n >= GRID_MIN_TRIS) {
-        st_status s = build_clustered(bvh, positions, &cb, threads, err);
+        st_status s = build_clustered(bvh, positions, &cb, threads, arena, err);
         if (s != ST_OK)
             return s;
     } else {
@@ -1283,15 +1302,20 @@ st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigne
     bvh->nodes = malloc((2u * slots - 1u) * sizeof *bvh->nodes);
     bvh->tris = aligned_alloc(16, slots * sizeof *bvh->tris);
     bvh->order = malloc(slots * sizeof *bvh->order);
+    /* the wide tree's room (st_bvh_collapse_wide_threads: node_count + 1
+     * <= 2 slots nodes), the build's arena until then */
+    st_bvh_wide_node *wide = malloc(2u * slots * sizeof *wide);
     st_status s = ST_OK;
-    if (!bvh->nodes || !bvh->tris || !bvh->order)
+    if (!bvh->nodes || !bvh->tris || !bvh->order || !wide)
         s = st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for %u triangles", tri_count);
     else if (tri_count == 0u)
         make_empty(bvh);
     else
-        s = build_tree(positions, bvh, threads, err);
+        s = build_tree(positions, bvh, threads, (st_bvh_node *)(void *)wide, err);
     if (s == ST_OK)
-        s = st_bvh_collapse_wide_threads(bvh, threads, 1, err);
+        s = st_bvh_collapse_wide_threads(bvh, threads, 1, wide, err);
+    else
+        free(wide);
     if (s != ST_OK) {
         st_bvh_destroy(bvh);
         return s;
@@ -1309,29 +1333,4 @@ void st_bvh_destroy(st_bvh *bvh)
     free(bvh->tris);
     free(bvh->order);
     free(bvh);
-}
-
-typedef struct sides_job {
-    st_bvh *bvh;
-    const st_u32 *tri_material;
-    const st_material *materials;
-    unsigned threads;
-} sides_job;
-
-static void sides_run(void *ctx, unsigned t)
-{
-    sides_job *j = ctx;
-    st_u32 lo, hi;
-    share(j->bvh->tri_count, t, j->threads, &lo, &hi);
-    for (st_u32 i = lo; i < hi; ++i) {
-        st_u32 flags = j->materials[j->tri_material[j->bvh->order[i]]].flags;
-        j->bvh->tris[i].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
-    }
-}
-
-void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials)
-{
-    sides_job j = {bvh, tri_material, materials, st_bvh_threads(0u, bvh->tri_count)};
-    st_bvh_parallel(j.threads, sides_run, &j);
-    st_bvh_pack_leaves(bvh);
 }

@@ -27,25 +27,34 @@ static float half_area(const st_bvh_node *n)
 /* The binary nodes that become the children of a wide node made from
  * interior node i: its two children, then, while fewer than ST_BVH_WIDTH, the
  * interior one of largest area replaced by its own two (the first of equal
- * areas, so the result is a function of the tree). Returns their number. */
+ * areas, so the result is a function of the tree). Returns their number.
+ * Each kid's area is computed once (-1 for a leaf: never opened). */
+static float open_area(const st_bvh_node *n) { return is_leaf(n) ? -1.0f : half_area(n); }
+
 static int gather(const st_bvh_node *nodes, st_u32 i, int width, st_u32 kids[ST_BVH_WIDTH])
 {
+    float area[ST_BVH_WIDTH];
     int c = 2;
     kids[0] = i + 1u;
     kids[1] = nodes[i].offset;
+    area[0] = open_area(&nodes[kids[0]]);
+    area[1] = open_area(&nodes[kids[1]]);
     while (c < width) {
         int best = -1;
-        float area = -1.0f;
+        float most = -1.0f;
         for (int k = 0; k < c; k++)
-            if (!is_leaf(&nodes[kids[k]]) && half_area(&nodes[kids[k]]) > area) {
-                area = half_area(&nodes[kids[k]]);
+            if (area[k] > most) {
+                most = area[k];
                 best = k;
             }
         if (best < 0)
             break;
         st_u32 open = kids[best];
         kids[best] = open + 1u;
-        kids[c++] = nodes[open].offset;
+        kids[c] = nodes[open].offset;
+        area[best] = open_area(&nodes[kids[best]]);
+        area[c] = open_area(&nodes[kids[c]]);
+        c++;
     }
     return c;
 }
@@ -361,17 +370,18 @@ void st_bvh_pack_leaves(st_bvh *bvh)
 
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
 {
-    return st_bvh_collapse_wide_threads(bvh, st_bvh_threads(0u, bvh->node_count), 0, err);
+    return st_bvh_collapse_wide_threads(bvh, st_bvh_threads(0u, bvh->node_count), 0, NULL, err);
 }
 
-st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, st_error *err)
+st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, st_bvh_wide_node *room,
+                                       st_error *err)
 {
     /* every wide node consumes at least one binary interior node and every
      * binary leaf becomes one leaf block, smaller than a node: at most
      * node_count entries in a full binary tree, one more for a leaf root (a
      * small or empty scene), which gets one wide node over it */
     size_t cap = (size_t)bvh->node_count + 1u;
-    wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
+    wide_builder b = {bvh->nodes, room ? room : malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
     if (!b.wide)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
     collapse(&b, threads);
@@ -401,4 +411,49 @@ st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, 
     bvh->leaf_slots = slots;
     bvh->wide_depth = b.depth;
     return ST_OK;
+}
+
+/* One pass over the leaf blocks: each triangle's side rule into its
+ * st_triangle and its block's sides word (every triangle is in one block;
+ * the rows do not depend on the sides), pieces of wide nodes on threads. */
+typedef struct sides_job {
+    st_bvh *bvh;
+    const st_u32 *tri_material;
+    const st_material *materials;
+    st_u32 pieces;
+    atomic_uint next;
+} sides_job;
+
+static void sides_run(void *ctx, unsigned t)
+{
+    sides_job *j = ctx;
+    st_bvh *bvh = j->bvh;
+    (void)t;
+    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
+        st_u32 lo = p * NODE_PIECE, hi = bvh->wide_count - lo < NODE_PIECE ? bvh->wide_count : lo + NODE_PIECE;
+        for (st_u32 w = lo; w < hi; w++)
+            for (int k = 0; k < ST_BVH_WIDTH; k++) {
+                st_u32 n = bvh->wide[w].count[k], sides = 0u;
+                if (n == 0u)
+                    continue;
+                st_f32 *rows = (st_f32 *)(void *)((char *)bvh->wide + (size_t)bvh->wide[w].child[k] * ST_LEAF_UNIT);
+                st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n);
+                for (st_u32 i = 0u; i < n; i++) {
+                    st_u32 tri = words[0] + i;
+                    st_u32 flags = j->materials[j->tri_material[bvh->order[tri]]].flags;
+                    bvh->tris[tri].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
+                    sides |= (bvh->tris[tri].v0[3] != 0.0f ? 1u : 0u) << i;
+                }
+                words[1] = sides;
+            }
+    }
+}
+
+void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials)
+{
+    if (bvh->tri_count == 0u) /* the empty scene's placeholder has no material */
+        return;
+    sides_job j = {bvh, tri_material, materials, (bvh->wide_count + NODE_PIECE - 1u) / NODE_PIECE, 0u};
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(st_bvh_threads(0u, bvh->tri_count), sides_run, &j);
 }

@@ -858,6 +858,47 @@ static void build_same_tree_whatever_the_threads(void **state)
     }
 }
 
+/* st_bvh_set_sides = its definition: each triangle's st_triangle.v0[3]
+ * from its material's ST_MAT_DOUBLE_SIDED flag, then the leaves repacked
+ * (st_bvh_pack_leaves); every array equal, with materials of both kinds
+ * (and a second call turning every triangle back two-sided). */
+static void set_sides_equals_marking_and_repacking(void **state)
+{
+    (void)state;
+    rng r = {32};
+    const uint32_t n = 70000;
+    float *p = soup(&r, n, 0.02f);
+    uint32_t *tri_material = malloc(n * sizeof *tri_material);
+    assert_non_null(tri_material);
+    st_material materials[3];
+    memset(materials, 0, sizeof materials);
+    materials[1].flags = ST_MAT_DOUBLE_SIDED;
+    for (uint32_t i = 0; i < n; ++i)
+        tri_material[i] = rng_u32(&r) % 3u;
+    st_bvh *got = NULL, *want = NULL;
+    st_error err = {0};
+    assert_int_equal(st_bvh_build(p, n, &got, &err), ST_OK);
+    assert_int_equal(st_bvh_build(p, n, &want, &err), ST_OK);
+    for (int pass = 0; pass < 2; ++pass) {
+        st_bvh_set_sides(got, tri_material, materials);
+        uint32_t one_sided = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            int two = (materials[tri_material[want->order[i]]].flags & ST_MAT_DOUBLE_SIDED) != 0;
+            want->tris[i].v0[3] = two ? 0.0f : ST_TRI_ONE_SIDED;
+            one_sided += !two;
+        }
+        st_bvh_pack_leaves(want);
+        assert_true(pass == 1 ? one_sided == 0 : one_sided > n / 2 && one_sided < n);
+        assert_same_tree(got, want);
+        for (int m = 0; m < 3; ++m)
+            materials[m].flags = ST_MAT_DOUBLE_SIDED;
+    }
+    st_bvh_destroy(got);
+    st_bvh_destroy(want);
+    free(tri_material);
+    free(p);
+}
+
 /* 1M random triangles: structure checked; speed printed as a TAP comment. */
 static void build_million_triangles_structure(void **state)
 {
@@ -1031,6 +1072,7 @@ int main(void)
         cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
         cmocka_unit_test(build_is_deterministic),
         cmocka_unit_test(build_same_tree_whatever_the_threads),
+        cmocka_unit_test(set_sides_equals_marking_and_repacking),
         cmocka_unit_test(build_million_triangles_structure),
         cmocka_unit_test(build_overflowing_areas_keeps_structure),
         cmocka_unit_test(triangle_hit_matches_barycentric_construction),
