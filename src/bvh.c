@@ -653,9 +653,10 @@ static st_u32 scan_positions(const float *positions, st_u32 n, box *bounds, box 
     return n;
 }
 
-static void fill_refs(const float *positions, st_u32 n, ref *refs)
+/* The references of triangles [lo, hi). */
+static void fill_refs(const float *positions, st_u32 lo_i, st_u32 hi_i, ref *refs)
 {
-    for (st_u32 i = 0; i < n; ++i) {
+    for (st_u32 i = lo_i; i < hi_i; ++i) {
         float lo[3], hi[3];
         tri_bounds(positions + (size_t)9 * i, lo, hi);
         ref_set(&refs[i], lo, hi, i);
@@ -1131,12 +1132,6 @@ static void place_run(void *ctx, unsigned t)
     write_pieces(j);
 }
 
-static void tris_run(void *ctx, unsigned t)
-{
-    (void)t;
-    write_pieces(ctx);
-}
-
 static void cluster_job_free(cluster_job *j)
 {
     for (unsigned t = 0; t < j->threads; ++t) {
@@ -1145,6 +1140,23 @@ static void cluster_job_free(cluster_job *j)
             free(j->part[t]);
     }
     free(j->tasks);
+}
+
+/* The tasks under j's plan built on the threads and laid out with the
+ * plan into bvh's nodes, and the output triangles written; 0 if out of
+ * memory. */
+static int run_tasks(cluster_job *j, st_bvh *bvh)
+{
+    st_u32 count = 0;
+    st_bvh_parallel(j->threads, subtree_run, j);
+    for (st_u32 k = 0; k < j->task_count; ++k)
+        if (j->tasks[k].count == 0u)
+            return 0;
+    bvh->depth = plan_stitch(j->g, 0, bvh->nodes, &count, j->tasks);
+    bvh->node_count = count;
+    atomic_store(&j->next, 0u);
+    st_bvh_parallel(j->threads, place_run, j);
+    return 1;
 }
 
 /* Pass 1 on the threads: every triangle's cell and the merged cells. */
@@ -1190,19 +1202,11 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
         plan_build(&g, 0, g.cluster_count, 1);
         ok = (j.tasks = malloc(g.plan_count * sizeof *j.tasks)) != NULL;
     }
-    st_u32 depth = 0, count = 0;
     if (ok) {
         plan_layout(&g, 0, 0, j.tasks, &j.task_count);
         st_bvh_parallel(threads, offsets_run, &j);
         st_bvh_parallel(threads, scatter_run, &j);
-        st_bvh_parallel(threads, subtree_run, &j);
-        for (st_u32 k = 0; k < j.task_count; ++k)
-            ok &= j.tasks[k].count > 0u;
-    }
-    if (ok) {
-        depth = plan_stitch(&g, 0, bvh->nodes, &count, j.tasks);
-        atomic_store(&j.next, 0u);
-        st_bvh_parallel(threads, place_run, &j);
+        ok = run_tasks(&j, bvh);
     }
     cluster_job_free(&j);
     free(g.cells);
@@ -1210,30 +1214,96 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
     free(g.plans);
     if (!ok)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the cluster grid of %u triangles", n);
-    bvh->node_count = count;
-    bvh->depth = depth;
     return ST_OK;
 }
 
-/* The build of fewer than GRID_MIN_TRIS triangles: on one thread but the
- * output triangles. */
-static void build_direct(st_bvh *bvh, const float *positions, const box *bounds, const box *cb,
-                         unsigned threads)
+/* ---- the direct build on threads ------------------------------------------------ */
+
+/* Below GRID_MIN_TRIS triangles the tree is build_node's from the root. On
+ * threads, its top is made by top_node on one thread down to nodes of at
+ * most a sixteenth of the triangles (but more than SMALL_MAX), each of
+ * those a task as the plan's leaves are above: the splits are build_node's,
+ * so the tree does not depend on where the tasks begin. */
+#define TOP_SHARE 16u
+
+static void refs_run(void *ctx, unsigned t)
 {
-    st_u32 n = bvh->tri_count;
-    builder b = {(ref *)(void *)bvh->tris, bvh->nodes, 0, 0};
-    fill_refs(positions, n, b.refs);
-    build_node(&b, 0, n, 1, bounds, cb);
-    for (st_u32 i = 0; i < n; ++i)
-        bvh->order[i] = ref_id(&b.refs[i]);
+    cluster_job *j = ctx;
+    st_u32 lo, hi;
+    share(j->n, t, j->threads, &lo, &hi);
+    fill_refs(j->positions, lo, hi, j->refs);
+}
+
+/* build_node's split of refs [begin, end) as plan node g->plans[plan_count]
+ * (a leaf, right == 0, for a task); returns its index. */
+static st_u32 top_node(cluster_job *j, st_u32 begin, st_u32 end, st_u32 depth, const box *bounds, const box *cb,
+                       st_u32 cut)
+{
+    grid *g = j->g;
+    st_u32 n = end - begin, index = g->plan_count++;
+    g->plans[index] = (plan){*bounds, 0, 0, n, begin, 0, 0, 0, depth, 0};
+    if (n <= cut) {
+        task *x = &j->tasks[j->task_count];
+        g->plans[index].task = j->task_count++;
+        *x = (task){*bounds, *cb, begin, end, depth, 0, 0, 0, 0};
+        return index;
+    }
+    split s;
+    ref *refs = j->refs + begin;
+    if (!split_binned(refs, n, cb, &s) ||
+        depth + 1u + median_levels(s.left_count > n - s.left_count ? s.left_count : n - s.left_count) >
+            ST_BVH_MAX_DEPTH)
+        split_median(refs, n, cb, &s);
+    g->plans[index].axis = s.axis;
+    st_u32 left = top_node(j, begin, begin + s.left_count, depth + 1u, &s.left, &s.left_cb, cut);
+    st_u32 right = top_node(j, begin + s.left_count, end, depth + 1u, &s.right, &s.right_cb, cut);
+    g->plans[index].left = left;
+    g->plans[index].right = right;
+    return index;
+}
+
+static st_status build_direct(st_bvh *bvh, const float *positions, const box *bounds, const box *cb,
+                              unsigned threads, st_bvh_node *arena, st_error *err)
+{
+    st_u32 n = bvh->tri_count, cut = n / TOP_SHARE > SMALL_MAX ? n / TOP_SHARE : SMALL_MAX;
+    grid g = {0};
     cluster_job j = {0};
+    j.g = &g;
     j.positions = positions;
     j.n = n;
+    j.threads = threads;
     j.cell_of = bvh->order;
+    j.refs = (ref *)(void *)bvh->tris;
+    j.nodes = bvh->nodes;
     j.tris = bvh->tris;
-    st_bvh_parallel(threads, tris_run, &j);
-    bvh->node_count = b.node_count;
-    bvh->depth = b.depth;
+    j.arena = arena;
+    /* the top's interior nodes hold more than `cut` triangles each, and
+     * those at one depth are disjoint: at most n / cut + 1 a level, over at
+     * most ST_BVH_MAX_DEPTH levels, and fewer than n in all; one more task */
+    st_u64 levels = (st_u64)ST_BVH_MAX_DEPTH * (n / cut + 1u);
+    st_u32 most = 2u * (levels < n ? (st_u32)levels : n) + 1u;
+    g.plans = malloc((size_t)most * sizeof *g.plans);
+    j.tasks = malloc((size_t)most * sizeof *j.tasks);
+    int ok = g.plans && j.tasks;
+    if (ok && threads == 1u) { /* build_node itself, as the threads' top and tasks do */
+        builder b = {j.refs, bvh->nodes, 0, 0};
+        fill_refs(positions, 0, n, j.refs);
+        build_node(&b, 0, n, 1, bounds, cb);
+        for (st_u32 i = 0; i < n; ++i)
+            bvh->order[i] = ref_id(&j.refs[i]);
+        write_triangles(positions, bvh->order, 0, n, bvh->tris);
+        bvh->node_count = b.node_count;
+        bvh->depth = b.depth;
+    } else if (ok) {
+        st_bvh_parallel(threads, refs_run, &j);
+        top_node(&j, 0, n, 1, bounds, cb, cut);
+        ok = run_tasks(&j, bvh);
+    }
+    cluster_job_free(&j);
+    free(g.plans);
+    if (!ok)
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the build of %u triangles", n);
+    return ST_OK;
 }
 
 /* The empty scene: one leaf whose inverted box no ray enters, holding one
@@ -1271,7 +1341,9 @@ static st_status build_tree(const float *positions, st_bvh *bvh, unsigned thread
         if (s != ST_OK)
             return s;
     } else {
-        build_direct(bvh, positions, &bounds, &cb, threads);
+        st_status s = build_direct(bvh, positions, &bounds, &cb, threads, arena, err);
+        if (s != ST_OK)
+            return s;
     }
     if (bvh->depth > ST_BVH_MAX_DEPTH) /* unreachable: see the depth invariant above */
         return st_fail(err, ST_ERR_FORMAT, "bvh: depth %u exceeds %d", bvh->depth, ST_BVH_MAX_DEPTH);

@@ -827,19 +827,21 @@ static float *signed_zeros(rng *r, uint32_t n)
 }
 
 /* The tree is the same whatever the thread count (st_bvh_build_threads):
- * 1, 2, 3 and 7 threads, on scenes of both builders (below and above the
- * cluster grid's threshold), with many equal centroids (one grid cell) and
- * with zeros of both signs; and st_bvh_build's own choice. Each build is
- * also checked against the definitions. */
+ * 1, 2, 3, 7 and 16 threads, on scenes of both builders (below and above
+ * the cluster grid's threshold; below it, one thread is build_node alone,
+ * more share out its subtrees), an unbalanced one (a long chain at the
+ * top), with many equal centroids (one grid cell) and with zeros of both
+ * signs; and st_bvh_build's own choice. The one-thread build is also
+ * checked against the definitions. */
 static void build_same_tree_whatever_the_threads(void **state)
 {
     (void)state;
     rng r = {31};
-    const uint32_t sizes[4] = {3000, 70000, 70000, 70000};
-    for (int k = 0; k < 4; ++k) {
+    const uint32_t sizes[5] = {120, 3000, 70000, 70000, 70000};
+    for (int k = 0; k < 5; ++k) {
         uint32_t n = sizes[k];
-        float *p = k == 0 ? soup(&r, n, 0.05f) : k == 1 ? soup(&r, n, 0.02f)
-                 : k == 2 ? coincident(&r, n) : signed_zeros(&r, n);
+        float *p = k == 0 ? geometric(n) : k == 1 ? soup(&r, n, 0.05f) : k == 2 ? soup(&r, n, 0.02f)
+                 : k == 3 ? coincident(&r, n) : signed_zeros(&r, n);
         st_bvh *one = NULL, *other = NULL;
         st_error err = {0};
         assert_int_equal(st_bvh_build_threads(p, n, 1, &one, &err), ST_OK);
