@@ -43,9 +43,10 @@
  * the traversal with a brute-force loop over the same triangle test, bit for
  * bit.
  *
- * Memory: the triangle references (32 bytes) live in the output triangle
- * array (48 bytes each) until it is written; the node array is allocated at
- * its bound 2N - 1 and shrunk at the end; the grid, when used, takes a few MB.
+ * Memory: the triangle references (32 bytes) and the subtrees' arena live in
+ * the memory of the wide tree, which is written after them (build_tree);
+ * the node array is allocated at its bound 2N - 1 and shrunk at the end; the
+ * grid, when used, takes a few MB.
  * The per-triangle work runs on 4-wide float vectors (SSE2 where available,
  * plain C otherwise, with the same results). */
 #define _DEFAULT_SOURCE /* madvise(2)'s MADV_HUGEPAGE */
@@ -971,7 +972,7 @@ typedef struct cluster_job {
     st_u32 local_cap[ST_BVH_MAX_THREADS];
     st_bvh_node *nodes;
     st_triangle *tris;
-    atomic_uint next, next_tris, arena_used;
+    atomic_uint next, arena_used;
 } cluster_job;
 
 static void count_run(void *ctx, unsigned t)
@@ -1023,62 +1024,6 @@ static void scatter_run(void *ctx, unsigned t)
     grid_scatter(j->part[t], j->positions, lo, hi, j->cell_of, j->refs);
 }
 
-/* Thread t's buffer, grown to at least `nodes` nodes; 0 if out of memory. */
-static int local_room(cluster_job *j, unsigned t, st_u32 nodes)
-{
-    if (j->local_cap[t] >= nodes)
-        return 1;
-    nodes = nodes > 4096u ? nodes : 4096u;
-    st_bvh_node *grown = realloc(j->local[t], (size_t)nodes * sizeof *grown);
-    if (!grown)
-        return 0;
-    j->local[t] = grown;
-    j->local_cap[t] = nodes;
-    return 1;
-}
-
-/* The tasks this thread takes, each into its buffer (a subtree of m
- * triangles has at most 2m - 1 nodes) and then the arena; then their
- * triangles' input indices into the output order (the references are
- * final there). A task left undone (count 0) is out of memory. */
-static void subtree_run(void *ctx, unsigned t)
-{
-    cluster_job *j = ctx;
-    for (st_u32 k; (k = take(&j->next)) < j->task_count;) {
-        task *x = &j->tasks[k];
-        if (!local_room(j, t, 2u * (x->end - x->begin) - 1u))
-            continue;
-        builder b = {j->refs, j->local[t], 0, 0};
-        build_node(&b, x->begin, x->end, x->depth, &x->bounds, &x->cb);
-        x->at = (st_u32)atomic_fetch_add(&j->arena_used, b.node_count);
-        x->count = b.node_count;
-        x->max_depth = b.depth;
-        memcpy(j->arena + x->at, j->local[t], (size_t)b.node_count * sizeof *j->arena);
-        for (st_u32 i = x->begin; i < x->end; ++i)
-            j->cell_of[i] = ref_id(&j->refs[i]);
-    }
-}
-
-/* Lays the plan out depth first from nodes[*cursor]: its interior nodes
- * written, each task given its base; returns the deepest leaf. */
-static st_u32 plan_stitch(const grid *g, st_u32 index, st_bvh_node *nodes, st_u32 *cursor, task *tasks)
-{
-    const plan *p = &g->plans[index];
-    if (p->right == 0u) {
-        task *x = &tasks[p->task];
-        x->base = *cursor;
-        *cursor += x->count;
-        return x->max_depth;
-    }
-    st_u32 node = (*cursor)++;
-    write_box(&nodes[node], &p->b);
-    nodes[node].meta = p->axis;
-    st_u32 left = plan_stitch(g, p->left, nodes, cursor, tasks);
-    nodes[node].offset = *cursor;
-    st_u32 right = plan_stitch(g, p->right, nodes, cursor, tasks);
-    return left > right ? left : right;
-}
-
 /* tris[i] = input triangle order[i] as (v0, v1 - v0, v2 - v0), i in
  * [lo, hi). The reads from positions are scattered over the input, so they
  * are prefetched a few triangles ahead. */
@@ -1103,19 +1048,64 @@ static void write_triangles(const float *positions, const st_u32 *order, st_u32 
     }
 }
 
-/* Triangles a piece of write_triangles' work. */
-#define TRI_PIECE 8192u
-
-static void write_pieces(cluster_job *j)
+/* Thread t's buffer, grown to at least `nodes` nodes; 0 if out of memory. */
+static int local_room(cluster_job *j, unsigned t, st_u32 nodes)
 {
-    for (st_u32 k; (st_u64)(k = take(&j->next_tris)) * TRI_PIECE < j->n;) {
-        st_u32 lo = k * TRI_PIECE, hi = j->n - lo < TRI_PIECE ? j->n : lo + TRI_PIECE;
-        write_triangles(j->positions, j->cell_of, lo, hi, j->tris);
+    if (j->local_cap[t] >= nodes)
+        return 1;
+    nodes = nodes > 4096u ? nodes : 4096u;
+    st_bvh_node *grown = realloc(j->local[t], (size_t)nodes * sizeof *grown);
+    if (!grown)
+        return 0;
+    j->local[t] = grown;
+    j->local_cap[t] = nodes;
+    return 1;
+}
+
+/* The tasks this thread takes, each into its buffer (a subtree of m
+ * triangles has at most 2m - 1 nodes) and then the arena; then, its
+ * references final, its triangles' input indices into the output order and
+ * the output triangles. A task left undone (count 0) is out of memory. */
+static void subtree_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    for (st_u32 k; (k = take(&j->next)) < j->task_count;) {
+        task *x = &j->tasks[k];
+        if (!local_room(j, t, 2u * (x->end - x->begin) - 1u))
+            continue;
+        builder b = {j->refs, j->local[t], 0, 0};
+        build_node(&b, x->begin, x->end, x->depth, &x->bounds, &x->cb);
+        x->at = (st_u32)atomic_fetch_add(&j->arena_used, b.node_count);
+        x->count = b.node_count;
+        x->max_depth = b.depth;
+        memcpy(j->arena + x->at, j->local[t], (size_t)b.node_count * sizeof *j->arena);
+        for (st_u32 i = x->begin; i < x->end; ++i)
+            j->cell_of[i] = ref_id(&j->refs[i]);
+        write_triangles(j->positions, j->cell_of, x->begin, x->end, j->tris);
     }
 }
 
-/* Each subtree to its place, then the output triangles (the references
- * they overwrite are read already: the order holds their indices). */
+/* Lays the plan out depth first from nodes[*cursor]: its interior nodes
+ * written, each task given its base; returns the deepest leaf. */
+static st_u32 plan_stitch(const grid *g, st_u32 index, st_bvh_node *nodes, st_u32 *cursor, task *tasks)
+{
+    const plan *p = &g->plans[index];
+    if (p->right == 0u) {
+        task *x = &tasks[p->task];
+        x->base = *cursor;
+        *cursor += x->count;
+        return x->max_depth;
+    }
+    st_u32 node = (*cursor)++;
+    write_box(&nodes[node], &p->b);
+    nodes[node].meta = p->axis;
+    st_u32 left = plan_stitch(g, p->left, nodes, cursor, tasks);
+    nodes[node].offset = *cursor;
+    st_u32 right = plan_stitch(g, p->right, nodes, cursor, tasks);
+    return left > right ? left : right;
+}
+
+/* Each subtree to its place. */
 static void place_run(void *ctx, unsigned t)
 {
     cluster_job *j = ctx;
@@ -1129,7 +1119,6 @@ static void place_run(void *ctx, unsigned t)
             if ((to[i].meta >> 2) == 0u)
                 to[i].offset += x->base;
     }
-    write_pieces(j);
 }
 
 static void cluster_job_free(cluster_job *j)
@@ -1171,10 +1160,10 @@ static void count_cells(cluster_job *j)
 }
 
 /* The clustered build of n >= GRID_MIN_TRIS triangles into bvh (its order
- * array serves as scratch for the cells until it is written), `arena` room
- * for 2n - 1 nodes. */
+ * array serves as scratch for the cells until it is written), with room for
+ * n references and an arena of 2n - 1 nodes. */
 static st_status build_clustered(st_bvh *bvh, const float *positions, const box *cb, unsigned threads,
-                                 st_bvh_node *arena, st_error *err)
+                                 ref *refs, st_bvh_node *arena, st_error *err)
 {
     st_u32 n = bvh->tri_count;
     grid g = {0};
@@ -1186,7 +1175,7 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
     j.n = n;
     j.threads = threads;
     j.cell_of = bvh->order;
-    j.refs = (ref *)(void *)bvh->tris;
+    j.refs = refs;
     j.nodes = bvh->nodes;
     j.tris = bvh->tris;
     j.arena = arena;
@@ -1263,7 +1252,7 @@ static st_u32 top_node(cluster_job *j, st_u32 begin, st_u32 end, st_u32 depth, c
 }
 
 static st_status build_direct(st_bvh *bvh, const float *positions, const box *bounds, const box *cb,
-                              unsigned threads, st_bvh_node *arena, st_error *err)
+                              unsigned threads, ref *refs, st_bvh_node *arena, st_error *err)
 {
     st_u32 n = bvh->tri_count, cut = n / TOP_SHARE > SMALL_MAX ? n / TOP_SHARE : SMALL_MAX;
     grid g = {0};
@@ -1273,7 +1262,7 @@ static st_status build_direct(st_bvh *bvh, const float *positions, const box *bo
     j.n = n;
     j.threads = threads;
     j.cell_of = bvh->order;
-    j.refs = (ref *)(void *)bvh->tris;
+    j.refs = refs;
     j.nodes = bvh->nodes;
     j.tris = bvh->tris;
     j.arena = arena;
@@ -1323,25 +1312,29 @@ static void make_empty(st_bvh *bvh)
     bvh->depth = 1;
 }
 
-/* The triangle references live in the (16-byte aligned) output triangle
- * array, which is larger: no extra allocation, and the pages the build
- * touches are the ones the output needs anyway. */
-ST_STATIC_ASSERT(sizeof(ref) <= sizeof(st_triangle), "refs must fit in the triangle array");
+/* The triangle references and then the subtrees' arena live in `room`, the
+ * (16-byte aligned) memory of the wide tree, which is larger (at least two
+ * wide nodes a triangle, 512 bytes, against 32 for a reference and 64 for
+ * the arena's two nodes) and written after them: no extra allocation, and
+ * the pages the build touches are the ones the output needs anyway. */
+ST_STATIC_ASSERT(sizeof(ref) + 2u * sizeof(st_bvh_node) <= 2u * sizeof(st_bvh_wide_node) && sizeof(ref) % 16u == 0u,
+                 "the references and the arena must fit in the wide tree's room");
 
-static st_status build_tree(const float *positions, st_bvh *bvh, unsigned threads, st_bvh_node *arena,
-                            st_error *err)
+static st_status build_tree(const float *positions, st_bvh *bvh, unsigned threads, void *room, st_error *err)
 {
     st_u32 n = bvh->tri_count;
+    ref *refs = room;
+    st_bvh_node *arena = (st_bvh_node *)(void *)(refs + n);
     box bounds, cb;
     st_u32 bad = scan_parallel(positions, n, threads, &bounds, &cb);
     if (bad < n)
         return st_fail(err, ST_ERR_FORMAT, "bvh: triangle %u has a non-finite vertex coordinate", bad);
     if (n >= GRID_MIN_TRIS) {
-        st_status s = build_clustered(bvh, positions, &cb, threads, arena, err);
+        st_status s = build_clustered(bvh, positions, &cb, threads, refs, arena, err);
         if (s != ST_OK)
             return s;
     } else {
-        st_status s = build_direct(bvh, positions, &bounds, &cb, threads, arena, err);
+        st_status s = build_direct(bvh, positions, &bounds, &cb, threads, refs, arena, err);
         if (s != ST_OK)
             return s;
     }
@@ -1397,7 +1390,7 @@ st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigne
     bvh->tris = huge_pages(aligned_alloc(16, slots * sizeof *bvh->tris), slots * sizeof *bvh->tris);
     bvh->order = malloc(slots * sizeof *bvh->order);
     /* the wide tree's room (st_bvh_collapse_wide_threads: node_count + 1
-     * <= 2 slots nodes), the build's arena until then */
+     * <= 2 slots nodes), the build's references and arena until then */
     st_bvh_wide_node *wide = huge_pages(malloc(2u * slots * sizeof *wide), 2u * slots * sizeof *wide);
     st_status s = ST_OK;
     if (!bvh->nodes || !bvh->tris || !bvh->order || !wide)
@@ -1405,7 +1398,7 @@ st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigne
     else if (tri_count == 0u)
         make_empty(bvh);
     else
-        s = build_tree(positions, bvh, threads, (st_bvh_node *)(void *)wide, err);
+        s = build_tree(positions, bvh, threads, wide, err);
     if (s == ST_OK)
         s = st_bvh_collapse_wide_threads(bvh, threads, 1, wide, err);
     else
