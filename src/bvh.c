@@ -935,6 +935,26 @@ static void grid_scatter(cell *cells, const float *positions, st_u32 lo_i, st_u3
     }
 }
 
+/* The output arrays of a large scene are tens of MB, and the grid's cells
+ * a few, each page of which the build is first to touch: at 4 KiB a page,
+ * the faults cost about a quarter of the build. Asking for huge pages
+ * (where the kernel leaves transparent huge pages to madvise) makes them a
+ * few hundred. Only the whole 2 MiB pages inside an array are affected;
+ * refusal changes nothing. */
+#define HUGE_PAGE ((size_t)2 << 20)
+static void *huge_pages(void *p, size_t bytes)
+{
+#if defined(MADV_HUGEPAGE)
+    uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1u) & ~(uintptr_t)(HUGE_PAGE - 1u);
+    uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)(HUGE_PAGE - 1u);
+    if (p && hi > lo)
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)bytes;
+#endif
+    return p;
+}
+
 /* ---- the clustered build on threads -------------------------------------------- */
 
 /* Every phase shares out work whose output has its place fixed in advance,
@@ -1179,13 +1199,13 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
     j.nodes = bvh->nodes;
     j.tris = bvh->tris;
     j.arena = arena;
-    g.cells = malloc(j.cells * sizeof *g.cells);
+    g.cells = huge_pages(malloc(j.cells * sizeof *g.cells), j.cells * sizeof *g.cells);
     g.clusters = malloc(j.cells * sizeof *g.clusters);
     g.plans = malloc((2u * j.cells - 1u) * sizeof *g.plans);
     j.part[0] = g.cells;
     int ok = g.cells && g.clusters && g.plans;
     for (unsigned t = 1; t < threads; ++t)
-        ok &= (j.part[t] = malloc(j.cells * sizeof *g.cells)) != NULL;
+        ok &= (j.part[t] = huge_pages(malloc(j.cells * sizeof *g.cells), j.cells * sizeof *g.cells)) != NULL;
     if (ok) {
         count_cells(&j);
         plan_build(&g, 0, g.cluster_count, 1);
@@ -1344,25 +1364,6 @@ static st_status build_tree(const float *positions, st_bvh *bvh, unsigned thread
     if (shrunk)
         bvh->nodes = shrunk;
     return ST_OK;
-}
-
-/* The output arrays of a large scene are tens of MB, each page of which
- * the build is first to touch: at 4 KiB a page, the faults cost about a
- * quarter of the build. Asking for huge pages (where the kernel leaves
- * transparent huge pages to madvise) makes them a few hundred. Only the
- * whole 2 MiB pages inside an array are affected; refusal changes nothing. */
-#define HUGE_PAGE ((size_t)2 << 20)
-static void *huge_pages(void *p, size_t bytes)
-{
-#if defined(MADV_HUGEPAGE)
-    uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1u) & ~(uintptr_t)(HUGE_PAGE - 1u);
-    uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)(HUGE_PAGE - 1u);
-    if (p && hi > lo)
-        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
-#else
-    (void)bytes;
-#endif
-    return p;
 }
 
 st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err)
