@@ -28,6 +28,11 @@
  *     centroid order (small_tree), cheaper and better than bins at that size.
  * Centroids coincident on every axis fall back to an object-median split.
  *
+ * Threads (st_bvh_build_threads): the passes over the input run in shares,
+ * the subtrees below the top as tasks, each piece of work with its place in
+ * the output fixed before it runs (see the clustered build's phases), so
+ * the tree is the same, byte for byte, whatever the thread count.
+ *
  * Depth invariant: a node at depth d (root = 1) holding n triangles satisfies
  *   d + levels(n) <= ST_BVH_MAX_DEPTH,  levels(n) = ceil(log2(ceil(n / 4))),
  * the levels that object-median splits need to reach leaves of <= 4. It holds
