@@ -637,13 +637,14 @@ static inline void tri_bounds(const float *p, float lo[3], float hi[3])
     }
 }
 
-/* The scene bounds and centroid bounds; returns the first triangle with a
- * non-finite coordinate, or n. */
-static st_u32 scan_positions(const float *positions, st_u32 n, box *bounds, box *cb)
+/* Triangles [lo, hi): their references into refs (in input order) and
+ * their bounds and centroid bounds; returns the first triangle with a
+ * non-finite coordinate, or hi. */
+static st_u32 scan_positions(const float *positions, st_u32 lo_i, st_u32 hi_i, ref *refs, box *bounds, box *cb)
 {
     *bounds = box_empty();
     *cb = box_empty();
-    for (st_u32 i = 0; i < n; ++i) {
+    for (st_u32 i = lo_i; i < hi_i; ++i) {
         const float *p = positions + (size_t)9 * i;
         float finite = 0.0f; /* x * 0 is 0 for finite x, NaN otherwise */
         for (int k = 0; k < 9; ++k)
@@ -652,21 +653,12 @@ static st_u32 scan_positions(const float *positions, st_u32 n, box *bounds, box 
             return i;
         float lo[4] = {0}, hi[4] = {0};
         tri_bounds(p, lo, hi);
+        ref_set(&refs[i], lo, hi, i);
         box r = {v4_load(lo), v4_load(hi)};
         box_grow(bounds, &r);
         box_grow_point(cb, v4_add(r.lo, r.hi));
     }
-    return n;
-}
-
-/* The references of triangles [lo, hi). */
-static void fill_refs(const float *positions, st_u32 lo_i, st_u32 hi_i, ref *refs)
-{
-    for (st_u32 i = lo_i; i < hi_i; ++i) {
-        float lo[3], hi[3];
-        tri_bounds(positions + (size_t)9 * i, lo, hi);
-        ref_set(&refs[i], lo, hi, i);
-    }
+    return hi_i;
 }
 
 /* scan_positions over the threads' shares, combined in share order: the
@@ -674,6 +666,7 @@ static void fill_refs(const float *positions, st_u32 lo_i, st_u32 hi_i, ref *ref
  * pieces as in one pass) and the same first bad triangle. */
 typedef struct scan_job {
     const float *positions;
+    ref *refs;
     st_u32 n;
     unsigned threads;
     box b[ST_BVH_MAX_THREADS], cb[ST_BVH_MAX_THREADS];
@@ -685,14 +678,16 @@ static void scan_run(void *ctx, unsigned t)
     scan_job *j = ctx;
     st_u32 lo, hi;
     share(j->n, t, j->threads, &lo, &hi);
-    st_u32 bad = scan_positions(j->positions + (size_t)9 * lo, hi - lo, &j->b[t], &j->cb[t]);
-    j->bad[t] = bad < hi - lo ? lo + bad : j->n;
+    st_u32 bad = scan_positions(j->positions, lo, hi, j->refs, &j->b[t], &j->cb[t]);
+    j->bad[t] = bad < hi ? bad : j->n;
 }
 
-static st_u32 scan_parallel(const float *positions, st_u32 n, unsigned threads, box *bounds, box *cb)
+static st_u32 scan_parallel(const float *positions, st_u32 n, unsigned threads, ref *refs, box *bounds,
+                            box *cb)
 {
     scan_job j;
     j.positions = positions;
+    j.refs = refs;
     j.n = n;
     j.threads = threads;
     st_bvh_parallel(threads, scan_run, &j);
@@ -786,17 +781,15 @@ static inline st_u32 grid_cell(const grid *g, const float lo[3], const float hi[
     return (k[0] * g->res[1] + k[1]) * g->res[2] + k[2];
 }
 
-/* Pass 1 over triangles [lo, hi): every triangle's cell (into cell_of) and
- * the count and bounds of every cell's triangles among them (into cells). */
-static void grid_count(const grid *g, cell *cells, const float *positions, st_u32 lo_i, st_u32 hi_i,
-                       st_u32 *cell_of)
+/* Pass 1 over the references of triangles [lo, hi) (in input order): every
+ * triangle's cell (into cell_of) and the count and bounds of every cell's
+ * triangles among them (into cells). */
+static void grid_count(const grid *g, cell *cells, const ref *input, st_u32 lo_i, st_u32 hi_i, st_u32 *cell_of)
 {
     for (st_u32 i = lo_i; i < hi_i; ++i) {
-        float lo[4] = {0}, hi[4] = {0};
-        tri_bounds(positions + (size_t)9 * i, lo, hi);
-        st_u32 id = grid_cell(g, lo, hi);
+        st_u32 id = grid_cell(g, input[i].lo, input[i].hi);
         cell *c = &cells[id];
-        box r = {v4_load(lo), v4_load(hi)};
+        box r = ref_box(&input[i]);
         cell_of[i] = id;
         c->count++;
         box_grow(&c->b, &r);
@@ -930,14 +923,10 @@ static st_u32 plan_layout(grid *g, st_u32 index, st_u32 cursor, task *tasks, st_
 
 /* Pass 2 over triangles [lo, hi): each triangle's reference to the next
  * slot of its cell, cells[c].start. */
-static void grid_scatter(cell *cells, const float *positions, st_u32 lo_i, st_u32 hi_i, const st_u32 *cell_of,
-                         ref *refs)
+static void grid_scatter(cell *cells, const ref *input, st_u32 lo_i, st_u32 hi_i, const st_u32 *cell_of, ref *refs)
 {
-    for (st_u32 i = lo_i; i < hi_i; ++i) {
-        float lo[3], hi[3];
-        tri_bounds(positions + (size_t)9 * i, lo, hi);
-        ref_set(&refs[cells[cell_of[i]].start++], lo, hi, i);
-    }
+    for (st_u32 i = lo_i; i < hi_i; ++i)
+        refs[cells[cell_of[i]].start++] = input[i];
 }
 
 /* The output arrays of a large scene are tens of MB, and the grid's cells
@@ -989,6 +978,7 @@ typedef struct cluster_job {
     unsigned threads;
     cell *part[ST_BVH_MAX_THREADS];
     st_u32 *cell_of;            /* pass 1 to pass 2; then the output order */
+    const ref *input;           /* the references in input order (scan_parallel's) */
     ref *refs;
     task *tasks;
     st_u32 task_count;
@@ -1007,7 +997,7 @@ static void count_run(void *ctx, unsigned t)
     share(j->n, t, j->threads, &lo, &hi);
     for (st_u32 c = 0; c < j->cells; ++c)
         j->part[t][c] = (cell){box_empty(), box_empty(), 0, 0};
-    grid_count(j->g, j->part[t], j->positions, lo, hi, j->cell_of);
+    grid_count(j->g, j->part[t], j->input, lo, hi, j->cell_of);
 }
 
 static void merge_run(void *ctx, unsigned t)
@@ -1046,7 +1036,7 @@ static void scatter_run(void *ctx, unsigned t)
     cluster_job *j = ctx;
     st_u32 lo, hi;
     share(j->n, t, j->threads, &lo, &hi);
-    grid_scatter(j->part[t], j->positions, lo, hi, j->cell_of, j->refs);
+    grid_scatter(j->part[t], j->input, lo, hi, j->cell_of, j->refs);
 }
 
 /* tris[i] = input triangle order[i] as (v0, v1 - v0, v2 - v0), i in
@@ -1200,6 +1190,7 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
     j.n = n;
     j.threads = threads;
     j.cell_of = bvh->order;
+    j.input = (const ref *)(const void *)arena; /* the arena's first use is after the scatter */
     j.refs = refs;
     j.nodes = bvh->nodes;
     j.tris = bvh->tris;
@@ -1239,14 +1230,6 @@ static st_status build_clustered(st_bvh *bvh, const float *positions, const box 
  * those a task as the plan's leaves are above: the splits are build_node's,
  * so the tree does not depend on where the tasks begin. */
 #define TOP_SHARE 16u
-
-static void refs_run(void *ctx, unsigned t)
-{
-    cluster_job *j = ctx;
-    st_u32 lo, hi;
-    share(j->n, t, j->threads, &lo, &hi);
-    fill_refs(j->positions, lo, hi, j->refs);
-}
 
 /* build_node's split of refs [begin, end) as plan node g->plans[plan_count]
  * (a leaf, right == 0, for a task); returns its index. */
@@ -1301,7 +1284,6 @@ static st_status build_direct(st_bvh *bvh, const float *positions, const box *bo
     int ok = g.plans && j.tasks;
     if (ok && threads == 1u) { /* build_node itself, as the threads' top and tasks do */
         builder b = {j.refs, bvh->nodes, 0, 0};
-        fill_refs(positions, 0, n, j.refs);
         build_node(&b, 0, n, 1, bounds, cb);
         for (st_u32 i = 0; i < n; ++i)
             bvh->order[i] = ref_id(&j.refs[i]);
@@ -1309,7 +1291,6 @@ static st_status build_direct(st_bvh *bvh, const float *positions, const box *bo
         bvh->node_count = b.node_count;
         bvh->depth = b.depth;
     } else if (ok) {
-        st_bvh_parallel(threads, refs_run, &j);
         top_node(&j, 0, n, 1, bounds, cb, cut);
         ok = run_tasks(&j, bvh);
     }
@@ -1351,10 +1332,13 @@ static st_status build_tree(const float *positions, st_bvh *bvh, unsigned thread
     ref *refs = room;
     st_bvh_node *arena = (st_bvh_node *)(void *)(refs + n);
     box bounds, cb;
-    st_u32 bad = scan_parallel(positions, n, threads, &bounds, &cb);
+    /* the references in input order: in place for the direct build, in the
+     * arena (unused until the subtrees) for the clustered one to scatter */
+    int clustered = n >= GRID_MIN_TRIS;
+    st_u32 bad = scan_parallel(positions, n, threads, clustered ? (ref *)(void *)arena : refs, &bounds, &cb);
     if (bad < n)
         return st_fail(err, ST_ERR_FORMAT, "bvh: triangle %u has a non-finite vertex coordinate", bad);
-    if (n >= GRID_MIN_TRIS) {
+    if (clustered) {
         st_status s = build_clustered(bvh, positions, &cb, threads, refs, arena, err);
         if (s != ST_OK)
             return s;
