@@ -52,12 +52,25 @@ typedef struct st_bvh {
  * *out is NULL. */
 st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err);
 
+/* st_bvh_build on `threads` threads: 0 chooses (one per online processor,
+ * one for scenes too small to gain), any other count is used as given, at
+ * most ST_BVH_MAX_THREADS. The tree is the same, array for array, whatever
+ * the count and however the threads are scheduled: every piece of work has
+ * its place in the output fixed before it runs, and bounds gathered in
+ * pieces are combined in input order (min and max keep the later of equal
+ * values, so the grouping does not change even the sign of a zero).
+ * st_bvh_build is st_bvh_build_threads with 0. */
+#define ST_BVH_MAX_THREADS 16u
+st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigned threads, st_bvh **out,
+                               st_error *err);
+
 /* Marks each triangle one-sided (st_triangle.v0[3] = ST_TRI_ONE_SIDED) or
  * two-sided from its material's ST_MAT_DOUBLE_SIDED flag: tri_material[i]
  * is input triangle i's index into materials. st_bvh_build leaves every
  * triangle two-sided; every traversal of a scene's triangles (the renderer's
- * and the host's references) marks them so, to cull alike. Repacks the
- * leaves (st_bvh_pack_leaves). */
+ * and the host's references) marks them so, to cull alike. Updates the
+ * leaf blocks' sides words to match (their rows do not change), as
+ * st_bvh_pack_leaves would. */
 void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials);
 
 /* Collapses bvh->nodes into bvh->wide (src/bvh/bvh_wide.c; st_bvh_build calls
@@ -70,10 +83,30 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
  * st_bvh_pack_leaves). ST_ERR_NOMEM on allocation failure. */
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
 
+/* For src/bvh*.c. st_bvh_collapse_wide on `threads` threads (as
+ * st_bvh_build_threads counts them), filling the leaf blocks as well when
+ * `pack` (st_bvh_pack_leaves' rows, from bvh->tris), in `room` (room for
+ * node_count + 1 wide nodes, owned by the call from then on) or, when NULL,
+ * memory of its own. */
+st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, st_bvh_wide_node *room,
+                                       st_error *err);
+
+/* For src/bvh*.c: the thread count for `work` items (triangles, nodes) from
+ * a requested count (0: one per online processor, one below a size where
+ * threads do not pay), at most ST_BVH_MAX_THREADS. */
+unsigned st_bvh_threads(unsigned threads, st_u64 work);
+
+/* For src/bvh*.c: runs job(ctx, t) once for every t < threads and returns
+ * when all have: t = 0 on the calling thread, each other on a thread of its
+ * own, or on the calling thread after t = 0 where a thread cannot be
+ * started (so a job may own a share of the work by its t). */
+typedef void st_bvh_job(void *ctx, unsigned t);
+void st_bvh_parallel(unsigned threads, st_bvh_job *job, void *ctx);
+
 /* Fills every leaf block of bvh->wide from bvh->tris (their first
- * triangles and counts as the collapse placed them): st_bvh_build calls it,
- * st_bvh_set_sides again for the sides; whoever changes bvh->tris after
- * (tests) calls it before tracing the wide tree. */
+ * triangles and counts as the collapse placed them; st_bvh_build fills
+ * them so); whoever changes bvh->tris after (tests) calls it before tracing
+ * the wide tree. */
 void st_bvh_pack_leaves(st_bvh *bvh);
 
 /* Frees the tree and its arrays. NULL is a no-op. */

@@ -28,6 +28,11 @@
  *     centroid order (small_tree), cheaper and better than bins at that size.
  * Centroids coincident on every axis fall back to an object-median split.
  *
+ * Threads (st_bvh_build_threads): the passes over the input run in shares,
+ * the subtrees below the top as tasks, each piece of work with its place in
+ * the output fixed before it runs (see the clustered build's phases), so
+ * the tree is the same, byte for byte, whatever the thread count.
+ *
  * Depth invariant: a node at depth d (root = 1) holding n triangles satisfies
  *   d + levels(n) <= ST_BVH_MAX_DEPTH,  levels(n) = ceil(log2(ceil(n / 4))),
  * the levels that object-median splits need to reach leaves of <= 4. It holds
@@ -43,19 +48,26 @@
  * the traversal with a brute-force loop over the same triangle test, bit for
  * bit.
  *
- * Memory: the triangle references (32 bytes) live in the output triangle
- * array (48 bytes each) until it is written; the node array is allocated at
- * its bound 2N - 1 and shrunk at the end; the grid, when used, takes a few MB.
+ * Memory: the triangle references (32 bytes) and the subtrees' arena live in
+ * the memory of the wide tree, which is written after them (build_tree);
+ * the node array is allocated at its bound 2N - 1 and shrunk at the end; the
+ * grid, when used, takes a few MB.
  * The per-triangle work runs on 4-wide float vectors (SSE2 where available,
  * plain C otherwise, with the same results). */
+#define _DEFAULT_SOURCE /* madvise(2)'s MADV_HUGEPAGE */
 #include "st_bvh.h"
 
 #include "trace.h"
 
 #include <float.h>
 #include <math.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #define LEAF_MAX ((st_u32)ST_LEAF_MAX)
 #define BIN_COUNT 16u
@@ -557,6 +569,63 @@ static void build_node(builder *b, st_u32 begin, st_u32 end, st_u32 depth, const
     build_node(b, begin + s.left_count, end, depth + 1u, &s.right, &s.right_cb);
 }
 
+/* ---- threads ---------------------------------------------------------------- */
+
+/* Below this many triangles the default is one thread: starting threads and
+ * sharing the work out costs more than it saves. */
+#define PARALLEL_MIN_TRIS 16384u
+
+typedef struct job_thread {
+    st_bvh_job *job;
+    void *ctx;
+    unsigned t;
+} job_thread;
+
+static void *job_main(void *arg)
+{
+    const job_thread *j = arg;
+    j->job(j->ctx, j->t);
+    return NULL;
+}
+
+void st_bvh_parallel(unsigned threads, st_bvh_job *job, void *ctx)
+{
+    pthread_t tid[ST_BVH_MAX_THREADS];
+    job_thread arg[ST_BVH_MAX_THREADS];
+    int started[ST_BVH_MAX_THREADS] = {0};
+    threads = threads < 1u ? 1u : threads > ST_BVH_MAX_THREADS ? ST_BVH_MAX_THREADS : threads;
+    for (unsigned t = 1; t < threads; ++t) {
+        arg[t] = (job_thread){job, ctx, t};
+        started[t] = pthread_create(&tid[t], NULL, job_main, &arg[t]) == 0;
+    }
+    job(ctx, 0);
+    for (unsigned t = 1; t < threads; ++t) {
+        if (started[t])
+            pthread_join(tid[t], NULL);
+        else
+            job(ctx, t);
+    }
+}
+
+unsigned st_bvh_threads(unsigned threads, st_u64 work)
+{
+    if (threads == 0u) {
+        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = work < PARALLEL_MIN_TRIS || cpus < 1 ? 1u : (unsigned)cpus;
+    }
+    return threads > ST_BVH_MAX_THREADS ? ST_BVH_MAX_THREADS : threads;
+}
+
+/* Share t of `threads` near-equal contiguous shares of [0, n). */
+static void share(st_u32 n, unsigned t, unsigned threads, st_u32 *lo, st_u32 *hi)
+{
+    *lo = (st_u32)((st_u64)n * t / threads);
+    *hi = (st_u32)((st_u64)n * (t + 1u) / threads);
+}
+
+/* Work handed out piece by piece: the next piece's index. */
+static inline st_u32 take(atomic_uint *next) { return (st_u32)atomic_fetch_add(next, 1u); }
+
 /* ---- input ------------------------------------------------------------------- */
 
 static inline void tri_bounds(const float *p, float lo[3], float hi[3])
@@ -568,13 +637,14 @@ static inline void tri_bounds(const float *p, float lo[3], float hi[3])
     }
 }
 
-/* The scene bounds and centroid bounds; returns the first triangle with a
- * non-finite coordinate, or n. */
-static st_u32 scan_positions(const float *positions, st_u32 n, box *bounds, box *cb)
+/* Triangles [lo, hi): their references into refs (in input order) and
+ * their bounds and centroid bounds; returns the first triangle with a
+ * non-finite coordinate, or hi. */
+static st_u32 scan_positions(const float *positions, st_u32 lo_i, st_u32 hi_i, ref *refs, box *bounds, box *cb)
 {
     *bounds = box_empty();
     *cb = box_empty();
-    for (st_u32 i = 0; i < n; ++i) {
+    for (st_u32 i = lo_i; i < hi_i; ++i) {
         const float *p = positions + (size_t)9 * i;
         float finite = 0.0f; /* x * 0 is 0 for finite x, NaN otherwise */
         for (int k = 0; k < 9; ++k)
@@ -583,20 +653,53 @@ static st_u32 scan_positions(const float *positions, st_u32 n, box *bounds, box 
             return i;
         float lo[4] = {0}, hi[4] = {0};
         tri_bounds(p, lo, hi);
+        ref_set(&refs[i], lo, hi, i);
         box r = {v4_load(lo), v4_load(hi)};
         box_grow(bounds, &r);
         box_grow_point(cb, v4_add(r.lo, r.hi));
     }
-    return n;
+    return hi_i;
 }
 
-static void fill_refs(const float *positions, st_u32 n, ref *refs)
+/* scan_positions over the threads' shares, combined in share order: the
+ * same bounds as one pass (box_grow keeps the later of equal values, in
+ * pieces as in one pass) and the same first bad triangle. */
+typedef struct scan_job {
+    const float *positions;
+    ref *refs;
+    st_u32 n;
+    unsigned threads;
+    box b[ST_BVH_MAX_THREADS], cb[ST_BVH_MAX_THREADS];
+    st_u32 bad[ST_BVH_MAX_THREADS];
+} scan_job;
+
+static void scan_run(void *ctx, unsigned t)
 {
-    for (st_u32 i = 0; i < n; ++i) {
-        float lo[3], hi[3];
-        tri_bounds(positions + (size_t)9 * i, lo, hi);
-        ref_set(&refs[i], lo, hi, i);
+    scan_job *j = ctx;
+    st_u32 lo, hi;
+    share(j->n, t, j->threads, &lo, &hi);
+    st_u32 bad = scan_positions(j->positions, lo, hi, j->refs, &j->b[t], &j->cb[t]);
+    j->bad[t] = bad < hi ? bad : j->n;
+}
+
+static st_u32 scan_parallel(const float *positions, st_u32 n, unsigned threads, ref *refs, box *bounds,
+                            box *cb)
+{
+    scan_job j;
+    j.positions = positions;
+    j.refs = refs;
+    j.n = n;
+    j.threads = threads;
+    st_bvh_parallel(threads, scan_run, &j);
+    st_u32 bad = n;
+    *bounds = box_empty();
+    *cb = box_empty();
+    for (unsigned t = 0; t < threads; ++t) {
+        bad = j.bad[t] < bad ? j.bad[t] : bad;
+        box_grow(bounds, &j.b[t]);
+        box_grow(cb, &j.cb[t]);
     }
+    return bad;
 }
 
 /* ---- the top levels of large scenes: a grid of clusters ------------------------ */
@@ -629,12 +732,14 @@ typedef struct cluster {
     st_u32 cell, count;
 } cluster;
 
-/* A plan node: clusters [first, last) holding `tris` triangles; a leaf when
- * right == 0, its triangles then at [start, start + tris). */
+/* A plan node: clusters [first, last) holding `tris` triangles at `depth`;
+ * a leaf when right == 0, its triangles then at [start, start + tris), its
+ * subtree built by tasks[task]. */
 typedef struct plan {
     box b;
     st_u32 first, last, tris, start;
     st_u32 axis, left, right;
+    st_u32 depth, task;
 } plan;
 
 typedef struct grid {
@@ -676,15 +781,15 @@ static inline st_u32 grid_cell(const grid *g, const float lo[3], const float hi[
     return (k[0] * g->res[1] + k[1]) * g->res[2] + k[2];
 }
 
-/* Pass 1: every triangle's cell (into cell_of) and every cell's bounds. */
-static void grid_count(grid *g, const float *positions, st_u32 n, st_u32 *cell_of)
+/* Pass 1 over the references of triangles [lo, hi) (in input order): every
+ * triangle's cell (into cell_of) and the count and bounds of every cell's
+ * triangles among them (into cells). */
+static void grid_count(const grid *g, cell *cells, const ref *input, st_u32 lo_i, st_u32 hi_i, st_u32 *cell_of)
 {
-    for (st_u32 i = 0; i < n; ++i) {
-        float lo[4] = {0}, hi[4] = {0};
-        tri_bounds(positions + (size_t)9 * i, lo, hi);
-        st_u32 id = grid_cell(g, lo, hi);
-        cell *c = &g->cells[id];
-        box r = {v4_load(lo), v4_load(hi)};
+    for (st_u32 i = lo_i; i < hi_i; ++i) {
+        st_u32 id = grid_cell(g, input[i].lo, input[i].hi);
+        cell *c = &cells[id];
+        box r = ref_box(&input[i]);
         cell_of[i] = id;
         c->count++;
         box_grow(&c->b, &r);
@@ -761,7 +866,7 @@ static st_u32 plan_build(grid *g, st_u32 first, st_u32 last, st_u32 depth)
         box_grow(&b, &g->clusters[i].b);
         tris += g->clusters[i].count;
     }
-    g->plans[index] = (plan){b, first, last, tris, 0, 0, 0, 0};
+    g->plans[index] = (plan){b, first, last, tris, 0, 0, 0, 0, depth, 0};
     if (last - first < 2u || tris <= PLAN_LEAF_TRIS || !plan_split(g, first, last, &m))
         return index;
     st_u32 mid = plan_partition(g, first, last, &m), left_tris = 0;
@@ -778,101 +883,175 @@ static st_u32 plan_build(grid *g, st_u32 first, st_u32 last, st_u32 depth)
     return index;
 }
 
-/* Gives each plan leaf, in depth-first order, its range of triangles, and
- * each cell its start within it. */
-static st_u32 plan_layout(grid *g, st_u32 index, st_u32 cursor)
+/* A subtree below the plan, built by one thread: triangles [begin, end) at
+ * `depth` with bounds and centroid bounds; built, `count` nodes (deepest
+ * leaf at max_depth) at node `at` of the arena, and `base` the first of
+ * them in the tree. */
+typedef struct task {
+    box bounds, cb;
+    st_u32 begin, end, depth;
+    st_u32 at, count, max_depth;
+    st_u32 base;
+} task;
+
+/* Gives each plan leaf, in depth-first order, its range of triangles and
+ * its task (*tasks counts them), and each cell its start within it. */
+static st_u32 plan_layout(grid *g, st_u32 index, st_u32 cursor, task *tasks, st_u32 *task_count)
 {
     plan *p = &g->plans[index];
     if (p->right != 0u) {
-        cursor = plan_layout(g, p->left, cursor);
-        return plan_layout(g, p->right, cursor);
+        cursor = plan_layout(g, p->left, cursor, tasks, task_count);
+        return plan_layout(g, p->right, cursor, tasks, task_count);
     }
+    task *x = &tasks[*task_count];
+    p->task = (*task_count)++;
     p->start = cursor;
+    x->bounds = p->b;
+    x->cb = box_empty();
+    x->begin = cursor;
+    x->end = cursor + p->tris;
+    x->depth = p->depth;
+    x->count = 0;
     for (st_u32 i = p->first; i < p->last; ++i) {
         cell *c = &g->cells[g->clusters[i].cell];
+        box_grow(&x->cb, &c->cb);
         c->start = cursor;
         cursor += c->count;
     }
     return cursor;
 }
 
-/* Pass 2: each triangle's reference to the next slot of its cell. */
-static void grid_scatter(grid *g, const float *positions, st_u32 n, const st_u32 *cell_of, ref *refs)
+/* Pass 2 over triangles [lo, hi): each triangle's reference to the next
+ * slot of its cell, cells[c].start. */
+static void grid_scatter(cell *cells, const ref *input, st_u32 lo_i, st_u32 hi_i, const st_u32 *cell_of, ref *refs)
 {
-    for (st_u32 i = 0; i < n; ++i) {
-        float lo[3], hi[3];
-        tri_bounds(positions + (size_t)9 * i, lo, hi);
-        ref_set(&refs[g->cells[cell_of[i]].start++], lo, hi, i);
-    }
+    for (st_u32 i = lo_i; i < hi_i; ++i)
+        refs[cells[cell_of[i]].start++] = input[i];
 }
 
-/* Writes the plan's interior nodes and builds its leaves with build_node. */
-static void plan_emit(builder *b, const grid *g, st_u32 index, st_u32 depth)
+/* The output arrays of a large scene are tens of MB, and the grid's cells
+ * a few, each page of which the build is first to touch: at 4 KiB a page,
+ * the faults cost about a quarter of the build. Asking for huge pages
+ * (where the kernel leaves transparent huge pages to madvise) makes them a
+ * few hundred. Only the whole 2 MiB pages inside an array are affected;
+ * refusal changes nothing. */
+#define HUGE_PAGE ((size_t)2 << 20)
+static void *huge_pages(void *p, size_t bytes)
 {
-    const plan *p = &g->plans[index];
-    if (p->right == 0u) {
-        box cb = box_empty();
-        for (st_u32 i = p->first; i < p->last; ++i)
-            box_grow(&cb, &g->cells[g->clusters[i].cell].cb);
-        build_node(b, p->start, p->start + p->tris, depth, &p->b, &cb);
-        return;
-    }
-    st_u32 node = b->node_count++;
-    write_box(&b->nodes[node], &p->b);
-    b->nodes[node].meta = p->axis;
-    plan_emit(b, g, p->left, depth + 1u);
-    b->nodes[node].offset = b->node_count;
-    plan_emit(b, g, p->right, depth + 1u);
-}
-
-/* The clustered build of n >= GRID_MIN_TRIS triangles; cell_of is scratch
- * for n cell indices. */
-static st_status build_clustered(builder *b, const float *positions, st_u32 n, const box *cb, st_u32 *cell_of,
-                                 st_error *err)
-{
-    grid g = {0};
-    grid_init(&g, cb);
-    size_t cells = (size_t)g.res[0] * g.res[1] * g.res[2];
-    g.cells = malloc(cells * sizeof *g.cells);
-    g.clusters = malloc(cells * sizeof *g.clusters);
-    g.plans = malloc((2u * cells - 1u) * sizeof *g.plans);
-    if (!g.cells || !g.clusters || !g.plans) {
-        free(g.cells);
-        free(g.clusters);
-        free(g.plans);
-        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the cluster grid");
-    }
-    for (size_t c = 0; c < cells; ++c)
-        g.cells[c] = (cell){box_empty(), box_empty(), 0, 0};
-    grid_count(&g, positions, n, cell_of);
-    for (st_u32 c = 0; c < (st_u32)cells; ++c)
-        if (g.cells[c].count)
-            g.clusters[g.cluster_count++] = (cluster){g.cells[c].b, c, g.cells[c].count};
-    plan_build(&g, 0, g.cluster_count, 1);
-    plan_layout(&g, 0, 0);
-    grid_scatter(&g, positions, n, cell_of, b->refs);
-    plan_emit(b, &g, 0, 1);
-    free(g.cells);
-    free(g.clusters);
-    free(g.plans);
-    return ST_OK;
-}
-
-/* tris[i] = input triangle order[i] as (v0, v1 - v0, v2 - v0), order[i]
- * from refs[i]. The refs live in the tris array (32 of every 48 bytes, see
- * build_tree), so the pass runs backwards: tris[i] covers refs[1.5 i] to
- * refs[1.5 i + 1], all read already. The reads from positions are scattered
- * over the input, so they are prefetched a few triangles ahead. */
-#define PREFETCH_AHEAD 16u
-static void write_triangles(const float *positions, const ref *refs, st_u32 n, st_bvh *bvh)
-{
-    for (st_u32 i = n; i-- > 0u;) {
-        st_u32 id = ref_id(&refs[i]);
-#if defined(__GNUC__)
-        if (i >= PREFETCH_AHEAD)
-            __builtin_prefetch(positions + (size_t)9 * ref_id(&refs[i - PREFETCH_AHEAD]));
+#if defined(MADV_HUGEPAGE)
+    uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1u) & ~(uintptr_t)(HUGE_PAGE - 1u);
+    uintptr_t hi = ((uintptr_t)p + bytes) & ~(uintptr_t)(HUGE_PAGE - 1u);
+    if (p && hi > lo)
+        (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+#else
+    (void)bytes;
 #endif
-        const float *p = positions + (size_t)9 * id;
+    return p;
+}
+
+/* ---- the clustered build on threads -------------------------------------------- */
+
+/* Every phase shares out work whose output has its place fixed in advance,
+ * so the tree does not depend on the threads:
+ *   - count: thread t counts share t of the triangles into its own grid,
+ *     part[t] (part[0] is the grid's), then the parts are merged cell by
+ *     cell in share order (bounds as one pass would find them, see
+ *     scan_parallel), each part keeping in `start` how many of the cell's
+ *     triangles the earlier shares hold;
+ *   - the plan is built and laid out on one thread (a few thousand
+ *     clusters); each cell's slots are then split between the shares in
+ *     share order, so the scatter puts every triangle where one pass would;
+ *   - subtrees: each plan leaf is a task, built by whichever thread takes it
+ *     into that thread's buffer (reused from task to task), node offsets
+ *     relative to its first node, then copied to the next free nodes of the
+ *     arena shared by the threads (the wide tree's memory, which the
+ *     collapse overwrites: no pages of its own); leaves name triangles,
+ *     which are in place already;
+ *   - stitch: one thread lays the plan's nodes and the tasks' subtrees out
+ *     depth first, as one thread building them in turn would (each task's
+ *     size is known now), then the threads copy the subtrees to their
+ *     places, offsetting interior nodes' children by where they land. */
+typedef struct cluster_job {
+    grid *g;
+    const float *positions;
+    st_u32 n, cells;
+    unsigned threads;
+    cell *part[ST_BVH_MAX_THREADS];
+    st_u32 *cell_of;            /* pass 1 to pass 2; then the output order */
+    const ref *input;           /* the references in input order (scan_parallel's) */
+    ref *refs;
+    task *tasks;
+    st_u32 task_count;
+    st_bvh_node *arena;                      /* room for 2n - 1 nodes */
+    st_bvh_node *local[ST_BVH_MAX_THREADS];  /* each thread's buffer */
+    st_u32 local_cap[ST_BVH_MAX_THREADS];
+    st_bvh_node *nodes;
+    st_triangle *tris;
+    atomic_uint next, arena_used;
+} cluster_job;
+
+static void count_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    st_u32 lo, hi;
+    share(j->n, t, j->threads, &lo, &hi);
+    for (st_u32 c = 0; c < j->cells; ++c)
+        j->part[t][c] = (cell){box_empty(), box_empty(), 0, 0};
+    grid_count(j->g, j->part[t], j->input, lo, hi, j->cell_of);
+}
+
+static void merge_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    st_u32 lo, hi;
+    share(j->cells, t, j->threads, &lo, &hi);
+    for (st_u32 c = lo; c < hi; ++c) {
+        cell *sum = &j->part[0][c];
+        st_u32 before = sum->count;
+        sum->start = 0;
+        for (unsigned p = 1; p < j->threads; ++p) {
+            cell *x = &j->part[p][c];
+            x->start = before;
+            before += x->count;
+            box_grow(&sum->b, &x->b);
+            box_grow(&sum->cb, &x->cb);
+        }
+        sum->count = before;
+    }
+}
+
+/* After plan_layout: the first slot of each share's triangles in a cell. */
+static void offsets_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    st_u32 lo, hi;
+    share(j->cells, t, j->threads, &lo, &hi);
+    for (st_u32 c = lo; c < hi; ++c)
+        for (unsigned p = 1; p < j->threads; ++p)
+            j->part[p][c].start += j->part[0][c].start;
+}
+
+static void scatter_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    st_u32 lo, hi;
+    share(j->n, t, j->threads, &lo, &hi);
+    grid_scatter(j->part[t], j->input, lo, hi, j->cell_of, j->refs);
+}
+
+/* tris[i] = input triangle order[i] as (v0, v1 - v0, v2 - v0), i in
+ * [lo, hi). The reads from positions are scattered over the input, so they
+ * are prefetched a few triangles ahead. */
+#define PREFETCH_AHEAD 16u
+static void write_triangles(const float *positions, const st_u32 *order, st_u32 lo, st_u32 hi,
+                            st_triangle *tris)
+{
+    for (st_u32 i = lo; i < hi; ++i) {
+#if defined(__GNUC__)
+        if (i + PREFETCH_AHEAD < hi)
+            __builtin_prefetch(positions + (size_t)9 * order[i + PREFETCH_AHEAD]);
+#endif
+        const float *p = positions + (size_t)9 * order[i];
         st_triangle t;
         for (int a = 0; a < 3; ++a) {
             t.v0[a] = p[a];
@@ -880,9 +1059,246 @@ static void write_triangles(const float *positions, const ref *refs, st_u32 n, s
             t.e2[a] = p[6 + a] - p[a];
         }
         t.v0[3] = t.e1[3] = t.e2[3] = 0.0f;
-        bvh->order[i] = id;
-        memcpy(&bvh->tris[i], &t, sizeof t);
+        memcpy(&tris[i], &t, sizeof t);
     }
+}
+
+/* Thread t's buffer, grown to at least `nodes` nodes; 0 if out of memory. */
+static int local_room(cluster_job *j, unsigned t, st_u32 nodes)
+{
+    if (j->local_cap[t] >= nodes)
+        return 1;
+    nodes = nodes > 4096u ? nodes : 4096u;
+    st_bvh_node *grown = realloc(j->local[t], (size_t)nodes * sizeof *grown);
+    if (!grown)
+        return 0;
+    j->local[t] = grown;
+    j->local_cap[t] = nodes;
+    return 1;
+}
+
+/* The tasks this thread takes, each into its buffer (a subtree of m
+ * triangles has at most 2m - 1 nodes) and then the arena; then, its
+ * references final, its triangles' input indices into the output order and
+ * the output triangles. A task left undone (count 0) is out of memory. */
+static void subtree_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    for (st_u32 k; (k = take(&j->next)) < j->task_count;) {
+        task *x = &j->tasks[k];
+        if (!local_room(j, t, 2u * (x->end - x->begin) - 1u))
+            continue;
+        builder b = {j->refs, j->local[t], 0, 0};
+        build_node(&b, x->begin, x->end, x->depth, &x->bounds, &x->cb);
+        x->at = (st_u32)atomic_fetch_add(&j->arena_used, b.node_count);
+        x->count = b.node_count;
+        x->max_depth = b.depth;
+        memcpy(j->arena + x->at, j->local[t], (size_t)b.node_count * sizeof *j->arena);
+        for (st_u32 i = x->begin; i < x->end; ++i)
+            j->cell_of[i] = ref_id(&j->refs[i]);
+        write_triangles(j->positions, j->cell_of, x->begin, x->end, j->tris);
+    }
+}
+
+/* Lays the plan out depth first from nodes[*cursor]: its interior nodes
+ * written, each task given its base; returns the deepest leaf. */
+static st_u32 plan_stitch(const grid *g, st_u32 index, st_bvh_node *nodes, st_u32 *cursor, task *tasks)
+{
+    const plan *p = &g->plans[index];
+    if (p->right == 0u) {
+        task *x = &tasks[p->task];
+        x->base = *cursor;
+        *cursor += x->count;
+        return x->max_depth;
+    }
+    st_u32 node = (*cursor)++;
+    write_box(&nodes[node], &p->b);
+    nodes[node].meta = p->axis;
+    st_u32 left = plan_stitch(g, p->left, nodes, cursor, tasks);
+    nodes[node].offset = *cursor;
+    st_u32 right = plan_stitch(g, p->right, nodes, cursor, tasks);
+    return left > right ? left : right;
+}
+
+/* Each subtree to its place. */
+static void place_run(void *ctx, unsigned t)
+{
+    cluster_job *j = ctx;
+    (void)t;
+    for (st_u32 k; (k = take(&j->next)) < j->task_count;) {
+        const task *x = &j->tasks[k];
+        const st_bvh_node *from = j->arena + x->at;
+        st_bvh_node *to = j->nodes + x->base;
+        memcpy(to, from, (size_t)x->count * sizeof *to);
+        for (st_u32 i = 0; i < x->count; ++i)
+            if ((to[i].meta >> 2) == 0u)
+                to[i].offset += x->base;
+    }
+}
+
+static void cluster_job_free(cluster_job *j)
+{
+    for (unsigned t = 0; t < j->threads; ++t) {
+        free(j->local[t]);
+        if (t > 0u)
+            free(j->part[t]);
+    }
+    free(j->tasks);
+}
+
+/* The tasks under j's plan built on the threads and laid out with the
+ * plan into bvh's nodes, and the output triangles written; 0 if out of
+ * memory. */
+static int run_tasks(cluster_job *j, st_bvh *bvh)
+{
+    st_u32 count = 0;
+    st_bvh_parallel(j->threads, subtree_run, j);
+    for (st_u32 k = 0; k < j->task_count; ++k)
+        if (j->tasks[k].count == 0u)
+            return 0;
+    bvh->depth = plan_stitch(j->g, 0, bvh->nodes, &count, j->tasks);
+    bvh->node_count = count;
+    atomic_store(&j->next, 0u);
+    st_bvh_parallel(j->threads, place_run, j);
+    return 1;
+}
+
+/* Pass 1 on the threads: every triangle's cell and the merged cells. */
+static void count_cells(cluster_job *j)
+{
+    grid *g = j->g;
+    st_bvh_parallel(j->threads, count_run, j);
+    st_bvh_parallel(j->threads, merge_run, j);
+    for (st_u32 c = 0; c < j->cells; ++c)
+        if (g->cells[c].count)
+            g->clusters[g->cluster_count++] = (cluster){g->cells[c].b, c, g->cells[c].count};
+}
+
+/* The clustered build of n >= GRID_MIN_TRIS triangles into bvh (its order
+ * array serves as scratch for the cells until it is written), with room for
+ * n references and an arena of 2n - 1 nodes. */
+static st_status build_clustered(st_bvh *bvh, const float *positions, const box *cb, unsigned threads,
+                                 ref *refs, st_bvh_node *arena, st_error *err)
+{
+    st_u32 n = bvh->tri_count;
+    grid g = {0};
+    cluster_job j = {0};
+    grid_init(&g, cb);
+    j.cells = g.res[0] * g.res[1] * g.res[2];
+    j.g = &g;
+    j.positions = positions;
+    j.n = n;
+    j.threads = threads;
+    j.cell_of = bvh->order;
+    j.input = (const ref *)(const void *)arena; /* the arena's first use is after the scatter */
+    j.refs = refs;
+    j.nodes = bvh->nodes;
+    j.tris = bvh->tris;
+    j.arena = arena;
+    g.cells = huge_pages(malloc(j.cells * sizeof *g.cells), j.cells * sizeof *g.cells);
+    g.clusters = malloc(j.cells * sizeof *g.clusters);
+    g.plans = malloc((2u * j.cells - 1u) * sizeof *g.plans);
+    j.part[0] = g.cells;
+    int ok = g.cells && g.clusters && g.plans;
+    for (unsigned t = 1; t < threads; ++t)
+        ok &= (j.part[t] = huge_pages(malloc(j.cells * sizeof *g.cells), j.cells * sizeof *g.cells)) != NULL;
+    if (ok) {
+        count_cells(&j);
+        plan_build(&g, 0, g.cluster_count, 1);
+        ok = (j.tasks = malloc(g.plan_count * sizeof *j.tasks)) != NULL;
+    }
+    if (ok) {
+        plan_layout(&g, 0, 0, j.tasks, &j.task_count);
+        st_bvh_parallel(threads, offsets_run, &j);
+        st_bvh_parallel(threads, scatter_run, &j);
+        ok = run_tasks(&j, bvh);
+    }
+    cluster_job_free(&j);
+    free(g.cells);
+    free(g.clusters);
+    free(g.plans);
+    if (!ok)
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the cluster grid of %u triangles", n);
+    return ST_OK;
+}
+
+/* ---- the direct build on threads ------------------------------------------------ */
+
+/* Below GRID_MIN_TRIS triangles the tree is build_node's from the root. On
+ * threads, its top is made by top_node on one thread down to nodes of at
+ * most a sixteenth of the triangles (but more than SMALL_MAX), each of
+ * those a task as the plan's leaves are above: the splits are build_node's,
+ * so the tree does not depend on where the tasks begin. */
+#define TOP_SHARE 16u
+
+/* build_node's split of refs [begin, end) as plan node g->plans[plan_count]
+ * (a leaf, right == 0, for a task); returns its index. */
+static st_u32 top_node(cluster_job *j, st_u32 begin, st_u32 end, st_u32 depth, const box *bounds, const box *cb,
+                       st_u32 cut)
+{
+    grid *g = j->g;
+    st_u32 n = end - begin, index = g->plan_count++;
+    g->plans[index] = (plan){*bounds, 0, 0, n, begin, 0, 0, 0, depth, 0};
+    if (n <= cut) {
+        task *x = &j->tasks[j->task_count];
+        g->plans[index].task = j->task_count++;
+        *x = (task){*bounds, *cb, begin, end, depth, 0, 0, 0, 0};
+        return index;
+    }
+    split s;
+    ref *refs = j->refs + begin;
+    if (!split_binned(refs, n, cb, &s) ||
+        depth + 1u + median_levels(s.left_count > n - s.left_count ? s.left_count : n - s.left_count) >
+            ST_BVH_MAX_DEPTH)
+        split_median(refs, n, cb, &s);
+    g->plans[index].axis = s.axis;
+    st_u32 left = top_node(j, begin, begin + s.left_count, depth + 1u, &s.left, &s.left_cb, cut);
+    st_u32 right = top_node(j, begin + s.left_count, end, depth + 1u, &s.right, &s.right_cb, cut);
+    g->plans[index].left = left;
+    g->plans[index].right = right;
+    return index;
+}
+
+static st_status build_direct(st_bvh *bvh, const float *positions, const box *bounds, const box *cb,
+                              unsigned threads, ref *refs, st_bvh_node *arena, st_error *err)
+{
+    st_u32 n = bvh->tri_count, cut = n / TOP_SHARE > SMALL_MAX ? n / TOP_SHARE : SMALL_MAX;
+    grid g = {0};
+    cluster_job j = {0};
+    j.g = &g;
+    j.positions = positions;
+    j.n = n;
+    j.threads = threads;
+    j.cell_of = bvh->order;
+    j.refs = refs;
+    j.nodes = bvh->nodes;
+    j.tris = bvh->tris;
+    j.arena = arena;
+    /* the top's interior nodes hold more than `cut` triangles each, and
+     * those at one depth are disjoint: at most n / cut + 1 a level, over at
+     * most ST_BVH_MAX_DEPTH levels, and fewer than n in all; one more task */
+    st_u64 levels = (st_u64)ST_BVH_MAX_DEPTH * (n / cut + 1u);
+    st_u32 most = 2u * (levels < n ? (st_u32)levels : n) + 1u;
+    g.plans = malloc((size_t)most * sizeof *g.plans);
+    j.tasks = malloc((size_t)most * sizeof *j.tasks);
+    int ok = g.plans && j.tasks;
+    if (ok && threads == 1u) { /* build_node itself, as the threads' top and tasks do */
+        builder b = {j.refs, bvh->nodes, 0, 0};
+        build_node(&b, 0, n, 1, bounds, cb);
+        for (st_u32 i = 0; i < n; ++i)
+            bvh->order[i] = ref_id(&j.refs[i]);
+        write_triangles(positions, bvh->order, 0, n, bvh->tris);
+        bvh->node_count = b.node_count;
+        bvh->depth = b.depth;
+    } else if (ok) {
+        top_node(&j, 0, n, 1, bounds, cb, cut);
+        ok = run_tasks(&j, bvh);
+    }
+    cluster_job_free(&j);
+    free(g.plans);
+    if (!ok)
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the build of %u triangles", n);
+    return ST_OK;
 }
 
 /* The empty scene: one leaf whose inverted box no ray enters, holding one
@@ -902,41 +1318,50 @@ static void make_empty(st_bvh *bvh)
     bvh->depth = 1;
 }
 
-/* The triangle references live in the (16-byte aligned) output triangle
- * array, which is larger: no extra allocation, and the pages the build
- * touches are the ones the output needs anyway. */
-ST_STATIC_ASSERT(sizeof(ref) <= sizeof(st_triangle), "refs must fit in the triangle array");
+/* The triangle references and then the subtrees' arena live in `room`, the
+ * (16-byte aligned) memory of the wide tree, which is larger (at least two
+ * wide nodes a triangle, 512 bytes, against 32 for a reference and 64 for
+ * the arena's two nodes) and written after them: no extra allocation, and
+ * the pages the build touches are the ones the output needs anyway. */
+ST_STATIC_ASSERT(sizeof(ref) + 2u * sizeof(st_bvh_node) <= 2u * sizeof(st_bvh_wide_node) && sizeof(ref) % 16u == 0u,
+                 "the references and the arena must fit in the wide tree's room");
 
-static st_status build_tree(const float *positions, st_bvh *bvh, st_error *err)
+static st_status build_tree(const float *positions, st_bvh *bvh, unsigned threads, void *room, st_error *err)
 {
     st_u32 n = bvh->tri_count;
-    builder b = {0};
+    ref *refs = room;
+    st_bvh_node *arena = (st_bvh_node *)(void *)(refs + n);
     box bounds, cb;
-    st_u32 bad = scan_positions(positions, n, &bounds, &cb);
+    /* the references in input order: in place for the direct build, in the
+     * arena (unused until the subtrees) for the clustered one to scatter */
+    int clustered = n >= GRID_MIN_TRIS;
+    st_u32 bad = scan_parallel(positions, n, threads, clustered ? (ref *)(void *)arena : refs, &bounds, &cb);
     if (bad < n)
         return st_fail(err, ST_ERR_FORMAT, "bvh: triangle %u has a non-finite vertex coordinate", bad);
-    b.refs = (ref *)(void *)bvh->tris;
-    b.nodes = bvh->nodes;
-    if (n >= GRID_MIN_TRIS) {
-        st_status s = build_clustered(&b, positions, n, &cb, bvh->order, err);
+    if (clustered) {
+        st_status s = build_clustered(bvh, positions, &cb, threads, refs, arena, err);
         if (s != ST_OK)
             return s;
     } else {
-        fill_refs(positions, n, b.refs);
-        build_node(&b, 0, n, 1, &bounds, &cb);
+        st_status s = build_direct(bvh, positions, &bounds, &cb, threads, refs, arena, err);
+        if (s != ST_OK)
+            return s;
     }
-    write_triangles(positions, b.refs, n, bvh);
-    bvh->node_count = b.node_count;
-    bvh->depth = b.depth;
-    if (b.depth > ST_BVH_MAX_DEPTH) /* unreachable: see the depth invariant above */
-        return st_fail(err, ST_ERR_FORMAT, "bvh: depth %u exceeds %d", b.depth, ST_BVH_MAX_DEPTH);
-    st_bvh_node *shrunk = realloc(bvh->nodes, (size_t)b.node_count * sizeof *bvh->nodes);
+    if (bvh->depth > ST_BVH_MAX_DEPTH) /* unreachable: see the depth invariant above */
+        return st_fail(err, ST_ERR_FORMAT, "bvh: depth %u exceeds %d", bvh->depth, ST_BVH_MAX_DEPTH);
+    st_bvh_node *shrunk = realloc(bvh->nodes, (size_t)bvh->node_count * sizeof *bvh->nodes);
     if (shrunk)
         bvh->nodes = shrunk;
     return ST_OK;
 }
 
 st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, st_error *err)
+{
+    return st_bvh_build_threads(positions, tri_count, 0u, out, err);
+}
+
+st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigned threads, st_bvh **out,
+                               st_error *err)
 {
     if (!out)
         return st_fail(err, ST_ERR_USAGE, "bvh: no output handle");
@@ -946,24 +1371,28 @@ st_status st_bvh_build(const float *positions, st_u32 tri_count, st_bvh **out, s
     if (tri_count > MAX_TRIANGLES)
         return st_fail(err, ST_ERR_FORMAT, "bvh: %u triangles, at most %u supported", tri_count, MAX_TRIANGLES);
     size_t slots = tri_count ? tri_count : 1u;
+    threads = st_bvh_threads(threads, tri_count);
     st_bvh *bvh = calloc(1, sizeof *bvh);
     if (!bvh)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory");
     bvh->tri_count = tri_count;
-    bvh->nodes = malloc((2u * slots - 1u) * sizeof *bvh->nodes);
-    bvh->tris = aligned_alloc(16, slots * sizeof *bvh->tris);
+    bvh->nodes = huge_pages(malloc((2u * slots - 1u) * sizeof *bvh->nodes), (2u * slots - 1u) * sizeof *bvh->nodes);
+    bvh->tris = huge_pages(aligned_alloc(16, slots * sizeof *bvh->tris), slots * sizeof *bvh->tris);
     bvh->order = malloc(slots * sizeof *bvh->order);
+    /* the wide tree's room (st_bvh_collapse_wide_threads: node_count + 1
+     * <= 2 slots nodes), the build's references and arena until then */
+    st_bvh_wide_node *wide = huge_pages(malloc(2u * slots * sizeof *wide), 2u * slots * sizeof *wide);
     st_status s = ST_OK;
-    if (!bvh->nodes || !bvh->tris || !bvh->order)
+    if (!bvh->nodes || !bvh->tris || !bvh->order || !wide)
         s = st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for %u triangles", tri_count);
     else if (tri_count == 0u)
         make_empty(bvh);
     else
-        s = build_tree(positions, bvh, err);
+        s = build_tree(positions, bvh, threads, wide, err);
     if (s == ST_OK)
-        s = st_bvh_collapse_wide(bvh, err);
-    if (s == ST_OK)
-        st_bvh_pack_leaves(bvh);
+        s = st_bvh_collapse_wide_threads(bvh, threads, 1, wide, err);
+    else
+        free(wide);
     if (s != ST_OK) {
         st_bvh_destroy(bvh);
         return s;
@@ -981,13 +1410,4 @@ void st_bvh_destroy(st_bvh *bvh)
     free(bvh->tris);
     free(bvh->order);
     free(bvh);
-}
-
-void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials)
-{
-    for (st_u32 i = 0; i < bvh->tri_count; ++i) {
-        st_u32 flags = materials[tri_material[bvh->order[i]]].flags;
-        bvh->tris[i].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
-    }
-    st_bvh_pack_leaves(bvh);
 }

@@ -8,6 +8,7 @@
  * Embree's Triangle4 leaves are, but sized to the leaf: st_shared.h), so
  * that the kernels test them together. */
 #include <float.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,25 +27,34 @@ static float half_area(const st_bvh_node *n)
 /* The binary nodes that become the children of a wide node made from
  * interior node i: its two children, then, while fewer than ST_BVH_WIDTH, the
  * interior one of largest area replaced by its own two (the first of equal
- * areas, so the result is a function of the tree). Returns their number. */
+ * areas, so the result is a function of the tree). Returns their number.
+ * Each kid's area is computed once (-1 for a leaf: never opened). */
+static float open_area(const st_bvh_node *n) { return is_leaf(n) ? -1.0f : half_area(n); }
+
 static int gather(const st_bvh_node *nodes, st_u32 i, int width, st_u32 kids[ST_BVH_WIDTH])
 {
+    float area[ST_BVH_WIDTH];
     int c = 2;
     kids[0] = i + 1u;
     kids[1] = nodes[i].offset;
+    area[0] = open_area(&nodes[kids[0]]);
+    area[1] = open_area(&nodes[kids[1]]);
     while (c < width) {
         int best = -1;
-        float area = -1.0f;
+        float most = -1.0f;
         for (int k = 0; k < c; k++)
-            if (!is_leaf(&nodes[kids[k]]) && half_area(&nodes[kids[k]]) > area) {
-                area = half_area(&nodes[kids[k]]);
+            if (area[k] > most) {
+                most = area[k];
                 best = k;
             }
         if (best < 0)
             break;
         st_u32 open = kids[best];
         kids[best] = open + 1u;
-        kids[c++] = nodes[open].offset;
+        kids[c] = nodes[open].offset;
+        area[best] = open_area(&nodes[kids[best]]);
+        area[c] = open_area(&nodes[kids[c]]);
+        c++;
     }
     return c;
 }
@@ -56,11 +66,10 @@ typedef struct wide_builder {
     int width; /* children per node: ST_BVH_WIDTH, or 4 (see collapse) */
 } wide_builder;
 
-static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth);
-
-/* Child slot k of wide node w: binary node `child`'s box, and the node
- * itself as a leaf or as the wide node made from it (emit). */
-static void set_slot(wide_builder *b, st_u32 w, int k, st_u32 child, st_u32 depth)
+/* Child slot k of wide node w: binary node `child`'s box and count; its
+ * child[k] is the leaf's first triangle (0 for an interior child, set by
+ * the caller). */
+static void set_slot(wide_builder *b, st_u32 w, int k, st_u32 child)
 {
     const st_bvh_node *n = &b->nodes[child];
     for (int a = 0; a < 3; a++) {
@@ -69,10 +78,6 @@ static void set_slot(wide_builder *b, st_u32 w, int k, st_u32 child, st_u32 dept
     }
     b->wide[w].count[k] = n->meta >> 2;
     b->wide[w].child[k] = is_leaf(n) ? n->offset : 0u;
-    if (!is_leaf(n)) {
-        st_u32 c = emit(b, child, depth + 1u);
-        b->wide[w].child[k] = c;
-    }
 }
 
 static void clear_slots(st_bvh_wide_node *w)
@@ -87,7 +92,8 @@ static void clear_slots(st_bvh_wide_node *w)
     }
 }
 
-/* Wide node for binary interior node i, depth first; returns its index. */
+/* Wide node for binary interior node i, depth first from b->count; returns
+ * its index. */
 static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth)
 {
     st_u32 w = b->count++;
@@ -95,91 +101,302 @@ static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth)
     clear_slots(&b->wide[w]);
     st_u32 kids[ST_BVH_WIDTH];
     int c = gather(b->nodes, i, b->width, kids);
-    for (int k = 0; k < c; k++)
-        set_slot(b, w, k, kids[k], depth);
+    for (int k = 0; k < c; k++) {
+        set_slot(b, w, k, kids[k]);
+        if (!is_leaf(&b->nodes[kids[k]])) {
+            st_u32 child = emit(b, kids[k], depth + 1u);
+            b->wide[w].child[k] = child;
+        }
+    }
     return w;
 }
 
+/* The wide nodes emit would make from binary interior node i; *depth
+ * becomes the deepest of them if deeper. */
+static st_u32 count_wide(const st_bvh_node *nodes, st_u32 i, int width, st_u32 at, st_u32 *depth)
+{
+    st_u32 kids[ST_BVH_WIDTH], total = 1u;
+    int c = gather(nodes, i, width, kids);
+    *depth = at > *depth ? at : *depth;
+    for (int k = 0; k < c; k++)
+        if (!is_leaf(&nodes[kids[k]]))
+            total += count_wide(nodes, kids[k], width, at + 1u, depth);
+    return total;
+}
+
+/* ---- the collapse on threads ----
+ * The top TASK_DEPTH - 1 levels of wide nodes are made on one thread; each
+ * interior child below them is a task: its wide subtree is counted by
+ * whichever thread takes it, the top levels are then emitted depth first
+ * with each task's subtree given its range of indices, and the threads
+ * emit the subtrees into them: the nodes emit alone would make, where it
+ * would put them. */
+#define TASK_DEPTH 3u
+#define MAX_TASKS (ST_BVH_WIDTH * ST_BVH_WIDTH) /* interior children at TASK_DEPTH */
+
+typedef struct wide_task {
+    st_u32 node, depth, base, count, max_depth;
+} wide_task;
+
+typedef struct collapse_job {
+    wide_builder *b;
+    wide_task task[MAX_TASKS];
+    st_u32 task_count, next_task; /* next_task: while the top levels are emitted */
+    atomic_uint next;
+} collapse_job;
+
+/* The tasks below binary interior node i, which would be the wide node at
+ * `depth`, in depth-first order. */
+static void list_tasks(collapse_job *j, st_u32 i, st_u32 depth)
+{
+    st_u32 kids[ST_BVH_WIDTH];
+    int c = gather(j->b->nodes, i, j->b->width, kids);
+    for (int k = 0; k < c; k++) {
+        if (is_leaf(&j->b->nodes[kids[k]]))
+            continue;
+        if (depth + 1u >= TASK_DEPTH)
+            j->task[j->task_count++] = (wide_task){kids[k], depth + 1u, 0u, 0u, 0u};
+        else
+            list_tasks(j, kids[k], depth + 1u);
+    }
+}
+
+/* emit over the top levels: a task's subtree is skipped over, its nodes
+ * left to emit_tasks. */
+static st_u32 emit_top(collapse_job *j, st_u32 i, st_u32 depth)
+{
+    wide_builder *b = j->b;
+    st_u32 w = b->count++;
+    b->depth = depth > b->depth ? depth : b->depth;
+    clear_slots(&b->wide[w]);
+    st_u32 kids[ST_BVH_WIDTH];
+    int c = gather(b->nodes, i, b->width, kids);
+    for (int k = 0; k < c; k++) {
+        set_slot(b, w, k, kids[k]);
+        if (is_leaf(&b->nodes[kids[k]]))
+            continue;
+        st_u32 child;
+        if (depth + 1u >= TASK_DEPTH) {
+            wide_task *x = &j->task[j->next_task++];
+            x->base = child = b->count;
+            b->count += x->count;
+        } else {
+            child = emit_top(j, kids[k], depth + 1u);
+        }
+        b->wide[w].child[k] = child;
+    }
+    return w;
+}
+
+static void count_tasks(void *ctx, unsigned t)
+{
+    collapse_job *j = ctx;
+    (void)t;
+    for (st_u32 k; (k = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->task_count;) {
+        wide_task *x = &j->task[k];
+        x->count = count_wide(j->b->nodes, x->node, j->b->width, x->depth, &x->max_depth);
+    }
+}
+
+static void emit_tasks(void *ctx, unsigned t)
+{
+    collapse_job *j = ctx;
+    (void)t;
+    for (st_u32 k; (k = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->task_count;) {
+        wide_task *x = &j->task[k];
+        wide_builder b = *j->b;
+        b.count = x->base;
+        emit(&b, x->node, x->depth);
+    }
+}
+
 /* The wide tree of nodes of up to b->width children into b->wide. */
-static void collapse(wide_builder *b)
+static void collapse(wide_builder *b, unsigned threads)
 {
     b->count = 0u;
     b->depth = 1u;
     if (is_leaf(&b->nodes[0])) {
         b->count = 1u;
         clear_slots(&b->wide[0]);
-        set_slot(b, 0u, 0, 0u, 1u);
-    } else {
+        set_slot(b, 0u, 0, 0u);
+        return;
+    }
+    collapse_job *j = malloc(sizeof *j);
+    if (!j) { /* one thread needs no task list */
         emit(b, 0u, 1u);
+        return;
+    }
+    j->b = b;
+    j->task_count = j->next_task = 0u;
+    list_tasks(j, 0u, 1u);
+    atomic_init(&j->next, 0u);
+    st_bvh_parallel(threads, count_tasks, j);
+    emit_top(j, 0u, 1u);
+    atomic_store(&j->next, 0u);
+    st_bvh_parallel(threads, emit_tasks, j);
+    for (st_u32 k = 0; k < j->task_count; k++)
+        b->depth = j->task[k].max_depth > b->depth ? j->task[k].max_depth : b->depth;
+    free(j);
+}
+
+/* ---- leaf blocks ---- */
+
+/* Wide nodes a piece of the leaf blocks' work. */
+#define NODE_PIECE 256u
+
+static void pack_block(const st_bvh *bvh, st_f32 *rows, st_u32 n)
+{
+    st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n);
+    st_u32 sides = 0u;
+    for (st_u32 j = 0u; j < n; j++) {
+        const st_triangle *t = &bvh->tris[words[0] + j];
+        for (st_u32 a = 0u; a < 3u; a++) {
+            rows[(ST_LEAF_V0 + a) * n + j] = t->v0[a];
+            rows[(ST_LEAF_E1 + a) * n + j] = t->e1[a];
+            rows[(ST_LEAF_E2 + a) * n + j] = t->e2[a];
+        }
+        sides |= (t->v0[3] != 0.0f ? 1u : 0u) << j;
+    }
+    words[1] = sides;
+}
+
+/* Units of the leaf blocks of wide nodes [lo, hi). */
+static size_t block_units(const st_bvh_wide_node *wide, st_u32 lo, st_u32 hi)
+{
+    size_t units = 0u;
+    for (st_u32 w = lo; w < hi; w++)
+        for (int k = 0; k < ST_BVH_WIDTH; k++)
+            units += wide[w].count[k] ? ST_LEAF_UNITS(wide[w].count[k]) : 0u;
+    return units;
+}
+
+/* Gives every leaf slot of wide nodes [lo, hi) its leaf block, in slot
+ * order from unit `at`, each ST_LEAF_UNITS(count) units long: child[k]
+ * becomes the block's unit, and the block's first word the leaf's first
+ * triangle; the rest zero, or packed from bvh->tris when `pack`. */
+static void place_blocks(const st_bvh *bvh, st_bvh_wide_node *wide, st_u32 lo, st_u32 hi, size_t at, int pack)
+{
+    for (st_u32 w = lo; w < hi; w++)
+        for (int k = 0; k < ST_BVH_WIDTH; k++) {
+            st_u32 count = wide[w].count[k];
+            if (count == 0u)
+                continue;
+            st_u32 *words = (st_u32 *)(void *)((char *)wide + at * ST_LEAF_UNIT);
+            memset(words, 0, ST_LEAF_UNITS(count) * ST_LEAF_UNIT);
+            words[ST_LEAF_ROWS * count] = wide[w].child[k];
+            wide[w].child[k] = (st_u32)at;
+            if (pack)
+                pack_block(bvh, (st_f32 *)(void *)words, count);
+            at += ST_LEAF_UNITS(count);
+        }
+}
+
+/* The leaf blocks on threads: each piece of NODE_PIECE wide nodes is
+ * counted, the pieces' first units summed in order, and the pieces placed:
+ * where one pass in node order would place them. */
+typedef struct leaf_job {
+    const st_bvh *bvh;
+    st_bvh_wide_node *wide;
+    st_u32 count, pieces;
+    size_t *at; /* per piece: its units, then its first unit */
+    int pack;
+    atomic_uint next;
+} leaf_job;
+
+static void units_run(void *ctx, unsigned t)
+{
+    leaf_job *j = ctx;
+    (void)t;
+    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
+        st_u32 lo = p * NODE_PIECE, hi = j->count - lo < NODE_PIECE ? j->count : lo + NODE_PIECE;
+        j->at[p] = block_units(j->wide, lo, hi);
     }
 }
 
-/* Gives every leaf slot its leaf block, after the b->count nodes in slot
- * order, each ST_LEAF_UNITS(count) units long: child[k] becomes the block's
- * unit, and the block's first word the leaf's first triangle (rows and
- * sides are st_bvh_pack_leaves'). Returns the units of all blocks. */
-static size_t place_leaves(wide_builder *b)
+static void place_run(void *ctx, unsigned t)
+{
+    leaf_job *j = ctx;
+    (void)t;
+    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
+        st_u32 lo = p * NODE_PIECE, hi = j->count - lo < NODE_PIECE ? j->count : lo + NODE_PIECE;
+        place_blocks(j->bvh, j->wide, lo, hi, j->at[p], j->pack);
+    }
+}
+
+/* Places the blocks after the b->count nodes; returns their units, or
+ * SIZE_MAX when out of memory. */
+static size_t place_leaves(const st_bvh *bvh, wide_builder *b, unsigned threads, int pack)
 {
     const size_t node_units = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
-    size_t used = 0u;
-    for (st_u32 w = 0u; w < b->count; w++)
-        for (int k = 0; k < ST_BVH_WIDTH; k++) {
-            st_u32 count = b->wide[w].count[k];
-            if (count == 0u)
-                continue;
-            size_t at = b->count * node_units + used;
-            st_u32 *words = (st_u32 *)(void *)((char *)b->wide + at * ST_LEAF_UNIT);
-            memset(words, 0, ST_LEAF_UNITS(count) * ST_LEAF_UNIT);
-            words[ST_LEAF_ROWS * count] = b->wide[w].child[k];
-            b->wide[w].child[k] = (st_u32)at;
-            used += ST_LEAF_UNITS(count);
-        }
-    return used;
+    leaf_job j = {bvh, b->wide, b->count, (b->count + NODE_PIECE - 1u) / NODE_PIECE, NULL, pack, 0u};
+    j.at = malloc(((size_t)j.pieces + 1u) * sizeof *j.at);
+    if (!j.at)
+        return SIZE_MAX;
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(threads, units_run, &j);
+    size_t at = b->count * node_units;
+    for (st_u32 p = 0; p < j.pieces; p++) {
+        size_t units = j.at[p];
+        j.at[p] = at;
+        at += units;
+    }
+    atomic_store(&j.next, 0u);
+    st_bvh_parallel(threads, place_run, &j);
+    free(j.at);
+    return at - b->count * node_units;
+}
+
+static void pack_run(void *ctx, unsigned t)
+{
+    leaf_job *j = ctx;
+    (void)t;
+    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
+        st_u32 lo = p * NODE_PIECE, hi = j->count - lo < NODE_PIECE ? j->count : lo + NODE_PIECE;
+        for (st_u32 w = lo; w < hi; w++)
+            for (int k = 0; k < ST_BVH_WIDTH; k++)
+                if (j->wide[w].count[k] != 0u)
+                    pack_block(j->bvh, (st_f32 *)(void *)((char *)j->wide + (size_t)j->wide[w].child[k] *
+                                                                                  ST_LEAF_UNIT),
+                               j->wide[w].count[k]);
+    }
 }
 
 void st_bvh_pack_leaves(st_bvh *bvh)
 {
-    for (st_u32 w = 0u; w < bvh->wide_count; w++)
-        for (int k = 0; k < ST_BVH_WIDTH; k++) {
-            st_u32 n = bvh->wide[w].count[k];
-            if (n == 0u)
-                continue;
-            st_f32 *rows = (st_f32 *)(void *)((char *)bvh->wide +
-                                              (size_t)bvh->wide[w].child[k] * ST_LEAF_UNIT);
-            st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n);
-            st_u32 sides = 0u;
-            for (st_u32 j = 0u; j < n; j++) {
-                const st_triangle *t = &bvh->tris[words[0] + j];
-                for (st_u32 a = 0u; a < 3u; a++) {
-                    rows[(ST_LEAF_V0 + a) * n + j] = t->v0[a];
-                    rows[(ST_LEAF_E1 + a) * n + j] = t->e1[a];
-                    rows[(ST_LEAF_E2 + a) * n + j] = t->e2[a];
-                }
-                sides |= (t->v0[3] != 0.0f ? 1u : 0u) << j;
-            }
-            words[1] = sides;
-        }
+    leaf_job j = {bvh, bvh->wide, bvh->wide_count, (bvh->wide_count + NODE_PIECE - 1u) / NODE_PIECE, NULL, 1, 0u};
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(st_bvh_threads(0u, bvh->tri_count), pack_run, &j);
 }
 
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
+{
+    return st_bvh_collapse_wide_threads(bvh, st_bvh_threads(0u, bvh->node_count), 0, NULL, err);
+}
+
+st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, st_bvh_wide_node *room,
+                                       st_error *err)
 {
     /* every wide node consumes at least one binary interior node and every
      * binary leaf becomes one leaf block, smaller than a node: at most
      * node_count entries in a full binary tree, one more for a leaf root (a
      * small or empty scene), which gets one wide node over it */
     size_t cap = (size_t)bvh->node_count + 1u;
-    wide_builder b = {bvh->nodes, malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
+    wide_builder b = {bvh->nodes, room ? room : malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
     if (!b.wide)
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
-    collapse(&b);
+    collapse(&b, threads);
     /* the traversal stack holds (width - 1) x depth entries at most: a tree
      * too deep for ST_BVH_WIDE_STACK at full width is made of 4-child nodes,
      * whose depth <= ST_BVH_MAX_DEPTH keeps it within (trace.h) */
     if ((st_u32)(b.width - 1) * b.depth > ST_BVH_WIDE_STACK) {
         b.width = 4;
-        collapse(&b);
+        collapse(&b, threads);
     }
-    size_t units = place_leaves(&b), per_node = sizeof *b.wide / ST_LEAF_UNIT;
+    size_t units = place_leaves(bvh, &b, threads, pack), per_node = sizeof *b.wide / ST_LEAF_UNIT;
+    if (units == SIZE_MAX) {
+        free(b.wide);
+        return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the leaf blocks");
+    }
     if (b.count * per_node + units > UINT32_MAX) { /* child[k] could not name every block */
         free(b.wide);
         return st_fail(err, ST_ERR_NOMEM, "bvh: the wide tree exceeds 2^32 leaf units");
@@ -194,4 +411,49 @@ st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
     bvh->leaf_slots = slots;
     bvh->wide_depth = b.depth;
     return ST_OK;
+}
+
+/* One pass over the leaf blocks: each triangle's side rule into its
+ * st_triangle and its block's sides word (every triangle is in one block;
+ * the rows do not depend on the sides), pieces of wide nodes on threads. */
+typedef struct sides_job {
+    st_bvh *bvh;
+    const st_u32 *tri_material;
+    const st_material *materials;
+    st_u32 pieces;
+    atomic_uint next;
+} sides_job;
+
+static void sides_run(void *ctx, unsigned t)
+{
+    sides_job *j = ctx;
+    st_bvh *bvh = j->bvh;
+    (void)t;
+    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
+        st_u32 lo = p * NODE_PIECE, hi = bvh->wide_count - lo < NODE_PIECE ? bvh->wide_count : lo + NODE_PIECE;
+        for (st_u32 w = lo; w < hi; w++)
+            for (int k = 0; k < ST_BVH_WIDTH; k++) {
+                st_u32 n = bvh->wide[w].count[k], sides = 0u;
+                if (n == 0u)
+                    continue;
+                st_f32 *rows = (st_f32 *)(void *)((char *)bvh->wide + (size_t)bvh->wide[w].child[k] * ST_LEAF_UNIT);
+                st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n);
+                for (st_u32 i = 0u; i < n; i++) {
+                    st_u32 tri = words[0] + i;
+                    st_u32 flags = j->materials[j->tri_material[bvh->order[tri]]].flags;
+                    bvh->tris[tri].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
+                    sides |= (bvh->tris[tri].v0[3] != 0.0f ? 1u : 0u) << i;
+                }
+                words[1] = sides;
+            }
+    }
+}
+
+void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials)
+{
+    if (bvh->tri_count == 0u) /* the empty scene's placeholder has no material */
+        return;
+    sides_job j = {bvh, tri_material, materials, (bvh->wide_count + NODE_PIECE - 1u) / NODE_PIECE, 0u};
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(st_bvh_threads(0u, bvh->tri_count), sides_run, &j);
 }

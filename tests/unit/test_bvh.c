@@ -799,6 +799,108 @@ static void build_is_deterministic(void **state)
     free(p);
 }
 
+/* Every array of two trees the same, byte for byte. */
+static void assert_same_tree(const st_bvh *a, const st_bvh *b)
+{
+    assert_int_equal(a->tri_count, b->tri_count);
+    assert_int_equal(a->node_count, b->node_count);
+    assert_int_equal(a->depth, b->depth);
+    assert_memory_equal(a->nodes, b->nodes, a->node_count * sizeof *a->nodes);
+    assert_memory_equal(a->order, b->order, a->tri_count * sizeof *a->order);
+    assert_memory_equal(a->tris, b->tris, a->tri_count * sizeof *a->tris);
+    assert_int_equal(a->wide_count, b->wide_count);
+    assert_int_equal(a->wide_depth, b->wide_depth);
+    assert_int_equal(a->leaf_slots, b->leaf_slots);
+    assert_memory_equal(a->wide, b->wide, (a->wide_count + a->leaf_slots) * sizeof *a->wide);
+}
+
+/* Triangles in the plane z = 0, each z coordinate +0 or -0 at random: the
+ * boxes' z bounds are zeros of either sign, which keep the sign one pass
+ * would give them only if bounds gathered in pieces are combined in input
+ * order (min and max keep the later of equal values). */
+static float *signed_zeros(rng *r, uint32_t n)
+{
+    float *p = soup(r, n, 0.02f);
+    for (uint32_t i = 0; i < 3 * n; ++i)
+        p[3 * i + 2] = rng_u32(r) & 1u ? 0.0f : -0.0f;
+    return p;
+}
+
+/* The tree is the same whatever the thread count (st_bvh_build_threads):
+ * 1, 2, 3, 7 and 16 threads, on scenes of both builders (below and above
+ * the cluster grid's threshold; below it, one thread is build_node alone,
+ * more share out its subtrees), an unbalanced one (a long chain at the
+ * top), with many equal centroids (one grid cell) and with zeros of both
+ * signs; and st_bvh_build's own choice. The one-thread build is also
+ * checked against the definitions. */
+static void build_same_tree_whatever_the_threads(void **state)
+{
+    (void)state;
+    rng r = {31};
+    const uint32_t sizes[5] = {120, 3000, 70000, 70000, 70000};
+    for (int k = 0; k < 5; ++k) {
+        uint32_t n = sizes[k];
+        float *p = k == 0 ? geometric(n) : k == 1 ? soup(&r, n, 0.05f) : k == 2 ? soup(&r, n, 0.02f)
+                 : k == 3 ? coincident(&r, n) : signed_zeros(&r, n);
+        st_bvh *one = NULL, *other = NULL;
+        st_error err = {0};
+        assert_int_equal(st_bvh_build_threads(p, n, 1, &one, &err), ST_OK);
+        check_structure(one, p, n);
+        const unsigned threads[5] = {2, 3, 7, ST_BVH_MAX_THREADS, 0};
+        for (int t = 0; t < 5; ++t) {
+            assert_int_equal(st_bvh_build_threads(p, n, threads[t], &other, &err), ST_OK);
+            assert_same_tree(one, other);
+            st_bvh_destroy(other);
+        }
+        assert_int_equal(st_bvh_build(p, n, &other, &err), ST_OK);
+        assert_same_tree(one, other);
+        st_bvh_destroy(other);
+        st_bvh_destroy(one);
+        free(p);
+    }
+}
+
+/* st_bvh_set_sides = its definition: each triangle's st_triangle.v0[3]
+ * from its material's ST_MAT_DOUBLE_SIDED flag, then the leaves repacked
+ * (st_bvh_pack_leaves); every array equal, with materials of both kinds
+ * (and a second call turning every triangle back two-sided). */
+static void set_sides_equals_marking_and_repacking(void **state)
+{
+    (void)state;
+    rng r = {32};
+    const uint32_t n = 70000;
+    float *p = soup(&r, n, 0.02f);
+    uint32_t *tri_material = malloc(n * sizeof *tri_material);
+    assert_non_null(tri_material);
+    st_material materials[3];
+    memset(materials, 0, sizeof materials);
+    materials[1].flags = ST_MAT_DOUBLE_SIDED;
+    for (uint32_t i = 0; i < n; ++i)
+        tri_material[i] = rng_u32(&r) % 3u;
+    st_bvh *got = NULL, *want = NULL;
+    st_error err = {0};
+    assert_int_equal(st_bvh_build(p, n, &got, &err), ST_OK);
+    assert_int_equal(st_bvh_build(p, n, &want, &err), ST_OK);
+    for (int pass = 0; pass < 2; ++pass) {
+        st_bvh_set_sides(got, tri_material, materials);
+        uint32_t one_sided = 0;
+        for (uint32_t i = 0; i < n; ++i) {
+            int two = (materials[tri_material[want->order[i]]].flags & ST_MAT_DOUBLE_SIDED) != 0;
+            want->tris[i].v0[3] = two ? 0.0f : ST_TRI_ONE_SIDED;
+            one_sided += !two;
+        }
+        st_bvh_pack_leaves(want);
+        assert_true(pass == 1 ? one_sided == 0 : one_sided > n / 2 && one_sided < n);
+        assert_same_tree(got, want);
+        for (int m = 0; m < 3; ++m)
+            materials[m].flags = ST_MAT_DOUBLE_SIDED;
+    }
+    st_bvh_destroy(got);
+    st_bvh_destroy(want);
+    free(tri_material);
+    free(p);
+}
+
 /* 1M random triangles: structure checked; speed printed as a TAP comment. */
 static void build_million_triangles_structure(void **state)
 {
@@ -971,6 +1073,8 @@ int main(void)
         cmocka_unit_test(build_empty_scene_has_no_hits),
         cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
         cmocka_unit_test(build_is_deterministic),
+        cmocka_unit_test(build_same_tree_whatever_the_threads),
+        cmocka_unit_test(set_sides_equals_marking_and_repacking),
         cmocka_unit_test(build_million_triangles_structure),
         cmocka_unit_test(build_overflowing_areas_keeps_structure),
         cmocka_unit_test(triangle_hit_matches_barycentric_construction),
