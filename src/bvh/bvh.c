@@ -61,13 +61,11 @@
 
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdint.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
-#include <unistd.h>
 
 #define LEAF_MAX ((st_u32)ST_LEAF_MAX)
 #define BIN_COUNT 16u
@@ -567,53 +565,6 @@ static void build_node(builder *b, st_u32 begin, st_u32 end, st_u32 depth, const
     build_node(b, begin, begin + s.left_count, depth + 1u, &s.left, &s.left_cb);
     b->nodes[index].offset = b->node_count;
     build_node(b, begin + s.left_count, end, depth + 1u, &s.right, &s.right_cb);
-}
-
-/* ---- threads ---------------------------------------------------------------- */
-
-/* Below this many triangles the default is one thread: starting threads and
- * sharing the work out costs more than it saves. */
-#define PARALLEL_MIN_TRIS 16384u
-
-typedef struct job_thread {
-    st_bvh_job *job;
-    void *ctx;
-    unsigned t;
-} job_thread;
-
-static void *job_main(void *arg)
-{
-    const job_thread *j = arg;
-    j->job(j->ctx, j->t);
-    return NULL;
-}
-
-void st_bvh_parallel(unsigned threads, st_bvh_job *job, void *ctx)
-{
-    pthread_t tid[ST_BVH_MAX_THREADS];
-    job_thread arg[ST_BVH_MAX_THREADS];
-    int started[ST_BVH_MAX_THREADS] = {0};
-    threads = threads < 1u ? 1u : threads > ST_BVH_MAX_THREADS ? ST_BVH_MAX_THREADS : threads;
-    for (unsigned t = 1; t < threads; ++t) {
-        arg[t] = (job_thread){job, ctx, t};
-        started[t] = pthread_create(&tid[t], NULL, job_main, &arg[t]) == 0;
-    }
-    job(ctx, 0);
-    for (unsigned t = 1; t < threads; ++t) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-        else
-            job(ctx, t);
-    }
-}
-
-unsigned st_bvh_threads(unsigned threads, st_u64 work)
-{
-    if (threads == 0u) {
-        long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = work < PARALLEL_MIN_TRIS || cpus < 1 ? 1u : (unsigned)cpus;
-    }
-    return threads > ST_BVH_MAX_THREADS ? ST_BVH_MAX_THREADS : threads;
 }
 
 /* Share t of `threads` near-equal contiguous shares of [0, n). */
