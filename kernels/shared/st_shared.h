@@ -557,7 +557,7 @@ typedef struct st_tile_point {
     X(tile, st_tile_point)                                                                  \
     X(fis_cdf, st_f32)                                                                      \
     X(pmj02, st_u32) /* pmj02's tables: x, y words of each point (st_sampling_pmj02) */    \
-    X(env_texels, st_f32) /* the environment map's RGB0 texels (st_renderer_set_env_map) */ \
+    X(env_texels, st_f32) /* the environment map's RGB0 texels (st_render_options.env_map) */ \
     X(env_cdf, st_f32)    /* its sampling table (kernels/integrator/envmap.h) */
 
 #ifdef __OPENCL_VERSION__
