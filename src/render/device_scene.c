@@ -159,7 +159,9 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     r->ray_eps = 1e-4f * fmaxf(extent, 1e-3f);
     st_bvh *bvh = NULL;
     double t0 = st_render_now();
-    if (st_bvh_build(scene->positions, scene->tri_count, &bvh, err) != ST_OK)
+    if (st_bvh_build_threads(scene->positions, scene->tri_count,
+                             st_renderer_bvh_threads(st_device_get_info(dev), scene->tri_count),
+                             &bvh, err) != ST_OK)
         goto fail;
     st_bvh_set_sides(bvh, scene->tri_material, scene->materials);
     r->bvh_seconds = st_render_now() - t0;
@@ -197,6 +199,12 @@ void st_renderer_destroy(st_renderer *r)
     for (int b = 0; b < ST_SCENE_BUFFER_COUNT; b++)
         st_device_buffer_destroy(r->scene_buf[b]);
     free(r);
+}
+
+unsigned st_renderer_bvh_threads(const st_device_info *info, st_u32 tri_count)
+{
+    unsigned threads = st_bvh_threads(0u, tri_count);
+    return info->is_cpu && info->compute_units < threads ? info->compute_units : threads;
 }
 
 st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_error *err)

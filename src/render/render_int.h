@@ -75,6 +75,11 @@ static inline double st_render_now(void)
  * map than the one uploaded (device_scene.c). */
 st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_error *err);
 
+/* The threads the BVH build of tri_count triangles takes for device info:
+ * the build's own default (st_bvh_threads), but no more than a CPU device's
+ * compute units, which --threads limits (device_scene.c). */
+unsigned st_renderer_bvh_threads(const st_device_info *info, st_u32 tri_count);
+
 st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                           st_u64 first, st_u64 total, st_progress_state *pr,
                           st_render_stats *st, st_error *err);

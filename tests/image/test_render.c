@@ -22,6 +22,7 @@
 #include "wave.h"
 #include "device_fixture.h"
 #include "plan.h"
+#include "render_int.h"
 
 /* Renders scene `name` with o; returns the image and (optionally) the sums. */
 static st_image render(const char *name, const st_render_options *o, st_i64 **sums)
@@ -720,10 +721,34 @@ static void golden_cornell_box(void **state)
     st_image_free(&gold);
 }
 
+/* The BVH build's threads: its own default, but no more than a CPU
+ * device's compute units (--threads makes a sub-device of fewer), and its
+ * default beside a GPU; one for a small scene whatever the device. */
+static void bvh_threads_follow_the_device(void **state)
+{
+    (void)state;
+    st_device_info cpu, gpu;
+    memset(&cpu, 0, sizeof cpu);
+    memset(&gpu, 0, sizeof gpu);
+    cpu.is_cpu = 1;
+    gpu.is_gpu = 1;
+    const st_u32 big = 1000000u;
+    unsigned own = st_bvh_threads(0u, big);
+    cpu.compute_units = 1;
+    assert_int_equal(st_renderer_bvh_threads(&cpu, big), 1);
+    cpu.compute_units = own + 8u;
+    assert_int_equal(st_renderer_bvh_threads(&cpu, big), own);
+    gpu.compute_units = 1;
+    assert_int_equal(st_renderer_bvh_threads(&gpu, big), own);
+    cpu.compute_units = 2;
+    assert_int_equal(st_renderer_bvh_threads(&cpu, 100u), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bvh_device_closest_equals_brute_force),
+        cmocka_unit_test(bvh_threads_follow_the_device),
         cmocka_unit_test(glass_slab_matches_closed_form),
         cmocka_unit_test(glass_furnace),
         cmocka_unit_test(coat_matches_its_fresnel),
