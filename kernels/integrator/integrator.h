@@ -389,6 +389,15 @@ ST_HOT st_lv3 seen_emission(const st_vertex_in *l, const st_shading *sh, st_li m
     return st_lv3_scale(le, ST_SELECT(ST_W, ST_LF(0.0f), w, seen));
 }
 
+/* The path's radiance with what the vertex's lanes see added (seen_emission), cos_o the
+ * cosine of wo to the geometric normal: all a vertex does where no lane scatters. */
+ST_HOT st_lv3 vertex_radiance(const st_vertex_in *l, const st_shading *sh, st_li miss,
+                              st_lf cos_o)
+{
+    st_lv3 beta = ST_LV3_OF(l->beta);
+    return st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(beta, seen_emission(l, sh, miss, cos_o)));
+}
+
 /* Where a glossy lane's mirror direction of wo about the shading normal
  * falls below the geometric surface (an interpolated or normal-mapped ns
  * tilted far from ng), ns bent towards ng: to the half vector of wo and
@@ -431,7 +440,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.trans_bits = trans_bits;
     v.layer_bits = trans_bits | coat_bits;
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
-    v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
+    v.rad = vertex_radiance(l, sh, miss, *cos_o);
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);

@@ -256,8 +256,50 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
               l->travelled[k]);
 }
 
+/* The vertex of the lanes in `scatters` (not all of them missed, below
+ * max_depth): the surface, its emission, next-event estimation and the
+ * bounce, into o. Returns the lanes whose path goes on; *refracted those
+ * of them that go on from the other side. */
+ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                             st_vertex_in *l, const st_lane_bits *b, st_u32 scatters,
+                             st_vertex_out *o, st_u32 *refracted)
+{
+    if (p->sampler == ST_SAMPLER_RANDOM)
+        dims_random(l, b->trans != 0u);
+    st_lf cos_o;
+    st_layers lay;
+    st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->coated, &lay,
+                                 ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
+    lv3_store(v.rad, o->rad);
+    st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
+    lv3_store(origin, o->origin);
+    for (st_u32 k = 0; k < ST_W; k++)
+        if ((scatters >> k) & 1u)
+            light_gather(s, p, sh, k, l);
+    st_lf tmax, pdf, cz;
+    lv3_store(light_sample(l, &v, origin, p->ray_eps, &wi, &tmax), o->contribution);
+    lv3_store(wi, o->shadow_d);
+    ST_VSTORE(ST_W, tmax, o->tmax);
+    st_li on = vertex_bounce(&v, ST_LV(l->u[2]), ST_LV(l->u[3]), ST_LV(l->u[4]), &wi, &pdf, &cz);
+    on = on && roulette(&v, ST_LV(l->depth), ST_LV(l->u[5]));
+    st_u32 goes = ST_MASK_BITS(ST_W, on) & scatters;
+    lv3_store(v.beta, o->beta);
+    lv3_store(wi, o->next_d);
+    ST_VSTORE(ST_W, pdf, o->bsdf_pdf);
+    ST_VSTORE(ST_W, cz / ST_PI_F, o->env_pdf);
+    *refracted = 0u;
+    if (b->trans) { /* a refracted ray goes on from the other side, where no
+                     * uniform environment's light sample reaches (env_pdf 0) */
+        *refracted = ST_MASK_BITS(ST_W, cz < 0.0f) & goes;
+        lv3_store(st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)), o->next_o);
+        ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o->env_pdf);
+    }
+    return goes;
+}
+
 /* One vertex of items first .. first + n - 1 (n <= ST_W), lane k item
- * first + k: the gather (vertex_gather), the lanes' arithmetic (integrator.h)
+ * first + k: the gather (vertex_gather), the lanes' arithmetic (integrator.h;
+ * where no lane scatters, as at the last vertex, only what the lanes see)
  * and each lane's store. Lanes that shade nothing keep zeros: every lane
  * holds numbers, and masks keep their results. */
 ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
@@ -272,43 +314,17 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
                                       pmj02, &l, &b) << k;
-    st_u32 miss = b.miss, trans = b.trans;
     if (!live)
         return;
-    if (p->sampler == ST_SAMPLER_RANDOM)
-        dims_random(&l, trans != 0u);
-    st_li missed = ST_BITS_MASK(ST_W, miss);
-    st_lf cos_o;
-    st_layers lay;
-    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, &lay, missed, sh, &cos_o);
     st_lu depth = ST_LV(l.depth);
-    st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
-    st_u32 refracted = 0u;
+    st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~b.miss;
+    st_u32 goes = 0u, refracted = 0u;
     st_vertex_out o;
-    lv3_store(v.rad, o.rad);
     if (scatters) {
-        st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
-        lv3_store(origin, o.origin);
-        for (st_u32 k = 0; k < ST_W; k++)
-            if ((scatters >> k) & 1u)
-                light_gather(s, p, sh, k, &l);
-        st_lf tmax, pdf, cz;
-        lv3_store(light_sample(&l, &v, origin, p->ray_eps, &wi, &tmax), o.contribution);
-        lv3_store(wi, o.shadow_d);
-        ST_VSTORE(ST_W, tmax, o.tmax);
-        st_li on = vertex_bounce(&v, ST_LV(l.u[2]), ST_LV(l.u[3]), ST_LV(l.u[4]), &wi, &pdf, &cz);
-        on = on && roulette(&v, depth, ST_LV(l.u[5]));
-        goes = ST_MASK_BITS(ST_W, on) & scatters;
-        lv3_store(v.beta, o.beta);
-        lv3_store(wi, o.next_d);
-        ST_VSTORE(ST_W, pdf, o.bsdf_pdf);
-        ST_VSTORE(ST_W, cz / ST_PI_F, o.env_pdf);
-        if (trans) { /* a refracted ray goes on from the other side, where no
-                      * uniform environment's light sample reaches (env_pdf 0) */
-            refracted = ST_MASK_BITS(ST_W, cz < 0.0f) & goes;
-            lv3_store(st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)), o.next_o);
-            ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o.env_pdf);
-        }
+        goes = vertex_scatter(s, p, sh, &l, &b, scatters, &o, &refracted);
+    } else {
+        st_lf cos_o = st_lv3_dot(ST_LV3_OF(l.ng), st_lv3_neg(ST_LV3_OF(l.d)));
+        lv3_store(vertex_radiance(&l, sh, ST_BITS_MASK(ST_W, b.miss), cos_o), o.rad);
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)
