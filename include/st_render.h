@@ -89,6 +89,7 @@ st_status st_render_check(const st_render_options *o, st_error *err);
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
 enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
+       ST_STAGE_LIVE,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
 

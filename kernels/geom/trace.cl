@@ -12,12 +12,16 @@
 #include "shadow.h"
 #include "packet.h"
 
-/* Reads ray and path (depth ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT
+/* Work-item g: the live path at position g of the vertex's list (st_live_item).
+ * Reads ray and path (depth ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT
  * on a miss). */
 __kernel void trace_rays(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count || path[i].depth == ST_PATH_DEAD)
+    st_u32 g = get_global_id(0);
+    if (g >= st_live_count(&p))
+        return;
+    st_u32 i = st_live_item(st_live_list(&p, live_a, live_b), g);
+    if (path[i].depth == ST_PATH_DEAD)
         return;
     st_ray r = ray[i];
     st_hit h;
@@ -31,18 +35,31 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
  * cut-outs), and counts the ray. */
 __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
+    st_u32 g = get_global_id(0);
+    if (g >= st_live_count(&p))
         return;
     st_scene_refs sc = ST_SCENE_REFS_INIT;
-    trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample, i);
+    trace_shadow_item(nodes, &sc, &p, &sh, shadow, path, sample,
+                      st_live_item(st_live_list(&p, live_a, live_b), g));
 }
 
-/* Packets (packet.h): work-item g takes items W g .. W g + W - 1 of the
- * wave (W = ST_W), lane j item W g + j; the host launches ceil(item_count /
- * W) work-items (src/render/render.c), so the last packet's lanes past item_count
- * are masked. */
+/* Packets (packet.h): work-item g takes positions W g .. W g + W - 1 of the
+ * vertex's live paths (W = ST_W), lane j the item at position W g + j; the
+ * host launches ceil(st_live_count / W) work-items (src/render/render.c), so
+ * the last packet's lanes past the count are masked. */
 static st_u32 packet_first(void) { return (st_u32)get_global_id(0) * ST_PACKET; }
+
+#define ST_NO_ITEM 0xffffffffu /* a packet lane past the live paths */
+
+/* The items of the packet at positions first .. first + ST_PACKET - 1. */
+static void packet_items(const st_params *p, __global const st_u32 *live_a,
+                         __global const st_u32 *live_b, st_u32 first, st_u32 item[ST_PACKET])
+{
+    __global const st_u32 *list = st_live_list(p, live_a, live_b);
+    st_u32 n = st_live_count(p);
+    for (st_u32 j = 0u; j < ST_PACKET; ++j)
+        item[j] = first + j < n ? st_live_item(list, first + j) : ST_NO_ITEM;
+}
 
 /* Lane j's ray *r, a copy of *w, and its bound *tmax (-1, below every hit,
  * for a lane not taken); returns take as the lane's bit. */
@@ -57,12 +74,13 @@ ST_HOT st_u32 packet_lane(st_ray *r, float *tmax, __global const st_ray *w, int 
  * live ones: below item_count, path alive). */
 __kernel void trace_rays_packet(ST_STAGE_PARAMS)
 {
-    st_u32 first = packet_first(), live = 0u;
+    st_u32 first = packet_first(), live = 0u, item[ST_PACKET];
     st_ray r[ST_PACKET];
     float tmax[ST_PACKET];
+    packet_items(&p, live_a, live_b, first, item);
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
-        st_u32 i = first + j;
-        int take = i < p.item_count && path[i].depth != ST_PATH_DEAD;
+        st_u32 i = item[j];
+        int take = i != ST_NO_ITEM && path[i].depth != ST_PATH_DEAD;
         __global const st_ray *w = &ray[take ? i : 0u];
         live |= packet_lane(&r[j], &tmax[j], w, take) << j;
     }
@@ -81,7 +99,7 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
     for (st_u32 j = 0u; j < ST_PACKET; ++j)
         if ((live >> j) & 1u) {
             st_hit o = {t[j], u[j], v[j], prim[j]};
-            hit[first + j] = o;
+            hit[item[j]] = o;
         }
 }
 
@@ -91,13 +109,14 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
  * trace_shadow_item, lane by lane. */
 __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
 {
-    st_u32 first = packet_first(), live = 0u;
+    st_u32 first = packet_first(), live = 0u, item[ST_PACKET];
     st_ray r[ST_PACKET];
     float tmax[ST_PACKET];
+    packet_items(&p, live_a, live_b, first, item);
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
-        st_u32 i = first + j;
-        __global const st_shadow *s = &shadow[i < p.item_count ? i : 0u];
-        int take = i < p.item_count && s->ray.tmax > 0.0f;
+        st_u32 i = item[j];
+        __global const st_shadow *s = &shadow[i != ST_NO_ITEM ? i : 0u];
+        int take = i != ST_NO_ITEM && s->ray.tmax > 0.0f;
         live |= packet_lane(&r[j], &tmax[j], &s->ray, take) << j;
     }
     if (live == 0u)
@@ -108,8 +127,8 @@ __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         if (!((live >> j) & 1u))
             continue;
-        __global st_path *pa = &path[first + j];
-        float3 l = (blocked >> j) & 1u ? (float3)(0.0f) : vload3(0, shadow[first + j].contribution);
+        __global st_path *pa = &path[item[j]];
+        float3 l = (blocked >> j) & 1u ? (float3)(0.0f) : vload3(0, shadow[item[j]].contribution);
         vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
         pa->shadow_rays++;
     }

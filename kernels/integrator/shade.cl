@@ -123,6 +123,7 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
     st_u32 miss, nmapped, trans, coated;
+    st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
 /* Lane k's part of the vertex of item i: the shadow ray cleared; a dead
@@ -167,6 +168,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     st_sample smp = sample[i];
     if (alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_PATH_ALPHA_KEY)) { /* go on through */
         ray_store(r, pos + d * p->ray_eps, d, travelled);
+        b->through |= 1u << k;
         return 0;
     }
     if (a.flags & ST_MAT_UNLIT) {
@@ -297,25 +299,29 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     return goes;
 }
 
-/* One vertex of items first .. first + n - 1 (n <= ST_W), lane k item
- * first + k: the gather (vertex_gather), the lanes' arithmetic (integrator.h;
- * where no lane scatters, as at the last vertex, only what the lanes see)
- * and each lane's store. Lanes that shade nothing keep zeros: every lane
- * holds numbers, and masks keep their results. */
-ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
-                        st_u32 first, st_u32 n, __global const st_sample *sample,
-                        __global st_ray *ray, __global const st_hit *hit,
-                        __global st_path *path, __global st_shadow *shadow,
-                        __global const st_u32 *pmj02)
+/* One vertex of the live paths at positions first .. first + n - 1 of list
+ * (n <= ST_W; st_live_item), lane k at position first + k: the gather
+ * (vertex_gather), the lanes' arithmetic (integrator.h; where no lane
+ * scatters, as at the last vertex, only what the lanes see) and each lane's
+ * store. Lanes that shade nothing keep zeros: every lane holds numbers, and
+ * masks keep their results. Returns the lanes whose path goes on (bounced,
+ * or through a cut-out). */
+ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                          __global const st_u32 *list, st_u32 first, st_u32 n,
+                          __global const st_sample *sample, __global st_ray *ray,
+                          __global const st_hit *hit, __global st_path *path,
+                          __global st_shadow *shadow, __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};
-    st_u32 live = 0u;
-    st_lane_bits b = {0u, 0u, 0u, 0u};
-    for (st_u32 k = 0; k < n; k++)
-        live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
+    st_u32 live = 0u, item[ST_W];
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u};
+    for (st_u32 k = 0; k < n; k++) {
+        item[k] = st_live_item(list, first + k);
+        live |= (st_u32)vertex_gather(s, p, sh, item[k], k, sample, ray, hit, path, shadow,
                                       pmj02, &l, &b) << k;
+    }
     if (!live)
-        return;
+        return b.through;
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~b.miss;
     st_u32 goes = 0u, refracted = 0u;
@@ -328,22 +334,27 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
     }
     for (st_u32 k = 0; k < n; k++)
         if ((live >> k) & 1u)
-            vertex_store(&o, &l, first + k, k,
+            vertex_store(&o, &l, item[k], k,
                          ((scatters >> k) & 1u) * ST_STORE_SHADOWED +
                              ((goes >> k) & 1u) * ST_STORE_GOES +
                              ((refracted >> k) & 1u) * ST_STORE_REFRACTED,
                          ray, path, shadow);
+    return goes | b.through;
 }
 
-/* The stage kernels' ST_W items per work-item: work-item g shades items
- * ST_W g .. ST_W g + ST_W - 1 (global size item_count / ST_W rounded up). */
+/* The stage kernels' ST_W paths per work-item: work-item g shades the live
+ * paths at positions ST_W g .. ST_W g + ST_W - 1 (global size st_live_count /
+ * ST_W rounded up), and sets bit k of live_bits[g] where the path at
+ * position ST_W g + k goes on (live.cl lists those for the next vertex). */
 #define ST_SHADE_LANES_ITEMS                                                                \
-    st_u32 first = ST_W * get_global_id(0);                                                 \
-    if (first >= p.item_count)                                                              \
+    st_u32 first = ST_W * get_global_id(0), count = st_live_count(&p);                      \
+    if (first >= count)                                                                     \
         return;                                                                             \
-    st_u32 n = min((st_u32)ST_W, p.item_count - first);                                     \
+    st_u32 n = min((st_u32)ST_W, count - first);                                            \
+    __global const st_u32 *list = st_live_list(&p, live_a, live_b);                         \
     st_scene_refs s = ST_SCENE_REFS_INIT;                                                   \
-    shade_lanes(&s, &p, &sh, first, n, sample, ray, hit, path, shadow, pmj02)
+    live_bits[get_global_id(0)] =                                                           \
+        shade_lanes(&s, &p, &sh, list, first, n, sample, ray, hit, path, shadow, pmj02)
 
 /* One vertex of every live path; its shadow ray is traced by the next
  * stage, trace_shadow_rays (the default: src/render/plan.c). */
@@ -360,5 +371,5 @@ __kernel void shade_hits_shadowed(ST_STAGE_PARAMS)
 {
     ST_SHADE_LANES_ITEMS;
     for (st_u32 k = 0; k < n; k++)
-        trace_shadow_item(nodes, &s, &p, &sh, shadow, path, sample, first + k);
+        trace_shadow_item(nodes, &s, &p, &sh, shadow, path, sample, st_live_item(list, first + k));
 }

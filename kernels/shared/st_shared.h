@@ -394,7 +394,9 @@ typedef struct st_params {
      * weight is multiplied by splat_scale[its pixel]; adaptive_pilot: the
      * pilot's samples per pixel */
     st_u32 adaptive_count, adaptive_base, adaptive_scaled, adaptive_pilot;
-    st_u32 adaptive_pad[2];
+    /* the vertex whose list of live paths a trace or shade launch runs over
+     * (0: every item of the wave; st_live_list), and that list's length */
+    st_u32 vertex, live_count;
     st_u32 sobol_log2; /* sobol, zsobol: 2^sobol_log2 >= width, height */
     /* tile-owned splat (film.cl): bins of bin_side^2 pixels, bins_x across,
      * bins in all; bins 0: the per-sample splat */
@@ -513,6 +515,8 @@ typedef struct st_tile_point {
 #define ST_PER_BIN 4      /* one per pixel, plus one: a bin's count or start (bins <= pixels) */
 #define ST_ONE 3          /* one */
 
+#define ST_LIVE_CHUNK 64u /* live_bits words per chunk of live.cl's scan */
+
 /* The per-render state: X(name, element type, extent). */
 #define ST_WAVE_BUFFERS(X)                                                                  \
     X(sample, st_sample, ST_PER_ITEM)                                                       \
@@ -521,6 +525,11 @@ typedef struct st_tile_point {
     X(path, st_path, ST_PER_ITEM)                                                           \
     X(shadow, st_shadow, ST_PER_ITEM)                                                   \
     X(tally, st_tally, ST_PER_ITEM)                                                         \
+    X(live_a, st_u32, ST_PER_ITEM)   /* the items of the paths alive at odd vertices */     \
+    X(live_b, st_u32, ST_PER_ITEM)   /* ... at even vertices but 0 (live.cl) */             \
+    X(live_bits, st_u32, ST_PER_ITEM) /* shade's work-item g: bit k, item k goes on */      \
+    X(live_sum, st_u32, ST_PER_ITEM) /* per chunk of live_bits: live items, then start */   \
+    X(live_total, st_u32, ST_ONE)    /* the paths alive at the next vertex */               \
     X(bin_count, st_u32, ST_PER_BIN) /* samples per bin; 0 between waves (film.cl) */      \
     X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
     X(bin_item, st_u32, ST_PER_ITEM) /* the wave's items, ordered by bin */                \
@@ -561,18 +570,39 @@ typedef struct st_tile_point {
     X(env_cdf, st_f32)    /* its sampling table (kernels/integrator/envmap.h) */
 
 #ifdef __OPENCL_VERSION__
-/* Whether a sample lies on the image (a tiled sampler's point may not: its
- * tile repeats past the image's edge). */
 /* Index in the image of the region's pixel i (row-major in the region). */
 static st_u32 st_region_pixel(const st_params *p, st_u32 i)
 {
     return (p->region_y + i / p->region_w) * p->width + p->region_x + i % p->region_w;
 }
 
+/* Whether a sample lies on the image (a tiled sampler's point may not: its
+ * tile repeats past the image's edge). */
 static int st_sample_on_film(const st_params *p, st_sample s)
 {
     return !ST_SAMPLER_IS_TILED(p->sampler) ||
            (s.film[0] < (float)p->width && s.film[1] < (float)p->height);
+}
+
+/* A trace or shade launch runs over the paths alive at its vertex, p->vertex:
+ * at vertex 0 over every item of the wave (position i is item i), then over
+ * the list that live.cl made after the vertex before, in item order: live_a
+ * at odd vertices, live_b at even ones. st_live_list gives that list (none at
+ * vertex 0), st_live_item the item at position i, st_live_count how many. */
+static __global const st_u32 *st_live_list(const st_params *p, __global const st_u32 *live_a,
+                                           __global const st_u32 *live_b)
+{
+    return p->vertex == 0u ? 0 : (p->vertex & 1u) ? live_a : live_b;
+}
+
+static st_u32 st_live_item(__global const st_u32 *list, st_u32 i)
+{
+    return list ? list[i] : i;
+}
+
+static st_u32 st_live_count(const st_params *p)
+{
+    return p->vertex == 0u ? p->item_count : p->live_count;
 }
 
 #define ST_WAVE_PARAM(name, type, extent) , __global type *name
@@ -632,7 +662,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, halton_inv3) X(st_params, ray_eps) X(st_params, tile_size)                 \
     X(st_params, tile_begin) X(st_params, tile_count) X(st_params, tiles_x)                 \
     X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
-    X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, sobol_log2)     \
+    X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, vertex)         \
+    X(st_params, live_count) X(st_params, sobol_log2)                                       \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \

@@ -114,6 +114,9 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
                                                         : !info->is_cpu;
     /* tracing shadow rays in shade measured no faster than their own stage */
     pl.shadows_in_shade = f->shadow == ST_SHADOW_IN_SHADE;
+    /* the list of live paths keeps every lane of trace and shade busy where
+     * paths end early (misses, roulette) for three small launches a vertex */
+    pl.live_lists = f->paths != ST_PATHS_ALL;
     pl.splat = plan_splat(r, o);
     plan_bins(r, o, pl.splat, p);
     if (!p->bins && (pl.splat == ST_SPLAT_TILES || pl.splat == ST_SPLAT_TILES_ALONE))
@@ -123,7 +126,7 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
 
 void st_renderer_force(st_renderer *r, const st_plan_force *f)
 {
-    static const st_plan_force none = {0, 0, 0};
+    static const st_plan_force none = {0, 0, 0, 0};
     r->force = f ? *f : none;
 }
 

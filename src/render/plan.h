@@ -21,6 +21,10 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
 /* The first stages: generate_samples then generate_camera_rays (which reads
  * the sample back), or one kernel, generate_rays. */
 enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
+/* The paths a vertex after the first runs over: those still alive, listed
+ * by live.cl, or every item of the wave (the reference: ended paths skipped
+ * lane by lane). */
+enum { ST_PATHS_AUTO, ST_PATHS_LIVE, ST_PATHS_ALL };
 
 /* Choices forced for tests and measurements (st_renderer_force): each
  * *_AUTO (0) unless set, the plan's own choice then. */
@@ -28,6 +32,7 @@ typedef struct st_plan_force {
     int splat;    /* ST_SPLAT_* */
     int shadow;   /* ST_SHADOW_* */
     int generate; /* ST_GENERATE_* */
+    int paths;    /* ST_PATHS_* */
 } st_plan_force;
 
 typedef struct st_plan {
@@ -35,6 +40,7 @@ typedef struct st_plan {
     int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
     int fused_generate;   /* generate_rays, not generate_samples + generate_camera_rays */
     int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
+    int live_lists;       /* vertices after the first run over the live paths (live.cl) */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
                              wave allows it: st_plan_gathers) */
 } st_plan;

@@ -139,6 +139,8 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
             return err->status;
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->live_count, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->live_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
@@ -383,35 +385,58 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     return p;
 }
 
-/* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the wave's
- * items: in packets (ceil(n / lanes) work-items) where the plan says so;
+/* The paths a trace or shade launch at p's vertex runs over: every item of
+ * the wave at vertex 0, then those still alive (st_live_count in st_shared.h). */
+static size_t live_paths(const st_params *p)
+{
+    return p->vertex == 0u ? p->item_count : p->live_count;
+}
+
+/* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the vertex's
+ * live paths: in packets (ceil(n / lanes) work-items) where the plan says so;
  * coherent are the rays of vertex 0 (camera rays, and shadow rays from
  * where they hit), a bounce's scatter (paths measured slower in packets). */
 static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
+    size_t n = live_paths(p);
     if (!st_plan_in_packets(&r->plan, r, k, v))
-        return run_stage(r, k, p, p->item_count, o, st, err);
+        return run_stage(r, k, p, n, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
     size_t lanes = st_device_get_info(r->dev)->lanes;
-    return run_kernel(r, kl, k, p, (p->item_count + lanes - 1u) / lanes, o->local_size, o, st,
-                      err);
+    return run_kernel(r, kl, k, p, (n + lanes - 1u) / lanes, o->local_size, o, st, err);
 }
 
-/* Stage shade over the wave's n items, ST_W per work-item (ceil(n / ST_W)
- * work-items): shade_hits, or shade_hits_shadowed with its shadow rays. */
-static st_status run_shade(st_renderer *r, const st_params *p, size_t n,
-                           const st_render_options *o, st_render_stats *st, st_error *err)
+/* Stage shade over the vertex's live paths, ST_W per work-item (ceil(n /
+ * ST_W) work-items): shade_hits, or shade_hits_shadowed with its shadow rays. */
+static st_status run_shade(st_renderer *r, const st_params *p, const st_render_options *o,
+                           st_render_stats *st, st_error *err)
 {
     cl_kernel kl = r->plan.shadows_in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
-    size_t lanes = r->plan.lanes;
+    size_t lanes = r->plan.lanes, n = live_paths(p);
     return run_kernel(r, kl, ST_STAGE_SHADE, p, (n + lanes - 1u) / lanes, o->local_size, o, st,
                       err);
 }
 
+/* The list of the paths that go on from p's vertex, for the next (live.cl:
+ * a count per chunk of shade's words, their scan, the scatter); its length
+ * read back into p->live_count. */
+static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
+                           const st_render_options *o, st_render_stats *st, st_error *err)
+{
+    size_t words = (live_paths(p) + r->plan.lanes - 1u) / r->plan.lanes;
+    size_t chunks = (words + ST_LIVE_CHUNK - 1u) / ST_LIVE_CHUNK;
+    if (run_kernel(r, r->live_count, ST_STAGE_LIVE, p, chunks, o->local_size, o, st, err) ||
+        run_kernel(r, r->live_scan, ST_STAGE_LIVE, p, 1, o->local_size, o, st, err) ||
+        run_stage(r, ST_STAGE_LIVE, p, chunks, o, st, err))
+        return err->status;
+    return st_device_buffer_read(r->dev, w->b[ST_WAVE_live_total], sizeof p->live_count,
+                                 &p->live_count, err);
+}
+
 /* One wave: items [first, first + n) of the render's item space. */
-static st_status run_wave(st_renderer *r, st_params *p, const st_render_options *o,
-                          st_render_stats *st, st_error *err)
+static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
+                          const st_render_options *o, st_render_stats *st, st_error *err)
 {
     size_t n = p->item_count;
     if (r->plan.fused_generate ? run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err)
@@ -425,11 +450,19 @@ static st_status run_wave(st_renderer *r, st_params *p, const st_render_options 
     st_u32 vertices = p->max_depth + 1u;
     int in_shade = r->plan.shadows_in_shade;
     for (st_u32 v = 0; v < vertices; v++) {
-        if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) || run_shade(r, p, n, o, st, err))
+        p->vertex = r->plan.live_lists ? v : 0u; /* 0: every item */
+        if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) || run_shade(r, p, o, st, err))
             return err->status;
         if (!in_shade && v < p->max_depth && run_trace(r, ST_STAGE_SHADOW, v, p, o, st, err))
             return err->status;
+        if (r->plan.live_lists && v + 1u < vertices) {
+            if (list_live(r, w, p, o, st, err) != ST_OK)
+                return err->status;
+            if (p->live_count == 0u)
+                break;
+        }
     }
+    p->vertex = 0;
     return splat_wave(r, p, o, st, err);
 }
 
@@ -548,7 +581,7 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
     for (st_u64 done = 0; rc == ST_OK && done < total; done += w->items) {
         p->first_item = first + done;
         p->item_count = (st_u32)(total - done < w->items ? total - done : w->items);
-        rc = run_wave(r, p, o, st, err);
+        rc = run_wave(r, w, p, o, st, err);
         if (rc == ST_OK && pr->fn) {
             rc = st_device_finish(r->dev, err);
             pr->done += p->item_count;

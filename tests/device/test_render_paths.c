@@ -7,7 +7,8 @@
  * images equal bit for bit, over wave sizes below, at and above the
  * region's pixel count, crops, odd image sizes, spp 1 and spp that divide
  * nothing, several samplers, both integrators and every kind of material
- * and light; and each path runs only its own kernels. */
+ * and light; the list of live paths against every item at every vertex;
+ * and each path runs only its own kernels. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -412,6 +413,65 @@ static void shade_at_every_width(void **state)
     }
 }
 
+/* o rendered over every item at every vertex (ST_PATHS_ALL) and over the
+ * list of live paths (ST_PATHS_LIVE, live.cl): the same films, images and
+ * counts, and each ran its own kernels. */
+static void same_with_live_lists(const char *name, const st_render_options *o)
+{
+    st_scene *scene = NULL;
+    st_renderer *r = renderer_for(name, &scene);
+    forced.paths = ST_PATHS_ALL;
+    run a = render_run(r, *o);
+    assert_false(ran(r, "live_scatter"));
+    forced.paths = ST_PATHS_LIVE;
+    run b = render_run(r, *o);
+    assert_true(ran(r, "live_count") && ran(r, "live_scan") && ran(r, "live_scatter"));
+    forced.paths = ST_PATHS_AUTO;
+    assert_same_run(&a, &b, o);
+    run_free(&a);
+    run_free(&b);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+}
+
+/* The list of live paths against every item at every vertex, bit for bit:
+ * the shade scenes (cut-outs that a path goes on through without a bounce,
+ * unlit surfaces that end it, glass that refracts it), open to a uniform
+ * environment (paths that leave the scene at any vertex) or not, deep paths
+ * (roulette), waves whose lists fill no last lane, packets at every vertex,
+ * and an adaptive render. A path dropped from the list, or listed twice,
+ * fails it. */
+static void live_lists_keep_every_path(void **state)
+{
+    (void)state;
+    static const st_u32 waves[] = {0, 333, 1001};
+    for (size_t k = 0; k < sizeof shade_scenes / sizeof shade_scenes[0]; k++) {
+        if (strncmp(shade_scenes[k], "../shared", 9) == 0 && access(shade_scenes[k], R_OK) != 0) {
+            print_message("note: %s not found; skipped\n", shade_scenes[k]);
+            continue;
+        }
+        for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
+            st_render_options o = small(37, 23, 3);
+            o.integrator = w == 2 ? ST_INTEGRATOR_DIRECT : ST_INTEGRATOR_PATH;
+            o.max_depth = w == 1 ? 9 : 5;
+            o.wave = waves[w];
+            o.packet_path = w == 1 ? ST_PACKET_ALL : ST_PACKET_AUTO;
+            if (w != 2) {
+                o.env_given = 1;
+                o.env[0] = 0.6f, o.env[1] = 0.7f, o.env[2] = 0.8f;
+            }
+            same_with_live_lists(shade_scenes[k], &o);
+        }
+    }
+    st_render_options adaptive = small(24, 20, 16);
+    adaptive.adaptive = 1;
+    adaptive.min_spp = 4;
+    adaptive.sampler = ST_SAMPLER_RANDOM;
+    adaptive.integrator = ST_INTEGRATOR_PATH;
+    adaptive.wave = 700;
+    same_with_live_lists("tests/scenes/shade_mix.gltf", &adaptive);
+}
+
 /* A renderer of `scene` on device d (the fixture's or one at another width). */
 static st_renderer *renderer_on(st_device *d, st_scene *scene)
 {
@@ -544,6 +604,7 @@ int main(void)
         cmocka_unit_test(generate_rays_equals_two_kernels),
         cmocka_unit_test(splat_pixels_equals_per_sample),
         cmocka_unit_test(shade_at_every_width),
+        cmocka_unit_test(live_lists_keep_every_path),
         cmocka_unit_test(splat_lanes_at_every_width),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
