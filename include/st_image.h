@@ -52,11 +52,11 @@ typedef struct st_image {
 typedef enum { ST_ATTR_STRING = 0, ST_ATTR_INT, ST_ATTR_FLOAT, ST_ATTR_DOUBLE } st_attr_type;
 
 /* An attribute of an EXR header ("strata.sampler" = "halton", "strata.spp" = 64 as int). Longer
- * names or values read from a file are truncated to fit (63 and 255 bytes). Numbers read back are
+ * names or values read from a file are truncated to fit (63 and 511 bytes). Numbers read back are
  * printed as "%d", or the shortest "%g" text that reads back as the same float or double. */
 typedef struct st_attr {
     char name[64];
-    char value[256];
+    char value[512];
     st_attr_type type;
 } st_attr;
 

@@ -14,7 +14,7 @@
 
 #include <time.h>
 
-#define ST_RAN_MAX 16 /* distinct kernels one render launches, at most */
+#define ST_RAN_MAX 32 /* distinct kernels one render launches, at most (all it has are fewer) */
 
 /* adaptive.cl's kernels, in the order of st_adaptive_kernel_names */
 enum { ST_ADAPTIVE_MOMENTS, ST_ADAPTIVE_ESTIMATE, ST_ADAPTIVE_BLEND, ST_ADAPTIVE_KERNELS };
@@ -52,7 +52,7 @@ struct st_renderer {
      * (st_renderer_ran) */
     cl_kernel ran[ST_RAN_MAX];
     unsigned ran_count;
-    char ran_text[512];
+    char ran_text[1024];
 };
 
 /* Progress over the items of a render. */

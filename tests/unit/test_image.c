@@ -337,7 +337,7 @@ static void exr_attributes_round_trip(void **state)
     snprintf(attrs[1].name, sizeof attrs[1].name, "strata.empty");
     /* a name over 31 bytes needs OpenEXR's long-name flag */
     snprintf(attrs[2].name, sizeof attrs[2].name, "strata.a.rather.long.attribute.name.42");
-    memset(attrs[2].value, 'x', 255); /* the longest value that fits */
+    memset(attrs[2].value, 'x', sizeof attrs[2].value - 1); /* the longest value that fits */
     snprintf(attrs[3].name, sizeof attrs[3].name, "strata.cmd");
     snprintf(attrs[3].value, sizeof attrs[3].value, "render --spp 16 \"a b\" é");
     st_image img, back;
