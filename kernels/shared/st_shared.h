@@ -13,6 +13,7 @@
 #define ST_SHARED_H
 
 #ifdef __OPENCL_VERSION__
+typedef ushort st_u16;
 typedef uint st_u32;
 typedef int st_i32;
 typedef ulong st_u64;
@@ -27,6 +28,7 @@ typedef long st_i64;
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+typedef uint16_t st_u16;
 typedef uint32_t st_u32;
 typedef int32_t st_i32;
 typedef uint64_t st_u64;
@@ -394,7 +396,11 @@ typedef struct st_params {
      * weight is multiplied by splat_scale[its pixel]; adaptive_pilot: the
      * pilot's samples per pixel */
     st_u32 adaptive_count, adaptive_base, adaptive_scaled, adaptive_pilot;
-    st_u32 adaptive_pad[2];
+    /* halton, scrambled: 1 when the kernels' sampler tables (the pmj02
+     * argument) hold the render's digit permutations (samplers.h,
+     * st_sampling_halton_tables), 0: hash each digit */
+    st_u32 halton_tables;
+    st_u32 adaptive_pad;
     st_u32 sobol_log2; /* sobol, zsobol: 2^sobol_log2 >= width, height */
     /* tile-owned splat (film.cl): bins of bin_side^2 pixels, bins_x across,
      * bins in all; bins 0: the per-sample splat */
@@ -632,7 +638,8 @@ static int st_sample_on_film(const st_params *p, st_sample s)
     X(st_params, halton_inv3) X(st_params, ray_eps) X(st_params, tile_size)                 \
     X(st_params, tile_begin) X(st_params, tile_count) X(st_params, tiles_x)                 \
     X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
-    X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, sobol_log2)     \
+    X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, halton_tables)  \
+    X(st_params, sobol_log2)                                                                \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
