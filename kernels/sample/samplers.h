@@ -230,16 +230,49 @@ ST_FN st_u32 st_scrambled_digit_count(st_u32 base)
     return k;
 }
 
+/* n / b for every 32-bit n by a multiply and a shift, floor((n m + add)
+ * 2^-s), with m, add and s from st_division_constants (made on the host and
+ * stored with the tables, so no division per call). */
+ST_HOT st_u32 st_divide_by_constants(st_u32 n, st_u32 m, st_u32 add, st_u32 s)
+{
+    return (st_u32)(((st_u64)n * m + add) >> s);
+}
+
+/* st_divide_by_constants' constants for the divisor b (3 <= b < 2^31, not
+ * a power of two): s = 32 + floor(log2 b). Rounding 2^s / b up to m (error
+ * e = m b - 2^s) gives n m 2^-s = n/b + n e / (b 2^s), which stays below
+ * floor(n/b) + 1 while n e < 2^s, so for every n < 2^32 where e <=
+ * 2^(s-32); otherwise rounding down (f = 2^s - m b = b - e < 2^(s-32),
+ * as b < 2^(s-31)) and adding m, (n + 1) m 2^-s = (n + 1)/b - (n + 1) f /
+ * (b 2^s), lies in [floor(n/b), floor(n/b) + 1) (Robison, "N-bit unsigned
+ * division via N-bit multiply-add", ARITH 2005). m < 2^32 and n m + m <=
+ * 2^32 m, so nothing overflows 64 bits. */
+ST_FN void st_division_constants(st_u32 b, st_u32 *m, st_u32 *add, st_u32 *s)
+{
+    st_u32 l = 31u - ST_CLZ32(b);
+    st_u64 p = 1ull << (32u + l), up = p / b + 1u;
+    *s = 32u + l;
+    if (up * b - p <= (1ull << l)) {
+        *m = (st_u32)up;
+        *add = 0u;
+    } else {
+        *m = (st_u32)(p / b);
+        *add = *m;
+    }
+}
+
 /* st_radical_inverse_scrambled(base, n, key) read from the table of its
  * digit permutations: perm[k b + d] = st_scrambled_digit(base, key, k, d)
  * for k < st_scrambled_digit_count(base) (st_sampling_halton_tables), so
- * no hash and no modulo per digit; equal to the hashing definition for
- * every n (test_sampling_kernels.c halton_tables_*). */
-ST_FN st_f32 st_radical_inverse_permuted(st_u32 base, st_u32 n, const ST_GLOBAL st_u16 *perm)
+ * no hash and no modulo per digit, and n / base by st_divide_by_constants
+ * with (m, add, s) = st_division_constants(base); equal to the hashing
+ * definition for every n (test_sampling_kernels.c halton_tables_*). */
+ST_FN st_f32 st_radical_inverse_permuted(st_u32 base, st_u32 n, const ST_GLOBAL st_u16 *perm,
+                                         st_u32 m, st_u32 add, st_u32 s)
 {
     st_u64 rev = 0, den = 1;
     for (; n != 0u; perm += base) {
-        st_u32 next = n / base;
+        st_u32 next = st_divide_by_constants(n, m, add, s);
         rev = rev * base + perm[n - next * base];
         den *= base;
         n = next;
@@ -538,10 +571,20 @@ ST_FN st_u32 st_halton_key(st_u32 seed, st_u32 dim)
 /* Halton's digit permutation tables (st_sampling_halton_tables), 32-bit
  * words: word d < ST_PRIME_COUNT is where dimension d's table starts,
  * counted in 16-bit entries from the first word (0 for the pixel
- * dimensions, which have none); the tables follow, 16-bit entries, entry
- * k b + d of dimension dim's the image of digit d at position k under
- * st_halton_key(seed, dim) (st_radical_inverse_permuted). */
-#define ST_HALTON_TABLE_HEADER ST_PRIME_COUNT
+ * dimensions, which have none), words ST_PRIME_COUNT + d, 2 ST_PRIME_COUNT
+ * + d and 3 ST_PRIME_COUNT + d its base's st_division_constants m, add
+ * and s; the tables follow, 16-bit entries, entry k b + d of dimension
+ * dim's the image of digit d at position k under st_halton_key(seed, dim)
+ * (st_radical_inverse_permuted). */
+#define ST_HALTON_TABLE_HEADER (4u * ST_PRIME_COUNT)
+
+/* Dimension dim (>= 2) of Halton at index n from the tables t. */
+ST_FN st_f32 st_halton_permuted(const ST_GLOBAL st_u32 *t, st_u32 dim, st_u32 n)
+{
+    return st_radical_inverse_permuted(st_primes[dim], n, (const ST_GLOBAL st_u16 *)t + t[dim],
+                                       t[ST_PRIME_COUNT + dim], t[2u * ST_PRIME_COUNT + dim],
+                                       t[3u * ST_PRIME_COUNT + dim]);
+}
 
 /* Halton (pbrt-v4's HaltonSampler): dimension d is the radical inverse in
  * the d-th prime of the sample's index in the sequence (st_halton_index),
@@ -565,8 +608,7 @@ ST_FN st_f32 st_halton_dim(const st_params *p, const st_sample_id *id, st_u32 di
                          : st_radical_inverse_scrambled_at(3u, n, key);
     }
     if (p->halton_tables)
-        return st_radical_inverse_permuted(
-            st_primes[dim], n, (const ST_GLOBAL st_u16 *)id->pmj02 + id->pmj02[dim]);
+        return st_halton_permuted(id->pmj02, dim, n);
     return st_radical_inverse_scrambled(st_primes[dim], n, st_halton_key(p->seed, dim));
 }
 

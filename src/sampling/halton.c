@@ -36,6 +36,8 @@ st_status st_sampling_halton_tables(st_u32 seed, st_u32 **words, size_t *count, 
     for (st_u32 dim = 2; dim < ST_PRIME_COUNT; dim++) {
         st_u32 b = st_primes[dim], key = st_halton_key(seed, dim);
         w[dim] = (st_u32)at;
+        st_division_constants(b, &w[ST_PRIME_COUNT + dim], &w[2u * ST_PRIME_COUNT + dim],
+                              &w[3u * ST_PRIME_COUNT + dim]);
         for (st_u32 k = 0; k < st_scrambled_digit_count(b); k++)
             for (st_u32 d = 0; d < b; d++)
                 e[at++] = (st_u16)st_scrambled_digit(b, key, k, d);

@@ -1166,6 +1166,37 @@ static uint32_t table_test_indices(uint32_t b, uint32_t *out)
     return m;
 }
 
+/* st_divide_by_constants with st_division_constants(b) is n / b for every
+ * prime base of the tables and for every odd b < 4096 (whichever rounding
+ * each needs), checked at n = 0..2^16, at both sides of every multiple of b
+ * within 2^16 of 2^32 (where a multiplier's error is largest), and at
+ * pseudo-random n. */
+static void division_constants_divide_exactly(void **state)
+{
+    (void)state;
+    uint32_t seed = 0x2545f491u;
+    for (uint32_t b = 3; b < 4096; b += 2) {
+        uint32_t m, add, s;
+        st_division_constants(b, &m, &add, &s);
+        for (uint32_t n = 0; n <= 65536; n++)
+            if (st_divide_by_constants(n, m, add, s) != n / b)
+                fail_msg("b %u: %u / b gave %u", b, n, st_divide_by_constants(n, m, add, s));
+        for (uint64_t q = (0xffffffffull - 65536) / b; q * b <= 0xffffffffull + 1; q++)
+            for (int64_t dn = -1; dn <= 0; dn++) {
+                uint64_t n = q * b + dn;
+                if (n <= 0xffffffffull &&
+                    st_divide_by_constants((uint32_t)n, m, add, s) != (uint32_t)(n / b))
+                    fail_msg("b %u: %llu / b gave %u", b, (unsigned long long)n,
+                             st_divide_by_constants((uint32_t)n, m, add, s));
+            }
+        for (int j = 0; j < 2000; j++) {
+            uint32_t n = next_random(&seed);
+            if (st_divide_by_constants(n, m, add, s) != n / b)
+                fail_msg("b %u: %u / b gave %u", b, n, st_divide_by_constants(n, m, add, s));
+        }
+    }
+}
+
 /* Each dimension 2..63's table holds one row of b entries per digit
  * position a 32-bit index reaches (the digits of 2^32 - 1, counted here),
  * each row a permutation of 0..b-1; the tables lie in order, one after the
@@ -1178,12 +1209,17 @@ static void halton_tables_layout(void **state)
     assert_int_equal(st_sampling_halton_tables(77, &w, &words, NULL), ST_OK);
     const uint16_t *e = (const uint16_t *)w;
     size_t next = 2u * ST_HALTON_TABLE_HEADER;
-    assert_int_equal(ST_HALTON_TABLE_HEADER, 64);
+    assert_int_equal(ST_HALTON_TABLE_HEADER, 256);
     for (uint32_t dim = 2; dim < 64; dim++) {
         uint32_t b = nth_prime(dim), digits = 0;
         for (uint64_t v = 0xffffffffull; v; v /= b)
             digits++;
         assert_int_equal(w[dim], next);
+        uint32_t m, add, sh;
+        st_division_constants(b, &m, &add, &sh);
+        assert_int_equal(w[64 + dim], m);
+        assert_int_equal(w[128 + dim], add);
+        assert_int_equal(w[192 + dim], sh);
         for (uint32_t k = 0; k < digits; k++) {
             uint8_t seen[320] = {0};
             for (uint32_t d = 0; d < b; d++) {
@@ -1219,9 +1255,8 @@ static void halton_tables_equal_hashing_definition(void **state)
                 float want = scrambled_definition(b, idx[j], key);
                 assert_float_same(st_radical_inverse_scrambled(b, idx[j], key), want,
                                   "hashing, seed %u dim %u n %u", seeds[t], dim, idx[j]);
-                assert_float_same(
-                    st_radical_inverse_permuted(b, idx[j], (const st_u16 *)w + w[dim]), want,
-                    "tables, seed %u dim %u n %u", seeds[t], dim, idx[j]);
+                assert_float_same(st_halton_permuted(w, dim, idx[j]), want,
+                                  "tables, seed %u dim %u n %u", seeds[t], dim, idx[j]);
             }
         }
         free(w);
@@ -1601,6 +1636,7 @@ int main(void)
         cmocka_unit_test(hammersley_scrambled_keeps_stratification),
         cmocka_unit_test(hammersley_rotation_one_point_per_interval),
         cmocka_unit_test(halton_hammersley_scrambled_differ_by_seed_and_pixel),
+        cmocka_unit_test(division_constants_divide_exactly),
         cmocka_unit_test(halton_tables_layout),
         cmocka_unit_test(halton_tables_equal_hashing_definition),
         cmocka_unit_test(halton_dims_with_tables_equal_hashing),
