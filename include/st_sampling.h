@@ -231,6 +231,16 @@ st_status st_sampling_pixel_tile(st_u32 sampler, st_u32 side, st_u32 spp, st_u32
 st_status st_sampling_pad_tables(st_u32 sampler, st_u32 spp, st_u32 seed, st_u32 **words,
                                  st_u32 *count, st_error *err);
 
+/* The scrambled Halton sampler's digit permutation tables for one seed
+ * (src/sampling/halton.c), in the layout of samplers.h's
+ * ST_HALTON_TABLE_HEADER: for every dimension 2 <= dim < ST_PRIME_COUNT and
+ * every digit position a 32-bit index reaches, the image of each digit, so
+ * that st_halton_dim equals its hashing definition bit for bit. *words
+ * holds *count 32-bit words (the 16-bit entries in the host's byte order,
+ * as the device reads them); malloc'ed, free() by the caller. Errors:
+ * ST_ERR_USAGE (NULL outputs), ST_ERR_NOMEM. */
+st_status st_sampling_halton_tables(st_u32 seed, st_u32 **words, size_t *count, st_error *err);
+
 /* The tables of the pmj02 sampler (src/sampling/pmj02.c): `sets` progressive
  * multi-jittered (0,2) sequences of 2^log2n points each (Christensen, Kensler
  * and Kilpatrick 2018): every prefix of 2^m points is a (0,m,2)-net, each

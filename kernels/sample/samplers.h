@@ -143,7 +143,7 @@ ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
     return (i + p) % n;
 }
 
-/* Φ_b(n) with random digit permutations (Braaten & Weller 1979; pbrt-v4's
+/* Scrambled radical inverses (Braaten & Weller 1979; pbrt-v4's
  * DigitPermutation): digit position k goes through the affine permutation
  * d -> (a d + c) mod b of [0, b), a in 1..b-1 and c in 0..b-1 drawn from
  * (key, k). Affine maps are all 2 permutations of base 2 and all 6 of base 3,
@@ -155,24 +155,133 @@ ST_FN st_u32 st_permute(st_u32 i, st_u32 n, st_u32 key)
  * here it would cost a long division per dimension). In base 2 the only
  * affine maps are d -> d xor c: the digits are the reversed bits of n xored
  * with one random word. */
-ST_FN st_f32 st_radical_inverse_scrambled(st_u32 base, st_u32 n, st_u32 key)
+
+/* The hash that draws digit position k's permutation from key. */
+ST_HOT st_u32 st_digit_hash(st_u32 key, st_u32 k)
 {
-    if (base == 2u)
-        return (st_f32)((st_reverse_bits(n) ^ st_hash32(key)) >> 8) * 5.9604644775390625e-8f;
-    st_u64 rev = 0, den = 1;
-    for (st_u32 k = 0; n != 0u || den < (1ul << 24); k++) {
-        st_u32 next = n / base, h = st_hash32(key ^ (k * 0x9e3779b9u));
-        /* a in 1..b-1 and c in 0..b-1 by multiply-shift (no division) */
-        st_u32 a = 1u + (((h >> 16) * (base - 1u)) >> 16), c = ((h & 0xffffu) * base) >> 16;
-        rev = rev * base + (a * (n - next * base) + c) % base;
-        den *= base;
-        n = next;
-    }
-    while (den >= (1ul << 40)) { /* keep rev 2^24 below 2^64 */
+    return st_hash32(key ^ (k * 0x9e3779b9u));
+}
+
+/* The permutation's c in 0..b-1 from its hash, by multiply-shift (no
+ * division): the image of the digit 0. */
+ST_HOT st_u32 st_digit_offset(st_u32 base, st_u32 h)
+{
+    return ((h & 0xffffu) * base) >> 16;
+}
+
+/* The image of digit d at position k under the affine permutation that key
+ * draws (st_sampling_halton_tables tabulates it). */
+ST_HOT st_u32 st_scrambled_digit(st_u32 base, st_u32 key, st_u32 k, st_u32 d)
+{
+    st_u32 h = st_digit_hash(key, k), a = 1u + (((h >> 16) * (base - 1u)) >> 16);
+    return (a * d + st_digit_offset(base, h)) % base;
+}
+
+/* rev / den as 24 fraction bits, rounded down: rev < den, both kept in 40
+ * bits so that rev 2^24 stays below 2^64. */
+ST_FN st_f32 st_digits_to_unit(st_u64 rev, st_u64 den)
+{
+    while (den >= (1ul << 40)) {
         rev >>= 8;
         den >>= 8;
     }
     return (st_f32)((rev << 24) / den) * 5.9604644775390625e-8f; /* 2^-24 */
+}
+
+/* Φ_b(n) with random digit permutations: the definition, hashing per digit
+ * (the pixel dimensions, whose key is per pixel, and the reference that
+ * the tables of st_radical_inverse_permuted must equal). The digits past
+ * n's own are zeros: their images are the permutations' c, without a
+ * multiply or a division. Forced inline so that Halton's dimension 1 (base
+ * 3) divides by a constant. */
+ST_HOT st_f32 st_radical_inverse_scrambled_at(st_u32 base, st_u32 n, st_u32 key)
+{
+    if (base == 2u)
+        return (st_f32)((st_reverse_bits(n) ^ st_hash32(key)) >> 8) * 5.9604644775390625e-8f;
+    st_u64 rev = 0, den = 1;
+    st_u32 k = 0;
+    for (; n != 0u; k++) {
+        st_u32 next = n / base;
+        rev = rev * base + st_scrambled_digit(base, key, k, n - next * base);
+        den *= base;
+        n = next;
+    }
+    for (; den < (1ul << 24); k++) {
+        rev = rev * base + st_digit_offset(base, st_digit_hash(key, k));
+        den *= base;
+    }
+    return st_digits_to_unit(rev, den);
+}
+
+ST_FN st_f32 st_radical_inverse_scrambled(st_u32 base, st_u32 n, st_u32 key)
+{
+    return st_radical_inverse_scrambled_at(base, n, key);
+}
+
+/* The digit positions st_radical_inverse_scrambled reaches in base b >= 3
+ * for a 32-bit n: the digits of 2^32 - 1, the most any n has (b^K >
+ * 2^32 - 1 >= b^(K-1)); b^K >= 2^24 too, so the zeros taken past n's own
+ * digits stay among them. */
+ST_FN st_u32 st_scrambled_digit_count(st_u32 base)
+{
+    st_u32 k = 0;
+    for (st_u64 v = 1; v <= 0xffffffffull; v *= base)
+        k++;
+    return k;
+}
+
+/* n / b for every 32-bit n by a multiply and a shift, floor((n m + add)
+ * 2^-s), with m, add and s from st_division_constants (made on the host and
+ * stored with the tables, so no division per call). */
+ST_HOT st_u32 st_divide_by_constants(st_u32 n, st_u32 m, st_u32 add, st_u32 s)
+{
+    return (st_u32)(((st_u64)n * m + add) >> s);
+}
+
+/* st_divide_by_constants' constants for the divisor b (3 <= b < 2^31, not
+ * a power of two): s = 32 + floor(log2 b). Rounding 2^s / b up to m (error
+ * e = m b - 2^s) gives n m 2^-s = n/b + n e / (b 2^s), which stays below
+ * floor(n/b) + 1 while n e < 2^s, so for every n < 2^32 where e <=
+ * 2^(s-32); otherwise rounding down (f = 2^s - m b = b - e < 2^(s-32),
+ * as b < 2^(s-31)) and adding m, (n + 1) m 2^-s = (n + 1)/b - (n + 1) f /
+ * (b 2^s), lies in [floor(n/b), floor(n/b) + 1) (Robison, "N-bit unsigned
+ * division via N-bit multiply-add", ARITH 2005). m < 2^32 and n m + m <=
+ * 2^32 m, so nothing overflows 64 bits. */
+ST_FN void st_division_constants(st_u32 b, st_u32 *m, st_u32 *add, st_u32 *s)
+{
+    st_u32 l = 31u - ST_CLZ32(b);
+    st_u64 p = 1ull << (32u + l), up = p / b + 1u;
+    *s = 32u + l;
+    if (up * b - p <= (1ull << l)) {
+        *m = (st_u32)up;
+        *add = 0u;
+    } else {
+        *m = (st_u32)(p / b);
+        *add = *m;
+    }
+}
+
+/* st_radical_inverse_scrambled(base, n, key) read from the table of its
+ * digit permutations: perm[k b + d] = st_scrambled_digit(base, key, k, d)
+ * for k < st_scrambled_digit_count(base) (st_sampling_halton_tables), so
+ * no hash and no modulo per digit, and n / base by st_divide_by_constants
+ * with (m, add, s) = st_division_constants(base); equal to the hashing
+ * definition for every n (test_sampling_kernels.c halton_tables_*). */
+ST_FN st_f32 st_radical_inverse_permuted(st_u32 base, st_u32 n, const ST_GLOBAL st_u16 *perm,
+                                         st_u32 m, st_u32 add, st_u32 s)
+{
+    st_u64 rev = 0, den = 1;
+    for (; n != 0u; perm += base) {
+        st_u32 next = st_divide_by_constants(n, m, add, s);
+        rev = rev * base + perm[n - next * base];
+        den *= base;
+        n = next;
+    }
+    for (; den < (1ul << 24); perm += base) {
+        rev = rev * base + perm[0];
+        den *= base;
+    }
+    return st_digits_to_unit(rev, den);
 }
 
 /* Nested uniform (Owen) scrambling of a base-2 digit string held with its
@@ -362,7 +471,10 @@ typedef struct st_sample_id {
     st_u32 pixel_key;          /* st_pixel_key where ST_SAMPLER_KEYED_PER_PIXEL, else 0 */
     st_u32 index;              /* Halton, global Sobol': index of this sample in the sequence */
     st_u32 px, py;             /* the pixel (ZSobol's Morton code) */
-    const ST_GLOBAL st_u32 *pmj02; /* pmj02's tables (st_sampling_pmj02); NULL: none given */
+    /* the sampler's tables: pmj02's (st_sampling_pmj02), the tiled samplers'
+     * pads, or Halton's digit permutations (read where p->halton_tables);
+     * NULL: none given */
+    const ST_GLOBAL st_u32 *pmj02;
 } st_sample_id;
 
 /* The key of a pixel's pair of dimensions (dim / 2): the samplers that
@@ -449,10 +561,36 @@ ST_FN st_u32 st_halton_index(const st_params *p, st_u32 px, st_u32 py, st_u32 s)
     return (st_u32)(h % stride) + s * stride;
 }
 
+/* The key of Halton's scrambled dimension dim >= 2: one per render and
+ * dimension (the pixel dimensions' keys are per pixel: st_halton_dim). */
+ST_FN st_u32 st_halton_key(st_u32 seed, st_u32 dim)
+{
+    return st_hash32(seed ^ st_hash32(dim));
+}
+
+/* Halton's digit permutation tables (st_sampling_halton_tables), 32-bit
+ * words: word d < ST_PRIME_COUNT is where dimension d's table starts,
+ * counted in 16-bit entries from the first word (0 for the pixel
+ * dimensions, which have none), words ST_PRIME_COUNT + d, 2 ST_PRIME_COUNT
+ * + d and 3 ST_PRIME_COUNT + d its base's st_division_constants m, add
+ * and s; the tables follow, 16-bit entries, entry k b + d of dimension
+ * dim's the image of digit d at position k under st_halton_key(seed, dim)
+ * (st_radical_inverse_permuted). */
+#define ST_HALTON_TABLE_HEADER (4u * ST_PRIME_COUNT)
+
+/* Dimension dim (>= 2) of Halton at index n from the tables t. */
+ST_FN st_f32 st_halton_permuted(const ST_GLOBAL st_u32 *t, st_u32 dim, st_u32 n)
+{
+    return st_radical_inverse_permuted(st_primes[dim], n, (const ST_GLOBAL st_u16 *)t + t[dim],
+                                       t[ST_PRIME_COUNT + dim], t[2u * ST_PRIME_COUNT + dim],
+                                       t[3u * ST_PRIME_COUNT + dim]);
+}
+
 /* Halton (pbrt-v4's HaltonSampler): dimension d is the radical inverse in
  * the d-th prime of the sample's index in the sequence (st_halton_index),
  * the pixel dimensions with the pixel's digits shifted out; scrambled,
- * the pixel dimensions per pixel and the others per render. */
+ * the pixel dimensions per pixel and the others per render, from the
+ * render's tables (id->pmj02, where p->halton_tables) or hashed. */
 ST_FN st_f32 st_halton_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
     if (dim >= ST_PRIME_COUNT)
@@ -464,9 +602,14 @@ ST_FN st_f32 st_halton_dim(const st_params *p, const st_sample_id *id, st_u32 di
         n /= p->halton_stride >> p->halton_exp2;
     if (!p->scramble)
         return st_radical_inverse(st_primes[dim], n);
-    st_u32 key = dim < 2u ? st_pair_key(st_pixel_key(p, id->pixel), dim) ^ dim
-                          : st_hash32(p->seed ^ st_hash32(dim));
-    return st_radical_inverse_scrambled(st_primes[dim], n, key);
+    if (dim < 2u) { /* each base spelled out: its divisions by a constant */
+        st_u32 key = st_pair_key(st_pixel_key(p, id->pixel), dim) ^ dim;
+        return dim == 0u ? st_radical_inverse_scrambled_at(2u, n, key)
+                         : st_radical_inverse_scrambled_at(3u, n, key);
+    }
+    if (p->halton_tables)
+        return st_halton_permuted(id->pmj02, dim, n);
+    return st_radical_inverse_scrambled(st_primes[dim], n, st_halton_key(p->seed, dim));
 }
 
 /* Sample s of the pixel with index pixel = py * width + px. */

@@ -13,6 +13,7 @@
 #define ST_SHARED_H
 
 #ifdef __OPENCL_VERSION__
+typedef ushort st_u16;
 typedef uint st_u32;
 typedef int st_i32;
 typedef ulong st_u64;
@@ -27,6 +28,7 @@ typedef long st_i64;
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+typedef uint16_t st_u16;
 typedef uint32_t st_u32;
 typedef int32_t st_i32;
 typedef uint64_t st_u64;
@@ -401,7 +403,11 @@ typedef struct st_params {
     /* tile-owned splat (film.cl): bins of bin_side^2 pixels, bins_x across,
      * bins in all; bins 0: the per-sample splat */
     st_u32 bin_side, bins_x, bins;
-    st_u32 pad; /* filter and camera start at a multiple of 16 bytes */
+    /* halton, scrambled: 1 when the kernels' sampler tables (the pmj02
+     * argument) hold the render's digit permutations (samplers.h,
+     * st_sampling_halton_tables), 0: hash each digit; also keeps filter and
+     * camera at a multiple of 16 bytes */
+    st_u32 halton_tables;
     st_filter filter;
     st_camera camera;
     /* the pixels this launch covers, a rectangle of the width x height image
@@ -665,6 +671,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, vertex)         \
     X(st_params, live_count) X(st_params, sobol_log2)                                       \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
+    X(st_params, halton_tables)                                                             \
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h)                                           \

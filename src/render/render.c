@@ -246,23 +246,64 @@ static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_err
     return rc;
 }
 
-/* Makes (or reuses) pmj02's tables: ST_PMJ02_SETS sequences of
- * 2^ceil(log2 spp) points, uploaded once per seed and size. */
+/* Whether a render reads Halton's digit permutation tables: the scrambled
+ * Halton sampler (its unscrambled digits are the identity). */
+static int halton_tables_used(const st_render_options *o)
+{
+    return o->sampler == ST_SAMPLER_HALTON && o->scramble;
+}
+
+/* The key r->pmj02_log2 takes for Halton's tables: above every pmj02 size. */
+#define HALTON_TABLES_KEY 64u
+
+/* Uploads Halton's digit permutation tables for o->seed into pmj02's slot. */
+static st_status upload_halton_tables(st_renderer *r, const st_render_options *o,
+                                      st_error *err)
+{
+    st_u32 *words = NULL;
+    size_t n = 0;
+    st_status rc = st_sampling_halton_tables(o->seed, &words, &n, err);
+    if (rc != ST_OK)
+        return rc;
+    size_t bytes = sizeof(st_u32) * n;
+    unsigned long long max_alloc = st_device_max_alloc(r->dev);
+    if (max_alloc && bytes > max_alloc)
+        rc = st_fail(err, ST_ERR_DEVICE,
+                     "Halton's digit tables (%zu bytes) exceed the device's largest buffer "
+                     "(CL_DEVICE_MAX_MEM_ALLOC_SIZE, %llu bytes): use another --sampler or "
+                     "--scramble none",
+                     bytes, max_alloc);
+    else
+        rc = st_device_buffer_create(r->dev, bytes, words, &r->scene_buf[ST_SCENE_pmj02], err);
+    free(words);
+    r->pmj02_seed = o->seed;
+    r->pmj02_log2 = rc == ST_OK ? HALTON_TABLES_KEY : 0u;
+    return rc;
+}
+
+/* Makes (or reuses) the sampler's tables in pmj02's slot: pmj02's,
+ * ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, uploaded once per
+ * seed and size; a tiled sampler's pads, made for each render; or the
+ * scrambled Halton sampler's digit permutations, once per seed. */
 static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_error *err)
 {
     int tiled = ST_SAMPLER_IS_TILED(o->sampler), bn = o->sampler == ST_SAMPLER_PMJ02BN;
-    int used = o->sampler == ST_SAMPLER_PMJ02 || bn || tiled;
+    int halton = halton_tables_used(o);
+    int used = o->sampler == ST_SAMPLER_PMJ02 || bn || tiled || halton;
     st_u32 log2n = 1u; /* ceil(log2 spp) + 1: 0 stands for none */
-    while (used && (1u << (log2n - 1u)) < o->spp)
+    while (used && !halton && (1u << (log2n - 1u)) < o->spp)
         log2n++;
-    if (r->scene_buf[ST_SCENE_pmj02] && (!used || (r->pmj02_seed == o->seed &&
-                                                   r->pmj02_log2 == log2n + 32u * bn)))
+    st_u32 key = halton ? HALTON_TABLES_KEY : log2n + 32u * bn; /* + 32: pmj02bn's */
+    if (r->scene_buf[ST_SCENE_pmj02] &&
+        (!used || (r->pmj02_seed == o->seed && r->pmj02_log2 == key)))
         return ST_OK;
     st_device_buffer_destroy(r->scene_buf[ST_SCENE_pmj02]);
     r->scene_buf[ST_SCENE_pmj02] = NULL;
     r->pmj02_log2 = 0u;
     if (!used) /* kernels take the argument anyway */
         return st_device_buffer_create(r->dev, 16, NULL, &r->scene_buf[ST_SCENE_pmj02], err);
+    if (halton)
+        return upload_halton_tables(r, o, err);
     st_u32 *pts = NULL, n = 1u << (log2n - 1u);
     /* a tiled sampler's pad tables take the slot, made anew for each render */
     st_status rc = tiled ? st_sampling_pad_tables(o->sampler, o->spp, o->seed, &pts, &n, err)
@@ -274,7 +315,7 @@ static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_er
     rc = st_device_buffer_create(r->dev, bytes, pts, &r->scene_buf[ST_SCENE_pmj02], err);
     free(pts);
     r->pmj02_seed = o->seed;
-    r->pmj02_log2 = rc == ST_OK && !tiled ? log2n + 32u * bn : 0u; /* + 32: pmj02bn's */
+    r->pmj02_log2 = rc == ST_OK && !tiled ? key : 0u;
     return rc;
 }
 
@@ -371,6 +412,7 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     p.seed = o->seed;
     p.sampler = o->sampler;
     p.scramble = o->scramble;
+    p.halton_tables = (st_u32)halton_tables_used(o);
     p.integrator = o->integrator;
     p.max_depth = o->integrator == ST_INTEGRATOR_DIRECT ? 1u : o->max_depth;
     p.light_count = r->light_count;

@@ -44,7 +44,8 @@ struct st_renderer {
     /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],
      * kept for renders with the same key */
     st_u32 tile_sampler, tile_spp, tile_seed, tile_size, tile_points;
-    /* the key of pmj02's tables in scene_buf[ST_SCENE_pmj02] (log2 0: none) */
+    /* the key of the sampler tables in scene_buf[ST_SCENE_pmj02]: pmj02's
+     * (log2 0: none) or Halton's digit permutations (render.c) */
     st_u32 pmj02_seed, pmj02_log2;
     st_plan_force force; /* st_renderer_force */
     st_plan plan;        /* the last render's (st_plan_make) */

@@ -100,6 +100,11 @@ st_status st_sampling_pattern(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 
                     : st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)) !=
                    ST_OK)
         return err ? err->status : ST_ERR_NOMEM;
+    /* scrambled Halton: the renderer's digit permutation tables, in the slot */
+    size_t words = 0;
+    p.halton_tables = sampler == ST_SAMPLER_HALTON && scramble;
+    if (p.halton_tables && st_sampling_halton_tables(seed, &pmj02, &words, err) != ST_OK)
+        return err ? err->status : ST_ERR_NOMEM;
     float *pts = malloc(sizeof(float) * (size_t)count * dims);
     if (!pts) {
         free(pmj02);

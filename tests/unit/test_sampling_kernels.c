@@ -1107,6 +1107,205 @@ static void halton_hammersley_scrambled_differ_by_seed_and_pixel(void **state)
         }
 }
 
+/* ---- scrambled Halton's digit tables ------------------------------------------- */
+
+/* The scrambled radical inverse spelled out here from its definition
+ * (samplers.h's file comment on scrambled radical inverses): the base-b
+ * digits of n, least significant first, padded with zeros to K digits
+ * (K: n's digit count, at least the smallest k with b^k >= 2^24); digit k
+ * mapped by d -> (a d + c) mod b with h = lowbias32(key xor k 0x9e3779b9),
+ * a = 1 + floor(hi16(h) (b-1) / 2^16), c = floor(lo16(h) b / 2^16); the
+ * digits read as the fraction rev / b^K, both cut by 8 bits at a time until
+ * b^K < 2^40, then floor(rev 2^24 / den) 2^-24. */
+static uint32_t lowbias32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+static float scrambled_definition(uint32_t b, uint32_t n, uint32_t key)
+{
+    u128 rev = 0, den = 1;
+    for (uint32_t k = 0; n != 0 || den < (1u << 24); k++) {
+        uint32_t h = lowbias32(key ^ (k * 0x9e3779b9u));
+        uint32_t a = 1 + (uint32_t)(((uint64_t)(h >> 16) * (b - 1)) >> 16);
+        uint32_t c = (uint32_t)(((uint64_t)(h & 0xffffu) * b) >> 16);
+        rev = rev * b + (a * (n % b) + c) % b;
+        den *= b;
+        n /= b;
+    }
+    while (den >= ((u128)1 << 40)) {
+        rev >>= 8;
+        den >>= 8;
+    }
+    return (float)(uint32_t)((rev << 24) / den) * 0x1p-24f;
+}
+
+/* The indices the comparisons visit in base b: the first ones, every power
+ * of b and its neighbours (where the digit count changes), the last ones
+ * below 2^32 (the most digits) and pseudo-random ones. */
+static uint32_t table_test_indices(uint32_t b, uint32_t *out)
+{
+    uint32_t m = 0, seed = 0x9e3779b9u ^ b;
+    for (uint32_t n = 0; n < 300; n++)
+        out[m++] = n;
+    for (uint64_t v = b; v <= 0xffffffffull; v *= b) {
+        out[m++] = (uint32_t)(v - 1);
+        out[m++] = (uint32_t)v;
+        if (v < 0xffffffffull)
+            out[m++] = (uint32_t)(v + 1);
+    }
+    for (uint32_t j = 0; j < 300; j++)
+        out[m++] = 0xffffffffu - j;
+    for (uint32_t j = 0; j < 700; j++)
+        out[m++] = next_random(&seed);
+    return m;
+}
+
+/* st_divide_by_constants with st_division_constants(b) is n / b for every
+ * prime base of the tables and for every odd b < 4096 (whichever rounding
+ * each needs), checked at n = 0..2^16, at both sides of every multiple of b
+ * within 2^16 of 2^32 (where a multiplier's error is largest), and at
+ * pseudo-random n. */
+static void division_constants_divide_exactly(void **state)
+{
+    (void)state;
+    uint32_t seed = 0x2545f491u;
+    for (uint32_t b = 3; b < 4096; b += 2) {
+        uint32_t m, add, s;
+        st_division_constants(b, &m, &add, &s);
+        for (uint32_t n = 0; n <= 65536; n++)
+            if (st_divide_by_constants(n, m, add, s) != n / b)
+                fail_msg("b %u: %u / b gave %u", b, n, st_divide_by_constants(n, m, add, s));
+        for (uint64_t q = (0xffffffffull - 65536) / b; q * b <= 0xffffffffull + 1; q++)
+            for (int64_t dn = -1; dn <= 0; dn++) {
+                uint64_t n = q * b + dn;
+                if (n <= 0xffffffffull &&
+                    st_divide_by_constants((uint32_t)n, m, add, s) != (uint32_t)(n / b))
+                    fail_msg("b %u: %llu / b gave %u", b, (unsigned long long)n,
+                             st_divide_by_constants((uint32_t)n, m, add, s));
+            }
+        for (int j = 0; j < 2000; j++) {
+            uint32_t n = next_random(&seed);
+            if (st_divide_by_constants(n, m, add, s) != n / b)
+                fail_msg("b %u: %u / b gave %u", b, n, st_divide_by_constants(n, m, add, s));
+        }
+    }
+}
+
+/* Each dimension 2..63's table holds one row of b entries per digit
+ * position a 32-bit index reaches (the digits of 2^32 - 1, counted here),
+ * each row a permutation of 0..b-1; the tables lie in order, one after the
+ * other, inside the words returned. */
+static void halton_tables_layout(void **state)
+{
+    (void)state;
+    uint32_t *w = NULL;
+    size_t words = 0;
+    assert_int_equal(st_sampling_halton_tables(77, &w, &words, NULL), ST_OK);
+    const uint16_t *e = (const uint16_t *)w;
+    size_t next = 2u * ST_HALTON_TABLE_HEADER;
+    assert_int_equal(ST_HALTON_TABLE_HEADER, 256);
+    for (uint32_t dim = 2; dim < 64; dim++) {
+        uint32_t b = nth_prime(dim), digits = 0;
+        for (uint64_t v = 0xffffffffull; v; v /= b)
+            digits++;
+        assert_int_equal(w[dim], next);
+        uint32_t m, add, sh;
+        st_division_constants(b, &m, &add, &sh);
+        assert_int_equal(w[64 + dim], m);
+        assert_int_equal(w[128 + dim], add);
+        assert_int_equal(w[192 + dim], sh);
+        for (uint32_t k = 0; k < digits; k++) {
+            uint8_t seen[320] = {0};
+            for (uint32_t d = 0; d < b; d++) {
+                uint32_t img = e[w[dim] + k * b + d];
+                if (img >= b || seen[img])
+                    fail_msg("dim %u (base %u) digit position %u: %u -> %u repeats or is out "
+                             "of range", dim, b, k, d, img);
+                seen[img] = 1;
+            }
+        }
+        next += (size_t)digits * b;
+    }
+    assert_int_equal(words, (next + 1) / 2);
+    free(w);
+}
+
+/* The tables give the hashing definition's value bit for bit: the header's
+ * reference function and the definition spelled out above, for every
+ * dimension 2..63, several seeds, and indices up to 2^32 - 1. */
+static void halton_tables_equal_hashing_definition(void **state)
+{
+    (void)state;
+    static const uint32_t seeds[] = {0, 1, 0xdeadbeefu, 12345, 0xffffffffu};
+    static uint32_t idx[3000];
+    for (size_t t = 0; t < sizeof seeds / sizeof seeds[0]; t++) {
+        uint32_t *w = NULL;
+        size_t words = 0;
+        assert_int_equal(st_sampling_halton_tables(seeds[t], &w, &words, NULL), ST_OK);
+        for (uint32_t dim = 2; dim < 64; dim++) {
+            uint32_t b = nth_prime(dim), key = lowbias32(seeds[t] ^ lowbias32(dim));
+            uint32_t m = table_test_indices(b, idx);
+            for (uint32_t j = 0; j < m; j++) {
+                float want = scrambled_definition(b, idx[j], key);
+                assert_float_same(st_radical_inverse_scrambled(b, idx[j], key), want,
+                                  "hashing, seed %u dim %u n %u", seeds[t], dim, idx[j]);
+                assert_float_same(st_halton_permuted(w, dim, idx[j]), want,
+                                  "tables, seed %u dim %u n %u", seeds[t], dim, idx[j]);
+            }
+        }
+        free(w);
+    }
+}
+
+/* st_halton_dim with the render's tables (as generate.cl and shade.cl read
+ * them) equals it without (hashing) in every dimension, the pixel ones
+ * included, and those equal the definition with the pixel's key: images
+ * whose indices reach far (large spp) and the pattern's 1 x 1 image. */
+static void halton_dims_with_tables_equal_hashing(void **state)
+{
+    (void)state;
+    static const uint32_t sizes[][3] = {{64, 48, 4096}, {1, 1, 65536}, {200, 130, 1000}};
+    for (size_t t = 0; t < 3; t++)
+        for (uint32_t seed = 3; seed < 5; seed++) {
+            st_params hashed = image_params(ST_SAMPLER_HALTON, sizes[t][0], sizes[t][1],
+                                            sizes[t][2], 1, seed);
+            st_params tabled = hashed;
+            uint32_t *w = NULL;
+            size_t words = 0;
+            assert_int_equal(st_sampling_halton_tables(seed, &w, &words, NULL), ST_OK);
+            tabled.halton_tables = 1;
+            uint32_t rs = seed * 7919u;
+            for (uint32_t j = 0; j < 400; j++) {
+                uint32_t px = next_random(&rs) % hashed.width, py = next_random(&rs) % hashed.height;
+                uint32_t s = j < 4 ? j : (j < 8 ? hashed.spp - 1 - (j - 4) : next_random(&rs) % hashed.spp);
+                st_sample_id a = st_sample_begin(&hashed, px, py, s);
+                st_sample_id b = st_sample_begin(&tabled, px, py, s);
+                b.pmj02 = w;
+                for (uint32_t d = 0; d < 70; d++)
+                    assert_float_same(st_sample_dim(&tabled, &b, d), st_sample_dim(&hashed, &a, d),
+                                      "%ux%u seed %u pixel (%u,%u) s %u dim %u", hashed.width,
+                                      hashed.height, seed, px, py, s, d);
+                uint32_t n0 = a.index >> hashed.halton_exp2;
+                uint32_t n1 = a.index / (hashed.halton_stride >> hashed.halton_exp2);
+                uint32_t pk = st_pixel_key(&hashed, a.pixel);
+                assert_float_same(st_sample_dim(&hashed, &a, 1),
+                                  scrambled_definition(3, n1, st_pair_key(pk, 1) ^ 1u),
+                                  "pixel dim 1, pixel (%u,%u) s %u", px, py, s);
+                float d0 = (float)((st_reverse_bits(n0) ^ lowbias32(st_pair_key(pk, 0))) >> 8) *
+                           0x1p-24f;
+                assert_float_same(st_sample_dim(&hashed, &a, 0), d0, "pixel dim 0, (%u,%u) s %u",
+                                  px, py, s);
+            }
+            free(w);
+        }
+}
+
 /* Every sampler, scrambled or not, gives values in [0, 1) in every dimension,
  * including dimensions past the prime table (random fallback). */
 static void samplers_values_in_unit_interval(void **state)
@@ -1437,6 +1636,10 @@ int main(void)
         cmocka_unit_test(hammersley_scrambled_keeps_stratification),
         cmocka_unit_test(hammersley_rotation_one_point_per_interval),
         cmocka_unit_test(halton_hammersley_scrambled_differ_by_seed_and_pixel),
+        cmocka_unit_test(division_constants_divide_exactly),
+        cmocka_unit_test(halton_tables_layout),
+        cmocka_unit_test(halton_tables_equal_hashing_definition),
+        cmocka_unit_test(halton_dims_with_tables_equal_hashing),
         cmocka_unit_test(samplers_values_in_unit_interval),
         cmocka_unit_test(sample_resume_matches_begin),
         cmocka_unit_test(rng_unit_in_range),
