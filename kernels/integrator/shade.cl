@@ -315,11 +315,11 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
     st_vertex_in l = {{{0}}};
     st_u32 live = 0u, item[ST_W];
     st_lane_bits b = {0u, 0u, 0u, 0u, 0u};
-    for (st_u32 k = 0; k < n; k++) {
-        item[k] = st_live_item(list, first + k);
+    for (st_u32 k = 0; k < n; k++)
+        item[k] = list ? list[first + k] : first + k;
+    for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, item[k], k, sample, ray, hit, path, shadow,
                                       pmj02, &l, &b) << k;
-    }
     if (!live)
         return b.through;
     st_lu depth = ST_LV(l.depth);
