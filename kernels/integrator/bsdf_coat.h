@@ -21,7 +21,7 @@
  * Sampling: the coat's visible normals (reflected) with probability
  * st_coat_prob (w x its Fresnel towards wo, lifted so that its sharp lobe
  * is found, kept below 0.9 so that the base is too), else the base's own
- * sampling; the pdf is the mixture's. This file follows bsdf_dielectric.h. */
+ * sampling; the pdf is the mixture's. This file follows bsdf_sheen.h. */
 #ifndef ST_BSDF_COAT_H
 #define ST_BSDF_COAT_H
 
@@ -76,35 +76,36 @@ ST_FN st_lf st_coat_lobe_pdf(const st_coat *c, st_dir wo, st_dir wi)
     return ST_SELECT(ST_W, ST_LF(0.0f), p, wo.z > 0.0f && wi.z > 0.0f);
 }
 
-/* ---- the coated material: the coat over bsdf_dielectric.h's whole ---------- */
+/* ---- the coated material: the coat over bsdf_sheen.h's sheened whole ------- */
 
-ST_FN void st_coated_eval(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
-                          st_dir wi, st_lf *f)
+ST_FN void st_coated_eval(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                          const st_coat *c, st_dir wo, st_dir wi, st_lf *f)
 {
-    st_bsdf_eval(b, d, wo, wi, f);
+    st_sheened_eval(b, d, s, wo, wi, f);
     st_lf pass = st_coat_pass(c, wo, wi), coat = st_coat_eval(c, wo, wi);
     for (int k = 0; k < 3; k++)
         f[k] = f[k] * pass + coat;
 }
 
-ST_FN st_lf st_coated_pdf(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
-                          st_dir wi)
+ST_FN st_lf st_coated_pdf(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                          const st_coat *c, st_dir wo, st_dir wi)
 {
     st_lf p = st_coat_prob(c, wo);
-    return (1.0f - p) * st_bsdf_pdf(b, d, wo, wi) + p * st_coat_lobe_pdf(c, wo, wi);
+    return (1.0f - p) * st_sheened_pdf(b, d, s, wo, wi) + p * st_coat_lobe_pdf(c, wo, wi);
 }
 
 /* u1 below st_coat_prob picks the coat (u1 rescaled), else the base with
  * u1 rescaled to the rest; a coat reflection below the surface is lost
  * (0, 0, 0), as the base's. */
-ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st_coat *c,
-                              st_dir wo, st_lf u1, st_lf u2, st_lf u3)
+ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                              const st_coat *c, st_dir wo, st_lf u1, st_lf u2, st_lf u3)
 {
     st_lf p = st_coat_prob(c, wo);
     st_li coat = u1 < p;
     st_dir wi = wo;
     if (ST_ANY(ST_W, !coat))
-        wi = st_bsdf_sample(b, d, wo, ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f), u2, u3);
+        wi = st_sheened_sample(b, d, s, wo, ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f), u2,
+                               u3);
     if (ST_ANY(ST_W, coat)) {
         st_dir h = st_ggx_visible_normal(c->alpha, wo, ST_FMINF(u1 / p, 0.99999994f), u2);
         st_dir r = st_reflect(wo, h);
