@@ -59,6 +59,7 @@ typedef struct st_vertex_in {
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
     float transmission[ST_W]; /* KHR_materials_transmission */
     float coat[ST_W], coat_rough[ST_W]; /* KHR_materials_clearcoat */
+    float sheen[3][ST_W], sheen_rough[ST_W]; /* KHR_materials_sheen */
 } st_vertex_in;
 
 #define ST_LV(a) ST_VLOAD(ST_W, a)
@@ -93,8 +94,8 @@ static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
  * without a normal map). */
 typedef struct st_material_at {
     float4 base, spec, nmap;
-    float3 le, absorb;
-    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough;
+    float3 le, absorb, sheen;
+    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough, sheen_rough;
     st_u32 flags, alpha_mode;
     float alpha_cutoff;
 } st_material_at;
@@ -119,6 +120,9 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     a.absorb = a.transmission > 0.0f ? vload3(0, m->absorption) : (float3)(0.0f);
     a.coat = m->clearcoat;
     a.coat_rough = m->clearcoat_roughness;
+    int sheen = (m->flags & ST_MAT_SHEEN) != 0u;
+    a.sheen = sheen ? vload3(0, m->sheen_color) : (float3)(0.0f);
+    a.sheen_rough = sheen ? m->sheen_roughness : 0.0f;
     a.nmap = (float4)(0.0f);
     if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
@@ -129,7 +133,8 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
         m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
         m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
-        m->clearcoat_roughness_tex != ST_NO_TEXTURE) {
+        m->clearcoat_roughness_tex != ST_NO_TEXTURE ||
+        (sheen && (m->sheen_color_tex != ST_NO_TEXTURE || m->sheen_roughness_tex != ST_NO_TEXTURE))) {
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
         float b1 = h.u, b2 = h.v;
@@ -145,6 +150,10 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.transmission *= tex_lookup(x, m->transmission_tex, t, b1, b2, width, cos_nd, f).x;
         a.coat *= tex_lookup(x, m->clearcoat_tex, t, b1, b2, width, cos_nd, f).x;
         a.coat_rough *= tex_lookup(x, m->clearcoat_roughness_tex, t, b1, b2, width, cos_nd, f).y;
+        if (sheen) {
+            a.sheen *= tex_lookup(x, m->sheen_color_tex, t, b1, b2, width, cos_nd, f).xyz;
+            a.sheen_rough *= tex_lookup(x, m->sheen_roughness_tex, t, b1, b2, width, cos_nd, f).w;
+        }
         if (m->normal_tex != ST_NO_TEXTURE)
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
@@ -333,6 +342,7 @@ static void light_gather(const st_scene_refs *s, const st_params *p, const st_sh
  * st_vertex, so that a vertex without them stays as small as before). */
 typedef struct st_layers {
     st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h) */
+    st_sheen sheen;     /* the sheen (bsdf_sheen.h) */
     st_coat coat;       /* the clear coat (bsdf_coat.h) */
 } st_layers;
 
@@ -347,7 +357,7 @@ typedef struct st_vertex {
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
-    st_u32 layer_bits;  /* the lanes with transmission or a clear coat (subsets of glossy) */
+    st_u32 layer_bits;  /* the lanes with transmission, a sheen or a clear coat (of glossy) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -413,11 +423,11 @@ ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
- * transmission > 0: vertex_gather) and the clear coat where coat_bits'
- * is. */
+ * transmission > 0: vertex_gather), the clear coat where coat_bits' is
+ * and the sheen where sheen_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_u32 trans_bits, st_u32 coat_bits, st_layers *lay, st_li miss,
-                                const st_shading *sh, st_lf *cos_o)
+                                st_u32 trans_bits, st_u32 coat_bits, st_u32 sheen_bits,
+                                st_layers *lay, st_li miss, const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
     st_lv3 d = ST_LV3_OF(l->d);
@@ -429,7 +439,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.beta = ST_LV3_OF(l->beta);
     v.lay = lay;
     v.trans_bits = trans_bits;
-    v.layer_bits = trans_bits | coat_bits;
+    v.layer_bits = trans_bits | coat_bits | sheen_bits;
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
@@ -449,6 +459,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
             lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
+            st_lf sc[3] = {ST_LV(l->sheen[0]), ST_LV(l->sheen[1]), ST_LV(l->sheen[2])};
+            lay->sheen = st_sheen_make(sc, ST_LV(l->sheen_rough));
         }
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
@@ -471,14 +483,16 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
     return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
 }
 
-/* Where a lane is layered (transmissive or coated), f[3] and *pdf (the
- * BRDF's at li) become the whole material's (bsdf_coat.h: the coat over
- * bsdf_dielectric.h's material); the other lanes keep theirs bit for bit. */
+/* Where a lane is layered (transmissive, sheened or coated), f[3] and
+ * *pdf (the BRDF's at li) become the whole material's (bsdf_coat.h: the
+ * coat over bsdf_sheen.h's sheen over bsdf_dielectric.h's material); the
+ * other lanes keep theirs bit for bit. */
 ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
 {
     st_lf ft[3];
-    st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
-    st_lf pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
+    const st_layers *y = v->lay;
+    st_coated_eval(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li, ft);
+    st_lf pt = st_coated_pdf(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li);
     st_li layered = ST_BITS_MASK(ST_W, v->layer_bits);
     for (int k = 0; k < 3; k++)
         f[k] = ST_SELECT(ST_W, f[k], ft[k], layered);
@@ -567,7 +581,8 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
         if (v->layer_bits)
             g = st_lv3_select(
-                g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, u1, u2, u3),
+                g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->sheen, &v->lay->coat,
+                                    v->wo_local, u1, u2, u3),
                 ST_BITS_MASK(ST_W, v->layer_bits));
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);

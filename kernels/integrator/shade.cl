@@ -19,8 +19,8 @@
  * Materials: the glTF metallic-roughness BRDF (bsdf.h; a Lambertian one,
  * specularFactor 0, takes the cheap cosine path), with transmission
  * (bsdf_dielectric.h: the path refracts and goes on from the other side;
- * KHR_materials_volume's absorption on the segments inside) and a clear
- * coat (bsdf_coat.h) where the material has them, its factors times their
+ * KHR_materials_volume's absorption on the segments inside), a sheen
+ * (bsdf_sheen.h) and a clear coat (bsdf_coat.h) where the material has them, its factors times their
  * textures (texture.h). Next-event estimation samples lights on the side
  * the ray arrived from only; a refracted BSDF sample's emission takes MIS
  * weight 1 (bsdf_pdf 0: no light sample makes it). KHR_materials_unlit shows its base colour from
@@ -63,6 +63,7 @@
 #include "lights.h"
 #include "bsdf.h"
 #include "bsdf_dielectric.h"
+#include "bsdf_sheen.h"
 #include "bsdf_coat.h"
 #include "integrator.h"
 #include "shadow.h"
@@ -122,7 +123,7 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
-    st_u32 miss, nmapped, trans, coated;
+    st_u32 miss, nmapped, trans, coated, sheened;
 } st_lane_bits;
 
 /* Lane k's part of the vertex of item i: the shadow ray cleared; a dead
@@ -130,7 +131,8 @@ typedef struct st_lane_bits {
  * KHR_materials_unlit surface (its colour, from either side, and no more)
  * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
  * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
- * of b->trans for a transmissive one, of b->coated for a clear-coated one)
+ * of b->trans for a transmissive one, of b->coated for a clear-coated one,
+ * of b->sheened for one with a sheen)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
@@ -195,6 +197,11 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     if (a.coat > 0.0f) {
         l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
         b->coated |= 1u << k;
+    }
+    if (a.flags & ST_MAT_SHEEN) {
+        set_lane3(l->sheen, k, a.sheen);
+        l->sheen_rough[k] = a.sheen_rough;
+        b->sheened |= 1u << k;
     }
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
@@ -268,7 +275,7 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
 {
     st_vertex_in l = {{{0}}};
     st_u32 live = 0u;
-    st_lane_bits b = {0u, 0u, 0u, 0u};
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u};
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, first + k, k, sample, ray, hit, path, shadow,
                                       pmj02, &l, &b) << k;
@@ -280,7 +287,8 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
     st_li missed = ST_BITS_MASK(ST_W, miss);
     st_lf cos_o;
     st_layers lay;
-    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, &lay, missed, sh, &cos_o);
+    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, b.sheened, &lay, missed, sh,
+                                 &cos_o);
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
     st_u32 refracted = 0u;
