@@ -739,9 +739,9 @@ static double sheen_albedo(double mo, double a)
  * roughness through textures) each channel shows colour x E(0.5); over a
  * white base (right) the sheen's 0.8 E(0.5) plus what the albedo scaling
  * leaves of the Lambertian, ∫ max(0, 1 - 0.8 max(E(0.5), E(μi))) 2 μi dμi,
- * with E computed here from the definition. Tolerance 1 % (the kernels'
- * table is bilinear, between its nodes) plus 0.002 (noise: 256 samples of
- * 144 pixels). Breaks with a sheen not added, not scaled, or its textures
+ * with E computed here from the definition. Tolerance 0.4 % (the kernels'
+ * table is bilinear, between its nodes) plus 0.001 (noise: 256 samples of
+ * 144 pixels; both quads agreed to 1e-4 when written). Breaks with a sheen not added, not scaled, or its textures
  * not read. */
 static void sheen_matches_its_albedo(void **state)
 {
@@ -766,7 +766,7 @@ static void sheen_matches_its_albedo(void **state)
     double r = 128.0 / 255.0, e = sheen_albedo(0.5, r * r);
     const double colour[3] = {1.0, 0.5, 0.25};
     for (int k = 0; k < 3; k++)
-        if (fabs(left[k] - colour[k] * e) > 0.01 * colour[k] * e + 0.002)
+        if (fabs(left[k] - colour[k] * e) > 0.004 * colour[k] * e + 0.001)
             fail_msg("sheen over black, channel %d: %.5f, want %.5f", k, left[k], colour[k] * e);
     double e5 = sheen_albedo(0.5, 0.25), kept = 0.0;
     const int n = 100;
@@ -775,7 +775,7 @@ static void sheen_matches_its_albedo(void **state)
         kept += fmax(0.0, 1.0 - 0.8 * fmax(e5, sheen_albedo(mi, 0.25))) * 2.0 * mi / n;
     }
     double want = 0.8 * e5 + kept;
-    if (fabs(right - want) > 0.01 * want + 0.002 || !(right <= 1.0))
+    if (fabs(right - want) > 0.004 * want + 0.001 || !(right <= 1.0))
         fail_msg("sheen over white: %.5f, want %.5f", right, want);
     st_image_free(&img);
 }
