@@ -18,7 +18,7 @@
  * (bilinear in (sqrt cos θ, sheenRoughness)). The max(0, ..) is needed:
  * this visibility lets the lobe reflect more than it receives at grazing
  * angles when the sheen is smooth (E up to about 6 below cos θ 0.01 at
- * sheenRoughness 0; E > 1 only below sheenRoughness 0.25 and cos θ 0.05).
+ * sheenRoughness 0; E > 1 only up to about sheenRoughness 0.26 and cos θ 0.06).
  *
  * The powers and exponentials are computed lane by lane in scalar (the
  * accurate pow and exp of one float): PoCL's vector pow and exp round
