@@ -76,36 +76,38 @@ ST_FN st_lf st_coat_lobe_pdf(const st_coat *c, st_dir wo, st_dir wi)
     return ST_SELECT(ST_W, ST_LF(0.0f), p, wo.z > 0.0f && wi.z > 0.0f);
 }
 
-/* ---- the coated material: the coat over bsdf_sheen.h's sheened whole ------- */
+/* ---- the coated material: the coat over bsdf_dielectric.h's whole, or
+ * over bsdf_sheen.h's sheened whole (the _sheened forms, which the
+ * kernels run only where a lane has a sheen) ------------------------------- */
 
-ST_FN void st_coated_eval(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
-                          const st_coat *c, st_dir wo, st_dir wi, st_lf *f)
+/* The coat over a base's f(wo, wi) in f[3], and over its pdf. */
+ST_FN void st_coat_over(const st_coat *c, st_dir wo, st_dir wi, st_lf *f)
 {
-    st_sheened_eval(b, d, s, wo, wi, f);
     st_lf pass = st_coat_pass(c, wo, wi), coat = st_coat_eval(c, wo, wi);
     for (int k = 0; k < 3; k++)
         f[k] = f[k] * pass + coat;
 }
 
-ST_FN st_lf st_coated_pdf(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
-                          const st_coat *c, st_dir wo, st_dir wi)
+ST_FN st_lf st_coat_over_pdf(const st_coat *c, st_dir wo, st_dir wi, st_lf base)
 {
     st_lf p = st_coat_prob(c, wo);
-    return (1.0f - p) * st_sheened_pdf(b, d, s, wo, wi) + p * st_coat_lobe_pdf(c, wo, wi);
+    return (1.0f - p) * base + p * st_coat_lobe_pdf(c, wo, wi);
 }
 
-/* u1 below st_coat_prob picks the coat (u1 rescaled), else the base with
- * u1 rescaled to the rest; a coat reflection below the surface is lost
- * (0, 0, 0), as the base's. */
-ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
-                              const st_coat *c, st_dir wo, st_lf u1, st_lf u2, st_lf u3)
+/* A direction from the coat (u1 below st_coat_prob, rescaled), else `base`,
+ * made by the caller from u1 rescaled to the rest (st_coat_rest); a coat
+ * reflection below the surface is lost (0, 0, 0), as the base's. */
+ST_FN st_lf st_coat_rest(const st_coat *c, st_dir wo, st_lf u1)
+{
+    st_lf p = st_coat_prob(c, wo);
+    return ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f);
+}
+
+ST_FN st_dir st_coat_pick(const st_coat *c, st_dir wo, st_lf u1, st_lf u2, st_dir base)
 {
     st_lf p = st_coat_prob(c, wo);
     st_li coat = u1 < p;
-    st_dir wi = wo;
-    if (ST_ANY(ST_W, !coat))
-        wi = st_sheened_sample(b, d, s, wo, ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f), u2,
-                               u3);
+    st_dir wi = base;
     if (ST_ANY(ST_W, coat)) {
         st_dir h = st_ggx_visible_normal(c->alpha, wo, ST_FMINF(u1 / p, 0.99999994f), u2);
         st_dir r = st_reflect(wo, h);
@@ -113,6 +115,65 @@ ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st
         wi = st_lv3_select(wi, r, coat);
     }
     return wi;
+}
+
+ST_FN void st_coated_eval(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
+                          st_dir wi, st_lf *f)
+{
+    st_bsdf_eval(b, d, wo, wi, f);
+    st_lf pass = st_coat_pass(c, wo, wi), coat = st_coat_eval(c, wo, wi);
+    for (int k = 0; k < 3; k++)
+        f[k] = f[k] * pass + coat;
+}
+
+ST_FN st_lf st_coated_pdf(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
+                          st_dir wi)
+{
+    st_lf p = st_coat_prob(c, wo);
+    return (1.0f - p) * st_bsdf_pdf(b, d, wo, wi) + p * st_coat_lobe_pdf(c, wo, wi);
+}
+
+/* u1 below st_coat_prob picks the coat (u1 rescaled), else the base with
+ * u1 rescaled to the rest; a coat reflection below the surface is lost
+ * (0, 0, 0), as the base's. */
+ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st_coat *c,
+                              st_dir wo, st_lf u1, st_lf u2, st_lf u3)
+{
+    st_lf p = st_coat_prob(c, wo);
+    st_li coat = u1 < p;
+    st_dir wi = wo;
+    if (ST_ANY(ST_W, !coat))
+        wi = st_bsdf_sample(b, d, wo, ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f), u2, u3);
+    if (ST_ANY(ST_W, coat)) {
+        st_dir h = st_ggx_visible_normal(c->alpha, wo, ST_FMINF(u1 / p, 0.99999994f), u2);
+        st_dir r = st_reflect(wo, h);
+        r = st_lv3_select(r, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), r.z <= 0.0f);
+        wi = st_lv3_select(wi, r, coat);
+    }
+    return wi;
+}
+
+ST_FN void st_coated_sheened_eval(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                                  const st_coat *c, st_dir wo, st_dir wi, st_lf *f)
+{
+    st_sheened_eval(b, d, s, wo, wi, f);
+    st_coat_over(c, wo, wi, f);
+}
+
+ST_FN st_lf st_coated_sheened_pdf(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                                  const st_coat *c, st_dir wo, st_dir wi)
+{
+    return st_coat_over_pdf(c, wo, wi, st_sheened_pdf(b, d, s, wo, wi));
+}
+
+ST_FN st_dir st_coated_sheened_sample(const st_brdf *b, const st_dielectric *d,
+                                      const st_sheen *s, const st_coat *c, st_dir wo, st_lf u1,
+                                      st_lf u2, st_lf u3)
+{
+    st_dir wi = wo;
+    if (ST_ANY(ST_W, !(u1 < st_coat_prob(c, wo))))
+        wi = st_sheened_sample(b, d, s, wo, st_coat_rest(c, wo, u1), u2, u3);
+    return st_coat_pick(c, wo, u1, u2, wi);
 }
 
 #endif

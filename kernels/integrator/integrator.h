@@ -59,8 +59,14 @@ typedef struct st_vertex_in {
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
     float transmission[ST_W]; /* KHR_materials_transmission */
     float coat[ST_W], coat_rough[ST_W]; /* KHR_materials_clearcoat */
-    float sheen[3][ST_W], sheen_rough[ST_W]; /* KHR_materials_sheen */
 } st_vertex_in;
+
+/* KHR_materials_sheen's colour and roughness per lane, apart from
+ * st_vertex_in so that a vertex without a sheen neither clears nor reads
+ * them (vertex_gather clears them when it meets the first sheen). */
+typedef struct st_sheen_in {
+    float colour[3][ST_W], rough[ST_W];
+} st_sheen_in;
 
 #define ST_LV(a) ST_VLOAD(ST_W, a)
 #define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
@@ -94,8 +100,8 @@ static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
  * without a normal map). */
 typedef struct st_material_at {
     float4 base, spec, nmap;
-    float3 le, absorb, sheen;
-    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough, sheen_rough;
+    float3 le, absorb;
+    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough;
     st_u32 flags, alpha_mode;
     float alpha_cutoff;
 } st_material_at;
@@ -120,9 +126,6 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     a.absorb = a.transmission > 0.0f ? vload3(0, m->absorption) : (float3)(0.0f);
     a.coat = m->clearcoat;
     a.coat_rough = m->clearcoat_roughness;
-    int sheen = (m->flags & ST_MAT_SHEEN) != 0u;
-    a.sheen = sheen ? vload3(0, m->sheen_color) : (float3)(0.0f);
-    a.sheen_rough = sheen ? m->sheen_roughness : 0.0f;
     a.nmap = (float4)(0.0f);
     if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
@@ -133,8 +136,7 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
         m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
         m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
-        m->clearcoat_roughness_tex != ST_NO_TEXTURE ||
-        (sheen && (m->sheen_color_tex != ST_NO_TEXTURE || m->sheen_roughness_tex != ST_NO_TEXTURE))) {
+        m->clearcoat_roughness_tex != ST_NO_TEXTURE) {
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
         float b1 = h.u, b2 = h.v;
@@ -150,14 +152,42 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.transmission *= tex_lookup(x, m->transmission_tex, t, b1, b2, width, cos_nd, f).x;
         a.coat *= tex_lookup(x, m->clearcoat_tex, t, b1, b2, width, cos_nd, f).x;
         a.coat_rough *= tex_lookup(x, m->clearcoat_roughness_tex, t, b1, b2, width, cos_nd, f).y;
-        if (sheen) {
-            a.sheen *= tex_lookup(x, m->sheen_color_tex, t, b1, b2, width, cos_nd, f).xyz;
-            a.sheen_rough *= tex_lookup(x, m->sheen_roughness_tex, t, b1, b2, width, cos_nd, f).w;
-        }
         if (m->normal_tex != ST_NO_TEXTURE)
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
     return a;
+}
+
+/* The sheen (KHR_materials_sheen) of the lanes in `bits`, whose materials
+ * have ST_MAT_SHEEN, into sn (the other lanes' cleared): sheenColorFactor x
+ * texture RGB and sheenRoughnessFactor x texture alpha, looked up with
+ * material_at's footprint from what vertex_gather left in l. Done after
+ * the gather and out of line, so that a vertex without a sheen pays one
+ * bit test per lane. */
+ST_COLD void sheen_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                          const st_vertex_in *l, st_u32 bits, st_sheen_in *sn)
+{
+    *sn = (st_sheen_in){{{0.0f}}, {0.0f}};
+    float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+    st_tex_refs x = tex_refs(s);
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        st_u32 t = l->prim[k];
+        __global const st_material *m = &s->materials[s->tri_material[t]];
+        float3 c = vload3(0, m->sheen_color);
+        float r = m->sheen_roughness;
+        if (m->sheen_color_tex != ST_NO_TEXTURE || m->sheen_roughness_tex != ST_NO_TEXTURE) {
+            float width = p->camera.forward[3] > 0.5f ? px : px * l->travelled[k];
+            float cos_nd = -dot(lane3(l->ng, k), lane3(l->d, k));
+            float u = l->bu[k], v = l->bv[k];
+            st_u32 f = sh->texture_filter;
+            c *= tex_lookup(x, m->sheen_color_tex, t, u, v, width, cos_nd, f).xyz;
+            r *= tex_lookup(x, m->sheen_roughness_tex, t, u, v, width, cos_nd, f).w;
+        }
+        set_lane3(sn->colour, k, c);
+        sn->rough[k] = r;
+    }
 }
 
 /* Whether a ray goes on through the surface of material a: an alpha MASK
@@ -358,6 +388,7 @@ typedef struct st_vertex {
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
     st_u32 layer_bits;  /* the lanes with transmission, a sheen or a clear coat (of glossy) */
+    st_u32 sheen_bits;  /* the lanes with a sheen (of layer_bits) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -420,6 +451,17 @@ ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
     return st_lv3_select(ns, h, glossy && below > 0.0f);
 }
 
+/* The sheen of the lanes sheen_gather filled (black elsewhere). Out of
+ * line (ST_COLD), as every step of a sheen (sheen_gather, sheened_f_pdf,
+ * sheened_sample): their code inlined into the vertex made the vertices
+ * without a sheen run a few per cent more instructions (the bench Cornell
+ * box's shade_hits under callgrind). */
+ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
+{
+    st_lf sc[3] = {ST_LV(shn->colour[0]), ST_LV(shn->colour[1]), ST_LV(shn->colour[2])};
+    lay->sheen = st_sheen_make(sc, ST_LV(shn->rough));
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
@@ -427,7 +469,8 @@ ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
  * and the sheen where sheen_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
                                 st_u32 trans_bits, st_u32 coat_bits, st_u32 sheen_bits,
-                                st_layers *lay, st_li miss, const st_shading *sh, st_lf *cos_o)
+                                const st_sheen_in *shn, st_layers *lay, st_li miss,
+                                const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
     st_lv3 d = ST_LV3_OF(l->d);
@@ -440,6 +483,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.lay = lay;
     v.trans_bits = trans_bits;
     v.layer_bits = trans_bits | coat_bits | sheen_bits;
+    v.sheen_bits = sheen_bits;
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
     v.rad = st_lv3_add(ST_LV3_OF(l->rad), st_lv3_mul(v.beta, seen_emission(l, sh, miss, *cos_o)));
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
@@ -459,8 +503,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
             lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
-            st_lf sc[3] = {ST_LV(l->sheen[0]), ST_LV(l->sheen[1]), ST_LV(l->sheen[2])};
-            lay->sheen = st_sheen_make(sc, ST_LV(l->sheen_rough));
+            if (sheen_bits)
+                sheen_layer(shn, lay);
         }
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
@@ -483,6 +527,22 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
     return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
 }
 
+/* The whole material with its sheen (bsdf_coat.h's _sheened forms): f[3]
+ * and *pdf at li, and a direction from (u1, u2, u3). */
+ST_COLD void sheened_f_pdf(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
+{
+    const st_layers *y = v->lay;
+    st_coated_sheened_eval(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li, f);
+    *pdf = st_coated_sheened_pdf(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li);
+}
+
+ST_COLD st_dir sheened_sample(const st_vertex *v, st_lf u1, st_lf u2, st_lf u3)
+{
+    const st_layers *y = v->lay;
+    return st_coated_sheened_sample(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, u1, u2,
+                                    u3);
+}
+
 /* Where a lane is layered (transmissive, sheened or coated), f[3] and
  * *pdf (the BRDF's at li) become the whole material's (bsdf_coat.h: the
  * coat over bsdf_sheen.h's sheen over bsdf_dielectric.h's material); the
@@ -490,9 +550,13 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
 ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
 {
     st_lf ft[3];
-    const st_layers *y = v->lay;
-    st_coated_eval(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li, ft);
-    st_lf pt = st_coated_pdf(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li);
+    st_lf pt;
+    if (v->sheen_bits) {
+        sheened_f_pdf(v, li, ft, &pt);
+    } else {
+        st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
+        pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
+    }
     st_li layered = ST_BITS_MASK(ST_W, v->layer_bits);
     for (int k = 0; k < 3; k++)
         f[k] = ST_SELECT(ST_W, f[k], ft[k], layered);
@@ -579,11 +643,12 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     st_lv3 weight = v->albedo;
     if (ST_ANY(ST_W, v->glossy)) {
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
-        if (v->layer_bits)
-            g = st_lv3_select(
-                g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->sheen, &v->lay->coat,
-                                    v->wo_local, u1, u2, u3),
-                ST_BITS_MASK(ST_W, v->layer_bits));
+        if (v->layer_bits) {
+            st_dir c = v->sheen_bits ? sheened_sample(v, u1, u2, u3)
+                                     : st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat,
+                                                        v->wo_local, u1, u2, u3);
+            g = st_lv3_select(g, c, ST_BITS_MASK(ST_W, v->layer_bits));
+        }
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);
         if (v->layer_bits)

@@ -132,7 +132,7 @@ typedef struct st_lane_bits {
  * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
  * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
  * of b->trans for a transmissive one, of b->coated for a clear-coated one,
- * of b->sheened for one with a sheen)
+ * of b->sheened for one with a sheen, which sheen_gather reads)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
@@ -198,11 +198,8 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
         l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
         b->coated |= 1u << k;
     }
-    if (a.flags & ST_MAT_SHEEN) {
-        set_lane3(l->sheen, k, a.sheen);
-        l->sheen_rough[k] = a.sheen_rough;
+    if (a.flags & ST_MAT_SHEEN) /* sheen_gather reads its sheen */
         b->sheened |= 1u << k;
-    }
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
         /* met from inside: the medium absorbed along the segment (Beer-Lambert;
@@ -274,6 +271,7 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
                         __global const st_u32 *pmj02)
 {
     st_vertex_in l = {{{0}}};
+    st_sheen_in sn;
     st_u32 live = 0u;
     st_lane_bits b = {0u, 0u, 0u, 0u, 0u};
     for (st_u32 k = 0; k < n; k++)
@@ -282,13 +280,15 @@ ST_HOT void shade_lanes(const st_scene_refs *s, const st_params *p, const st_sha
     st_u32 miss = b.miss, trans = b.trans;
     if (!live)
         return;
+    if (b.sheened)
+        sheen_gather(s, p, sh, &l, b.sheened, &sn);
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(&l, trans != 0u);
     st_li missed = ST_BITS_MASK(ST_W, miss);
     st_lf cos_o;
     st_layers lay;
-    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, b.sheened, &lay, missed, sh,
-                                 &cos_o);
+    st_vertex v = vertex_surface(s, &l, b.nmapped, trans, b.coated, b.sheened, &sn, &lay, missed,
+                                 sh, &cos_o);
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~miss, goes = 0u;
     st_u32 refracted = 0u;

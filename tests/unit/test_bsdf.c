@@ -320,9 +320,9 @@ static double sampled_energy_layered(const st_brdf *b, const st_dielectric *d, c
     double sum = 0.0, sum2 = 0.0;
     for (int i = 0; i < n; i++) {
         float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s), u3 = (float)next_unit(&s);
-        st_dir wi = st_coated_sample(b, d, sh, c, wo, u1, u2, u3);
-        float f[3], pdf = st_coated_pdf(b, d, sh, c, wo, wi);
-        st_coated_eval(b, d, sh, c, wo, wi, f);
+        st_dir wi = st_coated_sheened_sample(b, d, sh, c, wo, u1, u2, u3);
+        float f[3], pdf = st_coated_sheened_pdf(b, d, sh, c, wo, wi);
+        st_coated_sheened_eval(b, d, sh, c, wo, wi, f);
         double w = pdf > 0.0f && wi.z != 0.0f ? f[ch] * fabs(wi.z) / pdf : 0.0;
         if (wi.z < 0.0f)
             w *= (double)d->eta * d->eta;
@@ -448,11 +448,11 @@ static void dielectric_is_reciprocal(void **state)
         const float sc[3] = {(float)next_unit(&s), (float)next_unit(&s), (float)next_unit(&s)};
         st_sheen sh = i % 3 ? no_sheen : st_sheen_make(sc, (float)next_unit(&s));
         float f[3], g[3];
-        st_coated_eval(&b, &d, &sh, &cc, wo, wi, f);
+        st_coated_sheened_eval(&b, &d, &sh, &cc, wo, wi, f);
         if (wi.z > 0.0f) {
-            st_coated_eval(&b, &d, &sh, &cc, wi, wo, g);
+            st_coated_sheened_eval(&b, &d, &sh, &cc, wi, wo, g);
         } else {
-            st_coated_eval(&br, &dr, &sh, &cc, mirror(wi), mirror(wo), g);
+            st_coated_sheened_eval(&br, &dr, &sh, &cc, mirror(wi), mirror(wo), g);
             for (int k = 0; k < 3; k++)
                 g[k] /= eta * eta;
             refractions += f[0] > 0.0f;
@@ -474,7 +474,7 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_shee
     double sum = 0.0;
     for (int i = 0; i < nz; i++)
         for (int j = 0; j < nphi; j++)
-            sum += st_coated_pdf(b, d, sh, c, wo,
+            sum += st_coated_sheened_pdf(b, d, sh, c, wo,
                                dir_from(-1.0 + 2.0 * (i + 0.5) / nz, 2 * PI * (j + 0.5) / nphi));
     return sum * 4.0 * PI / ((double)nz * nphi);
 }
@@ -525,7 +525,7 @@ static void transmission_sampler_passes_chi_square(void **state)
                     double e = 0.0;
                     for (int a = 0; a < SQ; a++)
                         for (int c = 0; c < SQ; c++)
-                            e += st_coated_pdf(&b, &d, &sh, &cc, wo,
+                            e += st_coated_sheened_pdf(&b, &d, &sh, &cc, wo,
                                                dir_from(-1.0 + 2.0 * (i + (a + 0.5) / SQ) / SZ,
                                                       2 * PI * (j + (c + 0.5) / SQ) / SPHI));
                     expct[i * SPHI + j] = e / (SQ * SQ) * 4 * PI / (SZ * SPHI) * n;
@@ -539,9 +539,9 @@ static void transmission_sampler_passes_chi_square(void **state)
             for (int i = 0; i < n; i++) {
                 float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s),
                       u3 = (float)next_unit(&s);
-                st_dir wi = st_coated_sample(&b, &d, &sh, &cc, wo, u1, u2, u3);
+                st_dir wi = st_coated_sheened_sample(&b, &d, &sh, &cc, wo, u1, u2, u3);
                 int bin = SZ * SPHI;
-                if (st_coated_pdf(&b, &d, &sh, &cc, wo, wi) > 0.0f) {
+                if (st_coated_sheened_pdf(&b, &d, &sh, &cc, wo, wi) > 0.0f) {
                     double phi = atan2(wi.y, wi.x);
                     int iz = (int)((wi.z + 1.0) / 2.0 * SZ),
                         ip = (int)((phi < 0 ? phi + 2 * PI : phi) / (2 * PI) * SPHI);
@@ -731,6 +731,36 @@ static void sheen_furnace(void **state)
         }
 }
 
+/* Without a sheen (black colour) the sheened material is the coated one bit
+ * for bit, f, pdf and samples: the kernels take the plain form for lanes
+ * without a sheen and the sheened one where some lane has one. */
+static void black_sheen_changes_nothing(void **state)
+{
+    (void)state;
+    uint64_t s = 17;
+    for (int i = 0; i < 3000; i++) {
+        st_dielectric d;
+        st_brdf b = glass((float)next_unit(&s), (float)next_unit(&s), (float)next_unit(&s),
+                          i % 2 ? (float)next_unit(&s) : 0.0f, 1.5f, &d);
+        st_coat cc = st_coat_make(i % 3 ? (float)next_unit(&s) : 0.0f, (float)next_unit(&s));
+        const float black[3] = {0.0f, 0.0f, 0.0f};
+        st_sheen sh = st_sheen_make(black, (float)next_unit(&s));
+        st_dir wo = dir_from(0.01 + 0.99 * next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir wi = dir_from(-1.0 + 2.0 * next_unit(&s), 2 * PI * next_unit(&s));
+        float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s), u3 = (float)next_unit(&s);
+        float f[3], g[3];
+        st_coated_eval(&b, &d, &cc, wo, wi, f);
+        st_coated_sheened_eval(&b, &d, &sh, &cc, wo, wi, g);
+        for (int k = 0; k < 3; k++)
+            assert_memory_equal(&f[k], &g[k], sizeof(float));
+        float p = st_coated_pdf(&b, &d, &cc, wo, wi), q = st_coated_sheened_pdf(&b, &d, &sh, &cc, wo, wi);
+        assert_memory_equal(&p, &q, sizeof(float));
+        st_dir a = st_coated_sample(&b, &d, &cc, wo, u1, u2, u3);
+        st_dir c = st_coated_sheened_sample(&b, &d, &sh, &cc, wo, u1, u2, u3);
+        assert_memory_equal(&a, &c, sizeof a);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -751,6 +781,7 @@ int main(void)
         cmocka_unit_test(sheen_distribution_is_normalised),
         cmocka_unit_test(sheen_table_matches_quadrature),
         cmocka_unit_test(sheen_furnace),
+        cmocka_unit_test(black_sheen_changes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
