@@ -453,9 +453,9 @@ ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
 
 /* The sheen of the lanes sheen_gather filled (black elsewhere). Out of
  * line (ST_COLD), as every step of a sheen (sheen_gather, sheened_f_pdf,
- * sheened_sample): their code inlined into the vertex made the vertices
- * without a sheen run a few per cent more instructions (the bench Cornell
- * box's shade_hits under callgrind). */
+ * sheened_sample), to keep the vertex's inlined code, which every vertex
+ * runs, close to what it is without a sheen; coated and transmissive lanes
+ * without a sheen run bsdf_coat.h's plain forms. */
 ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
 {
     st_lf sc[3] = {ST_LV(shn->colour[0]), ST_LV(shn->colour[1]), ST_LV(shn->colour[2])};
