@@ -67,7 +67,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/unit/test_*.c tests/device/test_*.c tests/image/test_*.c)
 TEST_BIN := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TESTS_C)))
 
-.PHONY: all deps bench-deps test test-unit test-device test-image test-cli test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures clean install FORCE
+.PHONY: all deps bench-deps test test-unit test-device test-image test-cli test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures sheen-table clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -249,6 +249,13 @@ $(BUILD)/make_icosphere: tools/make_icosphere.c | $(BUILD)
 $(ICOSPHERE): $(BUILD)/make_icosphere
 	@mkdir -p $(BUILD)/bench
 	$(BUILD)/make_icosphere $(BUILD)/bench/icosphere 7
+
+# The sheen's albedo table (tools/make_sheen_table.c), kept in the tree: it
+# takes some seconds, and changes only with the sheen's definition.
+$(BUILD)/make_sheen_table: tools/make_sheen_table.c | $(BUILD)
+	$(CC) -std=c11 -O2 $(WARN) -o $@ $< -lm
+sheen-table: $(BUILD)/make_sheen_table
+	$(BUILD)/make_sheen_table > kernels/integrator/sheen_table.h
 
 # Environment maps (tools/make_envmap.c): the sky of the README's model
 # pictures and the compass that shows the map's orientation.

@@ -21,7 +21,7 @@
  * Sampling: the coat's visible normals (reflected) with probability
  * st_coat_prob (w x its Fresnel towards wo, lifted so that its sharp lobe
  * is found, kept below 0.9 so that the base is too), else the base's own
- * sampling; the pdf is the mixture's. This file follows bsdf_dielectric.h. */
+ * sampling; the pdf is the mixture's. This file follows bsdf_sheen.h. */
 #ifndef ST_BSDF_COAT_H
 #define ST_BSDF_COAT_H
 
@@ -76,7 +76,46 @@ ST_FN st_lf st_coat_lobe_pdf(const st_coat *c, st_dir wo, st_dir wi)
     return ST_SELECT(ST_W, ST_LF(0.0f), p, wo.z > 0.0f && wi.z > 0.0f);
 }
 
-/* ---- the coated material: the coat over bsdf_dielectric.h's whole ---------- */
+/* ---- the coated material: the coat over bsdf_dielectric.h's whole, or
+ * over bsdf_sheen.h's sheened whole (the _sheened forms, which the
+ * kernels run only where a lane has a sheen) ------------------------------- */
+
+/* The coat over a base's f(wo, wi) in f[3], and over its pdf. */
+ST_FN void st_coat_over(const st_coat *c, st_dir wo, st_dir wi, st_lf *f)
+{
+    st_lf pass = st_coat_pass(c, wo, wi), coat = st_coat_eval(c, wo, wi);
+    for (int k = 0; k < 3; k++)
+        f[k] = f[k] * pass + coat;
+}
+
+ST_FN st_lf st_coat_over_pdf(const st_coat *c, st_dir wo, st_dir wi, st_lf base)
+{
+    st_lf p = st_coat_prob(c, wo);
+    return (1.0f - p) * base + p * st_coat_lobe_pdf(c, wo, wi);
+}
+
+/* A direction from the coat (u1 below st_coat_prob, rescaled), else `base`,
+ * made by the caller from u1 rescaled to the rest (st_coat_rest); a coat
+ * reflection below the surface is lost (0, 0, 0), as the base's. */
+ST_FN st_lf st_coat_rest(const st_coat *c, st_dir wo, st_lf u1)
+{
+    st_lf p = st_coat_prob(c, wo);
+    return ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f);
+}
+
+ST_FN st_dir st_coat_pick(const st_coat *c, st_dir wo, st_lf u1, st_lf u2, st_dir base)
+{
+    st_lf p = st_coat_prob(c, wo);
+    st_li coat = u1 < p;
+    st_dir wi = base;
+    if (ST_ANY(ST_W, coat)) {
+        st_dir h = st_ggx_visible_normal(c->alpha, wo, ST_FMINF(u1 / p, 0.99999994f), u2);
+        st_dir r = st_reflect(wo, h);
+        r = st_lv3_select(r, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), r.z <= 0.0f);
+        wi = st_lv3_select(wi, r, coat);
+    }
+    return wi;
+}
 
 ST_FN void st_coated_eval(const st_brdf *b, const st_dielectric *d, const st_coat *c, st_dir wo,
                           st_dir wi, st_lf *f)
@@ -112,6 +151,29 @@ ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st
         wi = st_lv3_select(wi, r, coat);
     }
     return wi;
+}
+
+ST_FN void st_coated_sheened_eval(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                                  const st_coat *c, st_dir wo, st_dir wi, st_lf *f)
+{
+    st_sheened_eval(b, d, s, wo, wi, f);
+    st_coat_over(c, wo, wi, f);
+}
+
+ST_FN st_lf st_coated_sheened_pdf(const st_brdf *b, const st_dielectric *d, const st_sheen *s,
+                                  const st_coat *c, st_dir wo, st_dir wi)
+{
+    return st_coat_over_pdf(c, wo, wi, st_sheened_pdf(b, d, s, wo, wi));
+}
+
+ST_FN st_dir st_coated_sheened_sample(const st_brdf *b, const st_dielectric *d,
+                                      const st_sheen *s, const st_coat *c, st_dir wo, st_lf u1,
+                                      st_lf u2, st_lf u3)
+{
+    st_dir wi = wo;
+    if (ST_ANY(ST_W, !(u1 < st_coat_prob(c, wo))))
+        wi = st_sheened_sample(b, d, s, wo, st_coat_rest(c, wo, u1), u2, u3);
+    return st_coat_pick(c, wo, u1, u2, wi);
 }
 
 #endif

@@ -61,6 +61,13 @@ typedef struct st_vertex_in {
     float coat[ST_W], coat_rough[ST_W]; /* KHR_materials_clearcoat */
 } st_vertex_in;
 
+/* KHR_materials_sheen's colour and roughness per lane, apart from
+ * st_vertex_in so that a vertex without a sheen neither clears nor reads
+ * them (vertex_gather clears them when it meets the first sheen). */
+typedef struct st_sheen_in {
+    float colour[3][ST_W], rough[ST_W];
+} st_sheen_in;
+
 #define ST_LV(a) ST_VLOAD(ST_W, a)
 #define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
 
@@ -149,6 +156,38 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
     return a;
+}
+
+/* The sheen (KHR_materials_sheen) of the lanes in `bits`, whose materials
+ * have ST_MAT_SHEEN, into sn (the other lanes' cleared): sheenColorFactor x
+ * texture RGB and sheenRoughnessFactor x texture alpha, looked up with
+ * material_at's footprint from what vertex_gather left in l. Done after
+ * the gather and out of line, so that a vertex without a sheen pays one
+ * bit test per lane. */
+ST_COLD void sheen_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                          const st_vertex_in *l, st_u32 bits, st_sheen_in *sn)
+{
+    *sn = (st_sheen_in){{{0.0f}}, {0.0f}};
+    float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+    st_tex_refs x = tex_refs(s);
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        st_u32 t = l->prim[k];
+        __global const st_material *m = &s->materials[s->tri_material[t]];
+        float3 c = vload3(0, m->sheen_color);
+        float r = m->sheen_roughness;
+        if (m->sheen_color_tex != ST_NO_TEXTURE || m->sheen_roughness_tex != ST_NO_TEXTURE) {
+            float width = p->camera.forward[3] > 0.5f ? px : px * l->travelled[k];
+            float cos_nd = -dot(lane3(l->ng, k), lane3(l->d, k));
+            float u = l->bu[k], v = l->bv[k];
+            st_u32 f = sh->texture_filter;
+            c *= tex_lookup(x, m->sheen_color_tex, t, u, v, width, cos_nd, f).xyz;
+            r *= tex_lookup(x, m->sheen_roughness_tex, t, u, v, width, cos_nd, f).w;
+        }
+        set_lane3(sn->colour, k, c);
+        sn->rough[k] = r;
+    }
 }
 
 /* Whether a ray goes on through the surface of material a: an alpha MASK
@@ -333,6 +372,7 @@ static void light_gather(const st_scene_refs *s, const st_params *p, const st_sh
  * st_vertex, so that a vertex without them stays as small as before). */
 typedef struct st_layers {
     st_dielectric diel; /* the transmission lobe (bsdf_dielectric.h) */
+    st_sheen sheen;     /* the sheen (bsdf_sheen.h) */
     st_coat coat;       /* the clear coat (bsdf_coat.h) */
 } st_layers;
 
@@ -347,7 +387,8 @@ typedef struct st_vertex {
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
-    st_u32 layer_bits;  /* the lanes with transmission or a clear coat (subsets of glossy) */
+    st_u32 layer_bits;  /* the lanes with transmission, a sheen or a clear coat (of glossy) */
+    st_u32 sheen_bits;  /* the lanes with a sheen (of layer_bits) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
@@ -419,13 +460,25 @@ ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
     return st_lv3_select(ns, h, glossy && below > 0.0f);
 }
 
+/* The sheen of the lanes sheen_gather filled (black elsewhere). Out of
+ * line (ST_COLD), as every step of a sheen (sheen_gather, sheened_f_pdf,
+ * sheened_sample), to keep the vertex's inlined code, which every vertex
+ * runs, close to what it is without a sheen; coated and transmissive lanes
+ * without a sheen run bsdf_coat.h's plain forms. */
+ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
+{
+    st_lf sc[3] = {ST_LV(shn->colour[0]), ST_LV(shn->colour[1]), ST_LV(shn->colour[2])};
+    lay->sheen = st_sheen_make(sc, ST_LV(shn->rough));
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
- * transmission > 0: vertex_gather) and the clear coat where coat_bits'
- * is. */
+ * transmission > 0: vertex_gather), the clear coat where coat_bits' is
+ * and the sheen where sheen_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_u32 trans_bits, st_u32 coat_bits, st_layers *lay, st_li miss,
+                                st_u32 trans_bits, st_u32 coat_bits, st_u32 sheen_bits,
+                                const st_sheen_in *shn, st_layers *lay, st_li miss,
                                 const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
@@ -438,7 +491,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.beta = ST_LV3_OF(l->beta);
     v.lay = lay;
     v.trans_bits = trans_bits;
-    v.layer_bits = trans_bits | coat_bits;
+    v.layer_bits = trans_bits | coat_bits | sheen_bits;
+    v.sheen_bits = sheen_bits;
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
     v.rad = vertex_radiance(l, sh, miss, *cos_o);
     v.ng = st_lv3_select(v.ng, st_lv3_neg(v.ng), *cos_o < 0.0f);
@@ -458,6 +512,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
             lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
+            if (sheen_bits)
+                sheen_layer(shn, lay);
         }
         v.albedo = st_lv3_select(
             v.albedo, st_lv3_make(v.brdf.diffuse[0], v.brdf.diffuse[1], v.brdf.diffuse[2]),
@@ -480,14 +536,36 @@ ST_HOT st_lv3 vertex_world(const st_vertex *v, st_dir w)
     return st_lv3_div(d, sqrt(st_lv3_dot(d, d)));
 }
 
-/* Where a lane is layered (transmissive or coated), f[3] and *pdf (the
- * BRDF's at li) become the whole material's (bsdf_coat.h: the coat over
- * bsdf_dielectric.h's material); the other lanes keep theirs bit for bit. */
+/* The whole material with its sheen (bsdf_coat.h's _sheened forms): f[3]
+ * and *pdf at li, and a direction from (u1, u2, u3). */
+ST_COLD void sheened_f_pdf(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
+{
+    const st_layers *y = v->lay;
+    st_coated_sheened_eval(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li, f);
+    *pdf = st_coated_sheened_pdf(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, li);
+}
+
+ST_COLD st_dir sheened_sample(const st_vertex *v, st_lf u1, st_lf u2, st_lf u3)
+{
+    const st_layers *y = v->lay;
+    return st_coated_sheened_sample(&v->brdf, &y->diel, &y->sheen, &y->coat, v->wo_local, u1, u2,
+                                    u3);
+}
+
+/* Where a lane is layered (transmissive, sheened or coated), f[3] and
+ * *pdf (the BRDF's at li) become the whole material's (bsdf_coat.h: the
+ * coat over bsdf_sheen.h's sheen over bsdf_dielectric.h's material); the
+ * other lanes keep theirs bit for bit. */
 ST_HOT void bsdf_with_layers(const st_vertex *v, st_dir li, st_lf *f, st_lf *pdf)
 {
     st_lf ft[3];
-    st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
-    st_lf pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
+    st_lf pt;
+    if (v->sheen_bits) {
+        sheened_f_pdf(v, li, ft, &pt);
+    } else {
+        st_coated_eval(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li, ft);
+        pt = st_coated_pdf(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, li);
+    }
     st_li layered = ST_BITS_MASK(ST_W, v->layer_bits);
     for (int k = 0; k < 3; k++)
         f[k] = ST_SELECT(ST_W, f[k], ft[k], layered);
@@ -574,10 +652,12 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     st_lv3 weight = v->albedo;
     if (ST_ANY(ST_W, v->glossy)) {
         st_dir g = st_brdf_sample(&v->brdf, v->wo_local, u1, u2);
-        if (v->layer_bits)
-            g = st_lv3_select(
-                g, st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat, v->wo_local, u1, u2, u3),
-                ST_BITS_MASK(ST_W, v->layer_bits));
+        if (v->layer_bits) {
+            st_dir c = v->sheen_bits ? sheened_sample(v, u1, u2, u3)
+                                     : st_coated_sample(&v->brdf, &v->lay->diel, &v->lay->coat,
+                                                        v->wo_local, u1, u2, u3);
+            g = st_lv3_select(g, c, ST_BITS_MASK(ST_W, v->layer_bits));
+        }
         st_lf f[3], gp = st_brdf_pdf(&v->brdf, v->wo_local, g);
         st_brdf_eval(&v->brdf, v->wo_local, g, f);
         if (v->layer_bits)

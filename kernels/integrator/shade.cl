@@ -19,8 +19,8 @@
  * Materials: the glTF metallic-roughness BRDF (bsdf.h; a Lambertian one,
  * specularFactor 0, takes the cheap cosine path), with transmission
  * (bsdf_dielectric.h: the path refracts and goes on from the other side;
- * KHR_materials_volume's absorption on the segments inside) and a clear
- * coat (bsdf_coat.h) where the material has them, its factors times their
+ * KHR_materials_volume's absorption on the segments inside), a sheen
+ * (bsdf_sheen.h) and a clear coat (bsdf_coat.h) where the material has them, its factors times their
  * textures (texture.h). Next-event estimation samples lights on the side
  * the ray arrived from only; a refracted BSDF sample's emission takes MIS
  * weight 1 (bsdf_pdf 0: no light sample makes it). KHR_materials_unlit shows its base colour from
@@ -63,6 +63,7 @@
 #include "lights.h"
 #include "bsdf.h"
 #include "bsdf_dielectric.h"
+#include "bsdf_sheen.h"
 #include "bsdf_coat.h"
 #include "integrator.h"
 #include "shadow.h"
@@ -122,7 +123,7 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
-    st_u32 miss, nmapped, trans, coated;
+    st_u32 miss, nmapped, trans, coated, sheened;
     st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
@@ -131,7 +132,8 @@ typedef struct st_lane_bits {
  * KHR_materials_unlit surface (its colour, from either side, and no more)
  * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
  * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
- * of b->trans for a transmissive one, of b->coated for a clear-coated one)
+ * of b->trans for a transmissive one, of b->coated for a clear-coated one,
+ * of b->sheened for one with a sheen, which sheen_gather reads)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
@@ -198,6 +200,8 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
         l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
         b->coated |= 1u << k;
     }
+    if (a.flags & ST_MAT_SHEEN) /* sheen_gather reads its sheen */
+        b->sheened |= 1u << k;
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
         /* met from inside: the medium absorbed along the segment (Beer-Lambert;
@@ -266,11 +270,14 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
                              st_vertex_in *l, const st_lane_bits *b, st_u32 scatters,
                              st_vertex_out *o, st_u32 *refracted)
 {
+    st_sheen_in sn;
+    if (b->sheened)
+        sheen_gather(s, p, sh, l, b->sheened, &sn);
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(l, b->trans != 0u);
     st_lf cos_o;
     st_layers lay;
-    st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->coated, &lay,
+    st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->coated, b->sheened, &sn, &lay,
                                  ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
     lv3_store(v.rad, o->rad);
     st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
@@ -314,7 +321,7 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
 {
     st_vertex_in l = {{{0}}};
     st_u32 live = 0u, item[ST_W];
-    st_lane_bits b = {0u, 0u, 0u, 0u, 0u};
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u};
     for (st_u32 k = 0; k < n; k++)
         item[k] = list ? list[first + k] : first + k;
     for (st_u32 k = 0; k < n; k++)

@@ -226,6 +226,7 @@ typedef struct st_tri_normals {
 #define ST_MAT_UNLIT 1u /* KHR_materials_unlit: shows its base colour, unlit */
 #define ST_MAT_VERTEX_COLOR 2u /* some triangle of it has a COLOR_0 other than white */
 #define ST_MAT_DOUBLE_SIDED 4u /* glTF doubleSided: its triangles are hit from both sides */
+#define ST_MAT_SHEEN 8u        /* KHR_materials_sheen with a sheen colour other than black */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
@@ -237,7 +238,9 @@ typedef struct st_tri_normals {
  * normal map, read in the frame of st_tri_tangents), transmission_tex
  * (KHR_materials_transmission's transmissionTexture, linear, R),
  * clearcoat_tex and clearcoat_roughness_tex (KHR_materials_clearcoat's
- * clearcoatTexture, R, and clearcoatRoughnessTexture, G; linear). */
+ * clearcoatTexture, R, and clearcoatRoughnessTexture, G; linear),
+ * sheen_color_tex and sheen_roughness_tex (KHR_materials_sheen's
+ * sheenColorTexture, sRGB RGB, and sheenRoughnessTexture, linear A). */
 typedef struct st_material {
     st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
     st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
@@ -258,7 +261,9 @@ typedef struct st_material {
                               -ln(attenuationColor) / attenuationDistance (0: clear) */
     st_f32 clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors, 0 and 0 */
     st_u32 clearcoat_tex, clearcoat_roughness_tex;
-    st_u32 pad[2];
+    st_f32 sheen_color[3];  /* KHR_materials_sheen's sheenColorFactor, 0 (no sheen) */
+    st_f32 sheen_roughness; /* its sheenRoughnessFactor, 0 */
+    st_u32 sheen_color_tex, sheen_roughness_tex;
 } st_material;
 
 /* A KHR_lights_punctual light in world space (st_lights.h). */
@@ -646,7 +651,9 @@ static st_u32 st_live_count(const st_params *p)
     X(st_material, normal_tex) X(st_material, normal_scale) X(st_material, transmission)    \
     X(st_material, transmission_tex) X(st_material, absorption) X(st_material, clearcoat)   \
     X(st_material, clearcoat_roughness) X(st_material, clearcoat_tex)                       \
-    X(st_material, clearcoat_roughness_tex)                                                 \
+    X(st_material, clearcoat_roughness_tex) X(st_material, sheen_color)                     \
+    X(st_material, sheen_roughness) X(st_material, sheen_color_tex)                         \
+    X(st_material, sheen_roughness_tex)                                                     \
     X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
     X(st_tri_colors, c0) X(st_tri_colors, c1) X(st_tri_colors, c2)                          \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
@@ -704,7 +711,7 @@ ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
                  "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 144, "st_material: 144 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 160, "st_material: 160 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");

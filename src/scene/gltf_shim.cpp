@@ -8,7 +8,7 @@
  * §3.7.2.2 morph targets, §3.7.3 skins, and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
  * KHR_materials_transmission, KHR_materials_volume (attenuation),
- * KHR_materials_clearcoat (no clearcoatNormalTexture),
+ * KHR_materials_clearcoat (no clearcoatNormalTexture), KHR_materials_sheen,
  * KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness (converted),
  * KHR_texture_transform, KHR_mesh_quantization, KHR_lights_punctual and
  * EXT_mesh_gpu_instancing.
@@ -315,7 +315,8 @@ const char *const supported_extensions[] = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
     "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
     "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness",
-    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat"};
+    "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
+    "KHR_materials_sheen"};
 
 bool supported(const char *ext)
 {
@@ -2053,6 +2054,32 @@ void read_clearcoat(const Model &m, size_t i, texture_table &table, notes &warn,
                  what);
 }
 
+/* KHR_materials_sheen of material i: sheenColorFactor (0, 0, 0: no sheen)
+ * times sheenColorTexture's RGB (sRGB), sheenRoughnessFactor (0) times
+ * sheenRoughnessTexture's alpha (linear). */
+void read_sheen(const Model &m, size_t i, texture_table &table, notes &warn, st_gltf_material &o)
+{
+    o.sheen_color[0] = o.sheen_color[1] = o.sheen_color[2] = o.sheen_roughness = 0.0f;
+    o.sheen_color_tex = o.sheen_roughness_tex = -1;
+    auto sh = m.materials[i].extensions.find("KHR_materials_sheen");
+    if (sh == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = sh->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_sheen", i);
+    ext_numbers(v, "sheenColorFactor", 3, o.sheen_color, what);
+    o.sheen_roughness = float(ext_number(v, "sheenRoughnessFactor", 0.0, what));
+    for (int k = 0; k < 3; k++)
+        if (!(o.sheen_color[k] >= 0.0f && o.sheen_color[k] <= 1.0f))
+            fail("%s: sheenColorFactor must lie in [0, 1]", what);
+    if (!(o.sheen_roughness >= 0.0f && o.sheen_roughness <= 1.0f))
+        fail("%s: sheenRoughnessFactor must lie in [0, 1]", what);
+    o.sheen_color_tex = texture_ref(m, ext_texture_info(v, "sheenColorTexture", what), true, i,
+                                    "sheenColorTexture", table, warn);
+    o.sheen_roughness_tex = texture_ref(m, ext_texture_info(v, "sheenRoughnessTexture", what),
+                                        false, i, "sheenRoughnessTexture", table, warn);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -2184,6 +2211,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     read_specular_ior_unlit(m, i, table, warn, o);
     read_transmission_volume(m, i, table, warn, o);
     read_clearcoat(m, i, table, warn, o);
+    read_sheen(m, i, table, warn, o);
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;

@@ -471,6 +471,12 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->clearcoat_roughness = in->clearcoat_roughness;
         m->clearcoat_tex = texture_index(in->clearcoat_tex);
         m->clearcoat_roughness_tex = texture_index(in->clearcoat_roughness_tex);
+        memcpy(m->sheen_color, in->sheen_color, sizeof m->sheen_color);
+        m->sheen_roughness = in->sheen_roughness;
+        m->sheen_color_tex = texture_index(in->sheen_color_tex);
+        m->sheen_roughness_tex = texture_index(in->sheen_roughness_tex);
+        if (in->sheen_color[0] > 0.0f || in->sheen_color[1] > 0.0f || in->sheen_color[2] > 0.0f)
+            m->flags |= ST_MAT_SHEEN; /* a black sheen colour turns the layer off */
         for (int k = 0; k < 3; k++) /* Beer-Lambert: attenuationColor after attenuationDistance */
             m->absorption[k] = isinf(in->attenuation[3]) || in->attenuation[k] >= 1.0f
                                    ? 0.0f
@@ -488,6 +494,7 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->specular_tex = m->specular_color_tex = m->normal_tex = ST_NO_TEXTURE;
         m->normal_scale = 1.0f;
         m->transmission_tex = m->clearcoat_tex = m->clearcoat_roughness_tex = ST_NO_TEXTURE;
+        m->sheen_color_tex = m->sheen_roughness_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

@@ -346,6 +346,7 @@ static const char *const shade_scenes[] = {
     "../shared/scenes/bench/cornell.gltf", "cornell-box", "tests/scenes/shade_mix.gltf",
     "tests/scenes/textures.gltf", "tests/scenes/punctual.gltf", "tests/scenes/glass.gltf",
     "tests/scenes/coat.gltf",
+    "tests/scenes/sheen.gltf", "tests/scenes/sheen_quad.gltf",
     "../shared/scenes/khronos/VC/VC.gltf",
     "../shared/scenes/khronos/EmissiveStrengthTest/EmissiveStrengthTest.gltf",
     "../shared/scenes/khronos/DamagedHelmet/DamagedHelmet.glb"};

@@ -38,7 +38,8 @@ cutout        two quads seen by an orthographic camera: the front one red,
               (both Lambertian: specularFactor 0).
 image_*       textured_quad with an image that cannot be decoded or read: a
               warning, and a white texture in its place.
-uses_sheen    textured_quad using (not requiring) KHR_materials_sheen: a warning.
+uses_iridescence  textured_quad using (not requiring) KHR_materials_iridescence: a
+              warning.
 quad_strip, quad_fan  the quad as a TRIANGLE_STRIP and as a TRIANGLE_FAN.
 quad_sparse   the quad with vertex 2 moved to (2, 3, 0) by a sparse accessor
               (quad_sparse_zeros: over zeros, every vertex sparse).
@@ -140,6 +141,14 @@ coat_quad     two quads face-on to an orthographic camera, Lambertian black
               (left) and white (right) under a full smooth clear coat; coat:
               glass's floor, wall and light with a coated red Lambertian
               sphere, a coated rough gold one and coated glass.
+sheen_quad    two Lambertian quads (specularFactor 0) side by side, turned 60
+              degrees about x, seen by an orthographic camera at cos 0.5: black
+              under a sheen of colour (1, 0.5, 0.25) x a white sheenColorTexture
+              and roughness 1 x a sheenRoughnessTexture of alpha 128 (left),
+              white under a sheen of colour 0.8 and roughness 0.5 (right);
+              sheen: glass's floor, wall and light with a red velvet sphere
+              (sheen 0.9, roughness 0.3), a rough gold one under sheen and coat
+              and glass under a sheen.
 bad_*         malformed files, each wrong in one way (named by the file).
 """
 import base64
@@ -1160,6 +1169,53 @@ def write_coat():
     write_json("coat.gltf", g)
 
 
+def write_sheen():
+    """sheen_quad and sheen (see the top)."""
+    b = Blob()
+    left, right = b.quad(0.0, QUAD_UV), b.quad(0.0, QUAD_UV)
+    left["material"], right["material"] = 0, 1
+
+    def sheened(rgb, colour, rough, metallic=0.0, roughness=1.0, extra=None, textures=None):
+        sheen = {"sheenColorFactor": list(colour), "sheenRoughnessFactor": rough}
+        sheen.update(textures or {})
+        ext = {"KHR_materials_sheen": sheen}
+        if metallic == 0.0 and extra is None:
+            ext["KHR_materials_specular"] = {"specularFactor": 0.0}
+        ext.update(extra or {})
+        return {"pbrMetallicRoughness": {"baseColorFactor": list(rgb) + [1.0],
+                                         "metallicFactor": metallic,
+                                         "roughnessFactor": roughness},
+                "extensions": ext}
+    tilt = [math.sin(math.radians(-30.0)), 0.0, 0.0, math.cos(math.radians(-30.0))]
+    images = [{"uri": png_uri(constant_png((255, 255, 255)))},
+              {"uri": png_uri(png(4, 4, 4, [[0, 0, 0, 128] * 4] * 4))}]
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0], "rotation": tilt},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0], "rotation": tilt},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[sheened((0.0, 0.0, 0.0), (1.0, 0.5, 0.25), 1.0,
+                               textures={"sheenColorTexture": {"index": 0},
+                                         "sheenRoughnessTexture": {"index": 1}}),
+                       sheened((1.0, 1.0, 1.0), (0.8, 0.8, 0.8), 0.5)],
+            images=images, textures=[{"source": 0}, {"source": 1}],
+            extensionsUsed=["KHR_materials_sheen", "KHR_materials_specular"])
+    write_json("sheen_quad.gltf", g)
+    glass = sheened((1.0, 1.0, 1.0), (0.6, 0.7, 0.9), 0.2, roughness=0.0,
+                    extra={"KHR_materials_transmission": {"transmissionFactor": 1.0}})
+    g = glass_scene(glass, light=True)
+    g["materials"][3] = sheened((0.5, 0.05, 0.05), (0.9, 0.9, 0.9), 0.3)
+    g["materials"][4] = sheened((1.0, 0.8, 0.4), (0.3, 0.5, 1.0), 0.7, metallic=1.0,
+                                roughness=0.5,
+                                extra={"KHR_materials_clearcoat": {"clearcoatFactor": 0.7,
+                                                                   "clearcoatRoughnessFactor": 0.3}})
+    g["extensionsUsed"] += ["KHR_materials_sheen", "KHR_materials_clearcoat"]
+    write_json("sheen.gltf", g)
+
+
 def glass_scene(third, light):
     """A Lambertian floor and back wall, a quad light above (where `light`),
     a smooth glass sphere, a rough one with absorption and `third`."""
@@ -1370,7 +1426,8 @@ def write_bad():
         g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_draco_mesh_compression"]
         g["accessors"][0]["bufferView"] = 99
     variant("bad_requires_draco.gltf", draco)
-    variant("uses_sheen.gltf", lambda g: g.update(extensionsUsed=["KHR_materials_sheen"]))
+    variant("uses_iridescence.gltf",
+            lambda g: g.update(extensionsUsed=["KHR_materials_iridescence"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
             ["baseColorTexture"].update(index=7))
     variant("bad_image_index.gltf", lambda g: g["textures"][1].update(source=9))
@@ -1415,6 +1472,7 @@ def main():
     write_shade_mix()
     write_glass()
     write_coat()
+    write_sheen()
     write_quantized()
     write_bad()
 

@@ -770,8 +770,38 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
         assert_int_equal(s->texels[t->offset], 0xffffffffu);
         st_scene_destroy(s);
     }
-    st_scene *s = load_ok(SCENES "uses_sheen.gltf");
-    assert_true(has_warning(s, "uses extension KHR_materials_sheen, which strata ignores"));
+    st_scene *s = load_ok(SCENES "uses_iridescence.gltf");
+    assert_true(has_warning(s, "uses extension KHR_materials_iridescence, which strata ignores"));
+    st_scene_destroy(s);
+}
+
+/* KHR_materials_sheen's factors and textures as the specification names
+ * them (tests/scenes/sheen_quad.gltf): sheenColorTexture decoded as sRGB,
+ * sheenRoughnessTexture read linear, ST_MAT_SHEEN where the colour is not
+ * black, and no warning. */
+static void sheen_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "sheen_quad.gltf");
+    assert_false(has_warning(s, "KHR_materials_sheen"));
+    const st_material *m = &s->materials[0], *w = &s->materials[1];
+    near3(m->sheen_color, 1.0, 0.5, 0.25, 0.0, "sheenColorFactor");
+    near(m->sheen_roughness, 1.0, 0.0, "sheenRoughnessFactor");
+    assert_true(m->flags & ST_MAT_SHEEN);
+    assert_int_not_equal(m->sheen_color_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(m->sheen_roughness_tex, ST_NO_TEXTURE);
+    assert_true(s->textures[m->sheen_color_tex].flags & ST_TEX_SRGB);
+    assert_false(s->textures[m->sheen_roughness_tex].flags & ST_TEX_SRGB);
+    near3(w->sheen_color, 0.8, 0.8, 0.8, 1e-7, "sheenColorFactor");
+    near(w->sheen_roughness, 0.5, 0.0, "sheenRoughnessFactor");
+    assert_int_equal(w->sheen_color_tex, ST_NO_TEXTURE);
+    assert_int_equal(w->sheen_roughness_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat.gltf"); /* no sheen: black, no flag */
+    for (st_u32 i = 0; i < s->material_count; i++) {
+        assert_false(s->materials[i].flags & ST_MAT_SHEEN);
+        near3(s->materials[i].sheen_color, 0.0, 0.0, 0.0, 0.0, "no sheen");
+    }
     st_scene_destroy(s);
 }
 
@@ -1325,6 +1355,7 @@ int main(void)
         cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
+        cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(auto_camera_sees_the_largest_face),
         cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(sparse_accessors_substitute_values),
