@@ -355,14 +355,21 @@ static const char *const shade_scenes[] = {
  * integrators, a uniform environment or the scene's own lighting, the
  * random sampler (its dimensions made in lanes) and Halton, waves that fill
  * no last lane. */
+/* Whether scene `name` lies in ../shared and is not there (a note says so). */
+static int absent(const char *name)
+{
+    if (strncmp(name, "../shared", 9) != 0 || access(name, R_OK) == 0)
+        return 0;
+    print_message("note: %s not found; skipped\n", name);
+    return 1;
+}
+
 static void same_shade_scenes(void)
 {
     static const st_u32 waves[] = {0, 333, 1001};
     for (size_t k = 0; k < sizeof shade_scenes / sizeof shade_scenes[0]; k++) {
-        if (strncmp(shade_scenes[k], "../shared", 9) == 0 && access(shade_scenes[k], R_OK) != 0) {
-            print_message("note: %s not found; skipped\n", shade_scenes[k]);
+        if (absent(shade_scenes[k]))
             continue;
-        }
         for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
             st_render_options o = small(37, 23, 3);
             o.integrator = w == 1 ? ST_INTEGRATOR_DIRECT : ST_INTEGRATOR_PATH;
@@ -447,10 +454,8 @@ static void live_lists_keep_every_path(void **state)
     (void)state;
     static const st_u32 waves[] = {0, 333, 1001};
     for (size_t k = 0; k < sizeof shade_scenes / sizeof shade_scenes[0]; k++) {
-        if (strncmp(shade_scenes[k], "../shared", 9) == 0 && access(shade_scenes[k], R_OK) != 0) {
-            print_message("note: %s not found; skipped\n", shade_scenes[k]);
+        if (absent(shade_scenes[k]))
             continue;
-        }
         for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
             st_render_options o = small(37, 23, 3);
             o.integrator = w == 2 ? ST_INTEGRATOR_DIRECT : ST_INTEGRATOR_PATH;
