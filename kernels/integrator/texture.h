@@ -34,12 +34,25 @@
 
 #ifndef __OPENCL_VERSION__
 #include "st_shared.h"
-#define ST_FLOORF(x) floorf(x)
 #define ST_LOG2F(x) log2f(x)
 #else
-#define ST_FLOORF(x) floor(x)
 #define ST_LOG2F(x) log2(x)
 #endif
+
+/* floor(x), but for -0, which becomes +0 (no lookup tells them apart): a
+ * float of magnitude 2^23 or more is an integer already, and is returned
+ * as it is, as are NaN and the infinities; below, the truncation, less one
+ * where it rounded up. The lookups take floors of every coordinate, and
+ * PoCL's CPU devices make OpenCL's floor() a run of compares and branches
+ * (objdump of the kernels), where this is a few branch-free instructions,
+ * the same text on the host. */
+ST_FN st_f32 st_tex_floor(st_f32 x)
+{
+    int small = x < 8388608.0f && x > -8388608.0f;
+    st_f32 t = (st_f32)(st_i32)(small ? x : 0.0f); /* no conversion out of range */
+    t = t > x ? t - 1.0f : t;
+    return small ? t : x;
+}
 
 /* sRGB decode (IEC 61966-2-1:1999): c = b / 255,
  *   linear = c / 12.92                   c <= 0.04045
@@ -97,21 +110,32 @@ ST_FN st_f32 st_srgb_to_linear(st_u32 byte)
     return st_srgb_table[byte & 255u];
 }
 
-/* Texel index i of a lattice of n texels, wrapped into [0, n). i is small:
- * st_tex_reduce has already brought the coordinate within two periods. */
+/* i mod p in [0, p). The lookups' i is at most one period outside [0, p)
+ * (st_tex_reduce has brought the coordinate within two periods, and a
+ * texel's neighbour is one off): a conditional add or subtract brings it
+ * home without the integer division of `%`, which any other i takes. */
+ST_FN st_i32 st_tex_mod(st_i32 i, st_i32 p)
+{
+    i = i < 0 ? i + p : i;
+    i = i >= p ? i - p : i;
+    if ((st_u32)i >= (st_u32)p) {
+        i %= p;
+        i = i < 0 ? i + p : i;
+    }
+    return i;
+}
+
+/* Texel index i of a lattice of n texels, wrapped into [0, n). */
 ST_FN st_i32 st_tex_wrap(st_i32 i, st_i32 n, st_u32 mode)
 {
     if (mode == ST_WRAP_CLAMP)
         return i < 0 ? 0 : i >= n ? n - 1 : i;
     if (mode == ST_WRAP_MIRROR) {
         st_i32 p = 2 * n;
-        i %= p;
-        if (i < 0)
-            i += p;
+        i = st_tex_mod(i, p);
         return i < n ? i : p - 1 - i;
     }
-    i %= n;
-    return i < 0 ? i + n : i;
+    return st_tex_mod(i, n);
 }
 
 /* A coordinate brought into one or two periods before it is scaled to
@@ -125,8 +149,8 @@ ST_FN st_f32 st_tex_reduce(st_f32 u, st_u32 mode)
     if (mode == ST_WRAP_CLAMP)
         return u < -1.0f ? -1.0f : u > 2.0f ? 2.0f : u;
     if (mode == ST_WRAP_MIRROR)
-        return u - 2.0f * ST_FLOORF(0.5f * u);
-    return u - ST_FLOORF(u);
+        return u - 2.0f * st_tex_floor(0.5f * u);
+    return u - st_tex_floor(u);
 }
 
 /* One texel of a level (first texel `base`, w texels a row) as linear RGBA. */
@@ -141,18 +165,23 @@ ST_FN void st_tex_texel(ST_GLOBAL const st_u32 *texels, st_u32 base, st_u32 w, s
     out[3] = (st_f32)(t >> 24) * (1.0f / 255.0f);
 }
 
-/* First texel and size of level `level` (level 0 at tex->offset; each level
- * max(1, w/2) x max(1, h/2), stored right after the previous one). */
+/* The level after the one of first texel *base and size *w x *h: each
+ * level max(1, w/2) x max(1, h/2), stored right after the previous one. */
+ST_FN void st_tex_next_level(st_u32 *base, st_u32 *w, st_u32 *h)
+{
+    *base += *w * *h;
+    *w = *w > 1u ? *w / 2u : 1u;
+    *h = *h > 1u ? *h / 2u : 1u;
+}
+
+/* First texel and size of level `level` (level 0 at tex->offset). */
 ST_FN st_u32 st_tex_level(ST_GLOBAL const st_texture *tex, st_u32 level, st_u32 *w, st_u32 *h)
 {
-    st_u32 base = tex->offset, lw = tex->width, lh = tex->height;
-    for (st_u32 l = 0; l < level; l++) {
-        base += lw * lh;
-        lw = lw > 1u ? lw / 2u : 1u;
-        lh = lh > 1u ? lh / 2u : 1u;
-    }
-    *w = lw;
-    *h = lh;
+    st_u32 base = tex->offset;
+    *w = tex->width;
+    *h = tex->height;
+    for (st_u32 l = 0; l < level; l++)
+        st_tex_next_level(&base, w, h);
     return base;
 }
 
@@ -162,23 +191,22 @@ ST_FN void st_tex_nearest(ST_GLOBAL const st_texture *tex, ST_GLOBAL const st_u3
 {
     st_u32 w, h;
     st_u32 base = st_tex_level(tex, level, &w, &h);
-    st_i32 x = (st_i32)ST_FLOORF(st_tex_reduce(u, tex->wrap_s) * (st_f32)w);
-    st_i32 y = (st_i32)ST_FLOORF(st_tex_reduce(v, tex->wrap_t) * (st_f32)h);
+    st_i32 x = (st_i32)st_tex_floor(st_tex_reduce(u, tex->wrap_s) * (st_f32)w);
+    st_i32 y = (st_i32)st_tex_floor(st_tex_reduce(v, tex->wrap_t) * (st_f32)h);
     x = st_tex_wrap(x, (st_i32)w, tex->wrap_s);
     y = st_tex_wrap(y, (st_i32)h, tex->wrap_t);
     st_tex_texel(texels, base, w, x, y, tex->flags & ST_TEX_SRGB, out);
 }
 
-/* Bilinear interpolation of the four texels around (u, v) in a level, texel
- * centres at (i + 1/2) / w. */
-ST_FN void st_tex_bilinear(ST_GLOBAL const st_texture *tex, ST_GLOBAL const st_u32 *texels,
-                           st_u32 level, st_f32 u, st_f32 v, st_f32 out[4])
+/* Bilinear interpolation of the four texels around (u, v) in the level of
+ * first texel `base` and size w x h, texel centres at (i + 1/2) / w. */
+ST_FN void st_tex_bilinear_in(ST_GLOBAL const st_texture *tex, ST_GLOBAL const st_u32 *texels,
+                              st_u32 base, st_u32 w, st_u32 h, st_f32 u, st_f32 v, st_f32 out[4])
 {
-    st_u32 w, h, srgb = tex->flags & ST_TEX_SRGB;
-    st_u32 base = st_tex_level(tex, level, &w, &h);
+    st_u32 srgb = tex->flags & ST_TEX_SRGB;
     st_f32 x = st_tex_reduce(u, tex->wrap_s) * (st_f32)w - 0.5f;
     st_f32 y = st_tex_reduce(v, tex->wrap_t) * (st_f32)h - 0.5f;
-    st_f32 fx0 = ST_FLOORF(x), fy0 = ST_FLOORF(y);
+    st_f32 fx0 = st_tex_floor(x), fy0 = st_tex_floor(y);
     st_f32 fx = x - fx0, fy = y - fy0;
     st_i32 x0 = (st_i32)fx0, y0 = (st_i32)fy0;
     st_i32 xs[2], ys[2];
@@ -196,6 +224,14 @@ ST_FN void st_tex_bilinear(ST_GLOBAL const st_texture *tex, ST_GLOBAL const st_u
             for (st_u32 c = 0; c < 4u; c++)
                 out[c] += wgt * t[c];
         }
+}
+
+/* st_tex_bilinear_in on level `level`. */
+ST_FN void st_tex_bilinear(ST_GLOBAL const st_texture *tex, ST_GLOBAL const st_u32 *texels,
+                           st_u32 level, st_f32 u, st_f32 v, st_f32 out[4])
+{
+    st_u32 w, h, base = st_tex_level(tex, level, &w, &h);
+    st_tex_bilinear_in(tex, texels, base, w, h, u, v, out);
 }
 
 /* The texture at (u, v) (before its transform) with level of detail lod,
@@ -221,10 +257,12 @@ ST_FN void st_tex_sample(ST_GLOBAL const st_texture *tex, ST_GLOBAL const st_u32
         st_tex_bilinear(tex, texels, tex->levels - 1u, tu, tv, out);
         return;
     }
-    st_f32 l0 = ST_FLOORF(lod), f = lod - l0;
+    st_f32 l0 = st_tex_floor(lod), f = lod - l0;
     st_f32 hi[4];
-    st_tex_bilinear(tex, texels, (st_u32)l0, tu, tv, out);
-    st_tex_bilinear(tex, texels, (st_u32)l0 + 1u, tu, tv, hi);
+    st_u32 w, h, base = st_tex_level(tex, (st_u32)l0, &w, &h);
+    st_tex_bilinear_in(tex, texels, base, w, h, tu, tv, out);
+    st_tex_next_level(&base, &w, &h); /* level l0 + 1, a step on from l0 */
+    st_tex_bilinear_in(tex, texels, base, w, h, tu, tv, hi);
     for (st_u32 c = 0; c < 4u; c++)
         out[c] += f * (hi[c] - out[c]);
 }

@@ -17,6 +17,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -129,6 +130,28 @@ static void wrap_modes_match_opengl_definitions(void **state)
             float r = st_tex_reduce(far[k], mode);
             assert_true(r >= -1.0f && r <= 2.0f);
         }
+}
+
+/* st_tex_floor is floor() for every float but -0 (+0 then): a sweep across
+ * the integers and halves of [-40, 40], the ends of the exact-integer range
+ * (2^23) and beyond, the smallest magnitudes, and the non-finite values. */
+static void tex_floor_is_floor(void **state)
+{
+    (void)state;
+    for (int k = -400; k <= 400; k++) {
+        float x = (float)k / 10.0f;
+        assert_true(st_tex_floor(x) == floorf(x));
+        assert_true(st_tex_floor(nextafterf(x, -INFINITY)) == floorf(nextafterf(x, -INFINITY)));
+        assert_true(st_tex_floor(nextafterf(x, INFINITY)) == floorf(nextafterf(x, INFINITY)));
+    }
+    const float odd[] = {8388607.5f, -8388607.5f, 8388608.0f, -8388608.0f, 8388609.0f,
+                         -8388609.0f, 16777217.0f, 3e9f, -3e9f, 1e30f, -1e30f, FLT_MAX,
+                         -FLT_MAX, FLT_MIN, -FLT_MIN, 1e-45f, -1e-45f, 0.5f, -0.5f, 0.0f};
+    for (size_t k = 0; k < sizeof odd / sizeof odd[0]; k++)
+        assert_true(st_tex_floor(odd[k]) == floorf(odd[k]));
+    assert_true(st_tex_floor(INFINITY) == INFINITY && st_tex_floor(-INFINITY) == -INFINITY);
+    assert_true(isnan(st_tex_floor(NAN)));
+    assert_true(st_tex_floor(-0.0f) == 0.0f && !signbit(st_tex_floor(-0.0f)));
 }
 
 /* ---- lookups ---------------------------------------------------------------- */
@@ -624,6 +647,7 @@ int main(void)
     const struct CMUnitTest host[] = {
         cmocka_unit_test(srgb_table_equals_iec_formula),
         cmocka_unit_test(wrap_modes_match_opengl_definitions),
+        cmocka_unit_test(tex_floor_is_floor),
         cmocka_unit_test(lookups_at_texel_centres_return_texels),
         cmocka_unit_test(bilinear_weights_between_centres),
         cmocka_unit_test(wrap_modes_in_lookups),
