@@ -20,9 +20,10 @@ sampler and the `box` filter, as strata's bench workload
 (strata's --max-depth 4 counts vertices that gather light, pbrt's
 convention; Mitsuba counts one more) and Russian roulette from rr_depth 3,
 which is strata's (from the third vertex on, survival min(0.95, max
-throughput) in both); `direct` with one emitter sample and no BSDF sample,
-as strata's direct lighting (emission seen directly plus one light
-sample). It renders once untimed (Dr.Jit compiles its kernels), then RUNS
+throughput) in both); `direct` with one emitter sample and one BSDF
+sample weighed by MIS, as strata's direct lighting (a light sample at the
+first hit, and its BSDF sample's ray, which adds the emission it meets).
+It renders once untimed (Dr.Jit compiles its kernels), then RUNS
 times (default 3), each timed from the call to the evaluated image, and
 prints one JSON line: {"renderer", "variant", "threads", "integrator",
 "samples", "seconds": [...], "samples_per_second" (of the median)}.
