@@ -74,11 +74,14 @@ st_status st_bvh_build_threads(const float *positions, st_u32 tri_count, unsigne
 void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials);
 
 /* Collapses bvh->nodes into bvh->wide (src/bvh/bvh_wide.c; st_bvh_build calls
- * it): each wide node takes its binary node's two children and, while it has
- * fewer than ST_BVH_WIDTH, opens the interior child of largest surface area
- * (the one a ray is likeliest to enter). A tree so deep that the traversal
- * stack could overflow at that width (7 x depth > ST_BVH_WIDE_STACK, depth > 27)
- * is made of nodes of at most four children instead. The leaves' blocks
+ * it): the binary nodes that become wide nodes, and the ones each takes as
+ * its up to ST_BVH_WIDTH children, are those of the least total surface
+ * area of the wide nodes (a ray's expected node visits; dynamic programming,
+ * Ylitie et al. 2017). A tree so deep that the traversal stack could
+ * overflow at that width (7 x depth > ST_BVH_WIDE_STACK, depth > 27) is made
+ * of nodes of at most four children instead, each taking its binary node's
+ * two children and, while it has fewer than four, opening the interior child
+ * of largest surface area. The leaves' blocks
  * follow the nodes (st_shared.h; their rows left zero, see
  * st_bvh_pack_leaves). ST_ERR_NOMEM on allocation failure. */
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);

@@ -3,7 +3,9 @@
  * "Getting Rid of Packets", RT 2008; Dammertz et al., "Shallow Bounding
  * Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", EGSR
  * 2008): a node's boxes meet the ray in one vector slab test, and the tree is
- * a third as deep as the binary one for 8 children (half for 4). Each leaf's
+ * a third as deep as the binary one for 8 children (half for 4). Which
+ * binary nodes become wide nodes is chosen for the least total area (below).
+ * Each leaf's
  * triangles follow the nodes as one leaf block (structure of arrays, as
  * Embree's Triangle4 leaves are, but sized to the leaf: st_shared.h), so
  * that the kernels test them together. */
@@ -24,14 +26,16 @@ static float half_area(const st_bvh_node *n)
     return dx * dy + dy * dz + dz * dx;
 }
 
-/* The binary nodes that become the children of a wide node made from
- * interior node i: its two children, then, while fewer than ST_BVH_WIDTH, the
- * interior one of largest area replaced by its own two (the first of equal
- * areas, so the result is a function of the tree). Returns their number.
- * Each kid's area is computed once (-1 for a leaf: never opened). */
+/* The greedy choice, which the four-child fallback keeps (its depth bound
+ * holds for it): the binary nodes that become the children of a wide node
+ * made from interior node i are its two children, then, while fewer than
+ * `width`, the interior one of largest area replaced by its own two (the
+ * first of equal areas, so the result is a function of the tree). Returns
+ * their number. Each kid's area is computed once (-1 for a leaf: never
+ * opened). */
 static float open_area(const st_bvh_node *n) { return is_leaf(n) ? -1.0f : half_area(n); }
 
-static int gather(const st_bvh_node *nodes, st_u32 i, int width, st_u32 kids[ST_BVH_WIDTH])
+static int gather_greedy(const st_bvh_node *nodes, st_u32 i, int width, st_u32 kids[ST_BVH_WIDTH])
 {
     float area[ST_BVH_WIDTH];
     int c = 2;
@@ -64,7 +68,92 @@ typedef struct wide_builder {
     st_bvh_wide_node *wide;
     st_u32 count, depth;
     int width; /* children per node: ST_BVH_WIDTH, or 4 (see collapse) */
+    const float *cost; /* plan_costs' table at width ST_BVH_WIDTH; NULL: gather_greedy */
 } wide_builder;
+
+/* ---- the SAH-optimal choice of wide nodes ----
+ * Which binary nodes become wide nodes, chosen to minimise the sum of the
+ * wide nodes' surface areas (a ray's expected node visits; every binary
+ * leaf is a leaf slot whatever the choice, so the leaves' own cost does not
+ * enter), by dynamic programming over the binary tree (Ylitie, Karras and
+ * Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed
+ * Wide BVHs", HPG 2017): C(n, i) is the least cost of binary subtree n
+ * placed in at most i slots of its parent,
+ *   C(leaf, i) = 0,
+ *   C(n, 1) = A(n) + D(n, W)   (n a wide node of W slots),
+ *   C(n, i) = min(C(n, i - 1), D(n, i)),
+ *   D(n, j) = min over k in 1..j-1 of C(left, k) + C(right, j - k).
+ * cost[n W + i - 1] holds C(n, i). The greedy collapse (open the largest
+ * child) leaves many nodes of two or three leaves below full parents. */
+
+/* D(n, j) for interior n, and in *k the least k that reaches it. */
+static float split_cost(const wide_builder *b, st_u32 n, int j, int *k)
+{
+    const float *l = b->cost + (size_t)(n + 1u) * ST_BVH_WIDTH;
+    const float *r = b->cost + (size_t)b->nodes[n].offset * ST_BVH_WIDTH;
+    float best = INFINITY;
+    for (int a = 1; a < j; a++) {
+        float c = l[a - 1] + r[j - a - 1];
+        if (c < best) {
+            best = c;
+            *k = a;
+        }
+    }
+    return best;
+}
+
+/* The table for binary subtree n, children before their parent. */
+static void plan_costs(const wide_builder *b, st_u32 n, float *cost)
+{
+    float *c = cost + (size_t)n * ST_BVH_WIDTH;
+    if (is_leaf(&b->nodes[n])) {
+        for (int i = 0; i < ST_BVH_WIDTH; i++)
+            c[i] = 0.0f;
+        return;
+    }
+    plan_costs(b, n + 1u, cost);
+    plan_costs(b, b->nodes[n].offset, cost);
+    int k;
+    float area = half_area(&b->nodes[n]);
+    area = area <= FLT_MAX ? area : FLT_MAX; /* no NaN (inf - inf, 0 inf) in the sums */
+    c[0] = area + split_cost(b, n, ST_BVH_WIDTH, &k);
+    for (int i = 2; i <= ST_BVH_WIDTH; i++) {
+        float d = split_cost(b, n, i, &k);
+        c[i - 1] = d < c[i - 2] ? d : c[i - 2];
+    }
+}
+
+/* Binary subtree n into at most j slots, kids[*c ..], as the table chose:
+ * its children's slots (the least split that reaches C(n, j), also on a
+ * tie with one slot, so that boxes of no area still fill nodes), else one
+ * slot (a leaf, or a wide node of its own). */
+static void take(const wide_builder *b, st_u32 n, int j, st_u32 kids[ST_BVH_WIDTH], int *c)
+{
+    const float *cn = b->cost + (size_t)n * ST_BVH_WIDTH;
+    if (!is_leaf(&b->nodes[n]))
+        for (int i = 2; i <= j; i++) {
+            int k = 1;
+            if (split_cost(b, n, i, &k) == cn[j - 1]) {
+                take(b, n + 1u, k, kids, c);
+                take(b, b->nodes[n].offset, i - k, kids, c);
+                return;
+            }
+        }
+    kids[(*c)++] = n;
+}
+
+/* The binary nodes that become the children of the wide node made from
+ * interior node i (at most b->width). */
+static int gather(const wide_builder *b, st_u32 i, st_u32 kids[ST_BVH_WIDTH])
+{
+    if (!b->cost)
+        return gather_greedy(b->nodes, i, b->width, kids);
+    int c = 0, k = 1;
+    split_cost(b, i, ST_BVH_WIDTH, &k);
+    take(b, i + 1u, k, kids, &c);
+    take(b, b->nodes[i].offset, ST_BVH_WIDTH - k, kids, &c);
+    return c;
+}
 
 /* Child slot k of wide node w: binary node `child`'s box and count; its
  * child[k] is the leaf's first triangle (0 for an interior child, set by
@@ -100,7 +189,7 @@ static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth)
     b->depth = depth > b->depth ? depth : b->depth;
     clear_slots(&b->wide[w]);
     st_u32 kids[ST_BVH_WIDTH];
-    int c = gather(b->nodes, i, b->width, kids);
+    int c = gather(b, i, kids);
     for (int k = 0; k < c; k++) {
         set_slot(b, w, k, kids[k]);
         if (!is_leaf(&b->nodes[kids[k]])) {
@@ -113,14 +202,14 @@ static st_u32 emit(wide_builder *b, st_u32 i, st_u32 depth)
 
 /* The wide nodes emit would make from binary interior node i; *depth
  * becomes the deepest of them if deeper. */
-static st_u32 count_wide(const st_bvh_node *nodes, st_u32 i, int width, st_u32 at, st_u32 *depth)
+static st_u32 count_wide(const wide_builder *b, st_u32 i, st_u32 at, st_u32 *depth)
 {
     st_u32 kids[ST_BVH_WIDTH], total = 1u;
-    int c = gather(nodes, i, width, kids);
+    int c = gather(b, i, kids);
     *depth = at > *depth ? at : *depth;
     for (int k = 0; k < c; k++)
-        if (!is_leaf(&nodes[kids[k]]))
-            total += count_wide(nodes, kids[k], width, at + 1u, depth);
+        if (!is_leaf(&b->nodes[kids[k]]))
+            total += count_wide(b, kids[k], at + 1u, depth);
     return total;
 }
 
@@ -150,7 +239,7 @@ typedef struct collapse_job {
 static void list_tasks(collapse_job *j, st_u32 i, st_u32 depth)
 {
     st_u32 kids[ST_BVH_WIDTH];
-    int c = gather(j->b->nodes, i, j->b->width, kids);
+    int c = gather(j->b, i, kids);
     for (int k = 0; k < c; k++) {
         if (is_leaf(&j->b->nodes[kids[k]]))
             continue;
@@ -170,7 +259,7 @@ static st_u32 emit_top(collapse_job *j, st_u32 i, st_u32 depth)
     b->depth = depth > b->depth ? depth : b->depth;
     clear_slots(&b->wide[w]);
     st_u32 kids[ST_BVH_WIDTH];
-    int c = gather(b->nodes, i, b->width, kids);
+    int c = gather(b, i, kids);
     for (int k = 0; k < c; k++) {
         set_slot(b, w, k, kids[k]);
         if (is_leaf(&b->nodes[kids[k]]))
@@ -194,7 +283,7 @@ static void count_tasks(void *ctx, unsigned t)
     (void)t;
     for (st_u32 k; (k = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->task_count;) {
         wide_task *x = &j->task[k];
-        x->count = count_wide(j->b->nodes, x->node, j->b->width, x->depth, &x->max_depth);
+        x->count = count_wide(j->b, x->node, x->depth, &x->max_depth);
     }
 }
 
@@ -381,17 +470,26 @@ st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, 
      * node_count entries in a full binary tree, one more for a leaf root (a
      * small or empty scene), which gets one wide node over it */
     size_t cap = (size_t)bvh->node_count + 1u;
-    wide_builder b = {bvh->nodes, room ? room : malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH};
-    if (!b.wide)
+    wide_builder b = {bvh->nodes, room ? room : malloc(cap * sizeof *b.wide), 0u, 1u, ST_BVH_WIDTH, NULL};
+    float *cost = malloc(cap * ST_BVH_WIDTH * sizeof *cost);
+    if (!b.wide || !cost) {
+        free(b.wide);
+        free(cost);
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
+    }
+    b.cost = cost;
+    plan_costs(&b, 0u, cost);
     collapse(&b, threads);
     /* the traversal stack holds (width - 1) x depth entries at most: a tree
-     * too deep for ST_BVH_WIDE_STACK at full width is made of 4-child nodes,
-     * whose depth <= ST_BVH_MAX_DEPTH keeps it within (trace.h) */
+     * too deep for ST_BVH_WIDE_STACK at full width is made of 4-child nodes
+     * by the greedy collapse, whose depth <= ST_BVH_MAX_DEPTH keeps it
+     * within (trace.h) */
     if ((st_u32)(b.width - 1) * b.depth > ST_BVH_WIDE_STACK) {
         b.width = 4;
+        b.cost = NULL;
         collapse(&b, threads);
     }
+    free(cost);
     size_t units = place_leaves(bvh, &b, threads, pack), per_node = sizeof *b.wide / ST_LEAF_UNIT;
     if (units == SIZE_MAX) {
         free(b.wide);

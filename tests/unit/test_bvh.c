@@ -702,12 +702,25 @@ static void add_bushy(st_bvh_node *nodes, uint32_t *n, uint32_t *leaves, int lev
     add_bushy(nodes, n, leaves, levels - 1);
 }
 
+/* A subtree of seven leaves over big boxes: four below one child, three
+ * below the other. */
+static void add_seven(st_bvh_node *nodes, uint32_t *n, uint32_t *leaves)
+{
+    uint32_t i = add_node(nodes, n, leaves, 10.0f, 0);
+    add_bushy(nodes, n, leaves, 2);
+    nodes[i].offset = *n;
+    uint32_t j = add_node(nodes, n, leaves, 10.0f, 0);
+    add_bushy(nodes, n, leaves, 1);
+    nodes[j].offset = *n;
+    add_node(nodes, n, leaves, 10.0f, 1);
+}
+
 /* A chain whose every node has a small interior child (the chain goes on)
- * and a bushy sibling: the collapse opens the bushy side first (larger
- * area), so each wide node takes seven of its pieces and the chain's next
- * node, and at full width the wide tree is as deep as the chain: 7 x 40 >
- * ST_BVH_WIDE_STACK. It must fall back to nodes of four children, whose stack
- * bound 3 x depth holds. */
+ * and a sibling of seven leaves over big boxes: the cheapest wide tree
+ * opens each sibling into its chain node's seven slots (no node of its
+ * own), which leaves the eighth to the chain's next node, so at full width
+ * the wide tree is as deep as the chain: 7 x 40 > ST_BVH_WIDE_STACK. It must
+ * fall back to nodes of four children, whose stack bound 3 x depth holds. */
 static void collapse_keeps_stack_bound_on_a_deep_chain(void **state)
 {
     (void)state;
@@ -725,7 +738,7 @@ static void collapse_keeps_stack_bound_on_a_deep_chain(void **state)
     add_node(bvh->nodes, &n, &leaves, 1.0f, 1);
     for (int level = CHAIN - 1; level >= 0; --level) {
         bvh->nodes[spine[level]].offset = n;
-        add_bushy(bvh->nodes, &n, &leaves, BUSHY);
+        add_seven(bvh->nodes, &n, &leaves);
     }
     bvh->node_count = n;
     bvh->depth = CHAIN + BUSHY + 1; /* the deepest bushy subtree's leaves */
@@ -736,6 +749,116 @@ static void collapse_keeps_stack_bound_on_a_deep_chain(void **state)
     assert_true(bvh->wide_depth >= CHAIN && bvh->wide_depth <= bvh->depth);
     assert_true((most - 1) * bvh->wide_depth <= ST_BVH_WIDE_STACK);
     st_bvh_destroy(bvh);
+}
+
+/* ---- the collapse's choice against enumeration --------------------------------
+ * The wide tree should be the one of least total wide-node area (the sum of
+ * A(node) over its nodes: a ray's expected node visits, bvh_wide.c). Here
+ * the least is found by listing every way each binary subtree can fill the
+ * slots of the wide node above it, as (slots, cost) pairs, and trying every
+ * pair of the two children's ways: no recurrence of the builder's. */
+
+typedef struct way {
+    int slots;
+    double cost;
+} way;
+
+static double node_area(const st_bvh_node *n)
+{
+    double dx = (double)n->bmax[0] - n->bmin[0], dy = (double)n->bmax[1] - n->bmin[1];
+    double dz = (double)n->bmax[2] - n->bmin[2];
+    return dx * dy + dy * dz + dz * dx;
+}
+
+static double least_wide(const st_bvh_node *nodes, uint32_t n, double *memo);
+
+/* Every way binary subtree n takes at most ST_BVH_WIDTH slots: one slot
+ * (a leaf, cost 0; an interior node, a wide node of its own), or any way of
+ * its first child beside any way of its second. Returns their number. */
+static int ways_of(const st_bvh_node *nodes, uint32_t n, double *memo, way **out)
+{
+    way *w = malloc(sizeof *w);
+    assert_non_null(w);
+    if (nodes[n].meta >> 2) {
+        w[0] = (way){1, 0.0};
+        *out = w;
+        return 1;
+    }
+    w[0] = (way){1, least_wide(nodes, n, memo)};
+    way *a, *b;
+    int na = ways_of(nodes, n + 1u, memo, &a), nb = ways_of(nodes, nodes[n].offset, memo, &b);
+    int count = 1;
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++)
+            if (a[i].slots + b[j].slots <= ST_BVH_WIDTH) {
+                w = realloc(w, (size_t)(count + 1) * sizeof *w);
+                assert_non_null(w);
+                w[count++] = (way){a[i].slots + b[j].slots, a[i].cost + b[j].cost};
+            }
+    free(a);
+    free(b);
+    *out = w;
+    return count;
+}
+
+/* The least cost of binary node n made a wide node: its area and the
+ * cheapest of its children's ways that fit its slots. */
+static double least_wide(const st_bvh_node *nodes, uint32_t n, double *memo)
+{
+    if (memo[n] >= 0.0)
+        return memo[n];
+    way *a, *b;
+    int na = ways_of(nodes, n + 1u, memo, &a), nb = ways_of(nodes, nodes[n].offset, memo, &b);
+    double least = INFINITY;
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++)
+            if (a[i].slots + b[j].slots <= ST_BVH_WIDTH && a[i].cost + b[j].cost < least)
+                least = a[i].cost + b[j].cost;
+    free(a);
+    free(b);
+    return memo[n] = node_area(&nodes[n]) + least;
+}
+
+/* The wide tree's cost: the area of the box around each wide node's slots. */
+static double wide_cost(const st_bvh *bvh)
+{
+    double sum = 0.0;
+    for (uint32_t w = 0; w < bvh->wide_count; ++w) {
+        st_bvh_node box = {{INFINITY, INFINITY, INFINITY}, 0u, {-INFINITY, -INFINITY, -INFINITY}, 0u};
+        for (int k = 0; k < ST_BVH_WIDTH; ++k)
+            for (int a = 0; a < 3 && bvh->wide[w].lo[0][k] <= bvh->wide[w].hi[0][k]; ++a) {
+                box.bmin[a] = fminf(box.bmin[a], bvh->wide[w].lo[a][k]);
+                box.bmax[a] = fmaxf(box.bmax[a], bvh->wide[w].hi[a][k]);
+            }
+        sum += node_area(&box);
+    }
+    return sum;
+}
+
+/* On random soups, and on a grid of cubes, whose many boxes share planes:
+ * the built wide tree costs the least that enumeration finds (to float
+ * rounding). */
+static void collapse_has_least_area(void **state)
+{
+    (void)state;
+    const uint32_t sizes[] = {9, 24, 48, 96};
+    rng r = {0x5eedu};
+    for (size_t t = 0; t < 5; t++) {
+        uint32_t n = t < 4 ? sizes[t] : 0u;
+        float *p = t < 4 ? soup(&r, n, 0.3f) : cubes(2, &n);
+        st_bvh *bvh = NULL;
+        st_error err = {0};
+        assert_int_equal(st_bvh_build(p, n, &bvh, &err), ST_OK);
+        double *memo = malloc(bvh->node_count * sizeof *memo);
+        assert_non_null(memo);
+        for (uint32_t i = 0; i < bvh->node_count; i++)
+            memo[i] = -1.0;
+        double least = least_wide(bvh->nodes, 0u, memo), got = wide_cost(bvh);
+        assert_true(fabs(got - least) <= 1e-5 * least);
+        free(memo);
+        st_bvh_destroy(bvh);
+        free(p);
+    }
 }
 
 static void build_empty_scene_has_no_hits(void **state)
@@ -1070,6 +1193,7 @@ int main(void)
         cmocka_unit_test(closest_equals_brute_force_rays_in_box_planes),
         cmocka_unit_test(closest_equals_brute_force_unbalanced_geometric),
         cmocka_unit_test(collapse_keeps_stack_bound_on_a_deep_chain),
+        cmocka_unit_test(collapse_has_least_area),
         cmocka_unit_test(build_empty_scene_has_no_hits),
         cmocka_unit_test(build_leaves_hold_at_most_four_and_order_is_permutation),
         cmocka_unit_test(build_is_deterministic),
