@@ -32,13 +32,14 @@ typedef struct st_bvh {
     st_u32 *order;          /* order[i] = index in the input of BVH triangle i */
     st_u32 depth;           /* deepest leaf, root = 1 */
     /* The same tree collapsed ST_BVH_WIDTH-wide (st_bvh_wide_node; what the kernels trace):
-     * wide[0] is the root, depth first; every binary interior node is either
-     * a wide node or opened into its parent; leaves and triangles as above. */
+     * the root at the start, the nodes depth first, each followed by its
+     * leaf blocks (st_shared.h); every binary interior node is either a wide
+     * node or opened into its parent; leaves and triangles as above. */
     st_u32 wide_count;
-    st_bvh_wide_node *wide; /* wide_count nodes, then the leaf blocks in leaf_slots more */
+    st_bvh_wide_node *wide; /* wide_count + leaf_slots node-sized slots */
     st_u32 wide_depth;      /* deepest wide node, root = 1 */
-    st_u32 leaf_slots;      /* node-sized slots the leaf blocks fill after the nodes
-                               (st_shared.h; st_bvh_pack_leaves) */
+    st_u32 leaf_slots;      /* the slots the leaf blocks and the padding take
+                               beyond the nodes' own (st_bvh_pack_leaves) */
 } st_bvh;
 
 /* positions: 9 floats per triangle (v0 v1 v2). tri_count may be 0 (an empty leaf root: no hits). Returns ST_ERR_NOMEM on
@@ -81,8 +82,8 @@ void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material
  * overflow at that width (7 x depth > ST_BVH_WIDE_STACK, depth > 27) is made
  * of nodes of at most four children instead, each taking its binary node's
  * two children and, while it has fewer than four, opening the interior child
- * of largest surface area. The leaves' blocks
- * follow the nodes (st_shared.h; their rows left zero, see
+ * of largest surface area. Each node's leaf blocks
+ * follow it (st_shared.h; their rows left zero, see
  * st_bvh_pack_leaves). ST_ERR_NOMEM on allocation failure. */
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err);
 
@@ -111,6 +112,12 @@ void st_bvh_parallel(unsigned threads, st_bvh_job *job, void *ctx);
  * them so); whoever changes bvh->tris after (tests) calls it before tracing
  * the wide tree. */
 void st_bvh_pack_leaves(st_bvh *bvh);
+
+/* Units (ST_LEAF_UNIT bytes) from the start of a node of bvh->wide to the
+ * next node's: the node, its leaf blocks, and padding to a 64-byte line. A
+ * walk over the nodes in order: node 0 at unit 0, each next at the last
+ * one's unit plus its span. */
+st_u32 st_bvh_wide_span(const st_bvh_wide_node *node);
 
 /* Frees the tree and its arrays. NULL is a no-op. */
 void st_bvh_destroy(st_bvh *bvh);

@@ -6,8 +6,8 @@
 #include "st_shared.h"
 #include "trace.h"
 
-/* Work-item i = r * slots + s: ray r against leaf slot s (slot[s] = wide
- * node w * ST_BVH_WIDTH + k, a slot whose count[k] != 0). Writes out[4 i ..
+/* Work-item i = r * slots + s: ray r against leaf slot s (slot[s] = the wide
+ * node's unit (trace.h: st_trace_node) * ST_BVH_WIDTH + k, a slot whose count[k] != 0). Writes out[4 i ..
  * 4 i + 3]: the closest hit by the vector test, the same by the scalar loop,
  * then the any hit by each; every search starts from the ray's tmax, and
  * a miss leaves {tmax, 0, 0, ST_NO_HIT}. */
@@ -20,8 +20,9 @@ __kernel void probe_leaf(__global const st_bvh_wide_node *nodes, __global const 
         return;
     st_ray r = rays[i / slots];
     uint node = slot[i % slots] / ST_BVH_WIDTH, k = slot[i % slots] % ST_BVH_WIDTH;
-    uint count = nodes[node].count[k];
-    const __global float *l = st_trace_leaf(nodes, nodes[node].child[k]);
+    const __global st_bvh_wide_node *wide = st_trace_node(nodes, node);
+    uint count = wide->count[k];
+    const __global float *l = st_trace_leaf(nodes, wide->child[k]);
     uint first = st_leaf_first(l, count);
     st_hit none = {r.tmax, 0.0f, 0.0f, ST_NO_HIT}, h[4] = {none, none, none, none};
     st_leaf_closest(l, count, &r, &h[0]);

@@ -142,7 +142,7 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
     ST_VSTORE(ST_W, tmax, bound);
     st_f32 reach = st_packet_max(tmax, pk->live);
     for (;;) {
-        const ST_GLOBAL st_bvh_wide_node *n = nodes + node;
+        const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 near[ST_BVH_WIDTH];
         st_u32 mask = st_packet_node(n, pk, bound, pk->live, near), base = sp, leaves = 0u;
         for (; mask != 0u; mask &= mask - 1u) {
@@ -160,7 +160,7 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
             leaves |= count;
             if (count != 0u)
                 continue;
-            st_trace_prefetch_node(nodes + first);
+            st_trace_prefetch_node(st_trace_node(nodes, first));
             st_packet_push(stack, entry, base, &sp, first, near[k]);
         }
         if (leaves != 0u) {
@@ -189,7 +189,7 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
     st_u32 sp = 0u, node = 0u, open = pk->live;
     ST_VSTORE(ST_W, tmax, bound);
     for (;;) {
-        const ST_GLOBAL st_bvh_wide_node *n = nodes + node;
+        const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 near[ST_BVH_WIDTH];
         st_u32 mask = st_packet_node(n, pk, bound, open, near);
         for (; mask != 0u; mask &= mask - 1u) {
@@ -203,7 +203,7 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
                     return pk->live;
             }
             if (count == 0u) {
-                st_trace_prefetch_node(nodes + first);
+                st_trace_prefetch_node(st_trace_node(nodes, first));
                 stack[sp++] = first;
             }
         }

@@ -291,6 +291,12 @@ ST_FN const ST_GLOBAL st_f32 *st_trace_leaf(const ST_GLOBAL st_bvh_wide_node *no
     return (const ST_GLOBAL st_f32 *)((const ST_GLOBAL char *)nodes + (size_t)child * ST_LEAF_UNIT);
 }
 
+/* The wide node at unit `unit` of the array (an interior slot's child[k]). */
+ST_FN const ST_GLOBAL st_bvh_wide_node *st_trace_node(const ST_GLOBAL st_bvh_wide_node *nodes, st_u32 unit)
+{
+    return (const ST_GLOBAL st_bvh_wide_node *)((const ST_GLOBAL char *)nodes + (size_t)unit * ST_LEAF_UNIT);
+}
+
 /* Block l's first triangle (lane 0's, in BVH order) and its one-sided lanes
  * as bits; n: its triangles. */
 ST_FN st_u32 st_leaf_first(const ST_GLOBAL st_f32 *l, st_u32 n)
@@ -426,19 +432,21 @@ ST_FN int st_leaf_any(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 }
 #endif
 
-/* Asks for a wide node's four cache lines (boxes and links) when the
- * traversal pushes it, so that the misses of the children it takes later
- * overlap with the work on the nearer ones instead of following it. A pushed
- * child is visited unless a nearer hit turns up first, so the hint is seldom
- * wasted; on the Cornell box, whose tree lives in the caches, it costs its
- * instructions alone. */
+/* Asks for a wide node's four cache lines (boxes and links), and the eight
+ * after them, where its leaf blocks lie (st_shared.h; on the icosphere more
+ * lines cost more than they saved, fewer left leaf misses), when the
+ * traversal pushes it, so that the misses of the children it takes later overlap with
+ * the work on the nearer ones instead of following it. A pushed child is
+ * visited unless a nearer hit turns up first, so the hint is seldom wasted;
+ * on the Cornell box, whose tree lives in the caches, it costs its
+ * instructions alone. Lines past the array's end are only hints: a prefetch
+ * does not fault. */
+#define ST_TRACE_PREFETCH_LINES 12
 ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
 {
     const ST_GLOBAL char *b = (const ST_GLOBAL char *)node;
-    ST_PREFETCH(b);
-    ST_PREFETCH(b + 64);
-    ST_PREFETCH(b + 128);
-    ST_PREFETCH(b + 192);
+    for (int line = 0; line < ST_TRACE_PREFETCH_LINES; line++)
+        ST_PREFETCH(b + 64 * line);
 }
 
 /* Closest hit through the wide tree; same contract as st_intersect_closest
@@ -461,7 +469,7 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
     hit->v = 0.0f;
     hit->prim = ST_NO_HIT;
     for (;;) {
-        const ST_GLOBAL st_bvh_wide_node *n = nodes + node;
+        const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 tn[ST_BVH_WIDTH];
         st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp;
         for (; mask != 0u; mask &= mask - 1u) {
@@ -471,7 +479,7 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
                 st_leaf_closest(st_trace_leaf(nodes, first), n->count[k], ray, hit);
                 continue;
             }
-            st_trace_prefetch_node(nodes + first);
+            st_trace_prefetch_node(st_trace_node(nodes, first));
             /* insertion: entries above base stay sorted far to near */
             st_u32 j = sp++;
             for (; j > base && entry[j - 1u] < tn[k]; --j) {
@@ -505,7 +513,7 @@ ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, con
     st_trace_setup(&r, ray);
     hit->t = ray->tmax;
     for (;;) {
-        const ST_GLOBAL st_bvh_wide_node *n = nodes + node;
+        const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 tn[ST_BVH_WIDTH];
         st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn);
         for (; mask != 0u; mask &= mask - 1u) {
@@ -516,7 +524,7 @@ ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, con
                     return 1;
                 continue;
             }
-            st_trace_prefetch_node(nodes + first);
+            st_trace_prefetch_node(st_trace_node(nodes, first));
             stack[sp++] = first;
         }
         if (sp == 0u)

@@ -149,11 +149,15 @@ typedef struct st_bvh_node {
  * one (src/bvh/bvh_wide.c), their boxes as structure of arrays, lo[axis][child]
  * and hi[axis][child], so that one node is one vector slab test (trace.h:
  * float8 for 8, float4 for 4).
- * count[k] == 0: child[k] is an interior node's index; count[k] = 1..4:
- * child k is a leaf of that many triangles, child[k] where its leaf block
- * starts, in ST_LEAF_UNIT-byte units from the start of the same array. An
- * unused slot has an inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray
- * enters. */
+ * child[k] is where the child starts, in ST_LEAF_UNIT-byte units from the
+ * start of the array: count[k] == 0, an interior node; count[k] = 1..4, a
+ * leaf of that many triangles, its leaf block. An unused slot has an
+ * inverted box (lo = FLT_MAX > hi = -FLT_MAX) that no ray enters.
+ * The array holds the nodes depth first, the root at unit 0, each followed
+ * by its leaf blocks in slot order and padded to a 64-byte line, where the
+ * next node starts (st_bvh_wide_span): the lines a node's leaves need lie
+ * right after its own, so that the prefetch of a pushed node covers them
+ * (Embree's builder allocates leaves beside their node likewise). */
 #define ST_BVH_WIDTH 8
 typedef struct st_bvh_wide_node {
     st_f32 lo[3][ST_BVH_WIDTH];
@@ -171,8 +175,8 @@ typedef struct st_bvh_wide_node {
  * and the lanes that are one-sided as bits (bit j: lane j's v0[3] != 0).
  * A block fills ST_LEAF_UNITS(n) units of ST_LEAF_UNIT bytes (a 2-triangle
  * leaf, the commonest, 80 bytes: two cache lines wherever it starts). The
- * blocks follow the wide tree's nodes in its own array, in slot order, so
- * that the kernels take one buffer (src/bvh/bvh_wide.c). */
+ * blocks follow their node in the wide tree's own array, so that the
+ * kernels take one buffer (src/bvh/bvh_wide.c). */
 #define ST_LEAF_MAX 4 /* triangles per leaf at most */
 #define ST_LEAF_ROWS 9
 #define ST_LEAF_V0 0

@@ -6,9 +6,9 @@
  * a third as deep as the binary one for 8 children (half for 4). Which
  * binary nodes become wide nodes is chosen for the least total area (below).
  * Each leaf's
- * triangles follow the nodes as one leaf block (structure of arrays, as
+ * triangles follow its node as one leaf block (structure of arrays, as
  * Embree's Triangle4 leaves are, but sized to the leaf: st_shared.h), so
- * that the kernels test them together. */
+ * that the kernels test them together and find them near the node. */
 #include <float.h>
 #include <stdatomic.h>
 #include <stdint.h>
@@ -328,10 +328,30 @@ static void collapse(wide_builder *b, unsigned threads)
     free(j);
 }
 
-/* ---- leaf blocks ---- */
+/* ---- the array: each node followed by its leaf blocks ---- */
 
-/* Wide nodes a piece of the leaf blocks' work. */
+/* Wide nodes a piece of the layout's work. */
 #define NODE_PIECE 256u
+#define NODE_UNITS ((st_u32)(sizeof(st_bvh_wide_node) / ST_LEAF_UNIT))
+#define LINE_UNITS (64u / ST_LEAF_UNIT)
+
+st_u32 st_bvh_wide_span(const st_bvh_wide_node *node)
+{
+    st_u32 units = NODE_UNITS;
+    for (int k = 0; k < ST_BVH_WIDTH; k++)
+        units += node->count[k] ? ST_LEAF_UNITS(node->count[k]) : 0u;
+    return (units + LINE_UNITS - 1u) / LINE_UNITS * LINE_UNITS;
+}
+
+static st_bvh_wide_node *node_at(st_bvh_wide_node *wide, size_t unit)
+{
+    return (st_bvh_wide_node *)(void *)((char *)wide + unit * ST_LEAF_UNIT);
+}
+
+static st_f32 *rows_at(st_bvh_wide_node *wide, size_t unit)
+{
+    return (st_f32 *)(void *)((char *)wide + unit * ST_LEAF_UNIT);
+}
 
 static void pack_block(const st_bvh *bvh, st_f32 *rows, st_u32 n)
 {
@@ -349,112 +369,152 @@ static void pack_block(const st_bvh *bvh, st_f32 *rows, st_u32 n)
     words[1] = sides;
 }
 
-/* Units of the leaf blocks of wide nodes [lo, hi). */
-static size_t block_units(const st_bvh_wide_node *wide, st_u32 lo, st_u32 hi)
+/* The leaf blocks of the node at unit `at`, spanning `span` units: in slot
+ * order right after it, each ST_LEAF_UNITS(count) units; child[k] becomes
+ * the block's unit and the block's first word the leaf's first triangle;
+ * the rest zero, or packed from bvh->tris when `pack`. */
+static void place_blocks(const st_bvh *bvh, st_bvh_wide_node *wide, size_t at, st_u32 span, int pack)
 {
-    size_t units = 0u;
-    for (st_u32 w = lo; w < hi; w++)
-        for (int k = 0; k < ST_BVH_WIDTH; k++)
-            units += wide[w].count[k] ? ST_LEAF_UNITS(wide[w].count[k]) : 0u;
-    return units;
-}
-
-/* Gives every leaf slot of wide nodes [lo, hi) its leaf block, in slot
- * order from unit `at`, each ST_LEAF_UNITS(count) units long: child[k]
- * becomes the block's unit, and the block's first word the leaf's first
- * triangle; the rest zero, or packed from bvh->tris when `pack`. */
-static void place_blocks(const st_bvh *bvh, st_bvh_wide_node *wide, st_u32 lo, st_u32 hi, size_t at, int pack)
-{
-    for (st_u32 w = lo; w < hi; w++)
-        for (int k = 0; k < ST_BVH_WIDTH; k++) {
-            st_u32 count = wide[w].count[k];
-            if (count == 0u)
-                continue;
-            st_u32 *words = (st_u32 *)(void *)((char *)wide + at * ST_LEAF_UNIT);
-            memset(words, 0, ST_LEAF_UNITS(count) * ST_LEAF_UNIT);
-            words[ST_LEAF_ROWS * count] = wide[w].child[k];
-            wide[w].child[k] = (st_u32)at;
-            if (pack)
-                pack_block(bvh, (st_f32 *)(void *)words, count);
-            at += ST_LEAF_UNITS(count);
-        }
-}
-
-/* The leaf blocks on threads: each piece of NODE_PIECE wide nodes is
- * counted, the pieces' first units summed in order, and the pieces placed:
- * where one pass in node order would place them. */
-typedef struct leaf_job {
-    const st_bvh *bvh;
-    st_bvh_wide_node *wide;
-    st_u32 count, pieces;
-    size_t *at; /* per piece: its units, then its first unit */
-    int pack;
-    atomic_uint next;
-} leaf_job;
-
-static void units_run(void *ctx, unsigned t)
-{
-    leaf_job *j = ctx;
-    (void)t;
-    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
-        st_u32 lo = p * NODE_PIECE, hi = j->count - lo < NODE_PIECE ? j->count : lo + NODE_PIECE;
-        j->at[p] = block_units(j->wide, lo, hi);
+    st_bvh_wide_node *node = node_at(wide, at);
+    size_t unit = at + NODE_UNITS;
+    memset(rows_at(wide, unit), 0, (span - NODE_UNITS) * (size_t)ST_LEAF_UNIT);
+    for (int k = 0; k < ST_BVH_WIDTH; k++) {
+        st_u32 count = node->count[k];
+        if (count == 0u)
+            continue;
+        st_f32 *rows = rows_at(wide, unit);
+        ((st_u32 *)(void *)rows)[ST_LEAF_ROWS * count] = node->child[k];
+        node->child[k] = (st_u32)unit;
+        if (pack)
+            pack_block(bvh, rows, count);
+        unit += ST_LEAF_UNITS(count);
     }
 }
+
+/* The layout's pieces on threads, NODE_PIECE nodes each, node w at unit
+ * at[w] (at[count]: the end). */
+typedef struct layout_job {
+    const st_bvh *bvh;
+    st_bvh_wide_node *wide;
+    const size_t *at;
+    st_u32 count, pieces;
+    int pack;
+    atomic_uint next;
+} layout_job;
 
 static void place_run(void *ctx, unsigned t)
 {
-    leaf_job *j = ctx;
-    (void)t;
-    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
-        st_u32 lo = p * NODE_PIECE, hi = j->count - lo < NODE_PIECE ? j->count : lo + NODE_PIECE;
-        place_blocks(j->bvh, j->wide, lo, hi, j->at[p], j->pack);
-    }
-}
-
-/* Places the blocks after the b->count nodes; returns their units, or
- * SIZE_MAX when out of memory. */
-static size_t place_leaves(const st_bvh *bvh, wide_builder *b, unsigned threads, int pack)
-{
-    const size_t node_units = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
-    leaf_job j = {bvh, b->wide, b->count, (b->count + NODE_PIECE - 1u) / NODE_PIECE, NULL, pack, 0u};
-    j.at = malloc(((size_t)j.pieces + 1u) * sizeof *j.at);
-    if (!j.at)
-        return SIZE_MAX;
-    atomic_init(&j.next, 0u);
-    st_bvh_parallel(threads, units_run, &j);
-    size_t at = b->count * node_units;
-    for (st_u32 p = 0; p < j.pieces; p++) {
-        size_t units = j.at[p];
-        j.at[p] = at;
-        at += units;
-    }
-    atomic_store(&j.next, 0u);
-    st_bvh_parallel(threads, place_run, &j);
-    free(j.at);
-    return at - b->count * node_units;
-}
-
-static void pack_run(void *ctx, unsigned t)
-{
-    leaf_job *j = ctx;
+    layout_job *j = ctx;
     (void)t;
     for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
         st_u32 lo = p * NODE_PIECE, hi = j->count - lo < NODE_PIECE ? j->count : lo + NODE_PIECE;
         for (st_u32 w = lo; w < hi; w++)
-            for (int k = 0; k < ST_BVH_WIDTH; k++)
-                if (j->wide[w].count[k] != 0u)
-                    pack_block(j->bvh, (st_f32 *)(void *)((char *)j->wide + (size_t)j->wide[w].child[k] *
-                                                                                  ST_LEAF_UNIT),
-                               j->wide[w].count[k]);
+            place_blocks(j->bvh, j->wide, j->at[w], (st_u32)(j->at[w + 1u] - j->at[w]), j->pack);
     }
 }
 
+/* Lays the b->count nodes, numbered depth first, out as the kernels read
+ * them: node w at unit at[w], the sum of the spans before it, followed by
+ * its leaf blocks; interior children named by their units. Returns the
+ * units in all (more than UINT32_MAX: not laid out), or SIZE_MAX when out
+ * of memory. The array (node_count + 1 slots) has room: a wide node takes
+ * its binary interior node's NODE_UNITS, a leaf block fewer than its binary
+ * leaf's by at least the LINE_UNITS - 1 of padding a node may add, and
+ * there are fewer wide nodes than leaves. */
+ST_STATIC_ASSERT(ST_LEAF_UNITS(ST_LEAF_MAX) + LINE_UNITS - 1u <= NODE_UNITS,
+               "a leaf block and a node's padding fit in a binary leaf's slot");
+static size_t lay_out(const st_bvh *bvh, wide_builder *b, unsigned threads, int pack)
+{
+    size_t *at = malloc(((size_t)b->count + 1u) * sizeof *at), units = 0u;
+    if (!at)
+        return SIZE_MAX;
+    for (st_u32 w = 0; w < b->count; w++) {
+        at[w] = units;
+        units += st_bvh_wide_span(&b->wide[w]);
+    }
+    at[b->count] = units;
+    if (units > UINT32_MAX) {
+        free(at);
+        return units;
+    }
+    /* from the last node back: node w's unit at[w] >= NODE_UNITS w lies past
+     * every node not yet moved, which are below it */
+    for (st_u32 w = b->count; w-- > 0u;) {
+        st_bvh_wide_node node = b->wide[w];
+        for (int k = 0; k < ST_BVH_WIDTH; k++)
+            if (node.count[k] == 0u)
+                node.child[k] = (st_u32)at[node.child[k]];
+        *node_at(b->wide, at[w]) = node;
+    }
+    layout_job j = {bvh, b->wide, at, b->count, (b->count + NODE_PIECE - 1u) / NODE_PIECE, pack, 0u};
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(threads, place_run, &j);
+    free(at);
+    return units;
+}
+
+/* ---- every leaf block, on threads ---- */
+
+typedef void leaf_fn(void *ctx, st_f32 *rows, st_u32 n);
+
+typedef struct leaf_walk {
+    st_bvh *bvh;
+    leaf_fn *fn;
+    void *ctx;
+    const size_t *start; /* per piece: its first node's unit */
+    st_u32 pieces, per_piece;
+    atomic_uint next;
+} leaf_walk;
+
+static void walk_run(void *ctx, unsigned t)
+{
+    leaf_walk *j = ctx;
+    st_u32 count = j->bvh->wide_count;
+    (void)t;
+    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
+        st_u32 lo = p * j->per_piece, hi = count - lo < j->per_piece ? count : lo + j->per_piece;
+        size_t unit = j->start[p];
+        for (st_u32 w = lo; w < hi; w++) {
+            st_bvh_wide_node *node = node_at(j->bvh->wide, unit);
+            for (int k = 0; k < ST_BVH_WIDTH; k++)
+                if (node->count[k] != 0u)
+                    j->fn(j->ctx, rows_at(j->bvh->wide, node->child[k]), node->count[k]);
+            unit += st_bvh_wide_span(node);
+        }
+    }
+}
+
+/* fn(ctx, rows, n) for every leaf block (n triangles), pieces of nodes on
+ * threads: the pieces' first units found by a walk over the nodes (one
+ * piece on one thread where memory for them is short). */
+static void each_leaf(st_bvh *bvh, unsigned threads, leaf_fn *fn, void *ctx)
+{
+    st_u32 pieces = (bvh->wide_count + NODE_PIECE - 1u) / NODE_PIECE;
+    size_t *start = malloc((pieces ? pieces : 1u) * sizeof *start), whole = 0u;
+    leaf_walk j = {bvh, fn, ctx, start, pieces, NODE_PIECE, 0u};
+    if (!start) {
+        j.start = &whole;
+        j.pieces = 1u;
+        j.per_piece = bvh->wide_count;
+        threads = 1u;
+    } else {
+        size_t unit = 0u;
+        for (st_u32 w = 0; w < bvh->wide_count; w++) {
+            if (w % NODE_PIECE == 0u)
+                start[w / NODE_PIECE] = unit;
+            unit += st_bvh_wide_span(node_at(bvh->wide, unit));
+        }
+    }
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(threads, walk_run, &j);
+    free(start);
+}
+
+static void pack_one(void *ctx, st_f32 *rows, st_u32 n) { pack_block(ctx, rows, n); }
+
 void st_bvh_pack_leaves(st_bvh *bvh)
 {
-    leaf_job j = {bvh, bvh->wide, bvh->wide_count, (bvh->wide_count + NODE_PIECE - 1u) / NODE_PIECE, NULL, 1, 0u};
-    atomic_init(&j.next, 0u);
-    st_bvh_parallel(st_bvh_threads(0u, bvh->tri_count), pack_run, &j);
+    each_leaf(bvh, st_bvh_threads(0u, bvh->tri_count), pack_one, bvh);
 }
 
 st_status st_bvh_collapse_wide(st_bvh *bvh, st_error *err)
@@ -490,68 +550,52 @@ st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, 
         collapse(&b, threads);
     }
     free(cost);
-    size_t units = place_leaves(bvh, &b, threads, pack), per_node = sizeof *b.wide / ST_LEAF_UNIT;
+    size_t units = lay_out(bvh, &b, threads, pack);
     if (units == SIZE_MAX) {
         free(b.wide);
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the leaf blocks");
     }
-    if (b.count * per_node + units > UINT32_MAX) { /* child[k] could not name every block */
+    if (units > UINT32_MAX) { /* child[k] could not name every node and block */
         free(b.wide);
         return st_fail(err, ST_ERR_NOMEM, "bvh: the wide tree exceeds 2^32 leaf units");
     }
-    st_u32 slots = (st_u32)((units + per_node - 1u) / per_node);
-    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)(b.count + slots) * sizeof *b.wide);
+    st_u32 slots = (st_u32)((units + NODE_UNITS - 1u) / NODE_UNITS);
+    st_bvh_wide_node *shrunk = realloc(b.wide, (size_t)slots * sizeof *b.wide);
     bvh->wide = shrunk ? shrunk : b.wide;
     /* the last slot's rest: zero, so that the array is a function of the tree */
-    memset((char *)(bvh->wide + b.count) + units * ST_LEAF_UNIT, 0,
-           (size_t)slots * sizeof *b.wide - units * ST_LEAF_UNIT);
+    memset((char *)bvh->wide + units * ST_LEAF_UNIT, 0, (size_t)slots * sizeof *b.wide - units * ST_LEAF_UNIT);
     bvh->wide_count = b.count;
-    bvh->leaf_slots = slots;
+    bvh->leaf_slots = slots - b.count;
     bvh->wide_depth = b.depth;
     return ST_OK;
 }
 
 /* One pass over the leaf blocks: each triangle's side rule into its
  * st_triangle and its block's sides word (every triangle is in one block;
- * the rows do not depend on the sides), pieces of wide nodes on threads. */
-typedef struct sides_job {
+ * the rows do not depend on the sides). */
+typedef struct sides_ctx {
     st_bvh *bvh;
     const st_u32 *tri_material;
     const st_material *materials;
-    st_u32 pieces;
-    atomic_uint next;
-} sides_job;
+} sides_ctx;
 
-static void sides_run(void *ctx, unsigned t)
+static void sides_one(void *ctx, st_f32 *rows, st_u32 n)
 {
-    sides_job *j = ctx;
-    st_bvh *bvh = j->bvh;
-    (void)t;
-    for (st_u32 p; (p = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->pieces;) {
-        st_u32 lo = p * NODE_PIECE, hi = bvh->wide_count - lo < NODE_PIECE ? bvh->wide_count : lo + NODE_PIECE;
-        for (st_u32 w = lo; w < hi; w++)
-            for (int k = 0; k < ST_BVH_WIDTH; k++) {
-                st_u32 n = bvh->wide[w].count[k], sides = 0u;
-                if (n == 0u)
-                    continue;
-                st_f32 *rows = (st_f32 *)(void *)((char *)bvh->wide + (size_t)bvh->wide[w].child[k] * ST_LEAF_UNIT);
-                st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n);
-                for (st_u32 i = 0u; i < n; i++) {
-                    st_u32 tri = words[0] + i;
-                    st_u32 flags = j->materials[j->tri_material[bvh->order[tri]]].flags;
-                    bvh->tris[tri].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
-                    sides |= (bvh->tris[tri].v0[3] != 0.0f ? 1u : 0u) << i;
-                }
-                words[1] = sides;
-            }
+    sides_ctx *c = ctx;
+    st_u32 *words = (st_u32 *)(void *)(rows + ST_LEAF_ROWS * n), sides = 0u;
+    for (st_u32 i = 0u; i < n; i++) {
+        st_u32 tri = words[0] + i;
+        st_u32 flags = c->materials[c->tri_material[c->bvh->order[tri]]].flags;
+        c->bvh->tris[tri].v0[3] = (flags & ST_MAT_DOUBLE_SIDED) ? 0.0f : ST_TRI_ONE_SIDED;
+        sides |= (c->bvh->tris[tri].v0[3] != 0.0f ? 1u : 0u) << i;
     }
+    words[1] = sides;
 }
 
 void st_bvh_set_sides(st_bvh *bvh, const st_u32 *tri_material, const st_material *materials)
 {
     if (bvh->tri_count == 0u) /* the empty scene's placeholder has no material */
         return;
-    sides_job j = {bvh, tri_material, materials, (bvh->wide_count + NODE_PIECE - 1u) / NODE_PIECE, 0u};
-    atomic_init(&j.next, 0u);
-    st_bvh_parallel(st_bvh_threads(0u, bvh->tri_count), sides_run, &j);
+    sides_ctx c = {bvh, tri_material, materials};
+    each_leaf(bvh, st_bvh_threads(0u, bvh->tri_count), sides_one, &c);
 }

@@ -111,22 +111,26 @@ static st_ray aim(const float *pos, uint32_t r, uint64_t *seed)
     return w;
 }
 
-/* The leaf slots of the wide tree (node * ST_BVH_WIDTH + k); leaf_of[t]:
- * the slot holding BVH triangle t; sizes[c]: the leaves of c triangles. */
+/* The leaf slots of the wide tree (the node's unit * ST_BVH_WIDTH + k, the
+ * nodes walked as st_bvh_wide_span says); leaf_of[t]: the slot holding BVH
+ * triangle t; sizes[c]: the leaves of c triangles. */
 static uint32_t leaf_slots(const st_bvh *bvh, uint32_t *slot, uint32_t *leaf_of, uint32_t *sizes)
 {
-    uint32_t n = 0;
-    for (uint32_t w = 0; w < bvh->wide_count; w++)
+    uint32_t n = 0, unit = 0;
+    for (uint32_t w = 0; w < bvh->wide_count; w++) {
+        const st_bvh_wide_node *node = st_trace_node(bvh->wide, unit);
         for (uint32_t k = 0; k < ST_BVH_WIDTH; k++) {
-            uint32_t c = bvh->wide[w].count[k];
+            uint32_t c = node->count[k];
             if (c == 0)
                 continue;
-            const float *l = st_trace_leaf(bvh->wide, bvh->wide[w].child[k]);
+            const float *l = st_trace_leaf(bvh->wide, node->child[k]);
             for (uint32_t j = 0; j < c; j++)
                 leaf_of[st_leaf_first(l, c) + j] = n;
             sizes[c]++;
-            slot[n++] = w * ST_BVH_WIDTH + k;
+            slot[n++] = unit * ST_BVH_WIDTH + k;
         }
+        unit += st_bvh_wide_span(node);
+    }
     return n;
 }
 

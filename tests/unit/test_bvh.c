@@ -235,14 +235,23 @@ static int box_contains(const st_bvh_node *outer, const float lo[3], const float
     return 1;
 }
 
-/* Leaf slot child (count c) of the wide tree: its block lies after the
- * nodes, and lane j holds triangle first + j exactly (st_triangle's floats,
+/* The wide tree's array, in ST_LEAF_UNIT units. */
+static size_t wide_units(const st_bvh *bvh)
+{
+    return (bvh->wide_count + (size_t)bvh->leaf_slots) * (sizeof(st_bvh_wide_node) / ST_LEAF_UNIT);
+}
+
+static const st_bvh_wide_node *wide_at(const st_bvh *bvh, size_t unit)
+{
+    return (const st_bvh_wide_node *)(const void *)((const char *)bvh->wide + unit * ST_LEAF_UNIT);
+}
+
+/* Leaf slot child (count c) of the wide tree: its block lies inside the
+ * array, and lane j holds triangle first + j exactly (st_triangle's floats,
  * v0[3] as the sides bit j). Returns first. */
 static uint32_t check_leaf(const st_bvh *bvh, uint32_t child, uint32_t c)
 {
-    const size_t per_node = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
-    assert_true(child >= bvh->wide_count * per_node);
-    assert_true(child + ST_LEAF_UNITS(c) <= (bvh->wide_count + bvh->leaf_slots) * per_node);
+    assert_true(child + ST_LEAF_UNITS(c) <= wide_units(bvh));
     const float *l = st_trace_leaf(bvh->wide, child);
     uint32_t first = st_leaf_first(l, c);
     assert_true(first + c <= (bvh->tri_count ? bvh->tri_count : 1u));
@@ -255,42 +264,77 @@ static uint32_t check_leaf(const st_bvh *bvh, uint32_t child, uint32_t c)
     return first;
 }
 
-/* The leaf blocks of mixed sizes: in slot order (node by node, slot by
- * slot), each starting where the one before ends (the first right after the
- * nodes), each ST_LEAF_UNITS(count) units, their padding and the last
- * slot's rest zero, and leaf_slots no more than they need. Returns the
- * sizes met, bit c for blocks of c triangles. */
-static uint32_t check_leaf_blocks(const st_bvh *bvh)
+static int is_node_start(const size_t *start, uint32_t n, size_t unit)
 {
-    const size_t per_node = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT;
-    size_t next = bvh->wide_count * per_node, end = (bvh->wide_count + bvh->leaf_slots) * per_node;
+    uint32_t lo = 0, hi = n;
+    while (lo < hi) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (start[mid] < unit)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && start[lo] == unit;
+}
+
+/* The array: node 0 at unit 0; each node's leaf blocks of mixed sizes
+ * right after it in slot order, each starting where the one before ends
+ * and ST_LEAF_UNITS(count) units long; the next node at the first 64-byte
+ * line after them, as st_bvh_wide_span says; every interior child a later
+ * node's unit; the padding between and the last slot's rest zero, and
+ * leaf_slots no more than they need. Returns the sizes met, bit c for
+ * blocks of c triangles. */
+static uint32_t check_layout(const st_bvh *bvh)
+{
+    const size_t per_node = sizeof(st_bvh_wide_node) / ST_LEAF_UNIT, line = 64 / ST_LEAF_UNIT;
+    const size_t end = wide_units(bvh);
     const unsigned char *bytes = (const unsigned char *)bvh->wide;
+    size_t *start = malloc(bvh->wide_count * sizeof *start), unit = 0;
     uint32_t sizes = 0;
-    for (uint32_t w = 0; w < bvh->wide_count; ++w)
+    assert_non_null(start);
+    for (uint32_t w = 0; w < bvh->wide_count; ++w) {
+        const st_bvh_wide_node *node = wide_at(bvh, unit);
+        size_t next = unit + per_node;
+        start[w] = unit;
         for (int k = 0; k < ST_BVH_WIDTH; ++k) {
-            uint32_t c = bvh->wide[w].count[k];
+            uint32_t c = node->count[k];
             if (c == 0)
                 continue;
-            assert_int_equal(bvh->wide[w].child[k], next);
+            assert_int_equal(node->child[k], next);
             for (size_t b = 4 * (ST_LEAF_ROWS * c + 2); b < ST_LEAF_UNITS(c) * ST_LEAF_UNIT; ++b)
                 assert_int_equal(bytes[next * ST_LEAF_UNIT + b], 0);
             next += ST_LEAF_UNITS(c);
             sizes |= 1u << c;
         }
-    assert_true(next <= end && end - next < per_node);
-    for (size_t b = next * ST_LEAF_UNIT; b < end * ST_LEAF_UNIT; ++b)
+        size_t span = (next - unit + line - 1) / line * line;
+        assert_int_equal(st_bvh_wide_span(node), span);
+        for (size_t b = next * ST_LEAF_UNIT; b < (unit + span) * ST_LEAF_UNIT; ++b)
+            assert_int_equal(bytes[b], 0);
+        unit += span;
+    }
+    assert_true(unit <= end && end - unit < per_node);
+    for (size_t b = unit * ST_LEAF_UNIT; b < end * ST_LEAF_UNIT; ++b)
         assert_int_equal(bytes[b], 0);
+    for (uint32_t w = 0; w < bvh->wide_count; ++w) {
+        const st_bvh_wide_node *node = wide_at(bvh, start[w]);
+        for (int k = 0; k < ST_BVH_WIDTH; ++k)
+            if (node->count[k] == 0 && node->lo[0][k] <= node->hi[0][k]) {
+                assert_true(node->child[k] > start[w]);
+                assert_true(is_node_start(start, bvh->wide_count, node->child[k]));
+            }
+    }
+    free(start);
     return sizes;
 }
 
-/* The wide tree (st_bvh_wide_node): nodes numbered depth first (a child after
- * its parent), each used slot's box containing its subtree's triangles,
+/* The wide tree (st_bvh_wide_node) from the node at `unit`: nodes depth
+ * first (a child after its parent), each used slot's box containing its subtree's triangles,
  * unused slots inverted, leaves of 1..4 covering every triangle once, no
  * deeper than the binary tree. Recursive: returns the subtree's depth. */
-static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, const float *plo,
+static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t unit, const float *plo,
                                 const float *phi, uint32_t *covered)
 {
-    const st_bvh_wide_node *node = &bvh->wide[w];
+    const st_bvh_wide_node *node = wide_at(bvh, unit);
     uint32_t deepest = 1, used = 0;
     for (int k = 0; k < ST_BVH_WIDTH; ++k) {
         float lo[3] = {node->lo[0][k], node->lo[1][k], node->lo[2][k]};
@@ -306,7 +350,7 @@ static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, c
         for (int a = 0; a < 3; ++a)
             assert_true(plo[a] <= lo[a] && hi[a] <= phi[a]);
         if (c == 0) {
-            assert_true(first > w && first < bvh->wide_count);
+            assert_true(first > unit && first < wide_units(bvh));
             uint32_t d = 1 + check_wide_node(bvh, p, first, lo, hi, covered);
             deepest = d > deepest ? d : deepest;
             continue;
@@ -322,7 +366,7 @@ static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, c
                 }
         }
     }
-    assert_true(used >= 2 || w == 0); /* a root may hold one leaf, or none (empty scene) */
+    assert_true(used >= 2 || unit == 0); /* a root may hold one leaf, or none (empty scene) */
     return deepest;
 }
 
@@ -330,11 +374,14 @@ static uint32_t check_wide_node(const st_bvh *bvh, const float *p, uint32_t w, c
 static uint32_t wide_children_max(const st_bvh *bvh)
 {
     uint32_t most = 0;
+    size_t unit = 0;
     for (uint32_t w = 0; w < bvh->wide_count; ++w) {
+        const st_bvh_wide_node *node = wide_at(bvh, unit);
         uint32_t used = 0;
         for (int k = 0; k < ST_BVH_WIDTH; ++k)
-            used += bvh->wide[w].lo[0][k] <= bvh->wide[w].hi[0][k];
+            used += node->lo[0][k] <= node->hi[0][k];
         most = used > most ? used : most;
+        unit += st_bvh_wide_span(node);
     }
     return most;
 }
@@ -354,7 +401,7 @@ static void check_wide_structure(const st_bvh *bvh, const float *p, uint32_t n)
     assert_true((most ? most - 1 : 0) * depth <= ST_BVH_WIDE_STACK);
     for (uint32_t k = 0; k < n; ++k)
         assert_int_equal(covered[k], 1);
-    check_leaf_blocks(bvh);
+    check_layout(bvh);
     free(covered);
 }
 
@@ -823,14 +870,17 @@ static double least_wide(const st_bvh_node *nodes, uint32_t n, double *memo)
 static double wide_cost(const st_bvh *bvh)
 {
     double sum = 0.0;
+    size_t unit = 0;
     for (uint32_t w = 0; w < bvh->wide_count; ++w) {
+        const st_bvh_wide_node *node = wide_at(bvh, unit);
         st_bvh_node box = {{INFINITY, INFINITY, INFINITY}, 0u, {-INFINITY, -INFINITY, -INFINITY}, 0u};
         for (int k = 0; k < ST_BVH_WIDTH; ++k)
-            for (int a = 0; a < 3 && bvh->wide[w].lo[0][k] <= bvh->wide[w].hi[0][k]; ++a) {
-                box.bmin[a] = fminf(box.bmin[a], bvh->wide[w].lo[a][k]);
-                box.bmax[a] = fmaxf(box.bmax[a], bvh->wide[w].hi[a][k]);
+            for (int a = 0; a < 3 && node->lo[0][k] <= node->hi[0][k]; ++a) {
+                box.bmin[a] = fminf(box.bmin[a], node->lo[a][k]);
+                box.bmax[a] = fmaxf(box.bmax[a], node->hi[a][k]);
             }
         sum += node_area(&box);
+        unit += st_bvh_wide_span(node);
     }
     return sum;
 }
@@ -1041,7 +1091,7 @@ static void build_million_triangles_structure(void **state)
     print_message("# bvh build: %u triangles in %.3f s = %.2f M triangles/s (%u nodes, depth %u)\n", n, s,
                   n / s / 1e6, bvh->node_count, bvh->depth);
     check_structure(bvh, p, n);
-    assert_int_equal(check_leaf_blocks(bvh), 0x1e); /* blocks of 1, 2, 3 and 4 triangles */
+    assert_int_equal(check_layout(bvh), 0x1e); /* blocks of 1, 2, 3 and 4 triangles */
     st_bvh_destroy(bvh);
     free(p);
 }
