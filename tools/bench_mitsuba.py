@@ -19,8 +19,9 @@ sampler and the `box` filter, as strata's bench workload
 (--sampler random --filter box). Integrators: `path` with max_depth 5
 (strata's --max-depth 4 counts vertices that gather light, pbrt's
 convention; Mitsuba counts one more) and Russian roulette from rr_depth 3,
-which is strata's (from the third vertex on, survival min(0.95, max
-throughput) in both); `direct` with one emitter sample and one BSDF
+which is strata's (the fourth vertex is the first a path may not reach:
+strata draws at the third vertex's bounce, Mitsuba on arriving at the
+fourth; survival min(0.95, max throughput) in both); `direct` with one emitter sample and one BSDF
 sample weighed by MIS, as strata's direct lighting (a light sample at the
 first hit, and its BSDF sample's ray, which adds the emission it meets).
 It renders once untimed (Dr.Jit compiles its kernels), then RUNS

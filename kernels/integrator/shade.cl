@@ -12,7 +12,9 @@
  *          surfaces, which light sampling alone cannot resolve, reflect
  *          their lights, and shadows are soft.
  *  path:   at each vertex, next-event estimation and BSDF sampling combined
- *          the same way; Russian roulette from the fourth vertex on.
+ *          the same way; Russian roulette from the third vertex on
+ *          (drawn with its bounce: the fourth is the first vertex a path
+ *          may not reach; Mitsuba's rr_depth 3 draws on reaching it).
  *          max_depth counts the vertices at which light is gathered (pbrt's
  *          maxdepth; Mitsuba's max_depth is one more): direct is a path of
  *          max_depth 1.
