@@ -102,8 +102,8 @@ static float split_cost(const wide_builder *b, st_u32 n, int j, int *k)
     return best;
 }
 
-/* The table for binary subtree n, children before their parent. */
-static void plan_costs(const wide_builder *b, st_u32 n, float *cost)
+/* Node n's row of the table from its children's. */
+static void plan_node(const wide_builder *b, st_u32 n, float *cost)
 {
     float *c = cost + (size_t)n * ST_BVH_WIDTH;
     if (is_leaf(&b->nodes[n])) {
@@ -111,8 +111,6 @@ static void plan_costs(const wide_builder *b, st_u32 n, float *cost)
             c[i] = 0.0f;
         return;
     }
-    plan_costs(b, n + 1u, cost);
-    plan_costs(b, b->nodes[n].offset, cost);
     int k;
     float area = half_area(&b->nodes[n]);
     area = area <= FLT_MAX ? area : FLT_MAX; /* no NaN (inf - inf, 0 inf) in the sums */
@@ -121,6 +119,66 @@ static void plan_costs(const wide_builder *b, st_u32 n, float *cost)
         float d = split_cost(b, n, i, &k);
         c[i - 1] = d < c[i - 2] ? d : c[i - 2];
     }
+}
+
+/* The table for binary subtree n, children before their parent. */
+static void plan_costs(const wide_builder *b, st_u32 n, float *cost)
+{
+    if (!is_leaf(&b->nodes[n])) {
+        plan_costs(b, n + 1u, cost);
+        plan_costs(b, b->nodes[n].offset, cost);
+    }
+    plan_node(b, n, cost);
+}
+
+/* The table on threads: the subtrees PLAN_DEPTH levels down (or leaves
+ * above that) are tasks, the levels above them done after, on one thread.
+ * Each row is a function of the subtree alone, so the table is the same
+ * whatever the threads. */
+#define PLAN_DEPTH 6u
+
+typedef struct plan_job {
+    const wide_builder *b;
+    float *cost;
+    st_u32 task[1u << PLAN_DEPTH], count;
+    atomic_uint next;
+} plan_job;
+
+static void plan_tasks(plan_job *j, st_u32 n, st_u32 depth)
+{
+    if (depth == PLAN_DEPTH || is_leaf(&j->b->nodes[n])) {
+        j->task[j->count++] = n;
+        return;
+    }
+    plan_tasks(j, n + 1u, depth + 1u);
+    plan_tasks(j, j->b->nodes[n].offset, depth + 1u);
+}
+
+static void plan_run(void *ctx, unsigned t)
+{
+    plan_job *j = ctx;
+    (void)t;
+    for (st_u32 k; (k = (st_u32)atomic_fetch_add(&j->next, 1u)) < j->count;)
+        plan_costs(j->b, j->task[k], j->cost);
+}
+
+/* The rows above the tasks, children before their parent. */
+static void plan_top(const wide_builder *b, st_u32 n, st_u32 depth, float *cost)
+{
+    if (depth == PLAN_DEPTH || is_leaf(&b->nodes[n]))
+        return;
+    plan_top(b, n + 1u, depth + 1u, cost);
+    plan_top(b, b->nodes[n].offset, depth + 1u, cost);
+    plan_node(b, n, cost);
+}
+
+static void plan_costs_threads(const wide_builder *b, unsigned threads, float *cost)
+{
+    plan_job j = {b, cost, {0u}, 0u, 0u};
+    plan_tasks(&j, 0u, 0u);
+    atomic_init(&j.next, 0u);
+    st_bvh_parallel(threads, plan_run, &j);
+    plan_top(b, 0u, 0u, cost);
 }
 
 /* Binary subtree n into at most j slots, kids[*c ..], as the table chose:
@@ -538,7 +596,7 @@ st_status st_bvh_collapse_wide_threads(st_bvh *bvh, unsigned threads, int pack, 
         return st_fail(err, ST_ERR_NOMEM, "bvh: out of memory for the wide tree");
     }
     b.cost = cost;
-    plan_costs(&b, 0u, cost);
+    plan_costs_threads(&b, threads, cost);
     collapse(&b, threads);
     /* the traversal stack holds (width - 1) x depth entries at most: a tree
      * too deep for ST_BVH_WIDE_STACK at full width is made of 4-child nodes
