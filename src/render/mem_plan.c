@@ -67,8 +67,13 @@ st_status st_mem_plan_check(const st_device *dev, size_t items, size_t pixels, i
         return st_fail(err, ST_ERR_USAGE, "the render needs %.0f MiB of device memory, more than "
                        "the device's %.0f MiB (CL_DEVICE_GLOBAL_MEM_SIZE): reduce %s",
                        MIB(plan.device_bytes), MIB(info->global_mem), reduce);
-    /* on a CPU device the buffers are the process's own memory */
+    /* on a CPU device the buffers are the process's own memory, and the
+     * device's memory is the machine's: the host's copies take from it too */
     unsigned long long need = plan.host_bytes + (info->is_cpu ? plan.device_bytes : 0);
+    if (info->is_cpu && info->global_mem && need > info->global_mem)
+        return st_fail(err, ST_ERR_USAGE, "the render needs about %.0f MiB of memory, more than "
+                       "the machine's %.0f MiB (the CPU device's CL_DEVICE_GLOBAL_MEM_SIZE): "
+                       "reduce %s", MIB(need), MIB(info->global_mem), reduce);
     unsigned long long left = st_mem_plan_host_left();
     if (need > left)
         return st_fail(err, ST_ERR_USAGE, "the render needs about %.0f MiB of memory, more than "
