@@ -33,27 +33,8 @@
 
 #ifndef __OPENCL_VERSION__
 #include "st_shared.h"
-#include "lanes.h"
-#define ST_SQRTF(x) sqrtf(x)
-#define ST_COSF(x) cosf(x)
-#define ST_SINF(x) sinf(x)
-#define ST_FMAXF(a, b) fmaxf(a, b)
-#define ST_FMINF(a, b) fminf(a, b)
-#define ST_FABSF(x) fabsf(x)
-#else
-#define ST_SQRTF(x) sqrt(x)
-/* the accurate sine, not native_: PoCL's native_sin of a vector differs
- * from its scalar one in the last bits, and a lane must compute at every
- * width what it computes at width 1 */
-#define ST_COSF(x) cos(x)
-#define ST_SINF(x) sin(x)
-#define ST_FMAXF(a, b) fmax(a, b)
-#define ST_FMINF(a, b) fmin(a, b)
-#define ST_FABSF(x) fabs(x)
 #endif
-
-/* Lanes of the value c. */
-#define ST_LF(c) ((st_lf)(c))
+#include "lanes.h"
 
 /* The smallest α: below it D's peak (1 / (π α²)) and the sampling pdf
  * grow past what the MIS weights can square in single precision. */

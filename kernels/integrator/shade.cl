@@ -101,16 +101,6 @@ static void dims_gather(const st_params *p, st_sample smp, __global const st_u32
         l->u[5][k] = st_sample_dim(p, &id, dim + 5u);
 }
 
-/* st_rng_unit(key, dim) of a key and a dimension per lane. */
-ST_HOT st_lf rng_unit_lanes(st_lu key, st_lu dim)
-{
-    st_lu h = dim + 0x9e3779b9u;
-    ST_HASH32_MIX(h);
-    st_lu x = key ^ h;
-    ST_HASH32_MIX(x);
-    return ST_TO_FLOAT(ST_W, x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
-}
-
 /* dims_gather's dimensions for the random sampler, all lanes at once (4
  * only where some lane is transmissive). */
 ST_HOT void dims_random(st_vertex_in *l, int transmissive)
@@ -118,9 +108,9 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
     st_lu key = ST_LV(l->key), dim = 2u + ST_DIMS_PER_VERTEX * ST_LV(l->depth);
     for (st_u32 j = 0; j < 6u; j++)
         if (j != 4u)
-            ST_VSTORE(ST_W, rng_unit_lanes(key, dim + j), l->u[j]);
+            ST_VSTORE(ST_W, st_rng_unit_lanes(key, dim + j), l->u[j]);
     if (transmissive)
-        ST_VSTORE(ST_W, rng_unit_lanes(key, dim + 4u), l->u[4]);
+        ST_VSTORE(ST_W, st_rng_unit_lanes(key, dim + 4u), l->u[4]);
 }
 
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */

@@ -14,6 +14,7 @@
 #include "st_shared.h"
 #include "rng.h"
 #include "samplers.h"
+#include "camera.h"
 
 /* Filter importance sampling: the offset x in (-r, r) whose CDF of |f|
  * (ST_FIS_BINS piecewise-constant bins, cdf[0] = 0, cdf[bins] = 1) is u. */
@@ -56,43 +57,44 @@ static st_sample tile_sample(const st_params *p, __global const st_tile_point *t
     return out;
 }
 
-/* Render item g of a per-pixel sampler over the region (see the top): its
- * pixel (px, py) and sample index, as st_region_pixel and g mod n, g / n
- * give them, with two divides (one 64-bit, which x86 compilers run as a
- * 32-bit one while g < 2^32), no longer a third that split the pixel's
- * index back into (px, py). A multiply by a per-launch reciprocal was
- * tried (mul_hi(ulong)): PoCL emulates that with four multiplies, and
- * could not hoist the reciprocal's own divide out of its work-item loop,
- * so it ran far more instructions than the two divides (callgrind). */
-static void region_item(const st_params *p, st_u64 g, st_u32 *px, st_u32 *py, st_u32 *s)
+/* Items g .. g + ST_W - 1 of a per-pixel sampler over the region (see the
+ * top), one a lane: their pixels (px, py) and sample indices, as
+ * st_region_pixel and g mod n, g / n give them. The first lane's come from
+ * two divides, the others' from it by steps along the region's rows: a
+ * lane past a row's end goes on in the next row (on a region narrower than
+ * the lanes, again), and one past the last row in the first row of the
+ * next sample. So a work-item runs two divides, not two per item (one of
+ * them 64-bit; PoCL could not hoist a reciprocal's divide out of its
+ * work-item loop, and emulates mul_hi(ulong) with four multiplies). */
+ST_HOT void region_lanes(const st_params *p, st_u64 g, st_lu *px, st_lu *py, st_lu *s)
 {
     st_u32 npix = p->region_w * p->region_h; /* the image, or a crop's window and apron */
-    st_u32 j = (st_u32)(g % npix), row = j / p->region_w;
-    *s = (st_u32)(g / npix);
-    *px = p->region_x + (j - row * p->region_w);
+    st_u32 j = (st_u32)(g % npix), row0 = j / p->region_w;
+    st_lu col = (st_lu)(j - row0 * p->region_w) + ST_CONVERT(uint, ST_W, ST_IOTA(ST_W));
+    st_lu row = (st_lu)row0, smp = (st_lu)(st_u32)(g / npix);
+    for (;;) {
+        st_li wraps = col >= p->region_w;
+        if (!ST_ANY(ST_W, wraps))
+            break;
+        col = ST_SELECT(ST_W, col, col - p->region_w, wraps);
+        row = ST_SELECT(ST_W, row, row + 1u, wraps);
+        st_li next = row >= p->region_h;
+        row = ST_SELECT(ST_W, row, (st_lu)0u, next);
+        smp = ST_SELECT(ST_W, smp, smp + 1u, next);
+    }
+    *px = p->region_x + col;
     *py = p->region_y + row;
+    *s = smp;
 }
 
-/* Render item g's sample: the film position, (pixel, sample index) and the
- * sampler's key and word for shade (st_sample_resume). With
- * filter importance sampling the sampler's two pixel dimensions are warped
- * through the CDF of |f| (their stratification carries over) into an offset
- * from the pixel centre. */
-ST_HOT st_sample item_sample(const st_params *p, __global const st_tile_point *tile,
-                             __global const st_u32 *active, __global const st_u32 *pmj02,
-                             __global const float *fis_cdf, st_u64 g)
+/* Sample s of pixel (px, py): the film position, (pixel, sample index) and
+ * the sampler's key and word for shade (st_sample_resume). With filter
+ * importance sampling the sampler's two pixel dimensions are warped
+ * through the CDF of |f| (their stratification carries over) into an
+ * offset from the pixel centre. */
+static st_sample pixel_sample(const st_params *p, __global const st_u32 *pmj02,
+                              __global const float *fis_cdf, st_u32 px, st_u32 py, st_u32 s)
 {
-    if (ST_SAMPLER_IS_TILED(p->sampler))
-        return tile_sample(p, tile, g);
-    st_u32 px, py, s;
-    if (p->adaptive_count) { /* a round of adaptive sampling (adaptive.cl) */
-        st_u32 pixel = active[g % p->adaptive_count];
-        s = p->adaptive_base + (st_u32)(g / p->adaptive_count);
-        px = pixel % p->width;
-        py = pixel / p->width;
-    } else {
-        region_item(p, g, &px, &py, &s);
-    }
     st_u32 pixel = py * p->width + px;
     st_sample_id sid = st_sample_begin_at(p, pixel, px, py, s);
     sid.pmj02 = pmj02;
@@ -105,59 +107,148 @@ ST_HOT st_sample item_sample(const st_params *p, __global const st_tile_point *t
     return out;
 }
 
-/* Writes item i's camera ray through smp's film position and resets its
- * path: beta = 1, bsdf pdf 0, radiance 0, depth 0 (ST_PATH_DEAD for a
- * dropped point outside the image), no rays traced. */
-ST_HOT void start_path(const st_params *p, st_sample smp, st_u32 i, __global st_ray *ray,
-                       __global st_path *path)
+/* Render item g of a tiled sampler or of an adaptive round (adaptive.cl),
+ * whose items do not follow the region's pixels in order. */
+static st_sample scattered_sample(const st_params *p, __global const st_tile_point *tile,
+                                  __global const st_u32 *active, __global const st_u32 *pmj02,
+                                  __global const float *fis_cdf, st_u64 g)
 {
-    float2 f = (float2)(smp.film[0], smp.film[1]);
-    float4 o = vload4(0, p->camera.origin), r = vload4(0, p->camera.right);
-    float4 u = vload4(0, p->camera.up), fw = vload4(0, p->camera.forward);
-    float sx = (2.0f * f.x / (float)p->width - 1.0f) * o.w * r.w;
-    float sy = (1.0f - 2.0f * f.y / (float)p->height) * o.w;
-    /* orthographic (forward.w = 1): parallel rays from the image plane,
-     * o.w = ymag, the half height */
-    int ortho = fw.w > 0.5f;
-    float3 d = ortho ? fw.xyz : normalize(fw.xyz + sx * r.xyz + sy * u.xyz);
-    float3 start = ortho ? o.xyz + sx * r.xyz + sy * u.xyz : o.xyz;
-    st_ray ray_out = {{start.x, start.y, start.z}, INFINITY, {d.x, d.y, d.z}, 0.0f};
-    ray[i] = ray_out;
-    st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
-                     st_sample_on_film(p, smp) ? 0u : ST_PATH_DEAD, 0u, 0u, 0.0f, 0u};
-    path[i] = fresh;
+    if (ST_SAMPLER_IS_TILED(p->sampler))
+        return tile_sample(p, tile, g);
+    st_u32 pixel = active[g % p->adaptive_count];
+    st_u32 s = p->adaptive_base + (st_u32)(g / p->adaptive_count);
+    return pixel_sample(p, pmj02, fis_cdf, pixel % p->width, pixel / p->width, s);
 }
 
-/* The first stages in one work-item: item i's sample (written for shade and
- * splat), its camera ray and fresh path, the sample kept in registers
- * rather than written and read back by a second kernel. The samples, rays
- * and paths are those of generate_samples then generate_camera_rays, which
- * CPU devices run instead (render.c; test_render_paths.c). */
+/* ST_W samples, lane k at index k of each array (read as lanes by
+ * ST_VLOAD); lanes past a work-item's items hold zeros. */
+typedef struct st_sample_lanes {
+    float fx[ST_W], fy[ST_W];
+    st_u32 pixel[ST_W], index[ST_W], key[ST_W], word[ST_W];
+} st_sample_lanes;
+
+static void set_lane(st_sample_lanes *l, st_u32 k, st_sample s)
+{
+    l->fx[k] = s.film[0];
+    l->fy[k] = s.film[1];
+    l->pixel[k] = s.pixel;
+    l->index[k] = s.index;
+    l->key[k] = s.key;
+    l->word[k] = s.word;
+}
+
+static st_sample lane_sample(const st_sample_lanes *l, st_u32 k)
+{
+    st_sample s = {{l->fx[k], l->fy[k]}, l->pixel[k], l->index[k], l->key[k], l->word[k]};
+    return s;
+}
+
+/* Samples of lanes k < n (items g + k), zeros in the others: the random
+ * sampler's in lanes (its hashes), the other per-pixel samplers' pixels in
+ * lanes and their dimensions lane by lane (each sampler's own sequence, as
+ * shade gathers them), the tiled samplers' and adaptive rounds' lane by
+ * lane. */
+ST_HOT void item_samples(const st_params *p, __global const st_tile_point *tile,
+                         __global const st_u32 *active, __global const st_u32 *pmj02,
+                         __global const float *fis_cdf, st_u64 g, st_u32 n, st_sample_lanes *l)
+{
+    const st_sample none = {{0.0f, 0.0f}, 0u, 0u, 0u, 0u};
+    if (ST_SAMPLER_IS_TILED(p->sampler) || p->adaptive_count) {
+        for (st_u32 k = 0; k < ST_W; k++)
+            set_lane(l, k, k < n ? scattered_sample(p, tile, active, pmj02, fis_cdf, g + k) : none);
+        return;
+    }
+    st_lu px, py, s;
+    region_lanes(p, g, &px, &py, &s);
+    st_lu pixel = py * p->width + px;
+    if (p->sampler == ST_SAMPLER_RANDOM && p->reconstruction != ST_RECON_FIS) {
+        /* pixel_sample's arithmetic for the random sampler: no pixel key,
+         * no sequence index but s */
+        st_lu key = st_rng_key_lanes(p->seed, pixel, s);
+        ST_VSTORE(ST_W, ST_TO_FLOAT(ST_W, px) + st_rng_unit_lanes(key, (st_lu)0u), l->fx);
+        ST_VSTORE(ST_W, ST_TO_FLOAT(ST_W, py) + st_rng_unit_lanes(key, (st_lu)1u), l->fy);
+        ST_VSTORE(ST_W, pixel, l->pixel);
+        ST_VSTORE(ST_W, s, l->index);
+        ST_VSTORE(ST_W, key, l->key);
+        ST_VSTORE(ST_W, (st_lu)0u, l->word);
+        return;
+    }
+    st_u32 x[ST_W], y[ST_W], si[ST_W];
+    ST_VSTORE(ST_W, px, x);
+    ST_VSTORE(ST_W, py, y);
+    ST_VSTORE(ST_W, s, si);
+    for (st_u32 k = 0; k < ST_W; k++)
+        set_lane(l, k, k < n ? pixel_sample(p, pmj02, fis_cdf, x[k], y[k], si[k]) : none);
+}
+
+/* The camera rays through the lanes' film positions (camera.h) and fresh
+ * paths for items first + k, k < n: beta = 1, bsdf pdf 0, radiance 0,
+ * depth 0 (ST_PATH_DEAD for a dropped point outside the image), no rays
+ * traced. */
+ST_HOT void start_paths(const st_params *p, const st_sample_lanes *l, st_u32 first, st_u32 n,
+                        __global st_ray *ray, __global st_path *path)
+{
+    st_lv3 o, d;
+    st_camera_rays(&p->camera, p->width, p->height, ST_VLOAD(ST_W, l->fx), ST_VLOAD(ST_W, l->fy),
+                   &o, &d);
+    float ox[ST_W], oy[ST_W], oz[ST_W], dx[ST_W], dy[ST_W], dz[ST_W];
+    ST_VSTORE(ST_W, o.x, ox);
+    ST_VSTORE(ST_W, o.y, oy);
+    ST_VSTORE(ST_W, o.z, oz);
+    ST_VSTORE(ST_W, d.x, dx);
+    ST_VSTORE(ST_W, d.y, dy);
+    ST_VSTORE(ST_W, d.z, dz);
+    for (st_u32 k = 0; k < n; k++) {
+        st_ray r = {{ox[k], oy[k], oz[k]}, INFINITY, {dx[k], dy[k], dz[k]}, 0.0f};
+        ray[first + k] = r;
+        st_path fresh = {{1.0f, 1.0f, 1.0f}, 0.0f, {0.0f, 0.0f, 0.0f},
+                         st_sample_on_film(p, lane_sample(l, k)) ? 0u : ST_PATH_DEAD, 0u, 0u, 0.0f,
+                         0u};
+        path[first + k] = fresh;
+    }
+}
+
+/* The stage kernels' ST_W items per work-item: work-item w takes items
+ * first = ST_W w .. first + n - 1 of the wave (global size item_count /
+ * ST_W rounded up). */
+#define ST_GENERATE_ITEMS                                                                   \
+    st_u32 first = ST_W * get_global_id(0);                                                 \
+    if (first >= p.item_count)                                                              \
+        return;                                                                             \
+    st_u32 n = min((st_u32)ST_W, p.item_count - first);                                     \
+    st_sample_lanes l
+
+/* The first stages in one work-item: the items' samples (written for shade
+ * and splat), their camera rays and fresh paths, the samples kept in
+ * registers rather than written and read back by a second kernel. The
+ * samples, rays and paths are those of generate_samples then
+ * generate_camera_rays, which CPU devices run instead (render.c;
+ * test_render_paths.c). */
 __kernel void generate_rays(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
-    st_sample smp = item_sample(&p, tile, active, pmj02, fis_cdf, p.first_item + i);
-    sample[i] = smp;
-    start_path(&p, smp, i, ray, path);
+    ST_GENERATE_ITEMS;
+    item_samples(&p, tile, active, pmj02, fis_cdf, p.first_item + first, n, &l);
+    for (st_u32 k = 0; k < n; k++)
+        sample[first + k] = lane_sample(&l, k);
+    start_paths(&p, &l, first, n, ray, path);
 }
 
-/* Writes sample[i] (item_sample): the first of the two kernels. */
+/* Writes the items' samples (item_samples): the first of the two kernels. */
 __kernel void generate_samples(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
-    sample[i] = item_sample(&p, tile, active, pmj02, fis_cdf, p.first_item + i);
+    ST_GENERATE_ITEMS;
+    item_samples(&p, tile, active, pmj02, fis_cdf, p.first_item + first, n, &l);
+    for (st_u32 k = 0; k < n; k++)
+        sample[first + k] = lane_sample(&l, k);
 }
 
-/* Reads sample; writes the camera ray and the fresh path (start_path): the
- * second of the two kernels. */
+/* Reads the items' samples; writes their camera rays and fresh paths
+ * (start_paths): the second of the two kernels. */
 __kernel void generate_camera_rays(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.item_count)
-        return;
-    start_path(&p, sample[i], i, ray, path);
+    ST_GENERATE_ITEMS;
+    const st_sample none = {{0.0f, 0.0f}, 0u, 0u, 0u, 0u};
+    for (st_u32 k = 0; k < ST_W; k++)
+        set_lane(&l, k, k < n ? sample[first + k] : none);
+    start_paths(&p, &l, first, n, ray, path);
 }

@@ -193,6 +193,30 @@ typedef unsigned st_lu;
 #endif
 typedef ST_CAT(st_v3x, ST_W) st_lv3;
 
+/* Lanes of the value c. */
+#define ST_LF(c) ((st_lf)(c))
+
+/* The float functions of lanes, by their names in C and in OpenCL C (whose
+ * forms are overloaded for vectors). The accurate sine, not native_:
+ * PoCL's native_sin of a vector differs from its scalar one in the last
+ * bits, and a lane must compute at every width what it computes at width 1. */
+#ifndef __OPENCL_VERSION__
+#include <math.h>
+#define ST_SQRTF(x) sqrtf(x)
+#define ST_COSF(x) cosf(x)
+#define ST_SINF(x) sinf(x)
+#define ST_FMAXF(a, b) fmaxf(a, b)
+#define ST_FMINF(a, b) fminf(a, b)
+#define ST_FABSF(x) fabsf(x)
+#else
+#define ST_SQRTF(x) sqrt(x)
+#define ST_COSF(x) cos(x)
+#define ST_SINF(x) sin(x)
+#define ST_FMAXF(a, b) fmax(a, b)
+#define ST_FMINF(a, b) fmin(a, b)
+#define ST_FABSF(x) fabs(x)
+#endif
+
 /* Lanes of floats from unsigned ints, rounded to nearest (convert_float). */
 #define ST_TO_FLOAT(n, x) ST_CAT(ST_TO_FLOAT_, n)(x)
 #define ST_TO_FLOAT_1(x) ((float)(x))

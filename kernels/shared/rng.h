@@ -10,8 +10,9 @@
 #ifndef ST_RNG_H
 #define ST_RNG_H
 
-/* lowbias32's steps on x, a 32-bit unsigned value or vector of them (lanes
- * in shade.cl's rng_unit_lanes). */
+#include "lanes.h"
+
+/* lowbias32's steps on x, a 32-bit unsigned value or lanes of them. */
 #define ST_HASH32_MIX(x)                                                                  \
     do {                                                                                    \
         (x) ^= (x) >> 16;                                                                   \
@@ -47,6 +48,25 @@ ST_FN st_f32 st_u32_to_unit(st_u32 x)
 ST_FN st_f32 st_rng_unit(st_u32 key, st_u32 dim)
 {
     return st_u32_to_unit(st_rng_u32(key, dim));
+}
+
+/* The same numbers in lanes (lanes.h), lane by lane: st_rng_key of a pixel
+ * and a sample per lane, st_rng_unit of a key and a dimension per lane. */
+ST_FN st_lu st_hash32_lanes(st_lu x)
+{
+    ST_HASH32_MIX(x);
+    return x;
+}
+
+ST_FN st_lu st_rng_key_lanes(st_u32 seed, st_lu pixel, st_lu sample)
+{
+    return st_hash32_lanes(sample ^ st_hash32_lanes(pixel ^ st_hash32(seed ^ 0x5bd1e995u)));
+}
+
+ST_FN st_lf st_rng_unit_lanes(st_lu key, st_lu dim)
+{
+    st_lu x = st_hash32_lanes(key ^ st_hash32_lanes(dim + 0x9e3779b9u)); /* st_rng_u32 */
+    return ST_TO_FLOAT(ST_W, x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
 }
 
 #endif

@@ -480,7 +480,8 @@ static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
 static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
                           const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    size_t n = p->item_count;
+    /* generate: ST_W items a work-item */
+    size_t n = (p->item_count + r->plan.lanes - 1u) / r->plan.lanes;
     if (r->plan.fused_generate ? run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err)
                              : run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
                                    run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))

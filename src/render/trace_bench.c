@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "camera.h"
 #include "render_int.h"
 #include "rng.h"
 
@@ -19,23 +20,13 @@ static st_u32 ray_key(st_u32 seed, int set, st_u64 i)
     return st_rng_key(seed ^ (st_u32)set * 0x68bc21ebu, (st_u32)i, (st_u32)(i >> 32));
 }
 
-/* generate_camera_rays' formula, for the film point (fx, fy). */
+/* The camera ray through the film point (fx, fy): the generate stage's
+ * (camera.h, at width 1). */
 static st_ray camera_ray(const st_camera *c, const st_render_options *o, float fx, float fy)
 {
-    float sx = (2.0f * fx / (float)o->width - 1.0f) * c->origin[3] * c->right[3];
-    float sy = (1.0f - 2.0f * fy / (float)o->height) * c->origin[3];
-    int ortho = c->forward[3] > 0.5f;
-    st_ray r = {{0}, INFINITY, {0}, 0.0f};
-    float len2 = 0.0f;
-    for (int a = 0; a < 3; a++) {
-        float side = sx * c->right[a] + sy * c->up[a];
-        r.o[a] = ortho ? c->origin[a] + side : c->origin[a];
-        r.d[a] = ortho ? c->forward[a] : c->forward[a] + side;
-        len2 += r.d[a] * r.d[a];
-    }
-    float inv = ortho ? 1.0f : 1.0f / sqrtf(len2);
-    for (int a = 0; a < 3; a++)
-        r.d[a] *= inv;
+    st_lv3 org, dir;
+    st_camera_rays(c, o->width, o->height, fx, fy, &org, &dir);
+    st_ray r = {{org.x, org.y, org.z}, INFINITY, {dir.x, dir.y, dir.z}, 0.0f};
     return r;
 }
 
