@@ -1,6 +1,6 @@
 /* st_render.h — the render: a scene's BVH and buffers uploaded once to a
  * device, then waves of samples pushed through the kernels
- * (generate_samples -> generate_camera_rays, or generate_rays -> [trace_rays ->
+ * (generate_rays -> [trace_rays ->
  * shade_hits -> trace_shadow_rays] per path vertex -> splat_samples), and
  * resolve_film at the
  * end. Nothing returns to the host inside a wave; between waves only a
@@ -88,7 +88,7 @@ st_status st_render_check(const st_render_options *o, st_error *err);
  * opaque. The other choices of kernel are the renderer's own (src/render/plan.c). */
 enum { ST_PACKET_AUTO, ST_PACKET_NONE, ST_PACKET_COHERENT, ST_PACKET_ALL };
 extern const char *const st_packet_names[4]; /* --packets: by ST_PACKET_* */
-enum { ST_STAGE_GENERATE, ST_STAGE_CAMERA, ST_STAGE_GENERATE_RAYS, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
+enum { ST_STAGE_GENERATE, ST_STAGE_TRACE, ST_STAGE_SHADE, ST_STAGE_SHADOW,
        ST_STAGE_LIVE,
        ST_STAGE_BIN, ST_STAGE_SPLAT, ST_STAGE_SPLAT_TILES, ST_STAGE_SPLAT_PIXELS, ST_STAGE_RESOLVE, ST_STAGE_COUNT };
 extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
@@ -113,7 +113,7 @@ st_u32 st_renderer_light_count(const st_renderer *r);
 /* The ST_PACKET_* a render of o uses on r's device and scene (AUTO resolved). */
 int st_renderer_packets(const st_renderer *r, const st_render_options *o);
 /* What the last render ran: the kernels' lane width and the kernels it
- * launched, in order ("lanes 8: generate_samples, generate_camera_rays,
+ * launched, in order ("lanes 8: generate_rays, trace_rays,
  * ..."); valid until the next call or render. */
 const char *st_renderer_ran(st_renderer *r);
 /* The environment radiance a render of scene with options o sees (a map's

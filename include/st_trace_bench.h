@@ -4,7 +4,7 @@
  * Two ray sets, each a pure function of (seed, ray index), so a benchmark is
  * repeatable and a test can trace the same rays on the host:
  *   camera: the primary ray of the view's camera through a uniformly random
- *           point of the width x height image (generate_camera_rays' formula);
+ *           point of the width x height image (the generate stage's, camera.h);
  *   random: origin uniform in the scene's bounding box, direction uniform on
  *           the unit sphere. */
 #ifndef ST_TRACE_BENCH_H

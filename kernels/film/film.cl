@@ -411,7 +411,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
  * or none (r < 1/2, near the pixel's edge), and, lying exactly on an edge
  * (the box is closed: filters.h), the pixels across it as well. With a
  * per-pixel sampler outside adaptive rounds, render item g lies in region
- * pixel g mod npix (generate.cl's region_item), so a wave's items of one
+ * pixel g mod npix (generate.cl's region_lanes), so a wave's items of one
  * pixel are every npix-th: one work-item per pixel the wave touches sums its
  * items' integers for that pixel (fixed_splat4, scale 1, as splat_samples
  * makes them) and adds the sum to the film once; an edge sample's taps on

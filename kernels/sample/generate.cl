@@ -1,6 +1,5 @@
-/* generate.cl — the first stages of a wave: sample positions on the film,
- * camera rays and fresh paths, in one kernel (generate_rays) or two
- * (generate_samples, generate_camera_rays; render.c chooses).
+/* generate.cl — the first stage of a wave, generate_rays: sample positions
+ * on the film, camera rays and fresh paths.
  *
  * Item i of a wave is render item g = first_item + i. Per-pixel samplers:
  * pixel = g mod n, sample = g / n over the n pixels of the region (the whole
@@ -208,47 +207,21 @@ ST_HOT void start_paths(const st_params *p, const st_sample_lanes *l, st_u32 fir
     }
 }
 
-/* The stage kernels' ST_W items per work-item: work-item w takes items
- * first = ST_W w .. first + n - 1 of the wave (global size item_count /
- * ST_W rounded up). */
-#define ST_GENERATE_ITEMS                                                                   \
-    st_u32 first = ST_W * get_global_id(0);                                                 \
-    if (first >= p.item_count)                                                              \
-        return;                                                                             \
-    st_u32 n = min((st_u32)ST_W, p.item_count - first);                                     \
-    st_sample_lanes l
-
-/* The first stages in one work-item: the items' samples (written for shade
- * and splat), their camera rays and fresh paths, the samples kept in
- * registers rather than written and read back by a second kernel. The
- * samples, rays and paths are those of generate_samples then
- * generate_camera_rays, which CPU devices run instead (render.c;
- * test_render_paths.c). */
+/* The first stage of a wave, ST_W items a work-item: work-item w takes
+ * items first = ST_W w .. first + n - 1 (global size item_count / ST_W
+ * rounded up), writes their samples (for shade and splat), their camera
+ * rays and fresh paths. The samples stay in registers for the rays: a
+ * second kernel that read them back (generate_camera_rays) ran more
+ * instructions than this one on PoCL, and took longer. */
 __kernel void generate_rays(ST_STAGE_PARAMS)
 {
-    ST_GENERATE_ITEMS;
+    st_u32 first = ST_W * get_global_id(0);
+    if (first >= p.item_count)
+        return;
+    st_u32 n = min((st_u32)ST_W, p.item_count - first);
+    st_sample_lanes l;
     item_samples(&p, tile, active, pmj02, fis_cdf, p.first_item + first, n, &l);
     for (st_u32 k = 0; k < n; k++)
         sample[first + k] = lane_sample(&l, k);
-    start_paths(&p, &l, first, n, ray, path);
-}
-
-/* Writes the items' samples (item_samples): the first of the two kernels. */
-__kernel void generate_samples(ST_STAGE_PARAMS)
-{
-    ST_GENERATE_ITEMS;
-    item_samples(&p, tile, active, pmj02, fis_cdf, p.first_item + first, n, &l);
-    for (st_u32 k = 0; k < n; k++)
-        sample[first + k] = lane_sample(&l, k);
-}
-
-/* Reads the items' samples; writes their camera rays and fresh paths
- * (start_paths): the second of the two kernels. */
-__kernel void generate_camera_rays(ST_STAGE_PARAMS)
-{
-    ST_GENERATE_ITEMS;
-    const st_sample none = {{0.0f, 0.0f}, 0u, 0u, 0u, 0u};
-    for (st_u32 k = 0; k < ST_W; k++)
-        set_lane(&l, k, k < n ? sample[first + k] : none);
     start_paths(&p, &l, first, n, ray, path);
 }

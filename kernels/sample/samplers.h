@@ -1,5 +1,5 @@
 /* samplers.h — sample positions of every sampler, as pure functions shared by
- * the kernels (generate_samples, shade_hits) and the host (strata pattern, the
+ * the kernels (generate_rays, shade_hits) and the host (strata pattern, the
  * tests), so that what the laboratory measures is what renders.
  *
  * Dimensions: 0 and 1 are the position inside the pixel; 2, 3, ... feed the
@@ -17,6 +17,7 @@
 #ifndef ST_SAMPLERS_H
 #define ST_SAMPLERS_H
 
+#include "rng.h"
 #include "sobol_table.h"
 
 #define ST_PRIME_COUNT 64u

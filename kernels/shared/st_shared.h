@@ -420,7 +420,7 @@ typedef struct st_params {
     st_filter filter;
     st_camera camera;
     /* the pixels this launch covers, a rectangle of the width x height image
-     * (all of it but for a --crop): generate_samples' item g is pixel
+     * (all of it but for a --crop): generate_rays' item g is pixel
      * region_pixel(g mod region_w region_h), resolve_film's item i is
      * region_pixel(i) (st_region_pixel) */
     st_u32 region_x, region_y, region_w, region_h;

@@ -82,8 +82,6 @@ static double stage_count(const st_render_stats *s, int k, const char **unit)
 {
     switch (k) {
     case ST_STAGE_GENERATE: *unit = "samples/s"; return (double)s->samples;
-    case ST_STAGE_CAMERA: *unit = "rays/s"; return (double)s->samples;
-    case ST_STAGE_GENERATE_RAYS: *unit = "samples/s"; return (double)s->samples;
     case ST_STAGE_TRACE: *unit = "rays/s"; return (double)s->closest_rays;
     case ST_STAGE_SHADE: *unit = "hits/s"; return (double)s->closest_rays;
     case ST_STAGE_SHADOW: *unit = "rays/s"; return (double)s->shadow_rays;

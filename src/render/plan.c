@@ -107,11 +107,6 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
     st_plan pl;
     pl.lanes = info->lanes;
     pl.packets = st_renderer_packets(r, o);
-    /* generate_rays on a CPU device ran as many instructions as the two
-     * kernels together (the fused body spills more) and no faster; elsewhere
-     * it saves a launch and a re-read of the sample */
-    pl.fused_generate = f->generate != ST_GENERATE_AUTO ? f->generate == ST_GENERATE_FUSED
-                                                        : !info->is_cpu;
     /* tracing shadow rays in shade measured no faster than their own stage */
     pl.shadows_in_shade = f->shadow == ST_SHADOW_IN_SHADE;
     /* the list of live paths keeps every lane of trace and shade busy where
@@ -126,7 +121,7 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
 
 void st_renderer_force(st_renderer *r, const st_plan_force *f)
 {
-    static const st_plan_force none = {0, 0, 0, 0};
+    static const st_plan_force none = {0, 0, 0};
     r->force = f ? *f : none;
 }
 

@@ -18,9 +18,6 @@ enum { ST_SPLAT_AUTO, ST_SPLAT_PER_SAMPLE, ST_SPLAT_TILES, ST_SPLAT_TILES_ALONE,
 /* Shadow rays: their own stage, trace_shadow_rays, or traced in shade
  * (shade_hits_shadowed). */
 enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
-/* The first stages: generate_samples then generate_camera_rays (which reads
- * the sample back), or one kernel, generate_rays. */
-enum { ST_GENERATE_AUTO, ST_GENERATE_SPLIT, ST_GENERATE_FUSED };
 /* The paths a vertex after the first runs over: those still alive, listed
  * by live.cl, or every item of the wave (the reference: ended paths skipped
  * lane by lane). */
@@ -31,14 +28,12 @@ enum { ST_PATHS_AUTO, ST_PATHS_LIVE, ST_PATHS_ALL };
 typedef struct st_plan_force {
     int splat;    /* ST_SPLAT_* */
     int shadow;   /* ST_SHADOW_* */
-    int generate; /* ST_GENERATE_* */
     int paths;    /* ST_PATHS_* */
 } st_plan_force;
 
 typedef struct st_plan {
     unsigned lanes;       /* the kernels' ST_W (st_device_info.lanes) */
     int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
-    int fused_generate;   /* generate_rays, not generate_samples + generate_camera_rays */
     int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
     int live_lists;       /* vertices after the first run over the live paths (live.cl) */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a

@@ -482,9 +482,7 @@ static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
 {
     /* generate: ST_W items a work-item */
     size_t n = (p->item_count + r->plan.lanes - 1u) / r->plan.lanes;
-    if (r->plan.fused_generate ? run_stage(r, ST_STAGE_GENERATE_RAYS, p, n, o, st, err)
-                             : run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err) ||
-                                   run_stage(r, ST_STAGE_CAMERA, p, n, o, st, err))
+    if (run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS), as the

@@ -5,7 +5,7 @@
 #include "render_int.h"
 
 const char *const st_stage_names[ST_STAGE_COUNT] = {
-    "generate_samples", "generate_camera_rays", "generate_rays", "trace_rays", "shade_hits",
+    "generate_rays", "trace_rays", "shade_hits",
     "trace_shadow_rays", "live_scatter", "bin_samples", "splat_samples", "splat_tiles", "splat_pixels", "resolve_film"};
 
 const char *const st_integrator_names[2] = {"direct", "path"};

@@ -39,7 +39,7 @@ for w in 1 4 16; do
         '$S diff "$T/default.exr" "$T/w$w.exr" --max-rmse 0 > "$T/diff" && grep -q "max_abs 0$" "$T/diff"'
 done
 check "the EXR header names the kernels and their width" \
-    'grep -a -q "lanes 16: generate_samples" "$T/w16.exr"'
+    'grep -a -q "lanes 16: generate_rays" "$T/w16.exr"'
 $S devices > "$T/devices"
 check "devices names each device's default lanes" 'grep -q "| lanes \(1\|4\|8\|16\)$" "$T/devices"'
 expect "--lanes 3 is a usage error" 2 "strata: error: --lanes 3: must be 1, 4, 8 or 16" \

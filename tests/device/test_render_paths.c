@@ -132,34 +132,6 @@ static st_render_options variant_options(const variant *v)
     return o;
 }
 
-/* Renders o with the first stages forced SPLIT and FUSED: the same
- * film, image and counts; the split run timed generate_samples and
- * generate_camera_rays only, the other generate_rays only; AUTO is SPLIT on
- * a CPU device, FUSED elsewhere. */
-static void same_first_stages(st_renderer *r, st_render_options o)
-{
-    forced.generate = ST_GENERATE_SPLIT;
-    run a = render_run(r, o);
-    forced.generate = ST_GENERATE_FUSED;
-    run b = render_run(r, o);
-    forced.generate = ST_GENERATE_AUTO;
-    run c = render_run(r, o);
-    assert_same_run(&a, &b, &o);
-    assert_same_run(&a, &c, &o);
-    int cpu = st_device_get_info(dev)->is_cpu;
-    assert_true((c.st.stage_seconds[ST_STAGE_GENERATE_RAYS] > 0.0) == !cpu);
-    assert_true((c.st.stage_seconds[ST_STAGE_GENERATE] > 0.0) == cpu);
-    run_free(&c);
-    assert_true(a.st.stage_seconds[ST_STAGE_GENERATE] > 0.0);
-    assert_true(a.st.stage_seconds[ST_STAGE_CAMERA] > 0.0);
-    assert_true(a.st.stage_seconds[ST_STAGE_GENERATE_RAYS] == 0.0);
-    assert_true(b.st.stage_seconds[ST_STAGE_GENERATE] == 0.0);
-    assert_true(b.st.stage_seconds[ST_STAGE_CAMERA] == 0.0);
-    assert_true(b.st.stage_seconds[ST_STAGE_GENERATE_RAYS] > 0.0);
-    run_free(&a);
-    run_free(&b);
-}
-
 /* A renderer on the device for fixture scene `name` (*scene: the scene, for
  * the caller to destroy after the renderer). */
 static st_renderer *renderer_for(const char *name, st_scene **scene)
@@ -170,42 +142,6 @@ static st_renderer *renderer_for(const char *name, st_scene **scene)
     if (st_renderer_create(on ? on : dev, *scene, &r, &err) != ST_OK)
         fail_msg("renderer %s: %s", name, err.msg);
     return r;
-}
-
-/* generate_rays against the two kernels: the variants, and the paths that
- * generate differently: a tiled sampler (points off the image), filter
- * importance sampling, an adaptive render (its rounds draw from the active
- * pixels), a Mitchell filter's wider apron around a crop. */
-static void generate_rays_equals_two_kernels(void **state)
-{
-    (void)state;
-    st_scene *scene = NULL;
-    st_renderer *r = renderer_for("cornell-box", &scene);
-    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++)
-        same_first_stages(r, variant_options(&variants[v]));
-    st_render_options tiled = small(45, 30, 4);
-    tiled.sampler = ST_SAMPLER_POISSON;
-    tiled.wave = 1000;
-    same_first_stages(r, tiled);
-    st_render_options fis = small(33, 21, 5);
-    fis.filter = st_filter_default(ST_FILTER_GAUSSIAN);
-    fis.reconstruction = ST_RECON_FIS;
-    same_first_stages(r, fis);
-    st_render_options adaptive = small(24, 20, 16);
-    adaptive.adaptive = 1;
-    adaptive.min_spp = 4;
-    adaptive.sampler = ST_SAMPLER_RANDOM; /* others render uniformly */
-    adaptive.wave = 700;
-    same_first_stages(r, adaptive);
-    st_render_options crop = small(40, 30, 3);
-    crop.filter = st_filter_default(ST_FILTER_MITCHELL);
-    crop.crop_x = 10;
-    crop.crop_y = 4;
-    crop.crop_w = 17;
-    crop.crop_h = 11;
-    same_first_stages(r, crop);
-    st_renderer_destroy(r);
-    st_scene_destroy(scene);
 }
 
 /* Renders o with the splat forced to ST_SPLAT_PER_SAMPLE (the atomics) and
@@ -607,7 +543,6 @@ static void splat_lanes_at_every_width(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(generate_rays_equals_two_kernels),
         cmocka_unit_test(splat_pixels_equals_per_sample),
         cmocka_unit_test(shade_at_every_width),
         cmocka_unit_test(live_lists_keep_every_path),

@@ -3,6 +3,7 @@
  * (twice, any wave and work-group size, split sample ranges), reconstruction
  * of a constant image by every filter and sampler, the furnace's closed form,
  * and the golden image. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -23,6 +24,8 @@
 #include "device_fixture.h"
 #include "plan.h"
 #include "render_int.h"
+#include "samplers.h"
+#include "camera.h"
 
 /* Renders scene `name` with o; returns the image and (optionally) the sums. */
 static st_image render(const char *name, const st_render_options *o, st_i64 **sums)
@@ -203,6 +206,92 @@ static void bvh_device_closest_equals_brute_force_one_sided(void **state)
 {
     (void)state;
     device_closest_check(1);
+}
+
+/* generate_rays against the definitions, item by item: item g of a
+ * per-pixel sampler is region pixel g mod n, sample g / n (n the region's
+ * pixels), its film position the pixel plus the sampler's dimensions 0 and
+ * 1 (samplers.h on the host), its key and word the sampler's; the camera
+ * ray through it is camera.h's at width 1 (to rounding: the device fuses
+ * multiply-adds), its path fresh. A wave that starts mid-sample and ends
+ * off any lane boundary, over regions wider and narrower than the lanes. */
+static void generate_matches_definitions(void **state)
+{
+    (void)state;
+    enum { N = 1003 };
+    static const struct {
+        st_u32 sampler, region[4];
+    } cases[] = {
+        {ST_SAMPLER_RANDOM, {0, 0, 37, 23}},
+        {ST_SAMPLER_RANDOM, {3, 2, 5, 3}}, /* rows narrower than the lanes */
+        {ST_SAMPLER_HALTON, {0, 0, 37, 23}},
+        {ST_SAMPLER_HALTON, {6, 1, 1, 7}}, /* one column */
+        {ST_SAMPLER_STRATIFIED, {2, 4, 11, 6}},
+        {ST_SAMPLER_SOBOL, {0, 0, 37, 23}},
+    };
+    st_error err = {0};
+    cl_mem scene[ST_SCENE_BUFFER_COUNT];
+    for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
+        assert_int_equal(st_device_buffer_create(dev, 16, NULL, &scene[i], &err), ST_OK);
+    st_wave w;
+    assert_int_equal(st_wave_create(dev, N, 1, 0, &w, &err), ST_OK);
+    cl_kernel k;
+    assert_int_equal(st_device_kernel(dev, "generate_rays", &k, &err), ST_OK);
+    size_t lanes = st_device_get_info(dev)->lanes;
+    st_sample *smp = calloc(N, sizeof *smp);
+    st_ray *ray = calloc(N, sizeof *ray);
+    st_path *path = calloc(N, sizeof *path);
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        st_params p;
+        st_shading sh;
+        memset(&p, 0, sizeof p);
+        memset(&sh, 0, sizeof sh);
+        p.width = 37, p.height = 23, p.spp = 64, p.seed = 5, p.sampler = cases[c].sampler;
+        p.region_x = cases[c].region[0], p.region_y = cases[c].region[1];
+        p.region_w = cases[c].region[2], p.region_h = cases[c].region[3];
+        st_sampler_prepare(&p);
+        st_camera cam = {{0.0f, 1.0f, 4.0f, 0.41f}, {1.0f, 0.0f, 0.0f, 37.0f / 23.0f},
+                         {0.0f, 1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f, 0.0f}};
+        p.camera = cam;
+        st_u32 npix = p.region_w * p.region_h;
+        p.first_item = 3ull * npix + 11u;
+        p.item_count = N;
+        assert_int_equal(st_wave_bind_stage(k, &p, &sh, scene, &w, &err), ST_OK);
+        assert_int_equal(st_device_launch(dev, k, (N + lanes - 1) / lanes, 0, &err), ST_OK);
+        assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_sample], sizeof *smp * N, smp, &err), ST_OK);
+        assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_ray], sizeof *ray * N, ray, &err), ST_OK);
+        assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_path], sizeof *path * N, path, &err), ST_OK);
+        for (st_u32 i = 0; i < N; i++) {
+            st_u64 g = p.first_item + i;
+            st_u32 j = (st_u32)(g % npix), s = (st_u32)(g / npix);
+            st_u32 px = p.region_x + j % p.region_w, py = p.region_y + j / p.region_w;
+            st_sample_id id = st_sample_begin(&p, px, py, s);
+            float fx = (float)px + st_sample_dim(&p, &id, 0u);
+            float fy = (float)py + st_sample_dim(&p, &id, 1u);
+            if (smp[i].film[0] != fx || smp[i].film[1] != fy || smp[i].pixel != id.pixel ||
+                smp[i].index != s || smp[i].key != id.key || smp[i].word != st_sample_word(&p, &id))
+                fail_msg("case %zu item %u: sample (%g, %g) pixel %u index %u, the definition's "
+                         "(%g, %g) pixel %u index %u", c, i, smp[i].film[0], smp[i].film[1],
+                         smp[i].pixel, smp[i].index, fx, fy, id.pixel, s);
+            st_lv3 o, d;
+            st_camera_rays(&cam, p.width, p.height, fx, fy, &o, &d);
+            float want[6] = {o.x, o.y, o.z, d.x, d.y, d.z};
+            float got[6] = {ray[i].o[0], ray[i].o[1], ray[i].o[2],
+                            ray[i].d[0], ray[i].d[1], ray[i].d[2]};
+            for (int a = 0; a < 6; a++)
+                if (fabsf(got[a] - want[a]) > 1e-6f)
+                    fail_msg("case %zu item %u: ray component %d %.9g, camera.h's %.9g", c, i, a,
+                             got[a], want[a]);
+            assert_true(isinf(ray[i].tmax) && path[i].depth == 0u && path[i].beta[0] == 1.0f &&
+                        path[i].radiance[1] == 0.0f);
+        }
+    }
+    free(smp);
+    free(ray);
+    free(path);
+    st_wave_destroy(&w);
+    for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
+        st_device_buffer_destroy(scene[i]);
 }
 
 static void assert_same_bits(const st_image *a, const st_image *b)
@@ -829,6 +918,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bvh_device_closest_equals_brute_force),
         cmocka_unit_test(bvh_threads_follow_the_device),
+        cmocka_unit_test(generate_matches_definitions),
         cmocka_unit_test(glass_slab_matches_closed_form),
         cmocka_unit_test(glass_furnace),
         cmocka_unit_test(coat_matches_its_fresnel),
