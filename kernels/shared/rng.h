@@ -22,51 +22,40 @@
         (x) ^= (x) >> 16;                                                                   \
     } while (0)
 
-ST_FN st_u32 st_hash32(st_u32 x)
-{
-    ST_HASH32_MIX(x);
-    return x;
-}
+/* The functions below for one value (U = st_u32, F = st_f32, width 1, no
+ * suffix) and, suffixed _lanes, for ST_W lanes of them (lanes.h), the same
+ * numbers lane by lane:
+ *   st_hash32(x)                  lowbias32;
+ *   st_rng_key(seed, pixel, s)    the key of one sample, computed once, then
+ *   st_rng_u32(key, dim)          per dimension,
+ *   st_u32_to_unit(x)             the top 24 bits as a float in [0, 1), every
+ *                                 value exactly representable,
+ *   st_rng_unit(key, dim)         the two together. */
+#define ST_RNG_DEFINE(U, F, n, sfx)                                                         \
+    ST_FN U ST_CAT(st_hash32, sfx)(U x)                                                     \
+    {                                                                                       \
+        ST_HASH32_MIX(x);                                                                   \
+        return x;                                                                           \
+    }                                                                                       \
+    ST_FN U ST_CAT(st_rng_key, sfx)(st_u32 seed, U pixel, U sample)                         \
+    {                                                                                       \
+        return ST_CAT(st_hash32, sfx)(                                                      \
+            sample ^ ST_CAT(st_hash32, sfx)(pixel ^ st_hash32(seed ^ 0x5bd1e995u)));        \
+    }                                                                                       \
+    ST_FN U ST_CAT(st_rng_u32, sfx)(U key, U dim)                                           \
+    {                                                                                       \
+        return ST_CAT(st_hash32, sfx)(key ^ ST_CAT(st_hash32, sfx)(dim + 0x9e3779b9u));     \
+    }                                                                                       \
+    ST_FN F ST_CAT(st_u32_to_unit, sfx)(U x)                                                \
+    {                                                                                       \
+        return ST_TO_FLOAT(n, x >> 8) * 5.9604644775390625e-8f; /* 2^-24 */                 \
+    }                                                                                       \
+    ST_FN F ST_CAT(st_rng_unit, sfx)(U key, U dim)                                          \
+    {                                                                                       \
+        return ST_CAT(st_u32_to_unit, sfx)(ST_CAT(st_rng_u32, sfx)(key, dim));              \
+    }
 
-/* Key of one sample: computed once, then st_rng_u32(key, dim) per dimension. */
-ST_FN st_u32 st_rng_key(st_u32 seed, st_u32 pixel, st_u32 sample)
-{
-    return st_hash32(sample ^ st_hash32(pixel ^ st_hash32(seed ^ 0x5bd1e995u)));
-}
-
-ST_FN st_u32 st_rng_u32(st_u32 key, st_u32 dim)
-{
-    return st_hash32(key ^ st_hash32(dim + 0x9e3779b9u));
-}
-
-/* The top 24 bits as a float in [0, 1): every value exactly representable. */
-ST_FN st_f32 st_u32_to_unit(st_u32 x)
-{
-    return (st_f32)(x >> 8) * 5.9604644775390625e-8f; /* 2^-24 */
-}
-
-ST_FN st_f32 st_rng_unit(st_u32 key, st_u32 dim)
-{
-    return st_u32_to_unit(st_rng_u32(key, dim));
-}
-
-/* The same numbers in lanes (lanes.h), lane by lane: st_rng_key of a pixel
- * and a sample per lane, st_rng_unit of a key and a dimension per lane. */
-ST_FN st_lu st_hash32_lanes(st_lu x)
-{
-    ST_HASH32_MIX(x);
-    return x;
-}
-
-ST_FN st_lu st_rng_key_lanes(st_u32 seed, st_lu pixel, st_lu sample)
-{
-    return st_hash32_lanes(sample ^ st_hash32_lanes(pixel ^ st_hash32(seed ^ 0x5bd1e995u)));
-}
-
-ST_FN st_lf st_rng_unit_lanes(st_lu key, st_lu dim)
-{
-    st_lu x = st_hash32_lanes(key ^ st_hash32_lanes(dim + 0x9e3779b9u)); /* st_rng_u32 */
-    return ST_TO_FLOAT(ST_W, x >> 8) * 5.9604644775390625e-8f; /* st_u32_to_unit */
-}
+ST_RNG_DEFINE(st_u32, st_f32, 1, )
+ST_RNG_DEFINE(st_lu, st_lf, ST_W, _lanes)
 
 #endif
