@@ -414,8 +414,10 @@ rm -f "$T/ls.exr"
 check "--local-size 4096 at 16 lanes with an 80 MiB stack renders" '[ -s "$T/ls.exr" ]' "($(cat "$T/err"))"
 
 # ---- memory planned before it is asked for ------------------------------------------------------
+# (about 31 GB, host and device: more than this machine's memory, and than a limit of 24 GB
+# on a larger one)
 expect "a 16384 x 16384 film is refused before allocating, naming --width and --height" 2 "^strata: error: the render needs .*MiB.*: reduce --width and --height" \
-    timeout 120 $S render --width 16384 --height 16384 --spp 1 --quiet -o "$T/mem.exr"
+    sh -c "ulimit -v 24000000; exec timeout 120 $S render --width 16384 --height 16384 --spp 1 --quiet -o $T/mem.exr"
 expect "an 8192 x 8192 render under ulimit -v 5000000 is refused, not a PoCL abort" 2 "^strata: error: the render needs about .* MiB of memory, more than the .* MiB the process may still take (ulimit -v): reduce --width and --height" \
     sh -c "ulimit -v 5000000; exec timeout 120 $S render --width 8192 --height 8192 --spp 1 --quiet -o $T/mem.exr"
 # (about 13 GB: under a limit of 8 GB, so that it is refused on any machine)
