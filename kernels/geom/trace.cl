@@ -57,8 +57,14 @@ static void packet_items(const st_params *p, __global const st_u32 *live_a,
 {
     __global const st_u32 *list = st_live_list(p, live_a, live_b);
     st_u32 n = st_live_count(p);
-    for (st_u32 j = 0u; j < ST_PACKET; ++j)
-        item[j] = first + j < n ? st_live_item(list, first + j) : ST_NO_ITEM;
+    /* two loops, not st_live_item's select: see shade_lanes (shade.cl) on
+     * the masked load from the null list that the select became */
+    if (list)
+        for (st_u32 j = 0u; j < ST_PACKET; ++j)
+            item[j] = first + j < n ? list[first + j] : ST_NO_ITEM;
+    else
+        for (st_u32 j = 0u; j < ST_PACKET; ++j)
+            item[j] = first + j < n ? first + j : ST_NO_ITEM;
 }
 
 /* Lane j's ray *r, a copy of *w, and its bound *tmax (-1, below every hit,
