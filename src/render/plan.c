@@ -17,22 +17,17 @@ size_t st_plan_window_bytes(st_u32 side, float radius)
     return s * s * 4 * sizeof(st_i64);
 }
 
-/* The fewest triangles for which auto traces coherent rays in packets: a
- * small tree's few nodes cost a single ray little, and a packet's per-lane
- * node tests and its lane-wide triangle tests then cost more than they
- * share; on large meshes (the 327,680-triangle icosphere, ToyCar's 108,936)
- * packets of camera rays measured faster, on models of up to 15,452
- * triangles no faster. */
-#define ST_PACKET_MIN_TRIANGLES 65536u
-
 /* Which rays go in packets: where the kernels have lanes to fill (a CPU
- * device's), the coherent ones of a large scene; elsewhere none. */
+ * device's, or --lanes above 1), the coherent ones, whatever the scene's
+ * size: packets of camera rays and their shadow rays measured faster for
+ * direct lighting and paths alike on the large meshes and on small scenes
+ * too, down to the 32-triangle Cornell box. At one lane (a GPU's) a packet
+ * would be one ray: none. */
 int st_renderer_packets(const st_renderer *r, const st_render_options *o)
 {
     if (o->packet_path != ST_PACKET_AUTO)
         return o->packet_path;
-    int large = r->scene->tri_count >= ST_PACKET_MIN_TRIANGLES;
-    return st_device_get_info(r->dev)->lanes > 1u && large ? ST_PACKET_COHERENT : ST_PACKET_NONE;
+    return st_device_get_info(r->dev)->lanes > 1u ? ST_PACKET_COHERENT : ST_PACKET_NONE;
 }
 
 int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v)

@@ -1,8 +1,8 @@
 #!/bin/sh
 # test_packets_cli.sh — which rays `--packets auto` traces in packets, as
-# `strata bench` reports it: coherent rays on a CPU device for a scene of at
-# least 65,536 triangles (src/render/plan.c, ST_PACKET_MIN_TRIANGLES), none for a
-# small one; an explicit choice is kept. --lanes builds the kernels at the
+# `strata bench` reports it: coherent rays where the kernels have lanes (a
+# CPU device's, src/render/plan.c), on small scenes and large ones alike, none
+# at one lane; an explicit choice is kept. --lanes builds the kernels at the
 # width asked, which bench and the EXR header name with the kernels that
 # ran, and leaves the image as it is. TAP output.
 . tests/tap.sh
@@ -17,10 +17,12 @@ $S bench cornell-box $B > "$T/cornell" 2> /dev/null
 $S bench "$T/ico5.gltf" $B > "$T/ico5" 2> /dev/null
 $S bench "$T/ico6.gltf" $B > "$T/ico6" 2> /dev/null
 $S bench "$T/ico6.gltf" $B --packets none > "$T/ico6-none" 2> /dev/null
+$S bench cornell-box $B --lanes 1 > "$T/cornell-w1" 2> /dev/null
 $S bench cornell-box $B --packets all --json > "$T/cornell-all.json" 2> /dev/null
 check "the level-6 icosphere has 81,920 triangles" 'grep -q "(81920 triangles" "$T/ico6"'
-check "auto: none for the 32-triangle Cornell box" '[ "$(packets "$T/cornell")" = none ]'
-check "auto: none for 20,480 triangles" '[ "$(packets "$T/ico5")" = none ]'
+check "auto: coherent for the 32-triangle Cornell box" '[ "$(packets "$T/cornell")" = coherent ]'
+check "auto: coherent for 20,480 triangles" '[ "$(packets "$T/ico5")" = coherent ]'
+check "auto at --lanes 1: none" '[ "$(packets "$T/cornell-w1")" = none ]'
 check "auto: coherent for 81,920 triangles" '[ "$(packets "$T/ico6")" = coherent ]'
 check "--packets none is kept on a large scene" '[ "$(packets "$T/ico6-none")" = none ]'
 check "--packets all is kept on a small scene, and --json names it" \
