@@ -571,26 +571,44 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
  * lecture's definition; a negative sum from negative filter lobes divides
  * too, as in pbrt), negative values clamped to 0; a pixel whose weight sum
  * is 0 (no definition), or whose value is not finite, becomes 0 and is
- * counted. */
+ * counted. ST_W pixels a work-item: region pixels ST_W w .. ST_W w + n - 1
+ * (a crop resolves its window only), their sums gathered (lanes past n
+ * repeat the last pixel and are neither stored nor counted), the
+ * arithmetic in lanes, each lane the operations of width 1, and the
+ * counts added once per work-item. */
 __kernel void resolve_film(ST_FILM_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.region_w * p.region_h)
+    st_u32 first = ST_W * get_global_id(0), npix = p.region_w * p.region_h;
+    if (first >= npix)
         return;
-    i = st_region_pixel(&p, i); /* a crop resolves its window only */
-    __global const long *a = film[i].sum;
-    float w = (float)a[3] * (1.0f / ST_FIXED_SCALE);
-    float3 v = (float3)(0.0f);
-    if (w != 0.0f) {
-        v = (float3)((float)a[0], (float)a[1], (float)a[2]) * (1.0f / ST_FIXED_SCALE) / w;
-        if (!(isfinite(v.x) && isfinite(v.y) && isfinite(v.z))) {
-            atomic_inc(&stats->nonfinite);
-            v = (float3)(0.0f);
-        }
-        v = fmax(v, (float3)(0.0f));
-    } else {
-        atomic_inc(&stats->zero_weight);
+    st_u32 n = min((st_u32)ST_W, npix - first), at[ST_W];
+    float sum[ST_FILM_SUMS][ST_W];
+    for (st_u32 k = 0; k < ST_W; k++) {
+        at[k] = st_region_pixel(&p, first + min(k, n - 1u));
+        for (int c = 0; c < ST_FILM_SUMS; c++)
+            sum[c][k] = (float)film[at[k]].sum[c];
     }
-    st_pixel out = {{v.x, v.y, v.z}, w};
-    image[i] = out;
+    st_lf w = ST_VLOAD(ST_W, sum[3]) * (1.0f / ST_FIXED_SCALE);
+    st_lv3 v = st_lv3_make(ST_VLOAD(ST_W, sum[0]), ST_VLOAD(ST_W, sum[1]), ST_VLOAD(ST_W, sum[2]));
+    v = st_lv3_div(st_lv3_scale(v, ST_LF(1.0f / ST_FIXED_SCALE)), w);
+    st_li used = ST_IOTA(ST_W) < (st_li)((int)n), zero = w == ST_LF(0.0f);
+    st_li finite = isfinite(v.x) & isfinite(v.y) & isfinite(v.z);
+    st_lv3 kept = st_lv3_make(ST_FMAXF(v.x, ST_LF(0.0f)), ST_FMAXF(v.y, ST_LF(0.0f)),
+                              ST_FMAXF(v.z, ST_LF(0.0f)));
+    v = st_lv3_select(st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), kept, !zero & finite);
+    st_u32 nonfinite = popcount(ST_MASK_BITS(ST_W, used & !zero & !finite)),
+           unweighted = popcount(ST_MASK_BITS(ST_W, used & zero));
+    if (nonfinite)
+        atomic_add(&stats->nonfinite, nonfinite);
+    if (unweighted)
+        atomic_add(&stats->zero_weight, unweighted);
+    float out[4][ST_W];
+    ST_VSTORE(ST_W, v.x, out[0]);
+    ST_VSTORE(ST_W, v.y, out[1]);
+    ST_VSTORE(ST_W, v.z, out[2]);
+    ST_VSTORE(ST_W, w, out[3]);
+    for (st_u32 k = 0; k < n; k++) {
+        st_pixel px = {{out[0][k], out[1][k], out[2][k]}, out[3][k]};
+        image[at[k]] = px;
+    }
 }

@@ -427,6 +427,14 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     return p;
 }
 
+/* Work-items of a kernel that takes the device's ST_W items a work-item:
+ * ceil(n / ST_W). */
+static size_t lane_items(st_device *dev, size_t n)
+{
+    size_t lanes = st_device_get_info(dev)->lanes;
+    return (n + lanes - 1u) / lanes;
+}
+
 /* The paths a trace or shade launch at p's vertex runs over: every item of
  * the wave at vertex 0, then those still alive (st_live_count in st_shared.h). */
 static size_t live_paths(const st_params *p)
@@ -445,8 +453,7 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
     if (!st_plan_in_packets(&r->plan, r, k, v))
         return run_stage(r, k, p, n, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
-    size_t lanes = st_device_get_info(r->dev)->lanes;
-    return run_kernel(r, kl, k, p, (n + lanes - 1u) / lanes, o->local_size, o, st, err);
+    return run_kernel(r, kl, k, p, lane_items(r->dev, n), o->local_size, o, st, err);
 }
 
 /* Stage shade over the vertex's live paths, ST_W per work-item (ceil(n /
@@ -455,9 +462,8 @@ static st_status run_shade(st_renderer *r, const st_params *p, const st_render_o
                            st_render_stats *st, st_error *err)
 {
     cl_kernel kl = r->plan.shadows_in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
-    size_t lanes = r->plan.lanes, n = live_paths(p);
-    return run_kernel(r, kl, ST_STAGE_SHADE, p, (n + lanes - 1u) / lanes, o->local_size, o, st,
-                      err);
+    return run_kernel(r, kl, ST_STAGE_SHADE, p, lane_items(r->dev, live_paths(p)), o->local_size,
+                      o, st, err);
 }
 
 /* The list of the paths that go on from p's vertex, for the next (live.cl:
@@ -466,7 +472,7 @@ static st_status run_shade(st_renderer *r, const st_params *p, const st_render_o
 static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    size_t words = (live_paths(p) + r->plan.lanes - 1u) / r->plan.lanes;
+    size_t words = lane_items(r->dev, live_paths(p));
     size_t chunks = (words + ST_LIVE_CHUNK - 1u) / ST_LIVE_CHUNK;
     if (run_kernel(r, r->live_count, ST_STAGE_LIVE, p, chunks, o->local_size, o, st, err) ||
         run_kernel(r, r->live_scan, ST_STAGE_LIVE, p, 1, o->local_size, o, st, err) ||
@@ -481,8 +487,7 @@ static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
                           const st_render_options *o, st_render_stats *st, st_error *err)
 {
     /* generate: ST_W items a work-item */
-    size_t n = (p->item_count + r->plan.lanes - 1u) / r->plan.lanes;
-    if (run_stage(r, ST_STAGE_GENERATE, p, n, o, st, err))
+    if (run_stage(r, ST_STAGE_GENERATE, p, lane_items(r->dev, p->item_count), o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS), as the
@@ -652,7 +657,8 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     st_status rc = ST_OK;
     if (st_device_buffer_write(dev, w.b[ST_WAVE_film], st_wave_bytes(&w, ST_WAVE_film), sums,
                                err) ||
-        st_wave_bind_film(k, &p, &w, err) || st_device_launch(dev, k, pixels, 0, err) ||
+        st_wave_bind_film(k, &p, &w, err) ||
+        st_device_launch(dev, k, lane_items(dev, pixels), 0, err) ||
         st_image_create(out, width, height, 4, names, err) ||
         st_device_buffer_read(dev, w.b[ST_WAVE_image], st_wave_bytes(&w, ST_WAVE_image),
                               out->data, err) ||
@@ -774,7 +780,8 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     crop_window(o, win);
     set_region(&p, win); /* resolve the window alone: its counts are the window's */
     if (rc == ST_OK)
-        rc = run_stage(r, ST_STAGE_RESOLVE, &p, (size_t)win[2] * win[3], o, st, err);
+        rc = run_stage(r, ST_STAGE_RESOLVE, &p, lane_items(r->dev, (size_t)win[2] * win[3]), o,
+                       st, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;

@@ -8,7 +8,8 @@
  * region's pixel count, crops, odd image sizes, spp 1 and spp that divide
  * nothing, several samplers, both integrators and every kind of material
  * and light; the list of live paths against every item at every vertex;
- * and each path runs only its own kernels. */
+ * and each path runs only its own kernels; and resolve_film at every lane
+ * width against its definition. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -540,6 +541,81 @@ static void splat_lanes_at_every_width(void **state)
     st_scene_destroy(hot);
 }
 
+/* Film sums for resolve_at_every_width, pixel i of n: every seventh pixel
+ * of zero weight (sums left nonzero), every seventh from the next of
+ * negative weight (a negative lobe's sum: its value below 0, clamped),
+ * one of weight 0 with zero sums too, the others pseudo-random sums of
+ * either sign up to 2^40 over weights up to 2^30. */
+static void resolve_sums(st_i64 *sums, size_t n)
+{
+    uint64_t x = 0x9e3779b97f4a7c15u;
+    for (size_t i = 0; i < n; i++) {
+        st_i64 *s = sums + 4 * i;
+        for (int c = 0; c < 4; c++) {
+            x = x * 6364136223846793005u + 1442695040888963407u;
+            s[c] = (st_i64)(x >> 23) - ((st_i64)1 << 40); /* within ±2^40 */
+        }
+        s[3] = (s[3] >> 10) | 1; /* nonzero, within ±2^30 */
+        if (s[3] < 0)
+            s[3] = -s[3];
+        if (i % 7 == 0)
+            s[3] = 0;
+        if (i % 7 == 1)
+            s[3] = -s[3];
+    }
+    memset(sums + 4 * (n - 1), 0, 4 * sizeof *sums);
+}
+
+/* st_render_resolve built at every lane width: each pixel is the
+ * definition (resolve_film: Σ f L / Σ f as floats from the 64-bit sums,
+ * negative values 0, no weight 0 and counted), over an image whose pixels
+ * fill no last lane, and the images of every width are the same bit for
+ * bit. */
+static void resolve_at_every_width(void **state)
+{
+    (void)state;
+    static const unsigned widths[] = {1, 4, 8, 16};
+    enum { W = 13, H = 7, N = W * H };
+    st_i64 sums[4 * N];
+    resolve_sums(sums, N);
+    st_u32 zero = 0;
+    for (size_t i = 0; i < N; i++)
+        zero += sums[4 * i + 3] == 0;
+    st_image first = {0};
+    for (size_t k = 0; k < sizeof widths / sizeof widths[0]; k++) {
+        st_error err = {0};
+        st_device *d = NULL;
+        if (st_device_create(NULL, &d, &err) != ST_OK ||
+            st_device_set_lanes(d, widths[k], &err) != ST_OK)
+            fail_msg("device at %u lanes: %s", widths[k], err.msg);
+        st_image img = {0};
+        st_render_stats st = {0};
+        if (st_render_resolve(d, sums, W, H, &img, &st, &err) != ST_OK)
+            fail_msg("resolve at %u lanes: %s", widths[k], err.msg);
+        assert_int_equal(st.zero_weight, zero);
+        assert_int_equal(st.nonfinite, 0);
+        for (size_t i = 0; i < N; i++) {
+            const st_i64 *s = sums + 4 * i;
+            float w = (float)s[3] * (1.0f / ST_FIXED_SCALE), want[3] = {0.0f, 0.0f, 0.0f};
+            for (int c = 0; w != 0.0f && c < 3; c++) {
+                float v = (float)s[c] * (1.0f / ST_FIXED_SCALE) / w;
+                want[c] = v > 0.0f ? v : 0.0f;
+            }
+            for (int c = 0; c < 3; c++)
+                assert_true(img.data[4 * i + (size_t)c] == want[c]);
+            assert_true(img.data[4 * i + 3] == w);
+        }
+        if (k == 0)
+            first = img;
+        else {
+            assert_memory_equal(img.data, first.data, sizeof(float) * 4 * N);
+            st_image_free(&img);
+        }
+        st_device_destroy(d);
+    }
+    st_image_free(&first);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -547,6 +623,7 @@ int main(void)
         cmocka_unit_test(shade_at_every_width),
         cmocka_unit_test(live_lists_keep_every_path),
         cmocka_unit_test(splat_lanes_at_every_width),
+        cmocka_unit_test(resolve_at_every_width),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
 }
