@@ -22,30 +22,61 @@
 #define ADAPTIVE_GAMMA 0.75f
 #define ADAPTIVE_EPS 0.1f
 
+
+/* The pixels of this work-item: ST_W of them from ST_W times its id, fewer
+ * at the image's end (*count, 0 past it); returns the first. */
+static st_u32 pixel_lanes(const st_params *p, st_u32 *count)
+{
+    st_u32 n = p->width * p->height, first = ST_W * (st_u32)get_global_id(0);
+    *count = first < n ? min((st_u32)ST_W, n - first) : 0u;
+    return first;
+}
+
 /* Item i of the pilot is pixel i mod N, sample i / N (N pixels: generate.cl);
  * this wave holds items first_item .. first_item + item_count - 1. For each
  * pixel, adds its samples in this wave to moments: rgb[0] += Y, rgb[1] +=
- * Y², weight += 1. One work-item per pixel, in sample order: the float sums
- * are the same from run to run. */
+ * Y², weight += 1. ST_W pixels a work-item, each lane one pixel's sums in
+ * sample order: the float sums are the same from run to run and at every
+ * lane width. */
 __kernel void adaptive_moments(ST_FILM_PARAMS)
 {
-    st_u32 i = get_global_id(0), n = p.width * p.height;
-    if (i >= n)
+    st_u32 count, first = pixel_lanes(&p, &count), n = p.width * p.height;
+    if (count == 0u)
         return;
-    st_pixel m = moments[i];
-    for (st_u32 k = 0; k < p.adaptive_pilot; k++) {
-        st_u64 g = (st_u64)k * n + i;
-        if (g < p.first_item || g >= p.first_item + p.item_count)
-            continue;
-        float3 L = vload3(0, path[g - p.first_item].radiance);
-        float y = (L.x + L.y + L.z) / 3.0f;
-        if (!isfinite(y))
-            continue; /* counted by the splat */
-        m.rgb[0] += y;
-        m.rgb[1] += y * y;
-        m.weight += 1.0f;
+    float m[3][ST_W];
+    for (st_u32 l = 0; l < ST_W; l++) {
+        st_pixel px = moments[first + min(l, count - 1u)];
+        m[0][l] = px.rgb[0];
+        m[1][l] = px.rgb[1];
+        m[2][l] = px.weight;
     }
-    moments[i] = m;
+    st_lf s = ST_VLOAD(ST_W, m[0]), s2 = ST_VLOAD(ST_W, m[1]), w = ST_VLOAD(ST_W, m[2]);
+    for (st_u32 k = 0; k < p.adaptive_pilot; k++) {
+        /* lane l is item k n + first + l, of this wave where lo <= l < hi */
+        st_i64 off = (st_i64)((st_u64)k * n + first) - (st_i64)p.first_item;
+        int lo = (int)clamp(-off, (st_i64)0, (st_i64)count),
+            hi = (int)clamp((st_i64)p.item_count - off, (st_i64)0, (st_i64)count);
+        float L[3][ST_W];
+        for (int l = 0; l < ST_W; l++) {
+            float3 c = l >= lo && l < hi ? vload3(0, path[off + l].radiance) : (float3)(0.0f);
+            L[0][l] = c.x;
+            L[1][l] = c.y;
+            L[2][l] = c.z;
+        }
+        st_li in = ST_IOTA(ST_W) >= lo & ST_IOTA(ST_W) < hi;
+        st_lf y = (ST_VLOAD(ST_W, L[0]) + ST_VLOAD(ST_W, L[1]) + ST_VLOAD(ST_W, L[2])) / 3.0f;
+        st_li ok = in & isfinite(y); /* the others counted by the splat */
+        s = ST_SELECT(ST_W, s, s + y, ok);
+        s2 = ST_SELECT(ST_W, s2, s2 + y * y, ok);
+        w = ST_SELECT(ST_W, w, w + 1.0f, ok);
+    }
+    ST_VSTORE(ST_W, s, m[0]);
+    ST_VSTORE(ST_W, s2, m[1]);
+    ST_VSTORE(ST_W, w, m[2]);
+    for (st_u32 l = 0; l < count; l++) {
+        st_pixel px = {{m[0][l], m[1][l], 0.0f}, m[2][l]};
+        moments[first + l] = px;
+    }
 }
 
 /* Pixel i's error estimate into splat_scale[i] (the host reads it and puts
@@ -53,36 +84,49 @@ __kernel void adaptive_moments(ST_FILM_PARAMS)
  * pooled (one pixel's N0 samples are too few to judge by; the pool also
  * sees an edge between neighbours, which the filter blends), then
  * sqrt(var) / (mean² + ε²)^(γ/2). The pilot's film moves to pilot_film and
- * the film starts again from 0 for the later samples. */
+ * the film starts again from 0 for the later samples. ST_W pixels a
+ * work-item, each lane adding its neighbours in rows, as one pixel alone
+ * would. */
 __kernel void adaptive_estimate(ST_FILM_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.width * p.height)
+    st_u32 count, first = pixel_lanes(&p, &count);
+    if (count == 0u)
         return;
-    int x = (int)(i % p.width), y = (int)(i / p.width);
-    float s = 0.0f, s2 = 0.0f, n = 0.0f;
-    for (int dy = max(y - 1, 0); dy <= min(y + 1, (int)p.height - 1); dy++)
-        for (int dx = max(x - 1, 0); dx <= min(x + 1, (int)p.width - 1); dx++) {
-            st_pixel m = moments[(st_u32)dy * p.width + (st_u32)dx];
-            s += m.rgb[0];
-            s2 += m.rgb[1];
-            n += m.weight;
+    int at[ST_W];
+    for (st_u32 l = 0; l < ST_W; l++)
+        at[l] = (int)(first + min(l, count - 1u));
+    st_li i = ST_VLOAD(ST_W, at), w = (st_li)((int)p.width), h = (st_li)((int)p.height);
+    st_li x = i % w, y = i / w;
+    st_lf s = ST_LF(0.0f), s2 = ST_LF(0.0f), n = ST_LF(0.0f);
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            st_li in_image = x + dx >= 0 & x + dx < w & y + dy >= 0 & y + dy < h;
+            ST_VSTORE(ST_W, ST_SELECT(ST_W, i, i + dy * w + dx, in_image), at);
+            float m[3][ST_W];
+            for (st_u32 l = 0; l < ST_W; l++) {
+                st_pixel px = moments[at[l]];
+                m[0][l] = px.rgb[0];
+                m[1][l] = px.rgb[1];
+                m[2][l] = px.weight;
+            }
+            s = ST_SELECT(ST_W, s, s + ST_VLOAD(ST_W, m[0]), in_image);
+            s2 = ST_SELECT(ST_W, s2, s2 + ST_VLOAD(ST_W, m[1]), in_image);
+            n = ST_SELECT(ST_W, n, n + ST_VLOAD(ST_W, m[2]), in_image);
         }
-    float mean = n > 0.0f ? s / n : 0.0f, var = n > 1.0f ? fmax(s2 / n - mean * mean, 0.0f) : 0.0f;
-    splat_scale[i] = sqrt(var) / pow(mean * mean + ADAPTIVE_EPS * ADAPTIVE_EPS, 0.5f * ADAPTIVE_GAMMA);
-    pilot_film[i] = film[i];
-    for (int k = 0; k < ST_FILM_SUMS; k++)
-        film[i].sum[k] = 0;
-}
-
-/* Σ f L / Σ f of one film's sums, and whether Σ f != 0 (as resolve_film). */
-static int film_value(__global const st_film_pixel *px, float3 *v)
-{
-    __global const long *a = px->sum;
-    if (a[3] == 0)
-        return 0;
-    *v = (float3)((float)a[0], (float)a[1], (float)a[2]) / (float)a[3];
-    return 1;
+    st_lf mean = ST_SELECT(ST_W, ST_LF(0.0f), s / n, n > 0.0f);
+    st_lf spread = ST_FMAXF(s2 / n - mean * mean, ST_LF(0.0f));
+    st_lf var = ST_SELECT(ST_W, ST_LF(0.0f), spread, n > 1.0f);
+    st_lf e = ST_SQRTF(var) /
+              pow(mean * mean + ADAPTIVE_EPS * ADAPTIVE_EPS, ST_LF(0.5f * ADAPTIVE_GAMMA));
+    float out[ST_W];
+    ST_VSTORE(ST_W, e, out);
+    for (st_u32 l = 0; l < count; l++) {
+        st_u32 i = first + l;
+        splat_scale[i] = out[l];
+        pilot_film[i] = film[i];
+        for (int k = 0; k < ST_FILM_SUMS; k++)
+            film[i].sum[k] = 0;
+    }
 }
 
 /* ∫ f(u) du over [a, b] ∩ [-r, r], f the filter along one axis: 8-point
@@ -106,49 +150,95 @@ static float filter_integral(const st_filter *f, float a, float b)
     return sum;
 }
 
-/* The later film's value at pixel i, from its sums N = Σ f L / m and
- * D = Σ f / m. N / D is a ratio estimator, biased where D varies much: a
- * pixel at the cap beside pixels of one or two samples, whose 1 / m weigh
- * up to a hundred of its own. With splatting and the random sampler (each
- * sample uniform in its pixel), E[D] = W = ∫ f over the image round the
- * pixel whatever the counts (the 1 / m cancels the count), and
- * P + (N − P D) / W, P the pilot's value (independent of these samples),
- * has expectation E[N] / W: the filtered image, exactly. It is N / D where
- * D = W, and its noise is N / D's to first order (P is near the value). */
-static float3 later_value(__global const st_film_pixel *px, float3 P, const st_params *p,
-                          st_u32 i)
+/* The sums of film pixels first .. first + count - 1 as floats, sum[c][l]
+ * (the lanes past count repeat the last). */
+static void film_lanes(__global const st_film_pixel *film, st_u32 first, st_u32 count,
+                       float sum[ST_FILM_SUMS][ST_W])
 {
-    __global const long *a = px->sum;
-    float3 N = (float3)((float)a[0], (float)a[1], (float)a[2]) / ST_FIXED_SCALE;
-    float D = (float)a[3] / ST_FIXED_SCALE;
-    float cx = (float)(i % p->width) + 0.5f, cy = (float)(i / p->width) + 0.5f;
-    float W = filter_integral(&p->filter, -cx, (float)p->width - cx) *
-              filter_integral(&p->filter, -cy, (float)p->height - cy);
-    return P + (N - P * D) / W;
+    for (st_u32 l = 0; l < ST_W; l++)
+        for (int c = 0; c < ST_FILM_SUMS; c++)
+            sum[c][l] = (float)film[first + min(l, count - 1u)].sum[c];
+}
+
+/* Σ f L / Σ f of each lane's sums (as resolve_film), and in *has the lanes
+ * where Σ f != 0 (a 64-bit sum is 0 exactly where its float is). */
+static st_lv3 film_value(float sum[ST_FILM_SUMS][ST_W], st_li *has)
+{
+    st_lf w = ST_VLOAD(ST_W, sum[3]);
+    *has = w != 0.0f;
+    st_lv3 v = st_lv3_make(ST_VLOAD(ST_W, sum[0]), ST_VLOAD(ST_W, sum[1]), ST_VLOAD(ST_W, sum[2]));
+    return st_lv3_div(v, w);
+}
+
+/* The later film's value from its sums N = Σ f L / m and D = Σ f / m. N / D
+ * is a ratio estimator, biased where D varies much: a pixel at the cap
+ * beside pixels of one or two samples, whose 1 / m weigh up to a hundred of
+ * its own. With splatting and the random sampler (each sample uniform in
+ * its pixel), E[D] = W = ∫ f over the image round the pixel whatever the
+ * counts (the 1 / m cancels the count), and P + (N − P D) / W, P the
+ * pilot's value (independent of these samples), has expectation E[N] / W:
+ * the filtered image, exactly. It is N / D where D = W, and its noise is
+ * N / D's to first order (P is near the value). Each lane's W is its own
+ * loop over the filter (filter_integral), one lane at a time. */
+static st_lv3 later_value(float sum[ST_FILM_SUMS][ST_W], st_lv3 P, const st_params *p,
+                          st_u32 first, st_u32 count)
+{
+    float W[ST_W];
+    for (st_u32 l = 0; l < ST_W; l++) {
+        st_u32 i = first + min(l, count - 1u);
+        float cx = (float)(i % p->width) + 0.5f, cy = (float)(i / p->width) + 0.5f;
+        W[l] = filter_integral(&p->filter, -cx, (float)p->width - cx) *
+               filter_integral(&p->filter, -cy, (float)p->height - cy);
+    }
+    st_lv3 N = st_lv3_make(ST_VLOAD(ST_W, sum[0]), ST_VLOAD(ST_W, sum[1]), ST_VLOAD(ST_W, sum[2]));
+    N = st_lv3_scale(N, ST_LF(1.0f / ST_FIXED_SCALE));
+    st_lf D = ST_VLOAD(ST_W, sum[3]) * (1.0f / ST_FIXED_SCALE), w = ST_VLOAD(ST_W, W);
+    return st_lv3_make(P.x + (N.x - P.x * D) / w, P.y + (N.y - P.y * D) / w,
+                       P.z + (N.z - P.z * D) / w);
 }
 
 /* Pixel i of the film becomes α P + (1 − α) F, P the pilot's value, F the
  * later samples', α = N0 / n(i) (each weighted by its pixel's share of the
  * samples, as inverse variances would be), as sums of weight 1; where one
- * film has no weight the other alone; where neither, 0 (resolve counts it). */
+ * film has no weight the other alone; where neither, 0 (resolve counts it).
+ * ST_W pixels a work-item. */
 __kernel void adaptive_blend(ST_FILM_PARAMS)
 {
-    st_u32 i = get_global_id(0);
-    if (i >= p.width * p.height)
+    st_u32 count, first = pixel_lanes(&p, &count);
+    if (count == 0u)
         return;
-    float3 P = (float3)(0.0f), F = (float3)(0.0f);
-    int has_p = film_value(pilot_film + i, &P), has_f = film_value(film + i, &F);
-    if (!has_p && !has_f)
-        return;
-    float a = !has_f ? 1.0f : !has_p ? 0.0f : (float)p.adaptive_pilot / (float)pixel_spp[i];
-    if (has_p && has_f && p.reconstruction == ST_RECON_SPLAT)
-        F = later_value(film + i, P, &p, i);
-    float3 v = a * P + (1.0f - a) * F;
+    float ps[ST_FILM_SUMS][ST_W], fs[ST_FILM_SUMS][ST_W], spp[ST_W];
+    film_lanes(pilot_film, first, count, ps);
+    film_lanes(film, first, count, fs);
+    for (st_u32 l = 0; l < ST_W; l++)
+        spp[l] = (float)pixel_spp[first + min(l, count - 1u)];
+    st_li has_p, has_f;
+    st_lv3 none = st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f));
+    st_lv3 P = st_lv3_select(none, film_value(ps, &has_p), has_p);
+    st_lv3 F = st_lv3_select(none, film_value(fs, &has_f), has_f);
+    st_lf a = ST_SELECT(ST_W, (float)p.adaptive_pilot / ST_VLOAD(ST_W, spp), ST_LF(0.0f), !has_p);
+    a = ST_SELECT(ST_W, a, ST_LF(1.0f), !has_f);
+    if (p.reconstruction == ST_RECON_SPLAT)
+        F = st_lv3_select(F, later_value(fs, P, &p, first, count), has_p & has_f);
+    st_lf b = 1.0f - a;
+    st_lv3 v = st_lv3_make(a * P.x + b * F.x, a * P.y + b * F.y, a * P.z + b * F.z);
+    float out[3][ST_W];
+    int kept[ST_W];
+    ST_VSTORE(ST_W, v.x, out[0]);
+    ST_VSTORE(ST_W, v.y, out[1]);
+    ST_VSTORE(ST_W, v.z, out[2]);
+    ST_VSTORE(ST_W, has_p | has_f, kept);
     st_u32 clamped = 0;
-    st_i64 sums[4];
-    st_fixed_splat(1.0f, v.x, v.y, v.z, sums, &clamped);
-    for (int k = 0; k < ST_FILM_SUMS; k++)
-        film[i].sum[k] = sums[k];
+    for (st_u32 l = 0; l < count; l++) {
+        if (!kept[l])
+            continue;
+        st_u32 c = 0;
+        st_i64 sums[4];
+        st_fixed_splat(1.0f, out[0][l], out[1][l], out[2][l], sums, &c);
+        for (int k = 0; k < ST_FILM_SUMS; k++)
+            film[first + l].sum[k] = sums[k];
+        clamped += c;
+    }
     if (clamped)
-        atomic_inc(&stats->clamped);
+        atomic_add(&stats->clamped, clamped);
 }

@@ -43,6 +43,11 @@ static double build_seconds(const st_cli_render_args *a, int cold)
         st_cli_render_args tiny = *a;
         tiny.opt.width = tiny.opt.height = 8;
         tiny.opt.spp = 1;
+        if (tiny.opt.adaptive) { /* the least plan it takes: a pilot of 1, one more */
+            tiny.opt.spp = 2;
+            tiny.opt.min_spp = 1;
+            tiny.opt.max_spp = 0;
+        }
         tiny.said = 1;
         st_error err = {0};
         st_cli_session s;

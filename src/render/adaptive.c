@@ -133,11 +133,14 @@ static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32
     return rc;
 }
 
-/* Launches adaptive kernel k (ST_ADAPTIVE_*) over every pixel with p. */
+/* Launches adaptive kernel k (ST_ADAPTIVE_*) over every pixel with p, the
+ * device's ST_W pixels a work-item. */
 static st_status launch(st_renderer *r, int k, const st_params *p, st_wave *w, st_error *err)
 {
+    size_t items = st_render_lane_items(r->dev, w->pixels);
+    st_render_note_ran(r, r->adaptive[k]);
     if (st_wave_set_params(r->adaptive[k], p, err) ||
-        st_device_launch(r->dev, r->adaptive[k], w->pixels, 0, err))
+        st_device_launch(r->dev, r->adaptive[k], items, 0, err))
         return err->status;
     return ST_OK;
 }

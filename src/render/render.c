@@ -153,8 +153,7 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
     return st_wave_bind_film(r->k[ST_STAGE_RESOLVE], p, w, err);
 }
 
-/* Notes kernel kl among those the render ran, once, in launch order. */
-static void note_ran(st_renderer *r, cl_kernel kl)
+void st_render_note_ran(st_renderer *r, cl_kernel kl)
 {
     for (unsigned i = 0; i < r->ran_count; i++)
         if (r->ran[i] == kl)
@@ -171,7 +170,7 @@ static st_status run_kernel(st_renderer *r, cl_kernel kl, int k, const st_params
 {
     if (st_wave_set_params(kl, p, err) != ST_OK)
         return err->status;
-    note_ran(r, kl);
+    st_render_note_ran(r, kl);
     double t0 = o->profile ? st_render_now() : 0.0;
     if (st_device_launch(r->dev, kl, items, local, err) != ST_OK)
         return err->status;
@@ -427,9 +426,7 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     return p;
 }
 
-/* Work-items of a kernel that takes the device's ST_W items a work-item:
- * ceil(n / ST_W). */
-static size_t lane_items(st_device *dev, size_t n)
+size_t st_render_lane_items(st_device *dev, size_t n)
 {
     size_t lanes = st_device_get_info(dev)->lanes;
     return (n + lanes - 1u) / lanes;
@@ -453,7 +450,7 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
     if (!st_plan_in_packets(&r->plan, r, k, v))
         return run_stage(r, k, p, n, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
-    return run_kernel(r, kl, k, p, lane_items(r->dev, n), o->local_size, o, st, err);
+    return run_kernel(r, kl, k, p, st_render_lane_items(r->dev, n), o->local_size, o, st, err);
 }
 
 /* Stage shade over the vertex's live paths, ST_W per work-item (ceil(n /
@@ -462,8 +459,8 @@ static st_status run_shade(st_renderer *r, const st_params *p, const st_render_o
                            st_render_stats *st, st_error *err)
 {
     cl_kernel kl = r->plan.shadows_in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
-    return run_kernel(r, kl, ST_STAGE_SHADE, p, lane_items(r->dev, live_paths(p)), o->local_size,
-                      o, st, err);
+    size_t items = st_render_lane_items(r->dev, live_paths(p));
+    return run_kernel(r, kl, ST_STAGE_SHADE, p, items, o->local_size, o, st, err);
 }
 
 /* The list of the paths that go on from p's vertex, for the next (live.cl:
@@ -472,7 +469,7 @@ static st_status run_shade(st_renderer *r, const st_params *p, const st_render_o
 static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
-    size_t words = lane_items(r->dev, live_paths(p));
+    size_t words = st_render_lane_items(r->dev, live_paths(p));
     size_t chunks = (words + ST_LIVE_CHUNK - 1u) / ST_LIVE_CHUNK;
     if (run_kernel(r, r->live_count, ST_STAGE_LIVE, p, chunks, o->local_size, o, st, err) ||
         run_kernel(r, r->live_scan, ST_STAGE_LIVE, p, 1, o->local_size, o, st, err) ||
@@ -487,7 +484,7 @@ static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
                           const st_render_options *o, st_render_stats *st, st_error *err)
 {
     /* generate: ST_W items a work-item */
-    if (run_stage(r, ST_STAGE_GENERATE, p, lane_items(r->dev, p->item_count), o, st, err))
+    if (run_stage(r, ST_STAGE_GENERATE, p, st_render_lane_items(r->dev, p->item_count), o, st, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS), as the
@@ -658,7 +655,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     if (st_device_buffer_write(dev, w.b[ST_WAVE_film], st_wave_bytes(&w, ST_WAVE_film), sums,
                                err) ||
         st_wave_bind_film(k, &p, &w, err) ||
-        st_device_launch(dev, k, lane_items(dev, pixels), 0, err) ||
+        st_device_launch(dev, k, st_render_lane_items(dev, pixels), 0, err) ||
         st_image_create(out, width, height, 4, names, err) ||
         st_device_buffer_read(dev, w.b[ST_WAVE_image], st_wave_bytes(&w, ST_WAVE_image),
                               out->data, err) ||
@@ -779,9 +776,9 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_u32 win[4];
     crop_window(o, win);
     set_region(&p, win); /* resolve the window alone: its counts are the window's */
+    size_t resolve_items = st_render_lane_items(r->dev, (size_t)win[2] * win[3]);
     if (rc == ST_OK)
-        rc = run_stage(r, ST_STAGE_RESOLVE, &p, lane_items(r->dev, (size_t)win[2] * win[3]), o,
-                       st, err);
+        rc = run_stage(r, ST_STAGE_RESOLVE, &p, resolve_items, o, st, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;

@@ -77,6 +77,14 @@ static inline double st_render_now(void)
  * map than the one uploaded (device_scene.c). */
 st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_error *err);
 
+/* Notes kernel kl among those the render ran (strata bench and the EXR
+ * header name them), once, in launch order. */
+void st_render_note_ran(st_renderer *r, cl_kernel kl);
+
+/* Work-items of a kernel that takes the device's ST_W items a work-item:
+ * ceil(n / ST_W). */
+size_t st_render_lane_items(st_device *dev, size_t n);
+
 /* The threads the BVH build of tri_count triangles takes for device info:
  * the build's own default (st_bvh_threads), but no more than a CPU device's
  * compute units, which --threads limits (device_scene.c). */

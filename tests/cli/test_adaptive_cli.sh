@@ -4,7 +4,8 @@
 # at most spp per pixel on average), the spp map is written, the pilot and
 # the cap are checked against the mean, the adaptive options need
 # --adaptive; every sampler but random renders uniformly instead, with a
-# note naming it and the EXR header saying so. TAP output.
+# note naming it and the EXR header saying so; bench names the adaptive
+# kernels and times their build. TAP output.
 . tests/tap.sh
 P="--width 16 --height 16 --quiet"
 $S render $P --sampler random --adaptive --spp 8 --spp-map "$T/map.png" -o "$T/a.exr" > "$T/sum" 2>&1
@@ -35,4 +36,9 @@ expect "a negative threshold exits 2" 2 "^strata: error: --noise-threshold -1: m
     $S render $P --adaptive --noise-threshold -1 -o "$T/x.exr"
 expect "--max-spp without --adaptive exits 2" 2 "^strata: error: --max-spp applies to adaptive renders only" \
     $S render $P --max-spp 32 -o "$T/x.exr"
+$S bench $P --sampler random --adaptive --spp 8 > "$T/bench" 2> /dev/null
+check "bench names the adaptive kernels it ran" \
+    'grep -q "^kernels *lanes [0-9]*: .*adaptive_moments, adaptive_estimate, adaptive_blend" "$T/bench"'
+check "bench measures an adaptive render's kernel build" \
+    'grep -q "^kernels *cold build [0-9][0-9.]* s, cached [0-9][0-9.]* s" "$T/bench"'
 echo "1..$n"

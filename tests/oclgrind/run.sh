@@ -52,6 +52,9 @@ run "packets of 1 ray (one lane), direct" render $D --spp 2 --integrator direct 
 # 4 with an adaptive render's weighted rounds
 run "splat weights in 8 lanes, lanczos" render $D --spp 2 --integrator direct --filter lanczos --lanes 8 -o "$T/q.exr"
 run "splat weights in 4 lanes, catmull-rom, adaptive" render $D --spp 8 --adaptive --sampler random --filter catmull-rom --lanes 4 -o "$T/r.exr"
+# the adaptive kernels' pixels in 16 lanes: 24 pixels, the last work-item's
+# lanes half filled
+run "adaptive kernels in 16 lanes, mitchell" render $D --spp 6 --adaptive --sampler random --filter mitchell --lanes 16 -o "$T/s.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
