@@ -67,14 +67,6 @@ st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o,
     return ST_OK;
 }
 
-/* Work-items of a packet kernel over n rays: one per packet of the
- * device's lane width (kernels/geom/packet.h). */
-static size_t packet_items(const st_renderer *r, size_t n)
-{
-    size_t lanes = st_device_get_info(r->dev)->lanes;
-    return (n + lanes - 1u) / lanes;
-}
-
 /* One wave: rays [first, first + n) uploaded, traced (timed), hits counted. */
 static st_status trace_wave(st_renderer *r, const st_render_options *o, int set, st_u64 first,
                             size_t n, st_wave *w, st_ray *rays, st_hit *hits,
@@ -89,8 +81,9 @@ static st_status trace_wave(st_renderer *r, const st_render_options *o, int set,
         st_device_buffer_write(r->dev, w->b[ST_WAVE_ray], n * sizeof *rays, rays, err) ||
         st_wave_set_params(k, &p, err) || st_device_finish(r->dev, err))
         return err->status;
+    size_t items = packets ? st_render_lane_items(r->dev, n) : n; /* a packet a work-item */
     double t0 = st_render_now();
-    if (st_device_launch(r->dev, k, packets ? packet_items(r, n) : n, o->local_size, err) ||
+    if (st_device_launch(r->dev, k, items, o->local_size, err) ||
         st_device_finish(r->dev, err))
         return err->status;
     res->seconds += st_render_now() - t0;
@@ -151,9 +144,10 @@ static st_status launch_alone(st_renderer *r, const st_render_options *o, cl_ker
     memset(&sh, 0, sizeof sh);
     p.item_count = (st_u32)n;
     p.ray_eps = r->ray_eps;
+    size_t items = packets ? st_render_lane_items(r->dev, n) : n;
     if (st_device_buffer_zero(r->dev, w->b[ST_WAVE_path], st_wave_bytes(w, ST_WAVE_path), err) ||
         st_wave_bind_stage(k, &p, &sh, r->scene_buf, w, err) ||
-        st_device_launch(r->dev, k, packets ? packet_items(r, n) : n, o->local_size, err))
+        st_device_launch(r->dev, k, items, o->local_size, err))
         return err->status;
     return st_device_finish(r->dev, err);
 }
