@@ -1,6 +1,7 @@
 /* device_fixture.h — the one device fixture of the tests that run kernels:
  * the default OpenCL device (PoCL's CPU) with the program built, as cmocka
- * group setup and teardown; and a scene loader. Include after <cmocka.h>. */
+ * group setup and teardown; a scene loader; and a device at a given lane
+ * width. Include after <cmocka.h>. */
 #ifndef ST_DEVICE_FIXTURE_H
 #define ST_DEVICE_FIXTURE_H
 
@@ -38,6 +39,17 @@ static inline st_scene *fixture_scene(const char *name)
     if (st_scene_load(name, &s, &err) != ST_OK)
         fail_msg("load %s: %s", name, err.msg);
     return s;
+}
+
+/* The default device with its kernels built at `lanes` lanes (--lanes),
+ * or the test fails; the caller destroys it. */
+static inline st_device *fixture_device_at(unsigned lanes)
+{
+    st_error err = {0};
+    st_device *d = NULL;
+    if (st_device_create(NULL, &d, &err) != ST_OK || st_device_set_lanes(d, lanes, &err) != ST_OK)
+        fail_msg("device at %u lanes: %s", lanes, err.msg);
+    return d;
 }
 
 #endif

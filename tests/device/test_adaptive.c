@@ -337,11 +337,7 @@ static void adaptive_at_every_width(void **state)
         st_image first = {0};
         st_u32 *first_map = NULL;
         for (size_t k = 0; k < sizeof widths / sizeof widths[0]; k++) {
-            st_error err = {0};
-            st_device *d = NULL;
-            if (st_device_create(NULL, &d, &err) != ST_OK ||
-                st_device_set_lanes(d, widths[k], &err) != ST_OK)
-                fail_msg("device at %u lanes: %s", widths[k], err.msg);
+            st_device *d = fixture_device_at(widths[k]);
             st_render_stats st;
             st_image img = render_on(d, "cornell-box", &o, &st);
             st_device_destroy(d);

@@ -584,10 +584,7 @@ static void resolve_at_every_width(void **state)
     st_image first = {0};
     for (size_t k = 0; k < sizeof widths / sizeof widths[0]; k++) {
         st_error err = {0};
-        st_device *d = NULL;
-        if (st_device_create(NULL, &d, &err) != ST_OK ||
-            st_device_set_lanes(d, widths[k], &err) != ST_OK)
-            fail_msg("device at %u lanes: %s", widths[k], err.msg);
+        st_device *d = fixture_device_at(widths[k]);
         st_image img = {0};
         st_render_stats st = {0};
         if (st_render_resolve(d, sums, W, H, &img, &st, &err) != ST_OK)
