@@ -120,6 +120,21 @@ void st_renderer_force(st_renderer *r, const st_plan_force *f)
     r->force = f ? *f : none;
 }
 
+void st_render_note_ran(st_renderer *r, cl_kernel kl)
+{
+    for (unsigned i = 0; i < r->ran_count; i++)
+        if (r->ran[i] == kl)
+            return;
+    if (r->ran_count < ST_RAN_MAX)
+        r->ran[r->ran_count++] = kl;
+}
+
+size_t st_render_lane_items(st_device *dev, size_t n)
+{
+    size_t lanes = st_device_get_info(dev)->lanes;
+    return (n + lanes - 1u) / lanes;
+}
+
 const char *st_renderer_ran(st_renderer *r)
 {
     size_t n = (size_t)snprintf(r->ran_text, sizeof r->ran_text, "lanes %u:", r->plan.lanes);

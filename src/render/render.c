@@ -153,15 +153,6 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
     return st_wave_bind_film(r->k[ST_STAGE_RESOLVE], p, w, err);
 }
 
-void st_render_note_ran(st_renderer *r, cl_kernel kl)
-{
-    for (unsigned i = 0; i < r->ran_count; i++)
-        if (r->ran[i] == kl)
-            return;
-    if (r->ran_count < ST_RAN_MAX)
-        r->ran[r->ran_count++] = kl;
-}
-
 /* Launches kernel kl over `items` work-items in groups of `local`; with
  * profiling, waits and adds its time to stage k's. */
 static st_status run_kernel(st_renderer *r, cl_kernel kl, int k, const st_params *p, size_t items,
@@ -424,12 +415,6 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     set_region(&p, region);
     st_sampler_prepare(&p);
     return p;
-}
-
-size_t st_render_lane_items(st_device *dev, size_t n)
-{
-    size_t lanes = st_device_get_info(dev)->lanes;
-    return (n + lanes - 1u) / lanes;
 }
 
 /* The paths a trace or shade launch at p's vertex runs over: every item of

@@ -78,11 +78,11 @@ static inline double st_render_now(void)
 st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_error *err);
 
 /* Notes kernel kl among those the render ran (strata bench and the EXR
- * header name them), once, in launch order. */
+ * header name them: st_renderer_ran), once, in launch order (plan.c). */
 void st_render_note_ran(st_renderer *r, cl_kernel kl);
 
 /* Work-items of a kernel that takes the device's ST_W items a work-item:
- * ceil(n / ST_W). */
+ * ceil(n / ST_W) (plan.c). */
 size_t st_render_lane_items(st_device *dev, size_t n);
 
 /* The threads the BVH build of tri_count triangles takes for device info:
