@@ -39,6 +39,33 @@ ST_HOT ST_F ST_CAT(st_mitchell_1d, ST_N)(ST_F t, ST_F b, ST_F c)
     return ST_SELECT(ST_N, k, near, t < 1.0f);
 }
 
+/* The Gaussian exp(k x²) - exp(k r²) (filters.h), k = -1 / 2σ², at ax =
+ * |x| <= r (on the host in double, as C's exp computes it: the host's
+ * filter tables depend on these bits). In lanes each lane's exp is its
+ * own: PoCL's exp of a vector differs from its exp of one float in the
+ * last bit, and a lane must compute at every width what it computes at
+ * width 1. */
+ST_HOT ST_F ST_CAT(st_gaussian_1d, ST_N)(ST_F ax, st_f32 k, st_f32 r)
+{
+#if ST_N == 1
+    return exp(k * ax * ax) - exp(k * r * r);
+#else
+    st_f32 e[ST_N];
+    ST_VSTORE(ST_N, k * ax * ax, e);
+    for (int l = 0; l < ST_N; l++)
+        e[l] = exp(e[l]);
+    return ST_VLOAD(ST_N, e) - exp(k * r * r);
+#endif
+}
+
+/* The Blackman-Harris window (filters.h) at ax = |x| <= r: the window is
+ * even, and f(-x) == f(x) must hold bit for bit. */
+ST_HOT ST_F ST_CAT(st_blackman_harris_1d, ST_N)(ST_F ax, st_f32 r)
+{
+    ST_F t = 2.0f * ST_PI_F * (ax + r) / (2.0f * r);
+    return 0.35875f - 0.48829f * cos(t) + 0.14128f * cos(2.0f * t) - 0.01168f * cos(3.0f * t);
+}
+
 /* Lanczos' weight sinc(x) sinc(x / τ) at a tap x from s1 = sin(π x) and
  * s2 = sin(π x / τ) (st_lanczos_taps<N> turns them from tap to tap); 0
  * beyond the radius. */
@@ -109,7 +136,9 @@ ST_FN void ST_CAT(st_lanczos_taps, ST_N)(const st_filter *f, st_lanczos_turn t, 
  * are whatever the formula gives there. Every splat path (film.cl) takes its
  * weights from here, so the paths add the same integers. The same values as
  * st_filter_eval_1d per tap, but for lanczos (st_lanczos_taps<N>: within
- * float rounding). */
+ * float rounding). Every filter's taps are made in lanes, the Gaussian's
+ * exp alone lane by lane (st_gaussian_1d<N>); PoCL's cos of a vector gives
+ * each lane what it gives one float (splat_lanes_at_every_width). */
 ST_FN void ST_CAT(st_filter_taps, ST_N)(const st_filter *f, st_lanczos_turn t, ST_I lo, ST_I n,
                                         int m, ST_F s, st_f32 *w)
 {
@@ -137,13 +166,21 @@ ST_FN void ST_CAT(st_filter_taps, ST_N)(const st_filter *f, st_lanczos_turn t, S
     case ST_FILTER_LANCZOS:
         ST_CAT(st_lanczos_taps, ST_N)(f, t, lo, n, m, s, w);
         return;
-    default: /* one lane at a time (exp, cos): st_filter_eval_1d's own value */
+    default: {
+        /* the others, st_filter_eval_1d's expressions without its call and
+         * switch per tap: each lane's tap a select of its formula and 0 */
+        st_f32 g = f->kind == ST_FILTER_GAUSSIAN ? -0.5f / (f->sigma * f->sigma) : 0.0f;
         for (int k = 0; k < m; k++) {
-            st_f32 x[ST_N];
-            ST_VSTORE(ST_N, ST_CAT(st_tap_offset, ST_N)(lo, k, s), x);
-            for (int l = 0; l < ST_N; l++)
-                w[k * ST_N + l] = st_filter_eval_1d(f, x[l]);
+            ST_F ax = fabs(ST_CAT(st_tap_offset, ST_N)(lo, k, s)), v = (ST_F)(0.0f);
+            if (f->kind == ST_FILTER_TRIANGLE)
+                v = r - ax;
+            else if (f->kind == ST_FILTER_GAUSSIAN)
+                v = ST_CAT(st_gaussian_1d, ST_N)(ax, g, r);
+            else if (f->kind == ST_FILTER_BLACKMAN_HARRIS)
+                v = ST_CAT(st_blackman_harris_1d, ST_N)(ax, r);
+            ST_VSTORE(ST_N, ST_SELECT(ST_N, (ST_F)(0.0f), v, ax <= r), w + k * ST_N);
         }
+    }
     }
 }
 

@@ -102,7 +102,7 @@ ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
         return r - ax;
     case ST_FILTER_GAUSSIAN: {
         st_f32 k = -0.5f / (f->sigma * f->sigma);
-        return exp(k * ax * ax) - exp(k * r * r);
+        return st_gaussian_1d1(ax, k, r);
     }
     case ST_FILTER_MITCHELL:
         return st_mitchell_1d1(2.0f * ax / r, f->b, f->c);
@@ -110,12 +110,8 @@ ST_FN st_f32 st_filter_eval_1d(const st_filter *f, st_f32 x)
         return st_mitchell_1d1(2.0f * ax / r, 0.0f, 0.5f);
     case ST_FILTER_LANCZOS:
         return st_sinc(ax) * st_sinc(ax / f->tau);
-    case ST_FILTER_BLACKMAN_HARRIS: {
-        /* |x|: the window is even, and f(-x) == f(x) must hold bit for bit */
-        st_f32 t = 2.0f * ST_PI_F * (ax + r) / (2.0f * r);
-        return 0.35875f - 0.48829f * cos(t) + 0.14128f * cos(2.0f * t) -
-               0.01168f * cos(3.0f * t);
-    }
+    case ST_FILTER_BLACKMAN_HARRIS:
+        return st_blackman_harris_1d1(ax, r);
     default:
         return 0.0f;
     }
