@@ -59,11 +59,15 @@ ST_HOT ST_F ST_CAT(st_gaussian_1d, ST_N)(ST_F ax, st_f32 k, st_f32 r)
 }
 
 /* The Blackman-Harris window (filters.h) at ax = |x| <= r: the window is
- * even, and f(-x) == f(x) must hold bit for bit. */
+ * even, and f(-x) == f(x) must hold bit for bit. With c = cos t, cos 2t =
+ * 2c² - 1 and cos 3t = 4c³ - 3c make a0 - a1 c + a2 cos 2t - a3 cos 3t the
+ * cubic (a0 - a2) + (3 a3 - a1) c + 2 a2 c² - 4 a3 c³: one cosine, not
+ * three (PoCL's cosine is most of the window's cost). */
 ST_HOT ST_F ST_CAT(st_blackman_harris_1d, ST_N)(ST_F ax, st_f32 r)
 {
-    ST_F t = 2.0f * ST_PI_F * (ax + r) / (2.0f * r);
-    return 0.35875f - 0.48829f * cos(t) + 0.14128f * cos(2.0f * t) - 0.01168f * cos(3.0f * t);
+    const st_f32 a0 = 0.35875f, a1 = 0.48829f, a2 = 0.14128f, a3 = 0.01168f;
+    ST_F c = cos(2.0f * ST_PI_F * (ax + r) / (2.0f * r));
+    return ((-4.0f * a3 * c + 2.0f * a2) * c + (3.0f * a3 - a1)) * c + (a0 - a2);
 }
 
 /* Lanczos' weight sinc(x) sinc(x / τ) at a tap x from s1 = sin(π x) and
