@@ -119,6 +119,62 @@ typedef struct st_lane_bits {
     st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
+/* Every row of the lanes' inputs holds a number in every lane, as if the
+ * struct began zeroed: the lanes' arithmetic reads all lanes, and masks only
+ * drop the results (a lane left unwritten would branch on undefined values:
+ * Oclgrind reports it). Zeroing all of st_vertex_in cost each work-item a
+ * memset of 72 rows, so the rows are cleared by who writes them: the rows a
+ * gathered hit writes only sometimes (its sample dimensions, light sample,
+ * normal map, coat) in lanes, before the gather (vertex_clear_some); the
+ * rest only in the lanes no gather filled, after it (vertex_clear_lane).
+ * A row added to st_vertex_in must join one of the two. */
+ST_HOT void vertex_clear_some(st_vertex_in *l)
+{
+    st_lf z = ST_LF(0.0f);
+    for (int j = 0; j < 6; j++)
+        ST_VSTORE(ST_W, z, l->u[j]);
+    for (int a = 0; a < 3; a++) {
+        ST_VSTORE(ST_W, z, l->lp[a]);
+        ST_VSTORE(ST_W, z, l->ll[a]);
+        ST_VSTORE(ST_W, z, l->lnl[a]);
+        ST_VSTORE(ST_W, z, l->nmap[a]);
+    }
+    ST_VSTORE(ST_W, z, l->lq);
+    ST_VSTORE(ST_W, z, l->lco);
+    ST_VSTORE(ST_W, z, l->lci);
+    ST_VSTORE(ST_W, (st_li)(0), l->lkind);
+    ST_VSTORE(ST_W, z, l->nscale);
+    ST_VSTORE(ST_W, z, l->coat);
+    ST_VSTORE(ST_W, z, l->coat_rough);
+}
+
+/* Lane k's rows that a hit's gather writes (a miss's writes none of them);
+ * with `path`, also those every gathered lane writes, hit or miss (for a
+ * lane that no gather took to the end). */
+ST_HOT void vertex_clear_lane(st_vertex_in *l, st_u32 k, int path)
+{
+    float3 z = (float3)(0.0f);
+    set_lane3(l->o, k, z);
+    set_lane3(l->d, k, z);
+    set_lane3(l->n0, k, z);
+    set_lane3(l->n1, k, z);
+    set_lane3(l->n2, k, z);
+    set_lane3(l->ng, k, z);
+    set_lane3(l->base, k, z);
+    l->t[k] = l->bu[k] = l->bv[k] = l->travelled[k] = 0.0f;
+    l->metallic[k] = l->roughness[k] = l->ior[k] = l->transmission[k] = 0.0f;
+    for (int j = 0; j < 4; j++)
+        l->spec[j][k] = 0.0f;
+    l->key[k] = l->prim[k] = 0u;
+    if (!path)
+        return;
+    set_lane3(l->beta, k, z);
+    set_lane3(l->rad, k, z);
+    set_lane3(l->le, k, z);
+    l->bsdf_pdf[k] = l->emit_pdf[k] = 0.0f;
+    l->depth[k] = 0u;
+}
+
 /* Lane k's part of the vertex of item i: the shadow ray cleared; a dead
  * path left alone; a ray that goes on through a cut-out and a
  * KHR_materials_unlit surface (its colour, from either side, and no more)
@@ -302,7 +358,7 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
  * (n <= ST_W; st_live_item), lane k at position first + k: the gather
  * (vertex_gather), the lanes' arithmetic (integrator.h; where no lane
  * scatters, as at the last vertex, only what the lanes see) and each lane's
- * store. Lanes that shade nothing keep zeros: every lane holds numbers, and
+ * store. Lanes that shade nothing hold zeros (vertex_clear_lane): every lane holds numbers, and
  * masks keep their results. Returns the lanes whose path goes on (bounced,
  * or through a cut-out). */
 ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
@@ -311,7 +367,7 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
                           __global const st_hit *hit, __global st_path *path,
                           __global st_shadow *shadow, __global const st_u32 *pmj02)
 {
-    st_vertex_in l = {{{0}}};
+    st_vertex_in l; /* cleared where no gather writes it: vertex_clear_some */
     st_u32 live = 0u, item[ST_W];
     st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u};
     /* two loops, not one select: vectorised, the select became a masked
@@ -324,11 +380,15 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
     else
         for (st_u32 k = 0; k < n; k++)
             item[k] = first + k;
+    vertex_clear_some(&l);
     for (st_u32 k = 0; k < n; k++)
         live |= (st_u32)vertex_gather(s, p, sh, item[k], k, sample, ray, hit, path, shadow,
                                       pmj02, &l, &b) << k;
     if (!live)
         return b.through;
+    for (st_u32 k = 0; k < ST_W; k++)
+        if (!((live >> k) & 1u) || ((b.miss >> k) & 1u))
+            vertex_clear_lane(&l, k, !((live >> k) & 1u));
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~b.miss;
     st_u32 goes = 0u, refracted = 0u;
