@@ -487,12 +487,67 @@ static st_render_options splat_case(size_t k)
 }
 #define SPLAT_CASES 14u
 
+/* The box renders that splat_pixels gathers (ST_W pixels a work-item) in
+ * splat_lanes_at_every_width: waves below the region's pixels whose last
+ * work-item fills no lane of 4, 8 or 16 (851 pixels), one wave of a path
+ * render, a radius of 0.3 (samples near an edge reach no pixel), and
+ * unscrambled Hammersley, whose sample 0 lies on its pixel's corner (shared
+ * with the pixels across it), whole and cropped. */
+static st_render_options gather_case(size_t k)
+{
+    st_render_options o = small(37, 23, 3);
+    o.sampler = ST_SAMPLER_HALTON;
+    switch (k) {
+    case 0:
+        o.wave = 333;
+        return o;
+    case 1:
+        o.spp = 5, o.wave = 0;
+        o.integrator = ST_INTEGRATOR_PATH;
+        return o;
+    case 2:
+        o.filter.radius = 0.3f;
+        o.wave = 1500;
+        return o;
+    default:
+        o = small(30, 20, 4);
+        o.sampler = ST_SAMPLER_HAMMERSLEY;
+        o.scramble = 0;
+        o.wave = 450;
+        if (k == 4)
+            o.crop_x = 3, o.crop_y = 2, o.crop_w = 11, o.crop_h = 7;
+        return o;
+    }
+}
+#define GATHER_CASES 5u
+
+/* Renders o with r (at some lane width) forced to `splat` against ref's
+ * splat_samples: the same film, image and counts, and r ran `kernel`.
+ * Returns the samples clamped. */
+static st_u32 same_as_per_sample(st_renderer *ref, st_renderer *r, st_render_options o,
+                                 int splat, const char *kernel)
+{
+    forced.splat = ST_SPLAT_PER_SAMPLE;
+    run a = render_run(ref, o);
+    forced.splat = splat;
+    run b = render_run(r, o);
+    forced.splat = ST_SPLAT_AUTO;
+    assert_true(ran(r, kernel));
+    assert_same_run(&a, &b, &o);
+    st_u32 clamped = b.st.clamped;
+    run_free(&a);
+    run_free(&b);
+    return clamped;
+}
+
 /* splat_tiles, whose weights are made ST_W samples at a time in lanes
  * (filter_lanes.h), built at 1, 4, 8 and 16 lanes, owned by one work-item
  * and shared by a work-group, against splat_samples on the fixture's device,
  * whose weights are made one sample at a time (width 1): films, images and
  * counts equal bit for bit for each of splat_case's renders; and the hot
- * furnace, whose splats clamp (a sample counts once). */
+ * furnace, whose splats clamp (a sample counts once). splat_pixels likewise,
+ * its samples summed ST_W pixels at a time, for gather_case's renders and
+ * the hot furnace (every sample clamped: each lane goes the scalar way). */
 static void splat_lanes_at_every_width(void **state)
 {
     (void)state;
@@ -515,20 +570,23 @@ static void splat_lanes_at_every_width(void **state)
                 o.max_depth = 0;
                 o.filter = st_filter_default(ST_FILTER_LANCZOS);
             }
-            forced.splat = ST_SPLAT_PER_SAMPLE;
-            run a = render_run(k < SPLAT_CASES ? ref : ref_hot, o);
             for (size_t t = 0; t < 2; t++) {
-                forced.splat = tiles[t];
-                run b = render_run(k < SPLAT_CASES ? r : r_hot, o);
-                assert_true(ran(k < SPLAT_CASES ? r : r_hot, "splat_tiles"));
-                assert_same_run(&a, &b, &o);
-                if (k == SPLAT_CASES)
-                    assert_true(b.st.clamped > 0u); /* and a's count: assert_same_run */
-                run_free(&b);
+                st_u32 clamped = k < SPLAT_CASES
+                                     ? same_as_per_sample(ref, r, o, tiles[t], "splat_tiles")
+                                     : same_as_per_sample(ref_hot, r_hot, o, tiles[t],
+                                                          "splat_tiles");
+                if (k == SPLAT_CASES) /* and the reference's count: assert_same_run */
+                    assert_true(clamped > 0u);
             }
-            forced.splat = ST_SPLAT_AUTO;
-            run_free(&a);
         }
+        for (size_t k = 0; k < GATHER_CASES; k++)
+            same_as_per_sample(ref, r, gather_case(k), ST_SPLAT_PIXELS, "splat_pixels");
+        st_render_options hot_box = small(20, 12, 3);
+        hot_box.max_depth = 0;
+        hot_box.wave = 100;
+        assert_int_equal(same_as_per_sample(ref_hot, r_hot, hot_box, ST_SPLAT_PIXELS,
+                                            "splat_pixels"),
+                         20 * 12 * 3);
         st_renderer_destroy(r);
         st_renderer_destroy(r_hot);
         if (d != dev)
