@@ -30,6 +30,44 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
     hit[i] = h;
 }
 
+/* trace_rays for the rays of the last vertex (depth max_depth), which adds
+ * only the light it sees (shade.cl: an emitter's emission, or the
+ * environment's), where the plan finds every emitter in the light list
+ * (src/render/plan.c): the ray is tested against those triangles alone
+ * (st_intersect_triangle, the leaves' test bit for bit), then for any
+ * occluder before the nearest of them, or before the environment. Where
+ * it sees light, the hit is the traversal's (that emitter's, or a miss);
+ * where it sees none, shade would add nothing, so the path ends here (its
+ * ray counted, as shade counts it). */
+__kernel void trace_rays_last(ST_STAGE_PARAMS)
+{
+    st_u32 g = get_global_id(0);
+    if (g >= st_live_count(&p))
+        return;
+    st_u32 i = st_live_item(st_live_list(&p, live_a, live_b), g);
+    __global st_path *pa = &path[i];
+    if (pa->depth == ST_PATH_DEAD)
+        return;
+    st_ray r = ray[i];
+    st_hit h = {r.tmax, 0.0f, 0.0f, ST_NO_HIT};
+    if (pa->depth < p.max_depth) { /* not the last vertex: the traversal */
+        if (!st_intersect_wide_closest(nodes, &r, &h))
+            h.prim = ST_NO_HIT;
+        hit[i] = h;
+        return;
+    }
+    for (st_u32 k = 0u; k < p.light_count; k++)
+        st_intersect_triangle(&tris[light_tri[k]], &r, light_tri[k], &h);
+    int lit = h.prim != ST_NO_HIT || env_lit(&sh);
+    r.tmax = h.t;
+    if (lit && !st_intersect_wide_any(nodes, &r)) {
+        hit[i] = h;
+        return;
+    }
+    pa->closest_rays++;
+    pa->depth = ST_PATH_DEAD;
+}
+
 /* Reads the shadow ray (tmax 0: none); adds its contribution to the path's
  * radiance when nothing blocks it (shadow_blocked: alpha lets it through
  * cut-outs), and counts the ray. */

@@ -259,6 +259,14 @@ static float3 env_map_at(__global const float *env_cdf, __global const float *en
     return vload4(0, sh->env).xyz * vload4(j * w + i, env_texels).xyz;
 }
 
+/* Whether the environment gives light (a uniform one's radiance, or a map's
+ * factor, above 0): a ray that leaves the scene sees it. */
+static int env_lit(const st_shading *sh)
+{
+    float3 env = vload4(0, sh->env).xyz;
+    return env.x > 0.0f || env.y > 0.0f || env.z > 0.0f;
+}
+
 /* The environment's radiance arriving against the world direction d; with a
  * map, *pdf becomes env_gather's density of d (a uniform environment leaves
  * *pdf alone: its density depends on the surface, st_path.env_pdf). */

@@ -204,9 +204,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     l->depth[k] = depth;
     if (h.prim == ST_NO_HIT) { /* the environment, weighed in lanes (seen_emission) */
         float pdf = gp->env_pdf;
-        float3 env = vload4(0, sh->env).xyz, le = (float3)(0.0f);
-        if (env.x > 0.0f || env.y > 0.0f || env.z > 0.0f)
-            le = env_radiance(s, sh, d, &pdf);
+        float3 le = env_lit(sh) ? env_radiance(s, sh, d, &pdf) : (float3)(0.0f);
         set_lane3(l->le, k, le);
         l->emit_pdf[k] = pdf * env_choice(sh);
         b->miss |= 1u << k;
@@ -223,6 +221,13 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     }
     if (a.flags & ST_MAT_UNLIT) {
         vstore3(vload3(0, gp->radiance) + beta * a.base.xyz, 0, gp->radiance);
+        gp->depth = ST_PATH_DEAD;
+        return 0;
+    }
+    if (depth >= p->max_depth && !(a.le.x > 0.0f || a.le.y > 0.0f || a.le.z > 0.0f)) {
+        /* the last vertex adds what it sees emitted (seen_emission), here
+         * nothing: the path ends without the lanes, as most of direct
+         * lighting's BSDF samples do */
         gp->depth = ST_PATH_DEAD;
         return 0;
     }

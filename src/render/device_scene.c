@@ -142,6 +142,19 @@ done:
     return rc;
 }
 
+/* Whether every point of material m's surface that emits lies on a
+ * light-list triangle (st_lights_build): its emission is its factor alone,
+ * none of it negative, so a triangle of it emits where its light-selection
+ * weight is positive; not unlit (which shows its base colour as light). */
+static int emission_listed(const st_material *m)
+{
+    const float *e = m->emission;
+    int emits = e[0] > 0.0f || e[1] > 0.0f || e[2] > 0.0f;
+    int by_factor = m->emission_tex == ST_NO_TEXTURE && e[0] >= 0.0f && e[1] >= 0.0f &&
+                    e[2] >= 0.0f;
+    return !(m->flags & ST_MAT_UNLIT) && (!emits || by_factor);
+}
+
 st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer **out,
                              st_error *err)
 {
@@ -180,11 +193,15 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
         st_device_kernel(dev, "live_scan", &r->live_scan, err) != ST_OK ||
         st_device_kernel(dev, "shade_hits_shadowed", &r->shade_shadowed, err) != ST_OK ||
         st_device_kernel(dev, "trace_rays_packet", &r->trace_packet, err) != ST_OK ||
-        st_device_kernel(dev, "trace_shadow_rays_packet", &r->shadow_packet, err) != ST_OK)
+        st_device_kernel(dev, "trace_shadow_rays_packet", &r->shadow_packet, err) != ST_OK ||
+        st_device_kernel(dev, "trace_rays_last", &r->trace_last, err) != ST_OK)
         goto fail;
     r->all_opaque = 1;
     for (st_u32 m = 0; m < scene->material_count; m++)
         r->all_opaque &= scene->materials[m].alpha_mode == ST_ALPHA_OPAQUE;
+    r->emitters_listed = r->all_opaque;
+    for (st_u32 m = 0; m < scene->material_count; m++)
+        r->emitters_listed &= emission_listed(&scene->materials[m]);
     st_bvh_destroy(bvh);
     *out = r;
     return ST_OK;

@@ -22,6 +22,10 @@ enum { ST_SHADOW_AUTO, ST_SHADOW_STAGE, ST_SHADOW_IN_SHADE };
  * by live.cl, or every item of the wave (the reference: ended paths skipped
  * lane by lane). */
 enum { ST_PATHS_AUTO, ST_PATHS_LIVE, ST_PATHS_ALL };
+/* The rays of the last vertex: traced through the tree (trace_rays, or in
+ * packets), or tested against the light list's triangles first
+ * (trace_rays_last, where the scene allows it). */
+enum { ST_LAST_AUTO, ST_LAST_TRAVERSE, ST_LAST_EMITTERS };
 
 /* Choices forced for tests and measurements (st_renderer_force): each
  * *_AUTO (0) unless set, the plan's own choice then. */
@@ -29,6 +33,7 @@ typedef struct st_plan_force {
     int splat;    /* ST_SPLAT_* */
     int shadow;   /* ST_SHADOW_* */
     int paths;    /* ST_PATHS_* */
+    int last;     /* ST_LAST_* */
 } st_plan_force;
 
 typedef struct st_plan {
@@ -36,6 +41,7 @@ typedef struct st_plan {
     int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
     int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
     int live_lists;       /* vertices after the first run over the live paths (live.cl) */
+    int last_by_emitters; /* the last vertex's rays by trace_rays_last */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
                              wave allows it: st_plan_gathers) */
 } st_plan;

@@ -143,7 +143,8 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
         st_wave_bind_stage(r->live_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err))
+        st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->trace_last, p, sh, r->scene_buf, w, err))
         return err->status;
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
     size_t window = p->bins ? st_plan_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
@@ -432,6 +433,8 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
                            const st_render_options *o, st_render_stats *st, st_error *err)
 {
     size_t n = live_paths(p);
+    if (k == ST_STAGE_TRACE && v == p->max_depth && r->plan.last_by_emitters)
+        return run_kernel(r, r->trace_last, k, p, n, o->local_size, o, st, err);
     if (!st_plan_in_packets(&r->plan, r, k, v))
         return run_stage(r, k, p, n, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;

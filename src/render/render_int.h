@@ -34,7 +34,13 @@ struct st_renderer {
     cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
     /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl) */
     cl_kernel trace_packet, shadow_packet;
+    cl_kernel trace_last; /* trace_rays_last: ST_STAGE_TRACE at the last vertex */
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
+    /* all_opaque, no unlit surface, and every emissive surface in the light
+     * list (its emission a factor, no texture): a ray of the last vertex
+     * sees light only at a light-list triangle or in the environment
+     * (trace_rays_last may be used) */
+    int emitters_listed;
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
     const st_envmap *env_map; /* the map uploaded, a render's st_render_options.env_map

@@ -21,6 +21,7 @@
 #include <cmocka.h>
 
 #include "st_device.h"
+#include "st_envmap.h"
 #include "st_image.h"
 #include "st_render.h"
 #include "st_scene.h"
@@ -415,6 +416,79 @@ static void live_lists_keep_every_path(void **state)
     same_with_live_lists("tests/scenes/shade_mix.gltf", &adaptive);
 }
 
+/* Renders o of scene `name` with the last vertex's rays traversed and by
+ * trace_rays_last: the same film, image and counts. Returns whether the
+ * second ran trace_rays_last (the first must not). */
+static int same_last_vertex(const char *name, const st_render_options *o)
+{
+    st_scene *scene = NULL;
+    st_renderer *r = renderer_for(name, &scene);
+    forced.last = ST_LAST_TRAVERSE;
+    run a = render_run(r, *o);
+    assert_false(ran(r, "trace_rays_last"));
+    forced.last = ST_LAST_EMITTERS;
+    run b = render_run(r, *o);
+    int by_emitters = ran(r, "trace_rays_last");
+    forced.last = ST_LAST_AUTO;
+    assert_same_run(&a, &b, o);
+    run_free(&a);
+    run_free(&b);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+    return by_emitters;
+}
+
+/* trace_rays_last (emitters first, then an any-hit test) against the
+ * traversal at the last vertex, bit for bit: direct lighting, paths open to
+ * a uniform environment or to a map (rays that see it past every
+ * emitter), emission seen at the camera alone (max depth 0), waves whose
+ * lists fill no last lane; on the shade scenes and on emitters one- and
+ * two-sided, closed and open, beside punctual lights and glass. Scenes with
+ * a cut-out, an unlit surface or an emissive texture keep the traversal
+ * (their light can come from outside the light list), the Cornell box and
+ * the glowing boxes do not. */
+static void last_vertex_by_emitters(void **state)
+{
+    (void)state;
+    static const char *const more[] = {
+        "tests/scenes/glow_box.gltf", "tests/scenes/glow_box_one_sided.gltf",
+        "tests/scenes/glow_box_open.gltf", "tests/scenes/lamp_and_glow.gltf",
+        "tests/scenes/glass_furnace.gltf", "tests/scenes/shadow_cutout.gltf"};
+    const size_t ns = sizeof shade_scenes / sizeof shade_scenes[0];
+    const size_t nm = sizeof more / sizeof more[0];
+    float rgb[8 * 4 * 3];
+    for (size_t i = 0; i < sizeof rgb / sizeof rgb[0]; i++)
+        rgb[i] = 0.25f + 0.05f * (float)(i % 17);
+    st_envmap *map = NULL;
+    st_error err = {0};
+    if (st_envmap_make(rgb, 8, 4, "gradient", &map, &err) != ST_OK)
+        fail_msg("env map: %s", err.msg);
+    for (size_t k = 0; k < ns + nm; k++) {
+        const char *name = k < ns ? shade_scenes[k] : more[k - ns];
+        if (absent(name))
+            continue;
+        int any = 0;
+        for (int c = 0; c < 4; c++) {
+            st_render_options o = small(37, 23, 3);
+            o.wave = c == 1 ? 333 : 0;
+            o.integrator = c == 0 ? ST_INTEGRATOR_DIRECT : ST_INTEGRATOR_PATH;
+            o.max_depth = c == 3 ? 0 : 3;
+            if (c == 1) {
+                o.env_given = 1;
+                o.env[0] = 0.6f, o.env[1] = 0.7f, o.env[2] = 0.8f;
+            }
+            if (c == 2)
+                o.env_map = map;
+            any |= same_last_vertex(name, &o);
+        }
+        if (!strcmp(name, "cornell-box") || strstr(name, "glow_box"))
+            assert_true(any);
+        if (strstr(name, "cutout") || strstr(name, "DamagedHelmet"))
+            assert_false(any);
+    }
+    st_envmap_free(map);
+}
+
 /* A renderer of `scene` on device d (the fixture's or one at another width). */
 static st_renderer *renderer_on(st_device *d, st_scene *scene)
 {
@@ -677,6 +751,7 @@ int main(void)
         cmocka_unit_test(splat_pixels_equals_per_sample),
         cmocka_unit_test(shade_at_every_width),
         cmocka_unit_test(live_lists_keep_every_path),
+        cmocka_unit_test(last_vertex_by_emitters),
         cmocka_unit_test(splat_lanes_at_every_width),
         cmocka_unit_test(resolve_at_every_width),
     };
