@@ -283,6 +283,7 @@ typedef struct st_vertex_out {
 #define ST_STORE_SHADOWED 1u /* a shadow ray */
 #define ST_STORE_GOES 2u     /* the next ray */
 #define ST_STORE_REFRACTED 4u /* ..., which starts on the other side */
+#define ST_STORE_DARK 8u     /* no next ray: it would see no light (dark_bounces) */
 
 /* Lane k's results into item i: the radiance; the shadow ray (where
  * `what` has ST_STORE_SHADOWED); the next ray and the path one vertex
@@ -303,6 +304,7 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
         vstore3(lane3(o->contribution, k), 0, sr->contribution);
     }
     if (!(what & ST_STORE_GOES)) {
+        gp->closest_rays += (what & ST_STORE_DARK) ? 1u : 0u; /* as trace_rays_last counts it */
         gp->depth = ST_PATH_DEAD;
         return;
     }
@@ -315,13 +317,39 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
               l->travelled[k]);
 }
 
+/* The lanes of `goes` whose next ray, from `from` along d, is the last
+ * vertex's and meets none of the light list's triangles, where
+ * trace_rays_last will trace it (p->last_lights) in a scene whose
+ * environment gives no light: that ray would end its path unseen, so it is
+ * not stored. The test is trace_rays_last's, in lanes (st_triangle_test at
+ * ST_W: each lane computes what st_intersect_triangle does). */
+ST_HOT st_u32 dark_bounces(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                           st_lv3 from, st_lv3 d, st_lu depth, st_u32 goes)
+{
+    st_u32 last = ST_MASK_BITS(ST_W, depth + 1u >= p->max_depth) & goes;
+    if (!p->last_lights || !last || env_lit(sh))
+        return 0u;
+    st_li keep = ST_BITS_MASK(ST_W, last), seen = keep & 0;
+    for (st_u32 k = 0u; k < p->light_count && ST_ANY(ST_W, keep & ~seen); k++) {
+        __global const st_triangle *tri = &s->tris[s->light_tri[k]];
+        st_lv3 v0 = st_lv3_make(ST_LF(tri->v0[0]), ST_LF(tri->v0[1]), ST_LF(tri->v0[2]));
+        st_lv3 e1 = st_lv3_make(ST_LF(tri->e1[0]), ST_LF(tri->e1[1]), ST_LF(tri->e1[2]));
+        st_lv3 e2 = st_lv3_make(ST_LF(tri->e2[0]), ST_LF(tri->e2[1]), ST_LF(tri->e2[2]));
+        st_li two_sided = ST_BITS_MASK(ST_W, tri->v0[3] == 0.0f ? 0xffffu : 0u);
+        st_lf t, u, v;
+        seen |= ST_CAT(st_triangle_test, ST_W)(from, d, v0, e1, e2, ST_LF(INFINITY), keep,
+                                               two_sided, &t, &u, &v);
+    }
+    return last & ~ST_MASK_BITS(ST_W, seen);
+}
+
 /* The vertex of the lanes in `scatters` (not all of them missed, below
  * max_depth): the surface, its emission, next-event estimation and the
  * bounce, into o. Returns the lanes whose path goes on; *refracted those
  * of them that go on from the other side. */
 ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                              st_vertex_in *l, const st_lane_bits *b, st_u32 scatters,
-                             st_vertex_out *o, st_u32 *refracted)
+                             st_vertex_out *o, st_u32 *refracted, st_u32 *dark)
 {
     st_sheen_in sn;
     if (b->sheened)
@@ -350,13 +378,18 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     ST_VSTORE(ST_W, pdf, o->bsdf_pdf);
     ST_VSTORE(ST_W, cz / ST_PI_F, o->env_pdf);
     *refracted = 0u;
+    st_lv3 from = origin;
     if (b->trans) { /* a refracted ray goes on from the other side, where no
                      * uniform environment's light sample reaches (env_pdf 0) */
         *refracted = ST_MASK_BITS(ST_W, cz < 0.0f) & goes;
-        lv3_store(st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps)), o->next_o);
+        st_lv3 inside = st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps));
+        lv3_store(inside, o->next_o);
         ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o->env_pdf);
+        from = st_lv3_select(origin, inside, ST_BITS_MASK(ST_W, *refracted));
     }
-    return goes;
+    *dark = dark_bounces(s, p, sh, from, wi, ST_LV(l->depth), goes);
+    *refracted &= ~*dark;
+    return goes & ~*dark;
 }
 
 /* One vertex of the live paths at positions first .. first + n - 1 of list
@@ -396,10 +429,10 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
             vertex_clear_lane(&l, k, !((live >> k) & 1u));
     st_lu depth = ST_LV(l.depth);
     st_u32 scatters = ST_MASK_BITS(ST_W, depth < p->max_depth) & live & ~b.miss;
-    st_u32 goes = 0u, refracted = 0u;
+    st_u32 goes = 0u, refracted = 0u, dark = 0u;
     st_vertex_out o;
     if (scatters) {
-        goes = vertex_scatter(s, p, sh, &l, &b, scatters, &o, &refracted);
+        goes = vertex_scatter(s, p, sh, &l, &b, scatters, &o, &refracted, &dark);
     } else {
         st_lf cos_o = st_lv3_dot(ST_LV3_OF(l.ng), st_lv3_neg(ST_LV3_OF(l.d)));
         lv3_store(vertex_radiance(&l, sh, ST_BITS_MASK(ST_W, b.miss), cos_o), o.rad);
@@ -409,7 +442,8 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
             vertex_store(&o, &l, item[k], k,
                          ((scatters >> k) & 1u) * ST_STORE_SHADOWED +
                              ((goes >> k) & 1u) * ST_STORE_GOES +
-                             ((refracted >> k) & 1u) * ST_STORE_REFRACTED,
+                             ((refracted >> k) & 1u) * ST_STORE_REFRACTED +
+                             ((dark >> k) & 1u) * ST_STORE_DARK,
                          ray, path, shadow);
     return goes | b.through;
 }

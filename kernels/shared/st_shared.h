@@ -424,6 +424,12 @@ typedef struct st_params {
      * region_pixel(g mod region_w region_h), resolve_film's item i is
      * region_pixel(i) (st_region_pixel) */
     st_u32 region_x, region_y, region_w, region_h;
+    /* 1 where trace_rays_last traces the last vertex's rays (the plan:
+     * src/render/plan.c): shade then ends the paths whose last ray meets
+     * none of the light list's triangles, in a scene without an
+     * environment's light, before that ray is stored (shade.cl) */
+    st_u32 last_lights;
+    st_u32 pad[3]; /* a multiple of 16 bytes */
 } st_params;
 
 /* ---- the wavefront state and the film --------------------------------------
@@ -685,7 +691,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_params, halton_tables)                                                             \
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
-    X(st_params, region_w) X(st_params, region_h)                                           \
+    X(st_params, region_w) X(st_params, region_h) X(st_params, last_lights)                 \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index) X(st_sample, key)           \
     X(st_sample, word)                                                                      \
     X(st_ray, o) X(st_ray, tmax) X(st_ray, d) X(st_ray, path_length)                        \
@@ -727,7 +733,7 @@ ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 256, "st_params: 256 bytes");
+ST_STATIC_ASSERT(sizeof(st_params) == 272, "st_params: 272 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 24, "st_sample: 24 bytes");
 ST_STATIC_ASSERT(sizeof(st_ray) == 32, "st_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");

@@ -438,8 +438,10 @@ static int same_last_vertex(const char *name, const st_render_options *o)
     return by_emitters;
 }
 
-/* trace_rays_last (emitters first, then an any-hit test) against the
- * traversal at the last vertex, bit for bit: direct lighting, paths open to
+/* trace_rays_last (emitters first, then an any-hit test), with shade
+ * ending the paths whose last ray meets no emitter before storing it
+ * (dark_bounces), against the traversal at the last vertex, bit for bit,
+ * counts included: direct lighting, paths open to
  * a uniform environment or to a map (rays that see it past every
  * emitter), emission seen at the camera alone (max depth 0), waves whose
  * lists fill no last lane; on the shade scenes and on emitters one- and
