@@ -359,25 +359,37 @@ static void shade_at_every_width(void **state)
     }
 }
 
-/* o rendered over every item at every vertex (ST_PATHS_ALL) and over the
- * list of live paths (ST_PATHS_LIVE, live.cl): the same films, images and
- * counts, and each ran its own kernels. */
-static void same_with_live_lists(const char *name, const st_render_options *o)
+/* Renders o of scene `name` with the forced choice *choice = a, then b:
+ * the same film, image and counts. ran[0], ran[1]: whether each render
+ * ran `kernel`. */
+static void same_forced(const char *name, const st_render_options *o, int *choice, int a, int b,
+                        const char *kernel, int ran_kernel[2])
 {
     st_scene *scene = NULL;
     st_renderer *r = renderer_for(name, &scene);
-    forced.paths = ST_PATHS_ALL;
-    run a = render_run(r, *o);
-    assert_false(ran(r, "live_scatter"));
-    forced.paths = ST_PATHS_LIVE;
-    run b = render_run(r, *o);
-    assert_true(ran(r, "live_count") && ran(r, "live_scan") && ran(r, "live_scatter"));
-    forced.paths = ST_PATHS_AUTO;
-    assert_same_run(&a, &b, o);
-    run_free(&a);
-    run_free(&b);
+    *choice = a;
+    run x = render_run(r, *o);
+    ran_kernel[0] = ran(r, kernel);
+    *choice = b;
+    run y = render_run(r, *o);
+    ran_kernel[1] = ran(r, kernel);
+    *choice = 0; /* *_AUTO */
+    assert_same_run(&x, &y, o);
+    run_free(&x);
+    run_free(&y);
     st_renderer_destroy(r);
     st_scene_destroy(scene);
+}
+
+/* o rendered over every item at every vertex (ST_PATHS_ALL) and over the
+ * list of live paths (ST_PATHS_LIVE, live.cl): the same films, images and
+ * counts, and only the second listed the live paths. */
+static void same_with_live_lists(const char *name, const st_render_options *o)
+{
+    int listed[2];
+    same_forced(name, o, &forced.paths, ST_PATHS_ALL, ST_PATHS_LIVE, "live_scatter", listed);
+    assert_false(listed[0]);
+    assert_true(listed[1]);
 }
 
 /* The list of live paths against every item at every vertex, bit for bit:
@@ -421,21 +433,11 @@ static void live_lists_keep_every_path(void **state)
  * second ran trace_rays_last (the first must not). */
 static int same_last_vertex(const char *name, const st_render_options *o)
 {
-    st_scene *scene = NULL;
-    st_renderer *r = renderer_for(name, &scene);
-    forced.last = ST_LAST_TRAVERSE;
-    run a = render_run(r, *o);
-    assert_false(ran(r, "trace_rays_last"));
-    forced.last = ST_LAST_EMITTERS;
-    run b = render_run(r, *o);
-    int by_emitters = ran(r, "trace_rays_last");
-    forced.last = ST_LAST_AUTO;
-    assert_same_run(&a, &b, o);
-    run_free(&a);
-    run_free(&b);
-    st_renderer_destroy(r);
-    st_scene_destroy(scene);
-    return by_emitters;
+    int last[2];
+    same_forced(name, o, &forced.last, ST_LAST_TRAVERSE, ST_LAST_EMITTERS, "trace_rays_last",
+                last);
+    assert_false(last[0]);
+    return last[1];
 }
 
 /* trace_rays_last (emitters first, then an any-hit test), with shade
