@@ -47,13 +47,16 @@ static int is_count(const char *name)
 }
 
 /* Settings that may differ between parts: what each part rendered, facts
- * about the run rather than the image, and the scene's path (its content hash,
- * strata.scene_hash, must agree). The device must agree: two devices' floats
- * differ (up to 2e-5 relative seen between PoCL and a GPU). */
+ * about the run rather than the image (its seconds; the kernels it ran,
+ * which follow its samples: a part whose paths all end early never
+ * launches the last vertex's, and no kernel choice changes the image), and
+ * the scene's path (its content hash, strata.scene_hash, must agree). The
+ * device must agree: two devices' floats differ (up to 2e-5 relative seen
+ * between PoCL and a GPU). */
 static int varies(const char *name)
 {
     return !strcmp(name, "strata.sample_range") || !strcmp(name, "strata.render_seconds") ||
-           !strcmp(name, "strata.scene") || is_count(name);
+           !strcmp(name, "strata.kernels") || !strcmp(name, "strata.scene") || is_count(name);
 }
 
 static st_status check_part(const part *first, const part *p, st_error *err)
