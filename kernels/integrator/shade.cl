@@ -329,7 +329,7 @@ ST_HOT st_u32 dark_bounces(const st_scene_refs *s, const st_params *p, const st_
     st_u32 last = ST_MASK_BITS(ST_W, depth + 1u >= p->max_depth) & goes;
     if (!p->last_lights || !last || env_lit(sh))
         return 0u;
-    st_li keep = ST_BITS_MASK(ST_W, last), seen = keep & 0;
+    st_li keep = ST_BITS_MASK(ST_W, last), seen = (st_li)(0);
     for (st_u32 k = 0u; k < p->light_count && ST_ANY(ST_W, keep & ~seen); k++) {
         __global const st_triangle *tri = &s->tris[s->light_tri[k]];
         st_lv3 v0 = st_lv3_make(ST_LF(tri->v0[0]), ST_LF(tri->v0[1]), ST_LF(tri->v0[2]));
@@ -346,7 +346,8 @@ ST_HOT st_u32 dark_bounces(const st_scene_refs *s, const st_params *p, const st_
 /* The vertex of the lanes in `scatters` (not all of them missed, below
  * max_depth): the surface, its emission, next-event estimation and the
  * bounce, into o. Returns the lanes whose path goes on; *refracted those
- * of them that go on from the other side. */
+ * of them that go on from the other side; *dark those whose path ends
+ * because its last ray would see no light (dark_bounces). */
 ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                              st_vertex_in *l, const st_lane_bits *b, st_u32 scatters,
                              st_vertex_out *o, st_u32 *refracted, st_u32 *dark)
