@@ -353,11 +353,11 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
     splat_weighted(p, i, s, w, path, tally, stats, splat_scale, d);
 }
 
-/* The items item[0 .. n) (n <= ST_W) to d: their taps' weights made in
+/* The items item[0 .. n) (n <= ST_W, a private list) to d: their taps' weights made in
  * ST_W lanes at once, one sample a lane (filter_lanes.h: each lane's the
  * width-1 values, so the same integers as splat_item), then each sample's
  * splat in turn. A lane past n weighs a sample of no taps. */
-ST_HOT void splat_items(const st_params *p, __global const st_u32 *item, st_u32 n,
+ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
                         __global const st_sample *sample, __global const st_path *path,
                         __global st_tally *tally, __global st_film_stats *stats,
                         __global const st_f32 *splat_scale, splat_dest *d)
@@ -471,15 +471,15 @@ __kernel void splat_pixels(ST_STAGE_PARAMS)
 }
 
 /* ---- tile-owned reconstruction ---------------------------------------------
- * A counting sort of the wave's items by the image tile (bin) their sample
- * lies in: bin_samples counts, bin_scan turns counts into starts, bin_scatter
- * places the items; then splat_tiles gives each bin a work-group, which adds
- * its samples' splats into a local window (the tile plus the filter's apron)
- * and the window to the film once per pixel. The integers are those of
- * splat_samples and integer sums commute, so the film is the same bit for
- * bit; a sample is still counted clamped once. The order of items within a
- * bin is the order of bin_scatter's atomics and may differ from run to run;
- * nothing depends on it. */
+ * splat_tiles gives each image tile (bin) a work-group, which adds its
+ * samples' splats into a local window (the tile plus the filter's apron)
+ * and the window to the film once per pixel. Where a wave's items lie in
+ * their pixels in order (st_items_by_pixel) a bin finds its items from its
+ * pixels; otherwise a counting sort places them first: bin_samples counts,
+ * bin_scan turns counts into starts, bin_scatter places the items, in the
+ * order of its atomics, which may differ from run to run. The integers are
+ * those of splat_samples and integer sums commute, so the film is the same
+ * bit for bit, whatever the order; a sample is still counted clamped once. */
 
 /* The bin of a sample on the film: of the pixel floor(film) clamped to the
  * image, where truncation serves as floor (the two differ below 0 only,
@@ -524,46 +524,142 @@ __kernel void bin_scatter(ST_STAGE_PARAMS)
     bin_item[bin_start[b] + atomic_inc(&bin_count[b])] = i;
 }
 
-/* Work-group b owns bin b: its samples' splats go into acc, the window of
- * the tile and an apron of ceil(r) + 1 pixels on each side (which holds every
- * tap: taps() stays within r + 0.5 of the sample), then each window pixel's
- * nonzero sums go to the film with one atomic add each. acc holds
- * (bin_side + 2 apron)^2 pixels of four longs (render.c sizes it from
- * CL_DEVICE_LOCAL_MEM_SIZE). A work-group of one work-item (CPU devices:
- * render.c) adds into its window without atomics. */
+/* A bin's items as a list of positions 0 .. count - 1. Sorted: bin_item
+ * from `first` on. By pixel: position j = m side² + t is the m-th item of
+ * the tile's pixel t (row-major from (x0, y0)), which is wave item
+ * ((q - first_item) mod npix) + m npix for the pixel's region index q,
+ * where it lies on the region and in the wave. side is a power of two
+ * (plan.c), 2^shift: shifts and masks, where divisions by a value the
+ * compiler does not know cost more than the rest of the item's lookup. */
+typedef struct bin_items {
+    int by_pixel;
+    st_u32 first, count;              /* sorted */
+    st_u32 x0, y0, shift, lag, npix; /* by pixel; lag = first_item mod npix */
+    st_u32 ahead; /* positions to prefetch ahead: the next row's (prefetch_item) */
+} bin_items;
+
+/* A hint for item i's records, which splat_tiles reads soon: the stages
+ * before left them far in the wave, out of the caches, and a tile's items
+ * lie in runs of a row (perf: most of splat_tiles' time past its taps was
+ * on their first loads). */
+ST_HOT void prefetch_item(st_u32 i, __global const st_sample *sample, __global const st_path *path,
+                          __global const st_tally *tally)
+{
+    ST_PREFETCH(&sample[i]);
+    ST_PREFETCH(&path[i]);
+    ST_PREFETCH((__global const char *)&path[i] + 47);
+    ST_PREFETCH(&tally[i]);
+}
+
+ST_HOT bin_items bin_items_of(const st_params *p, __global const st_u32 *bin_start, st_u32 b)
+{
+    bin_items l = {st_items_by_pixel(p), 0u, 0u, 0u, 0u, 0u, 0u, 0u, 2u * ST_W};
+    if (!l.by_pixel) {
+        l.first = bin_start[b];
+        l.count = bin_start[b + 1] - l.first;
+        return l;
+    }
+    st_u32 side = p->bin_side;
+    l.ahead = side;
+    l.npix = p->region_w * p->region_h;
+    l.shift = 31u - clz(side);
+    l.x0 = b % p->bins_x * side;
+    l.y0 = b / p->bins_x * side;
+    l.lag = (st_u32)(p->first_item % l.npix);
+    if (l.x0 + side > p->region_x && l.x0 < p->region_x + p->region_w &&
+        l.y0 + side > p->region_y && l.y0 < p->region_y + p->region_h) /* a crop's */
+        l.count = (p->item_count + l.npix - 1u) / l.npix * side * side;
+    return l;
+}
+
+/* Position j's item into *i; 0 where j holds none (a pixel off the region,
+ * a sample beyond the wave). */
+ST_HOT int bin_item_at(const st_params *p, __global const st_u32 *bin_item, const bin_items *l,
+                       st_u32 j, st_u32 *i)
+{
+    if (!l->by_pixel) {
+        *i = bin_item[l->first + j];
+        return 1;
+    }
+    st_u32 side = 1u << l->shift, t = j & (side * side - 1u), m = j >> (2u * l->shift);
+    st_u32 x = l->x0 + (t & (side - 1u)), y = l->y0 + (t >> l->shift);
+    if (x < p->region_x || y < p->region_y || x - p->region_x >= p->region_w ||
+        y - p->region_y >= p->region_h)
+        return 0;
+    st_u32 q = (y - p->region_y) * p->region_w + (x - p->region_x) + l->npix - l->lag;
+    *i = (q >= l->npix ? q - l->npix : q) + m * l->npix;
+    return *i < p->item_count;
+}
+
+/* The bin work-group g works on, or p->bins where it has none. With
+ * bin_pass 0 a launch covers every bin, and windows that overlap are
+ * added to the film atomically; pass c + 1 covers the bins (2 u + c mod 2,
+ * 2 v + c / 2), whose windows do not overlap (plan.c takes passes only
+ * where an apron is at most half a tile), so the film adds are plain. */
+ST_HOT st_u32 group_bin(const st_params *p, st_u32 g)
+{
+    if (!p->bin_pass)
+        return g;
+    st_u32 c = p->bin_pass - 1u, across = (p->bins_x + 1u) / 2u;
+    st_u32 bx = g % across * 2u + c % 2u, by = g / across * 2u + c / 2u;
+    return bx < p->bins_x && by < p->bins / p->bins_x ? by * p->bins_x + bx : p->bins;
+}
+
+/* Work-group g owns bin group_bin(g): its samples' splats go into acc, the
+ * window of the tile and an apron of ceil(r) + 1 pixels on each side (which
+ * holds every tap: taps() stays within r + 0.5 of the sample), ST_W
+ * samples at a time, their weights in lanes; then each window pixel's
+ * nonzero sums go to the film. acc holds (bin_side + 2 apron)^2 pixels of
+ * four longs (render.c sizes it from CL_DEVICE_LOCAL_MEM_SIZE). A
+ * work-group of one work-item (CPU devices: render.c) adds into its window
+ * without atomics. */
 __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 {
-    st_u32 b = get_group_id(0), lid = get_local_id(0), n = get_local_size(0);
-    if (b >= p.bins || bin_start[b] == bin_start[b + 1])
+    st_u32 b = group_bin(&p, get_group_id(0)), lid = get_local_id(0), n = get_local_size(0);
+    if (b >= p.bins)
         return; /* the whole group */
+    bin_items l = bin_items_of(&p, bin_start, b);
+    if (!l.count)
+        return;
     int apron = (int)ceil(p.filter.radius) + 1, side = (int)p.bin_side + 2 * apron;
     int ox = (int)(b % p.bins_x * p.bin_side) - apron, oy = (int)(b / p.bins_x * p.bin_side) - apron;
     for (int j = (int)lid; j < side * side; j += (int)n)
         acc[j] = 0;
     barrier(CLK_LOCAL_MEM_FENCE);
     splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
-    /* ST_W items at a time, their weights in lanes */
-    st_u32 end = bin_start[b + 1];
-    for (st_u32 j = bin_start[b] + lid * ST_W; j < end; j += n * ST_W)
-        splat_items(&p, bin_item + j, min((st_u32)ST_W, end - j), sample, path, tally, stats,
-                    splat_scale, &d);
+    for (st_u32 j = lid * ST_W; j < l.count; j += n * ST_W) {
+        st_u32 item[ST_W], k = 0, next;
+        for (st_u32 e = j; e < min(j + ST_W, l.count); e++) {
+            k += (st_u32)bin_item_at(&p, bin_item, &l, e, &item[k]);
+            if (e + l.ahead < l.count && bin_item_at(&p, bin_item, &l, e + l.ahead, &next))
+                prefetch_item(next, sample, path, tally);
+        }
+        if (k)
+            splat_items(&p, item, k, sample, path, tally, stats, splat_scale, &d);
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
     for (int j = (int)lid; j < side * side; j += (int)n) {
         int x = ox + j % side, y = oy + j / side;
         if (x < 0 || y < 0 || x >= (int)p.width || y >= (int)p.height)
             continue;
         __global long *a = film[(size_t)y * p.width + x].sum;
+        if (y + 1 < (int)p.height) /* the next row's pixel, out of the caches too */
+            ST_PREFETCH(a + 4 * p.width);
         long4 v = acc[j];
-        if (v.x != 0)
-            atom_add(a, v.x);
-        if (v.y != 0)
-            atom_add(a + 1, v.y);
-        if (v.z != 0)
-            atom_add(a + 2, v.z);
-        if (v.w != 0)
-            atom_add(a + 3, v.w);
+        if (p.bin_pass)
+            vstore4(vload4(0, a) + v, 0, a);
+        else {
+            if (v.x != 0)
+                atom_add(a, v.x);
+            if (v.y != 0)
+                atom_add(a + 1, v.y);
+            if (v.z != 0)
+                atom_add(a + 2, v.z);
+            if (v.w != 0)
+                atom_add(a + 3, v.w);
+        }
     }
-    if (lid == 0)
+    if (lid == 0 && !l.by_pixel)
         bin_count[b] = 0; /* for the next wave's bin_samples */
 }
 

@@ -253,29 +253,6 @@ ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_slab_consts *r, s
 }
 #endif
 
-/* A hint that `p` will be read soon, so that its cache line is on its way
- * while the traversal works elsewhere: the wide nodes and triangles of a big
- * mesh do not fit in the caches, and a random ray waits on memory more than
- * it computes (perf on the 327,680-triangle icosphere: over half of
- * trace_rays' samples on the first load of a node and of a leaf's first
- * triangle). OpenCL's own prefetch() is a no-op on PoCL, so a kernel uses
- * clang's __builtin_prefetch, but only where the host asks for it with
- * -DST_PREFETCH_HINTS (device.c: PoCL's CPU devices, where it was measured):
- * other OpenCL compilers need not know it, and Oclgrind cannot run the
- * llvm.prefetch clang makes of it. The host's gcc has it too. Elsewhere
- * nothing. */
-#if defined(__OPENCL_VERSION__) && defined(ST_PREFETCH_HINTS) && defined(__has_builtin)
-#if __has_builtin(__builtin_prefetch)
-#define ST_PREFETCH(p) __builtin_prefetch(p)
-#endif
-#endif
-#if !defined(ST_PREFETCH) && defined(__GNUC__) && !defined(__OPENCL_VERSION__)
-#define ST_PREFETCH(p) __builtin_prefetch(p)
-#endif
-#ifndef ST_PREFETCH
-#define ST_PREFETCH(p) ((void)0)
-#endif
-
 /* Index of the lowest set bit of m != 0 (OpenCL C 1.2 has clz, not ctz). */
 #ifdef __OPENCL_VERSION__
 ST_FN st_u32 st_trace_lowest(st_u32 m) { return 31u - clz(m & (0u - m)); }

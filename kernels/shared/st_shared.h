@@ -429,7 +429,10 @@ typedef struct st_params {
      * none of the light list's triangles, in a scene without an
      * environment's light, before that ray is stored (shade.cl) */
     st_u32 last_lights;
-    st_u32 pad[3]; /* a multiple of 16 bytes */
+    /* splat_tiles' bins: 0, all in one launch; c + 1, pass c of four, whose
+     * bins' windows do not overlap (film.cl group_bin) */
+    st_u32 bin_pass;
+    st_u32 pad[2]; /* a multiple of 16 bytes */
 } st_params;
 
 /* ---- the wavefront state and the film --------------------------------------
@@ -590,6 +593,38 @@ typedef struct st_tile_point {
     X(env_texels, st_f32) /* the environment map's RGB0 texels (st_render_options.env_map) */ \
     X(env_cdf, st_f32)    /* its sampling table (kernels/integrator/envmap.h) */
 
+/* A hint that `p` will be read soon, so that its cache line is on its way
+ * while the traversal works elsewhere: the wide nodes and triangles of a big
+ * mesh do not fit in the caches, and a random ray waits on memory more than
+ * it computes (perf on the 327,680-triangle icosphere: over half of
+ * trace_rays' samples on the first load of a node and of a leaf's first
+ * triangle), and a splat reads its samples where the stages before left
+ * them. OpenCL's own prefetch() is a no-op on PoCL, so a kernel uses
+ * clang's __builtin_prefetch, but only where the host asks for it with
+ * -DST_PREFETCH_HINTS (device.c: PoCL's CPU devices, where it was measured):
+ * other OpenCL compilers need not know it, and Oclgrind cannot run the
+ * llvm.prefetch clang makes of it. The host's gcc has it too. Elsewhere
+ * nothing. */
+#if defined(__OPENCL_VERSION__) && defined(ST_PREFETCH_HINTS) && defined(__has_builtin)
+#if __has_builtin(__builtin_prefetch)
+#define ST_PREFETCH(p) __builtin_prefetch(p)
+#endif
+#endif
+#if !defined(ST_PREFETCH) && defined(__GNUC__) && !defined(__OPENCL_VERSION__)
+#define ST_PREFETCH(p) __builtin_prefetch(p)
+#endif
+#ifndef ST_PREFETCH
+#define ST_PREFETCH(p) ((void)0)
+#endif
+
+/* Whether wave item i lies in region pixel (first_item + i) mod npix, as
+ * generate.cl places a per-pixel sampler's items outside adaptive rounds:
+ * the splat then finds a pixel's items without sorting them (film.cl). */
+static inline int st_items_by_pixel(const st_params *p)
+{
+    return !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count;
+}
+
 #ifdef __OPENCL_VERSION__
 /* Index in the image of the region's pixel i (row-major in the region). */
 static st_u32 st_region_pixel(const st_params *p, st_u32 i)
@@ -692,6 +727,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h) X(st_params, last_lights)                 \
+    X(st_params, bin_pass)                                                                  \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index) X(st_sample, key)           \
     X(st_sample, word)                                                                      \
     X(st_ray, o) X(st_ray, tmax) X(st_ray, d) X(st_ray, path_length)                        \

@@ -82,7 +82,8 @@ static int plan_splat(const st_renderer *r, const st_render_options *o)
     return info->is_cpu ? ST_SPLAT_TILES_ALONE : ST_SPLAT_TILES;
 }
 
-/* Bins of the largest side of 32, 16 or 8 pixels whose window fits the
+/* Bins of the largest side of 32, 16 or 8 pixels (a power of two: film.cl
+ * finds a bin's pixels by shifts) whose window fits the
  * device's local memory; none when no window fits. */
 static void plan_bins(const st_renderer *r, const st_render_options *o, int splat, st_params *p)
 {
@@ -99,6 +100,19 @@ static void plan_bins(const st_renderer *r, const st_render_options *o, int spla
         }
 }
 
+/* Whether splat_tiles runs in four passes of bins whose windows do not
+ * overlap (an apron of at most half a tile), so that windows go to the film
+ * with plain adds: where a group is one work-item, on a CPU, whose locked
+ * adds stall the core's pipeline (they were about half of splat_tiles' time
+ * in one launch). A GPU's group of many work-items keeps one launch: its
+ * atomics do not stall the work-item, and a quarter of the bins would leave
+ * compute units idle. */
+static int plan_tile_passes(const st_plan *pl, const st_params *p)
+{
+    st_u32 apron = (st_u32)ceilf(p->filter.radius) + 1u;
+    return pl->splat == ST_SPLAT_TILES_ALONE && p->bins && 2u * apron <= p->bin_side;
+}
+
 size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o)
 {
     return pl->splat == ST_SPLAT_TILES_ALONE ? 1 : o->local_size ? o->local_size : 64;
@@ -112,7 +126,7 @@ int st_plan_gathers(const st_plan *pl, const st_params *p)
      * sampler outside adaptive rounds */
     return pl->splat == ST_SPLAT_PIXELS && p->reconstruction == ST_RECON_SPLAT &&
            p->filter.kind == ST_FILTER_BOX && p->filter.radius <= 0.5f &&
-           !ST_SAMPLER_IS_TILED(p->sampler) && !p->adaptive_count && !p->adaptive_scaled;
+           st_items_by_pixel(p) && !p->adaptive_scaled;
 }
 
 st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p)
@@ -133,6 +147,7 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
     plan_bins(r, o, pl.splat, p);
     if (!p->bins && (pl.splat == ST_SPLAT_TILES || pl.splat == ST_SPLAT_TILES_ALONE))
         pl.splat = ST_SPLAT_PER_SAMPLE;
+    pl.tile_passes = plan_tile_passes(&pl, p);
     return pl;
 }
 

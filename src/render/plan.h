@@ -44,6 +44,8 @@ typedef struct st_plan {
     int last_by_emitters; /* the last vertex's rays by trace_rays_last */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
                              wave allows it: st_plan_gathers) */
+    int tile_passes;      /* splat_tiles in four passes of bins whose windows do not
+                             overlap (st_params.bin_pass), else one launch */
 } st_plan;
 
 typedef struct st_renderer st_renderer;

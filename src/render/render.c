@@ -181,9 +181,11 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
     return run_kernel(r, r->k[k], k, p, items, o->local_size, o, st, err);
 }
 
-/* Reconstruction of a wave: splat_samples, or the counting sort by bin
- * (three kernels, timed as the stage bin_samples) and splat_tiles, one
- * work-group per bin (st_plan_tile_group). */
+/* Reconstruction of a wave: splat_pixels, splat_samples, or splat_tiles,
+ * one work-group per bin (st_plan_tile_group), in one launch or in the
+ * plan's four passes, after the counting sort by bin (three kernels, timed
+ * as the stage bin_samples) where the items do not lie in their pixels in
+ * order (st_items_by_pixel). */
 static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_options *o,
                             st_render_stats *st, st_error *err)
 {
@@ -193,12 +195,22 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
         return run_stage(r, ST_STAGE_SPLAT_PIXELS, p, n < npix ? n : npix, o, st, err);
     if (!p->bins)
         return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
-    if (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
-        run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, st, err) ||
-        run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, st, err) ||
-        run_kernel(r, r->k[ST_STAGE_SPLAT_TILES], ST_STAGE_SPLAT_TILES, p, p->bins * group,
-                   group, o, st, err))
+    if (!st_items_by_pixel(p) &&
+        (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
+         run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, st, err) ||
+         run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, st, err)))
         return err->status;
+    st_params q = *p;
+    st_u32 passes = r->plan.tile_passes ? 4u : 1u;
+    size_t bins = r->plan.tile_passes ? (size_t)(p->bins_x + 1) / 2 *
+                                            ((p->bins / p->bins_x + 1) / 2)
+                                      : p->bins;
+    for (st_u32 c = 0; c < passes; c++) {
+        q.bin_pass = r->plan.tile_passes ? c + 1u : 0u;
+        if (run_kernel(r, r->k[ST_STAGE_SPLAT_TILES], ST_STAGE_SPLAT_TILES, &q, bins * group,
+                       group, o, st, err))
+            return err->status;
+    }
     return ST_OK;
 }
 
