@@ -414,40 +414,37 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
  * pixel g mod npix (generate.cl's region_lanes), so a wave's items of one
  * pixel are every npix-th: one work-item per pixel the wave touches sums its
  * items' integers for that pixel (fixed_splat4, scale 1, as splat_samples
- * makes them) and adds the sum to the film once; an edge sample's taps on
- * other pixels go to the film at once. Both adds are atomic, as a
- * neighbour's edge sample may reach the pixel in the same launch. Integer
- * sums commute: the film is splat_samples' bit for bit, and so are the
- * tallies and counts (render.c chooses the path, test_render_paths.c
- * compares them). */
+ * makes them) and adds the sum to the film once, with plain adds, as no
+ * other work-item of the launch touches the pixel: an edge sample's taps on
+ * other pixels wait for splat_edges, which adds them atomically where
+ * splat_pixels marked the pixel (edge). Integer sums commute: the film is
+ * splat_samples' bit for bit, and so are the tallies and counts (render.c
+ * chooses the path, test_render_paths.c compares them). */
 
-/* Item i's share of splat_pixels: its tally, its counts, the sums it adds to
- * *acc for its own pixel (own), and those it adds to d's film for the
- * pixels across an edge it lies on. */
+/* The four sums a box splat adds at each of its taps, of radiance L (0
+ * where not finite: item_radiance). */
+ST_HOT long4 box_sums(float3 L, st_u32 *clamped)
+{
+    return fixed_splat4(1.0f, (float4)(L, 1.0f), clamped);
+}
+
+/* Item i's share of splat_pixels: its tally and counts, the sums it adds to
+ * *acc for its own pixel, and *edge set where it reaches other pixels. */
 ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *sample,
                         __global const st_path *path, __global st_tally *tally,
-                        __global st_film_stats *stats, const splat_dest *d, int2 own,
-                        long4 *acc)
+                        __global st_film_stats *stats, int2 own, long4 *acc, st_u32 *edge)
 {
     st_tally t;
     float3 L = item_radiance(i, path, tally, stats, &t);
     int4 k = sample_taps(p, sample[i]);
     if (k.y >= k.x && k.w >= k.z) {
         st_u32 clamped = 0u;
-        long4 v = fixed_splat4(1.0f, (float4)(L, 1.0f), &clamped);
-        if (all(k == (int4)(own.x, own.x, own.y, own.y))) { /* its own pixel alone */
+        long4 v = box_sums(L, &clamped);
+        if (k.x <= own.x && own.x <= k.y && k.z <= own.y && own.y <= k.w)
             *acc += v;
-            t.splats += 1u;
-        } else {
-            for (int y = k.z; y <= k.w; y++)
-                for (int x = k.x; x <= k.y; x++) {
-                    if (x == own.x && y == own.y)
-                        *acc += v;
-                    else
-                        add_fixed(p, d, x, y, v);
-                }
-            t.splats += (st_u32)(k.y - k.x + 1) * (st_u32)(k.w - k.z + 1);
-        }
+        if (any(k != (int4)(own.x, own.x, own.y, own.y)))
+            *edge = 1u;
+        t.splats += (st_u32)(k.y - k.x + 1) * (st_u32)(k.w - k.z + 1);
         if (clamped)
             atomic_inc(&stats->clamped);
     }
@@ -461,13 +458,38 @@ __kernel void splat_pixels(ST_STAGE_PARAMS)
     st_u32 j = get_global_id(0), npix = p.region_w * p.region_h;
     if (j >= min(p.item_count, npix))
         return;
-    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
-    st_u32 pixel = sample[j].pixel;
+    st_u32 pixel = sample[j].pixel, across = 0u;
     int2 own = (int2)((int)(pixel % p.width), (int)(pixel / p.width));
     long4 acc = (long4)(0);
     for (st_u32 i = j; i < p.item_count; i += npix)
-        gather_item(&p, i, sample, path, tally, stats, &d, own, &acc);
-    add_fixed(&p, &d, own.x, own.y, acc);
+        gather_item(&p, i, sample, path, tally, stats, own, &acc, &across);
+    edge[j] = across;
+    __global long *a = film[pixel].sum;
+    if (any(acc != 0))
+        vstore4(vload4(0, a) + acc, 0, a);
+}
+
+/* After splat_pixels, over the same work-items: the taps on other pixels of
+ * the edge samples of the pixels it marked, added atomically (pixels may
+ * meet there from both sides), their radiance as item_radiance made it,
+ * without counting again. */
+__kernel void splat_edges(ST_STAGE_PARAMS)
+{
+    st_u32 j = get_global_id(0), npix = p.region_w * p.region_h;
+    if (j >= min(p.item_count, npix) || !edge[j])
+        return;
+    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
+    st_u32 pixel = sample[j].pixel, clamped = 0u;
+    int2 own = (int2)((int)(pixel % p.width), (int)(pixel / p.width));
+    for (st_u32 i = j; i < p.item_count; i += npix) {
+        int4 k = sample_taps(&p, sample[i]);
+        float3 L = vload3(0, path[i].radiance);
+        long4 v = box_sums(all(isfinite(L)) ? L : (float3)(0.0f), &clamped);
+        for (int y = k.z; y <= k.w; y++)
+            for (int x = k.x; x <= k.y; x++)
+                if (x != own.x || y != own.y)
+                    add_fixed(&p, &d, x, y, v);
+    }
 }
 
 /* ---- tile-owned reconstruction ---------------------------------------------

@@ -557,6 +557,7 @@ typedef struct st_tile_point {
     X(bin_count, st_u32, ST_PER_BIN) /* samples per bin; 0 between waves (film.cl) */      \
     X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
     X(bin_item, st_u32, ST_PER_ITEM) /* the wave's items, ordered by bin */                \
+    X(edge, st_u32, ST_PER_ITEM) /* splat_pixels' work-item j: 1, samples on other pixels */ \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
     X(pilot_film, st_film_pixel, ST_PER_ADAPTIVE) /* the adaptive pilot's splats */        \
     X(moments, st_pixel, ST_PER_ADAPTIVE) /* pilot: Σ Y, Σ Y², samples (adaptive.cl) */    \

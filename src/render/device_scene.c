@@ -189,6 +189,7 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
             goto fail;
     if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
         st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK ||
+        st_device_kernel(dev, "splat_edges", &r->splat_edges, err) != ST_OK ||
         st_device_kernel(dev, "live_count", &r->live_count, err) != ST_OK ||
         st_device_kernel(dev, "live_scan", &r->live_scan, err) != ST_OK ||
         st_device_kernel(dev, "shade_hits_shadowed", &r->shade_shadowed, err) != ST_OK ||

@@ -139,6 +139,7 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
             return err->status;
     if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
+        st_wave_bind_stage(r->splat_edges, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->live_count, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->live_scan, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
@@ -181,7 +182,8 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
     return run_kernel(r, r->k[k], k, p, items, o->local_size, o, st, err);
 }
 
-/* Reconstruction of a wave: splat_pixels, splat_samples, or splat_tiles,
+/* Reconstruction of a wave: splat_pixels then splat_edges (the taps of
+ * samples on pixel edges), splat_samples, or splat_tiles,
  * one work-group per bin (st_plan_tile_group), in one launch or in the
  * plan's four passes, after the counting sort by bin (three kernels, timed
  * as the stage bin_samples) where the items do not lie in their pixels in
@@ -191,8 +193,13 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
 {
     size_t n = p->item_count, group = st_plan_tile_group(&r->plan, o);
     size_t npix = (size_t)p->region_w * p->region_h;
-    if (st_plan_gathers(&r->plan, p))
-        return run_stage(r, ST_STAGE_SPLAT_PIXELS, p, n < npix ? n : npix, o, st, err);
+    if (st_plan_gathers(&r->plan, p)) {
+        size_t m = n < npix ? n : npix;
+        if (run_stage(r, ST_STAGE_SPLAT_PIXELS, p, m, o, st, err) ||
+            run_kernel(r, r->splat_edges, ST_STAGE_SPLAT_PIXELS, p, m, o->local_size, o, st, err))
+            return err->status;
+        return ST_OK;
+    }
     if (!p->bins)
         return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
     if (!st_items_by_pixel(p) &&

@@ -30,6 +30,7 @@ struct st_renderer {
     cl_kernel k[ST_STAGE_COUNT];
     cl_kernel adaptive[ST_ADAPTIVE_KERNELS]; /* adaptive.cl, by ST_ADAPTIVE_* */
     cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
+    cl_kernel splat_edges; /* the rest of ST_STAGE_SPLAT_PIXELS (film.cl) */
     cl_kernel live_count, live_scan;  /* the rest of ST_STAGE_LIVE (live.cl) */
     cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
     /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl) */
