@@ -660,12 +660,16 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
             splat_items(&p, item, k, sample, path, tally, stats, splat_scale, &d);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
+    /* window pixel j at (x, y) of the image, stepped without a division */
+    int x = ox + (int)lid % side, y = oy + (int)lid / side;
     for (int j = (int)lid; j < side * side; j += (int)n) {
-        int x = ox + j % side, y = oy + j / side;
-        if (x < 0 || y < 0 || x >= (int)p.width || y >= (int)p.height)
+        int px = x, py = y;
+        for (x += (int)n; x >= ox + side; x -= side)
+            y++;
+        if (px < 0 || py < 0 || px >= (int)p.width || py >= (int)p.height)
             continue;
-        __global long *a = film[(size_t)y * p.width + x].sum;
-        if (y + 1 < (int)p.height) /* the next row's pixel, out of the caches too */
+        __global long *a = film[(size_t)py * p.width + px].sum;
+        if (py + 1 < (int)p.height) /* the next row's pixel, out of the caches too */
             ST_PREFETCH(a + 4 * p.width);
         long4 v = acc[j];
         if (p.bin_pass)
