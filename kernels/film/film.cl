@@ -557,7 +557,6 @@ typedef struct bin_items {
     int by_pixel;
     st_u32 first, count;              /* sorted */
     st_u32 x0, y0, shift, lag, npix; /* by pixel; lag = first_item mod npix */
-    st_u32 ahead; /* positions to prefetch ahead: the next row's (prefetch_item) */
 } bin_items;
 
 /* A hint for item i's records, which splat_tiles reads soon: the stages
@@ -575,14 +574,13 @@ ST_HOT void prefetch_item(st_u32 i, __global const st_sample *sample, __global c
 
 ST_HOT bin_items bin_items_of(const st_params *p, __global const st_u32 *bin_start, st_u32 b)
 {
-    bin_items l = {st_items_by_pixel(p), 0u, 0u, 0u, 0u, 0u, 0u, 0u, 2u * ST_W};
+    bin_items l = {st_items_by_pixel(p), 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     if (!l.by_pixel) {
         l.first = bin_start[b];
         l.count = bin_start[b + 1] - l.first;
         return l;
     }
     st_u32 side = p->bin_side;
-    l.ahead = side;
     l.npix = p->region_w * p->region_h;
     l.shift = 31u - clz(side);
     l.x0 = b % p->bins_x * side;
@@ -611,6 +609,17 @@ ST_HOT int bin_item_at(const st_params *p, __global const st_u32 *bin_item, cons
     st_u32 q = (y - p->region_y) * p->region_w + (x - p->region_x) + l->npix - l->lag;
     *i = (q >= l->npix ? q - l->npix : q) + m * l->npix;
     return *i < p->item_count;
+}
+
+/* The item to prefetch at position j, whose item is i (prefetch_item), or
+ * item_count: by pixel, the pixel below's (the next row's, read a row of
+ * the tile later); sorted, the item two batches on. */
+ST_HOT st_u32 bin_item_ahead(const st_params *p, __global const st_u32 *bin_item,
+                             const bin_items *l, st_u32 j, st_u32 i)
+{
+    if (l->by_pixel)
+        return i + p->region_w;
+    return j + 2u * ST_W < l->count ? bin_item[l->first + j + 2u * ST_W] : p->item_count;
 }
 
 /* The bin work-group g works on, or p->bins where it has none. With
@@ -650,12 +659,13 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
     barrier(CLK_LOCAL_MEM_FENCE);
     splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
     for (st_u32 j = lid * ST_W; j < l.count; j += n * ST_W) {
-        st_u32 item[ST_W], k = 0, next;
-        for (st_u32 e = j; e < min(j + ST_W, l.count); e++) {
-            k += (st_u32)bin_item_at(&p, bin_item, &l, e, &item[k]);
-            if (e + l.ahead < l.count && bin_item_at(&p, bin_item, &l, e + l.ahead, &next))
-                prefetch_item(next, sample, path, tally);
-        }
+        st_u32 item[ST_W], k = 0;
+        for (st_u32 e = j; e < min(j + ST_W, l.count); e++)
+            if (bin_item_at(&p, bin_item, &l, e, &item[k])) {
+                st_u32 next = bin_item_ahead(&p, bin_item, &l, e, item[k++]);
+                if (next < p.item_count)
+                    prefetch_item(next, sample, path, tally);
+            }
         if (k)
             splat_items(&p, item, k, sample, path, tally, stats, splat_scale, &d);
     }
