@@ -59,9 +59,22 @@ ST_HOT long4 fixed_splat4(float w, float4 L1, st_u32 *clamped)
     return (long4)(sums[0], sums[1], sums[2], sums[3]);
 }
 
+/* Adds the four sums v to a film pixel's sums a atomically. A zero sum (a
+ * channel of black radiance) is left out: it would not change the integer. */
+ST_HOT void film_add(__global long *a, long4 v)
+{
+    if (v.x != 0)
+        atom_add(a, v.x);
+    if (v.y != 0)
+        atom_add(a + 1, v.y);
+    if (v.z != 0)
+        atom_add(a + 2, v.z);
+    if (v.w != 0)
+        atom_add(a + 3, v.w);
+}
+
 /* Adds the four sums v to pixel (x, y), wherever they are accumulated (a
- * window pixel outside d's window goes to the film). A zero sum (a channel of
- * black radiance) is left out: it would not change the integer. */
+ * window pixel outside d's window goes to the film: film_add). */
 ST_HOT void add_fixed(const st_params *p, const splat_dest *d, int x, int y, long4 v)
 {
     int lx = x - d->ox, ly = y - d->oy;
@@ -73,15 +86,7 @@ ST_HOT void add_fixed(const st_params *p, const splat_dest *d, int x, int y, lon
         atom_add(a + 3, v.w);
         return;
     }
-    __global long *a = d->film[(size_t)y * p->width + x].sum;
-    if (v.x != 0)
-        atom_add(a, v.x);
-    if (v.y != 0)
-        atom_add(a + 1, v.y);
-    if (v.z != 0)
-        atom_add(a + 2, v.z);
-    if (v.w != 0)
-        atom_add(a + 3, v.w);
+    film_add(d->film[(size_t)y * p->width + x].sum, v);
 }
 
 /* floor(v) and ceil(v), exactly, for v within int's range: truncate, then
@@ -684,16 +689,8 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
         long4 v = acc[j];
         if (p.bin_pass)
             vstore4(vload4(0, a) + v, 0, a);
-        else {
-            if (v.x != 0)
-                atom_add(a, v.x);
-            if (v.y != 0)
-                atom_add(a + 1, v.y);
-            if (v.z != 0)
-                atom_add(a + 2, v.z);
-            if (v.w != 0)
-                atom_add(a + 3, v.w);
-        }
+        else
+            film_add(a, v);
     }
     if (lid == 0 && !l.by_pixel)
         bin_count[b] = 0; /* for the next wave's bin_samples */
