@@ -573,10 +573,11 @@ ST_HOT void prefetch_item(st_u32 i, __global const st_sample *sample, __global c
 {
     ST_PREFETCH(&sample[i]);
     ST_PREFETCH(&path[i]);
-    ST_PREFETCH((__global const char *)&path[i] + 47);
+    ST_PREFETCH((__global const char *)&path[i] + 47); /* 48 bytes may cross a line */
     ST_PREFETCH(&tally[i]);
 }
 
+/* Bin b's list of items (bin_items): none for a tile off a crop's region. */
 ST_HOT bin_items bin_items_of(const st_params *p, __global const st_u32 *bin_start, st_u32 b)
 {
     bin_items l = {st_items_by_pixel(p), 0u, 0u, 0u, 0u, 0u, 0u, 0u};
