@@ -157,6 +157,7 @@ typedef struct tap_weights {
     int4 t;
     const float *x, *y;
     int st;
+    float bx, by; /* the largest |x[k st]|, |y[j st]| of the taps (max_abs) */
 } tap_weights;
 
 /* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
@@ -198,6 +199,18 @@ ST_HOT float max_abs(const float *w, int n, int st)
     return m;
 }
 
+/* max_abs of ST_W samples' weights at once, lane l of w[k ST_W + l] for
+ * k < n_l (m >= every n_l), each lane what max_abs computes for it. */
+ST_HOT st_lf max_abs_lanes(const float *w, st_li n, int m)
+{
+    st_lf b = ST_LF(0.0f);
+    for (int k = 0; k < m; k++) {
+        st_lf a = fabs(ST_VLOAD(ST_W, w + k * ST_W));
+        b = ST_SELECT(ST_W, b, a, (a > b) & ((st_li)(k) < n));
+    }
+    return b;
+}
+
 /* Whether no tap of a sample needs clamping: every tap's products
  * (wx[k] wy[j]) scale L1 are at most, in magnitude, the same products of
  * the largest |wx|, |wy| and |L1| (float rounding is monotone), so a bound
@@ -207,7 +220,7 @@ ST_HOT int window_fits(tap_weights w, int nx, int ny, float scale, float4 L1)
 {
     float4 a = fabs(L1);
     float l = fmax(fmax(a.x, a.y), fmax(a.z, a.w));
-    float bound = max_abs(w.x, nx, w.st) * max_abs(w.y, ny, w.st) * fabs(scale) * l;
+    float bound = w.bx * w.by * fabs(scale) * l;
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
 
@@ -348,12 +361,14 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
 {
     st_sample s = sample[i];
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    tap_weights w = {sample_taps(p, s), wx, wy, 1};
+    tap_weights w = {sample_taps(p, s), wx, wy, 1, 0.0f, 0.0f};
     int nx = w.t.y - w.t.x + 1, ny = w.t.w - w.t.z + 1;
     if (splat_weighs(p) && nx > 0 && ny > 0) {
         st_filter flt = p->filter;
         st_filter_taps1(&flt, d->turn, w.t.x, nx, nx, s.film[0], wx);
         st_filter_taps1(&flt, d->turn, w.t.z, ny, ny, s.film[1], wy);
+        w.bx = max_abs(wx, nx, 1);
+        w.by = max_abs(wy, ny, 1);
     }
     splat_weighted(p, i, s, w, path, tally, stats, splat_scale, d);
 }
@@ -382,15 +397,18 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
         mx = max(mx, nx[l]);
         my = max(my, ny[l]);
     }
+    float bx[ST_W], by[ST_W];
     if (splat_weighs(p)) {
         st_filter flt = p->filter;
         ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, ST_VLOAD(ST_W, lx), ST_VLOAD(ST_W, nx), mx,
                                      ST_VLOAD(ST_W, sx), wx);
         ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, ST_VLOAD(ST_W, ly), ST_VLOAD(ST_W, ny), my,
                                      ST_VLOAD(ST_W, sy), wy);
+        ST_VSTORE(ST_W, max_abs_lanes(wx, ST_VLOAD(ST_W, nx), mx), bx);
+        ST_VSTORE(ST_W, max_abs_lanes(wy, ST_VLOAD(ST_W, ny), my), by);
     }
     for (st_u32 l = 0; l < n; l++) {
-        tap_weights w = {t[l], wx + l, wy + l, ST_W};
+        tap_weights w = {t[l], wx + l, wy + l, ST_W, bx[l], by[l]};
         splat_weighted(p, item[l], sample[item[l]], w, path, tally, stats, splat_scale, d);
     }
 }
