@@ -89,47 +89,14 @@ ST_HOT void add_fixed(const st_params *p, const splat_dest *d, int x, int y, lon
     film_add(d->film[(size_t)y * p->width + x].sum, v);
 }
 
-/* floor(v) and ceil(v), exactly, for v within int's range: truncate, then
- * step by one where truncation went the wrong way (a vector comparison is -1
- * where true). A few vector instructions, where PoCL's floor and ceil test
- * each channel for large and special values. */
-ST_HOT int2 floor_int2(float2 v)
-{
-    int2 t = convert_int2(v);
-    return t + (convert_float2(t) > v);
-}
-
-ST_HOT int2 ceil_int2(float2 v)
-{
-    int2 t = convert_int2(v);
-    return t - (convert_float2(t) < v);
-}
-
-/* The pixels k of each axis whose centre satisfies |k + 0.5 - s| <= r (the
- * filters' closed support, filters.h), within the image's n: (first x, last
- * x, first y, last y), both axes at once. The ends are estimated, then
- * moved by one where the offset as st_filter_taps computes it in float says
- * otherwise (either way: the estimate's own rounding may cross an integer). */
-ST_HOT float2 offset2(int2 k, float2 s)
-{
-    return convert_float2(k) + 0.5f - s;
-}
-
-ST_HOT int4 taps(float2 s, float r, int2 n)
-{
-    int2 lo = ceil_int2(s - r - 0.5f), hi = floor_int2(s + r - 0.5f);
-    lo = lo - (offset2(lo, s) < -r) + (offset2(lo - 1, s) >= -r); /* true is -1 */
-    hi = hi + (offset2(hi, s) > r) - (offset2(hi + 1, s) <= r);
-    lo = max(lo, 0);
-    hi = min(hi, n - 1);
-    return (int4)(lo.x, hi.x, lo.y, hi.y);
-}
-
-/* taps() of sample s on p's image. */
+/* A sample's taps (st_tap_range1 of each axis) on p's image: (first x,
+ * last x, first y, last y). */
 ST_HOT int4 sample_taps(const st_params *p, st_sample s)
 {
-    return taps((float2)(s.film[0], s.film[1]), p->filter.radius,
-                (int2)((int)p->width, (int)p->height));
+    int x0, x1, y0, y1;
+    st_tap_range1(s.film[0], p->filter.radius, (int)p->width, &x0, &x1);
+    st_tap_range1(s.film[1], p->filter.radius, (int)p->height, &y0, &y1);
+    return (int4)(x0, x1, y0, y1);
 }
 
 /* Filter importance sampling: the offset was drawn from |f|, so the weight
@@ -149,7 +116,7 @@ static st_u32 splat_fis(const st_params *p, st_sample s, float3 L, const splat_d
     return 1u;
 }
 
-/* A sample's taps (taps(): first and last x, first and last y) and their
+/* A sample's taps (sample_taps: first and last x, first and last y) and their
  * 1-D weights, column k's at x[k st], row j's at y[j st] (st: the lanes the
  * weights were made in, filter_lanes.h); none for box, whose weight is 1
  * at every tap. */
@@ -383,32 +350,40 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
                         __global const st_f32 *splat_scale, splat_dest *d)
 {
     float sx[ST_W], sy[ST_W], wx[ST_MAX_TAPS * ST_W], wy[ST_MAX_TAPS * ST_W];
-    int lx[ST_W], ly[ST_W], nx[ST_W], ny[ST_W], mx = 0, my = 0;
-    int4 t[ST_W];
     for (st_u32 l = 0; l < ST_W; l++) {
         st_sample s = sample[item[l < n ? l : 0]];
-        t[l] = sample_taps(p, s);
-        sx[l] = l < n ? s.film[0] : 0.5f;
-        sy[l] = l < n ? s.film[1] : 0.5f;
-        lx[l] = l < n ? t[l].x : 0;
-        ly[l] = l < n ? t[l].z : 0;
-        nx[l] = l < n ? max(t[l].y - t[l].x + 1, 0) : 0;
-        ny[l] = l < n ? max(t[l].w - t[l].z + 1, 0) : 0;
-        mx = max(mx, nx[l]);
-        my = max(my, ny[l]);
+        sx[l] = s.film[0];
+        sy[l] = s.film[1];
+    }
+    /* every lane's taps at once, as sample_taps finds them; a lane past n
+     * has none */
+    st_lf fx = ST_VLOAD(ST_W, sx), fy = ST_VLOAD(ST_W, sy);
+    st_li x0, x1, y0, y1, live = ST_IOTA(ST_W) < (int)n;
+    ST_CAT(st_tap_range, ST_W)(fx, p->filter.radius, (int)p->width, &x0, &x1);
+    ST_CAT(st_tap_range, ST_W)(fy, p->filter.radius, (int)p->height, &y0, &y1);
+    st_li nx = ST_SELECT(ST_W, (st_li)(0), max(x1 - x0 + 1, 0), live);
+    st_li ny = ST_SELECT(ST_W, (st_li)(0), max(y1 - y0 + 1, 0), live);
+    int lx[ST_W], hx[ST_W], ly[ST_W], hy[ST_W], cx[ST_W], cy[ST_W], mx = 0, my = 0;
+    ST_VSTORE(ST_W, x0, lx);
+    ST_VSTORE(ST_W, x1, hx);
+    ST_VSTORE(ST_W, y0, ly);
+    ST_VSTORE(ST_W, y1, hy);
+    ST_VSTORE(ST_W, nx, cx);
+    ST_VSTORE(ST_W, ny, cy);
+    for (st_u32 l = 0; l < ST_W; l++) {
+        mx = max(mx, cx[l]);
+        my = max(my, cy[l]);
     }
     float bx[ST_W], by[ST_W];
     if (splat_weighs(p)) {
         st_filter flt = p->filter;
-        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, ST_VLOAD(ST_W, lx), ST_VLOAD(ST_W, nx), mx,
-                                     ST_VLOAD(ST_W, sx), wx);
-        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, ST_VLOAD(ST_W, ly), ST_VLOAD(ST_W, ny), my,
-                                     ST_VLOAD(ST_W, sy), wy);
-        ST_VSTORE(ST_W, max_abs_lanes(wx, ST_VLOAD(ST_W, nx), mx), bx);
-        ST_VSTORE(ST_W, max_abs_lanes(wy, ST_VLOAD(ST_W, ny), my), by);
+        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, x0, nx, mx, fx, wx);
+        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, y0, ny, my, fy, wy);
+        ST_VSTORE(ST_W, max_abs_lanes(wx, nx, mx), bx);
+        ST_VSTORE(ST_W, max_abs_lanes(wy, ny, my), by);
     }
     for (st_u32 l = 0; l < n; l++) {
-        tap_weights w = {t[l], wx + l, wy + l, ST_W, bx[l], by[l]};
+        tap_weights w = {(int4)(lx[l], hx[l], ly[l], hy[l]), wx + l, wy + l, ST_W, bx[l], by[l]};
         splat_weighted(p, item[l], sample[item[l]], w, path, tally, stats, splat_scale, d);
     }
 }
@@ -662,7 +637,7 @@ ST_HOT st_u32 group_bin(const st_params *p, st_u32 g)
 
 /* Work-group g owns bin group_bin(g): its samples' splats go into acc, the
  * window of the tile and an apron of ceil(r) + 1 pixels on each side (which
- * holds every tap: taps() stays within r + 0.5 of the sample), ST_W
+ * holds every tap: st_tap_range stays within r + 0.5 of the sample), ST_W
  * samples at a time, their weights in lanes; then each window pixel's
  * nonzero sums go to the film. acc holds (bin_side + 2 apron)^2 pixels of
  * four longs (render.c sizes it from CL_DEVICE_LOCAL_MEM_SIZE). A

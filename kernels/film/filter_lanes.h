@@ -87,6 +87,39 @@ ST_HOT ST_F ST_CAT(st_tap_offset, ST_N)(ST_I lo, int k, ST_F s)
     return ST_CONVERT(float, ST_N, lo + k) + 0.5f - s;
 }
 
+/* floor(v) and ceil(v), exactly, for v within int's range: truncation,
+ * stepped by one where it went the wrong way. A few vector instructions,
+ * where PoCL's floor and ceil test each lane for large and special values. */
+ST_HOT ST_I ST_CAT(st_floor_int, ST_N)(ST_F v)
+{
+    ST_I t = ST_CONVERT(int, ST_N, v);
+    return ST_SELECT(ST_N, t, t - 1, ST_CONVERT(float, ST_N, t) > v);
+}
+
+ST_HOT ST_I ST_CAT(st_ceil_int, ST_N)(ST_F v)
+{
+    ST_I t = ST_CONVERT(int, ST_N, v);
+    return ST_SELECT(ST_N, t, t + 1, ST_CONVERT(float, ST_N, t) < v);
+}
+
+/* The taps of ST_N samples' axes at s: the pixels k whose centre lies in
+ * the filter's closed support, |k + 1/2 - s| <= r, within [0, n), from *lo
+ * to *hi (none where *hi < *lo). The ends are estimated, then moved by one
+ * where the offset as st_tap_offset computes it says otherwise (the
+ * estimate's own rounding may cross an integer, either way). */
+ST_HOT void ST_CAT(st_tap_range, ST_N)(ST_F s, st_f32 r, int n, ST_I *lo, ST_I *hi)
+{
+    ST_F rl = (ST_F)(r);
+    ST_I a = ST_CAT(st_ceil_int, ST_N)(s - rl - 0.5f);
+    ST_I b = ST_CAT(st_floor_int, ST_N)(s + rl - 0.5f);
+    ST_I a1 = ST_SELECT(ST_N, a, a + 1, ST_CAT(st_tap_offset, ST_N)(a, 0, s) < -rl);
+    ST_I b1 = ST_SELECT(ST_N, b, b - 1, ST_CAT(st_tap_offset, ST_N)(b, 0, s) > rl);
+    a1 = ST_SELECT(ST_N, a1, a1 - 1, ST_CAT(st_tap_offset, ST_N)(a, -1, s) >= -rl);
+    b1 = ST_SELECT(ST_N, b1, b1 + 1, ST_CAT(st_tap_offset, ST_N)(b, 1, s) <= rl);
+    *lo = ST_SELECT(ST_N, a1, (ST_I)(0), a1 < 0);
+    *hi = ST_SELECT(ST_N, b1, (ST_I)(n - 1), b1 > n - 1);
+}
+
 /* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at taps 0 .. m - 1, from
  * each lane's tap c nearest 0, j = k - c: sin(π x_k) = (-1)^j sin(π x_c),
  * and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ, δ = π / τ, turning (sin,

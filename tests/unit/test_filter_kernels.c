@@ -392,6 +392,44 @@ static void taps_1d_match_formulas(void **state)
     printf("# lanczos taps: largest difference from the formula %.3g\n", worst);
 }
 
+/* st_tap_range1, the taps every splat path gives a sample (film.cl), against
+ * the definition by brute force: the pixels k in [0, n) whose centre's
+ * offset, as st_tap_offset computes it in float, lies within the closed
+ * support, |k + 1/2 - s| <= r. Positions across and beyond an image 4099
+ * pixels wide (where a float's step is 2^-12 and the ends' estimates round
+ * across an integer), each near an end's tie, s = m + 1/2 +- r, and up to
+ * three floats either side of it; and evenly spread ones. An empty range
+ * is any with hi < lo. */
+static void tap_range_brute_force(void **state)
+{
+    (void)state;
+    static const float radii[] = {0.0625f, 0.3f, 0.5f, 1.0f, 1.3f, 2.0f, 2.2f, 3.0f, 7.7f};
+    const int n = 4099;
+    uint64_t x = 0x9e3779b97f4a7c15u;
+    for (size_t i = 0; i < sizeof radii / sizeof radii[0]; i++) {
+        float r = radii[i];
+        for (int j = 0; j < 20000; j++) {
+            x = x * 6364136223846793005u + 1442695040888963407u;
+            int m = (int)(x >> 33) % (n + 4) - 2, steps = (int)(x >> 20 & 7u) - 3;
+            float s = (float)m + 0.5f + (x >> 30 & 1u ? r : -r);
+            for (; steps != 0; steps += steps < 0 ? 1 : -1)
+                s = nextafterf(s, steps < 0 ? -1e9f : 1e9f);
+            if (j % 5 == 0)
+                s = -9.0f + (float)j * ((float)(n + 18) / 20000.0f);
+            int lo, hi, want_lo = n, want_hi = -1;
+            st_tap_range1(s, r, n, &lo, &hi);
+            for (int k = (int)s - 10; k <= (int)s + 10; k++)
+                if (k >= 0 && k < n && fabsf(st_tap_offset1(k, 0, s)) <= r) {
+                    want_lo = k < want_lo ? k : want_lo;
+                    want_hi = k;
+                }
+            if (want_hi < want_lo ? hi >= lo : lo != want_lo || hi != want_hi)
+                fail_msg("r=%g s=%.9g: taps %d..%d, by definition %d..%d", r, s, lo, hi,
+                         want_lo, want_hi);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -403,6 +441,7 @@ int main(void)
         cmocka_unit_test(mitchell_integrates_to_one),
         cmocka_unit_test(catmull_rom_interpolates),
         cmocka_unit_test(taps_1d_match_formulas),
+        cmocka_unit_test(tap_range_brute_force),
     };
     return cmocka_run_group_tests_name("filters", tests, NULL, NULL);
 }
