@@ -591,23 +591,61 @@ ST_HOT bin_items bin_items_of(const st_params *p, __global const st_u32 *bin_sta
     return l;
 }
 
+/* Positions j .. j + n - 1 of a bin by pixel: whether they lie in one row
+ * of the tile and on the region, and then the first's region index q (in
+ * the wave's order: lag later, plus npix) and its round m (j's item is
+ * run_item(l, q, m), the next's run_item(l, q + 1, m), ...). The
+ * coordinates are taken from the region's origin as unsigned, so that one
+ * comparison each rejects both sides. */
+ST_HOT int pixel_run(const st_params *p, const bin_items *l, st_u32 j, st_u32 n, st_u32 *q,
+                     st_u32 *m)
+{
+    st_u32 side = 1u << l->shift, t = j & (side * side - 1u), c = t & (side - 1u);
+    st_u32 x = l->x0 + c - p->region_x, y = l->y0 + (t >> l->shift) - p->region_y;
+    *m = j >> (2u * l->shift);
+    *q = y * p->region_w + x + l->npix - l->lag;
+    return c + n <= side && x < p->region_w && n <= p->region_w - x && y < p->region_h;
+}
+
+/* The wave item of region index q (pixel_run's) in round m. */
+ST_HOT st_u32 run_item(const bin_items *l, st_u32 q, st_u32 m)
+{
+    return (q >= l->npix ? q - l->npix : q) + m * l->npix;
+}
+
 /* Position j's item into *i; 0 where j holds none (a pixel off the region,
  * a sample beyond the wave). */
 ST_HOT int bin_item_at(const st_params *p, __global const st_u32 *bin_item, const bin_items *l,
                        st_u32 j, st_u32 *i)
 {
+    st_u32 q, m;
     if (!l->by_pixel) {
         *i = bin_item[l->first + j];
         return 1;
     }
-    st_u32 side = 1u << l->shift, t = j & (side * side - 1u), m = j >> (2u * l->shift);
-    st_u32 x = l->x0 + (t & (side - 1u)), y = l->y0 + (t >> l->shift);
-    if (x < p->region_x || y < p->region_y || x - p->region_x >= p->region_w ||
-        y - p->region_y >= p->region_h)
+    if (!pixel_run(p, l, j, 1u, &q, &m))
         return 0;
-    st_u32 q = (y - p->region_y) * p->region_w + (x - p->region_x) + l->npix - l->lag;
-    *i = (q >= l->npix ? q - l->npix : q) + m * l->npix;
+    *i = run_item(l, q, m);
     return *i < p->item_count;
+}
+
+/* The items of positions j .. j + n - 1 (n <= ST_W) into item[]: returns
+ * how many. By pixel, where the positions are one run of a tile's row on
+ * the region (pixel_run), their items follow from the first's without a
+ * lookup each. */
+ST_HOT st_u32 bin_items_at(const st_params *p, __global const st_u32 *bin_item,
+                           const bin_items *l, st_u32 j, st_u32 n, st_u32 *item)
+{
+    st_u32 k = 0, q, m;
+    if (l->by_pixel && pixel_run(p, l, j, n, &q, &m)) {
+        for (st_u32 e = 0; e < n; e++)
+            if ((item[k] = run_item(l, q + e, m)) < p->item_count)
+                k++;
+        return k;
+    }
+    for (st_u32 e = j; e < j + n; e++)
+        k += (st_u32)bin_item_at(p, bin_item, l, e, &item[k]);
+    return k;
 }
 
 /* The item to prefetch at position j, whose item is i (prefetch_item), or
@@ -658,13 +696,12 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
     barrier(CLK_LOCAL_MEM_FENCE);
     splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
     for (st_u32 j = lid * ST_W; j < l.count; j += n * ST_W) {
-        st_u32 item[ST_W], k = 0;
-        for (st_u32 e = j; e < min(j + ST_W, l.count); e++)
-            if (bin_item_at(&p, bin_item, &l, e, &item[k])) {
-                st_u32 next = bin_item_ahead(&p, bin_item, &l, e, item[k++]);
-                if (next < p.item_count)
-                    prefetch_item(next, sample, path, tally);
-            }
+        st_u32 item[ST_W], k = bin_items_at(&p, bin_item, &l, j, min(j + ST_W, l.count) - j, item);
+        for (st_u32 e = 0; e < k; e++) {
+            st_u32 next = bin_item_ahead(&p, bin_item, &l, j + e, item[e]);
+            if (next < p.item_count)
+                prefetch_item(next, sample, path, tally);
+        }
         if (k)
             splat_items(&p, item, k, sample, path, tally, stats, splat_scale, &d);
     }
