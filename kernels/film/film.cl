@@ -185,8 +185,9 @@ ST_HOT st_lf max_abs_lanes(const float *w, st_li n, int m)
  * fixed_splat4's test with the same integers. NaN fails the test. */
 ST_HOT int window_fits(tap_weights w, int nx, int ny, float scale, float4 L1)
 {
-    float4 a = fabs(L1);
-    float l = fmax(fmax(a.x, a.y), fmax(a.z, a.w));
+    float4 a = fabs(L1); /* finite: item_radiance, so max needs no NaN rule as fmax's */
+    float2 h = max(a.lo, a.hi);
+    float l = max(h.x, h.y);
     float bound = w.bx * w.by * fabs(scale) * l;
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
