@@ -362,8 +362,8 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
     st_li x0, x1, y0, y1, live = ST_IOTA(ST_W) < (int)n;
     ST_CAT(st_tap_range, ST_W)(fx, p->filter.radius, (int)p->width, &x0, &x1);
     ST_CAT(st_tap_range, ST_W)(fy, p->filter.radius, (int)p->height, &y0, &y1);
-    st_li nx = ST_SELECT(ST_W, (st_li)(0), max(x1 - x0 + 1, 0), live);
-    st_li ny = ST_SELECT(ST_W, (st_li)(0), max(y1 - y0 + 1, 0), live);
+    st_li nx = ST_SELECT(ST_W, (st_li)(0), x1 - x0 + 1, live & (x1 >= x0));
+    st_li ny = ST_SELECT(ST_W, (st_li)(0), y1 - y0 + 1, live & (y1 >= y0));
     int lx[ST_W], hx[ST_W], ly[ST_W], hy[ST_W], cx[ST_W], cy[ST_W], mx = 0, my = 0;
     ST_VSTORE(ST_W, x0, lx);
     ST_VSTORE(ST_W, x1, hx);
