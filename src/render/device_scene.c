@@ -171,6 +171,8 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     }
     r->ray_eps = 1e-4f * fmaxf(extent, 1e-3f);
     st_bvh *bvh = NULL;
+    if (st_plan_force_from_env(r, err) != ST_OK)
+        goto fail;
     double t0 = st_render_now();
     if (st_bvh_build_threads(scene->positions, scene->tri_count,
                              st_renderer_bvh_threads(st_device_get_info(dev), scene->tri_count),

@@ -6,6 +6,8 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "render_int.h"
 #include "st_sampling.h"
@@ -149,6 +151,24 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params
         pl.splat = ST_SPLAT_PER_SAMPLE;
     pl.tile_passes = plan_tile_passes(&pl, p);
     return pl;
+}
+
+st_status st_plan_force_from_env(st_renderer *r, st_error *err)
+{
+    static const char *const names[] = {[ST_SPLAT_PER_SAMPLE] = "samples",
+                                        [ST_SPLAT_TILES] = "tiles",
+                                        [ST_SPLAT_TILES_ALONE] = "tiles-alone",
+                                        [ST_SPLAT_PIXELS] = "pixels"};
+    const char *v = getenv("STRATA_SPLAT");
+    if (!v || !*v)
+        return ST_OK;
+    for (int k = ST_SPLAT_PER_SAMPLE; k <= ST_SPLAT_PIXELS; k++)
+        if (!strcmp(v, names[k])) {
+            r->force.splat = k;
+            return ST_OK;
+        }
+    return st_fail(err, ST_ERR_USAGE,
+                   "STRATA_SPLAT=%.40s: unknown splat (samples, tiles, tiles-alone or pixels)", v);
 }
 
 void st_renderer_force(st_renderer *r, const st_plan_force *f)

@@ -65,5 +65,11 @@ size_t st_plan_window_bytes(st_u32 side, float radius);
 
 /* Forces choices on r's later renders (NULL: none). */
 void st_renderer_force(st_renderer *r, const st_plan_force *f);
+/* Forces the splat named by the environment's STRATA_SPLAT (samples, tiles,
+ * tiles-alone, pixels; unset or empty: none) on r's renders, so that a
+ * device whose plan never takes a path (Oclgrind's, GPU-like, never takes
+ * the CPU's) can be made to run it: tests/oclgrind/run.sh. Every choice
+ * gives the same image. ST_ERR_USAGE for another name. */
+st_status st_plan_force_from_env(st_renderer *r, st_error *err);
 
 #endif

@@ -75,6 +75,15 @@ STRATA_KERNEL_DIR="$T/kernels" $S render $R -o "$T/kb.exr" > "$T/out" 2> "$T/err
 st=$?
 check "a kernel that fails to build: exit 1 and the cause" '[ $st -eq 1 ] && grep -q "^strata: error: kernel build failed on .*CL_BUILD_PROGRAM_FAILURE" "$T/err"'
 check "a kernel that fails to build: the compiler log names the file" 'grep -q "kernels/film/film.cl:[0-9]*:[0-9]*:" "$T/err" && [ ! -e "$T/kb.exr" ]'
+# STRATA_SPLAT: a splat path forced (tests/oclgrind/run.sh), the image the
+# plan's own; a name it does not know fails before anything is written
+for sp in samples tiles tiles-alone pixels; do
+    STRATA_SPLAT=$sp $S render $R -o "$T/sp-$sp.exr" > /dev/null 2>&1
+    check "STRATA_SPLAT=$sp: the same image as the plan's splat" '[ -e "$T/sp-$sp.exr" ] && $S diff "$T/emb.exr" "$T/sp-$sp.exr" --max-rmse 0 > /dev/null'
+done
+STRATA_SPLAT=gather $S render $R -o "$T/sp-bad.exr" > /dev/null 2> "$T/err"
+st=$?
+check "STRATA_SPLAT with an unknown name: exit 2 naming it and the names known" '[ $st -eq 2 ] && grep -q "^strata: error: STRATA_SPLAT=gather: unknown splat (samples, tiles, tiles-alone or pixels)" "$T/err" && [ ! -e "$T/sp-bad.exr" ]'
 
 # strata pattern
 $S pattern --sampler halton --scramble none --count 1000 --dims 3 --csv "$T/h.csv" > /dev/null 2>&1

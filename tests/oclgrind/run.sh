@@ -55,6 +55,18 @@ run "splat weights in 4 lanes, catmull-rom, adaptive" render $D --spp 8 --adapti
 # the adaptive kernels' pixels in 16 lanes: 24 pixels, the last work-item's
 # lanes half filled
 run "adaptive kernels in 16 lanes, mitchell" render $D --spp 6 --adaptive --sampler random --filter mitchell --lanes 16 -o "$T/s.exr"
+# the CPU's splat paths, which the plan never takes on this GPU-like device,
+# forced (STRATA_SPLAT): tiles of one work-item in four passes, whose plain
+# adds to the film are race-free only where no two windows of a pass
+# overlap (three 16-pixel tiles across: the first and third in one pass),
+# and the box filter's gather by pixel with its edge taps (unscrambled
+# Hammersley's sample 0 on a pixel corner)
+STRATA_SPLAT=tiles-alone
+export STRATA_SPLAT
+run "splat tiles alone in four passes, lanczos" render --device 0:0 --width 40 --height 6 --quiet --spp 1 --integrator direct --filter lanczos -o "$T/t.exr"
+STRATA_SPLAT=pixels
+run "splat by pixel and edges, box" render $D --spp 2 --integrator direct --filter box --sampler hammersley --scramble none -o "$T/u.exr"
+unset STRATA_SPLAT
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
