@@ -120,15 +120,30 @@ ST_HOT void ST_CAT(st_tap_range, ST_N)(ST_F s, st_f32 r, int n, ST_I *lo, ST_I *
     *hi = ST_SELECT(ST_N, b1, (ST_I)(n - 1), b1 > n - 1);
 }
 
+/* One turn of sin(π x / τ) (*s2, with its cosine *c2) by dir δ (t: δ's
+ * sine and cosine), and of sin(π x) (*sk) by a half turn, in the lanes of
+ * `on`; the others keep theirs. */
+ST_HOT void ST_CAT(st_lanczos_turn_lanes, ST_N)(st_lanczos_turn t, st_f32 dir, ST_I on, ST_F *s2,
+                                                ST_F *c2, ST_F *sk)
+{
+    ST_F next = *s2 * t.c + dir * *c2 * t.s;
+    ST_F c2n = *c2 * t.c - dir * *s2 * t.s;
+    *s2 = ST_SELECT(ST_N, *s2, next, on);
+    *c2 = ST_SELECT(ST_N, *c2, c2n, on);
+    *sk = ST_SELECT(ST_N, *sk, -*sk, on);
+}
+
 /* Lanczos' factors sinc(x_k) and sinc(x_k / τ) at taps 0 .. m - 1, from
  * each lane's tap c nearest 0, j = k - c: sin(π x_k) = (-1)^j sin(π x_c),
  * and sin(π x_k / τ) = sin(a + j δ), a = π x_c / τ, δ = π / τ, turning (sin,
- * cos) through ±δ (t) once per tap away from c, in the order of a loop
- * from c outwards; a lane past its own taps, or not yet at its c, keeps
- * its sines (select). Three sines per axis where two per tap were.
- * Starting at the tap nearest 0 keeps the relative accuracy where sinc
- * divides by a small x; the turns' rounding adds about an ulp per tap
- * (test_filter_kernels.c: within 1e-5 of the formula). */
+ * cos) through ±δ (t) once per tap away from c. Three sines per axis where
+ * two per tap were. Starting at the tap nearest 0 keeps the relative
+ * accuracy where sinc divides by a small x; the turns' rounding adds about
+ * an ulp per tap (test_filter_kernels.c: within 1e-5 of the formula).
+ * The turns down from c and up from c are two chains of dependent
+ * products, run side by side in one loop, each from the lanes' outermost
+ * c: a lane not yet at its own c keeps its sines (select), so it takes
+ * the same turns in the same order however far the loop runs. */
 ST_FN void ST_CAT(st_lanczos_taps, ST_N)(const st_filter *f, st_lanczos_turn t, ST_I lo,
                                          ST_I n, int m, ST_F s, st_f32 *w)
 {
@@ -144,26 +159,36 @@ ST_FN void ST_CAT(st_lanczos_taps, ST_N)(const st_filter *f, st_lanczos_turn t, 
     ST_F xc = ST_CONVERT(float, ST_N, lo + c) + 0.5f - s;
     ST_F a = xc / f->tau, s1 = st_sinpi(xc);
     ST_F sa = st_sinpi(a), ca = st_cospi(a);
-    ST_F s2k[ST_MAX_TAPS], s1k[ST_MAX_TAPS];
-    for (int dir = -1; dir <= 1; dir += 2) {
-        ST_F s2 = sa, c2 = ca, sk = s1;
-        for (int j = 0; j < m; j++) {
-            int k = dir > 0 ? j : m - 1 - j;
-            ST_I on = dir > 0 ? (ST_I)(k) >= c : (ST_I)(k) <= c;
-            s2k[k] = dir > 0 ? ST_SELECT(ST_N, s2k[k], s2, on) : s2;
-            s1k[k] = dir > 0 ? ST_SELECT(ST_N, s1k[k], sk, on) : sk;
-            ST_F next = s2 * t.c + (st_f32)dir * c2 * t.s;
-            ST_F c2n = c2 * t.c - (st_f32)dir * s2 * t.s;
-            s2 = ST_SELECT(ST_N, s2, next, on);
-            c2 = ST_SELECT(ST_N, c2, c2n, on);
-            sk = ST_SELECT(ST_N, sk, -sk, on);
+    /* the lanes' c span c_lo .. c_hi (a lane of no taps has c = -1) */
+    ST_F cf = ST_CONVERT(float, ST_N, c);
+    int c_lo = (int)ST_HMIN(ST_N, cf), c_hi = (int)ST_HMAX(ST_N, cf);
+    c_lo = c_lo < 0 ? 0 : c_lo;
+    c_hi = c_hi > m - 1 ? m - 1 : c_hi;
+    int steps = c_hi + 1 > m - c_lo ? c_hi + 1 : m - c_lo;
+    ST_F s2d[ST_MAX_TAPS], s1d[ST_MAX_TAPS], s2u[ST_MAX_TAPS], s1u[ST_MAX_TAPS];
+    ST_F d2 = sa, dc = ca, dk = s1, u2 = sa, uc = ca, uk = s1;
+    for (int j = 0; j < steps; j++) {
+        int kd = c_hi - j, ku = c_lo + j;
+        if (kd >= 0) { /* down: lanes at or below their c */
+            s2d[kd] = d2;
+            s1d[kd] = dk;
+            ST_CAT(st_lanczos_turn_lanes, ST_N)(t, -1.0f, (ST_I)(kd) <= c, &d2, &dc, &dk);
+        }
+        if (ku < m) { /* up: lanes at or above their c */
+            s2u[ku] = u2;
+            s1u[ku] = uk;
+            ST_CAT(st_lanczos_turn_lanes, ST_N)(t, 1.0f, (ST_I)(ku) >= c, &u2, &uc, &uk);
         }
     }
-    for (int k = 0; k < m; k++)
+    for (int k = 0; k < m; k++) {
+        /* below c_lo only the turns down reached k, above c_hi only those up */
+        ST_I up = (ST_I)(k) >= c;
+        ST_F s1k = k < c_lo ? s1d[k] : k > c_hi ? s1u[k] : ST_SELECT(ST_N, s1d[k], s1u[k], up);
+        ST_F s2k = k < c_lo ? s2d[k] : k > c_hi ? s2u[k] : ST_SELECT(ST_N, s2d[k], s2u[k], up);
         ST_VSTORE(ST_N,
-                  ST_CAT(st_lanczos_tap, ST_N)(f, ST_CAT(st_tap_offset, ST_N)(lo, k, s), s1k[k],
-                                               s2k[k]),
+                  ST_CAT(st_lanczos_tap, ST_N)(f, ST_CAT(st_tap_offset, ST_N)(lo, k, s), s1k, s2k),
                   w + k * ST_N);
+    }
 }
 
 /* The 1-D weights of taps 0 .. m - 1 of ST_N samples' axes, lane l a
