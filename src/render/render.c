@@ -676,6 +676,23 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     return rc;
 }
 
+/* The wave a render takes without --wave: 2^20 items, or the largest
+ * power of two down to 2^18 whose buffers the device and the process can
+ * hold (st_mem_plan_check; at 2^18 its error is the render's). A wave pays
+ * for each stage's launch and, splatting by pixel, a pass over the film;
+ * on a 2-core CPU 2^20 rendered fastest (2^21 and 2^22 slower again, their
+ * buffers streamed from memory), and a GPU has more items to run at once. */
+static size_t default_wave(const st_device *dev, size_t pixels, int adaptive)
+{
+    size_t wave = (size_t)1 << 20;
+    for (; wave > ((size_t)1 << 18); wave /= 2) {
+        st_error scratch = {0};
+        if (st_mem_plan_check(dev, wave, pixels, adaptive, &scratch) == ST_OK)
+            break;
+    }
+    return wave;
+}
+
 /* The items of the first pass: sample range K:M of every pixel; for a
  * tiled sampler, tile points [K N / spp, M N / spp) of every repetition of
  * the tile; for an adaptive render, its pilot everywhere. */
@@ -758,7 +775,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_params p = make_params(r, &so, &cam);
     st_u64 first, total;
     plan_items(r, o, &p, &first, &total);
-    size_t wave = o->wave ? o->wave : (size_t)1 << 18;
+    size_t wave = o->wave ? o->wave : default_wave(r->dev, pixels, o->adaptive);
     if (wave > total)
         wave = (size_t)total;
     st_wave w;
