@@ -132,11 +132,7 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.base *= (1.0f - h.u - h.v) * vload4(0, c->c0) + h.u * vload4(0, c->c1) +
                   h.v * vload4(0, c->c2);
     }
-    if (m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
-        m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
-        m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
-        m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
-        m->clearcoat_roughness_tex != ST_NO_TEXTURE) {
+    if (m->flags & ST_MAT_TEXTURED) { /* st_material_reads_textures */
         float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
         float width = p->camera.forward[3] > 0.5f ? px : px * travelled;
         float b1 = h.u, b2 = h.v;

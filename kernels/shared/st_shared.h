@@ -231,6 +231,7 @@ typedef struct st_tri_normals {
 #define ST_MAT_VERTEX_COLOR 2u /* some triangle of it has a COLOR_0 other than white */
 #define ST_MAT_DOUBLE_SIDED 4u /* glTF doubleSided: its triangles are hit from both sides */
 #define ST_MAT_SHEEN 8u        /* KHR_materials_sheen with a sheen colour other than black */
+#define ST_MAT_TEXTURED 16u    /* some factor that material_at reads has a texture */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
@@ -269,6 +270,19 @@ typedef struct st_material {
     st_f32 sheen_roughness; /* its sheenRoughnessFactor, 0 */
     st_u32 sheen_color_tex, sheen_roughness_tex;
 } st_material;
+
+/* Whether material m has a texture on a factor that the kernels'
+ * material_at multiplies (the sheen's are read apart, by sheen_gather):
+ * the scene sets ST_MAT_TEXTURED from it, so that material_at tests one
+ * flag where it tested nine indices. */
+ST_FN int st_material_reads_textures(const st_material *m)
+{
+    return m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
+           m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
+           m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
+           m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
+           m->clearcoat_roughness_tex != ST_NO_TEXTURE;
+}
 
 /* A KHR_lights_punctual light in world space (st_lights.h). */
 #define ST_PUNCT_POINT 0u

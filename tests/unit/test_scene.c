@@ -805,6 +805,41 @@ static void sheen_is_imported(void **state)
     st_scene_destroy(s);
 }
 
+/* ST_MAT_TEXTURED, the one test material_at makes before its texture
+ * lookups: set by each of the nine textured factors it reads alone, not by
+ * the sheen's (sheen_gather reads those), and on the imported materials
+ * exactly where one of the nine has a texture. */
+static void textured_flag_follows_the_factors(void **state)
+{
+    (void)state;
+    st_material m;
+    st_u32 *slot[] = {&m.base_color_tex,   &m.emission_tex,   &m.metallic_roughness_tex,
+                      &m.specular_tex,     &m.specular_color_tex, &m.normal_tex,
+                      &m.transmission_tex, &m.clearcoat_tex,  &m.clearcoat_roughness_tex,
+                      &m.sheen_color_tex,  &m.sheen_roughness_tex};
+    const size_t slots = sizeof slot / sizeof slot[0];
+    for (size_t k = 0; k <= slots; k++) { /* k = slots: none textured */
+        memset(&m, 0, sizeof m);
+        for (size_t j = 0; j < slots; j++)
+            *slot[j] = ST_NO_TEXTURE;
+        if (k < slots)
+            *slot[k] = 3u;
+        assert_int_equal(st_material_reads_textures(&m) != 0, k < 9);
+    }
+    st_scene *s = load_ok(SCENES "textures.gltf"); /* base colour (and more) textured */
+    for (st_u32 i = 0; i < s->material_count; i++)
+        assert_true(s->materials[i].flags & ST_MAT_TEXTURED);
+    st_scene_destroy(s);
+    s = load_ok(SCENES "sheen_quad.gltf"); /* material 0: sheen textures alone */
+    assert_int_not_equal(s->materials[0].sheen_color_tex, ST_NO_TEXTURE);
+    assert_false(s->materials[0].flags & ST_MAT_TEXTURED);
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat.gltf"); /* factors alone */
+    for (st_u32 i = 0; i < s->material_count; i++)
+        assert_false(s->materials[i].flags & ST_MAT_TEXTURED);
+    st_scene_destroy(s);
+}
+
 /* The default framing looks along the axis normal to the bounds' largest
  * face, raised 20 degrees: a quad in the z = 0 plane (textured_quad) is seen
  * from +z and a little above, the checkerboard's plane y = 0 from above,
@@ -1356,6 +1391,7 @@ int main(void)
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(sheen_is_imported),
+        cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_largest_face),
         cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(sparse_accessors_substitute_values),
