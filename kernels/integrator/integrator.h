@@ -370,6 +370,52 @@ static void light_gather(const st_scene_refs *s, const st_params *p, const st_sh
         area_gather(s, p, sh, u, u2, k, l);
 }
 
+/* light_gather for the lanes in `bits` where the plan picks area lights
+ * in lanes (p->area_lanes: area lights alone, from a short list), its
+ * choice in lanes: each lane's triangle picked from the CDF with dimension
+ * 0 rescaled, as st_cdf_pick picks and rescales (the entries at or below u
+ * among all but the last, counted, are its binary search's index in a CDF
+ * that never decreases), and the point's barycentrics; the triangle's
+ * point, normal, emission and density gathered lane by lane. The other
+ * lanes keep what vertex_clear_some left. */
+ST_HOT void area_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                       st_u32 bits, st_vertex_in *l)
+{
+    st_lf u = ST_LV(l->u[0]), c0 = ST_LF(0.0f), c1 = ST_LF(0.0f);
+    st_li below = (st_li)(0), found = (st_li)(0);
+    st_u32 n = p->light_count;
+    for (st_u32 j = 0; j < n; j++) {
+        st_lf c = ST_LF(s->light_cdf[j]);
+        st_li le = j + 1u < n ? c <= u : (st_li)(0);
+        st_li take = !found & !le; /* the first entry above u, or the last */
+        below += ST_SELECT(ST_W, (st_li)(0), (st_li)(1), le);
+        c0 = ST_SELECT(ST_W, c0, c, le);
+        c1 = ST_SELECT(ST_W, c1, c, take);
+        found |= take;
+    }
+    u = ST_SELECT(ST_W, ST_LF(0.0f), fmin((u - c0) / (c1 - c0), 0.99999994f), c1 > c0);
+    st_lf su = sqrt(u);
+    float u1[ST_W], b1[ST_W], b2[ST_W];
+    int pick[ST_W];
+    ST_VSTORE(ST_W, u, u1);
+    ST_VSTORE(ST_W, 1.0f - su, b1);
+    ST_VSTORE(ST_W, ST_LV(l->u[1]) * su, b2);
+    ST_VSTORE(ST_W, below, pick);
+    float choice = area_choice(sh);
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        st_u32 lt = s->light_tri[pick[k]];
+        set_lane3(l->lp, k, triangle_at(s->tris, lt, b1[k], b2[k]));
+        set_lane3(l->lnl, k, facing_normal(s->normals, lt));
+        set_lane3(l->ll, k, light_emission(s, lt, u1[k], l->u[1][k], sh->texture_filter));
+        l->lq[k] = s->light_pdf[lt] * choice;
+    }
+    st_li on = ST_BITS_MASK(ST_W, bits);
+    ST_VSTORE(ST_W, ST_SELECT(ST_W, ST_LV(l->lkind), (st_li)(ST_LIGHT_AREA), on), l->lkind);
+    ST_VSTORE(ST_W, ST_SELECT(ST_W, ST_LV(l->lco), ST_LF(-1.0f), on), l->lco);
+}
+
 /* ---- the lanes' arithmetic ------------------------------------------------ */
 
 /* The layers of ST_W surface points, where some lane has them (kept out of

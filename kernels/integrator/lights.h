@@ -46,13 +46,18 @@ static st_u32 pick_light(__global const float *cdf, st_u32 n, float *u)
     return st_cdf_pick(cdf, n, u);
 }
 
+/* Point of triangle t at barycentrics (b1, b2) of v1 and v2. */
+static float3 triangle_at(__global const st_triangle *tris, st_u32 t, float b1, float b2)
+{
+    float3 v0 = vload4(0, tris[t].v0).xyz;
+    return v0 + b1 * vload4(0, tris[t].e1).xyz + b2 * vload4(0, tris[t].e2).xyz;
+}
+
 /* Point of triangle t at barycentrics from (u1, u2), uniform in area. */
 static float3 triangle_point(__global const st_triangle *tris, st_u32 t, float u1, float u2)
 {
     float su = sqrt(u1);
-    float b1 = 1.0f - su, b2 = u2 * su;
-    float3 v0 = vload4(0, tris[t].v0).xyz;
-    return v0 + b1 * vload4(0, tris[t].e1).xyz + b2 * vload4(0, tris[t].e2).xyz;
+    return triangle_at(tris, t, 1.0f - su, u2 * su);
 }
 
 /* Geometric normal of triangle t, turned to the side of its shading normals

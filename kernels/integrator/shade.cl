@@ -364,9 +364,12 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     lv3_store(v.rad, o->rad);
     st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
     lv3_store(origin, o->origin);
-    for (st_u32 k = 0; k < ST_W; k++)
-        if ((scatters >> k) & 1u)
-            light_gather(s, p, sh, k, l);
+    if (p->area_lanes)
+        area_lanes(s, p, sh, scatters, l);
+    else
+        for (st_u32 k = 0; k < ST_W; k++)
+            if ((scatters >> k) & 1u)
+                light_gather(s, p, sh, k, l);
     st_lf tmax, pdf, cz;
     lv3_store(light_sample(l, &v, origin, p->ray_eps, &wi, &tmax), o->contribution);
     lv3_store(wi, o->shadow_d);

@@ -446,7 +446,10 @@ typedef struct st_params {
     /* splat_tiles' bins: 0, all in one launch; c + 1, pass c of four, whose
      * bins' windows do not overlap (film.cl group_bin) */
     st_u32 bin_pass;
-    st_u32 pad[2]; /* a multiple of 16 bytes */
+    /* 1 where next-event estimation picks its area light in lanes (the
+     * plan: area lights alone, from a short list; shade.cl's area_lanes) */
+    st_u32 area_lanes;
+    st_u32 pad; /* a multiple of 16 bytes */
 } st_params;
 
 /* ---- the wavefront state and the film --------------------------------------
@@ -742,7 +745,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h) X(st_params, last_lights)                 \
-    X(st_params, bin_pass)                                                                  \
+    X(st_params, bin_pass) X(st_params, area_lanes)                                         \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index) X(st_sample, key)           \
     X(st_sample, word)                                                                      \
     X(st_ray, o) X(st_ray, tmax) X(st_ray, d) X(st_ray, path_length)                        \

@@ -27,6 +27,10 @@ enum { ST_PATHS_AUTO, ST_PATHS_LIVE, ST_PATHS_ALL };
  * (trace_rays_last, where the scene allows it). */
 enum { ST_LAST_AUTO, ST_LAST_TRAVERSE, ST_LAST_EMITTERS };
 
+/* Next-event estimation's pick of an area light: in lanes where the scene
+ * allows it (st_params.area_lanes), or lane by lane. */
+enum { ST_AREA_AUTO, ST_AREA_LANE_BY_LANE };
+
 /* Choices forced for tests and measurements (st_renderer_force): each
  * *_AUTO (0) unless set, the plan's own choice then. */
 typedef struct st_plan_force {
@@ -34,6 +38,7 @@ typedef struct st_plan_force {
     int shadow;   /* ST_SHADOW_* */
     int paths;    /* ST_PATHS_* */
     int last;     /* ST_LAST_* */
+    int area;     /* ST_AREA_* */
 } st_plan_force;
 
 typedef struct st_plan {
@@ -42,6 +47,7 @@ typedef struct st_plan {
     int shadows_in_shade; /* shade_hits_shadowed: no trace_shadow_rays stage */
     int live_lists;       /* vertices after the first run over the live paths (live.cl) */
     int last_by_emitters; /* the last vertex's rays by trace_rays_last */
+    int area_lanes;       /* area lights picked in lanes (st_params.area_lanes) */
     int splat;            /* ST_SPLAT_PER_SAMPLE, TILES, TILES_ALONE or PIXELS (where a
                              wave allows it: st_plan_gathers) */
     int tile_passes;      /* splat_tiles in four passes of bins whose windows do not
@@ -50,9 +56,11 @@ typedef struct st_plan {
 
 typedef struct st_renderer st_renderer;
 
-/* The plan of a render of o on r with parameters p; fills p's bins for
- * the tile splat (bins 0: none). */
-st_plan st_plan_make(const st_renderer *r, const st_render_options *o, st_params *p);
+/* The plan of a render of o on r with parameters p and shading sh; fills
+ * p's bins for the tile splat (bins 0: none) and its choices for the
+ * kernels (last_lights, area_lanes). */
+st_plan st_plan_make(const st_renderer *r, const st_render_options *o, const st_shading *sh,
+                     st_params *p);
 /* Whether a wave of p gathers its splat by pixel (splat_pixels). */
 int st_plan_gathers(const st_plan *pl, const st_params *p);
 /* Work-items per splat_tiles work-group. */

@@ -784,7 +784,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (o->adaptive)
         pr.total = (double)o->spp * pixels;
     st_shading sh = make_shading(r, o);
-    r->plan = st_plan_make(r, o, &p);
+    r->plan = st_plan_make(r, o, &sh, &p);
     r->ran_count = 0;
     st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, err) != ST_OK
                        ? err->status : st_wave_create(r->dev, wave, pixels, o->adaptive, &w, err);

@@ -440,6 +440,34 @@ static int same_last_vertex(const char *name, const st_render_options *o)
     return last[1];
 }
 
+/* Next-event estimation's area light picked in lanes (shade's area_lanes)
+ * against lane by lane (light_gather's binary search), bit for bit, counts
+ * included: scenes lit by area lights alone, two triangles of equal power
+ * (the Cornell boxes), four of two sizes (lamp_and_glow), an emissive
+ * texture (two_uv_light); direct lighting and paths, random and Halton
+ * samples. A lane that picks its light or rescales its u otherwise than
+ * st_cdf_pick does fails it. */
+static void area_lights_in_lanes(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"cornell-box", "../shared/scenes/bench/cornell.gltf",
+                                         "tests/scenes/lamp_and_glow.gltf",
+                                         "tests/scenes/two_uv_light.gltf"};
+    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
+        if (absent(scenes[k]))
+            continue;
+        for (int v = 0; v < 2; v++) {
+            st_render_options o = small(37, 23, 4);
+            o.integrator = v ? ST_INTEGRATOR_PATH : ST_INTEGRATOR_DIRECT;
+            o.sampler = v ? ST_SAMPLER_HALTON : ST_SAMPLER_RANDOM;
+            int shaded[2];
+            same_forced(scenes[k], &o, &forced.area, ST_AREA_LANE_BY_LANE, ST_AREA_AUTO,
+                        "shade_hits", shaded);
+            assert_true(shaded[0] && shaded[1]);
+        }
+    }
+}
+
 /* trace_rays_last (emitters first, then an any-hit test), with shade
  * ending the paths whose last ray meets no emitter before storing it
  * (dark_bounces), against the traversal at the last vertex, bit for bit,
@@ -756,6 +784,7 @@ int main(void)
         cmocka_unit_test(shade_at_every_width),
         cmocka_unit_test(live_lists_keep_every_path),
         cmocka_unit_test(last_vertex_by_emitters),
+        cmocka_unit_test(area_lights_in_lanes),
         cmocka_unit_test(splat_lanes_at_every_width),
         cmocka_unit_test(resolve_at_every_width),
     };
