@@ -187,7 +187,10 @@ static inline unsigned st_mask_bits_or16(int16 m)
 }
 /* The same bits as the lanes' sign bits (ST_MOVMSK above), where it can. */
 #ifdef ST_MOVMSK
-static inline unsigned st_mask_bits4(int4 m) { return (unsigned)__builtin_ia32_movmskps(as_float4(m)); }
+static inline unsigned st_mask_bits4(int4 m)
+{
+    return (unsigned)__builtin_ia32_movmskps(as_float4(m));
+}
 static inline unsigned st_mask_bits8(int8 m)
 {
     return (unsigned)__builtin_ia32_movmskps256(as_float8(m));

@@ -22,15 +22,14 @@ static void mask_bits_are_the_lanes_bits(void **state)
     st_error err = {0};
     cl_kernel k;
     cl_mem b;
-    uint32_t *got = malloc((size_t)MASKS * OUTS * sizeof *got);
+    size_t bytes = (size_t)MASKS * OUTS * sizeof(uint32_t);
+    uint32_t *got = malloc(bytes);
     assert_non_null(got);
     assert_int_equal(st_device_kernel(dev, "probe_mask_bits", &k, &err), ST_OK);
-    assert_int_equal(st_device_buffer_create(dev, (size_t)MASKS * OUTS * sizeof *got, NULL, &b, &err),
-                     ST_OK);
+    assert_int_equal(st_device_buffer_create(dev, bytes, NULL, &b, &err), ST_OK);
     assert_int_equal(st_device_set_args(k, &err, 1, sizeof(cl_mem), (const void *)&b), ST_OK);
     assert_int_equal(st_device_launch(dev, k, MASKS, 0, &err), ST_OK);
-    assert_int_equal(st_device_buffer_read(dev, b, (size_t)MASKS * OUTS * sizeof *got, got, &err),
-                     ST_OK);
+    assert_int_equal(st_device_buffer_read(dev, b, bytes, got, &err), ST_OK);
     st_device_buffer_destroy(b);
     printf("# the device's mask bits: %s\n", got[9] ? "movmskps" : "the portable or-reduction");
     for (uint32_t m = 0; m < MASKS; m++) {
