@@ -211,7 +211,21 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
         return 1;
     }
     float travelled = r->path_length + h.t;
+    /* the ray's, the hit's and the triangle's rows first, while they are in
+     * registers: stored after the material's early ends, they were kept
+     * across material_at and spilled (a lane that ends below is not live,
+     * and vertex_clear_lane clears its rows again) */
+    set_lane3(l->o, k, o);
+    set_lane3(l->d, k, d);
+    l->t[k] = h.t, l->bu[k] = h.u, l->bv[k] = h.v;
+    l->travelled[k] = travelled;
+    l->prim[k] = h.prim;
+    __global const st_tri_normals *n = &s->normals[h.prim];
+    set_lane3(l->n0, k, vload4(0, n->n0).xyz);
+    set_lane3(l->n1, k, vload4(0, n->n1).xyz);
+    set_lane3(l->n2, k, vload4(0, n->n2).xyz);
     float3 ng = facing_normal(s->normals, h.prim), pos = o + d * h.t;
+    set_lane3(l->ng, k, ng);
     st_material_at a = material_at(s, p, sh, h, dot(ng, -d), travelled);
     st_sample smp = sample[i];
     if (alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_PATH_ALPHA_KEY)) { /* go on through */
@@ -231,17 +245,7 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
         gp->depth = ST_PATH_DEAD;
         return 0;
     }
-    set_lane3(l->o, k, o);
-    set_lane3(l->d, k, d);
-    l->t[k] = h.t, l->bu[k] = h.u, l->bv[k] = h.v;
-    l->travelled[k] = travelled;
-    l->prim[k] = h.prim;
     l->key[k] = smp.key;
-    __global const st_tri_normals *n = &s->normals[h.prim];
-    set_lane3(l->n0, k, vload4(0, n->n0).xyz);
-    set_lane3(l->n1, k, vload4(0, n->n1).xyz);
-    set_lane3(l->n2, k, vload4(0, n->n2).xyz);
-    set_lane3(l->ng, k, ng);
     set_lane3(l->base, k, a.base.xyz);
     set_lane3(l->le, k, a.le);
     l->metallic[k] = a.metallic, l->roughness[k] = a.roughness, l->ior[k] = a.ior;
