@@ -54,13 +54,12 @@ ST_HOT void trace_shadow_item(__global const st_bvh_wide_node *nodes, const st_s
                               __global const st_shadow *shadow, __global st_path *path,
                               __global const st_sample *sample, st_u32 i)
 {
-    st_shadow s = shadow[i];
-    if (!(s.ray.tmax > 0.0f))
+    __global const st_shadow *s = &shadow[i];
+    if (!(s->ray.tmax > 0.0f))
         return;
-    st_ray r = s.ray;
     __global st_path *pa = &path[i];
-    int blocked = shadow_blocked(nodes, sc, p, sh, r, sample[i], pa->depth);
-    float3 l = blocked ? (float3)(0.0f) : vload3(0, s.contribution);
+    int blocked = shadow_blocked(nodes, sc, p, sh, s->ray, sample[i], pa->depth);
+    float3 l = blocked ? (float3)(0.0f) : vload3(0, s->contribution);
     vstore3(vload3(0, pa->radiance) + l, 0, pa->radiance);
     pa->shadow_rays++;
 }
