@@ -101,20 +101,6 @@ ST_HOT st_u32 st_packet_node(const ST_GLOBAL st_bvh_wide_node *n, const st_packe
     return mask;
 }
 
-/* Pushes interior child `first` with entry distance e above base, keeping
- * the entries above base sorted far to near (st_intersect_wide_closest's order). */
-ST_HOT void st_packet_push(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp, st_u32 first,
-                           st_f32 e)
-{
-    st_u32 j = (*sp)++;
-    for (; j > base && entry[j - 1u] < e; --j) {
-        stack[j] = stack[j - 1u];
-        entry[j] = entry[j - 1u];
-    }
-    stack[j] = first;
-    entry[j] = e;
-}
-
 /* The largest of the live lanes' bounds (a popped node whose entry lies
  * beyond it is skipped for all of them). */
 ST_HOT st_f32 st_packet_max(st_lf t, st_u32 live)
@@ -145,6 +131,8 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
         const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 near[ST_BVH_WIDTH];
         st_u32 mask = st_packet_node(n, pk, bound, pk->live, near), base = sp, leaves = 0u;
+        st_u32 next = 0u;
+        st_f32 next_e = 0.0f;
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k], count = n->count[k];
@@ -161,11 +149,15 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
             if (count != 0u)
                 continue;
             st_trace_prefetch_node(st_trace_node(nodes, first));
-            st_packet_push(stack, entry, base, &sp, first, near[k]);
+            st_trace_order(stack, entry, base, &sp, &next, &next_e, first, near[k]);
         }
         if (leaves != 0u) {
             ST_VSTORE(ST_W, h->t, bound);
             reach = st_packet_max(h->t, pk->live);
+        }
+        if (next != 0u && next_e <= reach * ST_TRACE_SLAB_WIDEN) {
+            node = next;
+            continue;
         }
         for (;;) {
             if (sp == 0u)
@@ -191,7 +183,7 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
     for (;;) {
         const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 near[ST_BVH_WIDTH];
-        st_u32 mask = st_packet_node(n, pk, bound, open, near);
+        st_u32 mask = st_packet_node(n, pk, bound, open, near), next = 0u;
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k], count = n->count[k];
@@ -204,8 +196,14 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
             }
             if (count == 0u) {
                 st_trace_prefetch_node(st_trace_node(nodes, first));
-                stack[sp++] = first;
+                if (next != 0u)
+                    stack[sp++] = next;
+                next = first;
             }
+        }
+        if (next != 0u) {
+            node = next;
+            continue;
         }
         if (sp == 0u)
             return pk->live & ~open;

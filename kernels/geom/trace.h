@@ -440,13 +440,51 @@ ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
         ST_PREFETCH(b + 64 * line);
 }
 
+/* Pushes interior child `child` with entry distance e above base, keeping
+ * the entries above base sorted far to near; of equal entries, the later
+ * pushed lies nearer the top. */
+ST_HOT void st_trace_push_sorted(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp,
+                                 st_u32 child, st_f32 e)
+{
+    st_u32 j = (*sp)++;
+    for (; j > base && entry[j - 1u] < e; --j) {
+        stack[j] = stack[j - 1u];
+        entry[j] = entry[j - 1u];
+    }
+    stack[j] = child;
+    entry[j] = e;
+}
+
+/* A node's interior child `child` (entry e) in visiting order: the nearest
+ * so far stays out of the stack, in *near and *near_e (*near 0: none yet;
+ * unit 0 is the root, nobody's child), and the rest are pushed sorted. The
+ * nearest is the child that would be on top had all been pushed: the least
+ * entry, the latest of equal ones (so e <= *near_e takes its place), and a
+ * child displaced from it has a larger entry than any pushed meanwhile, so
+ * the stack below holds what it would have held. The traversal then goes
+ * to the nearest at once, saving its push and pop. */
+ST_HOT void st_trace_order(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp, st_u32 *near,
+                           st_f32 *near_e, st_u32 child, st_f32 e)
+{
+    if (*near == 0u || e <= *near_e) {
+        st_u32 c = *near;
+        st_f32 ce = *near_e;
+        *near = child;
+        *near_e = e;
+        child = c;
+        e = ce;
+    }
+    if (child != 0u)
+        st_trace_push_sorted(stack, entry, base, sp, child, e);
+}
+
 /* Closest hit through the wide tree; same contract as st_intersect_closest
  * (ties: whichever triangle the traversal meets first). At each node the
  * leaves the ray enters are tested at once; the interior children it enters
- * go on the stack with their entry distance, sorted so that the nearest is
- * visited next (Wald et al. 2008 order children front to back the same way);
- * a popped child whose entry lies beyond the closest hit so far is skipped
- * with the same widening as the box test. */
+ * are visited nearest first (st_trace_order; Wald et al. 2008 order children
+ * front to back the same way), the others left on the stack with their entry
+ * distance; a child whose entry lies beyond the closest hit so far is
+ * skipped with the same widening as the box test. */
 ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
@@ -462,7 +500,8 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
     for (;;) {
         const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 tn[ST_BVH_WIDTH];
-        st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp;
+        st_u32 mask = st_trace_box4(n, &r, hit->t, tn), base = sp, near = 0u;
+        st_f32 near_e = 0.0f;
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k];
@@ -471,14 +510,11 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
                 continue;
             }
             st_trace_prefetch_node(st_trace_node(nodes, first));
-            /* insertion: entries above base stay sorted far to near */
-            st_u32 j = sp++;
-            for (; j > base && entry[j - 1u] < tn[k]; --j) {
-                stack[j] = stack[j - 1u];
-                entry[j] = entry[j - 1u];
-            }
-            stack[j] = first;
-            entry[j] = tn[k];
+            st_trace_order(stack, entry, base, &sp, &near, &near_e, first, tn[k]);
+        }
+        if (near != 0u && near_e <= hit->t * ST_TRACE_SLAB_WIDEN) {
+            node = near;
+            continue;
         }
         for (;;) {
             if (sp == 0u)
@@ -492,7 +528,8 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
 }
 
 /* Whether any triangle is hit at t in (0, ray->tmax) through the wide tree:
- * stops at the first (no ordering: any occluder will do), which it leaves in
+ * stops at the first (no ordering: any occluder will do; the last interior
+ * child entered is visited next, without a push), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/integrator/shadow.h: its material's alpha). */
 ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
@@ -506,7 +543,7 @@ ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, con
     for (;;) {
         const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 tn[ST_BVH_WIDTH];
-        st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn);
+        st_u32 mask = st_trace_box4(n, &r, ray->tmax, tn), next = 0u;
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k];
@@ -516,7 +553,13 @@ ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, con
                 continue;
             }
             st_trace_prefetch_node(st_trace_node(nodes, first));
-            stack[sp++] = first;
+            if (next != 0u)
+                stack[sp++] = next;
+            next = first;
+        }
+        if (next != 0u) {
+            node = next;
+            continue;
         }
         if (sp == 0u)
             return 0;
