@@ -62,13 +62,15 @@ typedef struct st_slab_consts {
     st_u32 plane[6];
 } st_slab_consts;
 
-ST_FN void st_trace_setup(st_slab_consts *r, const st_ray *ray)
+ST_HOT void st_trace_setup(st_slab_consts *r, const st_ray *ray)
 {
+    ST_UNROLL
     for (int a = 0; a < 3; ++a) {
         r->o[a] = ray->o[a];
         r->inv[a] = 1.0f / ray->d[a];
     }
     r->neg = (r->inv[0] < 0.0f ? 1u : 0u) | (r->inv[1] < 0.0f ? 2u : 0u) | (r->inv[2] < 0.0f ? 4u : 0u);
+    ST_UNROLL
     for (st_u32 a = 0u; a < 3u; ++a) {
         st_u32 flip = ((r->neg >> a) & 1u) * 3u * ST_BVH_WIDTH;
         r->plane[a] = ST_BVH_WIDTH * a + flip;
@@ -224,7 +226,7 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
  * setup says they start; the host tests them one by one at width 1, lane k
  * computing what the vector's lane k does. */
 #ifdef __OPENCL_VERSION__
-ST_FN st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_consts *r, st_f32 tmax,
+ST_HOT st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_consts *r, st_f32 tmax,
                            st_f32 *tn)
 {
     const ST_GLOBAL st_f32 *b = n->lo[0];
@@ -347,13 +349,9 @@ ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ra
 ST_HOT void st_leaf_take(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, st_leaf_f t, st_leaf_f u,
                          st_leaf_f v, st_hit *hit)
 {
-    st_f32 tj[ST_LEAF_MAX], uj[ST_LEAF_MAX], vj[ST_LEAF_MAX];
-    ST_VSTORE(ST_LEAF_MAX, t, tj);
-    ST_VSTORE(ST_LEAF_MAX, u, uj);
-    ST_VSTORE(ST_LEAF_MAX, v, vj);
-    hit->t = tj[j];
-    hit->u = uj[j];
-    hit->v = vj[j];
+    hit->t = t[j];
+    hit->u = u[j];
+    hit->v = v[j];
     hit->prim = st_leaf_first(l, n) + j;
 }
 
@@ -433,9 +431,7 @@ ST_FN int st_leaf_any(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
 {
     const ST_GLOBAL char *b = (const ST_GLOBAL char *)node;
-#ifdef __OPENCL_VERSION__
-#pragma unroll
-#endif
+    ST_UNROLL
     for (int line = 0; line < ST_TRACE_PREFETCH_LINES; line++)
         ST_PREFETCH(b + 64 * line);
 }
@@ -485,7 +481,7 @@ ST_HOT void st_trace_order(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp
  * front to back the same way), the others left on the stack with their entry
  * distance; a child whose entry lies beyond the closest hit so far is
  * skipped with the same widening as the box test. */
-ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
+ST_HOT int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
     st_slab_consts r;
@@ -532,7 +528,7 @@ ST_FN int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, con
  * child entered is visited next, without a push), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/integrator/shadow.h: its material's alpha). */
-ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
+ST_HOT int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                 st_hit *hit)
 {
     st_slab_consts r;
@@ -568,7 +564,7 @@ ST_FN int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, con
 }
 
 /* st_intersect_wide_any_hit without the hit. */
-ST_FN int st_intersect_wide_any(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray)
+ST_HOT int st_intersect_wide_any(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray)
 {
     st_hit hit;
     return st_intersect_wide_any_hit(nodes, ray, &hit);

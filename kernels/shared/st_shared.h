@@ -55,6 +55,15 @@ typedef float st_f32;
 #else
 #define ST_HOT static inline
 #endif
+/* A loop of constant trip count unrolled on the device, so that a private
+ * struct or array it indexes becomes registers: PoCL gives each work-item
+ * its own copy in memory of whatever is still an array when it makes the
+ * work-group function. */
+#ifdef __OPENCL_VERSION__
+#define ST_UNROLL _Pragma("unroll")
+#else
+#define ST_UNROLL
+#endif
 /* A large helper kept a call on the device, so that its callers' many call
  * sites do not each get a copy (PoCL's build time). */
 #ifdef __OPENCL_VERSION__
