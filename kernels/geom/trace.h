@@ -418,16 +418,16 @@ ST_FN int st_leaf_any(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 }
 #endif
 
-/* Asks for a wide node's four cache lines (boxes and links), and the eight
- * after them, where its leaf blocks lie (st_shared.h; on the icosphere more
- * lines cost more than they saved, fewer left leaf misses), when the
- * traversal pushes it, so that the misses of the children it takes later overlap with
- * the work on the nearer ones instead of following it. A pushed child is
- * visited unless a nearer hit turns up first, so the hint is seldom wasted;
- * on the Cornell box, whose tree lives in the caches, it costs its
+/* Asks for a wide node's four cache lines (boxes and links), and the four
+ * after them, where its first leaf blocks lie (st_shared.h; on the icosphere
+ * twelve lines and four were both slower), when the traversal meets it as
+ * an interior child, so that the misses of the children it takes later
+ * overlap with the work on the nearer ones instead of following it. Such a
+ * child is visited unless a nearer hit turns up first, so the hint is seldom
+ * wasted; on the Cornell box, whose tree lives in the caches, it costs its
  * instructions alone. Lines past the array's end are only hints: a prefetch
  * does not fault. */
-#define ST_TRACE_PREFETCH_LINES 12
+#define ST_TRACE_PREFETCH_LINES 8
 ST_HOT void st_trace_prefetch_node(const ST_GLOBAL st_bvh_wide_node *node)
 {
     const ST_GLOBAL char *b = (const ST_GLOBAL char *)node;
