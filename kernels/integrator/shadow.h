@@ -34,6 +34,7 @@ static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene
         if (!alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_SHADOW_ALPHA_KEY))
             return 1;
         float step = h.t + p->ray_eps;
+        ST_UNROLL
         for (int a = 0; a < 3; ++a)
             r.o[a] += r.d[a] * step;
         r.tmax -= step;
