@@ -43,6 +43,7 @@ typedef struct st_packet {
 ST_HOT void st_packet_setup(st_packet *pk, const st_ray *rays, st_u32 live)
 {
     float o[3][ST_PACKET], d[3][ST_PACKET];
+    ST_UNROLL
     for (int j = 0; j < ST_PACKET; ++j) {
         st_ray r = rays[j];
         if (!((live >> j) & 1u)) {
@@ -51,6 +52,7 @@ ST_HOT void st_packet_setup(st_packet *pk, const st_ray *rays, st_u32 live)
             r.d[1] = r.d[2] = 0.0f;
         }
         st_trace_setup(&pk->r[j], &r);
+        ST_UNROLL
         for (int a = 0; a < 3; ++a) {
             o[a][j] = r.o[a];
             d[a][j] = r.d[a];

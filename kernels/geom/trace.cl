@@ -97,12 +97,15 @@ static void packet_items(const st_params *p, __global const st_u32 *live_a,
     st_u32 n = st_live_count(p);
     /* two loops, not st_live_item's select: see shade_lanes (shade.cl) on
      * the masked load from the null list that the select became */
-    if (list)
+    if (list) {
+        ST_UNROLL
         for (st_u32 j = 0u; j < ST_PACKET; ++j)
             item[j] = first + j < n ? list[first + j] : ST_NO_ITEM;
-    else
+    } else {
+        ST_UNROLL
         for (st_u32 j = 0u; j < ST_PACKET; ++j)
             item[j] = first + j < n ? first + j : ST_NO_ITEM;
+    }
 }
 
 /* Lane j's ray *r, a copy of *w, and its bound *tmax (-1, below every hit,
@@ -122,6 +125,7 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
     st_ray r[ST_PACKET];
     float tmax[ST_PACKET];
     packet_items(&p, live_a, live_b, first, item);
+    ST_UNROLL
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         st_u32 i = item[j];
         int take = i != ST_NO_ITEM && path[i].depth != ST_PATH_DEAD;
@@ -140,6 +144,7 @@ __kernel void trace_rays_packet(ST_STAGE_PARAMS)
     ST_VSTORE(ST_W, h.u, u);
     ST_VSTORE(ST_W, h.v, v);
     ST_VSTORE(ST_W, h.prim, prim);
+    ST_UNROLL
     for (st_u32 j = 0u; j < ST_PACKET; ++j)
         if ((live >> j) & 1u) {
             st_hit o = {t[j], u[j], v[j], prim[j]};
@@ -157,6 +162,7 @@ __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
     st_ray r[ST_PACKET];
     float tmax[ST_PACKET];
     packet_items(&p, live_a, live_b, first, item);
+    ST_UNROLL
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         st_u32 i = item[j];
         __global const st_shadow *s = &shadow[i != ST_NO_ITEM ? i : 0u];
@@ -168,6 +174,7 @@ __kernel void trace_shadow_rays_packet(ST_STAGE_PARAMS)
     st_packet pk;
     st_packet_setup(&pk, r, live);
     st_u32 blocked = st_packet_occluded(nodes, &pk, ST_VLOAD(ST_W, tmax));
+    ST_UNROLL
     for (st_u32 j = 0u; j < ST_PACKET; ++j) {
         if (!((live >> j) & 1u))
             continue;
