@@ -226,8 +226,8 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
  * setup says they start; the host tests them one by one at width 1, lane k
  * computing what the vector's lane k does. */
 #ifdef __OPENCL_VERSION__
-ST_HOT st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_consts *r, st_f32 tmax,
-                           st_f32 *tn)
+ST_HOT st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_consts *r,
+                            st_f32 tmax, st_f32 *tn)
 {
     const ST_GLOBAL st_f32 *b = n->lo[0];
     ST_VEC(float, ST_BVH_WIDTH) t0;
@@ -482,7 +482,7 @@ ST_HOT void st_trace_order(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp
  * distance; a child whose entry lies beyond the closest hit so far is
  * skipped with the same widening as the box test. */
 ST_HOT int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
-                                st_hit *hit)
+                                     st_hit *hit)
 {
     st_slab_consts r;
     st_u32 stack[ST_BVH_WIDE_STACK];
@@ -529,7 +529,7 @@ ST_HOT int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, co
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/integrator/shadow.h: its material's alpha). */
 ST_HOT int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
-                                st_hit *hit)
+                                     st_hit *hit)
 {
     st_slab_consts r;
     st_u32 stack[ST_BVH_WIDE_STACK];
