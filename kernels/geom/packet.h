@@ -198,9 +198,7 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
             }
             if (count == 0u) {
                 st_trace_prefetch_node(st_trace_node(nodes, first));
-                if (next != 0u)
-                    stack[sp++] = next;
-                next = first;
+                sp = st_trace_defer(stack, sp, &next, first);
             }
         }
         if (next != 0u) {

@@ -474,6 +474,17 @@ ST_HOT void st_trace_order(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp
         st_trace_push_sorted(stack, entry, base, sp, child, e);
 }
 
+/* A node's interior child `child` for the any-hit walks, which need no
+ * order: the last met is held in *next (0: none) and visited at once after
+ * the node, and the one it displaces is pushed; returns the new stack size. */
+ST_HOT st_u32 st_trace_defer(st_u32 *stack, st_u32 sp, st_u32 *next, st_u32 child)
+{
+    if (*next != 0u)
+        stack[sp++] = *next;
+    *next = child;
+    return sp;
+}
+
 /* Closest hit through the wide tree; same contract as st_intersect_closest
  * (ties: whichever triangle the traversal meets first). At each node the
  * leaves the ray enters are tested at once; the interior children it enters
@@ -524,8 +535,8 @@ ST_HOT int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, co
 }
 
 /* Whether any triangle is hit at t in (0, ray->tmax) through the wide tree:
- * stops at the first (no ordering: any occluder will do; the last interior
- * child entered is visited next, without a push), which it leaves in
+ * stops at the first (no ordering: any occluder will do; st_trace_defer
+ * picks the next node), which it leaves in
  * *hit (t, u, v, prim; unspecified when there is none), so that the caller
  * can look at what it met (kernels/integrator/shadow.h: its material's alpha). */
 ST_HOT int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
@@ -549,9 +560,7 @@ ST_HOT int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, co
                 continue;
             }
             st_trace_prefetch_node(st_trace_node(nodes, first));
-            if (next != 0u)
-                stack[sp++] = next;
-            next = first;
+            sp = st_trace_defer(stack, sp, &next, first);
         }
         if (next != 0u) {
             node = next;
