@@ -192,27 +192,22 @@ ST_HOT int window_fits(tap_weights w, int nx, int ny, float scale, float4 L1)
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
 
-/* The rows of taps' weights splat_items makes: ST_MAX_TAPS rounded up to
- * splat_row's step. */
-#define ST_TAP_ROWS ((ST_MAX_TAPS + 3) / 4 * 4)
-
 /* One row of splat_window_unclamped's taps with scale 1: row[k] +=
  * round(wx[k st] wy Ls), four taps a step, their weights times wy in one
- * product (each lane the scalar product of before). The last step reads
- * the weights up to the next multiple of four (splat_items makes them) and
- * leaves out its taps past nx. */
+ * product (each lane the scalar product of before), then the last few one
+ * at a time: a step is one straight run, the row's pointer stepped once. */
 ST_HOT void splat_row(__local long4 *row, const float *wx, int st, int nx, float wy, float4 Ls)
 {
-    for (int k = 0; k < nx; k += 4, wx += 4 * st, row += 4) {
+    int k = 0;
+    for (; k + 4 <= nx; k += 4, wx += 4 * st, row += 4) {
         float4 w = (float4)(wx[0], wx[st], wx[2 * st], wx[3 * st]) * wy;
         row[0] += fixed_from_scaled4(w.x * Ls);
-        if (k + 1 < nx)
-            row[1] += fixed_from_scaled4(w.y * Ls);
-        if (k + 2 < nx)
-            row[2] += fixed_from_scaled4(w.z * Ls);
-        if (k + 3 < nx)
-            row[3] += fixed_from_scaled4(w.w * Ls);
+        row[1] += fixed_from_scaled4(w.y * Ls);
+        row[2] += fixed_from_scaled4(w.z * Ls);
+        row[3] += fixed_from_scaled4(w.w * Ls);
     }
+    for (; k < nx; k++, wx += st, row++)
+        row[0] += fixed_from_scaled4(wx[0] * wy * Ls);
 }
 
 /* The taps of a sample that fits (window_fits) into a window of this
@@ -359,7 +354,7 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
                         __global st_tally *tally, __global st_film_stats *stats,
                         __global const st_f32 *splat_scale, splat_dest *d)
 {
-    float sx[ST_W], sy[ST_W], wx[ST_TAP_ROWS * ST_W], wy[ST_TAP_ROWS * ST_W];
+    float sx[ST_W], sy[ST_W], wx[ST_MAX_TAPS * ST_W], wy[ST_MAX_TAPS * ST_W];
     for (st_u32 l = 0; l < ST_W; l++) {
         st_sample s = sample[item[l < n ? l : 0]];
         sx[l] = s.film[0];
@@ -389,8 +384,6 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
         st_filter flt = p->filter;
         ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, x0, nx, mx, fx, wx);
         ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, y0, ny, my, fy, wy);
-        for (int k = mx; k % 4; k++) /* splat_row's last step reads these */
-            ST_VSTORE(ST_W, ST_LF(0.0f), wx + k * ST_W);
         ST_VSTORE(ST_W, max_abs_lanes(wx, nx, mx), bx);
         ST_VSTORE(ST_W, max_abs_lanes(wy, ny, my), by);
     }
