@@ -192,22 +192,35 @@ ST_HOT int window_fits(tap_weights w, int nx, int ny, float scale, float4 L1)
     return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
 }
 
-/* One row of splat_window_unclamped's taps with scale 1: row[k] +=
- * round(wx[k st] wy Ls), four taps a step, their weights times wy in one
- * product (each lane the scalar product of before), then the last few one
- * at a time: a step is one straight run, the row's pointer stepped once. */
-ST_HOT void splat_row(__local long4 *row, const float *wx, int st, int nx, float wy, float4 Ls)
+/* Row a and, where `both`, row b = a + side of splat_window_unclamped's
+ * taps with scale 1: a[k] += round(wx[k st] wya Ls), b[k] += round(wx[k st]
+ * wyb Ls). Four columns a step: their weights read once for both rows and
+ * multiplied by wya and by wyb in one product each (each lane the scalar
+ * product of before); then the last few columns one at a time. A step is
+ * one straight run, the row's pointer stepped once. */
+ST_HOT void splat_rows(__local long4 *a, int side, const float *wx, int st, int nx, float wya,
+                       float wyb, int both, float4 Ls)
 {
+    __local long4 *b = a + side;
     int k = 0;
-    for (; k + 4 <= nx; k += 4, wx += 4 * st, row += 4) {
-        float4 w = (float4)(wx[0], wx[st], wx[2 * st], wx[3 * st]) * wy;
-        row[0] += fixed_from_scaled4(w.x * Ls);
-        row[1] += fixed_from_scaled4(w.y * Ls);
-        row[2] += fixed_from_scaled4(w.z * Ls);
-        row[3] += fixed_from_scaled4(w.w * Ls);
+    for (; k + 4 <= nx; k += 4, wx += 4 * st, a += 4, b += 4) {
+        float4 w = (float4)(wx[0], wx[st], wx[2 * st], wx[3 * st]), u = w * wya, v = w * wyb;
+        a[0] += fixed_from_scaled4(u.x * Ls);
+        a[1] += fixed_from_scaled4(u.y * Ls);
+        a[2] += fixed_from_scaled4(u.z * Ls);
+        a[3] += fixed_from_scaled4(u.w * Ls);
+        if (both) {
+            b[0] += fixed_from_scaled4(v.x * Ls);
+            b[1] += fixed_from_scaled4(v.y * Ls);
+            b[2] += fixed_from_scaled4(v.z * Ls);
+            b[3] += fixed_from_scaled4(v.w * Ls);
+        }
     }
-    for (; k < nx; k++, wx += st, row++)
-        row[0] += fixed_from_scaled4(wx[0] * wy * Ls);
+    for (; k < nx; k++, wx += st, a++, b++) {
+        a[0] += fixed_from_scaled4(wx[0] * wya * Ls);
+        if (both)
+            b[0] += fixed_from_scaled4(wx[0] * wyb * Ls);
+    }
 }
 
 /* The taps of a sample that fits (window_fits) into a window of this
@@ -220,8 +233,11 @@ ST_HOT void splat_window_unclamped(__local long4 *row, int side, tap_weights w, 
 {
     float4 Ls = L1 * ST_FIXED_SCALE;
     if (scale == 1.0f) { /* w 1 = w: the same integers without the product */
-        for (int j = 0; j < ny; j++, row += side)
-            splat_row(row, w.x, w.st, nx, w.y[j * w.st], Ls);
+        for (int j = 0; j < ny; j += 2, row += 2 * side) {
+            int both = j + 1 < ny;
+            splat_rows(row, side, w.x, w.st, nx, w.y[j * w.st], w.y[(j + both) * w.st], both,
+                       Ls);
+        }
         return;
     }
     for (int j = 0; j < ny; j++, row += side)
