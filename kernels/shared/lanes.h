@@ -33,6 +33,17 @@
 #if ST_W != 1 && !defined(__OPENCL_VERSION__)
 #error "the host's C compiles width 1 only"
 #endif
+/* A vector wider than the device's registers (16 lanes without AVX-512)
+ * passed between functions has another calling convention than the one
+ * the device's own libraries use, and clang warns of it at each such call
+ * (-Wpsabi). Within one program, as every kernel function is, the
+ * convention is the program's own, so nothing changes; the 16-lane mask
+ * helpers below, which the lane probe (lanes_probe.cl) uses at every
+ * width, would otherwise put "warnings generated" on a user's terminal at
+ * every first compile, and --lanes 16 hundreds of them. */
+#if defined(__OPENCL_VERSION__) && defined(__clang__)
+#pragma clang diagnostic ignored "-Wpsabi"
+#endif
 
 #define ST_CAT(a, b) ST_CAT_(a, b)
 #define ST_CAT_(a, b) a##b

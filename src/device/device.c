@@ -437,14 +437,9 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
             src[i] = owned[i];
         }
     }
-    /* lanes wider than the device's vectors (--lanes 16 on AVX2): clang warns,
-     * hundreds of times, that each such vector passed to a function changes
-     * the ABI, which is harmless between the program's own functions; -w
-     * keeps those lines off the user's terminal */
-    int wider = dev->info.lanes > st_device_default_lanes(&dev->info);
-    int used = snprintf(options, sizeof options, "-cl-std=CL1.2 -DST_W=%u%s%s%s", dev->info.lanes,
+    int used = snprintf(options, sizeof options, "-cl-std=CL1.2 -DST_W=%u%s%s", dev->info.lanes,
                         is_oclgrind(dev) ? " -cl-opt-disable -DST_NO_FORCED_INLINE" : "",
-                        is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "", wider ? " -w" : "");
+                        is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "");
     /* the kernel directory's include folders, the search path the embedded sources were
      * inlined with (tools/embed.c) */
     for (unsigned i = 0; dir && *dir && st_embedded_kernel_dirs[i] && used > 0; i++) {

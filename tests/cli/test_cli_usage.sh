@@ -135,6 +135,7 @@ if $S devices 2> /dev/null | grep -q "Portable Computing Language"; then
     check "a cold run says it compiles the kernels" \
         'grep -qx "strata: compiling kernels (first run, cached afterwards)..." "$T/cold.err"'
     check "a warm run does not" '! grep -q "compiling kernels" "$T/warm.err"'
+    check "the cold compile prints no compiler warnings" '! grep -qi "warning" "$T/cold.err"'
     check "the summary gives the compile time apart" \
         'grep -q "; kernels compiled in [0-9.]* s before it$" "$T/cold.out"'
     cold=$(sed -n 's/.* spp in \([0-9.]*\) s:.*/\1/p' "$T/cold.out")
