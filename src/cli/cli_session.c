@@ -48,14 +48,17 @@ static st_status warm_render(st_renderer *r, const st_render_options *w, st_erro
  * time. So before the render: a render of 8 x 8 pixels with the render's own
  * settings (at most 16 spp; no crop, no sample range past its spp), and, for
  * a render of 2^21 samples or more whose small warm-up had to compile (a
- * cold cache: then the large variants are not cached either), one 1-spp
- * pass of 256 x 256 pixels (2^16 work-items) at most two vertices deep,
- * which launches the large variants. With a warm cache that pass would only
- * cost time (about a per cent of such a render), so it is left out. A
- * smaller render that launches large grids compiles them in its first wave,
- * as before. */
+ * cold cache: then the large variants are not cached either), one pass of
+ * 256 x 256 pixels at `lanes` spp, at most two vertices deep, which
+ * launches the large variants: 2^16 work-items for the stages that take
+ * `lanes` items a work-item (at 1 spp they launched the small variants
+ * again, and the large ones took seconds of the first wave). With a warm
+ * cache that pass would only cost time (several per cent of such a render),
+ * so it is left out. A smaller render that launches large grids compiles
+ * them in its first wave, as before. */
 #define WARM_COMPILED_SECONDS 0.5
-static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *err)
+static st_status warm_up(st_renderer *r, const st_render_options *o, unsigned lanes,
+                         st_error *err)
 {
     st_render_options w = *o;
     w.width = w.height = 8;
@@ -77,7 +80,7 @@ static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *e
     w = *o;
     w.width = w.height = 256;
     w.crop_x = w.crop_y = w.crop_w = w.crop_h = 0;
-    w.spp = 1;
+    w.spp = lanes;
     w.sample_begin = w.sample_end = 0;
     w.adaptive = 0;
     w.min_spp = w.max_spp = 0;
@@ -131,7 +134,7 @@ st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error
         rc = st_renderer_create(s->dev, s->scene, &s->renderer, err);
     double created = st_cli_now();
     if (rc == ST_OK && st_device_get_info(s->dev)->compiles_at_launch)
-        rc = warm_up(s->renderer, &a->opt, err);
+        rc = warm_up(s->renderer, &a->opt, st_device_get_info(s->dev)->lanes, err);
     s->build_seconds = (built - t0) + (st_cli_now() - created);
     st_cli_notice_stop(&notice);
     return rc;
