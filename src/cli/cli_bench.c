@@ -25,7 +25,10 @@ static int remove_entry(const char *path, const struct stat *sb, int flag, struc
 
 /* Seconds to build the program and run its kernels once (PoCL compiles each
  * kernel again at its first launch), measured in a child process; cold: with
- * an empty kernel cache. Negative when the measurement failed. */
+ * an empty kernel cache. The session is opened with the bench's own settings,
+ * so that its warm-up launches what the bench's render launches (the large
+ * variants too, for a large render: cli_session.c), then an 8 x 8 render
+ * runs. Negative when the measurement failed. */
 static double build_seconds(const st_cli_render_args *a, int cold)
 {
     int fd[2];
@@ -49,11 +52,13 @@ static double build_seconds(const st_cli_render_args *a, int cold)
             tiny.opt.max_spp = 0;
         }
         tiny.said = 1;
+        st_cli_render_args full = *a;
+        full.said = 1;
         st_error err = {0};
         st_cli_session s;
         st_image img = {0};
         double t0 = st_cli_now(), t = -1.0;
-        if (st_cli_session_open(&tiny, &s, &err) == ST_OK &&
+        if (st_cli_session_open(&full, &s, &err) == ST_OK &&
             st_render(s.renderer, &tiny.opt, &img, NULL, NULL, NULL, NULL, &err) == ST_OK)
             t = st_cli_now() - t0 - s.load_seconds - st_renderer_bvh_seconds(s.renderer);
         st_image_free(&img);
