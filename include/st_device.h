@@ -92,7 +92,8 @@ st_status st_device_set_args(cl_kernel k, st_error *err, unsigned n, ...);
 st_status st_device_set_arg(cl_kernel k, unsigned index, size_t size, const void *value,
                             st_error *err);
 /* Enqueues k over `items` work-items (rounded up to the work-group size
- * `local`, 0: the driver's choice; kernels check their own bounds). */
+ * `local`, 0: the driver's choice; kernels check their own bounds), in rows
+ * of at most 2^15 where there are more (kernels index them by ST_ITEM). */
 st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err);
 st_status st_device_finish(st_device *dev, st_error *err);
 

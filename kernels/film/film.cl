@@ -415,7 +415,7 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
  * and the reference for splat_tiles. */
 __kernel void splat_samples(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
+    st_u32 i = ST_ITEM();
     if (i >= p.item_count)
         return;
     if (!st_sample_on_film(&p, sample[i]))
@@ -474,7 +474,7 @@ ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *
  * also holds items j + npix, j + 2 npix, ... of the wave. */
 __kernel void splat_pixels(ST_STAGE_PARAMS)
 {
-    st_u32 j = get_global_id(0), npix = p.region_w * p.region_h;
+    st_u32 j = ST_ITEM(), npix = p.region_w * p.region_h;
     if (j >= min(p.item_count, npix))
         return;
     st_u32 pixel = sample[j].pixel, across = 0u;
@@ -494,7 +494,7 @@ __kernel void splat_pixels(ST_STAGE_PARAMS)
  * without counting again. */
 __kernel void splat_edges(ST_STAGE_PARAMS)
 {
-    st_u32 j = get_global_id(0), npix = p.region_w * p.region_h;
+    st_u32 j = ST_ITEM(), npix = p.region_w * p.region_h;
     if (j >= min(p.item_count, npix) || !edge[j])
         return;
     splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
@@ -535,7 +535,7 @@ static st_u32 sample_bin(const st_params *p, st_sample s)
 /* Counts the wave's items per bin (bin_count is 0 before: wave.c, splat_tiles). */
 __kernel void bin_samples(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
+    st_u32 i = ST_ITEM();
     if (i < p.item_count && st_sample_on_film(&p, sample[i]))
         atomic_inc(&bin_count[sample_bin(&p, sample[i])]);
 }
@@ -544,7 +544,7 @@ __kernel void bin_samples(ST_STAGE_PARAMS)
  * entries become bin_scatter's cursors (0). */
 __kernel void bin_scan(ST_STAGE_PARAMS)
 {
-    if (get_global_id(0) != 0)
+    if (ST_ITEM() != 0)
         return;
     st_u32 sum = 0;
     for (st_u32 b = 0; b < p.bins; b++) {
@@ -558,7 +558,7 @@ __kernel void bin_scan(ST_STAGE_PARAMS)
 /* Places each item on the film in its bin's range of bin_item. */
 __kernel void bin_scatter(ST_STAGE_PARAMS)
 {
-    st_u32 i = get_global_id(0);
+    st_u32 i = ST_ITEM();
     if (i >= p.item_count || !st_sample_on_film(&p, sample[i]))
         return;
     st_u32 b = sample_bin(&p, sample[i]);
@@ -704,7 +704,7 @@ ST_HOT st_u32 group_bin(const st_params *p, st_u32 g)
  * without atomics. */
 __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 {
-    st_u32 b = group_bin(&p, get_group_id(0)), lid = get_local_id(0), n = get_local_size(0);
+    st_u32 b = group_bin(&p, ST_GROUP()), lid = get_local_id(0), n = get_local_size(0);
     if (b >= p.bins)
         return; /* the whole group */
     bin_items l = bin_items_of(&p, bin_start, b);
@@ -759,7 +759,7 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
  * counts added once per work-item. */
 __kernel void resolve_film(ST_FILM_PARAMS)
 {
-    st_u32 first = ST_W * get_global_id(0), npix = p.region_w * p.region_h;
+    st_u32 first = ST_W * ST_ITEM(), npix = p.region_w * p.region_h;
     if (first >= npix)
         return;
     st_u32 n = min((st_u32)ST_W, npix - first), at[ST_W];

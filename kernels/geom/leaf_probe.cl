@@ -15,7 +15,7 @@ __kernel void probe_leaf(__global const st_bvh_wide_node *nodes, __global const 
                          __global const st_ray *rays, __global const uint *slot, uint slots,
                          uint n, __global st_hit *out)
 {
-    uint i = get_global_id(0);
+    uint i = ST_ITEM();
     if (i >= n * slots)
         return;
     st_ray r = rays[i / slots];

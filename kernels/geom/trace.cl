@@ -17,7 +17,7 @@
  * on a miss). */
 __kernel void trace_rays(ST_STAGE_PARAMS)
 {
-    st_u32 g = get_global_id(0);
+    st_u32 g = ST_ITEM();
     if (g >= st_live_count(&p))
         return;
     st_u32 i = st_live_item(st_live_list(&p, live_a, live_b), g);
@@ -41,7 +41,7 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
  * ray counted, as shade counts it). */
 __kernel void trace_rays_last(ST_STAGE_PARAMS)
 {
-    st_u32 g = get_global_id(0);
+    st_u32 g = ST_ITEM();
     if (g >= st_live_count(&p))
         return;
     st_u32 i = st_live_item(st_live_list(&p, live_a, live_b), g);
@@ -73,7 +73,7 @@ __kernel void trace_rays_last(ST_STAGE_PARAMS)
  * cut-outs), and counts the ray. */
 __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
 {
-    st_u32 g = get_global_id(0);
+    st_u32 g = ST_ITEM();
     if (g >= st_live_count(&p))
         return;
     st_scene_refs sc = ST_SCENE_REFS_INIT;
@@ -85,7 +85,7 @@ __kernel void trace_shadow_rays(ST_STAGE_PARAMS)
  * vertex's live paths (W = ST_W), lane j the item at position W g + j; the
  * host launches ceil(st_live_count / W) work-items (src/render/render.c), so
  * the last packet's lanes past the count are masked. */
-static st_u32 packet_first(void) { return (st_u32)get_global_id(0) * ST_PACKET; }
+static st_u32 packet_first(void) { return ST_ITEM() * ST_PACKET; }
 
 #define ST_NO_ITEM 0xffffffffu /* a packet lane past the live paths */
 

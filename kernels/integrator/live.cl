@@ -20,7 +20,7 @@ static st_u32 live_words(const st_params *p)
 /* Work-item c: the live paths of chunk c, into live_sum[c]. */
 __kernel void live_count(ST_STAGE_PARAMS)
 {
-    st_u32 c = get_global_id(0), words = live_words(&p), sum = 0u;
+    st_u32 c = ST_ITEM(), words = live_words(&p), sum = 0u;
     if (c * ST_LIVE_CHUNK >= words)
         return;
     st_u32 end = min(words, (c + 1u) * ST_LIVE_CHUNK);
@@ -33,7 +33,7 @@ __kernel void live_count(ST_STAGE_PARAMS)
  * list; live_total[0] the list's length. */
 __kernel void live_scan(ST_STAGE_PARAMS)
 {
-    if (get_global_id(0) != 0)
+    if (ST_ITEM() != 0)
         return;
     st_u32 chunks = (live_words(&p) + ST_LIVE_CHUNK - 1u) / ST_LIVE_CHUNK, sum = 0u;
     for (st_u32 c = 0; c < chunks; c++) {
@@ -48,7 +48,7 @@ __kernel void live_scan(ST_STAGE_PARAMS)
  * from the chunk's first position on, in order. */
 __kernel void live_scatter(ST_STAGE_PARAMS)
 {
-    st_u32 c = get_global_id(0), words = live_words(&p);
+    st_u32 c = ST_ITEM(), words = live_words(&p);
     if (c * ST_LIVE_CHUNK >= words)
         return;
     st_u32 end = min(words, (c + 1u) * ST_LIVE_CHUNK), at = live_sum[c];

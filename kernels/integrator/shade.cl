@@ -461,13 +461,13 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
  * ST_W rounded up), and sets bit k of live_bits[g] where the path at
  * position ST_W g + k goes on (live.cl lists those for the next vertex). */
 #define ST_SHADE_LANES_ITEMS                                                                \
-    st_u32 first = ST_W * get_global_id(0), count = st_live_count(&p);                      \
+    st_u32 first = ST_W * ST_ITEM(), count = st_live_count(&p);                             \
     if (first >= count)                                                                     \
         return;                                                                             \
     st_u32 n = min((st_u32)ST_W, count - first);                                            \
     __global const st_u32 *list = st_live_list(&p, live_a, live_b);                         \
     st_scene_refs s = ST_SCENE_REFS_INIT;                                                   \
-    live_bits[get_global_id(0)] =                                                           \
+    live_bits[ST_ITEM()] =                                                                  \
         shade_lanes(&s, &p, &sh, list, first, n, sample, ray, hit, path, shadow, pmj02)
 
 /* One vertex of every live path; its shadow ray is traced by the next

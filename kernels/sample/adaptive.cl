@@ -27,7 +27,7 @@
  * at the image's end (*count, 0 past it); returns the first. */
 static st_u32 pixel_lanes(const st_params *p, st_u32 *count)
 {
-    st_u32 n = p->width * p->height, first = ST_W * (st_u32)get_global_id(0);
+    st_u32 n = p->width * p->height, first = ST_W * ST_ITEM();
     *count = first < n ? min((st_u32)ST_W, n - first) : 0u;
     return first;
 }

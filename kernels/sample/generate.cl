@@ -215,7 +215,7 @@ ST_HOT void start_paths(const st_params *p, const st_sample_lanes *l, st_u32 fir
  * instructions than this one on PoCL, and took longer. */
 __kernel void generate_rays(ST_STAGE_PARAMS)
 {
-    st_u32 first = ST_W * get_global_id(0);
+    st_u32 first = ST_W * ST_ITEM();
     if (first >= p.item_count)
         return;
     st_u32 n = min((st_u32)ST_W, p.item_count - first);

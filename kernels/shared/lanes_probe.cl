@@ -10,7 +10,7 @@
  * form is movmskps (1) or the portable one (0). */
 __kernel void probe_mask_bits(__global uint *out)
 {
-    uint b = get_global_id(0);
+    uint b = ST_ITEM();
     int lane[16];
     for (int j = 0; j < 16; j++)
         lane[j] = (b >> j) & 1u ? -1 : 0;

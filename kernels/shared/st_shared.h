@@ -71,6 +71,14 @@ typedef float st_f32;
 #else
 #define ST_COLD static inline
 #endif
+/* A work-item's index in its launch, and its group's. st_device_launch lays a
+ * launch wider than a row out as rows (dimension 1) of at most 2^15 work-items
+ * (dimension 0): PoCL compiles a kernel once for grids under 2^16 work-items wide
+ * and again for wider ones, and rows keep every launch on the first compile. */
+#ifdef __OPENCL_VERSION__
+#define ST_ITEM() ((st_u32)(get_global_id(1) * get_global_size(0) + get_global_id(0)))
+#define ST_GROUP() ((st_u32)(get_group_id(1) * get_num_groups(0) + get_group_id(0)))
+#endif
 
 /* ---- constants ------------------------------------------------------------ */
 

@@ -26,9 +26,8 @@ static int remove_entry(const char *path, const struct stat *sb, int flag, struc
 /* Seconds to build the program and run its kernels once (PoCL compiles each
  * kernel again at its first launch), measured in a child process; cold: with
  * an empty kernel cache. The session is opened with the bench's own settings,
- * so that its warm-up launches what the bench's render launches (the large
- * variants too, for a large render: cli_session.c), then an 8 x 8 render
- * runs. Negative when the measurement failed. */
+ * so that its warm-up launches what the bench's render launches (cli_session.c),
+ * then an 8 x 8 render runs. Negative when the measurement failed. */
 static double build_seconds(const st_cli_render_args *a, int cold)
 {
     int fd[2];

@@ -41,24 +41,14 @@ static st_status warm_render(st_renderer *r, const st_render_options *w, st_erro
 }
 
 /* Where the driver compiles at launch (PoCL, st_device_info.compiles_at_launch;
- * a GPU driver compiles in the build, and Oclgrind interprets): PoCL
- * compiles each kernel at its first launch, and compiles it again for
- * a launch of 2^16 work-items or more (its "smallgrid" variant is for fewer),
- * which would otherwise fall in the render's first wave, its rate and its
- * time. So before the render: a render of 8 x 8 pixels with the render's own
- * settings (at most 16 spp; no crop, no sample range past its spp), and, for
- * a render of 2^21 samples or more whose small warm-up had to compile (a
- * cold cache: then the large variants are not cached either), one pass of
- * 256 x 256 pixels at `lanes` spp, at most two vertices deep, which
- * launches the large variants: 2^16 work-items for the stages that take
- * `lanes` items a work-item (at 1 spp they launched the small variants
- * again, and the large ones took seconds of the first wave). With a warm
- * cache that pass would only cost time (several per cent of such a render),
- * so it is left out. A smaller render that launches large grids compiles
- * them in its first wave, as before. */
-#define WARM_COMPILED_SECONDS 0.5
-static st_status warm_up(st_renderer *r, const st_render_options *o, unsigned lanes,
-                         st_error *err)
+ * a GPU driver compiles in the build, and Oclgrind interprets): PoCL compiles
+ * each kernel at its first launch, which would otherwise fall in the render's
+ * first wave, its rate and its time. So before the render, a render of 8 x 8
+ * pixels with the render's own settings (at most 16 spp; no crop, no sample
+ * range past its spp) launches what it launches. (PoCL compiles a kernel again
+ * for grids 2^16 work-items wide or wider; st_device_launch lays long launches
+ * out in narrower rows, so the one compile serves the render.) */
+static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *err)
 {
     st_render_options w = *o;
     w.width = w.height = 8;
@@ -69,24 +59,6 @@ static st_status warm_up(st_renderer *r, const st_render_options *o, unsigned la
     }
     if (w.sample_end > w.spp)
         w.sample_begin = w.sample_end = 0;
-    double t0 = st_cli_now();
-    st_status rc = warm_render(r, &w, err);
-    int compiled = st_cli_now() - t0 > WARM_COMPILED_SECONDS;
-    st_u32 region[4];
-    st_render_region(o, region);
-    st_u32 spp = o->sample_end ? o->sample_end - o->sample_begin : o->spp;
-    if (rc != ST_OK || !compiled || (double)region[2] * region[3] * spp < (double)(1u << 21))
-        return rc;
-    w = *o;
-    w.width = w.height = 256;
-    w.crop_x = w.crop_y = w.crop_w = w.crop_h = 0;
-    w.spp = lanes;
-    w.sample_begin = w.sample_end = 0;
-    w.adaptive = 0;
-    w.min_spp = w.max_spp = 0;
-    w.noise_threshold = 0;
-    if (w.max_depth > 2)
-        w.max_depth = 2;
     return warm_render(r, &w, err);
 }
 
@@ -134,7 +106,7 @@ st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error
         rc = st_renderer_create(s->dev, s->scene, &s->renderer, err);
     double created = st_cli_now();
     if (rc == ST_OK && st_device_get_info(s->dev)->compiles_at_launch)
-        rc = warm_up(s->renderer, &a->opt, st_device_get_info(s->dev)->lanes, err);
+        rc = warm_up(s->renderer, &a->opt, err);
     s->build_seconds = (built - t0) + (st_cli_now() - created);
     st_cli_notice_stop(&notice);
     return rc;

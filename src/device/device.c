@@ -554,13 +554,25 @@ st_status st_device_check_local_size(const st_device *dev, size_t local, st_erro
     return ST_OK;
 }
 
+/* The widest row of a launch: PoCL compiles a kernel's work-group function for grids
+ * under 2^16 work-items wide, and again for wider grids at their first launch, a second
+ * compile as long as the first; so a longer launch goes in rows (st_shared.h: ST_ITEM). */
+#define LAUNCH_ROW ((size_t)1 << 15)
+
 st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err)
 {
     if (items == 0)
         return ST_OK;
-    size_t global = local ? (items + local - 1) / local * local : items;
-    cl_int code = clEnqueueNDRangeKernel(dev->queue, k, 1, NULL, &global, local ? &local : NULL, 0,
-                                         NULL, NULL);
+    size_t row = local ? (local < LAUNCH_ROW ? LAUNCH_ROW / local * local : local) : LAUNCH_ROW;
+    size_t global[2] = {local ? (items + local - 1) / local * local : items, 1};
+    size_t group[2] = {local, 1};
+    if (global[0] > row) {
+        global[1] = (items + row - 1) / row;
+        global[0] = row;
+    }
+    cl_uint dims = global[1] > 1 ? 2 : 1;
+    cl_int code = clEnqueueNDRangeKernel(dev->queue, k, dims, NULL, global, local ? group : NULL,
+                                         0, NULL, NULL);
     if (code != CL_SUCCESS) {
         char name[64] = "?";
         clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);

@@ -146,6 +146,15 @@ if $S devices 2> /dev/null | grep -q "Portable Computing Language"; then
     check "the compilation took longer than the render it preceded" \
         'awk -v c="$cold" -v k="$compile" "BEGIN { exit !(k > c) }"' "(compile $compile s, render $cold s)"
     check "cold and warm renders are the same image" '$S diff "$T/cold.exr" "$T/warm.exr" --max-rmse 0 > /dev/null 2>&1'
+    # PoCL compiles a kernel once for grids under 2^16 work-items wide and again
+    # for wider ones; launches go in narrower rows, so a render whose waves are
+    # far wider reuses the warm-up's one compile of each kernel.
+    POCL_CACHE_DIR="$T/pocl-cache" $S render --width 512 --height 512 --spp 4 \
+        --sampler stratified -q -o "$T/wide.exr" 2> /dev/null
+    find "$T/pocl-cache" -name "*.so" | sed "s|/[^/]*/[^/]*\$||" | sort > "$T/kernels"
+    check "a wide render compiles no kernel a second time" \
+        '[ -s "$T/kernels" ] && [ -z "$(uniq -d "$T/kernels")" ]' \
+        "($(uniq -c "$T/kernels" | sort -rn | head -3 | sed "s|$T/pocl-cache/||" | tr -s " \n" " "))"
 else
     echo "# not PoCL: the first-run checks are left out"
 fi
