@@ -24,6 +24,7 @@ st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o,
 typedef struct st_trace_bench_result {
     st_u64 rays, hits;
     double seconds; /* the trace_rays launches alone: making and uploading rays not counted */
+    int sorted;     /* 1: each wave's rays sorted by ray first (the plan's), counted in seconds */
 } st_trace_bench_result;
 
 /* Traces count rays of the set through the renderer's trace kernel, in waves

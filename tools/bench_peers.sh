@@ -68,8 +68,9 @@ r = s[0]
 print("%s, %s rays (%d tris, %d runs of %d rays)" % (
     r["scene"], r["rays"]["kind"], r["bvh"]["triangles"], len(s), r["rays"]["count"]))
 st, sb = med(s, rps("rays")), med(s, tps)
-print("  strata                %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s" % (
-    st * 1e-6, r["rays"]["hit_fraction"], sb * 1e-6))
+print("  strata                %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s%s" % (
+    st * 1e-6, r["rays"]["hit_fraction"], sb * 1e-6,
+    "  (sorted by ray first, sort counted)" if r["rays"].get("sorted") else ""))
 if e:
     one, eight, eb = med(e, rps("rays")), med(e, rps("rays8")), med(e, tps)
     x, n = e[0], e[0]["check"]["rays"]

@@ -466,7 +466,9 @@ typedef struct st_params {
     /* 1 where next-event estimation picks its area light in lanes (the
      * plan: area lights alone, from a short list; shade.cl's area_lanes) */
     st_u32 area_lanes;
-    st_u32 pad; /* a multiple of 16 bytes */
+    /* 1 where trace_rays takes its items in the order of the wave's
+     * `order` (order.cl: sorted by ray) instead of the list's */
+    st_u32 ordered;
 } st_params;
 
 /* ---- the wavefront state and the film --------------------------------------
@@ -561,6 +563,11 @@ typedef struct st_film_stats {
     st_u32 pad;
 } st_film_stats;
 
+/* A key and its item, as the ray order's first pass leaves them (order.cl). */
+typedef struct st_order_pair {
+    st_u32 key, item;
+} st_order_pair;
+
 /* A point of a tiled sampler's tile, in pixels. */
 typedef struct st_tile_point {
     st_f32 x, y;
@@ -574,6 +581,27 @@ typedef struct st_tile_point {
 #define ST_ONE 3          /* one */
 
 #define ST_LIVE_CHUNK 64u /* live_bits words per chunk of live.cl's scan */
+
+/* The ray order (kernels/geom/order.h, order.cl): keys of ST_ORDER_KEY_BITS
+ * bits, the origin's cell (ST_ORDER_ORIGIN_BITS per axis) above the
+ * direction's (ST_ORDER_DIR_BITS per axis), sorted a digit of
+ * ST_ORDER_DIGIT_BITS at a time over blocks of ST_ORDER_BLOCK positions.
+ * order_count holds the wave's bounds (ST_ORDER_BOUNDS integers: the
+ * largest origin coordinate per axis, the largest of its negation per axis,
+ * then the same of the directions' octahedral coordinates x, y, each float
+ * as st_order_monotone's integer, so that atomic_max gathers them; 0 lies
+ * below every float's: none gathered), then from ST_ORDER_COUNTS on a count
+ * per digit and block. */
+#define ST_ORDER_ORIGIN_BITS 2u
+#define ST_ORDER_DIR_BITS 5u
+#define ST_ORDER_KEY_BITS (3u * ST_ORDER_ORIGIN_BITS + 2u * ST_ORDER_DIR_BITS)
+#define ST_ORDER_DIGIT_BITS 8u
+#define ST_ORDER_DIGITS (1u << ST_ORDER_DIGIT_BITS)
+#define ST_ORDER_BLOCK 4096u
+#define ST_ORDER_SAMPLE 16u /* order_bounds looks at every ST_ORDER_SAMPLE-th ray */
+#define ST_ORDER_BOUNDS 10u
+#define ST_ORDER_COUNTS 16u
+#define ST_PER_ORDER 5 /* order_count's: ST_ORDER_COUNTS + a digit's count per block */
 
 /* The per-render state: X(name, element type, extent). */
 #define ST_WAVE_BUFFERS(X)                                                                  \
@@ -592,6 +620,10 @@ typedef struct st_tile_point {
     X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
     X(bin_item, st_u32, ST_PER_ITEM) /* the wave's items, ordered by bin */                \
     X(edge, st_u32, ST_PER_ITEM) /* splat_pixels' work-item j: 1, samples on other pixels */ \
+    X(order, st_u32, ST_PER_ITEM) /* the items of a trace in ray order (order.cl) */      \
+    X(order_key, st_u32, ST_PER_ITEM) /* position g's key (order.h) */                    \
+    X(order_pair, st_order_pair, ST_PER_ITEM) /* the order by the low digit */            \
+    X(order_count, st_u32, ST_PER_ORDER) /* bounds, and counts then starts (order.cl) */  \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
     X(pilot_film, st_film_pixel, ST_PER_ADAPTIVE) /* the adaptive pilot's splats */        \
     X(moments, st_pixel, ST_PER_ADAPTIVE) /* pilot: Σ Y, Σ Y², samples (adaptive.cl) */    \

@@ -27,14 +27,15 @@ static void print_text(const trace_report *r)
     printf("device     %s\nscene      %s (%u triangles)\n", r->device, r->scene, r->triangles);
     printf("bvh build  %.4f s (%.2f M triangles/s)\n", r->bvh_seconds,
            per_second(r->triangles, r->bvh_seconds) * 1e-6);
-    printf("trace      %s rays: %llu in %.4f s, %.2f M rays/s, hit fraction %.4f\n", r->kind,
+    printf("trace      %s rays: %llu in %.4f s, %.2f M rays/s, hit fraction %.4f%s\n", r->kind,
            (unsigned long long)r->t.rays, r->t.seconds,
            per_second((double)r->t.rays, r->t.seconds) * 1e-6,
-           r->t.rays ? (double)r->t.hits / (double)r->t.rays : 0.0);
+           r->t.rays ? (double)r->t.hits / (double)r->t.rays : 0.0,
+           r->t.sorted ? " (sorted by ray first, sort counted)" : "");
 }
 
 /* {"device", "scene", "rays": {kind, count, seconds, rays_per_second,
- * hit_fraction}, "bvh": {triangles, seconds, triangles_per_second}} */
+ * hit_fraction, sorted}, "bvh": {triangles, seconds, triangles_per_second}} */
 static st_status print_json(const trace_report *r, st_error *err)
 {
     cJSON *root = cJSON_CreateObject();
@@ -49,6 +50,7 @@ static st_status print_json(const trace_report *r, st_error *err)
              cJSON_AddNumberToObject(rays, "seconds", r->t.seconds) &&
              cJSON_AddNumberToObject(rays, "rays_per_second", per_second(n, r->t.seconds)) &&
              cJSON_AddNumberToObject(rays, "hit_fraction", n > 0 ? (double)r->t.hits / n : 0.0) &&
+             cJSON_AddBoolToObject(rays, "sorted", r->t.sorted) &&
              cJSON_AddNumberToObject(bvh, "triangles", r->triangles) &&
              cJSON_AddNumberToObject(bvh, "seconds", r->bvh_seconds) &&
              cJSON_AddNumberToObject(bvh, "triangles_per_second",

@@ -189,6 +189,9 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     for (int k = 0; k < ST_ADAPTIVE_KERNELS; k++)
         if (st_device_kernel(dev, st_adaptive_kernel_names[k], &r->adaptive[k], err) != ST_OK)
             goto fail;
+    for (int k = 0; k < ST_ORDER_KERNELS; k++)
+        if (st_device_kernel(dev, st_order_kernel_names[k], &r->order[k], err) != ST_OK)
+            goto fail;
     if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
         st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK ||
         st_device_kernel(dev, "splat_edges", &r->splat_edges, err) != ST_OK ||

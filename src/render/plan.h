@@ -30,6 +30,11 @@ enum { ST_LAST_AUTO, ST_LAST_TRAVERSE, ST_LAST_EMITTERS };
 /* Next-event estimation's pick of an area light: in lanes where the scene
  * allows it (st_params.area_lanes), or lane by lane. */
 enum { ST_AREA_AUTO, ST_AREA_LANE_BY_LANE };
+/* The order of a trace's rays: as listed, or sorted by ray (order.cl) first,
+ * where the plan finds it pays (st_plan_orders); ON sorts every trace it
+ * may (trace_rays' rays of a bounce, the trace benchmark's), whatever the
+ * scene. */
+enum { ST_ORDER_AUTO, ST_ORDER_OFF, ST_ORDER_ON };
 
 /* Choices forced for tests and measurements (st_renderer_force): each
  * *_AUTO (0) unless set, the plan's own choice then. */
@@ -39,6 +44,7 @@ typedef struct st_plan_force {
     int paths;    /* ST_PATHS_* */
     int last;     /* ST_LAST_* */
     int area;     /* ST_AREA_* */
+    int order;    /* ST_ORDER_* */
 } st_plan_force;
 
 typedef struct st_plan {
@@ -52,6 +58,8 @@ typedef struct st_plan {
                              wave allows it: st_plan_gathers) */
     int tile_passes;      /* splat_tiles in four passes of bins whose windows do not
                              overlap (st_params.bin_pass), else one launch */
+    int order;            /* ST_ORDER_ON: a bounce's rays sorted before their trace
+                             (st_plan_orders_trace); ST_ORDER_OFF: never */
 } st_plan;
 
 typedef struct st_renderer st_renderer;
@@ -68,6 +76,10 @@ size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o);
 /* The packets of the rays traced at path vertex v (ST_STAGE_TRACE or
  * ST_STAGE_SHADOW as k): whether they go in packets. */
 int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v);
+/* Whether the trace benchmark sorts its rays on r (ST_ORDER_ON or
+ * ST_ORDER_OFF), and whether a render's trace at vertex v sorts them. */
+int st_plan_orders(const st_renderer *r);
+int st_plan_orders_trace(const st_plan *pl, st_u32 v);
 /* Bytes of splat_tiles' local window for bins of `side` pixels. */
 size_t st_plan_window_bytes(st_u32 side, float radius);
 

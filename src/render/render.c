@@ -147,6 +147,9 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
         st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err) ||
         st_wave_bind_stage(r->trace_last, p, sh, r->scene_buf, w, err))
         return err->status;
+    for (int k = 0; k < ST_ORDER_KERNELS; k++)
+        if (st_wave_bind_stage(r->order[k], p, sh, r->scene_buf, w, err) != ST_OK)
+            return err->status;
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
     size_t window = p->bins ? st_plan_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
     if (st_device_set_arg(r->k[ST_STAGE_SPLAT_TILES], 2 + ST_SCENE_BUFFER_COUNT +
@@ -444,6 +447,27 @@ static size_t live_paths(const st_params *p)
     return p->vertex == 0u ? p->item_count : p->live_count;
 }
 
+/* trace_rays over p's positions, sorted by ray first where the plan says so
+ * (the sort timed with the stage). */
+static st_status run_closest(st_renderer *r, st_u32 v, const st_params *p,
+                             const st_render_options *o, st_render_stats *st, st_error *err)
+{
+    size_t n = live_paths(p);
+    if (!st_plan_orders_trace(&r->plan, v))
+        return run_stage(r, ST_STAGE_TRACE, p, n, o, st, err);
+    st_params q = *p;
+    q.ordered = 1u;
+    double t0 = o->profile ? st_render_now() : 0.0;
+    if (st_render_order(r, &q, n, o->local_size, err) != ST_OK)
+        return err->status;
+    if (o->profile) {
+        if (st_device_finish(r->dev, err) != ST_OK)
+            return err->status;
+        st->stage_seconds[ST_STAGE_TRACE] += st_render_now() - t0;
+    }
+    return run_stage(r, ST_STAGE_TRACE, &q, n, o, st, err);
+}
+
 /* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the vertex's
  * live paths: in packets (ceil(n / lanes) work-items) where the plan says so;
  * coherent are the rays of vertex 0 (camera rays, and shadow rays from
@@ -455,7 +479,8 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
     if (k == ST_STAGE_TRACE && v == p->max_depth && r->plan.last_by_emitters)
         return run_kernel(r, r->trace_last, k, p, n, o->local_size, o, st, err);
     if (!st_plan_in_packets(&r->plan, r, k, v))
-        return run_stage(r, k, p, n, o, st, err);
+        return k == ST_STAGE_TRACE ? run_closest(r, v, p, o, st, err)
+                                   : run_stage(r, k, p, n, o, st, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
     return run_kernel(r, kl, k, p, st_render_lane_items(r->dev, n), o->local_size, o, st, err);
 }

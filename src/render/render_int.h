@@ -19,6 +19,10 @@
 /* adaptive.cl's kernels, in the order of st_adaptive_kernel_names */
 enum { ST_ADAPTIVE_MOMENTS, ST_ADAPTIVE_ESTIMATE, ST_ADAPTIVE_BLEND, ST_ADAPTIVE_KERNELS };
 extern const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS];
+/* order.cl's kernels (st_order_kernel_names) */
+enum { ST_ORDER_BOUNDS_K, ST_ORDER_KEYS_K, ST_ORDER_COUNT_LOW_K, ST_ORDER_SCAN_K,
+       ST_ORDER_SCATTER_LOW_K, ST_ORDER_COUNT_HIGH_K, ST_ORDER_SCATTER_HIGH_K, ST_ORDER_KERNELS };
+extern const char *const st_order_kernel_names[ST_ORDER_KERNELS];
 
 struct st_renderer {
     st_device *dev;
@@ -36,6 +40,7 @@ struct st_renderer {
     /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl) */
     cl_kernel trace_packet, shadow_packet;
     cl_kernel trace_last; /* trace_rays_last: ST_STAGE_TRACE at the last vertex */
+    cl_kernel order[ST_ORDER_KERNELS]; /* the ray order before a trace (order.c) */
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
     /* all_opaque, no unlit surface, and every emissive surface in the light
      * list (its emission a factor, no texture): a ray of the last vertex
@@ -87,6 +92,12 @@ st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_erro
 /* Notes kernel kl among those the render ran (strata bench and the EXR
  * header name them: st_renderer_ran), once, in launch order (plan.c). */
 void st_render_note_ran(st_renderer *r, cl_kernel kl);
+
+/* Sorts the n rays a trace at p's vertex runs over by origin and direction
+ * (order.cl, its kernels bound to the wave): `order` then lists their items
+ * in that order, for a trace with p.ordered set (order.c). */
+st_status st_render_order(st_renderer *r, const st_params *p, size_t n, size_t local,
+                          st_error *err);
 
 /* Work-items of a kernel that takes the device's ST_W items a work-item:
  * ceil(n / ST_W) (plan.c). */

@@ -14,3 +14,7 @@ const char *const st_packet_names[4] = {"auto", "none", "coherent", "all"};
 
 const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS] = {
     "adaptive_moments", "adaptive_estimate", "adaptive_blend"};
+
+const char *const st_order_kernel_names[ST_ORDER_KERNELS] = {
+    "order_bounds", "order_keys", "order_count_low", "order_scan", "order_scatter_low",
+    "order_count_high", "order_scatter_high"};

@@ -1,6 +1,7 @@
 /* trace_bench.c — the trace benchmark (st_trace_bench.h): rays made on the
  * host, uploaded a wave at a time, traced by the renderer's own trace_rays
- * kernel, which alone is timed. */
+ * kernel, which alone is timed, with the sort by ray before it where the
+ * plan sorts a large scene's rays (plan.c: st_plan_orders). */
 #include "st_trace_bench.h"
 
 #include <math.h>
@@ -76,6 +77,7 @@ static st_status trace_wave(st_renderer *r, const st_render_options *o, int set,
     memset(&p, 0, sizeof p);
     p.item_count = (st_u32)n;
     int packets = o->packet_path == ST_PACKET_ALL;
+    p.ordered = !packets && st_plan_orders(r) == ST_ORDER_ON;
     cl_kernel k = packets ? r->trace_packet : r->k[ST_STAGE_TRACE];
     if (st_trace_bench_rays(r->scene, o, set, first, n, rays, err) ||
         st_device_buffer_write(r->dev, w->b[ST_WAVE_ray], n * sizeof *rays, rays, err) ||
@@ -83,10 +85,12 @@ static st_status trace_wave(st_renderer *r, const st_render_options *o, int set,
         return err->status;
     size_t items = packets ? st_render_lane_items(r->dev, n) : n; /* a packet a work-item */
     double t0 = st_render_now();
-    if (st_device_launch(r->dev, k, items, o->local_size, err) ||
+    if ((p.ordered && st_render_order(r, &p, n, o->local_size, err)) ||
+        st_device_launch(r->dev, k, items, o->local_size, err) ||
         st_device_finish(r->dev, err))
         return err->status;
     res->seconds += st_render_now() - t0;
+    res->sorted = (int)p.ordered;
     if (st_device_buffer_read(r->dev, w->b[ST_WAVE_hit], n * sizeof *hits, hits, err))
         return err->status;
     for (size_t i = 0; i < n; i++)
@@ -119,6 +123,8 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
                 st_wave_bind_stage(r->k[ST_STAGE_TRACE], &p, &sh, r->scene_buf, &w, err) ||
                 st_wave_bind_stage(r->trace_packet, &p, &sh, r->scene_buf, &w, err)))
         rc = err->status;
+    for (int k = 0; k < ST_ORDER_KERNELS && rc == ST_OK; k++)
+        rc = st_wave_bind_stage(r->order[k], &p, &sh, r->scene_buf, &w, err);
     /* PoCL compiles a kernel at its first launch: one untimed wave first */
     st_trace_bench_result warm = {0};
     if (rc == ST_OK)

@@ -16,6 +16,8 @@ size_t st_wave_count(const st_wave *w, int b)
     case ST_PER_PIXEL: return w->pixels;
     case ST_PER_ADAPTIVE: return w->adaptive ? w->pixels : 1;
     case ST_PER_BIN: return w->pixels + 1;
+    case ST_PER_ORDER:
+        return ST_ORDER_COUNTS + ST_ORDER_DIGITS * ((w->items + ST_ORDER_BLOCK - 1) / ST_ORDER_BLOCK);
     default: return 1;
     }
 }
@@ -34,7 +36,7 @@ st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adapti
     w->adaptive = adaptive;
     /* sums and counters that kernels only add to */
     static const int zeroed[] = {ST_WAVE_film, ST_WAVE_pilot_film, ST_WAVE_moments, ST_WAVE_tally, ST_WAVE_stats,
-                                 ST_WAVE_bin_count};
+                                 ST_WAVE_bin_count, ST_WAVE_order_count};
     st_status rc = ST_OK;
     for (int b = 0; b < ST_WAVE_BUFFER_COUNT && rc == ST_OK; b++)
         rc = st_device_buffer_create(dev, st_wave_bytes(w, b), NULL, &w->b[b], err);

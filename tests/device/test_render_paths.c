@@ -428,6 +428,35 @@ static void live_lists_keep_every_path(void **state)
     same_with_live_lists("tests/scenes/shade_mix.gltf", &adaptive);
 }
 
+/* A bounce's rays traced in the order of their sort by ray (order.cl)
+ * against the order of the list, bit for bit, counts included: the shade
+ * scenes' paths (cut-outs, unlit surfaces, glass), open to an environment,
+ * deep (roulette), in waves whose lists fill several of the sort's blocks
+ * or part of one; and only the sorted renders ran the sort. An item the
+ * sort loses or repeats leaves a ray untraced or traced twice, and fails it. */
+static void rays_in_order_keep_every_path(void **state)
+{
+    (void)state;
+    static const st_u32 waves[] = {0, 5000};
+    for (size_t k = 0; k < sizeof shade_scenes / sizeof shade_scenes[0]; k++) {
+        if (absent(shade_scenes[k]))
+            continue;
+        for (size_t w = 0; w < sizeof waves / sizeof waves[0]; w++) {
+            st_render_options o = small(96, 64, 4);
+            o.integrator = ST_INTEGRATOR_PATH;
+            o.max_depth = w ? 7 : 4;
+            o.wave = waves[w];
+            o.env_given = 1;
+            o.env[0] = 0.6f, o.env[1] = 0.7f, o.env[2] = 0.8f;
+            int sorted[2];
+            same_forced(shade_scenes[k], &o, &forced.order, ST_ORDER_OFF, ST_ORDER_ON,
+                        "order_scatter_high", sorted);
+            assert_false(sorted[0]);
+            assert_true(sorted[1]);
+        }
+    }
+}
+
 /* Renders o of scene `name` with the last vertex's rays traversed and by
  * trace_rays_last: the same film, image and counts. Returns whether the
  * second ran trace_rays_last (the first must not). */
@@ -783,6 +812,7 @@ int main(void)
         cmocka_unit_test(splat_pixels_equals_per_sample),
         cmocka_unit_test(shade_at_every_width),
         cmocka_unit_test(live_lists_keep_every_path),
+        cmocka_unit_test(rays_in_order_keep_every_path),
         cmocka_unit_test(last_vertex_by_emitters),
         cmocka_unit_test(area_lights_in_lanes),
         cmocka_unit_test(splat_lanes_at_every_width),

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "plan.h"
 #include "st_bvh.h"
 #include "st_scene.h"
 #include "st_trace_bench.h"
@@ -157,6 +158,35 @@ static void device_hits_match_the_host(void **state)
     }
 }
 
+/* The rays sorted by ray first (order.cl, forced on) hit what they hit
+ * unsorted, in waves of several of the sort's blocks and of part of one;
+ * the result says which ran. */
+static void sorted_rays_hit_the_same(void **state)
+{
+    (void)state;
+    st_scene *s = fixture_scene("soft-shadows");
+    st_renderer *r = NULL;
+    st_error err = {0};
+    assert_int_equal(st_renderer_create(dev, s, &r, &err), ST_OK);
+    st_plan_force force = {0};
+    for (int set = 0; set < ST_RAYS_COUNT; set++)
+        for (st_u32 wave = 1000; wave <= 20000; wave += 19000) {
+            st_render_options o = st_render_defaults();
+            o.wave = wave;
+            st_trace_bench_result a, b;
+            force.order = ST_ORDER_OFF;
+            st_renderer_force(r, &force);
+            assert_int_equal(st_trace_bench(r, &o, set, N_RAYS, &a, &err), ST_OK);
+            force.order = ST_ORDER_ON;
+            st_renderer_force(r, &force);
+            assert_int_equal(st_trace_bench(r, &o, set, N_RAYS, &b, &err), ST_OK);
+            assert_true(!a.sorted && b.sorted);
+            assert_true(a.rays == N_RAYS && b.rays == N_RAYS && a.hits == b.hits);
+        }
+    st_renderer_destroy(r);
+    st_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -164,6 +194,7 @@ int main(void)
         cmocka_unit_test(camera_rays_start_at_the_camera),
         cmocka_unit_test(rays_are_a_function_of_the_index),
         cmocka_unit_test(device_hits_match_the_host),
+        cmocka_unit_test(sorted_rays_hit_the_same),
     };
     return cmocka_run_group_tests(tests, device_setup, device_teardown);
 }
