@@ -33,6 +33,12 @@ typedef struct st_trace_bench_result {
 st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st_u64 count,
                          st_trace_bench_result *out, st_error *err);
 
+/* Seconds of the BVH build of r's scene as the renderer makes it (the same
+ * threads, the triangles' sides set), timed as tools/bench_embree.c times
+ * Embree's: after an untimed build of one triangle, so that neither builder
+ * is timed with its code cold. The tree is dropped. */
+st_status st_trace_bench_build(st_renderer *r, double *seconds, st_error *err);
+
 /* Rays traced alone, in one launch of one kernel, for the tests that
  * compare the single-ray and the packet kernels (kernels/geom/packet.h) with
  * each other and with the host: st_trace_closest gives the closest hits of

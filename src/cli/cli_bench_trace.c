@@ -78,7 +78,10 @@ int st_cli_bench_trace(st_cli_render_args *a)
     r.scene = s.scene->name;
     r.kind = st_ray_set_names[set];
     r.triangles = s.scene->tri_count;
-    r.bvh_seconds = st_renderer_bvh_seconds(s.renderer);
+    if (st_trace_bench_build(s.renderer, &r.bvh_seconds, &err) != ST_OK) {
+        rc = st_cli_fail(&err);
+        goto done;
+    }
     if (!a->json)
         print_text(&r);
     else if (print_json(&r, &err) != ST_OK)

@@ -11,6 +11,7 @@
 #include "camera.h"
 #include "render_int.h"
 #include "rng.h"
+#include "st_bvh.h"
 
 const char *const st_ray_set_names[ST_RAYS_COUNT] = {"camera", "random"};
 
@@ -137,6 +138,24 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
     free(rays);
     free(hits);
     return rc;
+}
+
+st_status st_trace_bench_build(st_renderer *r, double *seconds, st_error *err)
+{
+    static const float one[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const st_scene *s = r->scene;
+    unsigned threads = st_renderer_bvh_threads(st_device_get_info(r->dev), s->tri_count);
+    st_bvh *bvh = NULL;
+    if (st_bvh_build_threads(one, 1, threads, &bvh, err) != ST_OK)
+        return err->status;
+    st_bvh_destroy(bvh);
+    double t0 = st_render_now();
+    if (st_bvh_build_threads(s->positions, s->tri_count, threads, &bvh, err) != ST_OK)
+        return err->status;
+    st_bvh_set_sides(bvh, s->tri_material, s->materials);
+    *seconds = st_render_now() - t0;
+    st_bvh_destroy(bvh);
+    return ST_OK;
 }
 
 /* Launches k over the n rays of wave w (ceil(n / lanes) work-items for a
