@@ -84,21 +84,23 @@ static void order_lanes(const st_params *p, __global const st_u32 *live_a,
     d->z = ST_VLOAD(ST_W, v[5]);
 }
 
-/* Work-item b: the bounds of block b's sampled rays (every
- * ST_ORDER_SAMPLE-th from its first, paths alive, rays finite; a ray outside
- * them goes to an edge cell, which changes its place in the order, nothing
- * else), ST_W at a time, gathered into order_count's by atomic_max
- * (order_scan leaves them 0 for the next sort). */
+/* Work-item b: the bounds of the sample of block b's rays (its first
+ * ST_ORDER_SAMPLE positions, read in a run; paths alive, rays finite; a ray
+ * outside them goes to an edge cell, which changes its place in the order,
+ * nothing else), ST_W at a time, gathered into order_count's by atomic_max
+ * (order_scan leaves them 0 for the next sort). The blocks' samples lie
+ * all over the stream. */
 __kernel void order_bounds(ST_STAGE_PARAMS)
 {
     st_u32 n = st_live_count(&p), first, end;
     if (!order_block(ST_ITEM(), n, &first, &end))
         return;
+    end = min(end, first + ST_ORDER_SAMPLE);
     st_u32 m[ST_ORDER_BOUNDS] = {0u};
-    for (st_u32 g = first; g < end; g += ST_W * ST_ORDER_SAMPLE) {
+    for (st_u32 g = first; g < end; g += ST_W) {
         st_lv3 o, d;
         st_u32 alive;
-        order_lanes(&p, live_a, live_b, ray, path, g, ST_ORDER_SAMPLE, end, &o, &d, &alive);
+        order_lanes(&p, live_a, live_b, ray, path, g, 1u, end, &o, &d, &alive);
         st_f32 v[5][ST_W];
         st_lf x, y;
         st_order_octahedral(d, &x, &y);

@@ -598,7 +598,7 @@ typedef struct st_tile_point {
 #define ST_ORDER_DIGIT_BITS 8u
 #define ST_ORDER_DIGITS (1u << ST_ORDER_DIGIT_BITS)
 #define ST_ORDER_BLOCK 4096u
-#define ST_ORDER_SAMPLE 16u /* order_bounds looks at every ST_ORDER_SAMPLE-th ray */
+#define ST_ORDER_SAMPLE 256u /* the rays of a block that order_bounds looks at */
 #define ST_ORDER_BOUNDS 10u
 #define ST_ORDER_COUNTS 16u
 #define ST_PER_ORDER 5 /* order_count's: ST_ORDER_COUNTS + a digit's count per block */

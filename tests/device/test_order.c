@@ -1,6 +1,6 @@
 /* test_order.c — the ray order before a trace (order.cl): on the device, the
  * keys of a wave's positions are order.h's keys, at width 1 on the host, in
- * the frame of the bounds of every ST_ORDER_SAMPLE-th ray of each block
+ * the frame of the bounds of the first ST_ORDER_SAMPLE rays of each block
  * (paths alive, rays finite), and `order` lists the positions' items in the
  * stable sort of those keys; over every item of a wave and over a list of
  * live paths, several blocks and a ragged last one. A lane that keys
@@ -30,8 +30,8 @@ static void host_bounds(const st_ray *rays, const st_path *path, const st_u32 *l
 {
     memset(b, 0, ST_ORDER_BOUNDS * sizeof *b);
     for (st_u32 first = 0; first < n; first += ST_ORDER_BLOCK) {
-        st_u32 end = first + ST_ORDER_BLOCK < n ? first + ST_ORDER_BLOCK : n;
-        for (st_u32 g = first; g < end; g += ST_ORDER_SAMPLE) {
+        st_u32 end = first + ST_ORDER_SAMPLE < n ? first + ST_ORDER_SAMPLE : n;
+        for (st_u32 g = first; g < end; g++) {
             st_u32 i = list ? list[g] : g;
             st_lv3 d = {rays[i].d[0], rays[i].d[1], rays[i].d[2]};
             float v[5] = {rays[i].o[0], rays[i].o[1], rays[i].o[2], 0.0f, 0.0f};
