@@ -28,8 +28,8 @@ typedef struct st_trace_bench_result {
 } st_trace_bench_result;
 
 /* Traces count rays of the set through the renderer's trace kernel, in waves
- * of o->wave rays (0: 262144), with o->local_size, after one untimed wave
- * (PoCL compiles a kernel at its first launch). */
+ * of o->wave rays (0: a render's default wave), with o->local_size, after
+ * one untimed wave (PoCL compiles a kernel at its first launch). */
 st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st_u64 count,
                          st_trace_bench_result *out, st_error *err);
 

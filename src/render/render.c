@@ -707,7 +707,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
  * for each stage's launch and, splatting by pixel, a pass over the film;
  * on a 2-core CPU 2^20 rendered fastest (2^21 and 2^22 slower again, their
  * buffers streamed from memory), and a GPU has more items to run at once. */
-static size_t default_wave(const st_device *dev, size_t pixels, int adaptive)
+size_t st_render_default_wave(const st_device *dev, size_t pixels, int adaptive)
 {
     size_t wave = (size_t)1 << 20;
     for (; wave > ((size_t)1 << 18); wave /= 2) {
@@ -800,7 +800,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_params p = make_params(r, &so, &cam);
     st_u64 first, total;
     plan_items(r, o, &p, &first, &total);
-    size_t wave = o->wave ? o->wave : default_wave(r->dev, pixels, o->adaptive);
+    size_t wave = o->wave ? o->wave : st_render_default_wave(r->dev, pixels, o->adaptive);
     if (wave > total)
         wave = (size_t)total;
     st_wave w;

@@ -99,6 +99,9 @@ void st_render_note_ran(st_renderer *r, cl_kernel kl);
 st_status st_render_order(st_renderer *r, const st_params *p, size_t n, size_t local,
                           st_error *err);
 
+/* The wave a render of `pixels` pixels takes without --wave (render.c). */
+size_t st_render_default_wave(const st_device *dev, size_t pixels, int adaptive);
+
 /* Work-items of a kernel that takes the device's ST_W items a work-item:
  * ceil(n / ST_W) (plan.c). */
 size_t st_render_lane_items(st_device *dev, size_t n);

@@ -104,7 +104,7 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
                          st_trace_bench_result *out, st_error *err)
 {
     memset(out, 0, sizeof *out);
-    size_t wave = o->wave ? o->wave : (size_t)1 << 18;
+    size_t wave = o->wave ? o->wave : st_render_default_wave(r->dev, 1, 0);
     if (count < wave)
         wave = count ? (size_t)count : 1;
     st_wave w;
