@@ -5,7 +5,8 @@
 # at one lane; an explicit choice is kept. --lanes builds the kernels at the
 # width asked, which bench and the EXR header name with the kernels that
 # ran, and leaves the image as it is, its compiler's warnings about vectors
-# wider than the device's silenced. TAP output.
+# wider than the device's silenced; the trace benchmark says when it sorted
+# its rays. TAP output.
 . tests/tap.sh
 
 B="--width 16 --height 16 --spp 1 --integrator direct"
@@ -48,6 +49,17 @@ check "a fresh build at --lanes 16 prints no compiler warnings" \
     '[ -s "$T/fresh16.exr" ] && ! grep -q "warning" "$T/fresh16.err"' "($(grep -m1 warning "$T/fresh16.err"))"
 check "the EXR header names the kernels and their width" \
     'grep -a -q "lanes 16: generate_rays" "$T/w16.exr"'
+# the trace benchmark sorts its rays first in a scene of 65,536 triangles or
+# more on a CPU device, and says so; the hits are the rays' own either way
+if $S devices 2> /dev/null | grep -q "Portable Computing Language"; then
+    $S bench "$T/ico6.gltf" --rays random --count 5000 --json > "$T/ico6-rays" 2> /dev/null
+    $S bench "$T/ico6.gltf" --rays random --count 5000 > "$T/ico6-rays.txt" 2> /dev/null
+    $S bench "$T/ico5.gltf" --rays random --count 5000 --json > "$T/ico5-rays" 2> /dev/null
+    sorted() { python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["rays"]["sorted"])' "$1"; }
+    check "bench --rays sorts the rays of 81,920 triangles, and says so" \
+        '[ "$(sorted "$T/ico6-rays")" = True ] && grep -q "(sorted by ray first, sort counted)$" "$T/ico6-rays.txt"'
+    check "... not those of 20,480" '[ "$(sorted "$T/ico5-rays")" = False ]'
+fi
 $S devices > "$T/devices"
 check "devices names each device's default lanes" 'grep -q "| lanes \(1\|4\|8\|16\)$" "$T/devices"'
 expect "--lanes 3 is a usage error" 2 "strata: error: --lanes 3: must be 1, 4, 8 or 16" \
