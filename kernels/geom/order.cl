@@ -9,7 +9,8 @@
  * lanes, order_count_low counts the low digits, order_scan turns counts
  * into starts, order_scatter_low places (key, item) pairs by the low
  * digit, order_count_high counts their high digits, order_scan again, and
- * order_scatter_high places the items in `order`. A stable sort, but only
+ * order_scatter_high places the items in `order` and their rays in
+ * `order_ray`, which the trace then reads in a run. A stable sort, but only
  * the trace's speed depends on the order: each ray's hit is the same
  * whichever order it is traced in. */
 #include "st_shared.h"
@@ -200,7 +201,8 @@ __kernel void order_count_high(ST_STAGE_PARAMS)
 }
 
 /* Work-item b: block b of order_pair, in order, to its high digit's range
- * of order: the items sorted by key. */
+ * of order (the items sorted by key) and of order_ray (their rays: this
+ * loop's reads of them overlap, the trace's would wait on each). */
 __kernel void order_scatter_high(ST_STAGE_PARAMS)
 {
     st_u32 n = st_live_count(&p), first, end;
@@ -210,6 +212,8 @@ __kernel void order_scatter_high(ST_STAGE_PARAMS)
     order_get_starts(order_count, ST_ITEM(), n, start);
     for (st_u32 j = first; j < end; j++) {
         st_order_pair e = order_pair[j];
-        order[start[e.key / ST_ORDER_DIGITS]++] = e.item;
+        st_u32 at = start[e.key / ST_ORDER_DIGITS]++;
+        order[at] = e.item;
+        order_ray[at] = ray[e.item];
     }
 }

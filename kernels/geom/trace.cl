@@ -14,12 +14,14 @@
 
 /* How far ahead of its own item a work-item of a sorted trace asks for the
  * records of a later one: sorted, the items lie anywhere in the wave, and
- * their ray, path and hit would each be a miss to wait for. */
+ * their path and hit would each be a miss to wait for (their rays are in
+ * order_ray, in the trace's order). */
 #define ST_ORDER_AHEAD 16u
 
 /* Work-item g: the live path at position g of the vertex's list (st_live_item),
- * or of the rays sorted by order.cl (p.ordered). Reads ray and path (depth
- * ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT on a miss). */
+ * or of the rays sorted by order.cl (p.ordered: its ray from order_ray).
+ * Reads ray and path (depth ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT
+ * on a miss). */
 __kernel void trace_rays(ST_STAGE_PARAMS)
 {
     st_u32 g = ST_ITEM(), n = st_live_count(&p);
@@ -28,13 +30,12 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
     st_u32 i = p.ordered ? order[g] : st_live_item(st_live_list(&p, live_a, live_b), g);
     if (p.ordered && g + ST_ORDER_AHEAD < n) {
         st_u32 later = order[g + ST_ORDER_AHEAD];
-        ST_PREFETCH(&ray[later]);
         ST_PREFETCH(&path[later].depth);
         ST_PREFETCH(&hit[later]);
     }
     if (path[i].depth == ST_PATH_DEAD)
         return;
-    st_ray r = ray[i];
+    st_ray r = p.ordered ? order_ray[g] : ray[i];
     st_hit h;
     if (!st_intersect_wide_closest(nodes, &r, &h))
         h.prim = ST_NO_HIT;

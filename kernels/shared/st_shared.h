@@ -623,6 +623,7 @@ typedef struct st_tile_point {
     X(order, st_u32, ST_PER_ITEM) /* the items of a trace in ray order (order.cl) */      \
     X(order_key, st_u32, ST_PER_ITEM) /* position g's key (order.h) */                    \
     X(order_pair, st_order_pair, ST_PER_ITEM) /* the order by the low digit */            \
+    X(order_ray, st_ray, ST_PER_ITEM) /* the rays of order, in its order */                \
     X(order_count, st_u32, ST_PER_ORDER) /* bounds, and counts then starts (order.cl) */  \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
     X(pilot_film, st_film_pixel, ST_PER_ADAPTIVE) /* the adaptive pilot's splats */        \

@@ -1,8 +1,8 @@
 /* test_order.c — the ray order before a trace (order.cl): on the device, the
  * keys of a wave's positions are order.h's keys, at width 1 on the host, in
  * the frame of the bounds of the first ST_ORDER_SAMPLE rays of each block
- * (paths alive, rays finite), and `order` lists the positions' items in the
- * stable sort of those keys; over every item of a wave and over a list of
+ * (paths alive, rays finite), `order` lists the positions' items in the
+ * stable sort of those keys and `order_ray` their rays; over every item of a wave and over a list of
  * live paths, several blocks and a ragged last one. A lane that keys
  * another ray, a sample or a bound the host does not take, or a scatter
  * that loses, repeats or reorders an item fails it. */
@@ -59,7 +59,8 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
     st_path *path = calloc(ITEMS, sizeof *path);
     st_u32 *key = malloc(n * sizeof *key), *order = malloc(n * sizeof *order);
     st_u32 *want = malloc(n * sizeof *want), count[1u << ST_ORDER_KEY_BITS] = {0};
-    assert_true(path && key && order && want);
+    st_ray *sorted = malloc(n * sizeof *sorted);
+    assert_true(path && key && order && want && sorted);
     for (st_u32 i = 0; dead && i < ITEMS; i += 7)
         path[i].depth = ST_PATH_DEAD;
     st_params p;
@@ -84,6 +85,8 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
                                            &err), ST_OK);
     assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_order], n * sizeof *order, order,
                                            &err), ST_OK);
+    assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_order_ray], n * sizeof *sorted,
+                                           sorted, &err), ST_OK);
     /* the keys, in the frame of the host's bounds */
     st_u32 b[ST_ORDER_BOUNDS];
     host_bounds(rays, path, list, n, b);
@@ -106,6 +109,8 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
     for (st_u32 g = 0; g < n; g++)
         want[count[key[g]]++] = list ? list[g] : g;
     assert_memory_equal(order, want, n * sizeof *want);
+    for (st_u32 j = 0; j < n; j++) /* and each item's ray beside it */
+        assert_memory_equal(&sorted[j], &rays[order[j]], sizeof *sorted);
     /* and the frame is not the empty one: the keys spread */
     assert_true(key[0] != key[n / 2] || key[0] != key[n - 1]);
     st_wave_destroy(&w);
@@ -113,6 +118,7 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
     free(key);
     free(order);
     free(want);
+    free(sorted);
 }
 
 static void order_is_the_stable_sort_of_the_keys(void **state)
