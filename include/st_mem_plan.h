@@ -27,12 +27,13 @@ typedef struct st_mem_plan {
  * unlimited. For loaders that size a decoded file before decoding it (environment maps). */
 unsigned long long st_mem_plan_host_left(void);
 
-/* Fills *plan for a render (adaptive: its per-pixel state too). */
-void st_mem_plan_make(size_t items, size_t pixels, int adaptive, st_mem_plan *plan);
+/* Fills *plan for a render (adaptive: its per-pixel state too; ordered: the
+ * ray order's buffers, where the render sorts its rays). */
+void st_mem_plan_make(size_t items, size_t pixels, int adaptive, int ordered, st_mem_plan *plan);
 
 /* ST_OK when the plan fits dev and the process; otherwise ST_ERR_USAGE with one line naming
  * the size, the limit and the option that reduces it (--width/--height, --wave). */
 st_status st_mem_plan_check(const st_device *dev, size_t items, size_t pixels, int adaptive,
-                            st_error *err);
+                            int ordered, st_error *err);
 
 #endif

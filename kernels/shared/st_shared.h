@@ -602,6 +602,8 @@ typedef struct st_tile_point {
 #define ST_ORDER_BOUNDS 10u
 #define ST_ORDER_COUNTS 16u
 #define ST_PER_ORDER 5 /* order_count's: ST_ORDER_COUNTS + a digit's count per block */
+#define ST_PER_ORDER_ITEM 6 /* one per work-item */
+/* (both where the wave sorts its rays, st_wave.ordered; one element otherwise) */
 
 /* The per-render state: X(name, element type, extent). */
 #define ST_WAVE_BUFFERS(X)                                                                  \
@@ -620,10 +622,10 @@ typedef struct st_tile_point {
     X(bin_start, st_u32, ST_PER_BIN) /* a bin's first index into bin_item */               \
     X(bin_item, st_u32, ST_PER_ITEM) /* the wave's items, ordered by bin */                \
     X(edge, st_u32, ST_PER_ITEM) /* splat_pixels' work-item j: 1, samples on other pixels */ \
-    X(order, st_u32, ST_PER_ITEM) /* the items of a trace in ray order (order.cl) */      \
-    X(order_key, st_u32, ST_PER_ITEM) /* position g's key (order.h) */                    \
-    X(order_pair, st_order_pair, ST_PER_ITEM) /* the order by the low digit */            \
-    X(order_ray, st_ray, ST_PER_ITEM) /* the rays of order, in its order */                \
+    X(order, st_u32, ST_PER_ORDER_ITEM) /* the items of a trace in ray order (order.cl) */      \
+    X(order_key, st_u32, ST_PER_ORDER_ITEM) /* position g's key (order.h) */                    \
+    X(order_pair, st_order_pair, ST_PER_ORDER_ITEM) /* the order by the low digit */            \
+    X(order_ray, st_ray, ST_PER_ORDER_ITEM) /* the rays of order, in its order */                \
     X(order_count, st_u32, ST_PER_ORDER) /* bounds, and counts then starts (order.cl) */  \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
     X(pilot_film, st_film_pixel, ST_PER_ADAPTIVE) /* the adaptive pilot's splats */        \

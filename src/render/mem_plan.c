@@ -11,9 +11,9 @@
  * its converted copy (RGB for the PNG, or the EXR's channels). */
 #define HOST_FLOATS_PER_PIXEL 8
 
-void st_mem_plan_make(size_t items, size_t pixels, int adaptive, st_mem_plan *plan)
+void st_mem_plan_make(size_t items, size_t pixels, int adaptive, int ordered, st_mem_plan *plan)
 {
-    st_wave w = {.items = items, .pixels = pixels, .adaptive = adaptive};
+    st_wave w = {.items = items, .pixels = pixels, .adaptive = adaptive, .ordered = ordered};
     *plan = (st_mem_plan){0};
     for (int b = 0; b < ST_WAVE_BUFFER_COUNT; b++) {
         unsigned long long bytes = st_wave_bytes(&w, b);
@@ -50,10 +50,10 @@ unsigned long long st_mem_plan_host_left(void)
 #define MIB(x) ((double)(x) / (1 << 20))
 
 st_status st_mem_plan_check(const st_device *dev, size_t items, size_t pixels, int adaptive,
-                            st_error *err)
+                            int ordered, st_error *err)
 {
     st_mem_plan plan;
-    st_mem_plan_make(items, pixels, adaptive, &plan);
+    st_mem_plan_make(items, pixels, adaptive, ordered, &plan);
     const char *reduce = plan.largest_per_pixel ? "--width and --height"
                                                 : "--wave";
     unsigned long long max_alloc = st_device_max_alloc(dev);

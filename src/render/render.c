@@ -681,7 +681,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     st_film_stats counts;
     if (st_device_build(dev, NULL, err) ||
         st_device_kernel(dev, st_stage_names[ST_STAGE_RESOLVE], &k, err) ||
-        st_wave_create(dev, 1, pixels, 0, &w, err))
+        st_wave_create(dev, 1, pixels, 0, 0, &w, err))
         return err->status;
     st_status rc = ST_OK;
     if (st_device_buffer_write(dev, w.b[ST_WAVE_film], st_wave_bytes(&w, ST_WAVE_film), sums,
@@ -712,7 +712,7 @@ size_t st_render_default_wave(const st_device *dev, size_t pixels, int adaptive)
     size_t wave = (size_t)1 << 20;
     for (; wave > ((size_t)1 << 18); wave /= 2) {
         st_error scratch = {0};
-        if (st_mem_plan_check(dev, wave, pixels, adaptive, &scratch) == ST_OK)
+        if (st_mem_plan_check(dev, wave, pixels, adaptive, 0, &scratch) == ST_OK)
             break;
     }
     return wave;
@@ -811,8 +811,10 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_shading sh = make_shading(r, o);
     r->plan = st_plan_make(r, o, &sh, &p);
     r->ran_count = 0;
-    st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, err) != ST_OK
-                       ? err->status : st_wave_create(r->dev, wave, pixels, o->adaptive, &w, err);
+    int ordered = r->plan.order == ST_ORDER_ON;
+    st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, ordered, err) != ST_OK
+                       ? err->status
+                       : st_wave_create(r->dev, wave, pixels, o->adaptive, ordered, &w, err);
     if (rc != ST_OK)
         return rc;
     rc = bind_stages(r, &p, &sh, &w, err);

@@ -119,7 +119,7 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
     if (!rays || !hits)
         rc = st_fail(err, ST_ERR_NOMEM, "out of memory for %zu bench rays", wave);
     /* every path alive (depth 0): trace_rays skips dead ones */
-    if (!rc && (st_wave_create(r->dev, wave, 1, 0, &w, err) ||
+    if (!rc && (st_wave_create(r->dev, wave, 1, 0, st_plan_orders(r) == ST_ORDER_ON, &w, err) ||
                 st_device_buffer_zero(r->dev, w.b[ST_WAVE_path], st_wave_bytes(&w, ST_WAVE_path), err) ||
                 st_wave_bind_stage(r->k[ST_STAGE_TRACE], &p, &sh, r->scene_buf, &w, err) ||
                 st_wave_bind_stage(r->trace_packet, &p, &sh, r->scene_buf, &w, err)))
@@ -182,7 +182,7 @@ st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packe
 {
     st_wave w;
     memset(&w, 0, sizeof w);
-    st_status rc = st_wave_create(r->dev, n, 1, 0, &w, err);
+    st_status rc = st_wave_create(r->dev, n, 1, 0, 0, &w, err);
     if (!rc)
         rc = st_device_buffer_write(r->dev, w.b[ST_WAVE_ray], n * sizeof *rays, rays, err);
     if (!rc)
@@ -209,7 +209,7 @@ st_status st_trace_shadow(st_renderer *r, const st_render_options *o, int packet
         s[i].contribution[0] = s[i].contribution[1] = s[i].contribution[2] = 1.0f;
     }
     if (!rc)
-        rc = st_wave_create(r->dev, n, 1, 0, &w, err);
+        rc = st_wave_create(r->dev, n, 1, 0, 0, &w, err);
     if (!rc)
         rc = st_device_buffer_write(r->dev, w.b[ST_WAVE_shadow], n * sizeof *s, s, err);
     if (!rc)

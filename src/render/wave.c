@@ -17,7 +17,10 @@ size_t st_wave_count(const st_wave *w, int b)
     case ST_PER_ADAPTIVE: return w->adaptive ? w->pixels : 1;
     case ST_PER_BIN: return w->pixels + 1;
     case ST_PER_ORDER:
-        return ST_ORDER_COUNTS + ST_ORDER_DIGITS * ((w->items + ST_ORDER_BLOCK - 1) / ST_ORDER_BLOCK);
+        return w->ordered ? ST_ORDER_COUNTS +
+                                ST_ORDER_DIGITS * ((w->items + ST_ORDER_BLOCK - 1) / ST_ORDER_BLOCK)
+                          : 1;
+    case ST_PER_ORDER_ITEM: return w->ordered ? w->items : 1;
     default: return 1;
     }
 }
@@ -27,13 +30,14 @@ size_t st_wave_bytes(const st_wave *w, int b)
     return elem_bytes[b] * st_wave_count(w, b);
 }
 
-st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adaptive, st_wave *w,
-                         st_error *err)
+st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adaptive, int ordered,
+                         st_wave *w, st_error *err)
 {
     memset(w, 0, sizeof *w);
     w->items = items;
     w->pixels = pixels;
     w->adaptive = adaptive;
+    w->ordered = ordered;
     /* sums and counters that kernels only add to */
     static const int zeroed[] = {ST_WAVE_film, ST_WAVE_pilot_film, ST_WAVE_moments, ST_WAVE_tally, ST_WAVE_stats,
                                  ST_WAVE_bin_count, ST_WAVE_order_count};

@@ -18,16 +18,18 @@ typedef struct st_wave {
     cl_mem b[ST_WAVE_BUFFER_COUNT];
     size_t items, pixels; /* work-items per wave; image pixels */
     int adaptive;         /* the ST_PER_ADAPTIVE buffers hold one per pixel */
+    int ordered;          /* the ray order's buffers (order.cl) hold a wave's sort */
 } st_wave;
 
 /* Elements of buffer b (ST_WAVE_*) and their bytes. */
 size_t st_wave_count(const st_wave *w, int b);
 size_t st_wave_bytes(const st_wave *w, int b);
 
-/* Allocates every buffer; the film, the pilot's film and moments, the tallies and the
- * counters start at zero. On error what was made is released. */
-st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adaptive, st_wave *w,
-                         st_error *err);
+/* Allocates every buffer (the ray order's at full size where `ordered`);
+ * the film, the pilot's film and moments, the tallies and the counters start
+ * at zero. On error what was made is released. */
+st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adaptive, int ordered,
+                         st_wave *w, st_error *err);
 void st_wave_destroy(st_wave *w);
 
 /* Binds a stage kernel: p, sh, the scene buffers (in ST_SCENE_BUFFERS

@@ -42,7 +42,8 @@ static void device_layout_matches_host(void **state)
 }
 
 /* Buffer sizes follow the extents: per item, per pixel, per pixel only in
- * adaptive renders, one. */
+ * adaptive renders, per item or per block of the sort only in waves that
+ * sort their rays, one. */
 static void wave_sizes_follow_the_list(void **state)
 {
     (void)state;
@@ -61,6 +62,15 @@ static void wave_sizes_follow_the_list(void **state)
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_pilot_film), 12 * sizeof(st_film_pixel));
     assert_int_equal(st_wave_bytes(&w, ST_WAVE_pixel_spp), 12 * sizeof(st_u32));
     assert_int_equal(sizeof(st_film_pixel), ST_FILM_SUMS * sizeof(st_i64));
+    /* the ray order's buffers: one element unless the wave sorts its rays */
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_order_ray), sizeof(st_ray));
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_order_count), sizeof(st_u32));
+    w.ordered = 1;
+    w.items = 5000; /* two blocks of the sort */
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_order_ray), 5000 * sizeof(st_ray));
+    assert_int_equal(st_wave_bytes(&w, ST_WAVE_order_pair), 5000 * sizeof(st_order_pair));
+    assert_int_equal(st_wave_count(&w, ST_WAVE_order_count),
+                     ST_ORDER_COUNTS + 2 * ST_ORDER_DIGITS);
 }
 
 int main(void)

@@ -70,7 +70,7 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
     p.live_count = list ? n : 0u;
     st_shading sh;
     memset(&sh, 0, sizeof sh);
-    assert_int_equal(st_wave_create(dev, ITEMS, 1, 0, &w, &err), ST_OK);
+    assert_int_equal(st_wave_create(dev, ITEMS, 1, 0, 1, &w, &err), ST_OK);
     assert_int_equal(st_device_buffer_write(dev, w.b[ST_WAVE_ray], ITEMS * sizeof *rays, rays,
                                             &err), ST_OK);
     assert_int_equal(st_device_buffer_write(dev, w.b[ST_WAVE_path], ITEMS * sizeof *path, path,

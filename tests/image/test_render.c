@@ -144,7 +144,7 @@ static void device_closest_check(int one_sided)
     assert_int_equal(st_device_buffer_create(dev, sizeof(st_bvh_wide_node) * (bvh->wide_count + bvh->leaf_slots), bvh->wide, &scene[ST_SCENE_nodes], &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, sizeof(st_triangle) * TRIS, bvh->tris, &scene[ST_SCENE_tris], &err), ST_OK);
     st_wave w;
-    assert_int_equal(st_wave_create(dev, RAYS, 1, 0, &w, &err), ST_OK);
+    assert_int_equal(st_wave_create(dev, RAYS, 1, 0, 0, &w, &err), ST_OK);
     assert_int_equal(st_device_buffer_write(dev, w.b[ST_WAVE_ray], sizeof *rays * RAYS, rays, &err), ST_OK);
     assert_int_equal(st_device_buffer_zero(dev, w.b[ST_WAVE_path], st_wave_bytes(&w, ST_WAVE_path), &err), ST_OK);
     st_params p;
@@ -235,7 +235,7 @@ static void generate_matches_definitions(void **state)
     for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
         assert_int_equal(st_device_buffer_create(dev, 16, NULL, &scene[i], &err), ST_OK);
     st_wave w;
-    assert_int_equal(st_wave_create(dev, N, 1, 0, &w, &err), ST_OK);
+    assert_int_equal(st_wave_create(dev, N, 1, 0, 0, &w, &err), ST_OK);
     cl_kernel k;
     assert_int_equal(st_device_kernel(dev, "generate_rays", &k, &err), ST_OK);
     size_t lanes = st_device_get_info(dev)->lanes;
