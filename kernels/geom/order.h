@@ -13,10 +13,11 @@
  * a grid of 32 x 32 over the bounds of the wave's directions in the
  * octahedral map of the sphere (Meyer et al., "On floating-point normal
  * vectors", EGSR 2010), each grid's coordinates interleaved bit by bit (a
- * Morton order). Within the bounds each cell is as fine as the key allows:
- * the camera rays of a wave share one origin, so they spend every bit on
- * their directions. Only the order of the trace follows from it, never a
- * result. */
+ * Morton order). Within the bounds each cell is as fine as the key allows,
+ * and the camera rays of a pinhole, which share one origin, spend every bit
+ * on a grid of 256 x 256 directions: traced in that order, neighbours in
+ * the image follow each other. Only the order of the trace follows from
+ * it, never a result. */
 #ifndef ST_ORDER_H
 #define ST_ORDER_H
 
@@ -65,34 +66,44 @@ ST_FN st_f32 st_order_float(st_u32 m)
 }
 
 /* Where the wave's bounds put the cells: per coordinate (the origin's
- * three, the octahedral two) the low end and cells per unit. */
+ * three, the octahedral two) the low end, cells per unit and the cells'
+ * bits. */
 typedef struct st_order_frame {
     st_f32 lo[5], scale[5];
+    st_u32 bits[5];
 } st_order_frame;
 
 /* The frame of the bounds b (ST_ORDER_BOUNDS gathered integers): each
- * coordinate's range split into 2^bits cells; none (scale 0: every ray in
- * cell 0) where the range is one point or nothing was gathered. */
+ * coordinate's range split into 2^bits cells, ST_ORDER_ORIGIN_BITS and
+ * ST_ORDER_DIR_BITS, but where the origins are one point (a pinhole
+ * camera's rays) every bit of the key goes to the directions; none (scale
+ * 0: every ray in cell 0) where the range is one point or nothing was
+ * gathered. */
 ST_FN st_order_frame st_order_frame_of(const ST_GLOBAL st_u32 *b)
 {
     st_order_frame f;
+    int spread = 0;
     for (st_u32 c = 0u; c < 5u; ++c) {
         st_u32 at = c < 3u ? c : 3u + c; /* the largest; its negation's follows */
         st_u32 neg = c < 3u ? at + 3u : at + 2u;
         st_f32 lo = -st_order_float(b[neg]), hi = st_order_float(b[at]);
-        st_f32 cells = (st_f32)(1u << (c < 3u ? ST_ORDER_ORIGIN_BITS : ST_ORDER_DIR_BITS));
+        spread |= c < 3u && hi > lo;
+        f.bits[c] = c < 3u ? ST_ORDER_ORIGIN_BITS
+                           : spread ? ST_ORDER_DIR_BITS : ST_ORDER_KEY_BITS / 2u;
         f.lo[c] = hi > lo ? lo : 0.0f;
-        f.scale[c] = hi > lo ? cells / (hi - lo) : 0.0f;
+        f.scale[c] = hi > lo ? (st_f32)(1u << f.bits[c]) / (hi - lo) : 0.0f;
     }
+    for (st_u32 c = 0u; c < 3u && !spread; ++c)
+        f.bits[c] = 0u;
     return f;
 }
 
-/* The lanes' cells of v in frame coordinate c: 2^bits of them, the edge
+/* The lanes' cells of v in frame coordinate c: 2^bits[c] of them, the edge
  * ones taking what lies beyond (NaN the first). */
-ST_FN st_li st_order_cell(const st_order_frame *f, st_u32 c, st_lf v, st_u32 bits)
+ST_FN st_li st_order_cell(const st_order_frame *f, st_u32 c, st_lf v)
 {
     st_lf x = (v - ST_LF(f->lo[c])) * ST_LF(f->scale[c]);
-    st_lf last = ST_LF((st_f32)((1u << bits) - 1u));
+    st_lf last = ST_LF((st_f32)((1u << f->bits[c]) - 1u));
     return ST_CONVERT(int, ST_W, ST_FMINF(ST_FMAXF(x, ST_LF(0.0f)), last));
 }
 
@@ -121,14 +132,11 @@ ST_FN st_li st_order_key(const st_order_frame *f, st_lv3 o, st_lv3 d)
 {
     st_lf x, y;
     st_order_octahedral(d, &x, &y);
-    st_li origin = st_order_interleave3(st_order_cell(f, 0u, o.x, ST_ORDER_ORIGIN_BITS),
-                                        st_order_cell(f, 1u, o.y, ST_ORDER_ORIGIN_BITS),
-                                        st_order_cell(f, 2u, o.z, ST_ORDER_ORIGIN_BITS),
-                                        ST_ORDER_ORIGIN_BITS);
-    st_li dir = st_order_interleave2(st_order_cell(f, 3u, x, ST_ORDER_DIR_BITS),
-                                     st_order_cell(f, 4u, y, ST_ORDER_DIR_BITS),
-                                     ST_ORDER_DIR_BITS);
-    return origin << (2u * ST_ORDER_DIR_BITS) | dir;
+    st_li origin = st_order_interleave3(st_order_cell(f, 0u, o.x), st_order_cell(f, 1u, o.y),
+                                        st_order_cell(f, 2u, o.z), f->bits[0]);
+    st_li dir = st_order_interleave2(st_order_cell(f, 3u, x), st_order_cell(f, 4u, y),
+                                     f->bits[3]);
+    return origin << (2u * f->bits[3]) | dir;
 }
 
 #endif

@@ -594,7 +594,7 @@ typedef struct st_tile_point {
  * per digit and block. */
 #define ST_ORDER_ORIGIN_BITS 2u
 #define ST_ORDER_DIR_BITS 5u
-#define ST_ORDER_KEY_BITS (3u * ST_ORDER_ORIGIN_BITS + 2u * ST_ORDER_DIR_BITS)
+#define ST_ORDER_KEY_BITS 16u
 #define ST_ORDER_DIGIT_BITS 8u
 #define ST_ORDER_DIGITS (1u << ST_ORDER_DIGIT_BITS)
 #define ST_ORDER_BLOCK 4096u

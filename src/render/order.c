@@ -2,7 +2,8 @@
  * order.cl's launches, which the plan asks for (plan.c). */
 #include "render_int.h"
 
-ST_STATIC_ASSERT(ST_ORDER_KEY_BITS == 2u * ST_ORDER_DIGIT_BITS,
+ST_STATIC_ASSERT(ST_ORDER_KEY_BITS == 2u * ST_ORDER_DIGIT_BITS &&
+                     3u * ST_ORDER_ORIGIN_BITS + 2u * ST_ORDER_DIR_BITS <= ST_ORDER_KEY_BITS,
                  "order.cl sorts keys of two digits");
 
 st_status st_render_order(st_renderer *r, const st_params *p, size_t n, size_t local,

@@ -174,12 +174,19 @@ static void keys_follow_their_definitions(void **state)
     b[3] = st_order_monotone(4.0f);
     st_order_frame fr = st_order_frame_of(b);
     assert_true(fr.scale[1] == 0.0f && fr.scale[4] == 0.0f); /* nothing gathered */
-    assert_int_equal(st_order_cell(&fr, 0, -9.0f, 2), 0);
-    assert_int_equal(st_order_cell(&fr, 0, -2.01f, 2), 0);
-    assert_int_equal(st_order_cell(&fr, 0, -2.0f, 2), 1);
-    assert_int_equal(st_order_cell(&fr, 0, 3.99f, 2), 3);
-    assert_int_equal(st_order_cell(&fr, 0, 9.0f, 2), 3);
-    assert_int_equal(st_order_cell(&fr, 0, NAN, 2), 0);
+    assert_true(fr.bits[0] == ST_ORDER_ORIGIN_BITS && fr.bits[3] == ST_ORDER_DIR_BITS);
+    assert_int_equal(st_order_cell(&fr, 0, -9.0f), 0);
+    assert_int_equal(st_order_cell(&fr, 0, -2.01f), 0);
+    assert_int_equal(st_order_cell(&fr, 0, -2.0f), 1);
+    assert_int_equal(st_order_cell(&fr, 0, 3.99f), 3);
+    assert_int_equal(st_order_cell(&fr, 0, 9.0f), 3);
+    assert_int_equal(st_order_cell(&fr, 0, NAN), 0);
+    b[0] = b[3] = st_order_monotone(0.0f); /* origins one point: every bit to directions */
+    b[6] = b[8] = st_order_monotone(1.0f);
+    fr = st_order_frame_of(b);
+    assert_true(fr.bits[0] == 0 && fr.bits[2] == 0 && fr.bits[3] == ST_ORDER_KEY_BITS / 2);
+    st_lv3 o = {0.0f, 0.0f, 0.0f}, d = {1.0f, 0.0f, 0.0f}; /* x = 1: the last cell */
+    assert_int_equal(st_order_key(&fr, o, d), 0xaaaa);     /* x's bits above y's, 8 each */
     assert_int_equal(st_order_interleave2(3, 0, 2), 10);  /* 0b1010 */
     assert_int_equal(st_order_interleave3(0, 1, 0, 2), 2); /* a's bit above b's above c's */
 }
