@@ -45,9 +45,11 @@ void st_bvh_parallel(unsigned threads, st_bvh_job *job, void *ctx)
 
 unsigned st_bvh_threads(unsigned threads, st_u64 work)
 {
+    if (threads == 0u && work < PARALLEL_MIN_TRIS)
+        threads = 1u; /* without asking: sysconf reads sysfs, a few syscalls */
     if (threads == 0u) {
         long cpus = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = work < PARALLEL_MIN_TRIS || cpus < 1 ? 1u : (unsigned)cpus;
+        threads = cpus < 1 ? 1u : (unsigned)cpus;
     }
     return threads > ST_BVH_MAX_THREADS ? ST_BVH_MAX_THREADS : threads;
 }
