@@ -33,10 +33,19 @@ typedef struct st_trace_bench_result {
 st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st_u64 count,
                          st_trace_bench_result *out, st_error *err);
 
+/* The timed builds a build's figure is the median of: one build of a
+ * small scene takes microseconds, and one timing of it moved by half
+ * between runs. */
+#define ST_TRACE_BENCH_BUILDS 5
+
+/* The median of the n seconds in t (sorted in place). */
+double st_trace_bench_median(double *t, int n);
+
 /* Seconds of the BVH build of r's scene as the renderer makes it (the same
  * threads, the triangles' sides set), timed as tools/bench_embree.c times
- * Embree's: after an untimed build of one triangle, so that neither builder
- * is timed with its code cold. The tree is dropped. */
+ * Embree's: the median of ST_TRACE_BENCH_BUILDS builds after an untimed
+ * build of one triangle, so that neither builder is timed with its code
+ * cold. The trees are dropped. */
 st_status st_trace_bench_build(st_renderer *r, double *seconds, st_error *err);
 
 /* Rays traced alone, in one launch of one kernel, for the tests that

@@ -103,6 +103,18 @@ static void rays_are_a_function_of_the_index(void **state)
     st_scene_destroy(s);
 }
 
+/* The build's figure is the middle timing, or the mean of the middle two,
+ * whatever their order. */
+static void build_time_is_the_median(void **state)
+{
+    (void)state;
+    double odd[5] = {9.0, 1.0, 7.0, 3.0, 5.0}, even[4] = {4.0, 8.0, 1.0, 2.0};
+    assert_true(st_trace_bench_median(odd, 5) == 5.0);
+    assert_true(st_trace_bench_median(even, 4) == 3.0);
+    double one = 2.5;
+    assert_true(st_trace_bench_median(&one, 1) == 2.5);
+}
+
 /* Host count of closest hits over the same rays (trace.h on the host). */
 static st_u64 host_hits(const st_scene *s, const st_ray *w, size_t n)
 {
@@ -193,6 +205,7 @@ int main(void)
         cmocka_unit_test(random_rays_are_uniform),
         cmocka_unit_test(camera_rays_start_at_the_camera),
         cmocka_unit_test(rays_are_a_function_of_the_index),
+        cmocka_unit_test(build_time_is_the_median),
         cmocka_unit_test(device_hits_match_the_host),
         cmocka_unit_test(sorted_rays_hit_the_same),
     };
