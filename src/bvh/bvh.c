@@ -590,26 +590,30 @@ static inline void tri_bounds(const float *p, float lo[3], float hi[3])
 
 /* Triangles [lo, hi): their references into refs (in input order) and
  * their bounds and centroid bounds; returns the first triangle with a
- * non-finite coordinate, or hi. */
+ * non-finite coordinate, or hi. The bounds grow in locals: the threads'
+ * *bounds lie side by side in one cache line (scan_job), and stores to
+ * them on every triangle passed the line between the cores. */
 static st_u32 scan_positions(const float *positions, st_u32 lo_i, st_u32 hi_i, ref *refs, box *bounds, box *cb)
 {
-    *bounds = box_empty();
-    *cb = box_empty();
-    for (st_u32 i = lo_i; i < hi_i; ++i) {
+    box b = box_empty(), c = box_empty();
+    st_u32 i = lo_i;
+    for (; i < hi_i; ++i) {
         const float *p = positions + (size_t)9 * i;
         float finite = 0.0f; /* x * 0 is 0 for finite x, NaN otherwise */
         for (int k = 0; k < 9; ++k)
             finite += p[k] * 0.0f;
         if (finite != 0.0f)
-            return i;
+            break;
         float lo[4] = {0}, hi[4] = {0};
         tri_bounds(p, lo, hi);
         ref_set(&refs[i], lo, hi, i);
         box r = {v4_load(lo), v4_load(hi)};
-        box_grow(bounds, &r);
-        box_grow_point(cb, v4_add(r.lo, r.hi));
+        box_grow(&b, &r);
+        box_grow_point(&c, v4_add(r.lo, r.hi));
     }
-    return hi_i;
+    *bounds = b;
+    *cb = c;
+    return i;
 }
 
 /* scan_positions over the threads' shares, combined in share order: the
