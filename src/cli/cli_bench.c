@@ -87,7 +87,10 @@ typedef struct bench_result {
     st_cli_check check;
 } bench_result;
 
-static double stage_count(const st_render_stats *s, int k, const char **unit)
+/* What stage k processed in a render of `pixels` pixels, and its unit
+ * (per second); NULL where the stage has no count of its own (the live
+ * list's compaction: a throughput there would be made up). */
+static double stage_count(const st_render_stats *s, int k, double pixels, const char **unit)
 {
     switch (k) {
     case ST_STAGE_GENERATE: *unit = "samples/s"; return (double)s->samples;
@@ -98,7 +101,8 @@ static double stage_count(const st_render_stats *s, int k, const char **unit)
     case ST_STAGE_SPLAT:
     case ST_STAGE_SPLAT_TILES:
     case ST_STAGE_SPLAT_PIXELS: *unit = "splats/s"; return (double)s->splats;
-    default: *unit = "pixels/s"; return 0.0;
+    case ST_STAGE_RESOLVE: *unit = "pixels/s"; return pixels;
+    default: *unit = NULL; return 0.0;
     }
 }
 
@@ -125,12 +129,13 @@ static void print_text(const st_cli_render_args *a, const bench_result *b)
         sum += b->staged.stage_seconds[k];
     for (int k = 0; k < ST_STAGE_COUNT; k++) {
         const char *unit;
-        double n = k == ST_STAGE_RESOLVE ? pixels : stage_count(&b->staged, k, &unit);
-        if (k == ST_STAGE_RESOLVE)
-            unit = "pixels/s";
-        double t = b->staged.stage_seconds[k];
-        printf("%-22s %10.4f %9.2f M %-9s %5.1f%%\n", st_stage_names[k], t,
-               t > 0 ? n / t * 1e-6 : 0.0, unit, sum > 0 ? 100.0 * t / sum : 0.0);
+        double n = stage_count(&b->staged, k, pixels, &unit), t = b->staged.stage_seconds[k];
+        printf("%-22s %10.4f ", st_stage_names[k], t);
+        if (unit && t > 0) /* a rate where the stage ran and has a count */
+            printf("%9.2f M %-9s", n / t * 1e-6, unit);
+        else
+            printf("%9s   %-9s", "-", "");
+        printf(" %5.1f%%\n", sum > 0 ? 100.0 * t / sum : 0.0);
     }
     st_cli_print_summary("bench", o, &b->total, -1.0);
 }
@@ -180,7 +185,8 @@ static int json_head(cJSON *root, const st_cli_render_args *a, const bench_resul
            put_num(root, "kernel_build_cached_seconds", shown("%.4f", b->cached));
 }
 
-/* "stages": {name: {seconds, per_second, unit}} in stage order, then "total". */
+/* "stages": {name: {seconds, per_second, unit}} in stage order (seconds
+ * alone where stage_count has no count), then "total". */
 static int json_stages(cJSON *root, const st_cli_render_args *a, const bench_result *b)
 {
     double pixels = (double)a->opt.width * a->opt.height;
@@ -188,14 +194,12 @@ static int json_stages(cJSON *root, const st_cli_render_args *a, const bench_res
     int ok = stages != NULL;
     for (int k = 0; k < ST_STAGE_COUNT && ok; k++) {
         const char *unit;
-        double n = k == ST_STAGE_RESOLVE ? pixels : stage_count(&b->staged, k, &unit);
-        if (k == ST_STAGE_RESOLVE)
-            unit = "pixels/s";
-        double t = b->staged.stage_seconds[k];
+        double n = stage_count(&b->staged, k, pixels, &unit), t = b->staged.stage_seconds[k];
         cJSON *st = cJSON_AddObjectToObject(stages, st_stage_names[k]);
-        ok = st && put_num(st, "seconds", shown("%.6f", t)) &&
-             put_num(st, "per_second", shown("%.1f", t > 0 ? n / t : 0.0)) &&
-             put_str(st, "unit", unit);
+        ok = st && put_num(st, "seconds", shown("%.6f", t));
+        if (ok && unit) /* a stage without a count of its own has its seconds alone */
+            ok = put_num(st, "per_second", shown("%.1f", t > 0 ? n / t : 0.0)) &&
+                 put_str(st, "unit", unit);
     }
     const st_render_stats *t = &b->total;
     cJSON *total = ok ? cJSON_AddObjectToObject(root, "total") : NULL;

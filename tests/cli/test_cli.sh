@@ -113,6 +113,8 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["check"]["passed"] is True and d["width"] == 8 and d["spp"] == 1
 assert d["stages"]["trace_rays"]["unit"] == "rays/s" and d["total"]["rays"] > 0
+# the live list's compaction has no count of its own: its seconds, no made-up rate
+assert set(d["stages"]["live_scatter"]) == {"seconds"}
 EOF
 }
 json_scene_is() {
@@ -123,6 +125,10 @@ EOF
 }
 check "bench --json parses, with its keys" 'json_keys_ok "$T/bench.json" 2> /dev/null'
 check "bench --json escapes a quote and a backslash" 'json_scene_is "$T/bench.json" "$Q/s.gltf" 2> /dev/null'
+$S bench "$Q/s.gltf" --width 8 --height 8 --spp 1 > "$T/bench.txt" 2> /dev/null
+check "bench prints a rate for a stage that ran, a dash for one without a count" \
+    'grep -q "^trace_rays .* M rays/s" "$T/bench.txt" && grep -q "^live_scatter .* - " "$T/bench.txt" &&
+     ! grep -q "0\.00 M" "$T/bench.txt"'
 # ---- bench --rays (the trace benchmark) --------------------------------------------------------
 $S bench --rays random --count 5000 --json > "$T/trace.json" 2> /dev/null
 trace_keys_ok() {
