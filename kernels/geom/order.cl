@@ -126,8 +126,12 @@ __kernel void order_bounds(ST_STAGE_PARAMS)
             atomic_max(&order_count[k], m[k]);
 }
 
+/* The low and the high digit of a key (its dead mark left out). */
+static st_u32 order_low(st_u32 key) { return key % ST_ORDER_DIGITS; }
+static st_u32 order_high(st_u32 key) { return key / ST_ORDER_DIGITS % ST_ORDER_DIGITS; }
+
 /* Work-item g: the keys of positions ST_W g .. ST_W g + ST_W - 1 (those
- * below the count) into order_key, in lanes. */
+ * below the count) into order_key, in lanes, a dead path's marked. */
 __kernel void order_keys(ST_STAGE_PARAMS)
 {
     st_u32 n = st_live_count(&p), first = ST_W * ST_ITEM();
@@ -140,7 +144,7 @@ __kernel void order_keys(ST_STAGE_PARAMS)
     st_i32 key[ST_W];
     ST_VSTORE(ST_W, st_order_key(&f, o, d), key);
     for (st_u32 k = 0u; k < min((st_u32)ST_W, n - first); k++)
-        order_key[first + k] = (st_u32)key[k];
+        order_key[first + k] = (st_u32)key[k] | ((alive >> k & 1u) ? 0u : ST_ORDER_DEAD_KEY);
 }
 
 /* Work-item b: the counts of the low digits of block b's keys. */
@@ -151,7 +155,7 @@ __kernel void order_count_low(ST_STAGE_PARAMS)
         return;
     st_u32 count[ST_ORDER_DIGITS] = {0u};
     for (st_u32 g = first; g < end; g++)
-        count[order_key[g] % ST_ORDER_DIGITS]++;
+        count[order_low(order_key[g])]++;
     order_put_counts(order_count, ST_ITEM(), n, count);
 }
 
@@ -184,7 +188,7 @@ __kernel void order_scatter_low(ST_STAGE_PARAMS)
     order_get_starts(order_count, ST_ITEM(), n, start);
     for (st_u32 g = first; g < end; g++) {
         st_order_pair e = {order_key[g], st_live_item(list, g)};
-        order_pair[start[e.key % ST_ORDER_DIGITS]++] = e;
+        order_pair[start[order_low(e.key)]++] = e;
     }
 }
 
@@ -196,13 +200,14 @@ __kernel void order_count_high(ST_STAGE_PARAMS)
         return;
     st_u32 count[ST_ORDER_DIGITS] = {0u};
     for (st_u32 j = first; j < end; j++)
-        count[order_pair[j].key / ST_ORDER_DIGITS]++;
+        count[order_high(order_pair[j].key)]++;
     order_put_counts(order_count, ST_ITEM(), n, count);
 }
 
 /* Work-item b: block b of order_pair, in order, to its high digit's range
- * of order (the items sorted by key) and of order_ray (their rays: this
- * loop's reads of them overlap, the trace's would wait on each). */
+ * of order (the items sorted by key, a dead path's marked ST_ORDER_DEAD)
+ * and of order_ray (their rays, but a dead path's: this loop's reads of
+ * them overlap, the trace's would wait on each). */
 __kernel void order_scatter_high(ST_STAGE_PARAMS)
 {
     st_u32 n = st_live_count(&p), first, end;
@@ -212,7 +217,11 @@ __kernel void order_scatter_high(ST_STAGE_PARAMS)
     order_get_starts(order_count, ST_ITEM(), n, start);
     for (st_u32 j = first; j < end; j++) {
         st_order_pair e = order_pair[j];
-        st_u32 at = start[e.key / ST_ORDER_DIGITS]++;
+        st_u32 at = start[order_high(e.key)]++;
+        if (e.key & ST_ORDER_DEAD_KEY) {
+            order[at] = e.item | ST_ORDER_DEAD;
+            continue;
+        }
         order[at] = e.item;
         order_ray[at] = ray[e.item];
     }

@@ -13,29 +13,36 @@
 #include "packet.h"
 
 /* How far ahead of its own item a work-item of a sorted trace asks for the
- * records of a later one: sorted, the items lie anywhere in the wave, and
- * their path and hit would each be a miss to wait for (their rays are in
- * order_ray, in the trace's order). */
+ * hit record of a later one: sorted, the items lie anywhere in the wave, and
+ * each hit would be a miss to wait for (their rays are in order_ray, in
+ * the trace's order, and a dead path is marked in `order`, so that the
+ * trace does not read the paths). */
 #define ST_ORDER_AHEAD 16u
 
 /* Work-item g: the live path at position g of the vertex's list (st_live_item),
  * or of the rays sorted by order.cl (p.ordered: its ray from order_ray).
- * Reads ray and path (depth ST_PATH_DEAD: skip); writes hit (prim ST_NO_HIT
- * on a miss). */
+ * Reads ray and path (depth ST_PATH_DEAD, or sorted ST_ORDER_DEAD: skip);
+ * writes hit (prim ST_NO_HIT on a miss). */
 __kernel void trace_rays(ST_STAGE_PARAMS)
 {
     st_u32 g = ST_ITEM(), n = st_live_count(&p);
     if (g >= n)
         return;
-    st_u32 i = p.ordered ? order[g] : st_live_item(st_live_list(&p, live_a, live_b), g);
-    if (p.ordered && g + ST_ORDER_AHEAD < n) {
-        st_u32 later = order[g + ST_ORDER_AHEAD];
-        ST_PREFETCH(&path[later].depth);
-        ST_PREFETCH(&hit[later]);
+    st_u32 i;
+    st_ray r;
+    if (p.ordered) {
+        if (g + ST_ORDER_AHEAD < n)
+            ST_PREFETCH(&hit[order[g + ST_ORDER_AHEAD] & ~ST_ORDER_DEAD]);
+        i = order[g];
+        if (i & ST_ORDER_DEAD)
+            return;
+        r = order_ray[g];
+    } else {
+        i = st_live_item(st_live_list(&p, live_a, live_b), g);
+        if (path[i].depth == ST_PATH_DEAD)
+            return;
+        r = ray[i];
     }
-    if (path[i].depth == ST_PATH_DEAD)
-        return;
-    st_ray r = p.ordered ? order_ray[g] : ray[i];
     st_hit h;
     if (!st_intersect_wide_closest(nodes, &r, &h))
         h.prim = ST_NO_HIT;

@@ -600,6 +600,12 @@ typedef struct st_tile_point {
 #define ST_ORDER_BLOCK 4096u
 #define ST_ORDER_SAMPLE 256u /* the rays of a block that order_bounds looks at */
 #define ST_ORDER_BOUNDS 10u
+/* A dead path's marks: on its key (order_key, order_pair: above the key's
+ * bits, which the digits do not read) and on its entry of `order` (above
+ * any item), so that the sorted trace skips it without reading its path,
+ * and order_ray keeps no ray for it. */
+#define ST_ORDER_DEAD_KEY (1u << ST_ORDER_KEY_BITS)
+#define ST_ORDER_DEAD 0x80000000u
 #define ST_ORDER_COUNTS 16u
 #define ST_PER_ORDER 5 /* order_count's: ST_ORDER_COUNTS + a digit's count per block */
 #define ST_PER_ORDER_ITEM 6 /* one per work-item */

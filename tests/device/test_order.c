@@ -1,11 +1,13 @@
 /* test_order.c — the ray order before a trace (order.cl): on the device, the
  * keys of a wave's positions are order.h's keys, at width 1 on the host, in
  * the frame of the bounds of the first ST_ORDER_SAMPLE rays of each block
- * (paths alive, rays finite), `order` lists the positions' items in the
- * stable sort of those keys and `order_ray` their rays; over every item of a wave and over a list of
- * live paths, several blocks and a ragged last one. A lane that keys
- * another ray, a sample or a bound the host does not take, or a scatter
- * that loses, repeats or reorders an item fails it. */
+ * (paths alive, rays finite), a dead path's key marked, `order` lists the
+ * positions' items in the stable sort of those keys (a dead path's
+ * marked) and `order_ray` the live ones' rays; over every item of a wave
+ * and over a list of live paths, several blocks and a ragged last one. A
+ * lane that keys another ray, a sample or a bound the host does not take,
+ * a mark on the wrong path, or a scatter that loses, repeats or reorders
+ * an item fails it. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -92,11 +94,13 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
     host_bounds(rays, path, list, n, b);
     st_order_frame f = st_order_frame_of(b);
     for (st_u32 g = 0; g < n; g++) {
-        const st_ray *ray = &rays[list ? list[g] : g];
+        st_u32 i = list ? list[g] : g;
+        const st_ray *ray = &rays[i];
         st_lv3 o = {ray->o[0], ray->o[1], ray->o[2]}, d = {ray->d[0], ray->d[1], ray->d[2]};
         st_u32 k = (st_u32)st_order_key(&f, o, d);
-        if (key[g] != k)
-            fail_msg("position %u: device key %u, host %u", g, key[g], k);
+        st_u32 mark = path[i].depth == ST_PATH_DEAD ? ST_ORDER_DEAD_KEY : 0u;
+        if (key[g] != (k | mark))
+            fail_msg("position %u: device key %#x, host %#x", g, key[g], k | mark);
         count[k]++;
     }
     /* the stable sort: each key's positions in their order */
@@ -106,11 +110,19 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
         count[k] = start;
         start += c;
     }
-    for (st_u32 g = 0; g < n; g++)
-        want[count[key[g]]++] = list ? list[g] : g;
+    st_u32 dead_seen = 0;
+    for (st_u32 g = 0; g < n; g++) {
+        st_u32 i = list ? list[g] : g;
+        want[count[key[g] & (ST_ORDER_DEAD_KEY - 1u)]++] =
+            path[i].depth == ST_PATH_DEAD ? i | ST_ORDER_DEAD : i;
+    }
     assert_memory_equal(order, want, n * sizeof *want);
-    for (st_u32 j = 0; j < n; j++) /* and each item's ray beside it */
-        assert_memory_equal(&sorted[j], &rays[order[j]], sizeof *sorted);
+    for (st_u32 j = 0; j < n; j++) /* and each live item's ray beside it */
+        if (order[j] & ST_ORDER_DEAD)
+            dead_seen++;
+        else
+            assert_memory_equal(&sorted[j], &rays[order[j]], sizeof *sorted);
+    assert_true(dead ? dead_seen > 0 : dead_seen == 0);
     /* and the frame is not the empty one: the keys spread */
     assert_true(key[0] != key[n / 2] || key[0] != key[n - 1]);
     st_wave_destroy(&w);
