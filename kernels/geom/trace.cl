@@ -21,8 +21,9 @@
 
 /* Work-item g: the live path at position g of the vertex's list (st_live_item),
  * or of the rays sorted by order.cl (p.ordered: its ray from order_ray).
- * Reads ray and path (depth ST_PATH_DEAD, or sorted ST_ORDER_DEAD: skip);
- * writes hit (prim ST_NO_HIT on a miss). */
+ * Reads ray, and path where there is no list (depth ST_PATH_DEAD: skip; a
+ * list, live.cl's, holds live paths alone, and sorted, ST_ORDER_DEAD marks
+ * the dead); writes hit (prim ST_NO_HIT on a miss). */
 __kernel void trace_rays(ST_STAGE_PARAMS)
 {
     st_u32 g = ST_ITEM(), n = st_live_count(&p);
@@ -38,8 +39,9 @@ __kernel void trace_rays(ST_STAGE_PARAMS)
             return;
         r = order_ray[g];
     } else {
-        i = st_live_item(st_live_list(&p, live_a, live_b), g);
-        if (path[i].depth == ST_PATH_DEAD)
+        __global const st_u32 *list = st_live_list(&p, live_a, live_b);
+        i = st_live_item(list, g);
+        if (!list && path[i].depth == ST_PATH_DEAD)
             return;
         r = ray[i];
     }
