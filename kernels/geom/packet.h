@@ -174,18 +174,22 @@ ST_HOT void st_packet_closest(const ST_GLOBAL st_bvh_wide_node *nodes, const st_
 
 /* The live lanes that some triangle blocks at t in (0, tmax) (any hit, as
  * st_intersect_wide_any): a lane stops taking part once blocked, the packet
- * once all are. */
+ * once all are. Children nearest first (by the packet's nearest entry), as
+ * the closest-hit walk takes them: the shadow rays of camera hits on the
+ * icosphere inside the Cornell box took about a quarter less time than in
+ * the order the node lists them. */
 ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const st_packet *pk,
                                  st_lf tmax)
 {
     st_u32 stack[ST_BVH_WIDE_STACK];
-    st_f32 bound[ST_PACKET];
+    st_f32 entry[ST_BVH_WIDE_STACK], bound[ST_PACKET];
     st_u32 sp = 0u, node = 0u, open = pk->live;
     ST_VSTORE(ST_W, tmax, bound);
     for (;;) {
         const ST_GLOBAL st_bvh_wide_node *n = st_trace_node(nodes, node);
         st_f32 near[ST_BVH_WIDTH];
-        st_u32 mask = st_packet_node(n, pk, bound, open, near), next = 0u;
+        st_u32 mask = st_packet_node(n, pk, bound, open, near), next = 0u, base = sp;
+        st_f32 next_e = 0.0f;
         for (; mask != 0u; mask &= mask - 1u) {
             st_u32 k = st_trace_lowest(mask);
             st_u32 first = n->child[k], count = n->count[k];
@@ -198,7 +202,7 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
             }
             if (count == 0u) {
                 st_trace_prefetch_node(st_trace_node(nodes, first));
-                sp = st_trace_defer(stack, sp, &next, first);
+                st_trace_order(stack, entry, base, &sp, &next, &next_e, first, near[k]);
             }
         }
         if (next != 0u) {

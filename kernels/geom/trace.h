@@ -474,18 +474,6 @@ ST_HOT void st_trace_order(st_u32 *stack, st_f32 *entry, st_u32 base, st_u32 *sp
         st_trace_push_sorted(stack, entry, base, sp, child, e);
 }
 
-/* A node's interior child `child` for the packets' any-hit walk
- * (packet.h), which takes no order: the last met is held in *next (0:
- * none) and visited at once after the node, and the one it displaces is
- * pushed; returns the new stack size. */
-ST_HOT st_u32 st_trace_defer(st_u32 *stack, st_u32 sp, st_u32 *next, st_u32 child)
-{
-    if (*next != 0u)
-        stack[sp++] = *next;
-    *next = child;
-    return sp;
-}
-
 /* Closest hit through the wide tree; same contract as st_intersect_closest
  * (ties: whichever triangle the traversal meets first). At each node the
  * leaves the ray enters are tested at once; the interior children it enters
@@ -540,9 +528,8 @@ ST_HOT int st_intersect_wide_closest(const ST_GLOBAL st_bvh_wide_node *nodes, co
  * when there is none), so that the caller can look at what it met
  * (kernels/integrator/shadow.h: its material's alpha). Any occluder will
  * do, but the children are still visited nearest first (st_trace_order):
- * a shadow ray grazing a dense mesh met an occluder sooner so (the shadow
- * stage of paths in the icosphere inside the Cornell box took about 7 %
- * less time than in the order the node lists them). */
+ * a shadow ray grazing a dense mesh meets an occluder sooner so than in
+ * the order the node lists them (packet.h's st_packet_occluded alike). */
 ST_HOT int st_intersect_wide_any_hit(const ST_GLOBAL st_bvh_wide_node *nodes, const st_ray *ray,
                                      st_hit *hit)
 {
