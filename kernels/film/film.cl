@@ -18,6 +18,8 @@ typedef struct splat_dest {
     __global st_film_pixel *film;
     float scale; /* every weight's factor (1; adaptive.cl's splat_scale) */
     __local long4 *acc;
+    __local int4 *near; /* a window alone: int32 partial sums (splat_near), else 0 */
+    __local int *room;  /* and its rows' room (splat_near) */
     int ox, oy, side;
     int alone; /* the work-group is one work-item: acc is its own, plain adds */
     st_lanczos_turn turn; /* st_lanczos_turn_of(the filter), made once */
@@ -125,6 +127,7 @@ typedef struct tap_weights {
     const float *x, *y;
     int st;
     float bx, by; /* the largest |x[k st]|, |y[j st]| of the taps (max_abs) */
+    int near;     /* its taps go to the int32 window (splat_near), their room made */
 } tap_weights;
 
 /* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
@@ -178,71 +181,125 @@ ST_HOT st_lf max_abs_lanes(const float *w, st_li n, int m)
     return b;
 }
 
-/* Whether no tap of a sample needs clamping: every tap's products
- * (wx[k] wy[j]) scale L1 are at most, in magnitude, the same products of
- * the largest |wx|, |wy| and |L1| (float rounding is monotone), so a bound
- * within ST_SPLAT_MAX (and L1 2^24 finite) lets each tap skip
- * fixed_splat4's test with the same integers. NaN fails the test. */
-ST_HOT int window_fits(tap_weights w, int nx, int ny, float scale, float4 L1)
+/* ---- int32 partial sums in a work-item's own window ----------------------
+ * Most taps' integers round(x), x = w_x w_y scale L 2^24, lie far within
+ * 2^31. In a window of a work-item alone (d->near) they are summed first in
+ * an int32 window, a conversion of four floats to int32 and one add a tap:
+ * widening four floats to doubles, or four ints to longs, takes two cycles
+ * of one pipe on Zen 3, and that limited the tap loop. Row r of the int32
+ * window is added to the 64-bit window (near_widen) before its sum could
+ * overflow: room[r] bounds |sum| by the taps' bounds added since. Integer
+ * sums commute, so the film is the same bit for bit. */
+
+/* The largest tap of the int32 path, 2^26: the room of ST_W <= 16 samples
+ * is then within 2^31 - 1; a brighter sample goes to the 64-bit window. */
+#define NEAR_TAP_MAX 67108864.0f
+
+/* A bound on |x| of every tap of a sample with largest weights |w_x| <= wx,
+ * |w_y| <= wy and L1 = (L, 1): the products in the taps' own order
+ * ((w_x w_y) scale) (L 2^24) of the bounds. Float rounding is monotone, so
+ * no tap's product is larger; a NaN weight gives NaN (not within any
+ * limit). */
+ST_HOT float tap_bound(float wx, float wy, float scale, float4 L1)
 {
     float4 a = fabs(L1); /* finite: item_radiance, so max needs no NaN rule as fmax's */
     float2 h = max(a.lo, a.hi);
-    float l = max(h.x, h.y);
-    float bound = w.bx * w.by * fabs(scale) * l;
-    return bound <= ST_SPLAT_MAX && l * ST_FIXED_SCALE <= FLT_MAX;
+    return wx * wy * fabs(scale) * (max(h.x, h.y) * ST_FIXED_SCALE);
 }
 
-/* Row a and, where `both`, row b = a + side of splat_window_unclamped's
- * taps with scale 1: a[k] += round(wx[k st] wya Ls), b[k] += round(wx[k st]
- * wyb Ls). Four columns a step: their weights read once for both rows and
- * multiplied by wya and by wyb in one product each (each lane the scalar
- * product of before); then the last few columns one at a time. A step is
- * one straight run, the row's pointer stepped once. */
-ST_HOT void splat_rows(__local long4 *a, int side, const float *wx, int st, int nx, float wya,
-                       float wyb, int both, float4 Ls)
+/* round(x), ties to even, of four values |x| < 2^31: on an x86 CPU one
+ * instruction (roundps) where clang has the builtin (PoCL's convert_int4_rte
+ * and rint test each lane for large and special values), and the conversion
+ * of an integer exact; elsewhere (Oclgrind cannot run llvm.roundeven) the
+ * conversion that rounds. */
+#if defined(__OPENCL_VERSION__) && defined(__AVX__) && defined(__has_builtin)
+#if __has_builtin(__builtin_elementwise_roundeven)
+#define ST_ROUNDEVEN4(x) convert_int4(__builtin_elementwise_roundeven(x))
+#endif
+#endif
+#ifndef ST_ROUNDEVEN4
+#define ST_ROUNDEVEN4(x) convert_int4_rte(x)
+#endif
+
+ST_HOT int4 near_round4(float4 x)
 {
-    __local long4 *b = a + side;
+    return ST_ROUNDEVEN4(x);
+}
+
+/* Adds row r of the int32 window to the 64-bit window, and clears it. */
+ST_HOT void near_widen(const splat_dest *d, int r)
+{
+    __local long4 *a = d->acc + r * d->side;
+    __local int4 *b = d->near + r * d->side;
+    for (int k = 0; k < d->side; k++) {
+        a[k] += convert_long4(b[k]);
+        b[k] = 0;
+    }
+    d->room[r] = 0;
+}
+
+/* Row a and, where `both`, row b = a + side of the int32 window: a[k] +=
+ * round(wx[k st] wya Ls), b[k] += round(wx[k st] wyb Ls), the integers of
+ * fixed_splat4 with scale 1 ((w L) 2^24 = w (L 2^24) exactly: a power of
+ * two; an underflow rounds to 0 either way). Four columns a step: their
+ * weights read once for both rows and multiplied by wya and by wyb in one
+ * product each (each lane the scalar product); then the last few columns
+ * one at a time. */
+ST_HOT void near_rows(__local int4 *a, int side, const float *wx, int st, int nx, float wya,
+                      float wyb, int both, float4 Ls)
+{
+    __local int4 *b = a + side;
     int k = 0;
     for (; k + 4 <= nx; k += 4, wx += 4 * st, a += 4, b += 4) {
         float4 w = (float4)(wx[0], wx[st], wx[2 * st], wx[3 * st]), u = w * wya, v = w * wyb;
-        a[0] += fixed_from_scaled4(u.x * Ls);
-        a[1] += fixed_from_scaled4(u.y * Ls);
-        a[2] += fixed_from_scaled4(u.z * Ls);
-        a[3] += fixed_from_scaled4(u.w * Ls);
+        a[0] += near_round4(u.x * Ls);
+        a[1] += near_round4(u.y * Ls);
+        a[2] += near_round4(u.z * Ls);
+        a[3] += near_round4(u.w * Ls);
         if (both) {
-            b[0] += fixed_from_scaled4(v.x * Ls);
-            b[1] += fixed_from_scaled4(v.y * Ls);
-            b[2] += fixed_from_scaled4(v.z * Ls);
-            b[3] += fixed_from_scaled4(v.w * Ls);
+            b[0] += near_round4(v.x * Ls);
+            b[1] += near_round4(v.y * Ls);
+            b[2] += near_round4(v.z * Ls);
+            b[3] += near_round4(v.w * Ls);
         }
     }
     for (; k < nx; k++, wx += st, a++, b++) {
-        a[0] += fixed_from_scaled4(wx[0] * wya * Ls);
+        a[0] += near_round4(wx[0] * wya * Ls);
         if (both)
-            b[0] += fixed_from_scaled4(wx[0] * wyb * Ls);
+            b[0] += near_round4(wx[0] * wyb * Ls);
     }
 }
 
-/* The taps of a sample that fits (window_fits) into a window of this
- * work-item's alone: per tap one product, one vector conversion and one
- * add. (w L) 2^24 = w (L 2^24) exactly (a power of two, no overflow: tested
- * in window_fits; an underflow rounds to the integer 0 either way), so the
- * integers are fixed_splat4's. */
-ST_HOT void splat_window_unclamped(__local long4 *row, int side, tap_weights w, int nx, int ny,
-                                   float scale, float4 L1)
+/* Room in window rows r0 .. r1 for taps whose integers sum to at most
+ * `need` in magnitude in any pixel: a row whose sum could pass 2^31 - 1 is
+ * widened first. */
+ST_HOT void near_room(const splat_dest *d, int r0, int r1, int need)
 {
+    for (int r = r0; r <= r1; r++) {
+        if (d->room[r] > INT_MAX - need)
+            near_widen(d, r);
+        d->room[r] += need;
+    }
+}
+
+/* The taps of a sample whose room is made (near_room) into the int32
+ * window, from window row r0 and column c0 on. */
+ST_HOT void splat_near(const splat_dest *d, tap_weights w, int r0, int c0, int nx, int ny,
+                       float4 L1)
+{
+    __local int4 *row = d->near + r0 * d->side + c0;
     float4 Ls = L1 * ST_FIXED_SCALE;
-    if (scale == 1.0f) { /* w 1 = w: the same integers without the product */
-        for (int j = 0; j < ny; j += 2, row += 2 * side) {
+    if (d->scale == 1.0f) { /* w 1 = w: the same integers without the product */
+        for (int j = 0; j < ny; j += 2, row += 2 * d->side) {
             int both = j + 1 < ny;
-            splat_rows(row, side, w.x, w.st, nx, w.y[j * w.st], w.y[(j + both) * w.st], both,
-                       Ls);
+            near_rows(row, d->side, w.x, w.st, nx, w.y[j * w.st], w.y[(j + both) * w.st], both,
+                      Ls);
         }
         return;
     }
-    for (int j = 0; j < ny; j++, row += side)
+    for (int j = 0; j < ny; j++, row += d->side)
         for (int k = 0; k < nx; k++)
-            row[k] += fixed_from_scaled4(w.x[k * w.st] * w.y[j * w.st] * scale * Ls);
+            row[k] += near_round4(w.x[k * w.st] * w.y[j * w.st] * d->scale * Ls);
 }
 
 /* Adds v to window pixel a: plainly when the window is this work-item's
@@ -278,8 +335,8 @@ ST_HOT st_u32 splat_window(const st_params *p, tap_weights w, float3 L, const sp
                 add_window(row + k, v, d->alone);
         return (st_u32)nx * (st_u32)ny;
     }
-    if (d->alone && window_fits(w, nx, ny, d->scale, L1)) {
-        splat_window_unclamped(row, d->side, w, nx, ny, d->scale, L1);
+    if (w.near) {
+        splat_near(d, w, t.z - d->oy, t.x - d->ox, nx, ny, L1);
         return (st_u32)nx * (st_u32)ny;
     }
     for (int j = 0; j < ny; j++, row += d->side)
@@ -315,19 +372,23 @@ ST_HOT int splat_weighs(const st_params *p)
     return p->filter.kind != ST_FILTER_BOX && p->reconstruction != ST_RECON_FIS;
 }
 
-/* Item i's sample s (on the film) to d with its taps' weights w (where
- * splat_weighs): adds the splats made and the path's rays to tally[i];
- * counts a non-finite radiance, and the sample once if any of its splats
- * clamped. */
-static void splat_weighted(const st_params *p, st_u32 i, st_sample s, tap_weights w,
-                           __global const st_path *path, __global st_tally *tally,
-                           __global st_film_stats *stats, __global const st_f32 *splat_scale,
-                           splat_dest *d)
+/* The factor of every weight of sample s: its pixel's splat_scale in an
+ * adaptive render's later rounds, else 1. */
+ST_HOT float item_scale(const st_params *p, __global const st_f32 *splat_scale, st_sample s)
 {
-    st_tally t;
-    float3 L = item_radiance(i, path, tally, stats, &t);
+    return p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
+}
+
+/* Item i's sample s (on the film), of radiance L and tally t
+ * (item_radiance), to d with its taps' weights w (where splat_weighs) and
+ * their factor scale (item_scale): writes tally[i] with the splats made
+ * added; counts the sample once if any of its splats clamped. */
+static void splat_weighted(const st_params *p, st_u32 i, st_sample s, tap_weights w, float3 L,
+                           st_tally t, float scale, __global st_tally *tally,
+                           __global st_film_stats *stats, splat_dest *d)
+{
     st_u32 clamped = 0u;
-    d->scale = p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
+    d->scale = scale;
     if (p->reconstruction == ST_RECON_FIS)
         t.splats += splat_fis(p, s, L, d, &clamped);
     else if (w.t.y < w.t.x || w.t.w < w.t.z)
@@ -349,7 +410,7 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
 {
     st_sample s = sample[i];
     float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    tap_weights w = {sample_taps(p, s), wx, wy, 1, 0.0f, 0.0f};
+    tap_weights w = {sample_taps(p, s), wx, wy, 1, 0.0f, 0.0f, 0};
     int nx = w.t.y - w.t.x + 1, ny = w.t.w - w.t.z + 1;
     if (splat_weighs(p) && nx > 0 && ny > 0) {
         st_filter flt = p->filter;
@@ -358,13 +419,17 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
         w.bx = max_abs(wx, nx, 1);
         w.by = max_abs(wy, ny, 1);
     }
-    splat_weighted(p, i, s, w, path, tally, stats, splat_scale, d);
+    st_tally t;
+    float3 L = item_radiance(i, path, tally, stats, &t);
+    splat_weighted(p, i, s, w, L, t, item_scale(p, splat_scale, s), tally, stats, d);
 }
 
 /* The items item[0 .. n) (n <= ST_W, a private list) to d: their taps' weights made in
  * ST_W lanes at once, one sample a lane (filter_lanes.h: each lane's the
  * width-1 values, so the same integers as splat_item), then each sample's
- * splat in turn. A lane past n weighs a sample of no taps. */
+ * splat in turn; where d has an int32 window, the room of the samples
+ * that fit it is made once for all (near_room). A lane past n weighs a
+ * sample of no taps. */
 ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
                         __global const st_sample *sample, __global const st_path *path,
                         __global st_tally *tally, __global st_film_stats *stats,
@@ -403,9 +468,31 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
         ST_VSTORE(ST_W, max_abs_lanes(wx, nx, mx), bx);
         ST_VSTORE(ST_W, max_abs_lanes(wy, ny, my), by);
     }
+    float3 L[ST_W];
+    st_tally t[ST_W];
+    float scale[ST_W];
+    int near[ST_W], need = 0, r0 = INT_MAX, r1 = INT_MIN;
     for (st_u32 l = 0; l < n; l++) {
-        tap_weights w = {(int4)(lx[l], hx[l], ly[l], hy[l]), wx + l, wy + l, ST_W, bx[l], by[l]};
-        splat_weighted(p, item[l], sample[item[l]], w, path, tally, stats, splat_scale, d);
+        L[l] = item_radiance(item[l], path, tally, stats, &t[l]);
+        scale[l] = item_scale(p, splat_scale, sample[item[l]]);
+        near[l] = 0;
+        if (!d->near || !splat_weighs(p) || cx[l] <= 0 || cy[l] <= 0)
+            continue;
+        /* a tap's integer is at most its bound plus 1/2 (round) */
+        float b = tap_bound(bx[l], by[l], scale[l], (float4)(L[l], 1.0f));
+        near[l] = b <= NEAR_TAP_MAX;
+        if (near[l]) {
+            need += (int)b + 1;
+            r0 = min(r0, ly[l]);
+            r1 = max(r1, hy[l]);
+        }
+    }
+    if (need)
+        near_room(d, r0 - d->oy, r1 - d->oy, need);
+    for (st_u32 l = 0; l < n; l++) {
+        tap_weights w = {(int4)(lx[l], hx[l], ly[l], hy[l]), wx + l, wy + l, ST_W, bx[l], by[l],
+                         near[l]};
+        splat_weighted(p, item[l], sample[item[l]], w, L[l], t[l], scale[l], tally, stats, d);
     }
 }
 
@@ -420,7 +507,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
         return;
     if (!st_sample_on_film(&p, sample[i]))
         return; /* a tile point outside the image (generate.cl) */
-    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
+    splat_dest d = {film, 1.0f, 0, 0, 0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
     splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
 }
 
@@ -497,7 +584,7 @@ __kernel void splat_edges(ST_STAGE_PARAMS)
     st_u32 j = ST_ITEM(), npix = p.region_w * p.region_h;
     if (j >= min(p.item_count, npix) || !edge[j])
         return;
-    splat_dest d = {film, 1.0f, (__local long4 *)0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
+    splat_dest d = {film, 1.0f, 0, 0, 0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
     st_u32 pixel = sample[j].pixel, clamped = 0u;
     int2 own = (int2)((int)(pixel % p.width), (int)(pixel / p.width));
     for (st_u32 i = j; i < p.item_count; i += npix) {
@@ -701,7 +788,8 @@ ST_HOT st_u32 group_bin(const st_params *p, st_u32 g)
  * nonzero sums go to the film. acc holds (bin_side + 2 apron)^2 pixels of
  * four longs (render.c sizes it from CL_DEVICE_LOCAL_MEM_SIZE). A
  * work-group of one work-item (CPU devices: render.c) adds into its window
- * without atomics. */
+ * without atomics, and into the int32 window and its rows' room that
+ * follow it in acc (splat_near; st_plan_window_bytes). */
 __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 {
     st_u32 b = group_bin(&p, ST_GROUP()), lid = get_local_id(0), n = get_local_size(0);
@@ -714,8 +802,17 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
     int ox = (int)(b % p.bins_x * p.bin_side) - apron, oy = (int)(b / p.bins_x * p.bin_side) - apron;
     for (int j = (int)lid; j < side * side; j += (int)n)
         acc[j] = 0;
+    __local int4 *near = n == 1u ? (__local int4 *)(acc + side * side) : 0;
+    __local int *room = n == 1u ? (__local int *)(near + side * side) : 0;
+    if (near) {
+        for (int j = 0; j < side * side; j++)
+            near[j] = 0;
+        for (int j = 0; j < side; j++)
+            room[j] = 0;
+    }
     barrier(CLK_LOCAL_MEM_FENCE);
-    splat_dest d = {film, 1.0f, acc, ox, oy, side, n == 1u, st_lanczos_turn_of(&p.filter)};
+    splat_dest d = {film, 1.0f, acc, near, room, ox, oy, side, n == 1u,
+                    st_lanczos_turn_of(&p.filter)};
     for (st_u32 j = lid * ST_W; j < l.count; j += n * ST_W) {
         st_u32 item[ST_W], k = bin_items_at(&p, bin_item, &l, j, min(j + ST_W, l.count) - j, item);
         for (st_u32 e = 0; e < k; e++) {
@@ -738,7 +835,7 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
         __global long *a = film[(size_t)py * p.width + px].sum;
         if (py + 1 < (int)p.height) /* the next row's pixel, out of the caches too */
             ST_PREFETCH(a + 4 * p.width);
-        long4 v = acc[j];
+        long4 v = near ? acc[j] + convert_long4(near[j]) : acc[j];
         if (p.bin_pass)
             vstore4(vload4(0, a) + v, 0, a);
         else

@@ -12,11 +12,14 @@
 #include "render_int.h"
 #include "st_sampling.h"
 
-size_t st_plan_window_bytes(st_u32 side, float radius)
+size_t st_plan_window_bytes(st_u32 side, float radius, int alone)
 {
-    /* the apron of ceil(r) + 1 pixels (film.cl), four sums of 8 bytes a pixel */
+    /* the apron of ceil(r) + 1 pixels (film.cl), four sums of 8 bytes a
+     * pixel; a work-item alone adds four int32 partial sums a pixel and an
+     * int's room a row (splat_near) */
     size_t s = side + 2 * ((size_t)ceilf(radius) + 1);
-    return s * s * 4 * sizeof(st_i64);
+    size_t wide = s * s * 4 * sizeof(st_i64);
+    return alone ? wide + s * s * 4 * sizeof(st_i32) + s * sizeof(st_i32) : wide;
 }
 
 /* Which rays go in packets: where the kernels have lanes to fill (a CPU
@@ -126,6 +129,12 @@ static int plan_splat(const st_renderer *r, const st_render_options *o)
     return info->is_cpu ? ST_SPLAT_TILES_ALONE : ST_SPLAT_TILES;
 }
 
+/* The work-group size of splat_tiles under splat path `splat`. */
+static size_t tile_group(int splat, const st_render_options *o)
+{
+    return splat == ST_SPLAT_TILES_ALONE ? 1 : o->local_size ? o->local_size : 64;
+}
+
 /* Bins of the largest side of 32, 16 or 8 pixels (a power of two: film.cl
  * finds a bin's pixels by shifts) whose window fits the
  * device's local memory; none when no window fits. */
@@ -136,7 +145,7 @@ static void plan_bins(const st_renderer *r, const st_render_options *o, int spla
         return;
     unsigned long long local = st_device_get_info(r->dev)->local_mem;
     for (st_u32 side = 32; side >= 8; side /= 2)
-        if (st_plan_window_bytes(side, o->filter.radius) <= local) {
+        if (st_plan_window_bytes(side, o->filter.radius, tile_group(splat, o) == 1) <= local) {
             p->bin_side = side;
             p->bins_x = (o->width + side - 1) / side;
             p->bins = p->bins_x * ((o->height + side - 1) / side);
@@ -159,7 +168,7 @@ static int plan_tile_passes(const st_plan *pl, const st_params *p)
 
 size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o)
 {
-    return pl->splat == ST_SPLAT_TILES_ALONE ? 1 : o->local_size ? o->local_size : 64;
+    return tile_group(pl->splat, o);
 }
 
 int st_plan_gathers(const st_plan *pl, const st_params *p)

@@ -80,8 +80,9 @@ int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v)
  * ST_ORDER_OFF), and whether a render's trace at vertex v sorts them. */
 int st_plan_orders(const st_renderer *r);
 int st_plan_orders_trace(const st_plan *pl, st_u32 v);
-/* Bytes of splat_tiles' local window for bins of `side` pixels. */
-size_t st_plan_window_bytes(st_u32 side, float radius);
+/* Bytes of splat_tiles' local window for bins of `side` pixels, with the
+ * int32 window of a work-group of one work-item where `alone`. */
+size_t st_plan_window_bytes(st_u32 side, float radius, int alone);
 
 /* Forces choices on r's later renders (NULL: none). */
 void st_renderer_force(st_renderer *r, const st_plan_force *f);

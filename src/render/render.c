@@ -131,8 +131,8 @@ st_status st_render_check(const st_render_options *o, st_error *err)
 
 /* Binds every stage kernel to this render's values, scene and state; per
  * wave only the st_params argument changes. */
-static st_status bind_stages(st_renderer *r, const st_params *p, const st_shading *sh,
-                             const st_wave *w, st_error *err)
+static st_status bind_stages(st_renderer *r, const st_render_options *o, const st_params *p,
+                             const st_shading *sh, const st_wave *w, st_error *err)
 {
     for (int k = 0; k < ST_STAGE_RESOLVE; k++)
         if (st_wave_bind_stage(r->k[k], p, sh, r->scene_buf, w, err) != ST_OK)
@@ -151,7 +151,9 @@ static st_status bind_stages(st_renderer *r, const st_params *p, const st_shadin
         if (st_wave_bind_stage(r->order[k], p, sh, r->scene_buf, w, err) != ST_OK)
             return err->status;
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
-    size_t window = p->bins ? st_plan_window_bytes(p->bin_side, p->filter.radius) : sizeof(st_i64);
+    int alone = st_plan_tile_group(&r->plan, o) == 1;
+    size_t window = p->bins ? st_plan_window_bytes(p->bin_side, p->filter.radius, alone)
+                            : sizeof(st_i64);
     if (st_device_set_arg(r->k[ST_STAGE_SPLAT_TILES], 2 + ST_SCENE_BUFFER_COUNT +
                           ST_WAVE_BUFFER_COUNT, window, NULL, err) != ST_OK)
         return err->status;
@@ -817,7 +819,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
                        : st_wave_create(r->dev, wave, pixels, o->adaptive, ordered, &w, err);
     if (rc != ST_OK)
         return rc;
-    rc = bind_stages(r, &p, &sh, &w, err);
+    rc = bind_stages(r, o, &p, &sh, &w, err);
     if (rc == ST_OK && o->adaptive)
         rc = st_render_adaptive(r, &p, &w, o, total, &pr, st, st_render_items, err);
     else if (rc == ST_OK)

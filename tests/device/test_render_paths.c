@@ -565,7 +565,9 @@ static st_renderer *renderer_on(st_device *d, st_scene *scene)
  * products a lane must contract as width 1 does; lanczos with τ below its
  * radius), waves and bins whose items fill no last lane, an adaptive render
  * (its rounds' splats weighted), a crop, one wave, waves narrower than an
- * image row, and a tiled sampler (points off the image). */
+ * image row, a pixel's sums past 2^31 in one wave (splat_tiles' int32
+ * window must widen its rows in time), and a tiled sampler (points off the
+ * image). */
 static st_render_options splat_case(size_t k)
 {
     static const st_u32 kinds[] = {ST_FILTER_BOX,         ST_FILTER_TRIANGLE,
@@ -614,13 +616,18 @@ static st_render_options splat_case(size_t k)
         o.wave = 29;
         o.filter = st_filter_default(ST_FILTER_MITCHELL);
         return o;
+    case 6: /* each pixel's weight sum alone near 256 x 2^24 = 2^32 */
+        o = small(40, 24, 256);
+        o.wave = 0;
+        o.filter = st_filter_default(ST_FILTER_LANCZOS);
+        return o;
     default:
         o.sampler = ST_SAMPLER_POISSON;
         o.filter = st_filter_default(ST_FILTER_MITCHELL);
         return o;
     }
 }
-#define SPLAT_CASES 14u
+#define SPLAT_CASES 15u
 
 /* The box renders that splat_pixels gathers (ST_W pixels a work-item) in
  * splat_lanes_at_every_width: waves below the region's pixels whose last
