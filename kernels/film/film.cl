@@ -23,6 +23,7 @@ typedef struct splat_dest {
     int ox, oy, side;
     int alone; /* the work-group is one work-item: acc is its own, plain adds */
     st_lanczos_turn turn; /* st_lanczos_turn_of(the filter), made once */
+    st_tally *counts;     /* where a sample's counts go: NULL, its tally; else summed here */
 } splat_dest;
 
 /* round(x) of four values |x| <= ST_SPLAT_MAX 2^24 at once (x = v 2^24,
@@ -347,15 +348,13 @@ ST_HOT st_u32 splat_window(const st_params *p, tap_weights w, float3 L, const sp
     return (st_u32)nx * (st_u32)ny;
 }
 
-/* Item i's radiance (0 where it is not finite, which is counted) and its
- * tally *t with the path's rays added: what every splat path starts from. */
-ST_HOT float3 item_radiance(st_u32 i, __global const st_path *path,
-                            __global const st_tally *tally, __global st_film_stats *stats,
+/* Item i's radiance (0 where it is not finite, which is counted), and the
+ * path's rays added to *t: what every splat path starts from. */
+ST_HOT float3 item_radiance(st_u32 i, __global const st_path *path, __global st_film_stats *stats,
                             st_tally *t)
 {
     __global const st_path *pa = &path[i];
     float3 L = vload3(0, pa->radiance);
-    *t = tally[i];
     t->closest_rays += pa->closest_rays;
     t->shadow_rays += pa->shadow_rays;
     if (!all(isfinite(L))) {
@@ -379,10 +378,11 @@ ST_HOT float item_scale(const st_params *p, __global const st_f32 *splat_scale, 
     return p->adaptive_scaled ? splat_scale[s.pixel] : 1.0f;
 }
 
-/* Item i's sample s (on the film), of radiance L and tally t
+/* Item i's sample s (on the film), of radiance L and counts t
  * (item_radiance), to d with its taps' weights w (where splat_weighs) and
- * their factor scale (item_scale): writes tally[i] with the splats made
- * added; counts the sample once if any of its splats clamped. */
+ * their factor scale (item_scale): adds the splats made to t, which goes
+ * to tally[i] or is added to d->counts; counts the sample once if any of
+ * its splats clamped. */
 static void splat_weighted(const st_params *p, st_u32 i, st_sample s, tap_weights w, float3 L,
                            st_tally t, float scale, __global st_tally *tally,
                            __global st_film_stats *stats, splat_dest *d)
@@ -397,7 +397,13 @@ static void splat_weighted(const st_params *p, st_u32 i, st_sample s, tap_weight
         t.splats += splat_window(p, w, L, d, &clamped);
     else
         t.splats += splat_taps(p, w, L, d, &clamped);
-    tally[i] = t;
+    if (d->counts) {
+        d->counts->splats += t.splats;
+        d->counts->closest_rays += t.closest_rays;
+        d->counts->shadow_rays += t.shadow_rays;
+    } else {
+        tally[i] = t;
+    }
     if (clamped)
         atomic_inc(&stats->clamped);
 }
@@ -419,17 +425,17 @@ static void splat_item(const st_params *p, st_u32 i, __global const st_sample *s
         w.bx = max_abs(wx, nx, 1);
         w.by = max_abs(wy, ny, 1);
     }
-    st_tally t;
-    float3 L = item_radiance(i, path, tally, stats, &t);
+    st_tally t = tally[i];
+    float3 L = item_radiance(i, path, stats, &t);
     splat_weighted(p, i, s, w, L, t, item_scale(p, splat_scale, s), tally, stats, d);
 }
 
 /* The items item[0 .. n) (n <= ST_W, a private list) to d: their taps' weights made in
  * ST_W lanes at once, one sample a lane (filter_lanes.h: each lane's the
  * width-1 values, so the same integers as splat_item), then each sample's
- * splat in turn; where d has an int32 window, the room of the samples
- * that fit it is made once for all (near_room). A lane past n weighs a
- * sample of no taps. */
+ * splat in turn, their counts added to d->counts; where d has an int32
+ * window, the room of the samples that fit it is made once for all
+ * (near_room). A lane past n weighs a sample of no taps. */
 ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
                         __global const st_sample *sample, __global const st_path *path,
                         __global st_tally *tally, __global st_film_stats *stats,
@@ -473,7 +479,8 @@ ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
     float scale[ST_W];
     int near[ST_W], need = 0, r0 = INT_MAX, r1 = INT_MIN;
     for (st_u32 l = 0; l < n; l++) {
-        L[l] = item_radiance(item[l], path, tally, stats, &t[l]);
+        t[l] = (st_tally){0u, 0u, 0u, 0u};
+        L[l] = item_radiance(item[l], path, stats, &t[l]);
         scale[l] = item_scale(p, splat_scale, sample[item[l]]);
         near[l] = 0;
         if (!d->near || !splat_weighs(p) || cx[l] <= 0 || cy[l] <= 0)
@@ -540,8 +547,8 @@ ST_HOT void gather_item(const st_params *p, st_u32 i, __global const st_sample *
                         __global const st_path *path, __global st_tally *tally,
                         __global st_film_stats *stats, int2 own, long4 *acc, st_u32 *edge)
 {
-    st_tally t;
-    float3 L = item_radiance(i, path, tally, stats, &t);
+    st_tally t = tally[i];
+    float3 L = item_radiance(i, path, stats, &t);
     int4 k = sample_taps(p, sample[i]);
     if (k.y >= k.x && k.w >= k.z) {
         st_u32 clamped = 0u;
@@ -669,13 +676,11 @@ typedef struct bin_items {
  * before left them far in the wave, out of the caches, and a tile's items
  * lie in runs of a row (perf: most of splat_tiles' time past its taps was
  * on their first loads). */
-ST_HOT void prefetch_item(st_u32 i, __global const st_sample *sample, __global const st_path *path,
-                          __global const st_tally *tally)
+ST_HOT void prefetch_item(st_u32 i, __global const st_sample *sample, __global const st_path *path)
 {
     ST_PREFETCH(&sample[i]);
     ST_PREFETCH(&path[i]);
     ST_PREFETCH((__global const char *)&path[i] + 47); /* 48 bytes may cross a line */
-    ST_PREFETCH(&tally[i]);
 }
 
 /* Bin b's list of items (bin_items): none for a tile off a crop's region. */
@@ -789,7 +794,10 @@ ST_HOT st_u32 group_bin(const st_params *p, st_u32 g)
  * four longs (render.c sizes it from CL_DEVICE_LOCAL_MEM_SIZE). A
  * work-group of one work-item (CPU devices: render.c) adds into its window
  * without atomics, and into the int32 window and its rows' room that
- * follow it in acc (splat_near; st_plan_window_bytes). */
+ * follow it in acc (splat_near; st_plan_window_bytes). Each work-item sums
+ * its samples' counts (splats, the paths' rays) and adds them to the bin's
+ * bin_tally once, where a tally per item cost a read and a write of a line
+ * that the wave's earlier stages had left far behind. */
 __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 {
     st_u32 b = group_bin(&p, ST_GROUP()), lid = get_local_id(0), n = get_local_size(0);
@@ -811,14 +819,15 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
             room[j] = 0;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
+    st_tally counts = {0u, 0u, 0u, 0u};
     splat_dest d = {film, 1.0f, acc, near, room, ox, oy, side, n == 1u,
-                    st_lanczos_turn_of(&p.filter)};
+                    st_lanczos_turn_of(&p.filter), &counts};
     for (st_u32 j = lid * ST_W; j < l.count; j += n * ST_W) {
         st_u32 item[ST_W], k = bin_items_at(&p, bin_item, &l, j, min(j + ST_W, l.count) - j, item);
         for (st_u32 e = 0; e < k; e++) {
             st_u32 next = bin_item_ahead(&p, bin_item, &l, j + e, item[e]);
             if (next < p.item_count)
-                prefetch_item(next, sample, path, tally);
+                prefetch_item(next, sample, path);
         }
         if (k)
             splat_items(&p, item, k, sample, path, tally, stats, splat_scale, &d);
@@ -843,6 +852,13 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
     }
     if (lid == 0 && !l.by_pixel)
         bin_count[b] = 0; /* for the next wave's bin_samples */
+    __global st_bin_tally *bt = &bin_tally[b];
+    if (counts.splats)
+        atom_add(&bt->splats, (ulong)counts.splats);
+    if (counts.closest_rays)
+        atom_add(&bt->closest_rays, (ulong)counts.closest_rays);
+    if (counts.shadow_rays)
+        atom_add(&bt->shadow_rays, (ulong)counts.shadow_rays);
 }
 
 /* Reads film; writes image: I = Σ f L / Σ f wherever Σ f != 0 (the

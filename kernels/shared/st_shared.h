@@ -543,6 +543,14 @@ typedef struct st_tally {
     st_u32 splats, closest_rays, shadow_rays, pad;
 } st_tally;
 
+/* Per bin of splat_tiles, summed over the waves: st_tally's counts of the
+ * bin's samples, which splat_tiles adds once per work-item and wave instead
+ * of a read and a write of each item's tally; 64-bit, as a bin holds the
+ * samples of many pixels. */
+typedef struct st_bin_tally {
+    st_u64 splats, closest_rays, shadow_rays, pad;
+} st_bin_tally;
+
 /* The film's sums per pixel, 64-bit fixed point (fixed.h): Σ f L for R, G, B
  * and the weight Σ f. */
 #define ST_FILM_SUMS 4
@@ -619,6 +627,7 @@ typedef struct st_tile_point {
     X(path, st_path, ST_PER_ITEM)                                                           \
     X(shadow, st_shadow, ST_PER_ITEM)                                                   \
     X(tally, st_tally, ST_PER_ITEM)                                                         \
+    X(bin_tally, st_bin_tally, ST_PER_BIN) /* splat_tiles' counts per bin */                \
     X(live_a, st_u32, ST_PER_ITEM)   /* the items of the paths alive at odd vertices */     \
     X(live_b, st_u32, ST_PER_ITEM)   /* ... at even vertices but 0 (live.cl) */             \
     X(live_bits, st_u32, ST_PER_ITEM) /* shade's work-item g: bit k, item k goes on */      \
@@ -756,7 +765,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_texture)                                                                           \
     X(st_tri_uv) X(st_shading) X(st_camera) X(st_filter) X(st_params) X(st_sample)          \
     X(st_tri_tangents) X(st_tri_colors) X(st_punctual)                                      \
-    X(st_ray) X(st_hit) X(st_path) X(st_shadow) X(st_tally) X(st_film_pixel)       \
+    X(st_ray) X(st_hit) X(st_path) X(st_shadow) X(st_tally) X(st_bin_tally) X(st_film_pixel) \
     X(st_pixel) X(st_film_stats) X(st_tile_point)
 #define ST_LAYOUT_FIELDS(X)                                                                 \
     X(st_bvh_node, bmin) X(st_bvh_node, offset) X(st_bvh_node, bmax) X(st_bvh_node, meta)   \
@@ -812,6 +821,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_path, closest_rays) X(st_path, shadow_rays) X(st_path, env_pdf)                    \
     X(st_shadow, ray) X(st_shadow, contribution)                                            \
     X(st_tally, splats) X(st_tally, closest_rays) X(st_tally, shadow_rays)                  \
+    X(st_bin_tally, splats) X(st_bin_tally, closest_rays) X(st_bin_tally, shadow_rays)      \
     X(st_film_pixel, sum) X(st_pixel, rgb) X(st_pixel, weight)                              \
     X(st_film_stats, clamped) X(st_film_stats, nonfinite) X(st_film_stats, zero_weight)     \
     X(st_tile_point, x) X(st_tile_point, y)

@@ -204,6 +204,7 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, const st_
     if (!p->bins && (pl.splat == ST_SPLAT_TILES || pl.splat == ST_SPLAT_TILES_ALONE))
         pl.splat = ST_SPLAT_PER_SAMPLE;
     pl.tile_passes = plan_tile_passes(&pl, p);
+    pl.bins = p->bins;
     pl.order = f->order == ST_ORDER_ON ? ST_ORDER_ON : ST_ORDER_OFF;
     return pl;
 }

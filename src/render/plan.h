@@ -58,6 +58,7 @@ typedef struct st_plan {
                              wave allows it: st_plan_gathers) */
     int tile_passes;      /* splat_tiles in four passes of bins whose windows do not
                              overlap (st_params.bin_pass), else one launch */
+    unsigned bins;        /* splat_tiles' bins (st_params.bins; 0: none) */
     int order;            /* ST_ORDER_ON: a bounce's rays sorted before their trace
                              (st_plan_orders_trace); ST_ORDER_OFF: never */
 } st_plan;

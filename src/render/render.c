@@ -543,16 +543,23 @@ static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
     return splat_wave(r, p, o, st, err);
 }
 
-/* The tallies of the work-item slots, summed into the stats. */
+/* The tallies of the work-item slots and of splat_tiles' bins (the plan's
+ * first bins), summed into the stats. */
 static st_status read_tallies(st_renderer *r, const st_wave *w, st_render_stats *st,
                               st_error *err)
 {
+    size_t bins = r->plan.bins;
     st_tally *tally = malloc(st_wave_bytes(w, ST_WAVE_tally));
+    st_bin_tally *bin = malloc((bins ? bins : 1) * sizeof *bin);
     st_film_stats counts;
-    if (!tally)
-        return st_fail(err, ST_ERR_NOMEM, "out of memory reading the ray counts back");
-    st_status rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_tally],
-                                         st_wave_bytes(w, ST_WAVE_tally), tally, err);
+    st_status rc = tally && bin ? ST_OK
+                                : st_fail(err, ST_ERR_NOMEM,
+                                          "out of memory reading the ray counts back");
+    if (rc == ST_OK)
+        rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_tally], st_wave_bytes(w, ST_WAVE_tally),
+                                   tally, err);
+    if (rc == ST_OK && bins)
+        rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_bin_tally], bins * sizeof *bin, bin, err);
     if (rc == ST_OK)
         rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_stats], sizeof counts, &counts, err);
     for (size_t i = 0; rc == ST_OK && i < w->items; i++) {
@@ -560,7 +567,13 @@ static st_status read_tallies(st_renderer *r, const st_wave *w, st_render_stats 
         st->closest_rays += tally[i].closest_rays;
         st->shadow_rays += tally[i].shadow_rays;
     }
+    for (size_t b = 0; rc == ST_OK && b < bins; b++) {
+        st->splats += bin[b].splats;
+        st->closest_rays += bin[b].closest_rays;
+        st->shadow_rays += bin[b].shadow_rays;
+    }
     free(tally);
+    free(bin);
     if (rc != ST_OK)
         return rc;
     st->rays = st->closest_rays + st->shadow_rays;

@@ -39,7 +39,8 @@ st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adapti
     w->adaptive = adaptive;
     w->ordered = ordered;
     /* sums and counters that kernels only add to */
-    static const int zeroed[] = {ST_WAVE_film, ST_WAVE_pilot_film, ST_WAVE_moments, ST_WAVE_tally, ST_WAVE_stats,
+    static const int zeroed[] = {ST_WAVE_film,      ST_WAVE_pilot_film, ST_WAVE_moments,
+                                 ST_WAVE_tally,     ST_WAVE_bin_tally,  ST_WAVE_stats,
                                  ST_WAVE_bin_count, ST_WAVE_order_count};
     st_status rc = ST_OK;
     for (int b = 0; b < ST_WAVE_BUFFER_COUNT && rc == ST_OK; b++)
