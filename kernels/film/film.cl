@@ -18,8 +18,8 @@ typedef struct splat_dest {
     __global st_film_pixel *film;
     float scale; /* every weight's factor (1; adaptive.cl's splat_scale) */
     __local long4 *acc;
-    __local int4 *near; /* a window alone: int32 partial sums (splat_near), else 0 */
-    __local int *room;  /* and its rows' room (splat_near) */
+    __local int4 *near; /* a window alone: int32 partial sums (splat_fitting_int4), else 0 */
+    __local int *room;  /* and its rows' room (near_room) */
     int ox, oy, side;
     int alone; /* the work-group is one work-item: acc is its own, plain adds */
     st_lanczos_turn turn; /* st_lanczos_turn_of(the filter), made once */
@@ -128,7 +128,7 @@ typedef struct tap_weights {
     const float *x, *y;
     int st;
     float bx, by; /* the largest |x[k st]|, |y[j st]| of the taps (max_abs) */
-    int near;     /* its taps go to the int32 window (splat_near), their room made */
+    int near;     /* its taps go to the int32 window, their room made (near_room) */
 } tap_weights;
 
 /* Every pixel within the filter radius gets f(x - x_i) L and f(x - x_i),
@@ -239,38 +239,6 @@ ST_HOT void near_widen(const splat_dest *d, int r)
     d->room[r] = 0;
 }
 
-/* Row a and, where `both`, row b = a + side of the int32 window: a[k] +=
- * round(wx[k st] wya Ls), b[k] += round(wx[k st] wyb Ls), the integers of
- * fixed_splat4 with scale 1 ((w L) 2^24 = w (L 2^24) exactly: a power of
- * two; an underflow rounds to 0 either way). Four columns a step: their
- * weights read once for both rows and multiplied by wya and by wyb in one
- * product each (each lane the scalar product); then the last few columns
- * one at a time. */
-ST_HOT void near_rows(__local int4 *a, int side, const float *wx, int st, int nx, float wya,
-                      float wyb, int both, float4 Ls)
-{
-    __local int4 *b = a + side;
-    int k = 0;
-    for (; k + 4 <= nx; k += 4, wx += 4 * st, a += 4, b += 4) {
-        float4 w = (float4)(wx[0], wx[st], wx[2 * st], wx[3 * st]), u = w * wya, v = w * wyb;
-        a[0] += near_round4(u.x * Ls);
-        a[1] += near_round4(u.y * Ls);
-        a[2] += near_round4(u.z * Ls);
-        a[3] += near_round4(u.w * Ls);
-        if (both) {
-            b[0] += near_round4(v.x * Ls);
-            b[1] += near_round4(v.y * Ls);
-            b[2] += near_round4(v.z * Ls);
-            b[3] += near_round4(v.w * Ls);
-        }
-    }
-    for (; k < nx; k++, wx += st, a++, b++) {
-        a[0] += near_round4(wx[0] * wya * Ls);
-        if (both)
-            b[0] += near_round4(wx[0] * wyb * Ls);
-    }
-}
-
 /* Room in window rows r0 .. r1 for taps whose integers sum to at most
  * `need` in magnitude in any pixel: a row whose sum could pass 2^31 - 1 is
  * widened first. */
@@ -283,25 +251,18 @@ ST_HOT void near_room(const splat_dest *d, int r0, int r1, int need)
     }
 }
 
-/* The taps of a sample whose room is made (near_room) into the int32
- * window, from window row r0 and column c0 on. */
-ST_HOT void splat_near(const splat_dest *d, tap_weights w, int r0, int c0, int nx, int ny,
-                       float4 L1)
-{
-    __local int4 *row = d->near + r0 * d->side + c0;
-    float4 Ls = L1 * ST_FIXED_SCALE;
-    if (d->scale == 1.0f) { /* w 1 = w: the same integers without the product */
-        for (int j = 0; j < ny; j += 2, row += 2 * d->side) {
-            int both = j + 1 < ny;
-            near_rows(row, d->side, w.x, w.st, nx, w.y[j * w.st], w.y[(j + both) * w.st], both,
-                      Ls);
-        }
-        return;
-    }
-    for (int j = 0; j < ny; j++, row += d->side)
-        for (int k = 0; k < nx; k++)
-            row[k] += near_round4(w.x[k * w.st] * w.y[j * w.st] * d->scale * Ls);
-}
+/* The taps of a sample that fits, into the window of this work-item alone
+ * (splat_rows.h): int32 partial sums, and long4 sums. */
+#define ST_ROUND near_round4
+#define ST_ACC int4
+#include "splat_rows.h"
+#undef ST_ACC
+#undef ST_ROUND
+#define ST_ROUND fixed_from_scaled4
+#define ST_ACC long4
+#include "splat_rows.h"
+#undef ST_ACC
+#undef ST_ROUND
 
 /* Adds v to window pixel a: plainly when the window is this work-item's
  * alone, else atomically per sum. */
@@ -336,8 +297,13 @@ ST_HOT st_u32 splat_window(const st_params *p, tap_weights w, float3 L, const sp
                 add_window(row + k, v, d->alone);
         return (st_u32)nx * (st_u32)ny;
     }
-    if (w.near) {
-        splat_near(d, w, t.z - d->oy, t.x - d->ox, nx, ny, L1);
+    if (w.near) { /* its room made: splat_items */
+        splat_fitting_int4(d->near + (row - d->acc), d->side, w, nx, ny, d->scale, L1);
+        return (st_u32)nx * (st_u32)ny;
+    }
+    /* no tap needs clamping: within ST_SPLAT_MAX, and L 2^24 finite */
+    if (d->alone && tap_bound(w.bx, w.by, d->scale, L1) <= ST_SPLAT_MAX * ST_FIXED_SCALE) {
+        splat_fitting_long4(row, d->side, w, nx, ny, d->scale, L1);
         return (st_u32)nx * (st_u32)ny;
     }
     for (int j = 0; j < ny; j++, row += d->side)
@@ -794,7 +760,7 @@ ST_HOT st_u32 group_bin(const st_params *p, st_u32 g)
  * four longs (render.c sizes it from CL_DEVICE_LOCAL_MEM_SIZE). A
  * work-group of one work-item (CPU devices: render.c) adds into its window
  * without atomics, and into the int32 window and its rows' room that
- * follow it in acc (splat_near; st_plan_window_bytes). Each work-item sums
+ * follow it in acc (near_room; st_plan_window_bytes). Each work-item sums
  * its samples' counts (splats, the paths' rays) and adds them to the bin's
  * bin_tally once, where a tally per item cost a read and a write of a line
  * that the wave's earlier stages had left far behind. */

@@ -16,7 +16,7 @@ size_t st_plan_window_bytes(st_u32 side, float radius, int alone)
 {
     /* the apron of ceil(r) + 1 pixels (film.cl), four sums of 8 bytes a
      * pixel; a work-item alone adds four int32 partial sums a pixel and an
-     * int's room a row (splat_near) */
+     * int's room a row (film.cl: near_room) */
     size_t s = side + 2 * ((size_t)ceilf(radius) + 1);
     size_t wide = s * s * 4 * sizeof(st_i64);
     return alone ? wide + s * s * 4 * sizeof(st_i32) + s * sizeof(st_i32) : wide;
