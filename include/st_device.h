@@ -22,6 +22,7 @@ typedef struct st_device_info {
     char name[128];
     char version[96];   /* CL_DEVICE_VERSION */
     char c_version[96]; /* CL_DEVICE_OPENCL_C_VERSION */
+    char driver_version[96]; /* CL_DRIVER_VERSION */
     int is_gpu, is_cpu;
     int has_int64_atomics; /* cl_khr_int64_base_atomics */
     unsigned compute_units;
@@ -96,6 +97,17 @@ st_status st_device_set_arg(cl_kernel k, unsigned index, size_t size, const void
  * of at most 2^15 where there are more (kernels index them by ST_ITEM). */
 st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t local, st_error *err);
 st_status st_device_finish(st_device *dev, st_error *err);
+
+/* Launch timing by the device's own clock (its profiling events): the
+ * launches that follow st_device_time_launches(dev, tag) are counted under
+ * tag (>= 0) until it is called again; -1 stops timing. Nothing waits: a
+ * timed launch runs as an untimed one. st_device_timed_seconds waits for the
+ * launches timed so far and adds each one's time on the device (its command's
+ * start to end) to seconds[tag] (tags below `tags`; others are dropped), then
+ * forgets them. An in-order queue runs one command at a time, so the sums
+ * never exceed the wall time that holds them. */
+void st_device_time_launches(st_device *dev, int tag);
+st_status st_device_timed_seconds(st_device *dev, double *seconds, unsigned tags, st_error *err);
 
 st_status st_device_buffer_create(st_device *dev, size_t bytes, const void *init, cl_mem *out,
                                   st_error *err);

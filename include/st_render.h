@@ -60,7 +60,11 @@ typedef struct st_render_options {
     st_u32 crop_x, crop_y, crop_w, crop_h;
     st_u32 wave;       /* items per wave; 0: automatic */
     st_u32 local_size; /* work-group size; 0: the driver's choice */
-    int profile;       /* time every stage (slower: waits after each launch) */
+    int profile;       /* time every stage (the device's clock: st_render_stats) */
+    int warm;          /* launch every kernel of the plan, at every vertex, even where no
+                          path is left (one work-item, which finds nothing to do), so that a
+                          driver that compiles a kernel at its first launch (PoCL) compiles
+                          all of a render's in a small warm-up render of its options */
     st_u32 packet_path; /* ST_PACKET_* (--packets) */
 } st_render_options;
 
@@ -95,7 +99,8 @@ extern const char *const st_stage_names[ST_STAGE_COUNT]; /* kernel names */
 
 typedef struct st_render_stats {
     double seconds;                      /* wall time of the passes and resolve */
-    double stage_seconds[ST_STAGE_COUNT]; /* with profile only */
+    double stage_seconds[ST_STAGE_COUNT]; /* with profile only: the stage's launches' time on
+                                             the device, start to end (no wait between) */
     st_u64 samples, rays, closest_rays, shadow_rays, splats;
     st_u32 clamped, nonfinite, zero_weight;
     st_u32 *spp_map; /* adaptive only: samples per pixel, malloc'ed, the caller frees */
@@ -120,6 +125,45 @@ const char *st_renderer_ran(st_renderer *r);
  * scale where o has a map): o->env where given, else 1 with a map and
  * the scene's default lighting (st_scene.default_env) without. */
 void st_render_env(const st_scene *scene, const st_render_options *o, float env[3]);
+
+/* --lanes auto (src/render/lanes_auto.c): the kernels' lane width (ST_W)
+ * chosen by measurement. On a CPU device the first render times a short
+ * calibration pass (st_render_lanes_workload) at each width 1, 4, 8 and 16
+ * and keeps the fastest in a wisdom file, "lanes" in $STRATA_CACHE_DIR, else
+ * in strata/ beside PoCL's cache ($XDG_CACHE_HOME or ~/.cache), one line per
+ * device keyed by the platform, device, driver and strata's version; later
+ * renders read it. Any other device takes 1 without a calibration. Every
+ * width renders the same image bit for bit. */
+#define ST_LANES_CANDIDATES 4
+#define ST_LANES_PATH_MAX 1100
+enum { ST_LANES_FORCED, ST_LANES_GPU, ST_LANES_UNMEASURED, ST_LANES_REMEMBERED,
+       ST_LANES_MEASURED };
+typedef struct st_lanes_choice {
+    unsigned lanes;
+    int how;                         /* ST_LANES_*: how lanes was chosen */
+    double rate[ST_LANES_CANDIDATES]; /* samples/s of the calibration at 1, 4, 8, 16
+                                         lanes (0: not measured, or not remembered) */
+    char path[ST_LANES_PATH_MAX];    /* the wisdom file ("" where no folder is known) */
+    int kept;                        /* measured: the choice was written to path */
+    char why_not_kept[512];
+} st_lanes_choice;
+/* The remembered choice for the device: REMEMBERED, or UNMEASURED with the
+ * device's vector width (st_device_default_lanes), or GPU with 1. */
+st_status st_render_lanes_recall(const st_device_info *info, st_lanes_choice *c, st_error *err);
+/* Measures: opens a device of spec (st_device_create; threads as
+ * st_device_limit_compute_units, 0: all) per width, renders the calibration
+ * at each in turn (the fastest of three), sets c's lanes, rates and how
+ * (MEASURED) and writes the wisdom file (c->kept; failing to write it is
+ * not an error: c->why_not_kept says why). Call after st_render_lanes_recall
+ * filled c->path. A width that does not build is left out (rate 0). */
+st_status st_render_lanes_measure(const char *spec, unsigned threads, st_lanes_choice *c,
+                                  st_error *err);
+/* The calibration pass's options (scene: the built-in cornell-box). */
+st_render_options st_render_lanes_workload(void);
+/* The width and how it was chosen, for `strata devices` and notes: "8
+ * (measured fastest of M samples/s 1: 0.84, 4: 3.10, ...; kept in PATH)".
+ * Returns buf. */
+const char *st_render_lanes_describe(const st_lanes_choice *c, char *buf, size_t cap);
 
 typedef void (*st_progress_fn)(void *ctx, double fraction);
 

@@ -76,8 +76,10 @@ static const char render_help[] =
     "                         only in scenes without alpha); auto: coherent where the\n"
     "                         kernels have lanes (--lanes above 1, a CPU device's), else\n"
     "                         none (the image does not change; `bench --rays`: with all only)\n"
-    "  --lanes 1|4|8|16       items per work-item in the kernels' vector lanes (default: the\n"
-    "                         device's, `strata devices`; the image does not change)\n"
+    "  --lanes auto|1|4|8|16  items per work-item in the kernels' vector lanes; auto (the\n"
+    "                         default): the fastest width measured on this device, once, and\n"
+    "                         remembered (`strata devices` shows it; 1 on a GPU); the image\n"
+    "                         does not change\n"
     "  --threads N            run on N of a CPU device's compute units (an OpenCL sub-device)\n"
     "                         and build the BVH on at most N threads (default all; the image\n"
     "                         does not change)\n"
@@ -93,7 +95,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS, O_LANES
+    O_PACKETS, O_LANES, O_COLD
 };
 
 static const struct option options[] = {
@@ -134,6 +136,7 @@ static const struct option options[] = {
     {"tonemap", required_argument, 0, O_TONEMAP},
     {"quiet", no_argument, 0, O_QUIET},
     {"json", no_argument, 0, O_JSON},
+    {"cold", no_argument, 0, O_COLD},
     {"rays", required_argument, 0, O_RAYS},
     {"count", required_argument, 0, O_COUNT},
     {"output", required_argument, 0, 'o'},
@@ -269,10 +272,14 @@ static int parse_device_or_png(int c, const char *v, int bench, st_cli_render_ar
     if (c == O_THREADS)
         return st_cli_parse_u32("--threads", v, 1, 4096, &a->threads);
     if (c == O_LANES) {
+        if (!strcmp(v, "auto")) {
+            a->lanes = 0;
+            return ST_CLI_OK;
+        }
         if (st_cli_parse_u32("--lanes", v, 1, 16, &a->lanes) != ST_CLI_OK)
             return ST_CLI_EXIT_USAGE;
         if (a->lanes != 1 && a->lanes != 4 && a->lanes != 8 && a->lanes != 16)
-            return st_cli_usage_error("--lanes %s: must be 1, 4, 8 or 16", v);
+            return st_cli_usage_error("--lanes %s: must be auto, 1, 4, 8 or 16", v);
         return ST_CLI_OK;
     }
     if (bench && (c == O_EXPOSURE || c == O_TONEMAP))
@@ -441,6 +448,11 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
             return st_cli_usage_error("--json: only `strata bench` takes it");
         a->json = 1;
         return ST_CLI_OK;
+    case O_COLD:
+        if (bench != 1)
+            return st_cli_usage_error("--cold: only `strata bench` takes it");
+        a->cold = 1;
+        return ST_CLI_OK;
     case 'o':
         if (bench)
             return st_cli_usage_error("-o: `strata %s` writes no image", bench == 1 ? "bench" : "converge");
@@ -467,6 +479,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
         if (c == 'h') {
             printf(render_help, argv[0],
                    bench ? "  --json                 print one JSON object\n"
+                           "  --cold                 also time the kernel build with an empty kernel\n"
+                           "                         cache (a fresh one, thrown away after)\n"
                            "  --rays camera|random   trace rays alone (closest hit): camera rays through\n"
                            "                         random image points, or random origins in the scene's\n"
                            "                         box and directions on the sphere (fixed --seed)\n"
@@ -493,6 +507,9 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
                                   "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->opt.sampler]);
     if (a->opt.env_rotate != 0.0f && !a->env_file)
         return st_cli_usage_error("--env-rotate turns an environment map: add --env FILE.exr|FILE.hdr");
+    if (a->cold && a->rays)
+        return st_cli_usage_error("--cold times a render's kernel build, not the trace benchmark's: "
+                                  "drop --rays or --cold");
     if (a->ray_count && !a->rays)
         return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
     if (a->adaptive_opt && !a->opt.adaptive)

@@ -18,6 +18,7 @@ typedef struct st_cli_render_args {
     int noutputs;
     const char *device; /* --device */
     int json;           /* bench --json */
+    int cold;           /* bench --cold: time the kernel build in an empty cache too */
     int rays;           /* bench --rays: 1 + ST_RAYS_*; 0: bench a render */
     unsigned ray_count; /* bench --count (0: not given) */
     int scene_list;     /* --scene-list */
@@ -26,7 +27,7 @@ typedef struct st_cli_render_args {
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
     st_u32 threads;           /* --threads N; 0: every compute unit */
-    st_u32 lanes;             /* --lanes N; 0: the device's (st_device_default_lanes) */
+    st_u32 lanes;             /* --lanes N; 0: auto (st_render_lanes_recall, _measure) */
     int said;                 /* the scene's warnings and notes are printed already (a
                                  second session of one command opens it quietly) */
     float exposure;           /* --exposure EV (PNG) */

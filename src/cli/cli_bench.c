@@ -1,7 +1,8 @@
 #define _XOPEN_SOURCE 700 /* nftw */
 /* cli_bench.c — `strata bench`: throughput of each kernel stage, the BVH
- * build and the kernel build (cold: an empty PoCL cache in a child process;
- * cached: this process), after checking that the device renders correctly. */
+ * build and the kernel build (cached: from the kernel cache a render reads,
+ * in a child process; cold, with --cold: an empty cache of its own, thrown
+ * away), after checking that the device renders correctly. */
 #include <cjson/cJSON.h> /* Debian libcjson-dev */
 #include <ftw.h>
 #include <stdio.h>
@@ -59,7 +60,8 @@ static double build_seconds(const st_cli_render_args *a, int cold)
         double t0 = st_cli_now(), t = -1.0;
         if (st_cli_session_open(&full, &s, &err) == ST_OK &&
             st_render(s.renderer, &tiny.opt, &img, NULL, NULL, NULL, NULL, &err) == ST_OK)
-            t = st_cli_now() - t0 - s.load_seconds - st_renderer_bvh_seconds(s.renderer);
+            t = st_cli_now() - t0 - s.load_seconds - s.lanes_seconds -
+                st_renderer_bvh_seconds(s.renderer);
         st_image_free(&img);
         st_cli_session_close(&s);
         if (cold)
@@ -77,13 +79,14 @@ static double build_seconds(const st_cli_render_args *a, int cold)
 }
 
 typedef struct bench_result {
-    st_render_stats total, staged;
-    double cold, cached, bvh, load;
+    st_render_stats total; /* the fastest run, its stages timed within it */
+    double cold, cached, bvh, load; /* cold: negative where not asked (--cold) */
     st_u32 triangles, lights;
     const char *device, *scene;
     const char *packets; /* the rays traced in packets (--packets, auto resolved) */
-    const char *kernels; /* what the staged render ran (st_renderer_ran) */
+    const char *kernels; /* what the render ran (st_renderer_ran) */
     unsigned lanes;      /* the kernels' lane width */
+    const st_lanes_choice *lanes_choice; /* how it was chosen */
     st_cli_check check;
 } bench_result;
 
@@ -106,6 +109,18 @@ static double stage_count(const st_render_stats *s, int k, double pixels, const 
     }
 }
 
+/* The row of what the render's time holds besides its stages' launches: the
+ * host's work between them (the waits for the live paths' count, reading
+ * the film back) and the gaps between one launch and the next. */
+#define OUTSIDE "outside_stages"
+static double outside_stages(const st_render_stats *s)
+{
+    double sum = 0;
+    for (int k = 0; k < ST_STAGE_COUNT; k++)
+        sum += s->stage_seconds[k];
+    return s->seconds > sum ? s->seconds - sum : 0.0;
+}
+
 static void print_text(const st_cli_render_args *a, const bench_result *b)
 {
     const st_render_options *o = &a->opt;
@@ -116,27 +131,33 @@ static void print_text(const st_cli_render_args *a, const bench_result *b)
            o->width, o->height, o->spp, st_sampler_names[o->sampler],
            st_filter_names[o->filter.kind], (double)o->filter.radius,
            st_integrator_names[o->integrator], o->max_depth, b->packets);
+    char how[1400];
+    printf("lanes      %s\n", st_render_lanes_describe(b->lanes_choice, how, sizeof how));
     printf("kernels    %s\n", b->kernels);
     printf("check      %s\n", b->check.message);
     printf("bvh build  %.4f s (%.2f M triangles/s)\n", b->bvh,
            b->bvh > 0 ? b->triangles / b->bvh * 1e-6 : 0.0);
-    printf("kernels    cold build %.2f s, cached %.2f s (program build + first launch)\n",
-           b->cold, b->cached);
-    double pixels = (double)o->width * o->height;
+    if (b->cold >= 0.0)
+        printf("kernels    cold build %.2f s, cached %.2f s (program build + first launch)\n",
+               b->cold, b->cached);
+    else
+        printf("kernels    cached %.2f s (program build + first launch; --cold: an empty "
+               "cache)\n", b->cached);
+    double pixels = (double)o->width * o->height, total = b->total.seconds;
     printf("%-22s %10s %14s %7s\n", "stage", "seconds", "throughput", "share");
-    double sum = 0;
-    for (int k = 0; k < ST_STAGE_COUNT; k++)
-        sum += b->staged.stage_seconds[k];
     for (int k = 0; k < ST_STAGE_COUNT; k++) {
         const char *unit;
-        double n = stage_count(&b->staged, k, pixels, &unit), t = b->staged.stage_seconds[k];
+        double n = stage_count(&b->total, k, pixels, &unit), t = b->total.stage_seconds[k];
         printf("%-22s %10.4f ", st_stage_names[k], t);
         if (unit && t > 0) /* a rate where the stage ran and has a count */
             printf("%9.2f M %-9s", n / t * 1e-6, unit);
         else
             printf("%9s   %-9s", "-", "");
-        printf(" %5.1f%%\n", sum > 0 ? 100.0 * t / sum : 0.0);
+        printf(" %5.1f%%\n", total > 0 ? 100.0 * t / total : 0.0);
     }
+    double other = outside_stages(&b->total);
+    printf("%-22s %10.4f %9s   %-9s %5.1f%%\n", OUTSIDE, other, "-", "",
+           total > 0 ? 100.0 * other / total : 0.0);
     st_cli_print_summary("bench", o, &b->total, -1.0);
 }
 
@@ -151,6 +172,13 @@ static double shown(const char *fmt, double v)
     snprintf(buf, sizeof buf, fmt, v);
     return strtod(buf, NULL);
 }
+
+/* How the lane width was chosen, by ST_LANES_*. */
+static const char *const lanes_how[] = {[ST_LANES_FORCED] = "forced",
+                                        [ST_LANES_GPU] = "gpu",
+                                        [ST_LANES_UNMEASURED] = "unmeasured",
+                                        [ST_LANES_REMEMBERED] = "remembered",
+                                        [ST_LANES_MEASURED] = "measured"};
 
 /* Adds a number or string to o; returns 0 when cJSON could not allocate. */
 static int put_num(cJSON *o, const char *key, double v)
@@ -176,17 +204,20 @@ static int json_head(cJSON *root, const st_cli_render_args *a, const bench_resul
              put_num(root, "filter_radius", shown("%g", (double)o->filter.radius)) &&
              put_str(root, "integrator", st_integrator_names[o->integrator]) &&
              put_num(root, "max_depth", o->max_depth) && put_str(root, "packets", b->packets) &&
-             put_num(root, "lanes", b->lanes) && put_str(root, "kernels", b->kernels);
+             put_num(root, "lanes", b->lanes) &&
+             put_str(root, "lanes_chosen", lanes_how[b->lanes_choice->how]) &&
+             put_str(root, "kernels", b->kernels);
     cJSON *check = ok ? cJSON_AddObjectToObject(root, "check") : NULL;
     return check && cJSON_AddTrueToObject(check, "passed") &&
            put_str(check, "message", b->check.message) &&
            put_num(root, "bvh_seconds", shown("%.6f", b->bvh)) &&
-           put_num(root, "kernel_build_cold_seconds", shown("%.4f", b->cold)) &&
+           (b->cold < 0.0 || put_num(root, "kernel_build_cold_seconds", shown("%.4f", b->cold))) &&
            put_num(root, "kernel_build_cached_seconds", shown("%.4f", b->cached));
 }
 
 /* "stages": {name: {seconds, per_second, unit}} in stage order (seconds
- * alone where stage_count has no count), then "total". */
+ * alone where stage_count has no count) and last outside_stages (seconds),
+ * which add up to "total"'s seconds. */
 static int json_stages(cJSON *root, const st_cli_render_args *a, const bench_result *b)
 {
     double pixels = (double)a->opt.width * a->opt.height;
@@ -194,13 +225,15 @@ static int json_stages(cJSON *root, const st_cli_render_args *a, const bench_res
     int ok = stages != NULL;
     for (int k = 0; k < ST_STAGE_COUNT && ok; k++) {
         const char *unit;
-        double n = stage_count(&b->staged, k, pixels, &unit), t = b->staged.stage_seconds[k];
+        double n = stage_count(&b->total, k, pixels, &unit), t = b->total.stage_seconds[k];
         cJSON *st = cJSON_AddObjectToObject(stages, st_stage_names[k]);
         ok = st && put_num(st, "seconds", shown("%.6f", t));
         if (ok && unit) /* a stage without a count of its own has its seconds alone */
             ok = put_num(st, "per_second", shown("%.1f", t > 0 ? n / t : 0.0)) &&
                  put_str(st, "unit", unit);
     }
+    cJSON *other = ok ? cJSON_AddObjectToObject(stages, OUTSIDE) : NULL;
+    ok = other && put_num(other, "seconds", shown("%.6f", outside_stages(&b->total)));
     const st_render_stats *t = &b->total;
     cJSON *total = ok ? cJSON_AddObjectToObject(root, "total") : NULL;
     return total && put_num(total, "seconds", shown("%.6f", t->seconds)) &&
@@ -227,65 +260,29 @@ static st_status print_json(const st_cli_render_args *a, const bench_result *b, 
 #define BENCH_RUNS 64
 #define BENCH_SECONDS 0.5
 
-/* best: the first run, then per figure (the total, each stage) the shorter
- * time of best's and run's; the counts are every run's. */
-static void keep_fastest(st_render_stats *best, const st_render_stats *run, int first)
-{
-    if (first) {
-        *best = *run;
-        return;
-    }
-    if (run->seconds < best->seconds)
-        best->seconds = run->seconds;
-    for (int k = 0; k < ST_STAGE_COUNT; k++)
-        if (run->stage_seconds[k] < best->stage_seconds[k])
-            best->stage_seconds[k] = run->stage_seconds[k];
-}
-
-static double longest_stage(const st_render_stats *st)
-{
-    double m = 0;
-    for (int k = 0; k < ST_STAGE_COUNT; k++)
-        if (st->stage_seconds[k] > m)
-            m = st->stage_seconds[k];
-    return m;
-}
-
-/* The whole render (b->total) and the render stage by stage (b->staged, each
- * launch waited for), each the fastest of its runs: repeated while the runs
- * took under BENCH_SECONDS, and while the whole render still looks shorter
- * than one of its own stages, which only noise can make it (at most
- * BENCH_RUNS runs; past them a warning says the figures are noisy). */
+/* The fastest of repeated renders, each timed whole and stage by stage at
+ * once (profile: every launch timed by the device's clock, nothing waited
+ * for), so that the stages and what lies outside them add up to the total
+ * of the run they come from. The counts are every run's. */
 static st_status measure(const st_cli_session *s, const st_render_options *o, bench_result *b,
                          st_error *err)
 {
-    st_render_options staged = *o;
-    staged.profile = 1;
+    st_render_options timed = *o;
+    timed.profile = 1;
     double spent = 0;
-    for (int run = 0; run < BENCH_RUNS; run++) {
-        st_render_stats total = {0}, stages = {0};
+    for (int run = 0; run < BENCH_RUNS && spent < BENCH_SECONDS; run++) {
+        st_render_stats st = {0};
         st_image img = {0};
-        st_status rc = st_render(s->renderer, o, &img, NULL, &total, NULL, NULL, err);
+        st_status rc = st_render(s->renderer, &timed, &img, NULL, &st, NULL, NULL, err);
         st_image_free(&img);
-        if (rc == ST_OK)
-            rc = st_render(s->renderer, &staged, &img, NULL, &stages, NULL, NULL, err);
-        st_image_free(&img);
-        free(total.spp_map);
-        free(stages.spp_map);
+        free(st.spp_map);
+        st.spp_map = NULL;
         if (rc != ST_OK)
             return rc;
-        total.spp_map = stages.spp_map = NULL;
-        keep_fastest(&b->total, &total, run == 0);
-        keep_fastest(&b->staged, &stages, run == 0);
-        spent += total.seconds + stages.seconds;
-        if (spent >= BENCH_SECONDS && b->total.seconds >= longest_stage(&b->staged))
-            return ST_OK;
+        if (run == 0 || st.seconds < b->total.seconds)
+            b->total = st;
+        spent += st.seconds;
     }
-    if (b->total.seconds < longest_stage(&b->staged))
-        fprintf(stderr, "strata: warning: bench: after %d runs the whole render (%.6f s) is still "
-                        "timed shorter than its longest stage (%.6f s): the machine is too noisy "
-                        "for a render this small\n",
-                BENCH_RUNS, b->total.seconds, longest_stage(&b->staged));
     return ST_OK;
 }
 
@@ -300,8 +297,11 @@ int st_cli_bench(int argc, char **argv)
     bench_result b;
     memset(&b, 0, sizeof b);
     /* before this process touches OpenCL: fork() and OpenCL do not mix */
-    b.cold = build_seconds(&a, 1);
+    /* the cached build first: where the lane width is not yet measured on
+     * this device, that child measures it (in the real kernel cache, its
+     * time left out) and the cold one and this process read its choice */
     b.cached = build_seconds(&a, 0);
+    b.cold = a.cold ? build_seconds(&a, 1) : -1.0;
     st_error err = {0};
     st_cli_session s;
     st_image img = {0};
@@ -321,6 +321,7 @@ int st_cli_bench(int argc, char **argv)
     b.packets = st_packet_names[st_renderer_packets(s.renderer, &a.opt)];
     b.kernels = st_renderer_ran(s.renderer);
     b.lanes = st_device_get_info(s.dev)->lanes;
+    b.lanes_choice = &s.lanes;
     if (a.json) {
         if (print_json(&a, &b, &err) != ST_OK)
             rc = st_cli_fail(&err);

@@ -1,6 +1,7 @@
 /* cli_devices.c — `strata devices`: every OpenCL device as the P:D that
  * --device takes, with what a render needs of it (OpenCL C version, 64-bit
- * atomics for the film). */
+ * atomics for the film) and the lane width --lanes auto takes there, with
+ * how it was chosen. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,7 @@
 #include "cli_commands.h"
 #include "cli_error.h"
 #include "st_device.h"
+#include "st_render.h"
 
 int st_cli_devices(int argc, char **argv)
 {
@@ -24,12 +26,17 @@ int st_cli_devices(int argc, char **argv)
         return st_cli_fail(&err);
     for (unsigned i = 0; i < n; i++) {
         const st_device_info *d = &list[i];
+        st_lanes_choice c;
+        char lanes[1400];
+        if (st_render_lanes_recall(d, &c, &err) != ST_OK)
+            return st_cli_fail(&err);
         printf("%u:%u  %-4s %s (%s) | %s | %u compute units, %.1f GiB | 64-bit atomics: %s | "
-               "lanes %u\n",
+               "lanes %s\n",
                d->platform, d->device, d->is_gpu ? "gpu" : d->is_cpu ? "cpu" : "other", d->name,
                d->platform_name, d->c_version, d->compute_units,
                (double)d->global_mem / (1024.0 * 1024.0 * 1024.0),
-               d->has_int64_atomics ? "yes" : "no", d->lanes);
+               d->has_int64_atomics ? "yes" : "no",
+               st_render_lanes_describe(&c, lanes, sizeof lanes));
     }
     if (n == 0)
         printf("no OpenCL devices (run `make deps`)\n");

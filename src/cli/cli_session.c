@@ -45,13 +45,15 @@ static st_status warm_render(st_renderer *r, const st_render_options *w, st_erro
  * each kernel at its first launch, which would otherwise fall in the render's
  * first wave, its rate and its time. So before the render, a render of 8 x 8
  * pixels with the render's own settings (at most 16 spp; no crop, no sample
- * range past its spp) launches what it launches. (PoCL compiles a kernel again
+ * range past its spp), warm (st_render_options.warm: every vertex's kernels
+ * even where its few paths have all ended), launches what it launches. (PoCL compiles a kernel again
  * for grids 2^16 work-items wide or wider; st_device_launch lays long launches
  * out in narrower rows, so the one compile serves the render.) */
 static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *err)
 {
     st_render_options w = *o;
     w.width = w.height = 8;
+    w.warm = 1; /* the kernels of vertices its few paths may not reach too */
     w.crop_x = w.crop_y = w.crop_w = w.crop_h = 0;
     if (w.spp > 16) {
         w.spp = 16;
@@ -60,6 +62,36 @@ static st_status warm_up(st_renderer *r, const st_render_options *o, st_error *e
     if (w.sample_end > w.spp)
         w.sample_begin = w.sample_end = 0;
     return warm_render(r, &w, err);
+}
+
+/* The lane width: --lanes N, else the remembered measurement, else a
+ * measurement now (once per device, driver and version), said in a note
+ * while it runs (it compiles every width's kernels the first time) and
+ * after, with its figures. */
+static st_status choose_lanes(const st_cli_render_args *a, st_cli_session *s, st_error *err)
+{
+    if (a->lanes) {
+        memset(&s->lanes, 0, sizeof s->lanes);
+        s->lanes.lanes = a->lanes;
+        s->lanes.how = ST_LANES_FORCED;
+        return ST_OK;
+    }
+    if (st_render_lanes_recall(st_device_get_info(s->dev), &s->lanes, err) != ST_OK)
+        return err->status;
+    if (s->lanes.how != ST_LANES_UNMEASURED)
+        return ST_OK;
+    if (!a->said && !a->quiet)
+        fprintf(stderr, "strata: note: measuring which lane width is fastest on this device "
+                "(once; --lanes N skips it)...\n");
+    double t0 = st_cli_now();
+    if (st_render_lanes_measure(a->device, a->threads, &s->lanes, err) != ST_OK)
+        return err->status;
+    s->lanes_seconds = st_cli_now() - t0;
+    char line[1024];
+    if (!a->said && !a->quiet)
+        fprintf(stderr, "strata: note: lanes %s\n",
+                st_render_lanes_describe(&s->lanes, line, sizeof line));
+    return ST_OK;
 }
 
 st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error *err)
@@ -89,7 +121,7 @@ st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error
         st_cli_option_words(err, threads);
         return err->status;
     }
-    if (a->lanes && st_device_set_lanes(s->dev, a->lanes, err) != ST_OK)
+    if (choose_lanes(a, s, err) != ST_OK || st_device_set_lanes(s->dev, s->lanes.lanes, err) != ST_OK)
         return err->status;
     st_cli_notice notice;
     st_cli_notice_start(&notice, a->quiet);

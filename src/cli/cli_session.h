@@ -22,6 +22,8 @@ typedef struct st_cli_session {
     st_envmap *env_map; /* --env FILE; NULL: none */
     double load_seconds;
     double build_seconds; /* the program's build and the first launch of its kernels */
+    st_lanes_choice lanes; /* the kernels' lane width and how it was chosen */
+    double lanes_seconds;  /* the calibration's time, where this session measured it */
 } st_cli_session;
 
 /* Opens the session of a's render: the scene, --env's map (recorded in

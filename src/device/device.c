@@ -14,6 +14,13 @@
 
 #define MAX_KERNELS 32
 
+/* Every queue keeps the device's own start and end times of its commands, so
+ * that a launch can be timed without a wait after it (st_device_time_launches):
+ * a host clock around a launch and its wait counts the wait too, and the
+ * launches' sum then exceeded the whole render's time on small renders. An
+ * event is asked for only where a launch is timed. */
+#define QUEUE_PROPERTIES CL_QUEUE_PROFILING_ENABLE
+
 struct st_device {
     st_device_info info;
     cl_platform_id platform;
@@ -25,6 +32,11 @@ struct st_device {
     char *log;
     struct { char name[64]; cl_kernel k; } kernels[MAX_KERNELS];
     unsigned kernel_count;
+    /* launch timing (st_device_time_launches): the tag of the launches to
+     * come (-1: untimed) and the events of those not yet collected */
+    int time_tag;
+    struct { cl_event ev; int tag; } *timed;
+    size_t timed_count, timed_cap;
 };
 
 const char *st_device_error_name(cl_int code)
@@ -84,6 +96,7 @@ static void fill_info(cl_platform_id p, cl_device_id d, unsigned pi, unsigned di
     device_string(d, CL_DEVICE_NAME, info->name, sizeof info->name);
     device_string(d, CL_DEVICE_VERSION, info->version, sizeof info->version);
     device_string(d, CL_DEVICE_OPENCL_C_VERSION, info->c_version, sizeof info->c_version);
+    device_string(d, CL_DRIVER_VERSION, info->driver_version, sizeof info->driver_version);
     cl_device_type type = 0;
     clGetDeviceInfo(d, CL_DEVICE_TYPE, sizeof type, &type, NULL);
     info->is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;
@@ -256,7 +269,8 @@ st_status st_device_create(const char *spec, st_device **out, st_error *err)
         st_device_destroy(dev);
         return cl_fail(err, "clCreateContext", rc);
     }
-    dev->queue = clCreateCommandQueue(dev->context, dev->id, 0, &rc);
+    dev->time_tag = -1;
+    dev->queue = clCreateCommandQueue(dev->context, dev->id, QUEUE_PROPERTIES, &rc);
     if (rc != CL_SUCCESS) {
         st_device_destroy(dev);
         return cl_fail(err, "clCreateCommandQueue", rc);
@@ -269,6 +283,9 @@ void st_device_destroy(st_device *dev)
 {
     if (!dev)
         return;
+    for (size_t i = 0; i < dev->timed_count; i++)
+        clReleaseEvent(dev->timed[i].ev);
+    free(dev->timed);
     for (unsigned i = 0; i < dev->kernel_count; i++)
         clReleaseKernel(dev->kernels[i].k);
     if (dev->program)
@@ -334,7 +351,7 @@ st_status st_device_limit_compute_units(st_device *dev, unsigned n, st_error *er
     cl_context ctx = clCreateContext(props, 1, &dev->sub, NULL, NULL, &rc);
     if (rc != CL_SUCCESS)
         return cl_fail(err, "clCreateContext", rc);
-    cl_command_queue q = clCreateCommandQueue(ctx, dev->sub, 0, &rc);
+    cl_command_queue q = clCreateCommandQueue(ctx, dev->sub, QUEUE_PROPERTIES, &rc);
     if (rc != CL_SUCCESS) {
         clReleaseContext(ctx);
         return cl_fail(err, "clCreateCommandQueue", rc);
@@ -571,8 +588,21 @@ st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t loc
         global[0] = row;
     }
     cl_uint dims = global[1] > 1 ? 2 : 1;
+    if (dev->time_tag >= 0 && dev->timed_count == dev->timed_cap) {
+        size_t cap = dev->timed_cap ? 2 * dev->timed_cap : 64;
+        void *grown = realloc(dev->timed, cap * sizeof *dev->timed);
+        if (!grown)
+            return st_fail(err, ST_ERR_NOMEM, "out of memory timing launches");
+        dev->timed = grown;
+        dev->timed_cap = cap;
+    }
+    cl_event ev = NULL;
     cl_int code = clEnqueueNDRangeKernel(dev->queue, k, dims, NULL, global, local ? group : NULL,
-                                         0, NULL, NULL);
+                                         0, NULL, dev->time_tag >= 0 ? &ev : NULL);
+    if (code == CL_SUCCESS && ev) {
+        dev->timed[dev->timed_count].ev = ev;
+        dev->timed[dev->timed_count++].tag = dev->time_tag;
+    }
     if (code != CL_SUCCESS) {
         char name[64] = "?";
         clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof name, name, NULL);
@@ -580,6 +610,35 @@ st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t loc
                        st_device_error_name(code));
     }
     return ST_OK;
+}
+
+void st_device_time_launches(st_device *dev, int tag) { dev->time_tag = tag; }
+
+st_status st_device_timed_seconds(st_device *dev, double *seconds, unsigned tags, st_error *err)
+{
+    st_status rc = ST_OK;
+    if (dev->timed_count > 0) {
+        cl_int code = clWaitForEvents(1, &dev->timed[dev->timed_count - 1].ev);
+        if (code != CL_SUCCESS)
+            rc = cl_fail(err, "clWaitForEvents", code);
+    }
+    for (size_t i = 0; i < dev->timed_count; i++) {
+        cl_ulong t0 = 0, t1 = 0;
+        cl_int a = CL_SUCCESS, b = CL_SUCCESS;
+        if (rc == ST_OK) {
+            a = clGetEventProfilingInfo(dev->timed[i].ev, CL_PROFILING_COMMAND_START, sizeof t0,
+                                        &t0, NULL);
+            b = clGetEventProfilingInfo(dev->timed[i].ev, CL_PROFILING_COMMAND_END, sizeof t1,
+                                        &t1, NULL);
+        }
+        if (rc == ST_OK && (a != CL_SUCCESS || b != CL_SUCCESS))
+            rc = cl_fail(err, "clGetEventProfilingInfo", a != CL_SUCCESS ? a : b);
+        if (rc == ST_OK && (unsigned)dev->timed[i].tag < tags && t1 > t0)
+            seconds[dev->timed[i].tag] += (double)(t1 - t0) * 1e-9;
+        clReleaseEvent(dev->timed[i].ev);
+    }
+    dev->timed_count = 0;
+    return rc;
 }
 
 st_status st_device_finish(st_device *dev, st_error *err)

@@ -161,30 +161,35 @@ static st_status bind_stages(st_renderer *r, const st_render_options *o, const s
 }
 
 /* Launches kernel kl over `items` work-items in groups of `local`; with
- * profiling, waits and adds its time to stage k's. */
+ * profiling, timed as stage k by the device's clock (collect_stage_times). */
 static st_status run_kernel(st_renderer *r, cl_kernel kl, int k, const st_params *p, size_t items,
-                            size_t local, const st_render_options *o, st_render_stats *st,
-                            st_error *err)
+                            size_t local, const st_render_options *o, st_error *err)
 {
     if (st_wave_set_params(kl, p, err) != ST_OK)
         return err->status;
     st_render_note_ran(r, kl);
-    double t0 = o->profile ? st_render_now() : 0.0;
-    if (st_device_launch(r->dev, kl, items, local, err) != ST_OK)
-        return err->status;
-    if (o->profile) {
-        if (st_device_finish(r->dev, err) != ST_OK)
-            return err->status;
-        st->stage_seconds[k] += st_render_now() - t0;
-    }
-    return ST_OK;
+    st_device_time_launches(r->dev, o->profile ? k : -1);
+    st_status rc = st_device_launch(r->dev, kl, items || !o->warm ? items : 1u, local, err);
+    st_device_time_launches(r->dev, -1);
+    return rc;
+}
+
+/* With profiling, the device times of the launches so far added to their
+ * stages' (each launch's own start to end on the device: no wait between
+ * launches, so the stages add up to less than the render's wall time, the
+ * rest being the host's work and the gaps between launches). */
+static st_status collect_stage_times(st_renderer *r, const st_render_options *o,
+                                     st_render_stats *st, st_error *err)
+{
+    return o->profile ? st_device_timed_seconds(r->dev, st->stage_seconds, ST_STAGE_COUNT, err)
+                      : ST_OK;
 }
 
 /* Launches stage k over `items` work-items (run_kernel). */
 static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t items,
-                           const st_render_options *o, st_render_stats *st, st_error *err)
+                           const st_render_options *o, st_error *err)
 {
-    return run_kernel(r, r->k[k], k, p, items, o->local_size, o, st, err);
+    return run_kernel(r, r->k[k], k, p, items, o->local_size, o, err);
 }
 
 /* Reconstruction of a wave: splat_pixels then splat_edges (the taps of
@@ -194,23 +199,23 @@ static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t ite
  * as the stage bin_samples) where the items do not lie in their pixels in
  * order (st_items_by_pixel). */
 static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_options *o,
-                            st_render_stats *st, st_error *err)
+                            st_error *err)
 {
     size_t n = p->item_count, group = st_plan_tile_group(&r->plan, o);
     size_t npix = (size_t)p->region_w * p->region_h;
     if (st_plan_gathers(&r->plan, p)) {
         size_t m = n < npix ? n : npix;
-        if (run_stage(r, ST_STAGE_SPLAT_PIXELS, p, m, o, st, err) ||
-            run_kernel(r, r->splat_edges, ST_STAGE_SPLAT_PIXELS, p, m, o->local_size, o, st, err))
+        if (run_stage(r, ST_STAGE_SPLAT_PIXELS, p, m, o, err) ||
+            run_kernel(r, r->splat_edges, ST_STAGE_SPLAT_PIXELS, p, m, o->local_size, o, err))
             return err->status;
         return ST_OK;
     }
     if (!p->bins)
-        return run_stage(r, ST_STAGE_SPLAT, p, n, o, st, err);
+        return run_stage(r, ST_STAGE_SPLAT, p, n, o, err);
     if (!st_items_by_pixel(p) &&
-        (run_stage(r, ST_STAGE_BIN, p, n, o, st, err) ||
-         run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, st, err) ||
-         run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, st, err)))
+        (run_stage(r, ST_STAGE_BIN, p, n, o, err) ||
+         run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, err) ||
+         run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, err)))
         return err->status;
     st_params q = *p;
     st_u32 passes = r->plan.tile_passes ? 4u : 1u;
@@ -220,7 +225,7 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
     for (st_u32 c = 0; c < passes; c++) {
         q.bin_pass = r->plan.tile_passes ? c + 1u : 0u;
         if (run_kernel(r, r->k[ST_STAGE_SPLAT_TILES], ST_STAGE_SPLAT_TILES, &q, bins * group,
-                       group, o, st, err))
+                       group, o, err))
             return err->status;
     }
     return ST_OK;
@@ -452,22 +457,19 @@ static size_t live_paths(const st_params *p)
 /* trace_rays over p's positions, sorted by ray first where the plan says so
  * (the sort timed with the stage). */
 static st_status run_closest(st_renderer *r, st_u32 v, const st_params *p,
-                             const st_render_options *o, st_render_stats *st, st_error *err)
+                             const st_render_options *o, st_error *err)
 {
     size_t n = live_paths(p);
     if (!st_plan_orders_trace(&r->plan, v))
-        return run_stage(r, ST_STAGE_TRACE, p, n, o, st, err);
+        return run_stage(r, ST_STAGE_TRACE, p, n, o, err);
     st_params q = *p;
     q.ordered = 1u;
-    double t0 = o->profile ? st_render_now() : 0.0;
-    if (st_render_order(r, &q, n, o->local_size, err) != ST_OK)
-        return err->status;
-    if (o->profile) {
-        if (st_device_finish(r->dev, err) != ST_OK)
-            return err->status;
-        st->stage_seconds[ST_STAGE_TRACE] += st_render_now() - t0;
-    }
-    return run_stage(r, ST_STAGE_TRACE, &q, n, o, st, err);
+    st_device_time_launches(r->dev, o->profile ? ST_STAGE_TRACE : -1);
+    st_status rc = st_render_order(r, &q, n, o->local_size, err);
+    st_device_time_launches(r->dev, -1);
+    if (rc != ST_OK)
+        return rc;
+    return run_stage(r, ST_STAGE_TRACE, &q, n, o, err);
 }
 
 /* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the vertex's
@@ -475,39 +477,39 @@ static st_status run_closest(st_renderer *r, st_u32 v, const st_params *p,
  * coherent are the rays of vertex 0 (camera rays, and shadow rays from
  * where they hit), a bounce's scatter (paths measured slower in packets). */
 static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
-                           const st_render_options *o, st_render_stats *st, st_error *err)
+                           const st_render_options *o, st_error *err)
 {
     size_t n = live_paths(p);
     if (k == ST_STAGE_TRACE && v == p->max_depth && r->plan.last_by_emitters)
-        return run_kernel(r, r->trace_last, k, p, n, o->local_size, o, st, err);
+        return run_kernel(r, r->trace_last, k, p, n, o->local_size, o, err);
     if (!st_plan_in_packets(&r->plan, r, k, v))
-        return k == ST_STAGE_TRACE ? run_closest(r, v, p, o, st, err)
-                                   : run_stage(r, k, p, n, o, st, err);
+        return k == ST_STAGE_TRACE ? run_closest(r, v, p, o, err)
+                                   : run_stage(r, k, p, n, o, err);
     cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
-    return run_kernel(r, kl, k, p, st_render_lane_items(r->dev, n), o->local_size, o, st, err);
+    return run_kernel(r, kl, k, p, st_render_lane_items(r->dev, n), o->local_size, o, err);
 }
 
 /* Stage shade over the vertex's live paths, ST_W per work-item (ceil(n /
  * ST_W) work-items): shade_hits, or shade_hits_shadowed with its shadow rays. */
 static st_status run_shade(st_renderer *r, const st_params *p, const st_render_options *o,
-                           st_render_stats *st, st_error *err)
+                           st_error *err)
 {
     cl_kernel kl = r->plan.shadows_in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
     size_t items = st_render_lane_items(r->dev, live_paths(p));
-    return run_kernel(r, kl, ST_STAGE_SHADE, p, items, o->local_size, o, st, err);
+    return run_kernel(r, kl, ST_STAGE_SHADE, p, items, o->local_size, o, err);
 }
 
 /* The list of the paths that go on from p's vertex, for the next (live.cl:
  * a count per chunk of shade's words, their scan, the scatter); its length
  * read back into p->live_count. */
 static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
-                           const st_render_options *o, st_render_stats *st, st_error *err)
+                           const st_render_options *o, st_error *err)
 {
     size_t words = st_render_lane_items(r->dev, live_paths(p));
     size_t chunks = (words + ST_LIVE_CHUNK - 1u) / ST_LIVE_CHUNK;
-    if (run_kernel(r, r->live_count, ST_STAGE_LIVE, p, chunks, o->local_size, o, st, err) ||
-        run_kernel(r, r->live_scan, ST_STAGE_LIVE, p, 1, o->local_size, o, st, err) ||
-        run_stage(r, ST_STAGE_LIVE, p, chunks, o, st, err))
+    if (run_kernel(r, r->live_count, ST_STAGE_LIVE, p, chunks, o->local_size, o, err) ||
+        run_kernel(r, r->live_scan, ST_STAGE_LIVE, p, 1, o->local_size, o, err) ||
+        run_stage(r, ST_STAGE_LIVE, p, chunks, o, err))
         return err->status;
     return st_device_buffer_read(r->dev, w->b[ST_WAVE_live_total], sizeof p->live_count,
                                  &p->live_count, err);
@@ -515,10 +517,10 @@ static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
 
 /* One wave: items [first, first + n) of the render's item space. */
 static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
-                          const st_render_options *o, st_render_stats *st, st_error *err)
+                          const st_render_options *o, st_error *err)
 {
     /* generate: ST_W items a work-item */
-    if (run_stage(r, ST_STAGE_GENERATE, p, st_render_lane_items(r->dev, p->item_count), o, st, err))
+    if (run_stage(r, ST_STAGE_GENERATE, p, st_render_lane_items(r->dev, p->item_count), o, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS), as the
@@ -528,19 +530,19 @@ static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
     int in_shade = r->plan.shadows_in_shade;
     for (st_u32 v = 0; v < vertices; v++) {
         p->vertex = r->plan.live_lists ? v : 0u; /* 0: every item */
-        if (run_trace(r, ST_STAGE_TRACE, v, p, o, st, err) || run_shade(r, p, o, st, err))
+        if (run_trace(r, ST_STAGE_TRACE, v, p, o, err) || run_shade(r, p, o, err))
             return err->status;
-        if (!in_shade && v < p->max_depth && run_trace(r, ST_STAGE_SHADOW, v, p, o, st, err))
+        if (!in_shade && v < p->max_depth && run_trace(r, ST_STAGE_SHADOW, v, p, o, err))
             return err->status;
         if (r->plan.live_lists && v + 1u < vertices) {
-            if (list_live(r, w, p, o, st, err) != ST_OK)
+            if (list_live(r, w, p, o, err) != ST_OK)
                 return err->status;
-            if (p->live_count == 0u)
+            if (p->live_count == 0u && !o->warm)
                 break;
         }
     }
     p->vertex = 0;
-    return splat_wave(r, p, o, st, err);
+    return splat_wave(r, p, o, err);
 }
 
 /* The tallies of the work-item slots and of splat_tiles' bins (the plan's
@@ -671,7 +673,9 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
     for (st_u64 done = 0; rc == ST_OK && done < total; done += w->items) {
         p->first_item = first + done;
         p->item_count = (st_u32)(total - done < w->items ? total - done : w->items);
-        rc = run_wave(r, w, p, o, st, err);
+        rc = run_wave(r, w, p, o, err);
+        if (rc == ST_OK)
+            rc = collect_stage_times(r, o, st, err);
         if (rc == ST_OK && pr->fn) {
             rc = st_device_finish(r->dev, err);
             pr->done += p->item_count;
@@ -844,10 +848,12 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     set_region(&p, win); /* resolve the window alone: its counts are the window's */
     size_t resolve_items = st_render_lane_items(r->dev, (size_t)win[2] * win[3]);
     if (rc == ST_OK)
-        rc = run_stage(r, ST_STAGE_RESOLVE, &p, resolve_items, o, st, err);
+        rc = run_stage(r, ST_STAGE_RESOLVE, &p, resolve_items, o, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;
+    if (rc == ST_OK)
+        rc = collect_stage_times(r, o, st, err);
     if (rc == ST_OK)
         rc = read_back(r, &w, o, out, sums, st, err);
     st_wave_destroy(&w);

@@ -36,7 +36,7 @@ expect "a negative threshold exits 2" 2 "^strata: error: --noise-threshold -1: m
     $S render $P --adaptive --noise-threshold -1 -o "$T/x.exr"
 expect "--max-spp without --adaptive exits 2" 2 "^strata: error: --max-spp applies to adaptive renders only" \
     $S render $P --max-spp 32 -o "$T/x.exr"
-$S bench $P --sampler random --adaptive --spp 8 > "$T/bench" 2> /dev/null
+$S bench $P --sampler random --adaptive --spp 8 --cold > "$T/bench" 2> /dev/null
 # in the order each first ran: the later rounds' sort by tile comes between
 check "bench names the adaptive kernels it ran" \
     'grep "^kernels *lanes [0-9]*: " "$T/bench" | grep "adaptive_moments, adaptive_estimate" |

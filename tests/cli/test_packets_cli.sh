@@ -61,8 +61,9 @@ if $S devices 2> /dev/null | grep -q "Portable Computing Language"; then
     check "... not those of 20,480" '[ "$(sorted "$T/ico5-rays")" = False ]'
 fi
 $S devices > "$T/devices"
-check "devices names each device's default lanes" 'grep -q "| lanes \(1\|4\|8\|16\)$" "$T/devices"'
-expect "--lanes 3 is a usage error" 2 "strata: error: --lanes 3: must be 1, 4, 8 or 16" \
+check "devices names each device's lanes and how they were chosen" \
+    'grep -q "| lanes \(1\|4\|8\|16\) (" "$T/devices"'
+expect "--lanes 3 is a usage error" 2 "strata: error: --lanes 3: must be auto, 1, 4, 8 or 16" \
     $S render cornell-box --lanes 3 -o "$T/x.exr"
 check "... and writes nothing" '[ ! -e "$T/x.exr" ]'
 echo "1..$n"
