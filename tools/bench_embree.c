@@ -24,7 +24,9 @@
  * that starts its worker threads (as st_trace_bench_build times strata's).
  * Then THREADS pthreads trace every ray, taking chunks of CHUNK rays in the generator's
  * order from a shared counter (as PoCL hands out work-groups), once with
- * rtcIntersect1 and once with rtcIntersect8 (packets of 8 consecutive rays);
+ * rtcIntersect1, once with rtcIntersect8 and once with rtcIntersect16
+ * (packets of 8 and of 16 consecutive rays; Embree emulates the 16-wide call
+ * with narrower ones where the machine or its build has no AVX-512);
  * each timed pass follows an untimed one over the first wave of rays, as
  * strata's benchmark launches one untimed wave (PoCL compiles at the first
  * launch; here it warms the caches alike).
@@ -43,10 +45,11 @@
  *                     [--check N] [--json]
  * Prints strata bench's text (one trace line per Embree call), or with
  * --json one line: {"version", "device", "scene", "rays" (rtcIntersect1),
- * "rays8" (rtcIntersect8), each {kind, count, seconds, rays_per_second,
- * hit_fraction}, "bvh" {triangles, seconds, triangles_per_second}, "check"
- * {rays, agree1, agree8, tolerance}, and with one-sided triangles
- * "two_sided" {"rays", "rays8", "check"}}. Errors: one line "bench_embree:
+ * "rays8" (rtcIntersect8), "rays16" (rtcIntersect16), each {kind, count,
+ * seconds, rays_per_second, hit_fraction}, "bvh" {triangles, seconds,
+ * triangles_per_second}, "native16" (whether Embree's build traces 16 rays
+ * natively), "check" {rays, agree1, agree8, agree16, tolerance}, and with
+ * one-sided triangles "two_sided" {"rays", "rays8", "rays16", "check"}}. Errors: one line "bench_embree:
  * error: ...", exit 2 for usage, 1 otherwise. */
 #include <cjson/cJSON.h> /* Debian libcjson-dev */
 #include <embree3/rtcore.h> /* Debian libembree-dev */
@@ -67,7 +70,7 @@
 
 #define DEFAULT_COUNT (1u << 21) /* strata bench's default --count */
 #define WARM_RAYS (1u << 18)     /* strata bench's default wave, traced untimed first */
-#define CHUNK 4096u              /* rays a thread takes at a time (a multiple of 8) */
+#define CHUNK 4096u              /* rays a thread takes at a time (a multiple of 16) */
 #define CHECK_TOL 1e-4           /* relative difference of t allowed in the check */
 #define CHECK_SLACK 0.001        /* share of checked rays allowed to disagree */
 
@@ -272,7 +275,7 @@ typedef struct pass {
     const st_ray *rays;
     float *t;              /* per ray: the hit's t, INFINITY on a miss */
     size_t count;          /* rays [0, count) */
-    int eight;             /* rtcIntersect8 instead of rtcIntersect1 */
+    int width;             /* rays a call: rtcIntersect1, 8 or 16 */
     atomic_size_t next;    /* the first ray of the next chunk to take */
     atomic_ullong hits;
 } pass;
@@ -296,31 +299,38 @@ static void trace_one(pass *p, size_t begin, size_t end, unsigned long long *hit
     }
 }
 
-static void trace_eight(pass *p, size_t begin, size_t end, unsigned long long *hits)
-{
-    struct RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    for (size_t b = begin; b < end; b += 8) {
-        struct RTCRayHit8 rh; /* RTC_ALIGN(32) in rtcore_ray.h */
-        _Alignas(32) int valid[8];
-        for (unsigned k = 0; k < 8; k++) {
-            size_t i = b + k < end ? b + k : b; /* a short tail repeats a live ray, masked off */
-            const st_ray *r = &p->rays[i];
-            valid[k] = b + k < end ? -1 : 0;
-            rh.ray.org_x[k] = r->o[0], rh.ray.org_y[k] = r->o[1], rh.ray.org_z[k] = r->o[2];
-            rh.ray.dir_x[k] = r->d[0], rh.ray.dir_y[k] = r->d[1], rh.ray.dir_z[k] = r->d[2];
-            rh.ray.tnear[k] = 0.0f, rh.ray.tfar[k] = r->tmax, rh.ray.time[k] = 0.0f;
-            rh.ray.mask[k] = ~0u, rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
-            rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-        }
-        rtcIntersect8(valid, p->scene, &ctx, &rh);
-        for (unsigned k = 0; k < 8 && b + k < end; k++) {
-            int hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-            *hits += hit;
-            p->t[b + k] = hit ? rh.ray.tfar[k] : INFINITY;
-        }
+/* Packets of N consecutive rays through rtcIntersectN (RTCRayHitN), one
+ * text for both widths Embree 3 has beside 4. */
+#define TRACE_PACKETS(N)                                                                  \
+    static void trace_##N(pass *p, size_t begin, size_t end, unsigned long long *hits)    \
+    {                                                                                     \
+        struct RTCIntersectContext ctx;                                                   \
+        rtcInitIntersectContext(&ctx);                                                    \
+        for (size_t b = begin; b < end; b += N) {                                         \
+            struct RTCRayHit##N rh; /* RTC_ALIGN(4 N) in rtcore_ray.h */                  \
+            _Alignas(4 * N) int valid[N];                                                 \
+            for (unsigned k = 0; k < N; k++) {                                            \
+                /* a short tail repeats a live ray, masked off */                         \
+                const st_ray *r = &p->rays[b + k < end ? b + k : b];                      \
+                valid[k] = b + k < end ? -1 : 0;                                          \
+                rh.ray.org_x[k] = r->o[0], rh.ray.org_y[k] = r->o[1];                     \
+                rh.ray.org_z[k] = r->o[2];                                                \
+                rh.ray.dir_x[k] = r->d[0], rh.ray.dir_y[k] = r->d[1];                     \
+                rh.ray.dir_z[k] = r->d[2];                                                \
+                rh.ray.tnear[k] = 0.0f, rh.ray.tfar[k] = r->tmax, rh.ray.time[k] = 0.0f;  \
+                rh.ray.mask[k] = ~0u, rh.ray.id[k] = 0, rh.ray.flags[k] = 0;              \
+                rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;         \
+            }                                                                             \
+            rtcIntersect##N(valid, p->scene, &ctx, &rh);                                  \
+            for (unsigned k = 0; k < N && b + k < end; k++) {                             \
+                int hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;                    \
+                *hits += hit;                                                             \
+                p->t[b + k] = hit ? rh.ray.tfar[k] : INFINITY;                            \
+            }                                                                             \
+        }                                                                                 \
     }
-}
+TRACE_PACKETS(8)
+TRACE_PACKETS(16)
 
 static void *trace_worker(void *arg)
 {
@@ -331,7 +341,7 @@ static void *trace_worker(void *arg)
         if (begin >= p->count)
             break;
         size_t end = begin + CHUNK < p->count ? begin + CHUNK : p->count;
-        (p->eight ? trace_eight : trace_one)(p, begin, end, &hits);
+        (p->width == 16 ? trace_16 : p->width == 8 ? trace_8 : trace_one)(p, begin, end, &hits);
     }
     atomic_fetch_add(&p->hits, hits);
     return NULL;
@@ -340,9 +350,9 @@ static void *trace_worker(void *arg)
 /* Rays [0, count) on `threads` pthreads; returns the seconds from the first
  * thread's start to the last one's end, *hits the rays that hit. */
 static double trace_pass(RTCScene scene, const st_ray *rays, float *t, size_t count,
-                         int eight, unsigned threads, unsigned long long *hits)
+                         int width, unsigned threads, unsigned long long *hits)
 {
-    pass p = {scene, rays, t, count, eight, 0, 0};
+    pass p = {scene, rays, t, count, width, 0, 0};
     pthread_t *tid = malloc(threads * sizeof *tid);
     if (!tid)
         die(1, "out of memory for %u threads", threads);
@@ -364,12 +374,12 @@ typedef struct result {
 } result;
 
 /* An untimed pass over the first wave, then the timed pass over all. */
-static result measure(RTCScene scene, const st_ray *rays, float *t, size_t count, int eight,
+static result measure(RTCScene scene, const st_ray *rays, float *t, size_t count, int width,
                       unsigned threads)
 {
     result r;
-    trace_pass(scene, rays, t, count < WARM_RAYS ? count : WARM_RAYS, eight, threads, &r.hits);
-    r.seconds = trace_pass(scene, rays, t, count, eight, threads, &r.hits);
+    trace_pass(scene, rays, t, count < WARM_RAYS ? count : WARM_RAYS, width, threads, &r.hits);
+    r.seconds = trace_pass(scene, rays, t, count, width, threads, &r.hits);
     return r;
 }
 
@@ -386,9 +396,9 @@ static int same_hit(float strata_t, int strata_hit, float embree_t)
  * how many of the checked rays agree with strata's. */
 typedef struct run {
     int present;
-    result one, eight;
-    float *t1, *t8;        /* per ray: the hit's t, INFINITY on a miss */
-    size_t agree1, agree8;
+    result one, eight, sixteen;
+    float *t1, *t8, *t16;  /* per ray: the hit's t, INFINITY on a miss */
+    size_t agree1, agree8, agree16;
 } run;
 
 /* Builds the scene under one side rule (cull: strata's) and times both
@@ -399,13 +409,15 @@ static void measure_rule(RTCDevice dev, const st_scene *s, int cull, const st_ra
     m->present = 1;
     m->t1 = malloc(count * sizeof *m->t1);
     m->t8 = malloc(count * sizeof *m->t8);
-    if (!m->t1 || !m->t8)
+    m->t16 = malloc(count * sizeof *m->t16);
+    if (!m->t1 || !m->t8 || !m->t16)
         die(1, "out of memory for the hits of %zu rays", count);
     double traced;
     *bvh_seconds = build_seconds(dev, s, cull);
     RTCScene scene = build(dev, s, cull, &traced);
-    m->one = measure(scene, rays, m->t1, count, 0, threads);
-    m->eight = measure(scene, rays, m->t8, count, 1, threads);
+    m->one = measure(scene, rays, m->t1, count, 1, threads);
+    m->eight = measure(scene, rays, m->t8, count, 8, threads);
+    m->sixteen = measure(scene, rays, m->t16, count, 16, threads);
     rtcReleaseScene(scene);
 }
 
@@ -438,6 +450,7 @@ static void check(const st_scene *s, const st_render_options *o, const st_ray *r
             int hit = hits[k].prim != ST_NO_HIT;
             runs[j]->agree1 += same_hit(hits[k].t, hit, runs[j]->t1[at[k]]);
             runs[j]->agree8 += same_hit(hits[k].t, hit, runs[j]->t8[at[k]]);
+            runs[j]->agree16 += same_hit(hits[k].t, hit, runs[j]->t16[at[k]]);
         }
     st_renderer_destroy(r);
     st_device_destroy(dev);
@@ -454,6 +467,7 @@ typedef struct report {
     unsigned long count;
     st_u32 triangles;
     double bvh_seconds;
+    int native16;          /* RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED */
     size_t checked;
     run culled, two_sided; /* strata's side rule; Embree's own (only with one-sided triangles) */
 } report;
@@ -470,8 +484,8 @@ static void print_trace(const char *name, const report *r, const result *x)
 static void print_check(const char *rule, const report *r, const run *m)
 {
     printf("check      %s: %zu rays against strata's trace_rays: rtcIntersect1 %zu agree, "
-           "rtcIntersect8 %zu agree (both miss, or t within %g relative)\n",
-           rule, r->checked, m->agree1, m->agree8, CHECK_TOL);
+           "rtcIntersect8 %zu, rtcIntersect16 %zu (both miss, or t within %g relative)\n",
+           rule, r->checked, m->agree1, m->agree8, m->agree16, CHECK_TOL);
 }
 
 static void print_text(const report *r)
@@ -481,10 +495,12 @@ static void print_text(const report *r)
            per_second(r->triangles, r->bvh_seconds) * 1e-6);
     print_trace("trace 1", r, &r->culled.one);
     print_trace("trace 8", r, &r->culled.eight);
+    print_trace(r->native16 ? "trace 16" : "trace 16e", r, &r->culled.sixteen);
     print_check("strata's side rule", r, &r->culled);
     if (r->two_sided.present) {
         print_trace("2-sided 1", r, &r->two_sided.one);
         print_trace("2-sided 8", r, &r->two_sided.eight);
+        print_trace("2-sided 16", r, &r->two_sided.sixteen);
         print_check("two-sided, not strata's rule", r, &r->two_sided);
     }
 }
@@ -505,10 +521,12 @@ static int json_run(cJSON *obj, const report *r, const run *m)
 {
     cJSON *chk;
     return json_rays(obj, "rays", r, &m->one) && json_rays(obj, "rays8", r, &m->eight) &&
+           json_rays(obj, "rays16", r, &m->sixteen) &&
            (chk = cJSON_AddObjectToObject(obj, "check")) &&
            cJSON_AddNumberToObject(chk, "rays", (double)r->checked) &&
            cJSON_AddNumberToObject(chk, "agree1", (double)m->agree1) &&
            cJSON_AddNumberToObject(chk, "agree8", (double)m->agree8) &&
+           cJSON_AddNumberToObject(chk, "agree16", (double)m->agree16) &&
            cJSON_AddNumberToObject(chk, "tolerance", CHECK_TOL);
 }
 
@@ -518,6 +536,7 @@ static void print_json(const report *r)
     int ok = root && cJSON_AddStringToObject(root, "version", st_version) &&
              cJSON_AddStringToObject(root, "device", r->device) &&
              cJSON_AddStringToObject(root, "scene", r->scene) && json_run(root, r, &r->culled) &&
+             cJSON_AddBoolToObject(root, "native16", r->native16) &&
              (bvh = cJSON_AddObjectToObject(root, "bvh")) &&
              cJSON_AddNumberToObject(bvh, "triangles", r->triangles) &&
              cJSON_AddNumberToObject(bvh, "seconds", r->bvh_seconds) &&
@@ -562,10 +581,11 @@ int main(int argc, char **argv)
         die(1, "embree: cannot create a device (%s)", config);
     rtcSetDeviceErrorFunction(dev, embree_error, NULL);
     warm_build(dev);
+    int native16 = rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0;
     report r;
     memset(&r, 0, sizeof r);
     r.scene = s->name, r.kind = st_ray_set_names[a.set], r.count = a.count;
-    r.triangles = s->tri_count, r.checked = a.check;
+    r.triangles = s->tri_count, r.checked = a.check, r.native16 = native16;
     snprintf(r.device, sizeof r.device, "embree %s (%u threads)", RTC_VERSION_STRING, a.threads);
     measure_rule(dev, s, 1, rays, a.count, a.threads, &r.culled, &r.bvh_seconds);
     if (has_one_sided(s)) {
@@ -582,13 +602,14 @@ int main(int argc, char **argv)
         print_text(&r);
     /* two-sided hits the one-sided back faces strata culls: not checked */
     size_t worst = r.culled.agree1 < r.culled.agree8 ? r.culled.agree1 : r.culled.agree8;
+    worst = r.culled.agree16 < worst ? r.culled.agree16 : worst;
     int bad = (double)(r.checked - worst) > CHECK_SLACK * (double)r.checked;
     if (bad)
         fprintf(stderr, "bench_embree: error: %s: only %zu of %zu checked rays agree with strata's "
                         "hits: not the same rays or scene\n", a.scene, worst, r.checked);
     free(rays);
     for (int j = 0; j < 2; j++)
-        free(runs[j]->t1), free(runs[j]->t8);
+        free(runs[j]->t1), free(runs[j]->t8), free(runs[j]->t16);
     st_scene_destroy(s);
     return bad;
 }

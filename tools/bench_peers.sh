@@ -6,11 +6,11 @@
 # (build/release/bench_embree, tools/bench_embree.c: the same triangles, read
 # by strata's importer, the same rays, from strata's own generator, strata's
 # one-sided culling as an intersection filter, rtcIntersect1 and
-# rtcIntersect8 on two threads; where the scene has one-sided triangles, also
+# rtcIntersect8 and rtcIntersect16 on two threads; where the scene has one-sided triangles, also
 # Embree without the filter, faster but not strata's hits), on the
 # 327,680-triangle icosphere (`make bench` writes it) and the bench Cornell
 # box, runs alternating (strata, Embree, strata, ...). Per scene and ray set:
-# medians of rays/s of strata, of rtcIntersect1 and of rtcIntersect8, the
+# medians of rays/s of strata, of rtcIntersect1, 8 and 16, the
 # hit fractions (equal when the rays and the scene are the same), how many
 # of bench_embree's sampled rays agree with strata's own kernel, and strata
 # against the best Embree median among the runs that agree on every sampled
@@ -72,24 +72,29 @@ print("  strata                %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s%s" %
     st * 1e-6, r["rays"]["hit_fraction"], sb * 1e-6,
     "  (sorted by ray first, sort counted)" if r["rays"].get("sorted") else ""))
 if e:
-    one, eight, eb = med(e, rps("rays")), med(e, rps("rays8")), med(e, tps)
-    x, n = e[0], e[0]["check"]["rays"]
+    calls = (("1", "rays", "agree1"), ("8", "rays8", "agree8"), ("16", "rays16", "agree16"))
+    eb, x, n = med(e, tps), e[0], e[0]["check"]["rays"]
     agree = lambda rs, k: min(y["check"][k] for y in rs)
-    # the better Embree call whose hits agree with strata on every checked ray
-    best = max([v for v, k in ((one, "agree1"), (eight, "agree8")) if agree(e, k) == n] or [0])
-    print("  embree rtcIntersect1  %8.3f M rays/s  hit %.6f  bvh %7.3f M tris/s  (%s)" % (
-        one * 1e-6, x["rays"]["hit_fraction"], eb * 1e-6, x["device"]))
-    print("  embree rtcIntersect8  %8.3f M rays/s  hit %.6f" % (eight * 1e-6, x["rays8"]["hit_fraction"]))
-    print("  check: %d/%d (1) %d/%d (8) of the sampled rays agree with strata" % (
-        agree(e, "agree1"), n, agree(e, "agree8"), n))
+    # the best Embree call whose hits agree with strata on every checked ray
+    rate = {w: med(e, rps(key)) for w, key, _ in calls}
+    best = max([rate[w] for w, _, k in calls if agree(e, k) == n] or [0])
+    for w, key, _ in calls:
+        print("  embree rtcIntersect%-2s %8.3f M rays/s  hit %.6f%s" % (
+            w, rate[w] * 1e-6, x[key]["hit_fraction"],
+            "  bvh %7.3f M tris/s  (%s)" % (eb * 1e-6, x["device"]) if w == "1" else
+            "  (emulated: no native 16-wide build)" if w == "16" and not x.get("native16") else ""))
+    print("  check: %s of the sampled rays agree with strata" % ", ".join(
+        "%d/%d (%s)" % (agree(e, k), n, w) for w, _, k in calls))
     if "two_sided" in x:
         two = [y["two_sided"] for y in e]
-        one2, eight2 = med(two, rps("rays")), med(two, rps("rays8"))
-        print("  embree without the culling filter: 1: %.3f  8: %.3f M rays/s  hit %.6f  check %d/%d (1) %d/%d (8)%s" % (
-            one2 * 1e-6, eight2 * 1e-6, two[0]["rays"]["hit_fraction"], agree(two, "agree1"), n,
-            agree(two, "agree8"), n, "" if min(agree(two, "agree1"), agree(two, "agree8")) == n
-            else ": other hits, not compared"))
-        best = max([best] + [v for v, k in ((one2, "agree1"), (eight2, "agree8")) if agree(two, k) == n])
+        rate2 = {w: med(two, rps(key)) for w, key, _ in calls}
+        same = min(agree(two, k) for _, _, k in calls) == n
+        print("  embree without the culling filter: %s M rays/s  hit %.6f  check %s%s" % (
+            "  ".join("%s: %.3f" % (w, rate2[w] * 1e-6) for w, _, _ in calls),
+            two[0]["rays"]["hit_fraction"],
+            " ".join("%d/%d (%s)" % (agree(two, k), n, w) for w, _, k in calls),
+            "" if same else ": other hits, not compared"))
+        best = max([best] + [rate2[w] for w, _, k in calls if agree(two, k) == n])
     if best:
         print("  strata / best embree with the same hits %.2fx  (bvh %.2fx)" % (st / best, sb / eb))
     else:
