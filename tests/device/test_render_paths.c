@@ -813,6 +813,50 @@ static void resolve_at_every_width(void **state)
     st_image_free(&first);
 }
 
+/* Profiling times each launch by the device's clock, nothing waited for:
+ * the stages that ran have a time, and they add up to no more than the
+ * render's wall time (an in-order queue runs one command at a time). A
+ * warm render (st_render_options.warm: every vertex's kernels launched even
+ * where no path is left) gives the same film and counts, and launches at
+ * least the kernels the render launches. */
+static void stage_times_within_the_render(void **state)
+{
+    (void)state;
+    st_scene *scene;
+    st_renderer *r = renderer_for("cornell-box", &scene);
+    st_render_options o = small(24, 16, 4);
+    o.integrator = ST_INTEGRATOR_PATH;
+    o.max_depth = 8;
+    run a = render_run(r, o);
+    double sum = 0.0;
+    for (int k = 0; k < ST_STAGE_COUNT; k++) {
+        assert_true(a.st.stage_seconds[k] >= 0.0);
+        sum += a.st.stage_seconds[k];
+    }
+    assert_true(sum <= a.st.seconds);
+    static const int ran_always[] = {ST_STAGE_GENERATE, ST_STAGE_TRACE, ST_STAGE_SHADE,
+                                     ST_STAGE_RESOLVE};
+    for (unsigned i = 0; i < sizeof ran_always / sizeof *ran_always; i++)
+        assert_true(a.st.stage_seconds[ran_always[i]] > 0.0);
+    char plain[1024];
+    snprintf(plain, sizeof plain, "%s", st_renderer_ran(r));
+    o.warm = 1;
+    run b = render_run(r, o);
+    assert_same_run(&a, &b, &o);
+    const char *warm = st_renderer_ran(r);
+    for (const char *p = strchr(plain, ':'); p; p = strchr(p, ',')) {
+        p += 2;
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)strcspn(p, ","), p);
+        assert_true(ran(r, name));
+    }
+    assert_true(strlen(warm) >= strlen(plain));
+    run_free(&a);
+    run_free(&b);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -824,6 +868,7 @@ int main(void)
         cmocka_unit_test(area_lights_in_lanes),
         cmocka_unit_test(splat_lanes_at_every_width),
         cmocka_unit_test(resolve_at_every_width),
+        cmocka_unit_test(stage_times_within_the_render),
     };
     return cmocka_run_group_tests_name("render_paths", tests, device_setup, device_teardown);
 }
