@@ -197,6 +197,7 @@ ST_HOT void start_paths(const st_params *p, const st_sample_lanes *l, st_u32 fir
     ST_VSTORE(ST_W, d.x, dx);
     ST_VSTORE(ST_W, d.y, dy);
     ST_VSTORE(ST_W, d.z, dz);
+    ST_NO_VECTORIZE
     for (st_u32 k = 0; k < n; k++) {
         st_ray r = {{ox[k], oy[k], oz[k]}, INFINITY, {dx[k], dy[k], dz[k]}, 0.0f};
         ray[first + k] = r;
