@@ -100,12 +100,15 @@ st_status st_device_finish(st_device *dev, st_error *err);
 
 /* Launch timing by the device's own clock (its profiling events): the
  * launches that follow st_device_time_launches(dev, tag) are counted under
- * tag (>= 0) until it is called again; -1 stops timing. Nothing waits: a
- * timed launch runs as an untimed one. st_device_timed_seconds waits for the
- * launches timed so far and adds each one's time on the device (its command's
- * start to end) to seconds[tag] (tags below `tags`; others are dropped), then
- * forgets them. An in-order queue runs one command at a time, so the sums
- * never exceed the wall time that holds them. */
+ * tag (0 .. ST_DEVICE_TIME_TAGS - 1) until it is called again; -1 stops
+ * timing. Nothing waits: a timed launch runs as an untimed one (but for one
+ * wait per thousand timed launches, when the device reads their times).
+ * st_device_timed_seconds waits for the launches timed so far and adds each
+ * tag's time on the device (its commands' start to end) to seconds[tag]
+ * (tags below `tags`; others are dropped), then starts the sums afresh. An
+ * in-order queue runs one command at a time, so the sums never exceed the
+ * wall time that holds them. */
+#define ST_DEVICE_TIME_TAGS 32
 void st_device_time_launches(st_device *dev, int tag);
 st_status st_device_timed_seconds(st_device *dev, double *seconds, unsigned tags, st_error *err);
 

@@ -20,6 +20,11 @@
  * launches' sum then exceeded the whole render's time on small renders. An
  * event is asked for only where a launch is timed. */
 #define QUEUE_PROPERTIES CL_QUEUE_PROFILING_ENABLE
+/* Timed launches whose events are kept before their times are read: a full
+ * list is read at the launch that would overflow it (a wait there, once per
+ * this many launches; a render of a few hundred launches reads them at its
+ * end alone). */
+#define TIMED_EVENTS 1024u
 
 struct st_device {
     st_device_info info;
@@ -33,10 +38,12 @@ struct st_device {
     struct { char name[64]; cl_kernel k; } kernels[MAX_KERNELS];
     unsigned kernel_count;
     /* launch timing (st_device_time_launches): the tag of the launches to
-     * come (-1: untimed) and the events of those not yet collected */
+     * come (-1: untimed), the events of those not yet read, and the seconds
+     * of those read, by tag */
     int time_tag;
-    struct { cl_event ev; int tag; } *timed;
-    size_t timed_count, timed_cap;
+    struct { cl_event ev; int tag; } timed[TIMED_EVENTS];
+    unsigned timed_count;
+    double tag_seconds[ST_DEVICE_TIME_TAGS];
 };
 
 const char *st_device_error_name(cl_int code)
@@ -283,9 +290,8 @@ void st_device_destroy(st_device *dev)
 {
     if (!dev)
         return;
-    for (size_t i = 0; i < dev->timed_count; i++)
+    for (unsigned i = 0; i < dev->timed_count; i++)
         clReleaseEvent(dev->timed[i].ev);
-    free(dev->timed);
     for (unsigned i = 0; i < dev->kernel_count; i++)
         clReleaseKernel(dev->kernels[i].k);
     if (dev->program)
@@ -571,6 +577,36 @@ st_status st_device_check_local_size(const st_device *dev, size_t local, st_erro
     return ST_OK;
 }
 
+/* Waits for the timed launches so far and adds each one's time on the
+ * device (its command's start to end) to its tag's seconds, then releases
+ * their events. */
+static st_status read_timed(st_device *dev, st_error *err)
+{
+    st_status rc = ST_OK;
+    if (dev->timed_count > 0) {
+        cl_int code = clWaitForEvents(1, &dev->timed[dev->timed_count - 1].ev);
+        if (code != CL_SUCCESS)
+            rc = cl_fail(err, "clWaitForEvents", code);
+    }
+    for (unsigned i = 0; i < dev->timed_count; i++) {
+        cl_ulong t0 = 0, t1 = 0;
+        cl_int code = CL_SUCCESS;
+        if (rc == ST_OK)
+            code = clGetEventProfilingInfo(dev->timed[i].ev, CL_PROFILING_COMMAND_START,
+                                           sizeof t0, &t0, NULL);
+        if (rc == ST_OK && code == CL_SUCCESS)
+            code = clGetEventProfilingInfo(dev->timed[i].ev, CL_PROFILING_COMMAND_END,
+                                           sizeof t1, &t1, NULL);
+        if (rc == ST_OK && code != CL_SUCCESS)
+            rc = cl_fail(err, "clGetEventProfilingInfo", code);
+        if (rc == ST_OK && t1 > t0)
+            dev->tag_seconds[dev->timed[i].tag] += (double)(t1 - t0) * 1e-9;
+        clReleaseEvent(dev->timed[i].ev);
+    }
+    dev->timed_count = 0;
+    return rc;
+}
+
 /* The widest row of a launch: PoCL compiles a kernel's work-group function for grids
  * under 2^16 work-items wide, and again for wider grids at their first launch, a second
  * compile as long as the first; so a longer launch goes in rows (st_shared.h: ST_ITEM). */
@@ -588,14 +624,9 @@ st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t loc
         global[0] = row;
     }
     cl_uint dims = global[1] > 1 ? 2 : 1;
-    if (dev->time_tag >= 0 && dev->timed_count == dev->timed_cap) {
-        size_t cap = dev->timed_cap ? 2 * dev->timed_cap : 64;
-        void *grown = realloc(dev->timed, cap * sizeof *dev->timed);
-        if (!grown)
-            return st_fail(err, ST_ERR_NOMEM, "out of memory timing launches");
-        dev->timed = grown;
-        dev->timed_cap = cap;
-    }
+    if (dev->time_tag >= 0 && dev->timed_count == TIMED_EVENTS &&
+        read_timed(dev, err) != ST_OK)
+        return err->status;
     cl_event ev = NULL;
     cl_int code = clEnqueueNDRangeKernel(dev->queue, k, dims, NULL, global, local ? group : NULL,
                                          0, NULL, dev->time_tag >= 0 ? &ev : NULL);
@@ -612,32 +643,19 @@ st_status st_device_launch(st_device *dev, cl_kernel k, size_t items, size_t loc
     return ST_OK;
 }
 
-void st_device_time_launches(st_device *dev, int tag) { dev->time_tag = tag; }
+void st_device_time_launches(st_device *dev, int tag)
+{
+    dev->time_tag = tag >= 0 && tag < ST_DEVICE_TIME_TAGS ? tag : -1;
+}
 
 st_status st_device_timed_seconds(st_device *dev, double *seconds, unsigned tags, st_error *err)
 {
-    st_status rc = ST_OK;
-    if (dev->timed_count > 0) {
-        cl_int code = clWaitForEvents(1, &dev->timed[dev->timed_count - 1].ev);
-        if (code != CL_SUCCESS)
-            rc = cl_fail(err, "clWaitForEvents", code);
+    st_status rc = read_timed(dev, err);
+    for (unsigned k = 0; k < ST_DEVICE_TIME_TAGS; k++) {
+        if (rc == ST_OK && k < tags)
+            seconds[k] += dev->tag_seconds[k];
+        dev->tag_seconds[k] = 0.0;
     }
-    for (size_t i = 0; i < dev->timed_count; i++) {
-        cl_ulong t0 = 0, t1 = 0;
-        cl_int a = CL_SUCCESS, b = CL_SUCCESS;
-        if (rc == ST_OK) {
-            a = clGetEventProfilingInfo(dev->timed[i].ev, CL_PROFILING_COMMAND_START, sizeof t0,
-                                        &t0, NULL);
-            b = clGetEventProfilingInfo(dev->timed[i].ev, CL_PROFILING_COMMAND_END, sizeof t1,
-                                        &t1, NULL);
-        }
-        if (rc == ST_OK && (a != CL_SUCCESS || b != CL_SUCCESS))
-            rc = cl_fail(err, "clGetEventProfilingInfo", a != CL_SUCCESS ? a : b);
-        if (rc == ST_OK && (unsigned)dev->timed[i].tag < tags && t1 > t0)
-            seconds[dev->timed[i].tag] += (double)(t1 - t0) * 1e-9;
-        clReleaseEvent(dev->timed[i].ev);
-    }
-    dev->timed_count = 0;
     return rc;
 }
 

@@ -147,13 +147,13 @@ static st_status launch(st_renderer *r, int k, const st_params *p, st_wave *w, s
 
 /* Step 1: the pilot's `total` items in waves, each wave's moments taken. */
 static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
-                           st_u64 total, st_progress_state *pr, st_render_stats *st,
-                           st_render_items_fn items, st_error *err)
+                           st_u64 total, st_progress_state *pr, st_render_items_fn items,
+                           st_error *err)
 {
     st_status rc = ST_OK;
     for (st_u64 first = 0; rc == ST_OK && first < total; first += w->items) {
         st_u64 n = total - first < w->items ? total - first : w->items;
-        rc = items(r, p, w, o, first, n, pr, st, err);
+        rc = items(r, p, w, o, first, n, pr, err);
         if (rc == ST_OK)
             rc = launch(r, ST_ADAPTIVE_MOMENTS, p, w, err);
     }
@@ -196,7 +196,7 @@ static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_r
             continue;
         p->adaptive_count = count;
         p->adaptive_base = pilot + lo;
-        rc = items(r, p, w, o, 0, (st_u64)count * (hi - lo), pr, st, err);
+        rc = items(r, p, w, o, 0, (st_u64)count * (hi - lo), pr, err);
         st->samples += (st_u64)count * (hi - lo);
         lo = hi;
     }
@@ -220,7 +220,7 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
     for (int k = 0; k < ST_ADAPTIVE_KERNELS && rc == ST_OK; k++)
         rc = st_wave_bind_film(r->adaptive[k], p, w, err);
     if (rc == ST_OK)
-        rc = run_pilot(r, p, w, o, total, pr, st, items, err);
+        rc = run_pilot(r, p, w, o, total, pr, items, err);
     st->samples = total;
     if (rc == ST_OK)
         rc = plan(r, p, w, o, pilot, max_spp, m, err);

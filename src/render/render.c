@@ -174,10 +174,12 @@ static st_status run_kernel(st_renderer *r, cl_kernel kl, int k, const st_params
     return rc;
 }
 
-/* With profiling, the device times of the launches so far added to their
- * stages' (each launch's own start to end on the device: no wait between
- * launches, so the stages add up to less than the render's wall time, the
- * rest being the host's work and the gaps between launches). */
+_Static_assert(ST_STAGE_COUNT <= ST_DEVICE_TIME_TAGS, "a stage is a launch timing tag");
+
+/* With profiling, at the render's end: the device times of its launches
+ * added to their stages' (each launch's own start to end on the device, no
+ * wait between launches, so the stages add up to less than the render's
+ * wall time, the rest being the host's work and the gaps between launches). */
 static st_status collect_stage_times(st_renderer *r, const st_render_options *o,
                                      st_render_stats *st, st_error *err)
 {
@@ -666,16 +668,13 @@ static st_status read_back(st_renderer *r, st_wave *w, const st_render_options *
 }
 
 st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
-                          st_u64 first, st_u64 total, st_progress_state *pr,
-                          st_render_stats *st, st_error *err)
+                          st_u64 first, st_u64 total, st_progress_state *pr, st_error *err)
 {
     st_status rc = ST_OK;
     for (st_u64 done = 0; rc == ST_OK && done < total; done += w->items) {
         p->first_item = first + done;
         p->item_count = (st_u32)(total - done < w->items ? total - done : w->items);
         rc = run_wave(r, w, p, o, err);
-        if (rc == ST_OK)
-            rc = collect_stage_times(r, o, st, err);
         if (rc == ST_OK && pr->fn) {
             rc = st_device_finish(r->dev, err);
             pr->done += p->item_count;
@@ -840,7 +839,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (rc == ST_OK && o->adaptive)
         rc = st_render_adaptive(r, &p, &w, o, total, &pr, st, st_render_items, err);
     else if (rc == ST_OK)
-        rc = st_render_items(r, &p, &w, o, first, total, &pr, st, err);
+        rc = st_render_items(r, &p, &w, o, first, total, &pr, err);
     if (!o->adaptive)
         st->samples = total;
     st_u32 win[4];
@@ -852,8 +851,12 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;
+    /* read even after a failure, so that no launch of this render is
+     * counted in the next one's stages */
+    st_error unread = {0};
+    st_status timed = collect_stage_times(r, o, st, rc == ST_OK ? err : &unread);
     if (rc == ST_OK)
-        rc = collect_stage_times(r, o, st, err);
+        rc = timed;
     if (rc == ST_OK)
         rc = read_back(r, &w, o, out, sums, st, err);
     st_wave_destroy(&w);

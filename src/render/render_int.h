@@ -112,13 +112,11 @@ size_t st_render_lane_items(st_device *dev, size_t n);
 unsigned st_renderer_bvh_threads(const st_device_info *info, st_u32 tri_count);
 
 st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
-                          st_u64 first, st_u64 total, st_progress_state *pr,
-                          st_render_stats *st, st_error *err);
+                          st_u64 first, st_u64 total, st_progress_state *pr, st_error *err);
 /* st_render_items' type, as adaptive.c is handed it. */
 typedef st_status (*st_render_items_fn)(st_renderer *r, st_params *p, st_wave *w,
                                         const st_render_options *o, st_u64 first, st_u64 total,
-                                        st_progress_state *pr, st_render_stats *st,
-                                        st_error *err);
+                                        st_progress_state *pr, st_error *err);
 
 /* An adaptive render (adaptive.c): the pilot's `total` items (its plan
  * from render.c), the allocation, the later samples and the blend, each
