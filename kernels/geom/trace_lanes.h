@@ -1,10 +1,12 @@
 /* trace_lanes.h — the slab test and the Moller-Trumbore test, written once
  * over ST_N lanes (lanes.h); trace.h includes it once per width it needs,
  * with ST_N defined, and gets st_slab_test<N> and st_triangle_test<N>:
- *   1: the host's C and the single box or triangle (the reference);
+ *   1: the single triangle (st_intersect_triangle: the brute-force
+ *      reference's test, and the last vertex's look at the lights);
  *   ST_BVH_WIDTH: one ray against a wide node's boxes;
  *   ST_LEAF_MAX: one ray against a leaf's triangles;
- *   ST_W: ST_W rays (a packet) against one triangle.
+ *   ST_W: ST_W rays (a packet) against one triangle (kernels only).
+ * The host compiles the same widths but ST_W's (lanes.h's host vectors).
  * A lane of any width computes what width 1 computes, with the same
  * operations in the same statements (OpenCL contracts a * b + c into fma
  * within a statement, so the statements must match too): a value that is
@@ -32,7 +34,7 @@
 ST_HOT ST_I ST_CAT(st_slab_test, ST_N)(ST_F nx, ST_F fx, ST_F ny, ST_F fy, ST_F nz, ST_F fz,
                                        const st_slab_consts *r, ST_F tmax, ST_F *tn)
 {
-    ST_F t, t0 = (ST_F)(0.0f), t1 = tmax;
+    ST_F t, t0 = ST_SPLAT(float, ST_N, 0.0f), t1 = tmax;
     t = (nx - r->o[0]) * r->inv[0];
     t0 = ST_SELECT(ST_N, t0, t, t > t0);
     t = (fx - r->o[0]) * r->inv[0];
