@@ -96,6 +96,39 @@ ST_HOT ST_I ST_CAT(st_triangle_test, ST_N)(ST_V3 o, ST_V3 d, ST_V3 v0, ST_V3 e1,
            ((det > 0.0f) | two_sided);
 }
 
+/* The closest of the triangles tris[list[0 .. count)] (a short list: the
+ * emitters', for the last vertex's rays) that each kept lane's ray (o, d)
+ * meets at t in (0, *tt), in list order, as st_intersect_triangle finds it
+ * triangle by triangle (at width 1 the same operations): where one is
+ * nearer, its t, u, v and index list[k] replace *tt, *uu, *vv and *prim.
+ * Returns the lanes that met one. */
+ST_HOT ST_I ST_CAT(st_list_closest, ST_N)(const ST_GLOBAL st_triangle *tris,
+                                          const ST_GLOBAL st_u32 *list, st_u32 count, ST_V3 o,
+                                          ST_V3 d, ST_I keep, ST_F *tt, ST_F *uu, ST_F *vv,
+                                          ST_I *prim)
+{
+    ST_I seen = ST_SPLAT(int, ST_N, 0);
+    for (st_u32 k = 0u; k < count; k++) {
+        const ST_GLOBAL st_triangle *tri = &tris[list[k]];
+        ST_V3 v0 = {ST_SPLAT(float, ST_N, tri->v0[0]), ST_SPLAT(float, ST_N, tri->v0[1]),
+                    ST_SPLAT(float, ST_N, tri->v0[2])};
+        ST_V3 e1 = {ST_SPLAT(float, ST_N, tri->e1[0]), ST_SPLAT(float, ST_N, tri->e1[1]),
+                    ST_SPLAT(float, ST_N, tri->e1[2])};
+        ST_V3 e2 = {ST_SPLAT(float, ST_N, tri->e2[0]), ST_SPLAT(float, ST_N, tri->e2[1]),
+                    ST_SPLAT(float, ST_N, tri->e2[2])};
+        ST_I two_sided = ST_BITS_MASK(ST_N, tri->v0[3] == 0.0f ? 0xffffu : 0u);
+        ST_F t = *tt, u = *uu, v = *vv;
+        ST_I hit = ST_CAT(st_triangle_test, ST_N)(o, d, v0, e1, e2, *tt, keep, two_sided, &t, &u,
+                                                   &v);
+        *tt = ST_SELECT(ST_N, *tt, t, hit);
+        *uu = ST_SELECT(ST_N, *uu, u, hit);
+        *vv = ST_SELECT(ST_N, *vv, v, hit);
+        *prim = ST_SELECT(ST_N, *prim, ST_SPLAT(int, ST_N, (int)list[k]), hit);
+        seen |= hit;
+    }
+    return seen;
+}
+
 #undef ST_F
 #undef ST_I
 #undef ST_V3

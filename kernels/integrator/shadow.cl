@@ -18,7 +18,8 @@
  * only the light it sees (shade.cl: an emitter's emission, or the
  * environment's), where the plan finds every emitter in the light list
  * (src/render/plan.c): the ray is tested against those triangles alone
- * (st_intersect_triangle, the leaves' test bit for bit), then for any
+ * (st_list_closest at width 1, the leaves' test bit for bit, and in lanes
+ * shade.cl's dark_bounces), then for any
  * occluder before the nearest of them, or before the environment. Where
  * it sees light, the hit is the traversal's (that emitter's, or a miss);
  * where it sees none, shade would add nothing, so the path ends here (its
@@ -33,15 +34,19 @@ __kernel void trace_rays_last(ST_STAGE_PARAMS)
     if (pa->depth == ST_PATH_DEAD)
         return;
     st_ray r = ray[i];
-    st_hit h = {r.tmax, 0.0f, 0.0f, ST_NO_HIT};
+    st_hit h;
     if (pa->depth < p.max_depth) { /* not the last vertex: the traversal */
         if (!st_intersect_wide_closest(nodes, &r, &h))
             h.prim = ST_NO_HIT;
         hit[i] = h;
         return;
     }
-    for (st_u32 k = 0u; k < p.light_count; k++)
-        st_intersect_triangle(&tris[light_tri[k]], &r, light_tri[k], &h);
+    st_v3x1 o = {r.o[0], r.o[1], r.o[2]}, d = {r.d[0], r.d[1], r.d[2]};
+    int prim = (int)ST_NO_HIT;
+    h.t = r.tmax;
+    h.u = h.v = 0.0f;
+    st_list_closest1(tris, light_tri, p.light_count, o, d, 1, &h.t, &h.u, &h.v, &prim);
+    h.prim = (st_u32)prim;
     int lit = h.prim != ST_NO_HIT || env_lit(&sh);
     r.tmax = h.t;
     if (lit && !st_intersect_wide_any(nodes, &r)) {
