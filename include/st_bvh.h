@@ -2,10 +2,10 @@
  * with binned SAH and flattened depth first for the kernels.
  *
  * The layout (st_bvh_node, st_bvh_wide_node, st_triangle) is kernels/shared/st_shared.h's;
- * the traversals that read it are kernels/geom/trace.h's, shared by host and device:
- * st_intersect_closest and st_intersect_any on the binary tree (the host's
- * reference), st_intersect_wide_closest and st_intersect_wide_any on the same tree
- * collapsed ST_BVH_WIDTH-wide (the kernels'). Guarantees of a built tree:
+ * the traversal that reads it is kernels/geom/trace.h's, shared by host and device:
+ * st_intersect_wide_closest and st_intersect_wide_any on the tree collapsed
+ * ST_BVH_WIDTH-wide (the binary nodes are the build's and the collapse's).
+ * Guarantees of a built tree:
  *   - nodes[0] is the root; an interior node's first child is the next node,
  *     its second child is nodes[offset]; meta = count << 2 | split axis;
  *   - a leaf holds 1..4 triangles, tris[offset .. offset + count);

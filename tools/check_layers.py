@@ -5,10 +5,12 @@ usage: tools/check_layers.py [--objects DIR] [ROOT]
 
 ROOT (default .) is a strata checkout. The modules are the folders of src/, in
 the layers below, lowest first; include/st_*.h belong to the modules listed in
-HEADERS; the kernels (kernels/<folder>/) are below every module. It checks:
+HEADERS; the kernels (kernels/<folder>/) are below every module, their folders
+in layers of their own (KERNEL_LAYERS). It checks:
 
   1. the Makefile's MODULES are the folders of src/, in the order of LAYERS
-     (so a new folder has to be given its place here first), and no source,
+     (so a new folder has to be given its place here first), its KERNEL_DIRS
+     the folders of kernels/ in the order of KERNEL_LAYERS, and no source,
      kernel or test lies outside the folders the build and `make test` read
      (src/<module>/, kernels/<folder>/, tests/<layer>/);
   2. every quoted #include of src/, include/ and kernels/ names one file, found
@@ -17,7 +19,8 @@ HEADERS; the kernels (kernels/<folder>/) are below every module. It checks:
      folders;
   3. a file includes only its own module's headers, the kernels' and those of
      modules in lower layers; a module's private header (src/<module>/*.h) only
-     from its own module; a kernel file only kernel files;
+     from its own module; a kernel file only kernel files of its own folder
+     or of a folder below it;
   4. with --objects DIR (the build's obj/ folder, DIR/<module>/<file>.o): the
      same for the symbols each object uses from another (nm), and no circle of
      files that call each other (a calls b calls ... calls a), inside a module
@@ -41,6 +44,12 @@ LAYERS = [
     ["lab"],
     ["cli"],
 ]
+
+# The kernels' folders, lowest first: a kernel file includes files of its own
+# folder and of the folders before it. The traversal (geom) knows nothing of
+# shading; the integrator draws samples and traces rays; the film is last, as
+# the stages run (adaptive sampling's moments are the film's).
+KERNEL_LAYERS = ["shared", "sample", "geom", "integrator", "film"]
 
 # The public headers (include/) of each module.
 HEADERS = {
@@ -74,9 +83,9 @@ def level_of():
     return level
 
 
-def makefile_modules(root):
+def makefile_list(root, name):
     text = open(os.path.join(root, "Makefile"), encoding="utf-8").read()
-    m = re.search(r"^MODULES\s*:=\s*(.*)$", text, re.M)
+    m = re.search(r"^%s\s*:=\s*(.*)$" % name, text, re.M)
     return m.group(1).split() if m else None
 
 
@@ -90,8 +99,15 @@ def check_modules(root):
                if os.path.isdir(os.path.join(root, "src", d))]
     if sorted(folders) != sorted(modules):
         fault("src", "folders %s, but the layers name %s" % (folders, modules))
-    if makefile_modules(root) != modules:
-        fault("Makefile", "MODULES %s, not the layers' order %s" % (makefile_modules(root), modules))
+    if makefile_list(root, "MODULES") != modules:
+        fault("Makefile", "MODULES %s, not the layers' order %s" % (makefile_list(root, "MODULES"), modules))
+    kfolders = [d for d in listdir(os.path.join(root, KERNELS))
+                if os.path.isdir(os.path.join(root, KERNELS, d))]
+    if sorted(kfolders) != sorted(KERNEL_LAYERS):
+        fault(KERNELS, "folders %s, but the kernel layers name %s" % (kfolders, KERNEL_LAYERS))
+    if makefile_list(root, "KERNEL_DIRS") != KERNEL_LAYERS:
+        fault("Makefile", "KERNEL_DIRS %s, not the kernel layers' order %s" %
+              (makefile_list(root, "KERNEL_DIRS"), KERNEL_LAYERS))
     stray = [("src", SOURCE + (".cpp",), "src/<module>/, where the build looks"),
              (KERNELS, (".cl", ".h"), "kernels/<folder>/, where the build looks"),
              ("tests", ("",), "tests/<layer>/, where make test looks")]
@@ -149,6 +165,14 @@ def module_of(rel):
     return None
 
 
+def kernel_level(rel):
+    """A kernel file's place in KERNEL_LAYERS (its folder's), or None."""
+    parts = rel.split(os.sep)
+    if parts[0] == KERNELS and len(parts) > 2 and parts[1] in KERNEL_LAYERS:
+        return KERNEL_LAYERS.index(parts[1])
+    return None
+
+
 def may_use(user, used, level, private):
     """Whether a file of module `user` may depend on module `used` (private: a src/ header)."""
     if used == user:
@@ -195,6 +219,12 @@ def check_includes(root, modules, path, owner, level):
                     continue
                 if not may_use(user, used, level, private):
                     fault(where, 'includes %s of module %s, %s' % (found, used, why(user, used, level, private)))
+                elif user == KERNELS and used == KERNELS:
+                    a, b = kernel_level(rel), kernel_level(found)
+                    if a is not None and b is not None and b > a:
+                        fault(where, 'includes %s, of kernels/%s/, above kernels/%s/ '
+                              '(a kernel file includes only its own folder and those below)'
+                              % (found, KERNEL_LAYERS[b], KERNEL_LAYERS[a]))
 
 
 def why(user, used, level, private):

@@ -215,4 +215,41 @@ ST_HOT st_u32 st_packet_occluded(const ST_GLOBAL st_bvh_wide_node *nodes, const 
     }
 }
 
+/* The packet kernels (trace_rays_packet in trace.cl,
+ * trace_shadow_rays_packet in kernels/integrator/shadow.cl): work-item g takes positions W g .. W g + W - 1 of the
+ * vertex's live paths (W = ST_W), lane j the item at position W g + j; the
+ * host launches ceil(st_live_count / W) work-items (src/render/render.c), so
+ * the last packet's lanes past the count are masked. */
+static st_u32 packet_first(void) { return ST_ITEM() * ST_PACKET; }
+
+#define ST_NO_ITEM 0xffffffffu /* a packet lane past the live paths */
+
+/* The items of the packet at positions first .. first + ST_PACKET - 1. */
+static void packet_items(const st_params *p, __global const st_u32 *live_a,
+                         __global const st_u32 *live_b, st_u32 first, st_u32 item[ST_PACKET])
+{
+    __global const st_u32 *list = st_live_list(p, live_a, live_b);
+    st_u32 n = st_live_count(p);
+    /* two loops, not st_live_item's select: see shade_lanes (shade.cl) on
+     * the masked load from the null list that the select became */
+    if (list) {
+        ST_UNROLL
+        for (st_u32 j = 0u; j < ST_PACKET; ++j)
+            item[j] = first + j < n ? list[first + j] : ST_NO_ITEM;
+    } else {
+        ST_UNROLL
+        for (st_u32 j = 0u; j < ST_PACKET; ++j)
+            item[j] = first + j < n ? first + j : ST_NO_ITEM;
+    }
+}
+
+/* Lane j's ray *r, a copy of *w, and its bound *tmax (-1, below every hit,
+ * for a lane not taken); returns take as the lane's bit. */
+ST_HOT st_u32 packet_lane(st_ray *r, float *tmax, __global const st_ray *w, int take)
+{
+    *r = *w;
+    r->tmax = *tmax = take ? w->tmax : -1.0f;
+    return take ? 1u : 0u;
+}
+
 #endif

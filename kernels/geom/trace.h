@@ -8,21 +8,20 @@
  *
  * Contract: a hit is a triangle crossing at t in (0, tmax), t > 0 strictly,
  * from its front, or from either side where the triangle is two-sided (see
- * st_triangle: one-sided ones are culled from behind, as a rasteriser does). st_intersect_closest returns the smallest such t
- * (ties: whichever triangle the traversal meets first); st_intersect_any
- * returns whether any exists (shadow rays). Both agree with a brute-force loop
- * of st_intersect_triangle over all triangles: the box test is conservative
+ * st_triangle: one-sided ones are culled from behind, as a rasteriser does).
+ * st_intersect_wide_closest returns the smallest such t (ties: whichever
+ * triangle the traversal meets first); st_intersect_wide_any returns whether
+ * any exists (shadow rays). Both agree with a brute-force loop of
+ * st_intersect_triangle over all triangles: the box test is conservative
  * for the rounding of the slab test and of Moller-Trumbore's t (see
- * ST_TRACE_SLAB_WIDEN). The kernels trace the wide tree (8 children)
- * (st_intersect_wide_closest, st_intersect_wide_any: one vector slab test per node,
- * one vector Moller-Trumbore test per leaf of up to four triangles; both
- * written once over lanes, trace_lanes.h);
- * the binary tree's traversal stays as the host's reference, and both are
- * tested against brute force. The BVH is the one st_bvh_build writes
- * (include/st_bvh.h): depth first, leaf depth <= ST_BVH_MAX_DEPTH. On the
- * device the compiler may contract a * b + c into fma, so t, u, v can differ
- * from the host's in the last bits. Tests: tests/unit/test_bvh.c
- * (closest_equals_brute_force_*, triangle_*). */
+ * ST_TRACE_SLAB_WIDEN). They trace the wide tree (8 children: one vector slab
+ * test per node, one vector Moller-Trumbore test per leaf of up to four
+ * triangles, both written once over lanes, trace_lanes.h), on the device and
+ * on the host alike, the host's vectors being lanes.h's. The BVH is the one
+ * st_bvh_build writes (include/st_bvh.h). On the device the compiler may
+ * contract a * b + c into fma, so t, u, v can differ from the host's in the
+ * last bits. Tests: tests/unit/test_bvh.c (closest_equals_brute_force_*,
+ * triangle_*). */
 #ifndef ST_TRACE_H
 #define ST_TRACE_H
 
@@ -31,9 +30,8 @@
 #endif
 #include "lanes.h"
 
-/* Traversal stack size. The pbrt-style loop below holds at most one pending
- * sibling per level of the current path, i.e. depth - 1 entries, and
- * st_bvh_build guarantees depth <= ST_BVH_MAX_DEPTH. */
+/* The binary tree's deepest leaf, as st_bvh_build guarantees it; the wide
+ * traversal's stack is sized from it (ST_BVH_WIDE_STACK). */
 #define ST_BVH_MAX_DEPTH 64
 
 /* Hits are st_hit (st_shared.h), as the wavefront stores them. */
@@ -79,13 +77,12 @@ ST_HOT void st_trace_setup(st_slab_consts *r, const st_ray *ray)
 }
 
 /* The slab and triangle tests at the widths the traversals use
- * (trace_lanes.h): 1 on the host and for the binary tree, the wide node's
- * boxes and the leaf's triangles in the kernels, and a packet's rays
- * (packet.h) where ST_W is none of those. */
+ * (trace_lanes.h): 1 for a single triangle, the wide node's boxes and the
+ * leaf's triangles, and a packet's rays (packet.h) where ST_W is none of
+ * those. */
 #define ST_N 1
 #include "trace_lanes.h"
 #undef ST_N
-#ifdef __OPENCL_VERSION__
 #define ST_N ST_BVH_WIDTH
 #include "trace_lanes.h"
 #undef ST_N
@@ -99,19 +96,6 @@ ST_HOT void st_trace_setup(st_slab_consts *r, const st_ray *ray)
 #include "trace_lanes.h"
 #undef ST_N
 #endif
-#endif
-
-/* Whether the ray meets binary node n's box at some t in [0, tmax]: the
- * slab test of one box, its near planes chosen by the ray's signs. */
-ST_FN int st_trace_box(const ST_GLOBAL st_bvh_node *n, const st_slab_consts *r, st_f32 tmax)
-{
-    st_u32 neg = r->neg;
-    st_f32 tn;
-    return st_slab_test1((neg & 1u) ? n->bmax[0] : n->bmin[0], (neg & 1u) ? n->bmin[0] : n->bmax[0],
-                         (neg & 2u) ? n->bmax[1] : n->bmin[1], (neg & 2u) ? n->bmin[1] : n->bmax[1],
-                         (neg & 4u) ? n->bmax[2] : n->bmin[2], (neg & 4u) ? n->bmin[2] : n->bmax[2],
-                         r, tmax, &tn);
-}
 
 /* st_triangle_test of one triangle (its one-sidedness in v0[3]): on a hit
  * at t in (0, hit->t), fills hit->t, u, v and hit->prim = prim and returns
@@ -134,80 +118,6 @@ ST_FN int st_intersect_triangle(const ST_GLOBAL st_triangle *tri, const st_ray *
     return ok;
 }
 
-/* Both queries walk the tree depth first (pbrt-v3 §4.4.3,
- * BVHAccel::Intersect): at an interior node the child on the near side of the
- * split plane (split axis from meta, side from the ray's sign on that axis) is
- * visited first and the other is pushed. */
-ST_FN st_u32 st_trace_descend(const ST_GLOBAL st_bvh_node *n, st_u32 node, st_u32 neg,
-                              st_u32 *stack, st_u32 *sp)
-{
-    st_u32 far_first = (neg >> (n->meta & 3u)) & 1u;
-    stack[(*sp)++] = far_first ? node + 1u : n->offset;
-    return far_first ? n->offset : node + 1u;
-}
-
-/* Closest hit with t in (0, ray->tmax); the search interval shrinks to the
- * best t found so far. Returns 1 on a hit; hit->prim is ST_NO_HIT and
- * hit->t = ray->tmax otherwise. */
-ST_FN int st_intersect_closest(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL st_triangle *tris,
-                               const st_ray *ray, st_hit *hit)
-{
-    st_slab_consts r;
-    st_u32 stack[ST_BVH_MAX_DEPTH];
-    st_u32 sp = 0u, node = 0u;
-    st_trace_setup(&r, ray);
-    hit->t = ray->tmax;
-    hit->u = 0.0f;
-    hit->v = 0.0f;
-    hit->prim = ST_NO_HIT;
-    for (;;) {
-        const ST_GLOBAL st_bvh_node *n = nodes + node;
-        if (st_trace_box(n, &r, hit->t)) {
-            st_u32 count = n->meta >> 2;
-            if (count == 0u) {
-                node = st_trace_descend(n, node, r.neg, stack, &sp);
-                continue;
-            }
-            st_u32 first = n->offset;
-            for (st_u32 i = first; i < first + count; ++i)
-                st_intersect_triangle(tris + i, ray, i, hit);
-        }
-        if (sp == 0u)
-            break;
-        node = stack[--sp];
-    }
-    return hit->prim != ST_NO_HIT;
-}
-
-/* Whether any triangle is hit at t in (0, ray->tmax): stops at the first. */
-ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL st_triangle *tris,
-                           const st_ray *ray)
-{
-    st_slab_consts r;
-    st_hit hit;
-    st_u32 stack[ST_BVH_MAX_DEPTH];
-    st_u32 sp = 0u, node = 0u;
-    st_trace_setup(&r, ray);
-    hit.t = ray->tmax;
-    for (;;) {
-        const ST_GLOBAL st_bvh_node *n = nodes + node;
-        if (st_trace_box(n, &r, ray->tmax)) {
-            st_u32 count = n->meta >> 2;
-            if (count == 0u) {
-                node = st_trace_descend(n, node, r.neg, stack, &sp);
-                continue;
-            }
-            st_u32 first = n->offset;
-            for (st_u32 i = first; i < first + count; ++i)
-                if (st_intersect_triangle(tris + i, ray, i, &hit))
-                    return 1;
-        }
-        if (sp == 0u)
-            return 0;
-        node = stack[--sp];
-    }
-}
-
 /* ---- the wide BVH (st_bvh_wide_node): what the kernels trace ----------------- */
 
 /* Stack of the wide traversals. A node pushes at most all but one of its
@@ -221,11 +131,9 @@ ST_FN int st_intersect_any(const ST_GLOBAL st_bvh_node *nodes, const ST_GLOBAL s
 
 /* The slab test of a wide node's ST_BVH_WIDTH boxes for one ray: a mask,
  * bit k set when the ray meets child k's box at some t in [0, tmax], and
- * tn[k] that box's entry distance. The kernels test the boxes as the lanes
- * of one vector, loading each axis' near and far planes where the ray's
- * setup says they start; the host tests them one by one at width 1, lane k
- * computing what the vector's lane k does. */
-#ifdef __OPENCL_VERSION__
+ * tn[k] that box's entry distance. The boxes are the lanes of one vector,
+ * each axis' near and far planes loaded where the ray's setup says they
+ * start. */
 ST_HOT st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_consts *r,
                             st_f32 tmax, st_f32 *tn)
 {
@@ -235,25 +143,10 @@ ST_HOT st_u32 st_trace_box4(const ST_GLOBAL st_bvh_wide_node *n, const st_slab_c
         ST_VLOAD(ST_BVH_WIDTH, b + r->plane[0]), ST_VLOAD(ST_BVH_WIDTH, b + r->plane[3]),
         ST_VLOAD(ST_BVH_WIDTH, b + r->plane[1]), ST_VLOAD(ST_BVH_WIDTH, b + r->plane[4]),
         ST_VLOAD(ST_BVH_WIDTH, b + r->plane[2]), ST_VLOAD(ST_BVH_WIDTH, b + r->plane[5]), r,
-        (ST_VEC(float, ST_BVH_WIDTH))(tmax), &t0);
+        ST_SPLAT(float, ST_BVH_WIDTH, tmax), &t0);
     ST_VSTORE(ST_BVH_WIDTH, t0, tn);
     return ST_MASK_BITS(ST_BVH_WIDTH, in);
 }
-#else
-ST_FN st_u32 st_trace_box4(const st_bvh_wide_node *n, const st_slab_consts *r, st_f32 tmax,
-                           st_f32 *tn)
-{
-    st_u32 mask = 0u;
-    for (int k = 0; k < ST_BVH_WIDTH; ++k) {
-        const st_f32 *b = n->lo[0];
-        st_f32 p[6];
-        for (st_u32 a = 0u; a < 6u; ++a)
-            p[a] = b[r->plane[a] + (st_u32)k];
-        mask |= (st_u32)st_slab_test1(p[0], p[3], p[1], p[4], p[2], p[5], r, tmax, &tn[k]) << k;
-    }
-    return mask;
-}
-#endif
 
 /* Index of the lowest set bit of m != 0. OpenCL C 1.2 has clz, not ctz:
  * where the compiler is clang for x86 (PoCL's CPU devices; lanes.h's
@@ -298,7 +191,6 @@ ST_FN st_u32 st_leaf_sides(const ST_GLOBAL st_f32 *l, st_u32 n)
     return ((const ST_GLOBAL st_u32 *)l)[ST_LEAF_ROWS * n + 1u];
 }
 
-#ifdef __OPENCL_VERSION__
 /* A leaf's lanes: one per triangle, ST_LEAF_MAX of them. */
 typedef ST_VEC(float, ST_LEAF_MAX) st_leaf_f;
 typedef ST_VEC(int, ST_LEAF_MAX) st_leaf_i;
@@ -330,17 +222,20 @@ ST_HOT st_leaf_f st_leaf_e2(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 a, st_le
 ST_HOT st_u32 st_leaf_test(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_f32 tmax,
                            st_leaf_f *tt, st_leaf_f *uu, st_leaf_f *vv)
 {
-    st_leaf_i keep = ST_IOTA(ST_LEAF_MAX) < (st_leaf_i)((int)n);
-    st_leaf_v3 o = {(st_leaf_f)(ray->o[0]), (st_leaf_f)(ray->o[1]), (st_leaf_f)(ray->o[2])};
-    st_leaf_v3 d = {(st_leaf_f)(ray->d[0]), (st_leaf_f)(ray->d[1]), (st_leaf_f)(ray->d[2])};
+    st_leaf_i keep = ST_IOTA(ST_LEAF_MAX) < ST_SPLAT(int, ST_LEAF_MAX, (int)n);
+    st_leaf_v3 o = {ST_SPLAT(float, ST_LEAF_MAX, ray->o[0]), ST_SPLAT(float, ST_LEAF_MAX, ray->o[1]),
+                    ST_SPLAT(float, ST_LEAF_MAX, ray->o[2])};
+    st_leaf_v3 d = {ST_SPLAT(float, ST_LEAF_MAX, ray->d[0]), ST_SPLAT(float, ST_LEAF_MAX, ray->d[1]),
+                    ST_SPLAT(float, ST_LEAF_MAX, ray->d[2])};
     st_leaf_v3 v0 = {st_leaf_row(l, n, ST_LEAF_V0), st_leaf_row(l, n, ST_LEAF_V0 + 1),
                      st_leaf_row(l, n, ST_LEAF_V0 + 2)};
     st_leaf_v3 e1 = {st_leaf_row(l, n, ST_LEAF_E1), st_leaf_row(l, n, ST_LEAF_E1 + 1),
                      st_leaf_row(l, n, ST_LEAF_E1 + 2)};
     st_leaf_v3 e2 = {st_leaf_e2(l, n, 0, keep), st_leaf_e2(l, n, 1, keep),
                      st_leaf_e2(l, n, 2, keep)};
-    st_leaf_i two_sided = !ST_BITS_MASK(ST_LEAF_MAX, st_leaf_sides(l, n));
-    st_leaf_i ok = ST_CAT(st_triangle_test, ST_LEAF_MAX)(o, d, v0, e1, e2, (st_leaf_f)(tmax), keep,
+    st_leaf_i two_sided = ST_BITS_MASK(ST_LEAF_MAX, st_leaf_sides(l, n)) == 0;
+    st_leaf_i ok = ST_CAT(st_triangle_test, ST_LEAF_MAX)(o, d, v0, e1, e2,
+                                                         ST_SPLAT(float, ST_LEAF_MAX, tmax), keep,
                                                          two_sided, tt, uu, vv);
     return ST_MASK_BITS(ST_LEAF_MAX, ok);
 }
@@ -360,12 +255,14 @@ ST_HOT void st_leaf_take(const ST_GLOBAL st_f32 *l, st_u32 n, st_u32 j, st_leaf_
  * a tie, the lowest lane (the loop's strict t < best keeps the first). */
 ST_HOT void st_leaf_closest(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
 {
-    st_leaf_f t, u, v;
+    /* zero only for the host's compiler, which cannot see that the test
+     * sets them wherever it returns a lane (the device drops the stores) */
+    st_leaf_f t = ST_SPLAT(float, ST_LEAF_MAX, 0.0f), u = t, v = t;
     st_u32 ok = st_leaf_test(l, n, ray, hit->t, &t, &u, &v);
     if (ok == 0u)
         return;
     if ((ok & (ok - 1u)) != 0u) { /* more than one lane: the least t's */
-        st_leaf_f hits = ST_SELECT(ST_LEAF_MAX, (st_leaf_f)(INFINITY), t,
+        st_leaf_f hits = ST_SELECT(ST_LEAF_MAX, ST_SPLAT(float, ST_LEAF_MAX, INFINITY), t,
                                    ST_BITS_MASK(ST_LEAF_MAX, ok)); /* hits: t < hit->t */
         ok = ST_MASK_BITS(ST_LEAF_MAX, hits == ST_HMIN(ST_LEAF_MAX, hits));
     }
@@ -382,41 +279,6 @@ ST_HOT int st_leaf_any(const ST_GLOBAL st_f32 *l, st_u32 n, const st_ray *ray, s
         st_leaf_take(l, n, st_trace_lowest(ok), t, u, v, hit);
     return ok != 0u;
 }
-#else
-/* On the host, the scalar loop itself: st_intersect_triangle lane by lane,
- * in order, which the device's vector test matches. Lane j (< n) of block
- * l as the st_triangle it was packed from (padding zero). */
-ST_FN st_triangle st_leaf_lane(const st_f32 *l, st_u32 n, st_u32 j)
-{
-    st_triangle tri = {{0}, {0}, {0}};
-    for (st_u32 a = 0u; a < 3u; ++a) {
-        tri.v0[a] = l[(ST_LEAF_V0 + a) * n + j];
-        tri.e1[a] = l[(ST_LEAF_E1 + a) * n + j];
-        tri.e2[a] = l[(ST_LEAF_E2 + a) * n + j];
-    }
-    tri.v0[3] = (st_leaf_sides(l, n) >> j) & 1u ? ST_TRI_ONE_SIDED : 0.0f;
-    return tri;
-}
-
-ST_FN void st_leaf_closest(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
-{
-    for (st_u32 j = 0u; j < n; ++j) {
-        st_triangle tri = st_leaf_lane(l, n, j);
-        st_intersect_triangle(&tri, ray, st_leaf_first(l, n) + j, hit);
-    }
-}
-
-/* hit->t is ray->tmax on entry (st_intersect_wide_any_hit). */
-ST_FN int st_leaf_any(const st_f32 *l, st_u32 n, const st_ray *ray, st_hit *hit)
-{
-    for (st_u32 j = 0u; j < n; ++j) {
-        st_triangle tri = st_leaf_lane(l, n, j);
-        if (st_intersect_triangle(&tri, ray, st_leaf_first(l, n) + j, hit))
-            return 1;
-    }
-    return 0;
-}
-#endif
 
 /* Asks for a wide node's four cache lines (boxes and links), and the four
  * after them, where its first leaf blocks lie (st_shared.h; on the icosphere

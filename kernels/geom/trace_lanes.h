@@ -1,10 +1,12 @@
 /* trace_lanes.h — the slab test and the Moller-Trumbore test, written once
  * over ST_N lanes (lanes.h); trace.h includes it once per width it needs,
  * with ST_N defined, and gets st_slab_test<N> and st_triangle_test<N>:
- *   1: the host's C and the single box or triangle (the reference);
+ *   1: the single triangle (st_intersect_triangle: the brute-force
+ *      reference's test, and the last vertex's look at the lights);
  *   ST_BVH_WIDTH: one ray against a wide node's boxes;
  *   ST_LEAF_MAX: one ray against a leaf's triangles;
- *   ST_W: ST_W rays (a packet) against one triangle.
+ *   ST_W: ST_W rays (a packet) against one triangle (kernels only).
+ * The host compiles the same widths but ST_W's (lanes.h's host vectors).
  * A lane of any width computes what width 1 computes, with the same
  * operations in the same statements (OpenCL contracts a * b + c into fma
  * within a statement, so the statements must match too): a value that is
@@ -32,7 +34,7 @@
 ST_HOT ST_I ST_CAT(st_slab_test, ST_N)(ST_F nx, ST_F fx, ST_F ny, ST_F fy, ST_F nz, ST_F fz,
                                        const st_slab_consts *r, ST_F tmax, ST_F *tn)
 {
-    ST_F t, t0 = (ST_F)(0.0f), t1 = tmax;
+    ST_F t, t0 = ST_SPLAT(float, ST_N, 0.0f), t1 = tmax;
     t = (nx - r->o[0]) * r->inv[0];
     t0 = ST_SELECT(ST_N, t0, t, t > t0);
     t = (fx - r->o[0]) * r->inv[0];
@@ -92,6 +94,39 @@ ST_HOT ST_I ST_CAT(st_triangle_test, ST_N)(ST_V3 o, ST_V3 d, ST_V3 v0, ST_V3 e1,
     *vv = v;
     return in_u & (v >= 0.0f) & (u + v <= 1.0f) & (t > 0.0f) & (t < tmax) &
            ((det > 0.0f) | two_sided);
+}
+
+/* The closest of the triangles tris[list[0 .. count)] (a short list: the
+ * emitters', for the last vertex's rays) that each kept lane's ray (o, d)
+ * meets at t in (0, *tt), in list order, as st_intersect_triangle finds it
+ * triangle by triangle (at width 1 the same operations): where one is
+ * nearer, its t, u, v and index list[k] replace *tt, *uu, *vv and *prim.
+ * Returns the lanes that met one. */
+ST_HOT ST_I ST_CAT(st_list_closest, ST_N)(const ST_GLOBAL st_triangle *tris,
+                                          const ST_GLOBAL st_u32 *list, st_u32 count, ST_V3 o,
+                                          ST_V3 d, ST_I keep, ST_F *tt, ST_F *uu, ST_F *vv,
+                                          ST_I *prim)
+{
+    ST_I seen = ST_SPLAT(int, ST_N, 0);
+    for (st_u32 k = 0u; k < count; k++) {
+        const ST_GLOBAL st_triangle *tri = &tris[list[k]];
+        ST_V3 v0 = {ST_SPLAT(float, ST_N, tri->v0[0]), ST_SPLAT(float, ST_N, tri->v0[1]),
+                    ST_SPLAT(float, ST_N, tri->v0[2])};
+        ST_V3 e1 = {ST_SPLAT(float, ST_N, tri->e1[0]), ST_SPLAT(float, ST_N, tri->e1[1]),
+                    ST_SPLAT(float, ST_N, tri->e1[2])};
+        ST_V3 e2 = {ST_SPLAT(float, ST_N, tri->e2[0]), ST_SPLAT(float, ST_N, tri->e2[1]),
+                    ST_SPLAT(float, ST_N, tri->e2[2])};
+        ST_I two_sided = ST_BITS_MASK(ST_N, tri->v0[3] == 0.0f ? 0xffffu : 0u);
+        ST_F t = *tt, u = *uu, v = *vv;
+        ST_I hit = ST_CAT(st_triangle_test, ST_N)(o, d, v0, e1, e2, *tt, keep, two_sided, &t, &u,
+                                                   &v);
+        *tt = ST_SELECT(ST_N, *tt, t, hit);
+        *uu = ST_SELECT(ST_N, *uu, u, hit);
+        *vv = ST_SELECT(ST_N, *vv, v, hit);
+        *prim = ST_SELECT(ST_N, *prim, ST_SPLAT(int, ST_N, (int)list[k]), hit);
+        seen |= hit;
+    }
+    return seen;
 }
 
 #undef ST_F

@@ -328,17 +328,27 @@ static void punctual_gather(const st_scene_refs *s, const st_shading *sh, float 
     }
 }
 
+/* Lane k's sample of light triangle lt at (u1, u2), whose barycentrics
+ * are b1 = 1 - sqrt(u1), b2 = u2 sqrt(u1) (uniform in its area: the
+ * caller's, in lanes or not): the point, its facing normal, emission and
+ * density per area x choice. One body for area_gather and area_lanes. */
+ST_HOT void area_at(const st_scene_refs *s, const st_shading *sh, st_u32 lt, float u1, float u2,
+                    float b1, float b2, st_u32 k, st_vertex_in *l)
+{
+    set_lane3(l->lp, k, triangle_at(s->tris, lt, b1, b2));
+    set_lane3(l->lnl, k, facing_normal(s->normals, lt));
+    set_lane3(l->ll, k, light_emission(s, lt, u1, u2, sh->texture_filter));
+    l->lq[k] = s->light_pdf[lt] * area_choice(sh);
+}
+
 /* Lane k's area-light sample: the triangle picked by power with u, the
- * point uniform in its area, its facing normal, emission and density per
- * area x choice. */
+ * point uniform in its area (area_at). */
 static void area_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh, float u,
                         float u2, st_u32 k, st_vertex_in *l)
 {
     st_u32 lt = s->light_tri[pick_light(s->light_cdf, p->light_count, &u)];
-    set_lane3(l->lp, k, triangle_point(s->tris, lt, u, u2));
-    set_lane3(l->lnl, k, facing_normal(s->normals, lt));
-    set_lane3(l->ll, k, light_emission(s, lt, u, u2, sh->texture_filter));
-    l->lq[k] = s->light_pdf[lt] * area_choice(sh);
+    float su = sqrt(u);
+    area_at(s, sh, lt, u, u2, 1.0f - su, u2 * su, k, l);
     l->lkind[k] = ST_LIGHT_AREA;
 }
 
@@ -376,8 +386,9 @@ static void light_gather(const st_scene_refs *s, const st_params *p, const st_sh
  * 0 rescaled, as st_cdf_pick picks and rescales (the entries at or below u
  * among all but the last, counted, are its binary search's index in a CDF
  * that never decreases), and the point's barycentrics; the triangle's
- * point, normal, emission and density gathered lane by lane. The other
- * lanes keep what vertex_clear_some left. */
+ * point, normal, emission and density gathered lane by lane (area_at, as
+ * area_gather gathers them). The other lanes keep what vertex_clear_some
+ * left. */
 ST_HOT void area_lanes(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                        st_u32 bits, st_vertex_in *l)
 {
@@ -401,16 +412,9 @@ ST_HOT void area_lanes(const st_scene_refs *s, const st_params *p, const st_shad
     ST_VSTORE(ST_W, 1.0f - su, b1);
     ST_VSTORE(ST_W, ST_LV(l->u[1]) * su, b2);
     ST_VSTORE(ST_W, below, pick);
-    float choice = area_choice(sh);
-    for (st_u32 k = 0; k < ST_W; k++) {
-        if (!((bits >> k) & 1u))
-            continue;
-        st_u32 lt = s->light_tri[pick[k]];
-        set_lane3(l->lp, k, triangle_at(s->tris, lt, b1[k], b2[k]));
-        set_lane3(l->lnl, k, facing_normal(s->normals, lt));
-        set_lane3(l->ll, k, light_emission(s, lt, u1[k], l->u[1][k], sh->texture_filter));
-        l->lq[k] = s->light_pdf[lt] * choice;
-    }
+    for (st_u32 k = 0; k < ST_W; k++)
+        if ((bits >> k) & 1u)
+            area_at(s, sh, s->light_tri[pick[k]], u1[k], l->u[1][k], b1[k], b2[k], k, l);
     st_li on = ST_BITS_MASK(ST_W, bits);
     ST_VSTORE(ST_W, ST_SELECT(ST_W, ST_LV(l->lkind), (st_li)(ST_LIGHT_AREA), on), l->lkind);
     ST_VSTORE(ST_W, ST_SELECT(ST_W, ST_LV(l->lco), ST_LF(-1.0f), on), l->lco);

@@ -53,13 +53,6 @@ static float3 triangle_at(__global const st_triangle *tris, st_u32 t, float b1, 
     return v0 + b1 * vload4(0, tris[t].e1).xyz + b2 * vload4(0, tris[t].e2).xyz;
 }
 
-/* Point of triangle t at barycentrics from (u1, u2), uniform in area. */
-static float3 triangle_point(__global const st_triangle *tris, st_u32 t, float u1, float u2)
-{
-    float su = sqrt(u1);
-    return triangle_at(tris, t, 1.0f - su, u2 * su);
-}
-
 /* Geometric normal of triangle t, turned to the side of its shading normals
  * (precomputed: st_tri_normals). */
 static float3 facing_normal(__global const st_tri_normals *normals, st_u32 t)
@@ -107,8 +100,9 @@ static float4 tex_lookup(st_tex_refs s, st_u32 tex, st_u32 t, float b1, float b2
     return (float4)(c[0], c[1], c[2], c[3]);
 }
 
-/* Emitted radiance of light triangle lt at the point triangle_point(u1, u2)
- * picks: the factor times the emissive texture's level 0. */
+/* Emitted radiance of light triangle lt at the point (u1, u2) picks,
+ * uniform in area (integrator.h's area_at): the factor times the emissive
+ * texture's level 0. */
 static float3 light_emission(const st_scene_refs *s, st_u32 lt, float u1, float u2,
                              st_u32 filter)
 {

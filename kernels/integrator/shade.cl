@@ -325,25 +325,18 @@ ST_HOT void vertex_store(const st_vertex_out *o, const st_vertex_in *l, st_u32 i
  * vertex's and meets none of the light list's triangles, where
  * trace_rays_last will trace it (p->last_lights) in a scene whose
  * environment gives no light: that ray would end its path unseen, so it is
- * not stored. The test is trace_rays_last's, in lanes (st_triangle_test at
- * ST_W: each lane computes what st_intersect_triangle does). */
+ * not stored. The test is trace_rays_last's own, st_list_closest, at ST_W
+ * lanes (each lane computes what it computes at width 1). */
 ST_HOT st_u32 dark_bounces(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                            st_lv3 from, st_lv3 d, st_lu depth, st_u32 goes)
 {
     st_u32 last = ST_MASK_BITS(ST_W, depth + 1u >= p->max_depth) & goes;
     if (!p->last_lights || !last || env_lit(sh))
         return 0u;
-    st_li keep = ST_BITS_MASK(ST_W, last), seen = (st_li)(0);
-    for (st_u32 k = 0u; k < p->light_count && ST_ANY(ST_W, keep & ~seen); k++) {
-        __global const st_triangle *tri = &s->tris[s->light_tri[k]];
-        st_lv3 v0 = st_lv3_make(ST_LF(tri->v0[0]), ST_LF(tri->v0[1]), ST_LF(tri->v0[2]));
-        st_lv3 e1 = st_lv3_make(ST_LF(tri->e1[0]), ST_LF(tri->e1[1]), ST_LF(tri->e1[2]));
-        st_lv3 e2 = st_lv3_make(ST_LF(tri->e2[0]), ST_LF(tri->e2[1]), ST_LF(tri->e2[2]));
-        st_li two_sided = ST_BITS_MASK(ST_W, tri->v0[3] == 0.0f ? 0xffffu : 0u);
-        st_lf t, u, v;
-        seen |= ST_CAT(st_triangle_test, ST_W)(from, d, v0, e1, e2, ST_LF(INFINITY), keep,
-                                               two_sided, &t, &u, &v);
-    }
+    st_lf t = ST_LF(INFINITY), u = ST_LF(0.0f), v = ST_LF(0.0f);
+    st_li prim = ST_SPLAT(int, ST_W, (int)ST_NO_HIT);
+    st_li seen = ST_CAT(st_list_closest, ST_W)(s->tris, s->light_tri, p->light_count, from, d,
+                                               ST_BITS_MASK(ST_W, last), &t, &u, &v, &prim);
     return last & ~ST_MASK_BITS(ST_W, seen);
 }
 

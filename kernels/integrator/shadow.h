@@ -47,7 +47,7 @@ static int shadow_blocked(__global const st_bvh_wide_node *nodes, const st_scene
 
 /* Item i's shadow ray (tmax 0: none): adds its contribution to the path's
  * radiance when nothing blocks it, and counts the ray. One body for both
- * places a shadow ray is traced: the stage trace_shadow_rays (trace.cl) and
+ * places a shadow ray is traced: the stage trace_shadow_rays (shadow.cl) and
  * shade_hits_shadowed (shade.cl), so both add the same floats in the same
  * order. */
 ST_HOT void trace_shadow_item(__global const st_bvh_wide_node *nodes, const st_scene_refs *sc,

@@ -1,5 +1,5 @@
 /* adaptive.c — adaptive sampling at a budget of spp samples per pixel on
- * average (kernels/sample/adaptive.cl has the device side):
+ * average (kernels/film/adaptive.cl has the device side):
  *  1. a pilot: N0 samples per pixel, splatted, and each pixel's moments;
  *  2. each pixel's error estimate e(q) (adaptive_estimate), read back;
  *  3. one allocation: pixel q gets m(q) >= 1 more samples, m ∝ e + β ē

@@ -37,7 +37,7 @@ struct st_renderer {
     cl_kernel splat_edges; /* the rest of ST_STAGE_SPLAT_PIXELS (film.cl) */
     cl_kernel live_count, live_scan;  /* the rest of ST_STAGE_LIVE (live.cl) */
     cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
-    /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl) */
+    /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl, shadow.cl) */
     cl_kernel trace_packet, shadow_packet;
     cl_kernel trace_last; /* trace_rays_last: ST_STAGE_TRACE at the last vertex */
     cl_kernel order[ST_ORDER_KERNELS]; /* the ray order before a trace (order.c) */

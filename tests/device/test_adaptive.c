@@ -1,4 +1,4 @@
-/* test_adaptive.c — adaptive sampling (src/render/adaptive.c, kernels/sample/adaptive.cl)
+/* test_adaptive.c — adaptive sampling (src/render/adaptive.c, kernels/film/adaptive.cl)
  * on the device: the budget is kept, the counts follow the error estimate
  * (exactly, on scenes whose estimate is known), the density-weighted splat
  * reconstructs the same image as a uniform render where the density

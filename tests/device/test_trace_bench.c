@@ -1,7 +1,7 @@
 /* test_trace_bench.c — the trace benchmark's rays and counts: the ray sets
  * are what st_trace_bench.h says (unit directions, origins in the box,
  * uniform on the sphere, camera rays through the image), repeatable; the
- * device's hit count equals the host's st_intersect_closest over the same
+ * device's hit count equals the host's st_intersect_wide_closest over the same
  * rays and does not depend on the wave size. */
 #include <math.h>
 #include <setjmp.h>
@@ -130,7 +130,7 @@ static st_u64 host_hits(const st_scene *s, const st_ray *w, size_t n)
         memcpy(r.d, w[i].d, sizeof r.d);
         r.tmax = w[i].tmax;
         st_hit h;
-        hits += (st_u64)st_intersect_closest(bvh->nodes, bvh->tris, &r, &h);
+        hits += (st_u64)st_intersect_wide_closest(bvh->wide, &r, &h);
     }
     st_bvh_destroy(bvh);
     return hits;

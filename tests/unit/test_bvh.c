@@ -9,8 +9,9 @@
  *     test); scenes above 65536 triangles take the builder's cluster-grid path;
  *   - any hit = existence of a closest hit, for random tmax, and false/true
  *     with tmax at/just past the closest t;
- *   - both for the binary tree's traversal (the host reference) and the wide
- *     one the kernels run (st_intersect_wide_*), whose tree is checked as well;
+ *   - through the wide tree, by the kernels' own traversal and tests
+ *     (st_intersect_wide_*, their vectors as the host's lanes), the tree
+ *     checked as well;
  *   - the flattened tree is what st_bvh.h promises: preorder numbering, boxes
  *     containing children and triangles, leaves of 1..4 covering every BVH
  *     slot once, order a permutation, tris[i] = input triangle order[i];
@@ -246,6 +247,20 @@ static const st_bvh_wide_node *wide_at(const st_bvh *bvh, size_t unit)
     return (const st_bvh_wide_node *)(const void *)((const char *)bvh->wide + unit * ST_LEAF_UNIT);
 }
 
+/* Lane j (< n) of leaf block l as the st_triangle it was packed from
+ * (padding zero): the block's rows read back as st_shared.h lays them out. */
+static st_triangle leaf_lane(const float *l, uint32_t n, uint32_t j)
+{
+    st_triangle tri = {{0}, {0}, {0}};
+    for (uint32_t a = 0u; a < 3u; ++a) {
+        tri.v0[a] = l[(ST_LEAF_V0 + a) * n + j];
+        tri.e1[a] = l[(ST_LEAF_E1 + a) * n + j];
+        tri.e2[a] = l[(ST_LEAF_E2 + a) * n + j];
+    }
+    tri.v0[3] = (st_leaf_sides(l, n) >> j) & 1u ? ST_TRI_ONE_SIDED : 0.0f;
+    return tri;
+}
+
 /* Leaf slot child (count c) of the wide tree: its block lies inside the
  * array, and lane j holds triangle first + j exactly (st_triangle's floats,
  * v0[3] as the sides bit j). Returns first. */
@@ -257,7 +272,7 @@ static uint32_t check_leaf(const st_bvh *bvh, uint32_t child, uint32_t c)
     assert_true(first + c <= (bvh->tri_count ? bvh->tri_count : 1u));
     assert_true(st_leaf_sides(l, c) >> c == 0u);
     for (uint32_t j = 0; j < c; ++j) {
-        st_triangle want = bvh->tris[first + j], got = st_leaf_lane(l, c, j);
+        st_triangle want = bvh->tris[first + j], got = leaf_lane(l, c, j);
         want.e1[3] = want.e2[3] = 0.0f; /* padding, not packed */
         assert_memory_equal(&got, &want, sizeof got);
     }
@@ -484,10 +499,11 @@ static void scene_bounds(const float *p, uint32_t n, float lo[3], float hi[3])
         }
 }
 
-/* The wide traversal (what the kernels run) against the brute force's
- * closest hit want (exists: whether there is one): same t to the bit, the
- * same triangle or one hit at that t; any-hit agrees, also with tmax at and
- * just past the closest t. */
+/* The wide traversal (what the kernels run, here on the host's lanes)
+ * against the brute force's closest hit want (exists: whether there is
+ * one): same t to the bit, the same triangle (then the same u, v) or one
+ * hit at that t; any-hit agrees, also with tmax at and just past the
+ * closest t. */
 static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st_ray *ray,
                            int exists, const st_hit *want)
 {
@@ -500,10 +516,13 @@ static void check_wide_ray(const st_bvh *bvh, const st_triangle *input, const st
     }
     assert_true(got.prim < bvh->tri_count);
     assert_memory_equal(&got.t, &want->t, sizeof got.t);
-    if (bvh->order[got.prim] != want->prim) {
+    if (bvh->order[got.prim] != want->prim) { /* a tie: that triangle is hit at the same t */
         st_hit tie = {INFINITY, 0, 0, ST_NO_HIT};
         assert_true(st_intersect_triangle(&input[bvh->order[got.prim]], ray, 0, &tie));
         assert_memory_equal(&tie.t, &want->t, sizeof tie.t);
+    } else {
+        assert_memory_equal(&got.u, &want->u, sizeof got.u);
+        assert_memory_equal(&got.v, &want->v, sizeof got.v);
     }
     st_ray shorter = *ray;
     shorter.tmax = want->t;
@@ -536,33 +555,10 @@ static uint32_t check_scene_sided(const float *p, uint32_t n, uint32_t rays, uin
     scene_bounds(p, n, lo, hi);
     for (uint32_t k = 0; k < rays; ++k) {
         st_ray ray = random_ray(&r, p, n, lo, hi);
-        st_hit got, want;
-        int found = st_intersect_closest(bvh->nodes, bvh->tris, &ray, &got);
+        st_hit want;
         int exists = brute_closest(input, n, &ray, &want);
         check_wide_ray(bvh, input, &ray, exists, &want);
-        assert_int_equal(found, exists);
-        assert_int_equal(st_intersect_any(bvh->nodes, bvh->tris, &ray), exists);
-        if (!exists) {
-            assert_int_equal(got.prim, ST_NO_HIT);
-            continue;
-        }
-        hits++;
-        assert_true(got.prim < n);
-        assert_memory_equal(&got.t, &want.t, sizeof got.t);
-        if (bvh->order[got.prim] != want.prim) { /* a tie: that triangle is hit at the same t */
-            st_hit tie = {INFINITY, 0, 0, ST_NO_HIT};
-            assert_true(st_intersect_triangle(&input[bvh->order[got.prim]], &ray, 0, &tie));
-            assert_memory_equal(&tie.t, &want.t, sizeof tie.t);
-        } else {
-            assert_memory_equal(&got.u, &want.u, sizeof got.u);
-            assert_memory_equal(&got.v, &want.v, sizeof got.v);
-        }
-        /* any-hit with tmax just past, and at, the closest t */
-        st_ray shorter = ray;
-        shorter.tmax = want.t;
-        assert_false(st_intersect_any(bvh->nodes, bvh->tris, &shorter));
-        shorter.tmax = nextafterf(want.t, INFINITY);
-        assert_true(st_intersect_any(bvh->nodes, bvh->tris, &shorter));
+        hits += (uint32_t)exists;
     }
     free(input);
     st_bvh_destroy(bvh);
@@ -693,15 +689,10 @@ static void closest_equals_brute_force_rays_in_box_planes(void **state)
                 ray.d[a] = -0.0f;
         }
         ray.tmax = INFINITY;
-        st_hit got, want;
-        int found = st_intersect_closest(bvh->nodes, bvh->tris, &ray, &got);
-        assert_int_equal(found, brute_closest(input, n, &ray, &want));
-        assert_int_equal(st_intersect_any(bvh->nodes, bvh->tris, &ray), found);
+        st_hit want;
+        int found = brute_closest(input, n, &ray, &want);
         check_wide_ray(bvh, input, &ray, found, &want);
-        if (!found)
-            continue;
-        hits++;
-        assert_memory_equal(&got.t, &want.t, sizeof got.t);
+        hits += (uint32_t)found;
     }
     assert_true(hits > 5000);
     free(input);
@@ -927,10 +918,8 @@ static void build_empty_scene_has_no_hits(void **state)
     for (int k = 0; k < 20000; ++k) {
         st_ray ray = random_ray(&r, NULL, 0, lo, hi);
         st_hit hit;
-        assert_false(st_intersect_closest(bvh->nodes, bvh->tris, &ray, &hit));
-        assert_int_equal(hit.prim, ST_NO_HIT);
-        assert_false(st_intersect_any(bvh->nodes, bvh->tris, &ray));
         assert_false(st_intersect_wide_closest(bvh->wide, &ray, &hit));
+        assert_int_equal(hit.prim, ST_NO_HIT);
         assert_false(st_intersect_wide_any(bvh->wide, &ray));
     }
     check_wide_structure(bvh, NULL, 0);

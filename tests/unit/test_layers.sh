@@ -2,7 +2,8 @@
 # test_layers.sh — the modules' layering (tools/check_layers.py): the tree as it
 # is passes, and the check fails, naming the file, on each kind of fault put
 # into a scratch copy: an include of a module above, one of a module in the
-# same layer, a kernel file that includes a host header, a private header
+# same layer, a kernel file that includes a host header or one of a higher
+# kernel folder, a kernel folder with no place in the layers, a private header
 # used by another module, a folder of src/ with no place in the layers, a
 # source, kernel or test outside the folders the build reads, and,
 # from objects, a call up to a higher module and two files calling each
@@ -35,6 +36,14 @@ check "an include of a module of the same layer is named" 'fails "src/filter/fil
 copy
 printf '#include "st_error.h"\n' >> "$T/r/kernels/shared/rng.h"
 check "a kernel file that includes a host header is named" 'fails "kernels/shared/rng.h:[0-9]*" "only kernel files"'
+
+copy
+printf '#include "integrator.h"\n' >> "$T/r/kernels/geom/trace.h"
+check "a kernel file that includes one of a higher kernel folder is named" 'fails "kernels/geom/trace.h:[0-9]*" "of kernels/integrator/, above kernels/geom/"'
+
+copy
+mkdir "$T/r/kernels/extra"
+check "a kernel folder outside the kernel layers is named" 'fails "kernels" "folders"'
 
 copy
 printf '#include "render_int.h"\n' >> "$T/r/src/cli/cli.c"
