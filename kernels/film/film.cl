@@ -127,7 +127,7 @@ typedef struct tap_weights {
     int4 t;
     const float *x, *y;
     int st;
-    float bx, by; /* the largest |x[k st]|, |y[j st]| of the taps (max_abs) */
+    float bx, by; /* the largest |x[k st]|, |y[j st]| of the taps (max_abs<N>) */
     int near;     /* its taps go to the int32 window, their room made (near_room) */
 } tap_weights;
 
@@ -155,31 +155,6 @@ static st_u32 splat_taps(const st_params *p, tap_weights w, float3 L, const spla
                       fixed_splat4(w.x[(x - t.x) * w.st] * w.y[(y - t.z) * w.st] * d->scale, L1,
                                    clamped));
     return (st_u32)nx * (st_u32)ny;
-}
-
-/* Largest |w[k st]| of n weights, a NaN passed over as fmax would (a
- * comparison, which compiles to one maxss, where fmax's NaN rule took four
- * instructions per weight). */
-ST_HOT float max_abs(const float *w, int n, int st)
-{
-    float m = 0.0f;
-    for (int k = 0; k < n; k++) {
-        float a = fabs(w[k * st]);
-        m = a > m ? a : m;
-    }
-    return m;
-}
-
-/* max_abs of ST_W samples' weights at once, lane l of w[k ST_W + l] for
- * k < n_l (m >= every n_l), each lane what max_abs computes for it. */
-ST_HOT st_lf max_abs_lanes(const float *w, st_li n, int m)
-{
-    st_lf b = ST_LF(0.0f);
-    for (int k = 0; k < m; k++) {
-        st_lf a = fabs(ST_VLOAD(ST_W, w + k * ST_W));
-        b = ST_SELECT(ST_W, b, a, (a > b) & ((st_li)(k) < n));
-    }
-    return b;
 }
 
 /* ---- int32 partial sums in a work-item's own window ----------------------
@@ -297,7 +272,7 @@ ST_HOT st_u32 splat_window(const st_params *p, tap_weights w, float3 L, const sp
                 add_window(row + k, v, d->alone);
         return (st_u32)nx * (st_u32)ny;
     }
-    if (w.near) { /* its room made: splat_items */
+    if (w.near) { /* its room made: splat_items<N> */
         splat_fitting_int4(d->near + (row - d->acc), d->side, w, nx, ny, d->scale, L1);
         return (st_u32)nx * (st_u32)ny;
     }
@@ -374,100 +349,17 @@ static void splat_weighted(const st_params *p, st_u32 i, st_sample s, tap_weight
         atomic_inc(&stats->clamped);
 }
 
-/* Item i's sample to d, its weights made alone (width 1). */
-static void splat_item(const st_params *p, st_u32 i, __global const st_sample *sample,
-                       __global const st_path *path, __global st_tally *tally,
-                       __global st_film_stats *stats, __global const st_f32 *splat_scale,
-                       splat_dest *d)
-{
-    st_sample s = sample[i];
-    float wx[ST_MAX_TAPS], wy[ST_MAX_TAPS];
-    tap_weights w = {sample_taps(p, s), wx, wy, 1, 0.0f, 0.0f, 0};
-    int nx = w.t.y - w.t.x + 1, ny = w.t.w - w.t.z + 1;
-    if (splat_weighs(p) && nx > 0 && ny > 0) {
-        st_filter flt = p->filter;
-        st_filter_taps1(&flt, d->turn, w.t.x, nx, nx, s.film[0], wx);
-        st_filter_taps1(&flt, d->turn, w.t.z, ny, ny, s.film[1], wy);
-        w.bx = max_abs(wx, nx, 1);
-        w.by = max_abs(wy, ny, 1);
-    }
-    st_tally t = tally[i];
-    float3 L = item_radiance(i, path, stats, &t);
-    splat_weighted(p, i, s, w, L, t, item_scale(p, splat_scale, s), tally, stats, d);
-}
-
-/* The items item[0 .. n) (n <= ST_W, a private list) to d: their taps' weights made in
- * ST_W lanes at once, one sample a lane (filter_lanes.h: each lane's the
- * width-1 values, so the same integers as splat_item), then each sample's
- * splat in turn, their counts added to d->counts; where d has an int32
- * window, the room of the samples that fit it is made once for all
- * (near_room). A lane past n weighs a sample of no taps. */
-ST_HOT void splat_items(const st_params *p, const st_u32 *item, st_u32 n,
-                        __global const st_sample *sample, __global const st_path *path,
-                        __global st_tally *tally, __global st_film_stats *stats,
-                        __global const st_f32 *splat_scale, splat_dest *d)
-{
-    float sx[ST_W], sy[ST_W], wx[ST_MAX_TAPS * ST_W], wy[ST_MAX_TAPS * ST_W];
-    for (st_u32 l = 0; l < ST_W; l++) {
-        st_sample s = sample[item[l < n ? l : 0]];
-        sx[l] = s.film[0];
-        sy[l] = s.film[1];
-    }
-    /* every lane's taps at once, as sample_taps finds them; a lane past n
-     * has none */
-    st_lf fx = ST_VLOAD(ST_W, sx), fy = ST_VLOAD(ST_W, sy);
-    st_li x0, x1, y0, y1, live = ST_IOTA(ST_W) < (int)n;
-    ST_CAT(st_tap_range, ST_W)(fx, p->filter.radius, (int)p->width, &x0, &x1);
-    ST_CAT(st_tap_range, ST_W)(fy, p->filter.radius, (int)p->height, &y0, &y1);
-    st_li nx = ST_SELECT(ST_W, (st_li)(0), x1 - x0 + 1, live & (x1 >= x0));
-    st_li ny = ST_SELECT(ST_W, (st_li)(0), y1 - y0 + 1, live & (y1 >= y0));
-    int lx[ST_W], hx[ST_W], ly[ST_W], hy[ST_W], cx[ST_W], cy[ST_W], mx = 0, my = 0;
-    ST_VSTORE(ST_W, x0, lx);
-    ST_VSTORE(ST_W, x1, hx);
-    ST_VSTORE(ST_W, y0, ly);
-    ST_VSTORE(ST_W, y1, hy);
-    ST_VSTORE(ST_W, nx, cx);
-    ST_VSTORE(ST_W, ny, cy);
-    for (st_u32 l = 0; l < ST_W; l++) {
-        mx = max(mx, cx[l]);
-        my = max(my, cy[l]);
-    }
-    float bx[ST_W], by[ST_W];
-    if (splat_weighs(p)) {
-        st_filter flt = p->filter;
-        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, x0, nx, mx, fx, wx);
-        ST_CAT(st_filter_taps, ST_W)(&flt, d->turn, y0, ny, my, fy, wy);
-        ST_VSTORE(ST_W, max_abs_lanes(wx, nx, mx), bx);
-        ST_VSTORE(ST_W, max_abs_lanes(wy, ny, my), by);
-    }
-    float3 L[ST_W];
-    st_tally t[ST_W];
-    float scale[ST_W];
-    int near[ST_W], need = 0, r0 = INT_MAX, r1 = INT_MIN;
-    for (st_u32 l = 0; l < n; l++) {
-        t[l] = (st_tally){0u, 0u, 0u, 0u};
-        L[l] = item_radiance(item[l], path, stats, &t[l]);
-        scale[l] = item_scale(p, splat_scale, sample[item[l]]);
-        near[l] = 0;
-        if (!d->near || !splat_weighs(p) || cx[l] <= 0 || cy[l] <= 0)
-            continue;
-        /* a tap's integer is at most its bound plus 1/2 (round) */
-        float b = tap_bound(bx[l], by[l], scale[l], (float4)(L[l], 1.0f));
-        near[l] = b <= NEAR_TAP_MAX;
-        if (near[l]) {
-            need += (int)b + 1;
-            r0 = min(r0, ly[l]);
-            r1 = max(r1, hy[l]);
-        }
-    }
-    if (need)
-        near_room(d, r0 - d->oy, r1 - d->oy, need);
-    for (st_u32 l = 0; l < n; l++) {
-        tap_weights w = {(int4)(lx[l], hx[l], ly[l], hy[l]), wx + l, wy + l, ST_W, bx[l], by[l],
-                         near[l]};
-        splat_weighted(p, item[l], sample[item[l]], w, L[l], t[l], scale[l], tally, stats, d);
-    }
-}
+/* The splat of up to N samples a call, their taps' weights in N lanes
+ * (splat_lanes.h): splat_items1 for one sample (splat_samples, and a GPU's
+ * splat_tiles), splat_items<ST_W> for a CPU work-item's lanes. */
+#define ST_N 1
+#include "splat_lanes.h"
+#undef ST_N
+#if ST_W != 1
+#define ST_N ST_W
+#include "splat_lanes.h"
+#undef ST_N
+#endif
 
 /* Reads sample and path; adds to film (weighted by splat_scale in an
  * adaptive render's later rounds); adds the splats made and the
@@ -481,7 +373,7 @@ __kernel void splat_samples(ST_STAGE_PARAMS)
     if (!st_sample_on_film(&p, sample[i]))
         return; /* a tile point outside the image (generate.cl) */
     splat_dest d = {film, 1.0f, 0, 0, 0, 0, 0, 0, 0, st_lanczos_turn_of(&p.filter)};
-    splat_item(&p, i, sample, path, tally, stats, splat_scale, &d);
+    splat_items1(&p, &i, 1u, sample, path, tally, stats, splat_scale, &d);
 }
 
 /* ---- the box filter's splat gathered by pixel ------------------------------
@@ -796,7 +688,7 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
                 prefetch_item(next, sample, path);
         }
         if (k)
-            splat_items(&p, item, k, sample, path, tally, stats, splat_scale, &d);
+            ST_CAT(splat_items, ST_W)(&p, item, k, sample, path, tally, stats, splat_scale, &d);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     /* window pixel j at (x, y) of the image, stepped without a division */
