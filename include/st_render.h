@@ -128,8 +128,9 @@ void st_render_env(const st_scene *scene, const st_render_options *o, float env[
 
 /* --lanes auto (src/render/lanes_auto.c): the kernels' lane width (ST_W)
  * chosen by measurement. On a CPU device the first render times a short
- * calibration pass (st_render_lanes_workload) at each width 1, 4, 8 and 16
- * and keeps the fastest in a wisdom file, "lanes" in $STRATA_CACHE_DIR, else
+ * calibration pass (the built-in Cornell box, direct and path) at each
+ * width 1, 4, 8 and 16 and keeps the fastest (the narrowest within 3 % of
+ * it) in a wisdom file, "lanes" in $STRATA_CACHE_DIR, else
  * in strata/ beside PoCL's cache ($XDG_CACHE_HOME or ~/.cache), one line per
  * device keyed by the platform, device, driver and strata's version; later
  * renders read it. Any other device takes 1 without a calibration. Every
@@ -152,14 +153,13 @@ typedef struct st_lanes_choice {
 st_status st_render_lanes_recall(const st_device_info *info, st_lanes_choice *c, st_error *err);
 /* Measures: opens a device of spec (st_device_create; threads as
  * st_device_limit_compute_units, 0: all) per width, renders the calibration
- * at each in turn (the fastest of three), sets c's lanes, rates and how
+ * at each in turn (the fastest of five, by CPU time over the compute units:
+ * rates a machine's other load does not bend), sets c's lanes, rates and how
  * (MEASURED) and writes the wisdom file (c->kept; failing to write it is
  * not an error: c->why_not_kept says why). Call after st_render_lanes_recall
  * filled c->path. A width that does not build is left out (rate 0). */
 st_status st_render_lanes_measure(const char *spec, unsigned threads, st_lanes_choice *c,
                                   st_error *err);
-/* The calibration pass's options (scene: the built-in cornell-box). */
-st_render_options st_render_lanes_workload(void);
 /* The width and how it was chosen, for `strata devices` and notes: "8
  * (measured fastest of M samples/s 1: 0.84, 4: 3.10, ...; kept in PATH)".
  * Returns buf. */

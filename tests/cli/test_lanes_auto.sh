@@ -1,6 +1,7 @@
 #!/bin/sh
 # test_lanes_auto.sh — --lanes auto, the default: on a CPU device the first
-# render measures the candidate widths and keeps the fastest in the wisdom
+# render measures the candidate widths and keeps the fastest (the narrowest
+# within 3 % of it) in the wisdom
 # file (STRATA_CACHE_DIR/lanes here, a scratch folder), `strata devices` and
 # bench say which width and how it was chosen, later renders reuse it without
 # measuring, a file that cannot be read or written costs a measurement but
@@ -35,7 +36,10 @@ key, width, rates = open(sys.argv[1]).read().rstrip(\"\n\").split(\"\t\")
 r = dict(x.split(\":\") for x in rates.split())
 assert width in (\"1\", \"4\", \"8\", \"16\") and sorted(r, key=int) == [\"1\", \"4\", \"8\", \"16\"]
 assert all(float(v) > 0 for v in r.values())
-assert float(r[width]) == max(float(v) for v in r.values())
+# the narrowest width within 3 % of the fastest
+best = max(float(v) for v in r.values())
+assert float(r[width]) >= 0.97 * best - 1e-3
+assert all(float(r[w]) < 0.97 * best + 1e-3 for w in r if int(w) < int(width))
 assert \"Portable Computing Language\" in key or \"strata\" in key
 " "$W"' "($(cat "$W"))"
 chosen=$(cut -f2 "$W")
