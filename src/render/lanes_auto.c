@@ -379,8 +379,9 @@ const char *st_render_lanes_describe(const st_lanes_choice *c, char *buf, size_t
                  "render measures)", c->lanes);
         break;
     default:
-        snprintf(buf, cap, "%u (%s fastest of M samples/s %s; %s%s)", c->lanes,
-                 c->how == ST_LANES_MEASURED ? "measured" : "remembered", rates,
+        snprintf(buf, cap, "%u (%s: %s M samples/s, the narrowest within %g %% of the fastest; "
+                 "%s%s)", c->lanes, c->how == ST_LANES_MEASURED ? "measured" : "remembered", rates,
+                 100.0 * CAL_MARGIN,
                  c->how == ST_LANES_REMEMBERED || c->kept ? "kept in " : "not kept: ",
                  c->how == ST_LANES_REMEMBERED || c->kept ? c->path : c->why_not_kept);
     }

@@ -26,7 +26,7 @@ $S render $R -o "$T/first.exr" 2> "$T/first.err"
 check "the first render measures, and says so" \
     'grep -q "^strata: note: measuring which lane width is fastest" "$T/first.err"'
 check "... and names the width it chose with the rates" \
-    'grep -q "^strata: note: lanes \(1\|4\|8\|16\) (measured fastest of M samples/s 1: [0-9.]*, 4: [0-9.]*, 8: [0-9.]*, 16: [0-9.]*; kept in $W)" "$T/first.err"' \
+    'grep -q "^strata: note: lanes \(1\|4\|8\|16\) (measured: 1: [0-9.]*, 4: [0-9.]*, 8: [0-9.]*, 16: [0-9.]* M samples/s, the narrowest within 3 % of the fastest; kept in $W)" "$T/first.err"' \
     "($(cat "$T/first.err"))"
 # the wisdom: one line, key TAB width TAB rates, the width one of the rates'
 check "the wisdom file holds one line: this device's key, a width and four positive rates" \
@@ -44,7 +44,7 @@ assert \"Portable Computing Language\" in key or \"strata\" in key
 " "$W"' "($(cat "$W"))"
 chosen=$(cut -f2 "$W")
 check "devices shows the remembered width and where it is kept" \
-    'cpu_line | grep -q "| lanes $chosen (remembered fastest of M samples/s .*; kept in $W)$"' "($(cpu_line))"
+    'cpu_line | grep -q "| lanes $chosen (remembered: .* M samples/s, the narrowest within 3 % of the fastest; kept in $W)$"' "($(cpu_line))"
 
 cp "$W" "$T/wisdom.before"
 $S render $R -o "$T/second.exr" 2> "$T/second.err"
