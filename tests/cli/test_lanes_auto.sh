@@ -82,7 +82,7 @@ printf 'x' > "$T/file"
 STRATA_CACHE_DIR="$T/file/sub" $S render $R -o "$T/unkept.exr" 2> "$T/unkept.err"
 check "an unwritable wisdom folder: the render still renders" '[ -s "$T/unkept.exr" ]'
 check "... and says the choice was not kept" \
-    'grep -q "^strata: note: lanes [0-9]* (measured .*; not kept: " "$T/unkept.err"' "($(cat "$T/unkept.err"))"
+    'grep -q "^strata: note: lanes [0-9]* (measured: .*; not kept: " "$T/unkept.err"' "($(cat "$T/unkept.err"))"
 
 expect "--lanes 5 is a usage error naming auto" 2 "strata: error: --lanes 5: must be auto, 1, 4, 8 or 16" \
     $S render $R --lanes 5 -o "$T/x.exr"
