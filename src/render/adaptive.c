@@ -133,14 +133,14 @@ static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32
     return rc;
 }
 
-/* Launches adaptive kernel k (ST_ADAPTIVE_*) over every pixel with p, the
+/* Launches adaptive kernel k (ST_K_ADAPTIVE_*) over every pixel with p, the
  * device's ST_W pixels a work-item. */
 static st_status launch(st_renderer *r, int k, const st_params *p, st_wave *w, st_error *err)
 {
     size_t items = st_render_lane_items(r->dev, w->pixels);
-    st_render_note_ran(r, r->adaptive[k]);
-    if (st_wave_set_params(r->adaptive[k], p, err) ||
-        st_device_launch(r->dev, r->adaptive[k], items, 0, err))
+    st_render_note_ran(r, r->kernel[k]);
+    if (st_wave_set_params(r->kernel[k], p, err) ||
+        st_device_launch(r->dev, r->kernel[k], items, 0, err))
         return err->status;
     return ST_OK;
 }
@@ -155,7 +155,7 @@ static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_re
         st_u64 n = total - first < w->items ? total - first : w->items;
         rc = items(r, p, w, o, first, n, pr, err);
         if (rc == ST_OK)
-            rc = launch(r, ST_ADAPTIVE_MOMENTS, p, w, err);
+            rc = launch(r, ST_K_ADAPTIVE_MOMENTS, p, w, err);
     }
     return rc;
 }
@@ -168,7 +168,7 @@ static st_status plan(st_renderer *r, st_params *p, st_wave *w, const st_render_
     float *e = malloc(n * sizeof *e);
     if (!e)
         return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive estimates");
-    st_status rc = launch(r, ST_ADAPTIVE_ESTIMATE, p, w, err);
+    st_status rc = launch(r, ST_K_ADAPTIVE_ESTIMATE, p, w, err);
     if (rc == ST_OK)
         rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *e, e, err);
     if (rc == ST_OK) {
@@ -217,8 +217,8 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
         return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
     ranked *rk = NULL;
     st_status rc = ST_OK;
-    for (int k = 0; k < ST_ADAPTIVE_KERNELS && rc == ST_OK; k++)
-        rc = st_wave_bind_film(r->adaptive[k], p, w, err);
+    for (int k = ST_K_ADAPTIVE_MOMENTS; k <= ST_K_ADAPTIVE_BLEND && rc == ST_OK; k++)
+        rc = st_wave_bind_film(r->kernel[k], p, w, err);
     if (rc == ST_OK)
         rc = run_pilot(r, p, w, o, total, pr, items, err);
     st->samples = total;
@@ -231,7 +231,7 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
     if (rc == ST_OK)
         rc = run_rounds(r, p, w, o, rk, pilot, pr, st, items, err);
     if (rc == ST_OK)
-        rc = launch(r, ST_ADAPTIVE_BLEND, p, w, err);
+        rc = launch(r, ST_K_ADAPTIVE_BLEND, p, w, err);
     free(rk);
     free(m);
     return rc;

@@ -183,25 +183,9 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     if (upload_scene(r, bvh, err) != ST_OK || st_renderer_upload_env_map(r, NULL, err) != ST_OK ||
         st_device_build(dev, NULL, err) != ST_OK)
         goto fail;
-    for (int k = 0; k < ST_STAGE_COUNT; k++)
-        if (st_device_kernel(dev, st_stage_names[k], &r->k[k], err) != ST_OK)
+    for (int k = 0; k < ST_KERNEL_COUNT; k++)
+        if (st_device_kernel(dev, st_kernel_names[k], &r->kernel[k], err) != ST_OK)
             goto fail;
-    for (int k = 0; k < ST_ADAPTIVE_KERNELS; k++)
-        if (st_device_kernel(dev, st_adaptive_kernel_names[k], &r->adaptive[k], err) != ST_OK)
-            goto fail;
-    for (int k = 0; k < ST_ORDER_KERNELS; k++)
-        if (st_device_kernel(dev, st_order_kernel_names[k], &r->order[k], err) != ST_OK)
-            goto fail;
-    if (st_device_kernel(dev, "bin_scan", &r->bin_scan, err) != ST_OK ||
-        st_device_kernel(dev, "bin_scatter", &r->bin_scatter, err) != ST_OK ||
-        st_device_kernel(dev, "splat_edges", &r->splat_edges, err) != ST_OK ||
-        st_device_kernel(dev, "live_count", &r->live_count, err) != ST_OK ||
-        st_device_kernel(dev, "live_scan", &r->live_scan, err) != ST_OK ||
-        st_device_kernel(dev, "shade_hits_shadowed", &r->shade_shadowed, err) != ST_OK ||
-        st_device_kernel(dev, "trace_rays_packet", &r->trace_packet, err) != ST_OK ||
-        st_device_kernel(dev, "trace_shadow_rays_packet", &r->shadow_packet, err) != ST_OK ||
-        st_device_kernel(dev, "trace_rays_last", &r->trace_last, err) != ST_OK)
-        goto fail;
     r->all_opaque = 1;
     for (st_u32 m = 0; m < scene->material_count; m++)
         r->all_opaque &= scene->materials[m].alpha_mode == ST_ALPHA_OPAQUE;

@@ -13,16 +13,16 @@ st_status st_render_order(st_renderer *r, const st_params *p, size_t n, size_t l
      * one work-item, the others a work-item per block of positions, one a
      * group (each keeps its block's counts in its own array, which a CPU
      * device would copy for every work-item of a group) */
-    static const int run[] = {ST_ORDER_BOUNDS_K,      ST_ORDER_KEYS_K,       ST_ORDER_COUNT_LOW_K,
-                              ST_ORDER_SCAN_K,        ST_ORDER_SCATTER_LOW_K, ST_ORDER_COUNT_HIGH_K,
-                              ST_ORDER_SCAN_K,        ST_ORDER_SCATTER_HIGH_K};
+    static const int run[] = {ST_K_ORDER_BOUNDS,     ST_K_ORDER_KEYS,        ST_K_ORDER_COUNT_LOW,
+                              ST_K_ORDER_SCAN,       ST_K_ORDER_SCATTER_LOW, ST_K_ORDER_COUNT_HIGH,
+                              ST_K_ORDER_SCAN,       ST_K_ORDER_SCATTER_HIGH};
     size_t blocks = (n + ST_ORDER_BLOCK - 1u) / ST_ORDER_BLOCK;
     for (size_t j = 0; j < sizeof run / sizeof run[0]; j++) {
-        cl_kernel k = r->order[run[j]];
-        size_t items = run[j] == ST_ORDER_KEYS_K   ? st_render_lane_items(r->dev, n)
-                       : run[j] == ST_ORDER_SCAN_K ? 1
+        cl_kernel k = r->kernel[run[j]];
+        size_t items = run[j] == ST_K_ORDER_KEYS   ? st_render_lane_items(r->dev, n)
+                       : run[j] == ST_K_ORDER_SCAN ? 1
                                                    : blocks;
-        size_t group = run[j] == ST_ORDER_KEYS_K ? local : 1;
+        size_t group = run[j] == ST_K_ORDER_KEYS ? local : 1;
         if (st_wave_set_params(k, p, err) != ST_OK)
             return err->status;
         st_render_note_ran(r, k);

@@ -35,11 +35,12 @@ int st_renderer_packets(const st_renderer *r, const st_render_options *o)
     return st_device_get_info(r->dev)->lanes > 1u ? ST_PACKET_COHERENT : ST_PACKET_NONE;
 }
 
-int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v)
+/* Whether the rays of stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW) at vertex
+ * v go in packets: coherent are the rays of vertex 0 (camera rays, and the
+ * shadow rays from where they hit), not a bounce's scattered rays; shadow
+ * rays only where any hit blocks (no alpha to walk through: shadow.h). */
+static int in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v)
 {
-    /* coherent: the rays of vertex 0 (camera rays, and the shadow rays from
-     * where they hit), not a bounce's scattered rays; shadow rays only where
-     * any hit blocks (no alpha to walk through: shadow.h) */
     int n = pl->packets == ST_PACKET_ALL || (pl->packets == ST_PACKET_COHERENT && v == 0u);
     return n && (k != ST_STAGE_SHADOW || r->all_opaque);
 }
@@ -99,11 +100,6 @@ int st_plan_orders(const st_renderer *r)
     const st_device_info *info = st_device_get_info(r->dev);
     return info->is_cpu && r->scene->tri_count >= ST_ORDER_MIN_TRIANGLES ? ST_ORDER_ON
                                                                          : ST_ORDER_OFF;
-}
-
-int st_plan_orders_trace(const st_plan *pl, st_u32 v)
-{
-    return pl->order == ST_ORDER_ON && v > 0u;
 }
 
 /* The splat: filter importance sampling takes one tap per sample, so
@@ -182,6 +178,32 @@ int st_plan_gathers(const st_plan *pl, const st_params *p)
            st_items_by_pixel(p) && !p->adaptive_scaled;
 }
 
+/* Each vertex's kernels (st_plan_vertex): the last vertex's rays by the
+ * light list where the plan says so, a vertex's rays in packets where
+ * in_packets says so, else one ray a work-item, a bounce's sorted first
+ * where the plan sorts them. */
+static void plan_vertices(st_plan *pl, const st_renderer *r, const st_params *p)
+{
+    for (st_u32 v = 0; v < ST_PLAN_VERTICES; v++) {
+        st_plan_vertex *x = &pl->vertex[v];
+        x->trace_lanes = in_packets(pl, r, ST_STAGE_TRACE, v);
+        x->shadow_lanes = in_packets(pl, r, ST_STAGE_SHADOW, v);
+        x->sorted = 0;
+        if (v == p->max_depth && pl->last_by_emitters) {
+            x->trace = ST_K_TRACE_LAST;
+            x->trace_lanes = 0;
+        } else if (x->trace_lanes) {
+            x->trace = ST_K_TRACE_PACKET;
+        } else {
+            x->trace = ST_K_TRACE;
+            x->sorted = pl->order == ST_ORDER_ON && v > 0u;
+        }
+        x->shadow = pl->shadows_in_shade || v >= p->max_depth ? -1
+                    : x->shadow_lanes                        ? ST_K_SHADOW_PACKET
+                                                             : ST_K_SHADOW;
+    }
+}
+
 st_plan st_plan_make(const st_renderer *r, const st_render_options *o, const st_shading *sh,
                      st_params *p)
 {
@@ -206,6 +228,8 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, const st_
     pl.tile_passes = plan_tile_passes(&pl, p);
     pl.bins = p->bins;
     pl.order = f->order == ST_ORDER_ON ? ST_ORDER_ON : ST_ORDER_OFF;
+    pl.shade = pl.shadows_in_shade ? ST_K_SHADE_SHADOWED : ST_K_SHADE;
+    plan_vertices(&pl, r, p);
     return pl;
 }
 

@@ -47,6 +47,18 @@ typedef struct st_plan_force {
     int order;    /* ST_ORDER_* */
 } st_plan_force;
 
+/* What path vertex v launches (st_plan.vertex[v], v = 0 .. max_depth, at
+ * most 64): the kernel of its closest-hit trace and of its shadow rays
+ * (ST_K_*, render_int.h; shadow -1 where shade traces them or at the last
+ * vertex, which makes none), whether the trace's rays are sorted first
+ * (order.cl), and whether each goes ST_W rays to a work-item (packets). */
+#define ST_PLAN_VERTICES 65
+typedef struct st_plan_vertex {
+    int trace, shadow;
+    int sorted;
+    int trace_lanes, shadow_lanes;
+} st_plan_vertex;
+
 typedef struct st_plan {
     unsigned lanes;       /* the kernels' ST_W (st_device_info.lanes) */
     int packets;          /* ST_PACKET_NONE, COHERENT or ALL */
@@ -59,8 +71,10 @@ typedef struct st_plan {
     int tile_passes;      /* splat_tiles in four passes of bins whose windows do not
                              overlap (st_params.bin_pass), else one launch */
     unsigned bins;        /* splat_tiles' bins (st_params.bins; 0: none) */
-    int order;            /* ST_ORDER_ON: a bounce's rays sorted before their trace
-                             (st_plan_orders_trace); ST_ORDER_OFF: never */
+    int order;            /* ST_ORDER_ON: a bounce's rays sorted before their trace;
+                             ST_ORDER_OFF: never */
+    int shade;            /* ST_K_SHADE, or ST_K_SHADE_SHADOWED with its shadow rays */
+    st_plan_vertex vertex[ST_PLAN_VERTICES];
 } st_plan;
 
 typedef struct st_renderer st_renderer;
@@ -74,13 +88,9 @@ st_plan st_plan_make(const st_renderer *r, const st_render_options *o, const st_
 int st_plan_gathers(const st_plan *pl, const st_params *p);
 /* Work-items per splat_tiles work-group. */
 size_t st_plan_tile_group(const st_plan *pl, const st_render_options *o);
-/* The packets of the rays traced at path vertex v (ST_STAGE_TRACE or
- * ST_STAGE_SHADOW as k): whether they go in packets. */
-int st_plan_in_packets(const st_plan *pl, const st_renderer *r, int k, st_u32 v);
 /* Whether the trace benchmark sorts its rays on r (ST_ORDER_ON or
- * ST_ORDER_OFF), and whether a render's trace at vertex v sorts them. */
+ * ST_ORDER_OFF). */
 int st_plan_orders(const st_renderer *r);
-int st_plan_orders_trace(const st_plan *pl, st_u32 v);
 /* Bytes of splat_tiles' local window for bins of `side` pixels, with the
  * int32 window of a work-group of one work-item where `alone`. */
 size_t st_plan_window_bytes(st_u32 side, float radius, int alone);

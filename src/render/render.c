@@ -134,41 +134,34 @@ st_status st_render_check(const st_render_options *o, st_error *err)
 static st_status bind_stages(st_renderer *r, const st_render_options *o, const st_params *p,
                              const st_shading *sh, const st_wave *w, st_error *err)
 {
-    for (int k = 0; k < ST_STAGE_RESOLVE; k++)
-        if (st_wave_bind_stage(r->k[k], p, sh, r->scene_buf, w, err) != ST_OK)
+    /* every kernel of the table but those of the film's own (resolve and
+     * the adaptive rounds: st_wave_bind_film) */
+    for (int k = 0; k < ST_KERNEL_COUNT; k++) {
+        int film = k == ST_K_RESOLVE || (k >= ST_K_ADAPTIVE_MOMENTS && k <= ST_K_ADAPTIVE_BLEND);
+        if (!film && st_wave_bind_stage(r->kernel[k], p, sh, r->scene_buf, w, err) != ST_OK)
             return err->status;
-    if (st_wave_bind_stage(r->bin_scan, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->bin_scatter, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->splat_edges, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->live_count, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->live_scan, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->shade_shadowed, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->trace_packet, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->shadow_packet, p, sh, r->scene_buf, w, err) ||
-        st_wave_bind_stage(r->trace_last, p, sh, r->scene_buf, w, err))
-        return err->status;
-    for (int k = 0; k < ST_ORDER_KERNELS; k++)
-        if (st_wave_bind_stage(r->order[k], p, sh, r->scene_buf, w, err) != ST_OK)
-            return err->status;
+    }
     /* splat_tiles' window, after the stage parameters (a size, no buffer) */
     int alone = st_plan_tile_group(&r->plan, o) == 1;
     size_t window = p->bins ? st_plan_window_bytes(p->bin_side, p->filter.radius, alone)
                             : sizeof(st_i64);
-    if (st_device_set_arg(r->k[ST_STAGE_SPLAT_TILES], 2 + ST_SCENE_BUFFER_COUNT +
+    if (st_device_set_arg(r->kernel[ST_K_SPLAT_TILES], 2 + ST_SCENE_BUFFER_COUNT +
                           ST_WAVE_BUFFER_COUNT, window, NULL, err) != ST_OK)
         return err->status;
-    return st_wave_bind_film(r->k[ST_STAGE_RESOLVE], p, w, err);
+    return st_wave_bind_film(r->kernel[ST_K_RESOLVE], p, w, err);
 }
 
-/* Launches kernel kl over `items` work-items in groups of `local`; with
- * profiling, timed as stage k by the device's clock (collect_stage_times). */
-static st_status run_kernel(st_renderer *r, cl_kernel kl, int k, const st_params *p, size_t items,
+/* Launches kernel k (ST_K_*) over `items` work-items in groups of `local`;
+ * with profiling, timed in its stage by the device's clock
+ * (collect_stage_times). */
+static st_status run_kernel(st_renderer *r, int k, const st_params *p, size_t items,
                             size_t local, const st_render_options *o, st_error *err)
 {
+    cl_kernel kl = r->kernel[k];
     if (st_wave_set_params(kl, p, err) != ST_OK)
         return err->status;
     st_render_note_ran(r, kl);
-    st_device_time_launches(r->dev, o->profile ? k : -1);
+    st_device_time_launches(r->dev, o->profile ? st_kernel_stages[k] : -1);
     st_status rc = st_device_launch(r->dev, kl, items || !o->warm ? items : 1u, local, err);
     st_device_time_launches(r->dev, -1);
     return rc;
@@ -187,11 +180,11 @@ static st_status collect_stage_times(st_renderer *r, const st_render_options *o,
                       : ST_OK;
 }
 
-/* Launches stage k over `items` work-items (run_kernel). */
+/* Launches kernel k over `items` work-items in the render's groups. */
 static st_status run_stage(st_renderer *r, int k, const st_params *p, size_t items,
                            const st_render_options *o, st_error *err)
 {
-    return run_kernel(r, r->k[k], k, p, items, o->local_size, o, err);
+    return run_kernel(r, k, p, items, o->local_size, o, err);
 }
 
 /* Reconstruction of a wave: splat_pixels then splat_edges (the taps of
@@ -207,17 +200,16 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
     size_t npix = (size_t)p->region_w * p->region_h;
     if (st_plan_gathers(&r->plan, p)) {
         size_t m = n < npix ? n : npix;
-        if (run_stage(r, ST_STAGE_SPLAT_PIXELS, p, m, o, err) ||
-            run_kernel(r, r->splat_edges, ST_STAGE_SPLAT_PIXELS, p, m, o->local_size, o, err))
+        if (run_stage(r, ST_K_SPLAT_PIXELS, p, m, o, err) ||
+            run_stage(r, ST_K_SPLAT_EDGES, p, m, o, err))
             return err->status;
         return ST_OK;
     }
     if (!p->bins)
-        return run_stage(r, ST_STAGE_SPLAT, p, n, o, err);
+        return run_stage(r, ST_K_SPLAT, p, n, o, err);
     if (!st_items_by_pixel(p) &&
-        (run_stage(r, ST_STAGE_BIN, p, n, o, err) ||
-         run_kernel(r, r->bin_scan, ST_STAGE_BIN, p, 1, o->local_size, o, err) ||
-         run_kernel(r, r->bin_scatter, ST_STAGE_BIN, p, n, o->local_size, o, err)))
+        (run_stage(r, ST_K_BIN_COUNT, p, n, o, err) || run_stage(r, ST_K_BIN_SCAN, p, 1, o, err) ||
+         run_stage(r, ST_K_BIN_SCATTER, p, n, o, err)))
         return err->status;
     st_params q = *p;
     st_u32 passes = r->plan.tile_passes ? 4u : 1u;
@@ -226,8 +218,7 @@ static st_status splat_wave(st_renderer *r, const st_params *p, const st_render_
                                       : p->bins;
     for (st_u32 c = 0; c < passes; c++) {
         q.bin_pass = r->plan.tile_passes ? c + 1u : 0u;
-        if (run_kernel(r, r->k[ST_STAGE_SPLAT_TILES], ST_STAGE_SPLAT_TILES, &q, bins * group,
-                       group, o, err))
+        if (run_kernel(r, ST_K_SPLAT_TILES, &q, bins * group, group, o, err))
             return err->status;
     }
     return ST_OK;
@@ -456,14 +447,20 @@ static size_t live_paths(const st_params *p)
     return p->vertex == 0u ? p->item_count : p->live_count;
 }
 
-/* trace_rays over p's positions, sorted by ray first where the plan says so
- * (the sort timed with the stage). */
-static st_status run_closest(st_renderer *r, st_u32 v, const st_params *p,
-                             const st_render_options *o, st_error *err)
+/* Vertex v's rays of stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW) over its
+ * live paths, by the kernel the plan chose (st_plan_vertex): in packets,
+ * ceil(n / lanes) work-items, or one ray a work-item, a trace's rays sorted
+ * first where the plan says so (the sort timed with the stage). */
+static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
+                           const st_render_options *o, st_error *err)
 {
+    const st_plan_vertex *x = &r->plan.vertex[v];
     size_t n = live_paths(p);
-    if (!st_plan_orders_trace(&r->plan, v))
-        return run_stage(r, ST_STAGE_TRACE, p, n, o, err);
+    int kernel = k == ST_STAGE_TRACE ? x->trace : x->shadow;
+    if (k == ST_STAGE_TRACE ? x->trace_lanes : x->shadow_lanes)
+        n = st_render_lane_items(r->dev, n);
+    if (k != ST_STAGE_TRACE || !x->sorted)
+        return run_stage(r, kernel, p, n, o, err);
     st_params q = *p;
     q.ordered = 1u;
     st_device_time_launches(r->dev, o->profile ? ST_STAGE_TRACE : -1);
@@ -471,24 +468,7 @@ static st_status run_closest(st_renderer *r, st_u32 v, const st_params *p,
     st_device_time_launches(r->dev, -1);
     if (rc != ST_OK)
         return rc;
-    return run_stage(r, ST_STAGE_TRACE, &q, n, o, err);
-}
-
-/* Stage k (ST_STAGE_TRACE or ST_STAGE_SHADOW at vertex v) over the vertex's
- * live paths: in packets (ceil(n / lanes) work-items) where the plan says so;
- * coherent are the rays of vertex 0 (camera rays, and shadow rays from
- * where they hit), a bounce's scatter (paths measured slower in packets). */
-static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
-                           const st_render_options *o, st_error *err)
-{
-    size_t n = live_paths(p);
-    if (k == ST_STAGE_TRACE && v == p->max_depth && r->plan.last_by_emitters)
-        return run_kernel(r, r->trace_last, k, p, n, o->local_size, o, err);
-    if (!st_plan_in_packets(&r->plan, r, k, v))
-        return k == ST_STAGE_TRACE ? run_closest(r, v, p, o, err)
-                                   : run_stage(r, k, p, n, o, err);
-    cl_kernel kl = k == ST_STAGE_TRACE ? r->trace_packet : r->shadow_packet;
-    return run_kernel(r, kl, k, p, st_render_lane_items(r->dev, n), o->local_size, o, err);
+    return run_stage(r, kernel, &q, n, o, err);
 }
 
 /* Stage shade over the vertex's live paths, ST_W per work-item (ceil(n /
@@ -496,9 +476,7 @@ static st_status run_trace(st_renderer *r, int k, st_u32 v, const st_params *p,
 static st_status run_shade(st_renderer *r, const st_params *p, const st_render_options *o,
                            st_error *err)
 {
-    cl_kernel kl = r->plan.shadows_in_shade ? r->shade_shadowed : r->k[ST_STAGE_SHADE];
-    size_t items = st_render_lane_items(r->dev, live_paths(p));
-    return run_kernel(r, kl, ST_STAGE_SHADE, p, items, o->local_size, o, err);
+    return run_stage(r, r->plan.shade, p, st_render_lane_items(r->dev, live_paths(p)), o, err);
 }
 
 /* The list of the paths that go on from p's vertex, for the next (live.cl:
@@ -509,9 +487,9 @@ static st_status list_live(st_renderer *r, const st_wave *w, st_params *p,
 {
     size_t words = st_render_lane_items(r->dev, live_paths(p));
     size_t chunks = (words + ST_LIVE_CHUNK - 1u) / ST_LIVE_CHUNK;
-    if (run_kernel(r, r->live_count, ST_STAGE_LIVE, p, chunks, o->local_size, o, err) ||
-        run_kernel(r, r->live_scan, ST_STAGE_LIVE, p, 1, o->local_size, o, err) ||
-        run_stage(r, ST_STAGE_LIVE, p, chunks, o, err))
+    if (run_stage(r, ST_K_LIVE_COUNT, p, chunks, o, err) ||
+        run_stage(r, ST_K_LIVE_SCAN, p, 1, o, err) ||
+        run_stage(r, ST_K_LIVE_SCATTER, p, chunks, o, err))
         return err->status;
     return st_device_buffer_read(r->dev, w->b[ST_WAVE_live_total], sizeof p->live_count,
                                  &p->live_count, err);
@@ -522,19 +500,18 @@ static st_status run_wave(st_renderer *r, const st_wave *w, st_params *p,
                           const st_render_options *o, st_error *err)
 {
     /* generate: ST_W items a work-item */
-    if (run_stage(r, ST_STAGE_GENERATE, p, st_render_lane_items(r->dev, p->item_count), o, err))
+    if (run_stage(r, ST_K_GENERATE, p, st_render_lane_items(r->dev, p->item_count), o, err))
         return err->status;
     /* vertex k = 0 .. max_depth: light is gathered (NEE) at the first
      * max_depth vertices; the last one only adds emission (MIS), as the
      * direct integrator's second (max_depth 1). Shadow rays in shade: timed
      * as its stage. */
     st_u32 vertices = p->max_depth + 1u;
-    int in_shade = r->plan.shadows_in_shade;
     for (st_u32 v = 0; v < vertices; v++) {
         p->vertex = r->plan.live_lists ? v : 0u; /* 0: every item */
         if (run_trace(r, ST_STAGE_TRACE, v, p, o, err) || run_shade(r, p, o, err))
             return err->status;
-        if (!in_shade && v < p->max_depth && run_trace(r, ST_STAGE_SHADOW, v, p, o, err))
+        if (r->plan.vertex[v].shadow >= 0 && run_trace(r, ST_STAGE_SHADOW, v, p, o, err))
             return err->status;
         if (r->plan.live_lists && v + 1u < vertices) {
             if (list_live(r, w, p, o, err) != ST_OK)
@@ -847,7 +824,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     set_region(&p, win); /* resolve the window alone: its counts are the window's */
     size_t resolve_items = st_render_lane_items(r->dev, (size_t)win[2] * win[3]);
     if (rc == ST_OK)
-        rc = run_stage(r, ST_STAGE_RESOLVE, &p, resolve_items, o, err);
+        rc = run_stage(r, ST_K_RESOLVE, &p, resolve_items, o, err);
     if (rc == ST_OK)
         rc = st_device_finish(r->dev, err);
     st->seconds = st_render_now() - t0;

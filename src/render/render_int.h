@@ -16,13 +16,46 @@
 
 #define ST_RAN_MAX 32 /* distinct kernels one render launches, at most (all it has are fewer) */
 
-/* adaptive.cl's kernels, in the order of st_adaptive_kernel_names */
-enum { ST_ADAPTIVE_MOMENTS, ST_ADAPTIVE_ESTIMATE, ST_ADAPTIVE_BLEND, ST_ADAPTIVE_KERNELS };
-extern const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS];
-/* order.cl's kernels (st_order_kernel_names) */
-enum { ST_ORDER_BOUNDS_K, ST_ORDER_KEYS_K, ST_ORDER_COUNT_LOW_K, ST_ORDER_SCAN_K,
-       ST_ORDER_SCATTER_LOW_K, ST_ORDER_COUNT_HIGH_K, ST_ORDER_SCATTER_HIGH_K, ST_ORDER_KERNELS };
-extern const char *const st_order_kernel_names[ST_ORDER_KERNELS];
+/* Every kernel a render launches, in one table: its name in the program
+ * and the stage its launches are timed in (st_render_stats.stage_seconds;
+ * -1: none, the adaptive rounds' own work). The plan (plan.c) chooses
+ * entries of it per stage and path vertex; the pass loop (render.c)
+ * launches what the plan chose. */
+#define ST_KERNEL_LIST(X)                                                                  \
+    X(GENERATE, "generate_rays", ST_STAGE_GENERATE)                                        \
+    X(TRACE, "trace_rays", ST_STAGE_TRACE)                                                 \
+    X(TRACE_PACKET, "trace_rays_packet", ST_STAGE_TRACE)                                   \
+    X(TRACE_LAST, "trace_rays_last", ST_STAGE_TRACE)                                       \
+    X(SHADE, "shade_hits", ST_STAGE_SHADE)                                                 \
+    X(SHADE_SHADOWED, "shade_hits_shadowed", ST_STAGE_SHADE)                               \
+    X(SHADOW, "trace_shadow_rays", ST_STAGE_SHADOW)                                        \
+    X(SHADOW_PACKET, "trace_shadow_rays_packet", ST_STAGE_SHADOW)                          \
+    X(LIVE_COUNT, "live_count", ST_STAGE_LIVE)                                             \
+    X(LIVE_SCAN, "live_scan", ST_STAGE_LIVE)                                               \
+    X(LIVE_SCATTER, "live_scatter", ST_STAGE_LIVE)                                         \
+    X(BIN_COUNT, "bin_samples", ST_STAGE_BIN)                                              \
+    X(BIN_SCAN, "bin_scan", ST_STAGE_BIN)                                                  \
+    X(BIN_SCATTER, "bin_scatter", ST_STAGE_BIN)                                            \
+    X(SPLAT, "splat_samples", ST_STAGE_SPLAT)                                              \
+    X(SPLAT_TILES, "splat_tiles", ST_STAGE_SPLAT_TILES)                                    \
+    X(SPLAT_PIXELS, "splat_pixels", ST_STAGE_SPLAT_PIXELS)                                 \
+    X(SPLAT_EDGES, "splat_edges", ST_STAGE_SPLAT_PIXELS)                                   \
+    X(RESOLVE, "resolve_film", ST_STAGE_RESOLVE)                                           \
+    X(ADAPTIVE_MOMENTS, "adaptive_moments", -1)                                            \
+    X(ADAPTIVE_ESTIMATE, "adaptive_estimate", -1)                                          \
+    X(ADAPTIVE_BLEND, "adaptive_blend", -1)                                                \
+    X(ORDER_BOUNDS, "order_bounds", ST_STAGE_TRACE)                                        \
+    X(ORDER_KEYS, "order_keys", ST_STAGE_TRACE)                                            \
+    X(ORDER_COUNT_LOW, "order_count_low", ST_STAGE_TRACE)                                  \
+    X(ORDER_SCAN, "order_scan", ST_STAGE_TRACE)                                            \
+    X(ORDER_SCATTER_LOW, "order_scatter_low", ST_STAGE_TRACE)                              \
+    X(ORDER_COUNT_HIGH, "order_count_high", ST_STAGE_TRACE)                                \
+    X(ORDER_SCATTER_HIGH, "order_scatter_high", ST_STAGE_TRACE)
+#define ST_AS_KERNEL(id, name, stage) ST_K_##id,
+enum { ST_KERNEL_LIST(ST_AS_KERNEL) ST_KERNEL_COUNT };
+#undef ST_AS_KERNEL
+extern const char *const st_kernel_names[ST_KERNEL_COUNT];
+extern const int st_kernel_stages[ST_KERNEL_COUNT];
 
 struct st_renderer {
     st_device *dev;
@@ -31,16 +64,7 @@ struct st_renderer {
      * are the per-render inputs (render.c), env_texels and env_cdf the
      * environment map's (st_renderer_upload_env_map) */
     cl_mem scene_buf[ST_SCENE_BUFFER_COUNT];
-    cl_kernel k[ST_STAGE_COUNT];
-    cl_kernel adaptive[ST_ADAPTIVE_KERNELS]; /* adaptive.cl, by ST_ADAPTIVE_* */
-    cl_kernel bin_scan, bin_scatter; /* the rest of ST_STAGE_BIN (film.cl) */
-    cl_kernel splat_edges; /* the rest of ST_STAGE_SPLAT_PIXELS (film.cl) */
-    cl_kernel live_count, live_scan;  /* the rest of ST_STAGE_LIVE (live.cl) */
-    cl_kernel shade_shadowed; /* shade_hits_shadowed: ST_STAGE_SHADE with its shadow rays */
-    /* ST_STAGE_TRACE and ST_STAGE_SHADOW in packets of ST_W rays (trace.cl, shadow.cl) */
-    cl_kernel trace_packet, shadow_packet;
-    cl_kernel trace_last; /* trace_rays_last: ST_STAGE_TRACE at the last vertex */
-    cl_kernel order[ST_ORDER_KERNELS]; /* the ray order before a trace (order.c) */
+    cl_kernel kernel[ST_KERNEL_COUNT]; /* by ST_K_* */
     int all_opaque; /* every material ST_ALPHA_OPAQUE: shadow packets may be used */
     /* all_opaque, no unlit surface, and every emissive surface in the light
      * list (its emission a factor, no texture): a ray of the last vertex

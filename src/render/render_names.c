@@ -12,9 +12,9 @@ const char *const st_integrator_names[2] = {"direct", "path"};
 const char *const st_reconstruction_names[2] = {"splat", "fis"};
 const char *const st_packet_names[4] = {"auto", "none", "coherent", "all"};
 
-const char *const st_adaptive_kernel_names[ST_ADAPTIVE_KERNELS] = {
-    "adaptive_moments", "adaptive_estimate", "adaptive_blend"};
-
-const char *const st_order_kernel_names[ST_ORDER_KERNELS] = {
-    "order_bounds", "order_keys", "order_count_low", "order_scan", "order_scatter_low",
-    "order_count_high", "order_scatter_high"};
+#define ST_KERNEL_NAME(id, name, stage) name,
+const char *const st_kernel_names[ST_KERNEL_COUNT] = {ST_KERNEL_LIST(ST_KERNEL_NAME)};
+#undef ST_KERNEL_NAME
+#define ST_KERNEL_STAGE(id, name, stage) stage,
+const int st_kernel_stages[ST_KERNEL_COUNT] = {ST_KERNEL_LIST(ST_KERNEL_STAGE)};
+#undef ST_KERNEL_STAGE

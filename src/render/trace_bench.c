@@ -79,7 +79,7 @@ static st_status trace_wave(st_renderer *r, const st_render_options *o, int set,
     p.item_count = (st_u32)n;
     int packets = o->packet_path == ST_PACKET_ALL;
     p.ordered = !packets && st_plan_orders(r) == ST_ORDER_ON;
-    cl_kernel k = packets ? r->trace_packet : r->k[ST_STAGE_TRACE];
+    cl_kernel k = packets ? r->kernel[ST_K_TRACE_PACKET] : r->kernel[ST_K_TRACE];
     if (st_trace_bench_rays(r->scene, o, set, first, n, rays, err) ||
         st_device_buffer_write(r->dev, w->b[ST_WAVE_ray], n * sizeof *rays, rays, err) ||
         st_wave_set_params(k, &p, err) || st_device_finish(r->dev, err))
@@ -121,11 +121,11 @@ st_status st_trace_bench(st_renderer *r, const st_render_options *o, int set, st
     /* every path alive (depth 0): trace_rays skips dead ones */
     if (!rc && (st_wave_create(r->dev, wave, 1, 0, st_plan_orders(r) == ST_ORDER_ON, &w, err) ||
                 st_device_buffer_zero(r->dev, w.b[ST_WAVE_path], st_wave_bytes(&w, ST_WAVE_path), err) ||
-                st_wave_bind_stage(r->k[ST_STAGE_TRACE], &p, &sh, r->scene_buf, &w, err) ||
-                st_wave_bind_stage(r->trace_packet, &p, &sh, r->scene_buf, &w, err)))
+                st_wave_bind_stage(r->kernel[ST_K_TRACE], &p, &sh, r->scene_buf, &w, err) ||
+                st_wave_bind_stage(r->kernel[ST_K_TRACE_PACKET], &p, &sh, r->scene_buf, &w, err)))
         rc = err->status;
-    for (int k = 0; k < ST_ORDER_KERNELS && rc == ST_OK; k++)
-        rc = st_wave_bind_stage(r->order[k], &p, &sh, r->scene_buf, &w, err);
+    for (int k = ST_K_ORDER_BOUNDS; k <= ST_K_ORDER_SCATTER_HIGH && rc == ST_OK; k++)
+        rc = st_wave_bind_stage(r->kernel[k], &p, &sh, r->scene_buf, &w, err);
     /* PoCL compiles a kernel at its first launch: one untimed wave first */
     st_trace_bench_result warm = {0};
     if (rc == ST_OK)
@@ -202,7 +202,7 @@ st_status st_trace_closest(st_renderer *r, const st_render_options *o, int packe
     if (!rc)
         rc = st_device_buffer_write(r->dev, w.b[ST_WAVE_ray], n * sizeof *rays, rays, err);
     if (!rc)
-        rc = launch_alone(r, o, packets ? r->trace_packet : r->k[ST_STAGE_TRACE], packets, n, &w,
+        rc = launch_alone(r, o, packets ? r->kernel[ST_K_TRACE_PACKET] : r->kernel[ST_K_TRACE], packets, n, &w,
                           err);
     if (!rc)
         rc = st_device_buffer_read(r->dev, w.b[ST_WAVE_hit], n * sizeof *hits, hits, err);
@@ -229,7 +229,7 @@ st_status st_trace_shadow(st_renderer *r, const st_render_options *o, int packet
     if (!rc)
         rc = st_device_buffer_write(r->dev, w.b[ST_WAVE_shadow], n * sizeof *s, s, err);
     if (!rc)
-        rc = launch_alone(r, o, packets ? r->shadow_packet : r->k[ST_STAGE_SHADOW], packets, n,
+        rc = launch_alone(r, o, packets ? r->kernel[ST_K_SHADOW_PACKET] : r->kernel[ST_K_SHADOW], packets, n,
                           &w, err);
     if (!rc)
         rc = st_device_buffer_read(r->dev, w.b[ST_WAVE_path], n * sizeof *path, path, err);
