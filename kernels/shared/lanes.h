@@ -312,6 +312,14 @@ static inline unsigned st_mask_bits16(int16 m) { return st_mask_bits_or16(m); }
 /* The host's, lane by lane: the same bits and extremes as the device's
  * (the extremes halving the vector as they do, so that of a -0 and a +0
  * the same one is kept). */
+#define ST_HOST_HALVING(name, f, n)                                                        \
+    static inline float name##n(float##n v)                                                \
+    {                                                                                      \
+        for (int h = n / 2; h > 0; h /= 2)                                                 \
+            for (int j = 0; j < h; ++j)                                                    \
+                v[j] = f(v[j], v[j + h]);                                                  \
+        return v[0];                                                                       \
+    }
 #define ST_HOST_LANES(n)                                                                   \
     static inline unsigned st_mask_bits##n(int##n m)                                       \
     {                                                                                      \
@@ -320,24 +328,13 @@ static inline unsigned st_mask_bits16(int16 m) { return st_mask_bits_or16(m); }
             b |= (m[j] != 0 ? 1u : 0u) << j;                                               \
         return b;                                                                          \
     }                                                                                      \
-    static inline float st_hmax##n(float##n v)                                             \
-    {                                                                                      \
-        for (int h = n / 2; h > 0; h /= 2)                                                 \
-            for (int j = 0; j < h; ++j)                                                    \
-                v[j] = fmaxf(v[j], v[j + h]);                                              \
-        return v[0];                                                                       \
-    }                                                                                      \
-    static inline float st_hmin##n(float##n v)                                             \
-    {                                                                                      \
-        for (int h = n / 2; h > 0; h /= 2)                                                 \
-            for (int j = 0; j < h; ++j)                                                    \
-                v[j] = fminf(v[j], v[j + h]);                                              \
-        return v[0];                                                                       \
-    }
+    ST_HOST_HALVING(st_hmax, fmaxf, n)                                                     \
+    ST_HOST_HALVING(st_hmin, fminf, n)
 ST_HOST_LANES(4)
 ST_HOST_LANES(8)
 ST_HOST_LANES(16)
 #undef ST_HOST_LANES
+#undef ST_HOST_HALVING
 #endif
 
 /* A 3-vector in n lanes: x, y and z each n wide (st_v3x<n>), defined for
