@@ -80,8 +80,8 @@ static void check_order(st_renderer *r, const st_ray *rays, const st_u32 *list, 
     if (list)
         assert_int_equal(st_device_buffer_write(dev, w.b[ST_WAVE_live_a], n * sizeof *list, list,
                                                 &err), ST_OK);
-    for (int k = 0; k < ST_ORDER_KERNELS; k++)
-        assert_int_equal(st_wave_bind_stage(r->order[k], &p, &sh, r->scene_buf, &w, &err), ST_OK);
+    for (int k = ST_K_ORDER_BOUNDS; k <= ST_K_ORDER_SCATTER_HIGH; k++)
+        assert_int_equal(st_wave_bind_stage(r->kernel[k], &p, &sh, r->scene_buf, &w, &err), ST_OK);
     assert_int_equal(st_render_order(r, &p, n, 0, &err), ST_OK);
     assert_int_equal(st_device_buffer_read(dev, w.b[ST_WAVE_order_key], n * sizeof *key, key,
                                            &err), ST_OK);
