@@ -164,7 +164,8 @@ st_status st_render_lanes_recall(const st_device_info *info, st_lanes_choice *c,
     (void)err;
     memset(c, 0, sizeof *c);
     c->lanes = st_device_default_lanes(info);
-    if (!info->is_cpu) { /* a GPU's work-items are its lanes */
+    if (!info->is_cpu || info->is_gpu) { /* a GPU's work-items are its lanes (Oclgrind's
+                                              simulator says it is both: one lane, as before) */
         c->how = ST_LANES_GPU;
         return ST_OK;
     }
@@ -372,7 +373,7 @@ const char *st_render_lanes_describe(const st_lanes_choice *c, char *buf, size_t
     switch (c->how) {
     case ST_LANES_FORCED: snprintf(buf, cap, "%u (--lanes)", c->lanes); break;
     case ST_LANES_GPU:
-        snprintf(buf, cap, "%u (not a CPU: its work-items are its lanes)", c->lanes);
+        snprintf(buf, cap, "%u (a GPU: its work-items are its lanes)", c->lanes);
         break;
     case ST_LANES_UNMEASURED:
         snprintf(buf, cap, "%u (not measured yet: the device's vector width; the first "
