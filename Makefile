@@ -6,7 +6,7 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 libopenexr-dev libtinygltf-dev nlohmann-json3-dev libstb-dev \
                 libcairo2-dev libfftw3-dev libcmocka-dev libcjson-dev libpng-dev zlib1g-dev python3-venv \
                 clang libclang-rt-14-dev oclgrind parallel pkg-config gcc g++ make help2man \
-                python3-scipy libembree-dev
+                python3-scipy libembree-dev slurm-wlm munge
 
 PKGS     := OpenCL stb cairo fftw3
 
@@ -67,7 +67,7 @@ SCENES   := $(wildcard scenes/*.gltf)
 TESTS_C  := $(wildcard tests/unit/test_*.c tests/device/test_*.c tests/image/test_*.c)
 TEST_BIN := $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(TESTS_C)))
 
-.PHONY: all deps bench-deps test test-unit test-device test-image test-cli test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures sheen-table clean install FORCE
+.PHONY: all deps bench-deps test test-unit test-device test-image test-cli test-farm test-sanitize fuzz test-fuzz test-oclgrind bench demo pictures sheen-table clean install FORCE
 all: strata
 
 # Installs what is missing (a no-op on a ready machine).
@@ -138,12 +138,14 @@ $(foreach l,unit device image,$(eval $(call TEST_RULE,$(l))))
 $(BUILD):
 	mkdir -p $(BUILD)
 
-# The tests in four layers (docs/TESTING.md), a folder each under tests/.
+# The tests in five layers (docs/TESTING.md), a folder each under tests/.
 # unit: host code alone, no OpenCL device, seconds (with the check of the
 # modules' layering); device: the kernels through the library; image: whole
 # renders against committed or independently rendered images; cli: the
-# command-line scripts. `make test` runs every layer, prints each one's time
-# and ends with one line "N passed, N failed" over all of them.
+# command-line scripts; farm: split renders through a private Slurm cluster
+# (slurm-wlm, from deps). `make test` runs every layer, prints each one's
+# time and ends with one line "N passed, N failed, N skipped" over all of
+# them, after the reason of each skip.
 layer_bins    = $(patsubst %.c,$(BUILD)/tests/%,$(notdir $(wildcard tests/$(1)/test_*.c)))
 TEST_UNIT    := $(call layer_bins,unit)
 UNIT_SH      := $(wildcard tests/unit/test_*.sh)
@@ -151,11 +153,13 @@ TEST_DEVICE  := $(call layer_bins,device)
 TEST_IMAGE   := $(call layer_bins,image)
 IMAGE_SH     := $(wildcard tests/image/test_*.sh)
 TEST_CLI_SH  := $(wildcard tests/cli/test_*.sh)
+TEST_FARM_SH := $(wildcard tests/farm/test_*.sh)
 RUN_TESTS    := BUILD=$(BUILD) sh tests/run.sh
 
 test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere
 	@$(RUN_TESTS) --layer unit $(TEST_UNIT) $(UNIT_SH) --layer device $(TEST_DEVICE) \
-	    --layer image $(TEST_IMAGE) $(IMAGE_SH) --layer cli $(TEST_CLI_SH)
+	    --layer image $(TEST_IMAGE) $(IMAGE_SH) --layer cli $(TEST_CLI_SH) \
+	    --layer farm $(TEST_FARM_SH)
 
 test-unit: $(TEST_UNIT)
 	@$(RUN_TESTS) --layer unit $(TEST_UNIT) $(UNIT_SH)
@@ -168,6 +172,9 @@ test-image: deps strata $(TEST_IMAGE)
 
 test-cli: deps strata $(BUILD)/make_icosphere
 	@$(RUN_TESTS) --layer cli $(TEST_CLI_SH)
+
+test-farm: deps strata
+	@$(RUN_TESTS) --layer farm $(TEST_FARM_SH)
 
 # The scene import and the malformed-file suite under AddressSanitizer and
 # UndefinedBehaviorSanitizer (leak reports off: PoCL and fontconfig keep

@@ -21,6 +21,9 @@ static const char render_help[] =
     "  --spp N                samples per pixel (default 16)\n"
     "  --sample-range K:M     render only sample indices K..M-1 of the --spp, K < M <= spp\n"
     "                         (split renders, for strata merge)\n"
+    "  --part K/N             render part K (0..N-1) of N: the samples split as evenly as\n"
+    "                         --spp allows, each part the same --sample-range strata merge\n"
+    "                         expects (a Slurm array task: --part $SLURM_ARRAY_TASK_ID/N)\n"
     "  --crop X,Y,W,H         render only the window [X, X+W) x [Y, Y+H) of the image, each\n"
     "                         pixel as in the full render, bit for bit (the EXR's data window;\n"
     "                         a PNG holds the window alone); render only\n"
@@ -95,7 +98,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS, O_LANES, O_COLD
+    O_PACKETS, O_LANES, O_COLD, O_PART
 };
 
 static const struct option options[] = {
@@ -103,6 +106,7 @@ static const struct option options[] = {
     {"height", required_argument, 0, O_HEIGHT},
     {"spp", required_argument, 0, O_SPP},
     {"sample-range", required_argument, 0, O_SAMPLE_RANGE},
+    {"part", required_argument, 0, O_PART},
     {"crop", required_argument, 0, O_CROP},
     {"sampler", required_argument, 0, O_SAMPLER},
     {"scramble", required_argument, 0, O_SCRAMBLE},
@@ -412,6 +416,14 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
         o->sample_end = m;
         return ST_CLI_OK;
     }
+    case O_PART: {
+        unsigned kn[2];
+        if (parse_u32_list(v, '/', kn, 2) != 0 || kn[1] == 0 || kn[0] >= kn[1])
+            return st_cli_usage_error("--part %s: expected K/N, parts K = 0..N-1 of N", v);
+        a->part_k = kn[0];
+        a->part_n = kn[1];
+        return ST_CLI_OK;
+    }
     case O_SAMPLER:
         return parse_name("--sampler", st_sampler_names, ST_SAMPLER_COUNT, v, &o->sampler);
     case O_SCRAMBLE:
@@ -467,6 +479,23 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     }
 }
 
+/* --part K/N as the sample range K*spp/N .. (K+1)*spp/N - 1: N consecutive
+ * ranges that tile 0..spp, their sizes floor(spp/N) or one more. */
+static int part_range(st_cli_render_args *a)
+{
+    st_render_options *o = &a->opt;
+    if (o->sample_begin || o->sample_end)
+        return st_cli_usage_error("--part %u/%u and --sample-range both choose the samples: "
+                                  "give one", a->part_k, a->part_n);
+    if (a->part_n > o->spp)
+        return st_cli_usage_error("--part %u/%u: %u parts of --spp %u leave a part without "
+                                  "samples (at most %u parts)", a->part_k, a->part_n,
+                                  a->part_n, o->spp, o->spp);
+    o->sample_begin = (st_u32)((st_u64)a->part_k * o->spp / a->part_n);
+    o->sample_end = (st_u32)((st_u64)(a->part_k + 1) * o->spp / a->part_n);
+    return ST_CLI_OK;
+}
+
 int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_args *a)
 {
     memset(a, 0, sizeof *a);
@@ -501,6 +530,8 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
     if (optind < argc)
         return st_cli_usage_error("%s: unexpected argument %s", argv[0], argv[optind]);
     if (st_cli_apply_filter_args(&fa, &a->opt.filter))
+        return ST_CLI_EXIT_USAGE;
+    if (a->part_n && part_range(a))
         return ST_CLI_EXIT_USAGE;
     if (a->scramble_given && !st_sampler_takes_scramble(a->opt.sampler))
         return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "

@@ -33,6 +33,8 @@ typedef struct st_cli_render_args {
     float exposure;           /* --exposure EV (PNG) */
     st_u32 tonemap;           /* --tonemap: an st_tonemap (PNG) */
     const char *png_opt;      /* a PNG-only option seen (for its error) */
+    st_u32 part_k, part_n;    /* --part K/N (already applied as opt's sample range);
+                                 part_n 0: not given */
     const char *env_file;     /* --env FILE.exr|FILE.hdr (the session reads it); NULL: none */
 } st_cli_render_args;
 

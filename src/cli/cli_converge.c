@@ -56,7 +56,8 @@ static const char converge_help[] =
     "                        on average, the default pilot and cap; --noise-threshold), at\n"
     "                        its mean spp\n"
     "  render options: --width, --height, --filter..., --integrator, --max-depth, --device, ...\n"
-    "  (not --spp, --max-spp, --min-spp, --sample-range, --spp-map: the study sets them)\n"
+    "  (not --spp, --max-spp, --min-spp, --sample-range, --part, --spp-map: the study\n"
+    "  sets them)\n"
     "relative MSE: the mean of (x - r)^2 / (r^2 + 0.01) over pixels and R, G, B\n";
 
 typedef struct converge_args {
@@ -118,7 +119,8 @@ static int parse(int argc, char **argv, converge_args *c)
             fputs(converge_help, stdout);
             rc = ST_CLI_HELP;
         } else if (!strcmp(a, "--spp") || !strcmp(a, "--max-spp") || !strcmp(a, "--min-spp") ||
-                   !strcmp(a, "--sample-range") || !strcmp(a, "--spp-map")) {
+                   !strcmp(a, "--sample-range") || !strcmp(a, "--part") ||
+                   !strcmp(a, "--spp-map")) {
             rc = st_cli_usage_error("converge: %s is set by the study (use --spp-list)", a);
         } else if (takes && !v) {
             rc = st_cli_usage_error("converge: option %s needs a value", a);

@@ -1,5 +1,5 @@
 /* cli_merge.c — `strata merge PART.exr... -o OUT`: adds the raw films of
- * split renders (render --sample-range K:M) and resolves them on the device
+ * split renders (render --sample-range K:M or --part K/N) and resolves them on the device
  * with the render's own kernel, so parts covering 0..spp give exactly the
  * image of one render. Parts must agree on every setting recorded in their
  * headers (the scene's content hash, size, sampler, filter, seed, device, ...;
@@ -55,7 +55,8 @@ static int is_count(const char *name)
  * between PoCL and a GPU). */
 static int varies(const char *name)
 {
-    return !strcmp(name, "strata.sample_range") || !strcmp(name, "strata.render_seconds") ||
+    return !strcmp(name, "strata.sample_range") || !strcmp(name, "strata.part") ||
+           !strcmp(name, "strata.render_seconds") ||
            !strcmp(name, "strata.kernels") || !strcmp(name, "strata.scene") || is_count(name);
 }
 
@@ -110,8 +111,10 @@ static void append_range(char *held, st_u32 k, st_u32 m)
 }
 
 /* Sample ranges, sorted by start, must tile 0..spp: no overlap, none past
- * spp, and (unless partial) no gap. The ranges held go to `held`. */
-static st_status check_ranges(part *parts, int n, int partial, char *held, st_error *err)
+ * spp, and (unless partial) no gap. The ranges held go to `held`, the gaps
+ * to `missing` (RANGES_TEXT bytes each). */
+static st_status check_ranges(part *parts, int n, int partial, char *held, char *missing,
+                              st_error *err)
 {
     const char *spp_text = attr_value(&parts[0], "strata.spp");
     unsigned spp = 0;
@@ -125,7 +128,7 @@ static st_status check_ranges(part *parts, int n, int partial, char *held, st_er
     qsort(order, n, sizeof *order, by_begin);
     st_status rc = ST_OK;
     st_u32 at = 0, run = 0; /* samples run..at-1 are one unbroken run of parts */
-    held[0] = '\0';
+    held[0] = missing[0] = '\0';
     for (int i = 0; i < n && rc == ST_OK; i++) {
         const part *p = order[i], *prev = i ? order[i - 1] : NULL;
         if (p->end > spp)
@@ -137,6 +140,8 @@ static st_status check_ranges(part *parts, int n, int partial, char *held, st_er
         else if (p->begin > at && !partial)
             rc = st_fail(err, ST_ERR_FORMAT, "samples %u:%u are in no part (%s starts at %u; "
                          "--partial merges an incomplete set)", at, p->begin, p->path, p->begin);
+        if (p->begin > at)
+            append_range(missing, at, p->begin);
         if (i > 0 && p->begin != at) /* a gap closes the run run..at */
             append_range(held, run, at);
         if (i == 0 || p->begin != at)
@@ -144,6 +149,8 @@ static st_status check_ranges(part *parts, int n, int partial, char *held, st_er
         at = p->end;
     }
     append_range(held, run, at);
+    if (at < spp)
+        append_range(missing, at, spp);
     if (rc == ST_OK && at < spp && !partial)
         rc = st_fail(err, ST_ERR_FORMAT, "samples %u:%u are in no part (the last, %s, ends at "
                      "%u; --partial merges an incomplete set)", at, spp, order[n - 1]->path, at);
@@ -172,6 +179,7 @@ static st_status save_result(const part *parts, int n, const char *held, int com
     int na = 0;
     for (int i = 0; i < parts[0].nattrs && na < ST_CLI_MAX_ATTRS; i++)
         if (strcmp(parts[0].attrs[i].name, "strata.sample_range") &&
+            strcmp(parts[0].attrs[i].name, "strata.part") &&
             strcmp(parts[0].attrs[i].name, "strata.render_seconds") &&
             !is_count(parts[0].attrs[i].name))
             attrs[na++] = parts[0].attrs[i];
@@ -190,7 +198,7 @@ static st_status save_result(const part *parts, int n, const char *held, int com
 static st_status merge(part *parts, int n, const char *const *outs, int nouts,
                        const char *device, int partial, st_error *err)
 {
-    char held[RANGES_TEXT];
+    char held[RANGES_TEXT], missing[RANGES_TEXT];
     st_image img = {0}, resolved = {0}, rgb = {0};
     st_i64 *total = NULL, *sums = NULL;
     st_device *dev = NULL;
@@ -220,7 +228,10 @@ static st_status merge(part *parts, int n, const char *const *outs, int nouts,
         st_image_free(&img);
     }
     if (rc == ST_OK)
-        rc = check_ranges(parts, n, partial, held, err);
+        rc = check_ranges(parts, n, partial, held, missing, err);
+    if (rc == ST_OK && missing[0]) /* only --partial gets here with a gap */
+        fprintf(stderr, "strata: note: samples %s are in no part; the image holds %s of %s "
+                "spp (strata.partial)\n", missing, held, attr_value(&parts[0], "strata.spp"));
     if (rc == ST_OK && st_device_create(device, &dev, err) != ST_OK)
         rc = st_cli_device_words(err);
     st_cli_catch_interrupts(); /* PoCL's LLVM put its own handlers over ours as the device began */
@@ -256,7 +267,8 @@ int st_cli_merge(int argc, char **argv)
     for (int i = 1; i < argc && rc == 0; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png [-o OUT2...] [--device SPEC] [--partial]\n"
-                 "  adds the raw films of split renders (strata render --sample-range K:M)\n"
+                 "  adds the raw films of split renders (strata render --sample-range K:M\n"
+                 "  or --part K/N)\n"
                  "  into the image one render of all their samples gives, bit for bit.\n"
                  "  The parts' ranges must tile 0..spp, and parts must share every setting,\n"
                  "  the scene's content, the device and the data window (render --crop),\n"

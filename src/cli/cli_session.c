@@ -244,6 +244,8 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     ATTR("scramble", "%s", o->scramble ? "on" : "none");
     TYPED("spp", ST_ATTR_INT, "%u", o->spp);
     ATTR("sample_range", "%u:%u", o->sample_begin, o->sample_end ? o->sample_end : o->spp);
+    if (a->part_n)
+        ATTR("part", "%u/%u", a->part_k, a->part_n);
     ATTR("filter", "%s", st_filter_names[f->kind]);
     TYPED("filter_radius", ST_ATTR_FLOAT, "%.9g", (double)f->radius);
     ATTR("reconstruction", "%s", st_reconstruction_names[o->reconstruction]);
