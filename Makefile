@@ -129,7 +129,7 @@ $(BUILD)/version.o: $(BUILD)/version.c
 
 # One rule per layer's folder: make takes the one whose source exists.
 define TEST_RULE
-$$(BUILD)/tests/%: tests/$(1)/%.c tests/device_fixture.h tests/scratch.h $$(BUILD)/libstrata.a
+$$(BUILD)/tests/%: tests/$(1)/%.c tests/device_fixture.h tests/scratch.h tests/skip.h $$(BUILD)/libstrata.a
 	@mkdir -p $$(@D)
 	$$(CC) $$(CPPFLAGS) -Itests $$(CFLAGS) -o $$@ $$< $$(BUILD)/libstrata.a -lcmocka $$(LDFLAGS) $$(LDLIBS)
 endef
@@ -156,7 +156,15 @@ TEST_CLI_SH  := $(wildcard tests/cli/test_*.sh)
 TEST_FARM_SH := $(wildcard tests/farm/test_*.sh)
 RUN_TESTS    := BUILD=$(BUILD) sh tests/run.sh
 
-test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere
+# The bench's Cornell box, made here (tools/make_cornell_box.py --bench):
+# the comparison workload of `make bench` and tools/bench_peers.sh, and a
+# scene of the device tests.
+BENCH_SCENE := build/scenes/cornell-bench.gltf
+$(BENCH_SCENE): tools/make_cornell_box.py
+	@mkdir -p $(@D)
+	python3 tools/make_cornell_box.py --bench $@
+
+test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere $(BENCH_SCENE)
 	@$(RUN_TESTS) --layer unit $(TEST_UNIT) $(UNIT_SH) --layer device $(TEST_DEVICE) \
 	    --layer image $(TEST_IMAGE) $(IMAGE_SH) --layer cli $(TEST_CLI_SH) \
 	    --layer farm $(TEST_FARM_SH)
@@ -164,7 +172,7 @@ test: deps strata $(TEST_BIN) $(BUILD)/make_icosphere
 test-unit: $(TEST_UNIT)
 	@$(RUN_TESTS) --layer unit $(TEST_UNIT) $(UNIT_SH)
 
-test-device: deps $(TEST_DEVICE)
+test-device: deps $(TEST_DEVICE) $(BENCH_SCENE)
 	@$(RUN_TESTS) --layer device $(TEST_DEVICE)
 
 test-image: deps strata $(TEST_IMAGE)
@@ -204,22 +212,18 @@ test-fuzz: fuzz strata
 test-oclgrind: deps strata
 	@sh tests/oclgrind/run.sh
 
-# The default scene with the default settings, then (where ../shared is
-# present) the comparison workload: the bench Cornell box, independent
-# samples, box filter, paths of max depth 4 and direct lighting; then the
-# trace benchmark (camera and random rays) on a 327,680-triangle icosphere
-# and the bench Cornell box.
-BENCH_SCENE := ../shared/scenes/bench/cornell.gltf
+# The default scene with the default settings, then the comparison
+# workload: the bench Cornell box, independent samples, box filter, paths of
+# max depth 4 and direct lighting; then the trace benchmark (camera and
+# random rays) on a 327,680-triangle icosphere and the bench Cornell box.
 BENCH_OPTS  := --width 512 --height 512 --spp 64 --sampler random --filter box
 ICOSPHERE   := $(BUILD)/bench/icosphere.gltf
-bench: deps strata $(ICOSPHERE)
+bench: deps strata $(ICOSPHERE) $(BENCH_SCENE)
 	./strata bench --width 512 --height 512 --spp 64 --integrator path
 	./strata bench --width 512 --height 512 --spp 64 --integrator direct
-	@if [ -f $(BENCH_SCENE) ]; then \
-	  ./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator path --max-depth 4 && \
-	  ./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator direct; \
-	else echo "bench: $(BENCH_SCENE) not found; the comparison workload is skipped"; fi
-	@for s in $(ICOSPHERE) $(wildcard $(BENCH_SCENE)); do for k in camera random; do \
+	./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator path --max-depth 4
+	./strata bench $(BENCH_SCENE) $(BENCH_OPTS) --integrator direct
+	@for s in $(ICOSPHERE) $(BENCH_SCENE); do for k in camera random; do \
 	  echo "./strata bench $$s --rays $$k"; ./strata bench $$s --rays $$k || exit 1; done; done
 
 # The peers of tools/bench_peers.sh: tools/bench_embree.c, which this

@@ -40,9 +40,10 @@ EMBREE=${EMBREE:-$BUILD/bench_embree}
 PY=${PY:-python3}
 [ -x build/bench-py/bin/python ] && PY=build/bench-py/bin/python
 ICO=$BUILD/bench/icosphere.gltf
-CORNELL=../shared/scenes/bench/cornell.gltf
+CORNELL=build/scenes/cornell-bench.gltf
 LARGE=$BUILD/bench/cornell_sphere.gltf
 [ -f "$ICO" ] || make "$ICO" > /dev/null || exit 1
+[ -f "$CORNELL" ] || make "$CORNELL" > /dev/null || exit 1
 
 has_embree() { [ -f /usr/include/embree3/rtcore.h ]; }
 if has_embree; then
@@ -155,10 +156,6 @@ print("whole pass %s %-6s strata %6.3f M samples/s  %s (%s) %6.3f M samples/s  s
 }
 
 whole_part() {
-    if [ ! -f "$CORNELL" ]; then
-        echo "bench_peers: $CORNELL not found, whole pass skipped"
-        return 0
-    fi
     if ! "$PY" -c "import mitsuba" 2> /dev/null; then
         echo "bench_peers: mitsuba missing (make bench-deps); whole pass skipped"
         return 0

@@ -1,8 +1,18 @@
 #!/usr/bin/env python3
-"""make_cornell_box.py - writes scenes/cornell-box.gltf, strata's default scene.
+"""make_cornell_box.py - writes scenes/cornell-box.gltf, strata's default scene,
+or with --bench the bench's Cornell box (build/scenes/cornell-bench.gltf).
 
-Development tool, standard library only; the .gltf it writes is committed, so
-the build never runs this. Usage: python3 tools/make_cornell_box.py [OUT.gltf]
+Standard library only. The default scene it writes is committed; the bench's
+is made by the build where tests and benchmarks need it (make, the Makefile's
+BENCH_SCENE). Usage: python3 tools/make_cornell_box.py [--bench] [OUT.gltf]
+
+The bench's box (--bench) is the one strata is compared on with other
+renderers (tools/bench_peers.sh): the same geometry in units of 100 mm, the
+light 0.5 mm below the ceiling, and the reflectances and emission of the
+Cornell box scene of Mitsuba's scene collection (the measured spectra as
+linear RGB: white (0.885809, 0.698859, 0.666422), red (0.570068, 0.0430135,
+0.0443706), green (0.105421, 0.37798, 0.076425), light (18.387, 13.9873,
+6.75357)), so that a peer reads the very values strata renders.
 
 Geometry: the Cornell box as measured by the Cornell Program of Computer
 Graphics ("Cornell Box Data", https://www.graphics.cornell.edu/online/box/data.html),
@@ -30,6 +40,7 @@ positions, normals (float VEC3) and indices (unsigned short).
 import base64
 import json
 import math
+import os
 import struct
 import sys
 
@@ -76,6 +87,18 @@ MATERIALS = [
     ("green", (0.14, 0.45, 0.09), None),
     ("light", (0.78, 0.78, 0.78), (17.0, 12.0, 4.0)),
 ]
+
+# The bench's variant (--bench): scale, light height (mm), materials.
+BENCH = {
+    "scale": 0.01,
+    "light_y": 548.3,
+    "materials": [
+        ("white", (0.885809, 0.698859, 0.666422), None),
+        ("red", (0.570068, 0.0430135, 0.0443706), None),
+        ("green", (0.105421, 0.37798, 0.076425), None),
+        ("light", (0.0, 0.0, 0.0), (18.387, 13.9873, 6.75357)),
+    ],
+}
 
 BOX_CENTRE = (278.0, 274.4, 279.6)  # mm, the middle of the room
 
@@ -129,19 +152,32 @@ def triangles(facing, quads):
     return out
 
 
-def build():
+def bench_parts():
+    """PARTS with the light at the bench's height."""
+    out = []
+    for name, material, facing, quads in PARTS:
+        if name == "light":
+            quads = [[(x, BENCH["light_y"], z) for x, _, z in q] for q in quads]
+        out.append((name, material, facing, quads))
+    return out
+
+
+def build(bench=False):
+    scale = BENCH["scale"] if bench else MM
+    parts = bench_parts() if bench else PARTS
+    mats = BENCH["materials"] if bench else MATERIALS
     blob = bytearray()
     positions, normals, indices = bytearray(), bytearray(), bytearray()
     accessors, meshes, nodes = [], [], []
-    mat_index = {name: i for i, (name, _, _) in enumerate(MATERIALS)}
-    for name, material, facing, quads in PARTS:
+    mat_index = {name: i for i, (name, _, _) in enumerate(mats)}
+    for name, material, facing, quads in parts:
         tris = triangles(facing, quads)
         pos_off, nrm_off, idx_off = len(positions), len(normals), len(indices)
         verts = []
         for tri in tris:
             n = unit(cross(sub(tri[1], tri[0]), sub(tri[2], tri[0])))
             for p in tri:
-                q = [x * MM for x in p]
+                q = [x * scale for x in p]
                 verts.append(q)
                 positions += struct.pack("<3f", *q)
                 normals += struct.pack("<3f", *n)
@@ -173,9 +209,10 @@ def build():
         blob += data
     yfov = 2.0 * math.atan(12.5 / 35.0)
     nodes.append({"name": "camera", "camera": 0,
-                  "translation": [0.278, 0.273, -0.800], "rotation": [0.0, 1.0, 0.0, 0.0]})
+                  "translation": [278.0 * scale, 273.0 * scale, -800.0 * scale],
+                  "rotation": [0.0, 1.0, 0.0, 0.0]})
     materials = []
-    for name, albedo, emission in MATERIALS:
+    for name, albedo, emission in mats:
         m = {"name": name,
              "pbrMetallicRoughness": {"baseColorFactor": list(albedo) + [1.0],
                                       "metallicFactor": 0.0, "roughnessFactor": 1.0},
@@ -190,7 +227,8 @@ def build():
                   "copyright": "geometry: Cornell Program of Computer Graphics, Cornell Box Data"},
         "extensionsUsed": ["KHR_materials_emissive_strength", "KHR_materials_specular"],
         "scene": 0,
-        "scenes": [{"name": "cornell-box", "nodes": list(range(len(nodes)))}],
+        "scenes": [{"name": "cornell-bench" if bench else "cornell-box",
+                    "nodes": list(range(len(nodes)))}],
         "nodes": nodes,
         "meshes": meshes,
         "materials": materials,
@@ -205,10 +243,13 @@ def build():
 
 
 def main(argv):
-    out = argv[1] if len(argv) > 1 else "scenes/cornell-box.gltf"
-    with open(out, "w", encoding="ascii") as f:
-        json.dump(build(), f, indent=1)
+    bench = "--bench" in argv[1:]
+    args = [a for a in argv[1:] if a != "--bench"]
+    out = args[0] if args else "scenes/cornell-box.gltf"
+    with open(out + ".tmp", "w", encoding="ascii") as f:
+        json.dump(build(bench), f, indent=1)
         f.write("\n")
+    os.replace(out + ".tmp", out)
     return 0
 
 

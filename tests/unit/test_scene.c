@@ -13,6 +13,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
+#include "skip.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -1217,7 +1218,8 @@ static void generated_tangents_agree_with_khronos_tangents(void **state)
         checked++;
     }
     if (!checked)
-        print_message("note: no Khronos model with tangents under %s; check skipped\n", KHRONOS);
+        ST_SKIP(dir_exists(KHRONOS) ? "no Khronos model with tangents under %s"
+                                    : "%s not found (the Khronos sample models)", KHRONOS);
 }
 
 /* Every proper prefix of a valid file is malformed: status ST_ERR_FORMAT,
@@ -1323,10 +1325,8 @@ static int index_row(const char *index, const char *file, long *tris, long *mats
 static void khronos_models_match_index_counts(void **state)
 {
     (void)state;
-    if (!dir_exists(KHRONOS)) {
-        print_message("note: %s not found; Khronos model checks skipped\n", KHRONOS);
-        return;
-    }
+    if (!dir_exists(KHRONOS))
+        ST_SKIP("%s not found (the Khronos sample models)", KHRONOS);
     size_t size;
     unsigned char *raw = read_all(KHRONOS "/INDEX.md", &size);
     char *index = malloc(size + 1);
