@@ -3,8 +3,10 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <poll.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli_commands.h"
 #include "cli_error.h"
@@ -31,15 +33,26 @@ static const char main_help[] =
     "  --version                           print the version\n"
     "every command takes -q (--quiet): no progress and no summary\n";
 
+/* Whether standard output is a pipe whose reader has gone (poll reports
+ * POLLERR on such a pipe's write end): `strata --help | head`. */
+static int reader_gone(void)
+{
+    struct pollfd p = {.fd = STDOUT_FILENO, .events = POLLOUT};
+    return poll(&p, 1, 0) == 1 && (p.revents & POLLERR);
+}
+
 /* Everything a command printed must have reached stdout: a summary, a device
  * list or a diff written to a full disk or a closed pipe is a failure (exit 1),
- * not a success with lost output. */
-static int check_stdout(int rc)
+ * not a success with lost output. Help text read in part (`| head`) is
+ * not: its reader took what it wanted. */
+static int check_stdout(int rc, int help)
 {
     errno = 0;
     if ((fflush(stdout) == 0 && !ferror(stdout)) || rc != 0)
         return rc; /* a failed command has said why already: one error line */
     int e = errno ? errno : EIO;
+    if (help && (e == EPIPE || reader_gone()))
+        return rc;
     fprintf(stderr, "strata: error: stdout: write failed (%s)\n", strerror(e));
     return rc ? rc : ST_CLI_EXIT_FAIL;
 }
@@ -161,21 +174,38 @@ static int help(int argc, char **argv)
     return unknown_command("help: unknown topic", argv[1]);
 }
 
+/* Whether the command line asks for help or the version (text a reader may
+ * cut short). */
+static int asks_help(int argc, char **argv)
+{
+    if (!strcmp(argv[1], "help") || !strcmp(argv[1], "--version"))
+        return 1;
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
+            return 1;
+    return 0;
+}
+
 int st_cli_main(int argc, char **argv)
 {
     st_cli_catch_interrupts();
-    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        fputs(main_help, argc < 2 ? stderr : stdout);
-        return argc < 2 ? ST_CLI_EXIT_USAGE : 0;
+    if (argc < 2) {
+        fputs(main_help, stderr);
+        return ST_CLI_EXIT_USAGE;
+    }
+    int h = asks_help(argc, argv);
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        fputs(main_help, stdout);
+        return check_stdout(0, h);
     }
     if (!strcmp(argv[1], "--version")) {
         printf("strata %s\n", st_version);
-        return 0;
+        return check_stdout(0, h);
     }
     if (!strcmp(argv[1], "--names")) /* for the shell completion, undocumented in --help */
-        return check_stdout(names(argc > 2 ? argv[2] : NULL));
+        return check_stdout(names(argc > 2 ? argv[2] : NULL), 0);
     if (!strcmp(argv[1], "help"))
-        return check_stdout(help(argc - 1, argv + 1));
+        return check_stdout(help(argc - 1, argv + 1), h);
     for (int i = 0; i < NCMDS; i++) {
         if (strcmp(argv[1], cmds[i].name))
             continue;
@@ -184,7 +214,7 @@ int st_cli_main(int argc, char **argv)
             return ST_CLI_EXIT_USAGE;
         if (!cmds[i].quiet)
             n = drop_quiet(n, argv + 1);
-        return check_stdout(cmds[i].run(n, argv + 1));
+        return check_stdout(cmds[i].run(n, argv + 1), h);
     }
     return unknown_command("unknown command", argv[1]);
 }

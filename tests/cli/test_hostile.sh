@@ -64,6 +64,19 @@ rm -f "$T/next.exr"
 check "a closed stdout pipe exits 1 with one error line, not 141" \
     '[ "$(cat "$T/pipe.st")" = 1 ] && [ "$(grep -c "strata: error: stdout: write failed (Broken pipe)" "$T/err")" = 1 ] && [ "$(wc -l < "$T/err")" = 1 ]' \
     "(status $(cat "$T/pipe.st"), $(cat "$T/err"))"
+# help cut short by its reader (`strata --help | head`): a pipe whose read end
+# is closed before strata starts, so that every write fails (EPIPE)
+for h in "--help" "help render" "filter --help" "--version"; do
+    python3 -c 'import os, subprocess, sys
+r, w = os.pipe()
+os.close(r)
+p = subprocess.run(sys.argv[1:], stdout=w, stderr=subprocess.PIPE)
+sys.stderr.buffer.write(p.stderr)
+sys.exit(p.returncode)' $S $h 2> "$T/err"
+    status=$?
+    check "strata $h into a closed pipe exits 0 quietly" '[ $status = 0 ] && [ ! -s "$T/err" ]' \
+        "(status $status, $(cat "$T/err"))"
+done
 
 # The output's folder is checked before the render: this one would take minutes.
 expect "missing output folder refused before rendering" 1 "^strata: error: $T/no/such/o.exr: cannot create" \
