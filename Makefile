@@ -10,14 +10,10 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
 
 PKGS     := OpenCL stb cairo fftw3
 
-# The version `strata --version` prints and writes into its files: `git
-# describe` of the checkout against the release tags vMAJOR.MINOR.PATCH,
-# without the tag's v (0.1.0 on the tag, 0.1.0-N-gHASH N commits after it,
-# -dirty with uncommitted changes), or the fallback outside a git checkout
-# (a tarball).
-VERSION_FALLBACK := 0.1.0
-VERSION_GIT := $(shell git describe --tags --match 'v[0-9]*' --always --dirty 2>/dev/null | sed 's/^v//')
-VERSION  := $(or $(VERSION_GIT),$(VERSION_FALLBACK))
+# The version `strata --version` prints and writes into its files: the
+# release in the file VERSION, with git describe's distance from the commit
+# that set it (0.1.0-N-gHASH, -dirty; tools/version.sh).
+VERSION  := $(shell sh tools/version.sh)
 PREFIX   ?= /usr/local
 CC       ?= cc
 CXX      ?= c++
