@@ -141,7 +141,9 @@ st_status st_image_save_png_text(const char *path, const st_image *img, const st
 st_status st_image_load_png(const char *path, st_image *img, st_error *err);
 
 /* Picks the format by extension (.exr or .png, case-insensitive); any other extension is
- * ST_ERR_USAGE naming it. attrs go into the EXR header, or a PNG's text chunks. */
+ * ST_ERR_USAGE naming it. "-" (standard output) gets a PNG: an EXR's chunk table is written
+ * after its pixels, which a pipe cannot take. attrs go into the EXR header, or a PNG's text
+ * chunks. */
 st_status st_image_save(const char *path, const st_image *img, const st_attr *attrs, int nattrs,
                         st_error *err);
 

@@ -514,8 +514,9 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
                            "                         random image points, or random origins in the scene's\n"
                            "                         box and directions on the sphere (fixed --seed)\n"
                            "  --count N              rays traced with --rays (default 2097152)\n"
-                         : "  -o OUT.exr|OUT.png     output image (default strata.exr); repeat -o to\n"
-                           "                         write one render to several files\n");
+                         : "  -o OUT.exr|OUT.png|-   output image (default strata.exr; -: a PNG on\n"
+                           "                         standard output); repeat -o to write one render\n"
+                           "                         to several files\n");
             return ST_CLI_HELP;
         }
         if (c == '?')

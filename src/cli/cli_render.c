@@ -2,6 +2,7 @@
  * for strata merge) to an EXR or PNG, and an adaptive render's spp map. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli_commands.h"
 #include "cli_error.h"
@@ -38,17 +39,25 @@ static st_status save_spp_map(const char *path, const st_render_options *o,
     return rc;
 }
 
-/* Each -o ends in .exr or .png; a split render writes EXRs only; the PNG options need a PNG. */
+/* A PNG output: .png, or - (standard output, st_image_save). */
+static int is_png(const char *out)
+{
+    return st_cli_has_extension(out, ".png") || !strcmp(out, "-");
+}
+
+/* Each -o ends in .exr or .png, or is - (a PNG on standard output); a split render writes
+ * EXRs only; the PNG options need a PNG. */
 static int check_outputs(const st_cli_render_args *a, int part)
 {
     int pngs = 0;
     for (int i = 0; i < a->noutputs; i++) {
         const char *out = a->outputs[i];
-        int png = st_cli_has_extension(out, ".png");
+        int png = is_png(out);
         if (!png && !st_cli_has_extension(out, ".exr"))
-            return st_cli_usage_error("-o %s: the output must end in .exr or .png", out);
+            return st_cli_usage_error("-o %s: the output must end in .exr or .png, or be - (a "
+                                      "PNG on standard output)", out);
         if (part && png)
-            return st_cli_usage_error("-o %s: a split render (--sample-range) writes its raw "
+            return st_cli_usage_error("-o %s: a split render (--sample-range, --part) writes its raw "
                                       "film to an EXR, for strata merge", out);
         pngs += png;
     }
@@ -67,7 +76,7 @@ static st_status save_outputs(const st_cli_render_args *a, const st_cli_session 
     int nattrs = st_cli_render_attrs(a, s, st, attrs), toned = 0;
     for (int png = 0; png < 2; png++)
         for (int i = 0; i < a->noutputs; i++) {
-            if (st_cli_has_extension(a->outputs[i], ".png") != png)
+            if (is_png(a->outputs[i]) != png)
                 continue;
             if (png && !toned++)
                 nattrs = st_cli_png_settings(a, rgb, attrs, nattrs);
@@ -75,6 +84,14 @@ static st_status save_outputs(const st_cli_render_args *a, const st_cli_session 
                 return err->status;
         }
     return ST_OK;
+}
+
+static int to_stdout(const st_cli_render_args *a)
+{
+    for (int i = 0; i < a->noutputs; i++)
+        if (!strcmp(a->outputs[i], "-"))
+            return 1;
+    return 0;
 }
 
 int st_cli_render(int argc, char **argv)
@@ -128,7 +145,7 @@ int st_cli_render(int argc, char **argv)
         if (save_outputs(&a, &s, &st, &rgb, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
-        else if (!a.quiet)
+        else if (!a.quiet && !to_stdout(&a)) /* standard output holds the image */
             st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
     }
     free(sums);

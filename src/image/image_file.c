@@ -21,7 +21,7 @@ st_status st_image_save(const char *path, const st_image *img, const st_attr *at
     const char *ext = extension_of(path);
     if (strcasecmp(ext, ".exr") == 0)
         return st_image_save_exr(path, img, attrs, nattrs, err);
-    if (strcasecmp(ext, ".png") == 0)
+    if (strcasecmp(ext, ".png") == 0 || strcmp(path, "-") == 0)
         return st_image_save_png_text(path, img, attrs, nattrs, err);
     return st_fail(err, ST_ERR_USAGE, "%s: unsupported image extension '%s' (use .exr or .png)",
                    path, ext);

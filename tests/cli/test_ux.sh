@@ -6,16 +6,26 @@
 R="--width 16 --height 12 --spp 2 --quiet"
 $S --version > "$T/v" 2>&1
 check "--version prints strata and a version" 'grep -qx "strata [0-9A-Za-z][0-9A-Za-z.+-]*" "$T/v"'
-if git rev-parse --git-dir > /dev/null 2>&1; then
-    # (-dirty left out: the tree may change between the build and this check)
-    check "--version is git describe of the checkout, without the tag's v" \
-        '[ "$(sed "s/-dirty\$//" "$T/v")" = "strata $(git describe --tags --match "v[0-9]*" --always | sed "s/^v//")" ]'
-fi
+# the release of VERSION, then git describe's distance (tools/version.sh, whose
+# cases tests/unit/test_version.sh checks); -dirty left out: the tree may
+# change between the build and this check
+check "--version is VERSION's release and the distance from it" \
+    '[ "$(sed "s/-dirty\$//" "$T/v")" = "strata $(sh tools/version.sh | sed "s/-dirty\$//")" ] &&
+     grep -q "^strata $(cat VERSION)" "$T/v"' "(got $(cat "$T/v"))"
 v=$(sed 's/^strata //' "$T/v")
 check "--help lists --version" '$S --help | grep -q -- "--version"'
 
 $S render $R -o "$T/a.png"
 $S render $R -o "$T/b.png"
+# -o -: a PNG on standard output, nothing else there (the summary left out),
+# into a pipe or a file
+$S render --width 16 --height 12 --spp 2 -o - 2> "$T/err" | cat > "$T/piped.png"
+$S render --width 16 --height 12 --spp 2 -o - > "$T/stdout.png" 2> "$T/err"
+check "-o - writes the PNG to standard output, into a pipe or a file" \
+    '[ "$(head -c 4 "$T/piped.png" | tail -c 3)" = PNG ] && $S diff "$T/piped.png" "$T/a.png" | grep -qx "rmse 0" &&
+     $S diff "$T/stdout.png" "$T/a.png" | grep -qx "rmse 0"' "($(head -c 200 "$T/err"))"
+expect "-o - with a split render is refused (it writes EXRs)" 2 "^strata: error: -o -: a split render" \
+    $S render $R --part 0/2 -o -
 check "a PNG names the version" 'grep -aq "Software.strata $v" "$T/a.png"'
 check "a PNG carries the settings as text" 'grep -aq "strata.sampler.halton" "$T/a.png"'
 check "a PNG made twice is the same file" 'cmp -s "$T/a.png" "$T/b.png"'
