@@ -63,6 +63,17 @@ static size_t scene_stem(const char *file)
     return 0;
 }
 
+/* The extension of a file name that is neither .gltf nor .glb ("m.obj": ".obj"), else NULL:
+ * such a name is refused with the formats strata reads, rather than looked up as a built-in
+ * scene or parsed as glTF. */
+static const char *foreign_extension(const char *spec)
+{
+    const char *base = strrchr(spec, '/');
+    base = base ? base + 1 : spec;
+    const char *dot = strrchr(base, '.');
+    return dot && dot != base && dot[1] && !scene_stem(base) ? dot : NULL;
+}
+
 static int is_builtin_spec(const char *spec)
 {
     return !strchr(spec, '/') && !ends_with(spec, ".gltf") && !ends_with(spec, ".glb");
@@ -815,6 +826,11 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
     st_gltf_data g = {0};
     st_scene *s = NULL;
     st_status status;
+    const char *ext = foreign_extension(spec);
+    if (ext)
+        return st_fail(err, ST_ERR_USAGE, "%s: strata reads glTF 2.0 scenes (.gltf, .glb) and "
+                       "its built-in scenes (--scene-list), not %s files: convert it to glTF "
+                       "first", spec, ext);
     if (is_builtin_spec(spec) && strcmp(spec, "-") != 0) {
         const st_embedded_file *e = find_builtin(spec);
         if (!e)

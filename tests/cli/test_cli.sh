@@ -25,6 +25,12 @@ expect "bad device spec exits 2" 2 "--device xyz: expected cpu, gpu or P:D" $S r
 
 expect "missing scene exits 1 naming the file" 1 "^strata: error: $T/none.gltf" $S render "$T/none.gltf" $R -o "$T/m.exr"
 check "missing scene writes nothing" '[ ! -e "$T/m.exr" ]'
+touch "$T/m.obj"
+for f in m.obj "$T/m.obj"; do
+    expect "a .obj ($f) is refused naming the formats read" 2 \
+        "^strata: error: $f: strata reads glTF 2.0 scenes (.gltf, .glb) and its built-in scenes" \
+        $S render "$f" $R -o "$T/m.exr"
+done
 printf '{"asset": {"version": "2.0"}, "meshes": [' > "$T/trunc.gltf"
 expect "truncated scene exits 1 naming the file" 1 "^strata: error: $T/trunc.gltf" $S render "$T/trunc.gltf" $R -o "$T/t.exr"
 check "truncated scene writes nothing" '[ ! -e "$T/t.exr" ]'
