@@ -22,10 +22,11 @@
 static const char filter_help[] =
     "usage: strata filter NAME [options]\n"
     "  NAME           box, triangle, gaussian, mitchell, lanczos, catmull-rom, blackman-harris\n"
-    "  --radius R     radius in pixels (default: the filter's own)\n"
-    "  --b B, --c C   mitchell's parameters (default 1/3, 1/3)\n"
-    "  --sigma S      gaussian's standard deviation (default 0.5)\n"
-    "  --tau T        lanczos' window scale (default: the radius)\n"
+    "  --filter-radius R     radius in pixels (default: the filter's own)\n"
+    "  --filter-b B, --filter-c C   mitchell's parameters (default 1/3, 1/3)\n"
+    "  --filter-sigma S      gaussian's standard deviation (default 0.5)\n"
+    "  --filter-tau T        lanczos' window scale (default: the radius)\n"
+    "                        (render's options, spelt as render spells them)\n"
     "  --csv FILE|-   the profile (x,f) across [-r, r] (401 points), then the frequency\n"
     "                 response (frequency,magnitude) in cycles per pixel, |F(w)|/|F(0)|\n"
     "  --png FILE     the profile and the frequency response side by side, Nyquist marked\n"
@@ -45,9 +46,10 @@ static int parse(int argc, char **argv, filter_cli *c)
 {
     enum { F_RADIUS = 400, F_B, F_C, F_SIGMA, F_TAU, F_CSV, F_PNG, F_DB };
     static const struct option opts[] = {
-        {"radius", required_argument, 0, F_RADIUS}, {"b", required_argument, 0, F_B},
-        {"c", required_argument, 0, F_C}, {"sigma", required_argument, 0, F_SIGMA},
-        {"tau", required_argument, 0, F_TAU}, {"csv", required_argument, 0, F_CSV},
+        {"filter-radius", required_argument, 0, F_RADIUS},
+        {"filter-b", required_argument, 0, F_B}, {"filter-c", required_argument, 0, F_C},
+        {"filter-sigma", required_argument, 0, F_SIGMA},
+        {"filter-tau", required_argument, 0, F_TAU}, {"csv", required_argument, 0, F_CSV},
         {"png", required_argument, 0, F_PNG}, {"db", no_argument, 0, F_DB},
         {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     st_cli_filter_args fa = {0};
@@ -80,12 +82,9 @@ static int parse(int argc, char **argv, filter_cli *c)
     if (st_cli_apply_filter_args(&fa, &c->f))
         return ST_CLI_EXIT_USAGE;
     /* the renderer's limits: the lab shows filters that can render */
-    static const st_cli_option_name names[] = {
-        {"filter radius", "--radius"}, {"filter b", "--b"}, {"filter c", "--c"},
-        {"filter sigma", "--sigma"}, {"filter tau", "--tau"}, {NULL, NULL}};
     st_error err = {0};
     if (st_filter_check(&c->f, ST_FILTER_MAX_RADIUS, &err) != ST_OK)
-        return st_cli_fail_options(&err, names);
+        return st_cli_fail_options(&err, st_cli_render_option_names);
     if (!c->csv && !c->png)
         return st_cli_usage_error("filter: nothing to do (give --csv or --png)");
     if (c->db && !c->png)

@@ -16,6 +16,16 @@ check "the extension in any case" '[ "$(head -c 4 "$T/x.PDF")" = "%PDF" ]'
 $S filter lanczos --db --png "$T/f.svg"
 check "a filter response in dB, labelled" 'grep -q "<svg" "$T/f.svg"'
 expect "--db without a plot exits 2" 2 "^strata: error: --db applies to the plot" $S filter box --db --csv -
+# filter takes render's spellings of the filter's parameters: Mitchell's
+# 6 k(0) = 6 - 2B, so k(0) = 5/6 at B = 1/2
+$S filter mitchell --filter-b 0.5 --filter-c 0.25 --filter-radius 2 --csv "$T/m.csv"
+k0=$(sed -n 's/^0\.000000,//p' "$T/m.csv" | head -1)
+check "filter --filter-b B: the profile of that B (k(0) = 5/6 at B = 1/2)" \
+    'awk -v k="$k0" "BEGIN { exit !(k - 5 / 6 < 1e-6 && 5 / 6 - k < 1e-6) }"' "(k(0) = $k0)"
+expect "filter names a parameter as render does" 2 "^strata: error: --filter-b/--filter-c apply to mitchell only" \
+    $S filter gaussian --filter-b 0.2 --csv -
+expect "filter --b, render's --filter-b spelt otherwise, is refused" 2 "unknown option --b" \
+    $S filter mitchell --b 0.5 --csv -
 # converge: the slope is fitted over the falling part only. A curve made to stop
 # falling: the reference is the unscrambled 16-spp Halton render itself, so RMSE is
 # 0 at 16 spp and rises again at 64: a plateau from 16 spp on.
