@@ -38,6 +38,11 @@ expect "a misspelt sampler gets a suggestion" 2 "^strata: error: --sampler hallt
 expect "a misspelt filter gets a suggestion" 2 "--filter Mitchel: unknown; did you mean mitchell?" $S render --filter Mitchel
 expect "a prefix suggests the whole name" 2 "did you mean best-candidate?" $S pattern --sampler best --count 4
 expect "converge suggests sampler names" 2 "did you mean sobol?" $S converge --sampler sobl --spp-list 4
+check "--crop's help says which commands take it, and no help line dangles" \
+    '$S help render | grep -A3 -- "--crop" | grep -q "strata render.s alone, not" &&
+     ! $S help render | grep -q "; render only\$"'
+expect "bench refuses --crop as its help says" 2 "^strata: error: --crop: only .strata render. takes it" \
+    $S bench --crop 0,0,4,4
 expect "filter suggests filter names" 2 "^strata: error: filter gausian: unknown; did you mean gaussian?" $S filter gausian
 expect "a misspelt option gets a suggestion" 2 "^strata: error: render: unknown option --sampel; did you mean --sampler?" $S render --sampel halton
 expect "pattern options get suggestions" 2 "unknown option --cout; did you mean --count?" $S pattern --cout 3
