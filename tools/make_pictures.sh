@@ -6,8 +6,9 @@
 #   ONLY="A B"  make only these names (tests/image/test_pictures.sh re-renders a few
 #               this way and requires them equal to the committed files)
 #   S=BINARY    the strata to run (default ./strata)
-#   E=DIR       the environment maps and their tool (default build/envmaps and
-#               build/release/make_envmap: `make pictures` makes them)
+#   E=DIR       the compass map and its tool (default build/envmaps and
+#               build/release/make_envmap: `make pictures` makes them); the sky is
+#               the one that ships, scenes/envmaps/sky.hdr
 set -e
 S=${S:-./strata}
 P=${P:-scenes/pictures}
@@ -107,6 +108,6 @@ if [ -d $K ]; then
     done
     for f in $(sed -n 's/^| [A-Za-z]* | `\([^`]*\.gl[tb]f*\)` |.*/\1/p' $K/INDEX.md); do
         pic models/$(dirname $f).png render $K/$f --width 160 --height 120 --spp 64 \
-            --env $E/sky.hdr --quiet -o @
+            --env scenes/envmaps/sky.hdr --quiet -o @
     done
 fi

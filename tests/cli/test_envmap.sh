@@ -8,6 +8,21 @@
 # exit 2. TAP output.
 . tests/tap.sh
 R="--width 16 --height 12 --spp 2 --quiet"
+BUILD=${BUILD:-build/release}
+
+# the sky that ships (the README's first model example) is make_envmap's, and lights
+# a model that emits nothing
+if [ -x "$BUILD/make_envmap" ]; then
+    "$BUILD/make_envmap" sky "$T/sky.hdr" > /dev/null
+    check "scenes/envmaps/sky.hdr is tools/make_envmap.c's sky, byte for byte" 'cmp -s "$T/sky.hdr" scenes/envmaps/sky.hdr'
+else
+    ok "# SKIP $BUILD/make_envmap is not built (make test builds it)"
+fi
+"$S" render tests/scenes/layout_u16.gltf $R --env 0 -o "$T/dark.exr" 2> /dev/null
+"$S" render tests/scenes/layout_u16.gltf $R --env scenes/envmaps/sky.hdr -o "$T/sky.exr" 2> "$T/err"
+rmse=$("$S" diff "$T/sky.exr" "$T/dark.exr" 2> /dev/null | sed -n 's/^rmse //p')
+check "the shipped sky lights a model, without a note" \
+    "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.01) }' && ! grep -q 'note:\|warning:' '$T/err'" "(rmse $rmse)"
 
 "$S" render cornell-box --width 32 --height 16 --spp 4 --quiet -o "$T/map.exr" 2> /dev/null
 "$S" render tests/scenes/layout_u16.gltf $R --env 0 -o "$T/black.exr" 2> /dev/null
