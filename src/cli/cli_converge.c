@@ -382,10 +382,31 @@ static st_status write_error_spectrum(const converge_args *c, series *ss, st_u32
     return st_plot_save_row(c->error_spectrum, panels, ns, 560, 540, err);
 }
 
+/* The study's progress, counted in samples (a render of 1024 spp costs 1024 of 1 spp):
+ * a render's own fraction placed after the samples of the renders before it. */
+typedef struct study_progress {
+    st_cli_progress_state *prog;
+    double done, total; /* samples: rendered before the current render, in all */
+    double render;      /* the current render's samples */
+} study_progress;
+
+static void study_progress_cb(void *ctx, double fraction)
+{
+    study_progress *p = ctx;
+    st_cli_progress(p->prog, (p->done + fraction * p->render) / p->total);
+}
+
+/* The samples of every render of series se at point k (the mean spp of an adaptive one). */
+static double point_samples(const converge_args *c, const series *se, st_u32 k)
+{
+    st_u32 runs = st_sampling_pattern_is_random(se->sampler, c->r.opt.scramble) || se->adaptive
+                      ? c->seeds : 1;
+    return (double)runs * c->spp[k] * c->r.opt.width * c->r.opt.height;
+}
+
 /* One point of one series: K seeds (one for a deterministic pattern). */
 static st_status run_point(const converge_args *c, st_cli_session *s, const st_image *ref,
-                           int ir[3], series *se, st_u32 k, st_cli_progress_state *prog,
-                           double *done, double total, st_error *err)
+                           int ir[3], series *se, st_u32 k, study_progress *prog, st_error *err)
 {
     st_render_options o = c->r.opt;
     o.sampler = se->sampler;
@@ -397,7 +418,8 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
         st_image img = {0};
         st_render_stats st = {0};
         o.seed = c->r.opt.seed + r;
-        if (st_render(s->renderer, &o, &img, NULL, &st, NULL, NULL, err) != ST_OK)
+        prog->render = (double)o.spp * o.width * o.height;
+        if (st_render(s->renderer, &o, &img, NULL, &st, study_progress_cb, prog, err) != ST_OK)
             return err->status;
         double e, q;
         measure(c, &img, ref, ir, &e, &q);
@@ -411,8 +433,7 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
         samples += (double)st.samples;
         free(st.spp_map);
         st_image_free(&img);
-        *done += 1;
-        st_cli_progress(prog, *done / total);
+        prog->done += prog->render; /* the render's own last report said so already */
     }
     double mean = sum / runs, var = runs > 1 ? (sum2 - runs * mean * mean) / (runs - 1) : 0;
     se->spp[k] = se->adaptive ? samples / runs / ((double)o.width * o.height) : c->spp[k];
@@ -536,13 +557,10 @@ int st_cli_converge(int argc, char **argv)
                 st_cli_adaptive_note(&o);
             }
         }
-    double total = 0, done = 0;
-    for (st_u32 i = 0; i < ns; i++) {
-        st_render_options o = c->r.opt;
-        o.adaptive = ss[i].adaptive;
-        total += c->nspp * (st_sampling_pattern_is_random(ss[i].sampler, o.scramble) || o.adaptive
-                                ? c->seeds : 1);
-    }
+    double total = 0;
+    for (st_u32 i = 0; i < ns; i++)
+        for (st_u32 k = 0; k < c->nspp; k++)
+            total += point_samples(c, &ss[i], k);
     st_error err = {0};
     st_cli_session s;
     st_image ref = {0};
@@ -553,10 +571,11 @@ int st_cli_converge(int argc, char **argv)
         goto done;
     }
     st_cli_progress_init(&prog, "converge", c->r.quiet);
-    st_cli_progress_work(&prog, total, "renders");
+    st_cli_progress_work(&prog, total, "samples");
+    study_progress sp = {.prog = &prog, .total = total};
     for (st_u32 i = 0; i < ns && !rc; i++) {
         for (st_u32 k = 0; k < c->nspp && !rc; k++)
-            if (run_point(c, &s, &ref, ir, &ss[i], k, &prog, &done, total, &err))
+            if (run_point(c, &s, &ref, ir, &ss[i], k, &sp, &err))
                 rc = st_cli_session_fail(&s, &err);
         ss[i].slope = fit_slope(&ss[i], c->floor);
     }

@@ -56,4 +56,14 @@ $S converge --sampler random,zsobol --spp-list 2 --width 16 --height 12 --integr
     --reference-spp 64 --seeds 2 --quiet --error-spectrum "$T/e.png" > "$T/out" 2>&1
 check "--error-spectrum writes a PNG" '[ "$(head -c 4 "$T/e.png" | od -An -c | tr -d " ")" = "211PNG" ]' "$(cat "$T/out")"
 expect "--error-spectrum with more than 8 panels exits 2" 2 "at most 8 panels" $S converge --sampler random,uniform,stratified,halton,hammersley --adaptive --spp-list 4 --error-spectrum "$T/x.png"
+# progress counts samples, not renders: 1 spp then 255 spp, the first render is
+# 1/256 of the work (counted in renders it was half, and the ETA read 1:07 where
+# 2:45 remained); waves of 16 spp, so the 255-spp render reports as it goes
+$S converge --sampler random --seeds 1 --spp-list 1,255 --width 64 --height 64 \
+    --reference-spp 16 --wave 65536 --csv "$T/p.csv" > /dev/null 2> "$T/err"
+grep "^strata: converge  *[0-9]*%" "$T/err" > "$T/lines"
+first=$(sed -n '1s/^strata: converge  *\([0-9]*\)%.*/\1/p' "$T/lines")
+check "converge's progress is in samples, past 1 spp of 256 at under half" \
+    '[ -n "$first" ] && [ "$first" -lt 50 ] && ! grep -qv "samples/s" "$T/lines" && tail -1 "$T/lines" | grep -q " 100%"' \
+    "($(tr '\n' ' ' < "$T/lines"))"
 echo "1..$n"
