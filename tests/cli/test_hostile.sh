@@ -204,9 +204,9 @@ check "a URI through a subfolder and back (.. below the scene's folder) still lo
 ln -s ../other "$T/cf/sub/otherlink" && uri_scene linkdir.gltf otherlink/secret.bin
 expect "a URI through a linked folder is refused" 1 "otherlink/secret.bin : cannot open otherlink: a symbolic link" \
     $S render "$T/cf/sub/linkdir.gltf" $R -o "$T/cf/o.exr"
-mkfifo "$T/cf/scene.fifo"
-expect "a scene that is a FIFO is refused at once (read a stream with -)" 1 "scene.fifo: not a regular file" \
-    timeout 20 $S render "$T/cf/scene.fifo" $R -o "$T/cf/o.exr"
+mkfifo "$T/cf/fifo-scene.gltf"
+expect "a scene that is a FIFO is refused at once (read a stream with -)" 1 "fifo-scene.gltf: not a regular file" \
+    timeout 20 $S render "$T/cf/fifo-scene.gltf" $R -o "$T/cf/o.exr"
 expect "a scene on standard input (-) may not name files: it has no folder" 1 "^strata: error: -: .*layout_u8.bin : .*no folder: data: URIs only" \
     sh -c "$S render - $R -o $T/cf/o.exr < tests/scenes/layout_u8.gltf"
 expect "/dev/stdin from a pipe is refused (not a regular file)" 1 "/dev/stdin: not a regular file" \
