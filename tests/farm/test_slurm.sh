@@ -31,7 +31,7 @@ free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1
 listening() { python3 -c 'import socket, sys; s = socket.socket(); sys.exit(s.connect_ex(("127.0.0.1", int(sys.argv[1]))) != 0)' "$1"; }
 
 # Each daemon in the foreground, in the background of this shell: its pid is $!.
-start() { "$@" 2>> "$D/daemons.log" & pids="$pids $!"; }
+start() { "$@" >> "$D/daemons.log" 2>&1 & pids="$pids $!"; }
 
 # Stops every daemon started here, by pid: TERM, then KILL after 10 s.
 stop_cluster() {
@@ -120,7 +120,7 @@ task_state() { sed -n "s/.*JobState=\([A-Z_]*\) .*ArrayJobId=$1 ArrayTaskId=$2 .
 recipe() {
     mkdir -p "$1"
     array=$(cd "$1" && sbatch --parsable --array=0-3 -c 1 "$SCRIPT" $OPTS)
-    merge=$(cd "$1" && timeout 120 sbatch --parsable --wait --dependency="afterok:$array" \
+    merge=$(cd "$1" && timeout 300 sbatch --parsable --wait --dependency="afterok:$array" \
         --kill-on-invalid-dep=yes --wrap "\"$S\" merge part-*.exr -o final.exr")
 }
 
