@@ -5,7 +5,7 @@
 # (once). Exit status 1 if any failed.
 # A skip is TAP's: a result with the directive "# SKIP reason" (cmocka's
 # skip() prints "not ok N # SKIP name", its reason on a line "# SKIP reason"
-# of its own before it, tests/scratch.h's ST_SKIP), or a whole script's plan
+# of its own before it: tests/skip.h's ST_SKIP), or a whole script's plan
 # "1..0 # SKIP reason".
 # `--layer NAME` among the arguments starts a layer (make test-unit and its
 # siblings): each layer ends with a comment line giving its counts and its
