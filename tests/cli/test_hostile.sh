@@ -299,7 +299,7 @@ if mknod "$T/null" c 1 3 2> /dev/null; then
     $S $PAT --csv "$T/null" 2> "$T/err"
     check "--csv to a character device (a null device node) leaves it a device" '[ -c "$T/null" ]' "($(cat "$T/err"))"
 else
-    ok "# SKIP --csv to a character device (cannot make a device node here)"
+    skip "--csv to a character device (cannot make a device node here)"
 fi
 echo old > "$T/target.csv" && chmod 640 "$T/target.csv" && ln -s target.csv "$T/link.csv"
 $S $PAT --csv "$T/link.csv" 2> "$T/err"
