@@ -266,7 +266,7 @@ int st_cli_merge(int argc, char **argv)
         return st_cli_fail(&(st_error){ST_ERR_NOMEM, "out of memory"});
     for (int i = 1; i < argc && rc == 0; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png [-o OUT2...] [--device SPEC] [--partial]\n"
+            puts("usage: strata merge PART.exr... -o OUT.exr|OUT.png|- [-o OUT2...] [--device SPEC] [--partial]\n"
                  "  adds the raw films of split renders (strata render --sample-range K:M\n"
                  "  or --part K/N)\n"
                  "  into the image one render of all their samples gives, bit for bit.\n"
@@ -302,8 +302,10 @@ int st_cli_merge(int argc, char **argv)
         rc = st_cli_usage_error("merge: needs parts and -o OUT (strata merge A.exr B.exr -o OUT.exr)");
     st_error err = {0};
     for (int k = 0; k < nouts && rc == 0; k++) {
-        if (!st_cli_has_extension(outs[k], ".exr") && !st_cli_has_extension(outs[k], ".png"))
-            rc = st_cli_usage_error("-o %s: the output must end in .exr or .png", outs[k]);
+        if (!st_cli_has_extension(outs[k], ".exr") && !st_cli_has_extension(outs[k], ".png") &&
+            strcmp(outs[k], "-"))
+            rc = st_cli_usage_error("-o %s: the output must end in .exr or .png, or be - (a "
+                                    "PNG on standard output)", outs[k]);
         else if (st_outfile_check(outs[k], &err) != ST_OK)
             rc = st_cli_fail(&err);
     }

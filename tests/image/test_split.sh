@@ -15,6 +15,8 @@ check "GNU parallel renders 4 parts" '[ "$(ls "$T"/part*.exr | wc -l)" -eq 4 ]'
 $S merge "$T"/part*.exr -o "$T/merged.exr" 2> "$T/err"
 check "merge of the parts succeeds" '[ -s "$T/merged.exr" ]'
 $S render $OPTS -o "$T/whole.exr"
+$S merge "$T"/part*.exr -o "$T/merged.png" -o - 2> /dev/null | cat > "$T/piped.png"
+check "merge -o - writes the PNG to standard output" '$S diff "$T/piped.png" "$T/merged.png" | grep -qx "rmse 0"'
 $S diff "$T/whole.exr" "$T/merged.exr" > "$T/diff"
 check "merged equals one render bit for bit" 'grep -q "^rmse 0$" "$T/diff" && grep -q "^max_abs 0$" "$T/diff"'
 $S render --width 48 --height 32 --spp 16 --sampler stratified --seed 6 --quiet --sample-range 0:4 -o "$T/seed6.exr"
