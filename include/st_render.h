@@ -46,6 +46,10 @@ typedef struct st_render_options {
      * textures are filtered (the scene itself is never changed) */
     st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera;
                           ST_CAMERA_AUTO: scene->auto_camera */
+    int look_at_given; /* 1: look_at replaces that camera (st_render_view_camera) */
+    float look_at[9];  /* --look-at: eye, target and up, in the scene's units */
+    float fov;         /* --fov: vertical field of view, degrees, of the view's
+                          (perspective) camera; 0: the camera's own */
     int env_given;     /* 1: env below; 0: the default (st_render_env) */
     float env[3];      /* the environment's radiance, linear RGB: uniform, or the map's
                           scale */
@@ -121,6 +125,13 @@ int st_renderer_packets(const st_renderer *r, const st_render_options *o);
  * launched, in order ("lanes 8: generate_rays, trace_rays,
  * ..."); valid until the next call or render. */
 const char *st_renderer_ran(st_renderer *r);
+/* The camera a render of o sees: the scene's (st_scene_view_camera of
+ * o->camera), or o->look_at's (st_scene_look_at; yfov: o->fov, else a
+ * perspective camera's own, else 40 degrees), with o->fov as its field of
+ * view where given. ST_ERR_USAGE "camera ...", "look at ..." or "fov ...";
+ * --fov on an orthographic camera (it has none). */
+st_status st_render_view_camera(const st_scene *scene, const st_render_options *o,
+                                st_scene_camera *out, st_error *err);
 /* The environment radiance a render of scene with options o sees (a map's
  * scale where o has a map): o->env where given, else 1 with a map and
  * the scene's default lighting (st_scene.default_env) without. */

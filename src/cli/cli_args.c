@@ -60,6 +60,10 @@ static const char render_help[] =
     "  --camera N|auto        the scene's N-th camera node (0 = the first, in scene order), or\n"
     "                         auto: frame the bounds through their largest face, from above a\n"
     "                         little (the default for a file without cameras)\n"
+    "  --look-at EX,EY,EZ,TX,TY,TZ[,UX,UY,UZ]   look from the eye E at the target T, up U\n"
+    "                         (default +Y), in the scene's units, instead of the scene's camera\n"
+    "  --fov DEGREES          vertical field of view of the camera (default: the camera's own;\n"
+    "                         40 for --look-at over an orthographic one)\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
@@ -95,7 +99,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS, O_LANES, O_COLD
+    O_PACKETS, O_LANES, O_COLD, O_LOOK_AT, O_FOV
 };
 
 static const struct option options[] = {
@@ -130,6 +134,8 @@ static const struct option options[] = {
     {"env-rotate", required_argument, 0, O_ENV_ROTATE},
     {"texture-filter", required_argument, 0, O_TEXFILTER},
     {"camera", required_argument, 0, O_CAMERA},
+    {"look-at", required_argument, 0, O_LOOK_AT},
+    {"fov", required_argument, 0, O_FOV},
     {"threads", required_argument, 0, O_THREADS},
     {"lanes", required_argument, 0, O_LANES},
     {"exposure", required_argument, 0, O_EXPOSURE},
@@ -183,7 +189,7 @@ const st_cli_option_name st_cli_render_option_names[] = {
     {"filter radius", "--filter-radius"}, {"filter b", "--filter-b"},
     {"filter c", "--filter-c"}, {"filter sigma", "--filter-sigma"},
     {"filter tau", "--filter-tau"}, {"texture filter", "--texture-filter"},
-    {"camera", "--camera"}, {NULL, NULL}};
+    {"camera", "--camera"}, {"look at", "--look-at"}, {"fov", "--fov"}, {NULL, NULL}};
 
 int st_cli_option_words(st_error *err, const st_cli_option_name *names)
 {
@@ -342,6 +348,34 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     }
 }
 
+/* --look-at: eye and target, and optionally up (default +Y), as 6 or 9
+ * finite numbers separated by commas (their geometry is checked with the
+ * scene's camera, st_render_view_camera). */
+static int parse_look_at(const char *v, st_render_options *o)
+{
+    float x[9] = {0, 0, 0, 0, 0, 0, 0, 1, 0};
+    int n = 0;
+    const char *s = v;
+    for (;;) {
+        char *end;
+        errno = 0;
+        float f = strtof(s, &end);
+        if (end == s || errno || !isfinite(f) || n == 9)
+            break;
+        x[n++] = f;
+        s = end;
+        if (*s != ',')
+            break;
+        s++;
+    }
+    if (*s != '\0' || (n != 6 && n != 9))
+        return st_cli_usage_error("--look-at %s: expected EX,EY,EZ,TX,TY,TZ or "
+                                  "EX,EY,EZ,TX,TY,TZ,UX,UY,UZ (finite numbers)", v);
+    memcpy(o->look_at, x, sizeof x);
+    o->look_at_given = 1;
+    return ST_CLI_OK;
+}
+
 /* n decimal integers of 0..2^32-1 separated by sep, nothing else (no sign,
  * space or wrap-around: sscanf's %u takes "4294967296" as 0); 0 or -1. */
 static int parse_u32_list(const char *v, char sep, unsigned *out, int n)
@@ -463,6 +497,13 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_RAYS:
     case O_COUNT: return parse_trace_bench(c, v, bench, a);
     case O_CROP: return parse_crop(v, bench, o);
+    case O_LOOK_AT: return parse_look_at(v, o);
+    case O_FOV:
+        if (st_cli_parse_float("--fov", v, &o->fov))
+            return ST_CLI_EXIT_USAGE;
+        if (!(o->fov > 0.0f && o->fov < 180.0f))
+            return st_cli_usage_error("--fov %s: must lie strictly between 0 and 180 degrees", v);
+        return ST_CLI_OK;
     default: return parse_view_or_adaptive(c, v, bench, a);
     }
 }

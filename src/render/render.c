@@ -72,6 +72,27 @@ static st_status check_adaptive(const st_render_options *o, st_error *err)
     return ST_OK;
 }
 
+st_status st_render_view_camera(const st_scene *scene, const st_render_options *o,
+                                st_scene_camera *out, st_error *err)
+{
+    const float deg = (float)(3.14159265358979323846 / 180.0);
+    if (st_scene_view_camera(scene, o->camera, out, err) != ST_OK)
+        return err->status;
+    if (o->fov == 0.0f && !o->look_at_given)
+        return ST_OK;
+    if (o->fov != 0.0f && out->orthographic && !o->look_at_given)
+        return st_fail(err, ST_ERR_USAGE, "fov %g: the view's camera is orthographic (it has "
+                       "no field of view; --look-at makes a perspective one)", (double)o->fov);
+    float yfov = o->fov != 0.0f ? o->fov * deg : out->orthographic ? 40.0f * deg : out->yfov;
+    if (o->look_at_given)
+        return st_scene_look_at(o->look_at, o->look_at + 3, o->look_at + 6, yfov, out, err);
+    if (!(yfov > 0.0f && yfov < 180.0f * deg))
+        return st_fail(err, ST_ERR_USAGE, "fov %g: must lie strictly between 0 and 180 degrees",
+                       (double)o->fov);
+    out->yfov = yfov;
+    return ST_OK;
+}
+
 st_status st_render_check(const st_render_options *o, st_error *err)
 {
     if (o->width < 1 || o->height < 1 || o->width > 32768 || o->height > 32768)
@@ -787,7 +808,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_scene_camera cam;
     st_render_options so = *o; /* what the sampler is made for */
     so.spp = sampler_spp(o);
-    if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
+    if (st_render_view_camera(r->scene, o, &cam, err) != ST_OK ||
         (r->env_map != o->env_map && st_renderer_upload_env_map(r, o->env_map, err) != ST_OK) ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
         prepare_pmj02(r, &so, err) != ST_OK)
