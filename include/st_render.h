@@ -70,7 +70,21 @@ typedef struct st_render_options {
                           driver that compiles a kernel at its first launch (PoCL) compiles
                           all of a render's in a small warm-up render of its options */
     st_u32 packet_path; /* ST_PACKET_* (--packets) */
+    st_u32 aov;        /* ST_AOV_* (st_shared.h): render that AOV over the same samples
+                          instead of radiance (R, G, B: its value; depth in R); NONE */
 } st_render_options;
+
+/* The AOVs by ST_AOV_* (NONE's entry empty): the name --aov takes, and the
+ * channels an EXR holds, as pbrt-v4's GBufferFilm and OpenEXR's conventions
+ * name them (Albedo.R/G/B, N.X/Y/Z, P.X/Y/Z, Z), the first `channels` of
+ * the AOV render's R, G, B; `layer` prefixes its raw sums in a split
+ * render's part (st_film.h). */
+typedef struct st_aov_layout {
+    const char *name, *layer;
+    st_u32 channels;
+    const char *channel[3];
+} st_aov_layout;
+extern const st_aov_layout st_aov_layouts[ST_AOV_COUNT];
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
  * ST_RECON_*; st_name_lookup returns the index or -1. Sampler and filter
@@ -203,10 +217,11 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
                     st_error *err);
 
 /* Resolves raw sums (ST_FILM_SUMS per pixel, as st_render returns them) on the device
- * with the render's own resolve_film kernel, so a merged split render equals
+ * with the render's own resolve_film kernel (aov: the ST_AOV_* they hold, whose
+ * values keep their sign), so a merged split render equals
  * one render of all the samples bit for bit. *out: R, G, B, W as st_render;
  * stats (may be NULL) gets the zero-weight and non-finite counts. */
 st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st_u32 height,
-                            st_image *out, st_render_stats *stats, st_error *err);
+                            st_u32 aov, st_image *out, st_render_stats *stats, st_error *err);
 
 #endif

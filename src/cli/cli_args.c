@@ -87,6 +87,10 @@ static const char render_help[] =
     "  --threads N            run on N of a CPU device's compute units (an OpenCL sub-device)\n"
     "                         and build the BVH on at most N threads (default all; the image\n"
     "                         does not change)\n"
+    "  --aov LIST             also write albedo, normal, depth, position (comma-separated)\n"
+    "                         into the EXR, beside R, G, B: Albedo.R/G/B, N.X/Y/Z (shading\n"
+    "                         normal, world space), Z (distance from the camera), P.X/Y/Z,\n"
+    "                         each filtered as the image is (EXR only; not with --adaptive)\n"
     "  --exposure EV          PNG only: scale by 2^EV before the tone curve (default 0)\n"
     "  --tonemap NAME         PNG only: clamp (default), reinhard or filmic; an EXR stays linear\n"
     "  --scene-list           list the built-in scenes and exit\n"
@@ -99,7 +103,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS, O_LANES, O_COLD, O_LOOK_AT, O_FOV
+    O_PACKETS, O_LANES, O_COLD, O_LOOK_AT, O_FOV, O_AOV
 };
 
 static const struct option options[] = {
@@ -136,6 +140,7 @@ static const struct option options[] = {
     {"camera", required_argument, 0, O_CAMERA},
     {"look-at", required_argument, 0, O_LOOK_AT},
     {"fov", required_argument, 0, O_FOV},
+    {"aov", required_argument, 0, O_AOV},
     {"threads", required_argument, 0, O_THREADS},
     {"lanes", required_argument, 0, O_LANES},
     {"exposure", required_argument, 0, O_EXPOSURE},
@@ -376,6 +381,31 @@ static int parse_look_at(const char *v, st_render_options *o)
     return ST_CLI_OK;
 }
 
+/* --aov: names of st_aov_layouts, separated by commas, each once. */
+static int parse_aovs(const char *v, int bench, st_cli_render_args *a)
+{
+    const char *names[ST_AOV_COUNT - 1];
+    for (st_u32 k = 1; k < ST_AOV_COUNT; k++)
+        names[k - 1] = st_aov_layouts[k].name;
+    if (bench)
+        return st_cli_usage_error("--aov: only `strata render` writes them");
+    a->aovs = 0;
+    for (const char *s = v;;) {
+        size_t len = strcspn(s, ",");
+        char name[32];
+        snprintf(name, sizeof name, "%.*s", (int)(len < sizeof name ? len : sizeof name - 1), s);
+        int k = st_name_lookup(names, ST_AOV_COUNT - 1, name);
+        if (k < 0 || len >= sizeof name)
+            return st_cli_unknown_name("--aov", name, names, ST_AOV_COUNT - 1);
+        if (a->aovs & (1u << (k + 1)))
+            return st_cli_usage_error("--aov %s: %s given twice", v, name);
+        a->aovs |= 1u << (k + 1);
+        if (s[len] == '\0')
+            return ST_CLI_OK;
+        s += len + 1;
+    }
+}
+
 /* n decimal integers of 0..2^32-1 separated by sep, nothing else (no sign,
  * space or wrap-around: sscanf's %u takes "4294967296" as 0); 0 or -1. */
 static int parse_u32_list(const char *v, char sep, unsigned *out, int n)
@@ -498,6 +528,7 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_COUNT: return parse_trace_bench(c, v, bench, a);
     case O_CROP: return parse_crop(v, bench, o);
     case O_LOOK_AT: return parse_look_at(v, o);
+    case O_AOV: return parse_aovs(v, bench, a);
     case O_FOV:
         if (st_cli_parse_float("--fov", v, &o->fov))
             return ST_CLI_EXIT_USAGE;
@@ -553,6 +584,9 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
                                   "drop --rays or --cold");
     if (a->ray_count && !a->rays)
         return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
+    if (a->aovs && a->opt.adaptive)
+        return st_cli_usage_error("--aov: not with --adaptive (its samples follow the image's "
+                                  "noise, which the AOVs do not have)");
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);

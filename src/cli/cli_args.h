@@ -34,6 +34,7 @@ typedef struct st_cli_render_args {
     st_u32 tonemap;           /* --tonemap: an st_tonemap (PNG) */
     const char *png_opt;      /* a PNG-only option seen (for its error) */
     const char *env_file;     /* --env FILE.exr|FILE.hdr (the session reads it); NULL: none */
+    st_u32 aovs;              /* --aov: bit k for ST_AOV_* k (render only) */
 } st_cli_render_args;
 
 /* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench

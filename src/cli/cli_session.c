@@ -292,6 +292,14 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     st_error ignored = {0}; /* checked when the session opened */
     if (st_render_view_camera(s->scene, o, &view, &ignored) == ST_OK && !view.orthographic)
         TYPED("fov", ST_ATTR_FLOAT, "%.9g", (double)view.yfov * 180.0 / 3.14159265358979323846);
+    if (a->aovs) {
+        char list[64] = "";
+        for (st_u32 k = 1; k < ST_AOV_COUNT; k++)
+            if ((a->aovs >> k) & 1u)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                         list[0] ? "," : "", st_aov_layouts[k].name);
+        ATTR("aov", "%s", list);
+    }
     ATTR("device", "%s", st_device_get_info(s->dev)->name);
     ATTR("kernels", "%s", st_renderer_ran(s->renderer));
     TYPED("render_seconds", ST_ATTR_DOUBLE, "%.6f", st->seconds);

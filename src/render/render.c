@@ -124,6 +124,12 @@ st_status st_render_check(const st_render_options *o, st_error *err)
                        "across pixels", st_sampler_names[o->sampler]);
     if (o->adaptive && (rc = check_adaptive(o, err)) != ST_OK)
         return rc;
+    if (o->aov >= ST_AOV_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "aov %u: unknown", o->aov);
+    if (o->aov != ST_AOV_NONE && o->adaptive) /* its samples follow the radiance's error */
+        return st_fail(err, ST_ERR_USAGE, "aov %s: an adaptive render's samples follow its "
+                       "radiance, which an AOV render does not see (drop --adaptive)",
+                       st_aov_layouts[o->aov].name);
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "max depth %u: at most 64", o->max_depth);
     if ((o->crop_w || o->crop_h || o->crop_x || o->crop_y) &&
@@ -454,6 +460,11 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     p.filter = o->filter;
     p.reconstruction = o->reconstruction;
     p.camera = st_render_camera(cam, o->width, o->height);
+    p.aov = o->aov;
+    if (o->aov != ST_AOV_NONE) { /* the camera ray's first hit (and one through a cut-out) */
+        p.integrator = ST_INTEGRATOR_DIRECT;
+        p.max_depth = 1u;
+    }
     st_u32 region[4];
     st_render_region(o, region);
     set_region(&p, region);
@@ -683,7 +694,7 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
 }
 
 st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st_u32 height,
-                            st_image *out, st_render_stats *stats, st_error *err)
+                            st_u32 aov, st_image *out, st_render_stats *stats, st_error *err)
 {
     static const char *const names[4] = {"R", "G", "B", "W"};
     size_t pixels = (size_t)width * height;
@@ -691,6 +702,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     memset(&p, 0, sizeof p);
     p.width = width;
     p.height = height;
+    p.aov = aov;
     set_region(&p, (const st_u32[4]){0, 0, width, height});
     st_wave w;
     cl_kernel k;

@@ -12,6 +12,14 @@ const char *const st_integrator_names[2] = {"direct", "path"};
 const char *const st_reconstruction_names[2] = {"splat", "fis"};
 const char *const st_packet_names[4] = {"auto", "none", "coherent", "all"};
 
+const st_aov_layout st_aov_layouts[ST_AOV_COUNT] = {
+    [ST_AOV_NONE] = {"", "", 0, {NULL, NULL, NULL}},
+    [ST_AOV_ALBEDO] = {"albedo", "Albedo.", 3, {"Albedo.R", "Albedo.G", "Albedo.B"}},
+    [ST_AOV_NORMAL] = {"normal", "N.", 3, {"N.X", "N.Y", "N.Z"}},
+    [ST_AOV_POSITION] = {"position", "P.", 3, {"P.X", "P.Y", "P.Z"}},
+    [ST_AOV_DEPTH] = {"depth", "Z.", 1, {"Z", NULL, NULL}},
+};
+
 #define ST_KERNEL_NAME(id, name, stage) name,
 const char *const st_kernel_names[ST_KERNEL_COUNT] = {ST_KERNEL_LIST(ST_KERNEL_NAME)};
 #undef ST_KERNEL_NAME

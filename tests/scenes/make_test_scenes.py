@@ -1509,7 +1509,10 @@ def write_view_scenes():
     for i in range(rings):
         for j in range(seg):
             a, d = i * (seg + 1) + j, (i + 1) * (seg + 1) + j
-            ind += [a, d, d + 1, a, d + 1, a + 1]
+            if i + 1 < rings:  # at the bottom pole d = d + 1
+                ind += [a, d, d + 1]
+            if i > 0:  # at the top pole a = a + 1
+                ind += [a, d + 1, a + 1]
     b = Blob()
     nv = len(pos) // 3
     p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, nv, "VEC3",
