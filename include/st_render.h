@@ -216,6 +216,16 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err);
 
+/* A look at the film while a render runs (--display-server): after a wave,
+ * once `seconds` have passed since the last look (or the render began), fn
+ * gets the image so far: R, G, B of the crop's window (or the image), placed
+ * as st_render's image, its sums divided on the host as resolve_film divides
+ * them (not the final image, which st_render returns; nothing is counted).
+ * The image is valid during the call. AOV renders show none. NULL fn: no
+ * look; it lasts until set again. */
+typedef void (*st_preview_fn)(void *ctx, const st_image *so_far);
+void st_renderer_set_preview(st_renderer *r, double seconds, st_preview_fn fn, void *ctx);
+
 /* Resolves raw sums (ST_FILM_SUMS per pixel, as st_render returns them) on the device
  * with the render's own resolve_film kernel (aov: the ST_AOV_* they hold, whose
  * values keep their sign), so a merged split render equals

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "cli_display.h"
 #include "cli_error.h"
 #include "cli_names.h"
 #include "st_trace_bench.h"
@@ -91,6 +92,9 @@ static const char render_help[] =
     "                         into the EXR, beside R, G, B: Albedo.R/G/B, N.X/Y/Z (shading\n"
     "                         normal, world space), Z (distance from the camera), P.X/Y/Z,\n"
     "                         each filtered as the image is (EXR only; not with --adaptive)\n"
+    "  --display-server HOST:PORT   show the image in the tev viewer while it renders\n"
+    "                         (tev's default: localhost:14158); a viewer that is not there\n"
+    "                         is a warning, and the render goes on\n"
     "  --exposure EV          PNG only: scale by 2^EV before the tone curve (default 0)\n"
     "  --tonemap NAME         PNG only: clamp (default), reinhard or filmic; an EXR stays linear\n"
     "  --scene-list           list the built-in scenes and exit\n"
@@ -103,7 +107,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS, O_LANES, O_COLD, O_LOOK_AT, O_FOV, O_AOV
+    O_PACKETS, O_LANES, O_COLD, O_LOOK_AT, O_FOV, O_AOV, O_DISPLAY
 };
 
 static const struct option options[] = {
@@ -141,6 +145,7 @@ static const struct option options[] = {
     {"look-at", required_argument, 0, O_LOOK_AT},
     {"fov", required_argument, 0, O_FOV},
     {"aov", required_argument, 0, O_AOV},
+    {"display-server", required_argument, 0, O_DISPLAY},
     {"threads", required_argument, 0, O_THREADS},
     {"lanes", required_argument, 0, O_LANES},
     {"exposure", required_argument, 0, O_EXPOSURE},
@@ -529,6 +534,13 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_CROP: return parse_crop(v, bench, o);
     case O_LOOK_AT: return parse_look_at(v, o);
     case O_AOV: return parse_aovs(v, bench, a);
+    case O_DISPLAY: {
+        char host[256], port[16];
+        if (bench)
+            return st_cli_usage_error("--display-server: only `strata render` shows its image");
+        a->display_server = v;
+        return st_cli_display_parse(v, host, sizeof host, port, sizeof port);
+    }
     case O_FOV:
         if (st_cli_parse_float("--fov", v, &o->fov))
             return ST_CLI_EXIT_USAGE;

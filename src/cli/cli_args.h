@@ -35,6 +35,7 @@ typedef struct st_cli_render_args {
     const char *png_opt;      /* a PNG-only option seen (for its error) */
     const char *env_file;     /* --env FILE.exr|FILE.hdr (the session reads it); NULL: none */
     st_u32 aovs;              /* --aov: bit k for ST_AOV_* k (render only) */
+    const char *display_server; /* --display-server HOST:PORT (render only); NULL: none */
 } st_cli_render_args;
 
 /* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "cli_commands.h"
+#include "cli_display.h"
 #include "cli_error.h"
 #include "cli_progress.h"
 #include "cli_session.h"
@@ -155,7 +156,12 @@ int st_cli_render(int argc, char **argv)
     st_u32 region[4]; /* the pixels sampled: a crop's window and apron, or the image */
     st_render_region(&a.opt, region);
     st_i64 *sums = NULL;
+    st_cli_display disp; /* --display-server */
     int opened = st_cli_session_open(&a, &s, &err) == ST_OK;
+    if (opened && a.display_server) {
+        st_cli_display_init(&disp, a.display_server, a.outputs[0], a.opt.width, a.opt.height);
+        st_renderer_set_preview(s.renderer, ST_CLI_DISPLAY_SECONDS, st_cli_display_preview, &disp);
+    }
     if (opened)
         st_cli_adaptive_note(&a.opt);
     if (opened && a.aovs && !a.quiet && has_negative_lobes(&a.opt.filter))
@@ -177,6 +183,8 @@ int st_cli_render(int argc, char **argv)
         rc = st_cli_session_fail(&s, &err);
     } else {
         st_cli_progress_done(&prog);
+        if (a.display_server) /* the final image, as the outputs hold it */
+            st_cli_display_show(&disp, &img, 1);
         st_image_place_like(&rgb, &img); /* a crop's window in the image */
         st_image_place_like(&exr, &img);
         if (save_outputs(&a, &s, &st, &rgb, &exr, &err) != ST_OK ||
@@ -185,6 +193,8 @@ int st_cli_render(int argc, char **argv)
         else if (!a.quiet)
             st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
     }
+    if (opened && a.display_server)
+        st_cli_display_close(&disp);
     free(sums);
     free(st.spp_map);
     st_image_free(&img);

@@ -409,8 +409,7 @@ static void set_region(st_params *p, const st_u32 region[4])
     p->region_h = region[3];
 }
 
-/* The crop's window, or the whole image. */
-static void crop_window(const st_render_options *o, st_u32 win[4])
+void st_render_window(const st_render_options *o, st_u32 win[4])
 {
     int crop = o->crop_w != 0;
     win[0] = crop ? o->crop_x : 0;
@@ -422,7 +421,7 @@ static void crop_window(const st_render_options *o, st_u32 win[4])
 void st_render_region(const st_render_options *o, st_u32 region[4])
 {
     int whole = !o->crop_w || o->adaptive || st_sampler_is_tiled(o->sampler);
-    crop_window(o, region);
+    st_render_window(o, region);
     if (whole) {
         region[0] = region[1] = 0;
         region[2] = o->width;
@@ -644,7 +643,7 @@ static st_status read_results(st_renderer *r, st_wave *w, const st_render_option
 {
     static const char *const names[4] = {"R", "G", "B", "W"};
     st_u32 win[4];
-    crop_window(o, win);
+    st_render_window(o, win);
     if (st_image_create(out, win[2], win[3], 4, names, err) ||
         read_window(r->dev, w->b[ST_WAVE_image], sizeof(st_pixel), o, win, out->data, err) ||
         read_tallies(r, w, st, err) || (sums && read_sums(r, w, o, win, sums, err)))
@@ -689,6 +688,8 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
             pr->done += p->item_count;
             pr->fn(pr->ctx, pr->done < pr->total ? pr->done / pr->total : 1.0);
         }
+        if (rc == ST_OK && r->preview.fn && o->aov == ST_AOV_NONE)
+            rc = st_render_preview(r, w, o, err);
     }
     return rc;
 }
@@ -839,6 +840,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_shading sh = make_shading(r, o);
     r->plan = st_plan_make(r, o, &sh, &p);
     r->ran_count = 0;
+    r->preview.last = t0; /* the first look comes an interval into the render */
     int ordered = r->plan.order == ST_ORDER_ON;
     st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, ordered, err) != ST_OK
                        ? err->status
@@ -853,7 +855,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (!o->adaptive)
         st->samples = total;
     st_u32 win[4];
-    crop_window(o, win);
+    st_render_window(o, win);
     set_region(&p, win); /* resolve the window alone: its counts are the window's */
     size_t resolve_items = st_render_lane_items(r->dev, (size_t)win[2] * win[3]);
     if (rc == ST_OK)
