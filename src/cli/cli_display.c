@@ -10,13 +10,20 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/time.h>
+#include <time.h>
 #include <unistd.h>
 #include <fcntl.h>
 
 #include "cli_error.h"
-#include "cli_session.h"
 
 enum { TEV_CREATE_IMAGE = 4, TEV_UPDATE_IMAGE_V3 = 6 };
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
 
 int st_cli_display_parse(const char *spec, char *host, size_t host_cap, char *port,
                          size_t port_cap)
@@ -171,7 +178,7 @@ static int finish(st_cli_display *d, packet *p)
             warn(d, k < 0 ? strerror(errno) : "the viewer closed the connection");
             close(d->fd);
             d->fd = -1;
-            d->next_try = st_cli_now() + ST_CLI_DISPLAY_RETRY;
+            d->next_try = now() + ST_CLI_DISPLAY_RETRY;
             return -1;
         }
         sent += (size_t)k;
@@ -186,12 +193,12 @@ static int connect_if_due(st_cli_display *d, packet *p, int final)
 {
     if (d->fd >= 0)
         return 0;
-    if (!final && st_cli_now() < d->next_try)
+    if (!final && now() < d->next_try)
         return -1;
     d->fd = connect_within(d->host, d->port);
     if (d->fd < 0) {
         warn(d, strerror(errno));
-        d->next_try = st_cli_now() + ST_CLI_DISPLAY_RETRY;
+        d->next_try = now() + ST_CLI_DISPLAY_RETRY;
         return -1;
     }
     begin(p, TEV_CREATE_IMAGE, 1);

@@ -24,14 +24,12 @@ static float resolve(st_i64 sum, float w)
 }
 
 st_status st_render_preview(st_renderer *r, st_wave *w, const st_render_options *o,
-                            st_error *err)
+                            const st_u32 win[4], st_error *err)
 {
     double now = st_render_now();
     if (now - r->preview.last < r->preview.seconds)
         return ST_OK;
     static const char *const names[3] = {"R", "G", "B"};
-    st_u32 win[4];
-    st_render_window(o, win);
     size_t pixels = (size_t)o->width * o->height;
     st_film_pixel *film = malloc(pixels * sizeof *film);
     st_image img = {0};

@@ -409,7 +409,8 @@ static void set_region(st_params *p, const st_u32 region[4])
     p->region_h = region[3];
 }
 
-void st_render_window(const st_render_options *o, st_u32 win[4])
+/* The crop's window, or the whole image. */
+static void crop_window(const st_render_options *o, st_u32 win[4])
 {
     int crop = o->crop_w != 0;
     win[0] = crop ? o->crop_x : 0;
@@ -421,7 +422,7 @@ void st_render_window(const st_render_options *o, st_u32 win[4])
 void st_render_region(const st_render_options *o, st_u32 region[4])
 {
     int whole = !o->crop_w || o->adaptive || st_sampler_is_tiled(o->sampler);
-    st_render_window(o, region);
+    crop_window(o, region);
     if (whole) {
         region[0] = region[1] = 0;
         region[2] = o->width;
@@ -643,7 +644,7 @@ static st_status read_results(st_renderer *r, st_wave *w, const st_render_option
 {
     static const char *const names[4] = {"R", "G", "B", "W"};
     st_u32 win[4];
-    st_render_window(o, win);
+    crop_window(o, win);
     if (st_image_create(out, win[2], win[3], 4, names, err) ||
         read_window(r->dev, w->b[ST_WAVE_image], sizeof(st_pixel), o, win, out->data, err) ||
         read_tallies(r, w, st, err) || (sums && read_sums(r, w, o, win, sums, err)))
@@ -688,8 +689,11 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
             pr->done += p->item_count;
             pr->fn(pr->ctx, pr->done < pr->total ? pr->done / pr->total : 1.0);
         }
-        if (rc == ST_OK && r->preview.fn && o->aov == ST_AOV_NONE)
-            rc = st_render_preview(r, w, o, err);
+        if (rc == ST_OK && r->preview.fn && o->aov == ST_AOV_NONE) {
+            st_u32 win[4];
+            crop_window(o, win);
+            rc = st_render_preview(r, w, o, win, err);
+        }
     }
     return rc;
 }
@@ -855,7 +859,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     if (!o->adaptive)
         st->samples = total;
     st_u32 win[4];
-    st_render_window(o, win);
+    crop_window(o, win);
     set_region(&p, win); /* resolve the window alone: its counts are the window's */
     size_t resolve_items = st_render_lane_items(r->dev, (size_t)win[2] * win[3]);
     if (rc == ST_OK)

@@ -154,13 +154,11 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
                              const st_render_options *o, st_u64 total, st_progress_state *pr,
                              st_render_stats *st, st_render_items_fn items, st_error *err);
 
-/* The crop's window (x, y, w, h), or the whole image. */
-void st_render_window(const st_render_options *o, st_u32 win[4]);
-
 /* After a wave of a render whose renderer has a preview (preview.c): the
- * film so far to its callback, when its interval has passed. */
+ * film so far over the window win (x, y, w, h: the crop's, or the image)
+ * to its callback, when its interval has passed. */
 st_status st_render_preview(st_renderer *r, st_wave *w, const st_render_options *o,
-                            st_error *err);
+                            const st_u32 win[4], st_error *err);
 
 /* The camera basis of a view at an image aspect (device_scene.c). */
 st_camera st_render_camera(const st_scene_camera *c, st_u32 w, st_u32 h);
