@@ -32,6 +32,10 @@ for f in box gaussian; do
     check "no such note with $f" '! grep -q "denoisers" "$T/err"'
 done
 check "the EXR header names the AOVs" 'grep -aq "normal,depth" "$T/m.exr"'
+if command -v bash > /dev/null; then
+    got=$(bash -c '. tools/strata.bash-completion; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _strata; echo "${COMPREPLY[*]}"' _ "$S" render --aov albedo,no)
+    check "the completion completes the last AOV of a list" '[ "$got" = "albedo,normal" ]' "(got '$got')"
+fi
 
 if ! "$PY" -c "import OpenEXR, numpy" 2> /dev/null; then
     echo "# OpenEXR's Python binding is not installed (make deps; it needs pip's network): its checks skipped"
