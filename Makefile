@@ -8,6 +8,10 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 clang libclang-rt-14-dev oclgrind parallel pkg-config gcc g++ make help2man \
                 python3-scipy libembree-dev
 
+# OpenEXR's tools: exrheader reads the AOV channels' names and types back
+# (tests/cli/test_aov_cli.sh)
+DEB_PACKAGES += openexr
+
 PKGS     := OpenCL stb cairo fftw3
 
 # The version `strata --version` prints and writes into its files: `git

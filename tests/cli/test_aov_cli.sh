@@ -1,7 +1,8 @@
 #!/bin/sh
 # test_aov_cli.sh — --aov through the command line: strict parsing, the
 # refusals (adaptive, PNG only, bench), the note on filters with negative
-# lobes (once, and not for box or gaussian); read back by OpenEXR's Python
+# lobes (once, and not for box or gaussian); the channels in exrheader's
+# listing (Debian's openexr); read back by OpenEXR's Python
 # binding (build/pyexr, from make deps): the channels Albedo.R/G/B, N.X/Y/Z,
 # P.X/Y/Z and Z are FLOAT beside R, G, B, equal to what the render wrote, and
 # a split render's parts merge into every channel of the whole render bit for
@@ -32,6 +33,13 @@ for f in box gaussian; do
     check "no such note with $f" '! grep -q "denoisers" "$T/err"'
 done
 check "the EXR header names the AOVs" 'grep -aq "normal,depth" "$T/m.exr"'
+if command -v exrheader > /dev/null; then # Debian's openexr (make deps)
+    exrheader "$T/m.exr" > "$T/h" 2>&1
+    check "exrheader lists N.X/Y/Z and Z as 32-bit floats beside R, G, B" \
+        '(for c in B G N.X N.Y N.Z R Z; do grep -q "^    $c, 32-bit floating-point" "$T/h" || exit 1; done)' "($(head -c 400 "$T/h"))"
+else
+    echo "# exrheader (Debian's openexr, make deps) is not installed: its check skipped"
+fi
 if command -v bash > /dev/null; then
     got=$(bash -c '. tools/strata.bash-completion; COMP_WORDS=("$@"); COMP_CWORD=$(($# - 1)); _strata; echo "${COMPREPLY[*]}"' _ "$S" render --aov albedo,no)
     check "the completion completes the last AOV of a list" '[ "$got" = "albedo,normal" ]' "(got '$got')"
