@@ -217,7 +217,8 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
                     st_error *err);
 
 /* A look at the film while a render runs (--display-server): after a wave,
- * once `seconds` have passed since the last look (or the render began), fn
+ * once `seconds` have passed since the last look (or the render began), and
+ * four times the last look's own time (the callback's included), fn
  * gets the image so far: R, G, B of the crop's window (or the image), placed
  * as st_render's image, its sums divided on the host as resolve_film divides
  * them (not the final image, which st_render returns; nothing is counted).

@@ -78,7 +78,7 @@ static int has_negative_lobes(const st_filter *f)
  * samples and filter (st_render_options.aov), its channels, or for a split
  * render its raw sums (st_film.h, under its layer's prefix), appended to out. */
 static st_status add_aovs(const st_cli_render_args *a, const st_cli_session *s, int part,
-                          st_image *out, st_error *err)
+                          st_image *out, double *seconds, st_error *err)
 {
     st_status rc = ST_OK;
     for (st_u32 k = 1; k < ST_AOV_COUNT && rc == ST_OK; k++) {
@@ -89,7 +89,9 @@ static st_status add_aovs(const st_cli_render_args *a, const st_cli_session *s, 
         o.aov = k;
         st_image img = {0}, add = {0};
         st_i64 *sums = NULL;
-        rc = st_render(s->renderer, &o, &img, part ? &sums : NULL, NULL, NULL, NULL, err);
+        st_render_stats st = {0};
+        rc = st_render(s->renderer, &o, &img, part ? &sums : NULL, &st, NULL, NULL, err);
+        *seconds += st.seconds;
         if (rc == ST_OK && part)
             rc = st_film_to_image(sums, img.width, img.height, l->layer, &add, err);
         else if (rc == ST_OK && (rc = st_image_create(&add, img.width, img.height, l->channels,
@@ -157,6 +159,7 @@ int st_cli_render(int argc, char **argv)
     st_render_region(&a.opt, region);
     st_i64 *sums = NULL;
     st_cli_display disp; /* --display-server */
+    double aov_seconds = 0.0;
     int opened = st_cli_session_open(&a, &s, &err) == ST_OK;
     if (opened && a.display_server) {
         st_cli_display_init(&disp, a.display_server, a.outputs[0], a.opt.width, a.opt.height);
@@ -178,7 +181,7 @@ int st_cli_render(int argc, char **argv)
                   &err) ||
         (part ? st_film_to_image(sums, img.width, img.height, "", &rgb, &err)
               : st_cli_rgb_of(&img, &rgb, &err)) ||
-        st_image_append(&exr, &rgb, &err) || add_aovs(&a, &s, part, &exr, &err)) {
+        st_image_append(&exr, &rgb, &err) || add_aovs(&a, &s, part, &exr, &aov_seconds, &err)) {
         st_cli_progress_done(&prog);
         rc = st_cli_session_fail(&s, &err);
     } else {
@@ -190,8 +193,11 @@ int st_cli_render(int argc, char **argv)
         if (save_outputs(&a, &s, &st, &rgb, &exr, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
-        else if (!a.quiet)
+        else if (!a.quiet) {
             st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
+            if (a.aovs) /* passes of their own, after the image's */
+                printf("strata: AOVs rendered in %.3f s more\n", aov_seconds);
+        }
     }
     if (opened && a.display_server)
         st_cli_display_close(&disp);

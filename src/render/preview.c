@@ -14,6 +14,7 @@ void st_renderer_set_preview(st_renderer *r, double seconds, st_preview_fn fn, v
     r->preview.fn = fn;
     r->preview.ctx = ctx;
     r->preview.seconds = seconds;
+    r->preview.cost = 0.0;
 }
 
 /* I = Σ f L / Σ f of one channel, the kernel's float operations in its order. */
@@ -26,8 +27,11 @@ static float resolve(st_i64 sum, float w)
 st_status st_render_preview(st_renderer *r, st_wave *w, const st_render_options *o,
                             const st_u32 win[4], st_error *err)
 {
-    double now = st_render_now();
-    if (now - r->preview.last < r->preview.seconds)
+    /* at most every `seconds`, and, where a look costs more than a fifth of
+     * that (a large image), four times its cost apart: a viewer never takes
+     * more than a fifth of the render */
+    double now = st_render_now(), gap = 4.0 * r->preview.cost;
+    if (now - r->preview.last < (gap > r->preview.seconds ? gap : r->preview.seconds))
         return ST_OK;
     static const char *const names[3] = {"R", "G", "B"};
     size_t pixels = (size_t)o->width * o->height;
@@ -55,6 +59,7 @@ st_status st_render_preview(st_renderer *r, st_wave *w, const st_render_options 
         }
         r->preview.fn(r->preview.ctx, &img);
         r->preview.last = st_render_now(); /* the interval runs from the end of this look */
+        r->preview.cost = r->preview.last - now;
     }
     st_image_free(&img);
     free(film);

@@ -87,7 +87,7 @@ struct st_renderer {
     struct {             /* st_renderer_set_preview */
         st_preview_fn fn;
         void *ctx;
-        double seconds, last;
+        double seconds, last, cost; /* the interval; the last look's end and its seconds */
     } preview;
     st_plan plan;        /* the last render's (st_plan_make) */
     /* the kernels the last render launched, in order, and their description

@@ -33,6 +33,8 @@ for f in box gaussian; do
     check "no such note with $f" '! grep -q "denoisers" "$T/err"'
 done
 check "the EXR header names the AOVs" 'grep -aq "normal,depth" "$T/m.exr"'
+"$S" render $M --width 24 --height 16 --spp 4 --aov depth --filter box -o "$T/s.exr" > "$T/out" 2> /dev/null
+check "the summary gives the AOVs' time apart" 'grep -q "^strata: AOVs rendered in [0-9.]* s more$" "$T/out"' "($(cat "$T/out"))"
 if command -v exrheader > /dev/null; then # Debian's openexr (make deps)
     exrheader "$T/m.exr" > "$T/h" 2>&1
     check "exrheader lists N.X/Y/Z and Z as 32-bit floats beside R, G, B" \
