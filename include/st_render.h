@@ -85,6 +85,10 @@ typedef struct st_aov_layout {
     const char *channel[3];
 } st_aov_layout;
 extern const st_aov_layout st_aov_layouts[ST_AOV_COUNT];
+/* AOV aov's channels, named as st_aov_layouts says, from the first of a
+ * render's (or resolve's) image of it; *out placed as it. ST_ERR_NOMEM. */
+st_status st_render_aov_image(const st_image *rendered, st_u32 aov, st_image *out,
+                              st_error *err);
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
  * ST_RECON_*; st_name_lookup returns the index or -1. Sampler and filter

@@ -180,15 +180,10 @@ static st_status add_aovs(st_device *dev, st_i64 *const *total, st_u32 w, st_u32
     for (st_u32 k = 1; k < ST_AOV_COUNT && rc == ST_OK; k++) {
         if (!total[k])
             continue;
-        const st_aov_layout *l = &st_aov_layouts[k];
         st_image resolved = {0}, add = {0};
         if ((rc = st_render_resolve(dev, total[k], w, h, k, &resolved, NULL, err)) == ST_OK &&
-            (rc = st_image_create(&add, w, h, l->channels, l->channel, err)) == ST_OK) {
-            for (size_t i = 0; i < (size_t)w * h; i++)
-                for (st_u32 c = 0; c < l->channels; c++)
-                    add.data[l->channels * i + c] = resolved.data[resolved.channels * i + c];
+            (rc = st_render_aov_image(&resolved, k, &add, err)) == ST_OK)
             rc = st_image_append(exr, &add, err);
-        }
         st_image_free(&resolved);
         st_image_free(&add);
     }

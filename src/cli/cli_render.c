@@ -92,13 +92,9 @@ static st_status add_aovs(const st_cli_render_args *a, const st_cli_session *s, 
         st_render_stats st = {0};
         rc = st_render(s->renderer, &o, &img, part ? &sums : NULL, &st, NULL, NULL, err);
         *seconds += st.seconds;
-        if (rc == ST_OK && part)
-            rc = st_film_to_image(sums, img.width, img.height, l->layer, &add, err);
-        else if (rc == ST_OK && (rc = st_image_create(&add, img.width, img.height, l->channels,
-                                                      l->channel, err)) == ST_OK)
-            for (size_t i = 0; i < (size_t)img.width * img.height; i++)
-                for (st_u32 c = 0; c < l->channels; c++)
-                    add.data[l->channels * i + c] = img.data[img.channels * i + c];
+        if (rc == ST_OK)
+            rc = part ? st_film_to_image(sums, img.width, img.height, l->layer, &add, err)
+                      : st_render_aov_image(&img, k, &add, err);
         if (rc == ST_OK)
             rc = st_image_append(out, &add, err);
         free(sums);
@@ -176,9 +172,11 @@ int st_cli_render(int argc, char **argv)
     st_cli_progress_init(&prog, "render", a.quiet);
     if (!a.opt.adaptive) /* an adaptive render's samples are not known in advance */
         st_cli_progress_work(&prog, (double)region[2] * region[3] * (last - first), "samples");
-    if (!opened ||
-        st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st, st_cli_progress, &prog,
-                  &err) ||
+    int failed = !opened || st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st,
+                                      st_cli_progress, &prog, &err) != ST_OK;
+    if (!failed && a.display_server) /* the final image, as the outputs hold it */
+        st_cli_display_show(&disp, &img, 1);
+    if (failed ||
         (part ? st_film_to_image(sums, img.width, img.height, "", &rgb, &err)
               : st_cli_rgb_of(&img, &rgb, &err)) ||
         st_image_append(&exr, &rgb, &err) || add_aovs(&a, &s, part, &exr, &aov_seconds, &err)) {
@@ -186,8 +184,6 @@ int st_cli_render(int argc, char **argv)
         rc = st_cli_session_fail(&s, &err);
     } else {
         st_cli_progress_done(&prog);
-        if (a.display_server) /* the final image, as the outputs hold it */
-            st_cli_display_show(&disp, &img, 1);
         st_image_place_like(&rgb, &img); /* a crop's window in the image */
         st_image_place_like(&exr, &img);
         if (save_outputs(&a, &s, &st, &rgb, &exr, &err) != ST_OK ||
