@@ -1,7 +1,7 @@
 /* render_names.c — the names of the render's kernels and of its options'
  * values, by their enums (st_render.h, render_int.h): the lowest file of the
  * renderer, read by the scene's upload when it looks the kernels up and by
-  * the pass loop and the command line; and an AOV's channels under its names. */
+ * the pass loop and the command line; and an AOV's channels under its names. */
 #include "render_int.h"
 
 const char *const st_stage_names[ST_STAGE_COUNT] = {
