@@ -13,7 +13,8 @@
  *    difference of averaging over a pixel), the depth AOV |P - eye|, and
  *    pixels that see nothing hold 0;
  *  - split renders (sample ranges) whose raw sums add, resolved by
- *    st_render_resolve with the AOV, equal the whole AOV render bit for bit. */
+ *    st_render_resolve with the AOV, equal the whole AOV render bit for bit;
+ *  - a cut-out is seen through. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -182,6 +183,31 @@ static void aov_parts_merge_bit_exactly(void **state)
     }
 }
 
+/* Through a cut-out: tests/scenes/cutout.gltf, a red quad whose left half
+ * is cut out (alpha 0) over a green one, seen by an orthographic camera. The
+ * albedo is green where the camera ray passes through the cut-out (the
+ * path's second vertex) and red elsewhere. (A scene with cut-outs never
+ * traces its last vertex against the emitters alone: plan.c.) Box filter:
+ * each pixel lies in one half. */
+static void aov_sees_through_cutouts(void **state)
+{
+    (void)state;
+    st_render_options o = st_render_defaults();
+    o.width = o.height = N;
+    o.spp = 4;
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    st_image img = render_aov("tests/scenes/cutout.gltf", ST_AOV_ALBEDO, &o, NULL);
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            const float *a = px(&img, x, y);
+            float want_r = x < N / 2 ? 0.0f : 1.0f;
+            if (!(fabsf(a[0] - want_r) < 1e-5f && fabsf(a[1] - (1.0f - want_r)) < 1e-5f &&
+                  fabsf(a[2]) < 1e-5f))
+                fail_msg("pixel (%d, %d): albedo (%g, %g, %g)", x, y, a[0], a[1], a[2]);
+        }
+    st_image_free(&img);
+}
+
 /* An adaptive render's samples follow its radiance: refused with an AOV. */
 static void aov_refuses_adaptive(void **state)
 {
@@ -201,6 +227,7 @@ int main(void)
         cmocka_unit_test(plane_gives_its_albedo_normal_depth_position),
         cmocka_unit_test(sphere_normals_point_away_from_its_centre),
         cmocka_unit_test(aov_parts_merge_bit_exactly),
+        cmocka_unit_test(aov_sees_through_cutouts),
         cmocka_unit_test(aov_refuses_adaptive),
     };
     return cmocka_run_group_tests(tests, device_setup, device_teardown);
