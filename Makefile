@@ -8,6 +8,10 @@ DEB_PACKAGES := pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo \
                 clang libclang-rt-14-dev oclgrind parallel pkg-config gcc g++ make help2man \
                 python3-scipy libembree-dev slurm-wlm munge
 
+# OpenEXR's tools: exrheader reads the AOV channels' names and types back
+# (tests/cli/test_aov_cli.sh)
+DEB_PACKAGES += openexr
+
 PKGS     := OpenCL stb cairo fftw3
 
 # The version `strata --version` prints and writes into its files: the
@@ -76,16 +80,23 @@ deps:
 	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
-	@$(MAKE) --no-print-directory $(PYEXR)
+	@$(MAKE) --no-print-directory $(PYEXR) $(PYOIDN)
 
 # OpenEXR's Python binding (pip's OpenEXR: Debian 12 packages none), in a venv
 # of its own, for the test that reads strata's EXRs with another library
 # (tests/cli/test_exr_python.sh). Without a network it is left out with a note,
-# and that test skips saying so.
+# and that test skips saying so. Open Image Denoise's Python package (oidn,
+# which bundles the library) joins it for the denoising check of
+# tests/cli/test_aov_cli.sh (the stamp marks it installed), skipped with a note
+# where pip cannot install it.
 PYEXR := build/pyexr/bin/python
+PYOIDN := build/pyexr/oidn.stamp
 $(PYEXR):
 	@python3 -m venv build/pyexr && build/pyexr/bin/pip install -q OpenEXR numpy \
 	  || { rm -rf build/pyexr; echo "deps: OpenEXR's Python binding unavailable (pip failed); tests/cli/test_exr_python.sh will skip"; }
+$(PYOIDN): | $(PYEXR)
+	@[ -x $(PYEXR) ] && build/pyexr/bin/pip install -q oidn && touch $@ \
+	  || echo "deps: Open Image Denoise's Python package (oidn) unavailable (pip failed); tests/cli/test_aov_cli.sh skips its denoising check"
 
 strata: $(BUILD)/strata
 	cp $< $@

@@ -15,13 +15,17 @@
 
 #define ST_FILM_CHANNELS (2 * ST_FILM_SUMS) /* each sum as (hi, lo) */
 
-/* The sums (4 per pixel) as an image of ST_FILM_CHANNELS UINT channels. */
-st_status st_film_to_image(const st_i64 *sums, st_u32 width, st_u32 height, st_image *out,
-                           st_error *err);
+/* The sums (4 per pixel) as an image of ST_FILM_CHANNELS UINT channels,
+ * their names prefixed by layer ("" for the image's radiance; an AOV's
+ * "Albedo." gives Albedo.sum.R.hi, ...: st_aov_layouts). */
+st_status st_film_to_image(const st_i64 *sums, st_u32 width, st_u32 height, const char *layer,
+                           st_image *out, st_error *err);
 /* Reads the sums back from such an image (channels found by name); *sums is
  * malloc'ed (caller frees). ST_ERR_FORMAT naming `path` when a channel is
  * missing or not UINT. */
-st_status st_film_from_image(const st_image *img, const char *path, st_i64 **sums,
-                             st_error *err);
+st_status st_film_from_image(const st_image *img, const char *path, const char *layer,
+                             st_i64 **sums, st_error *err);
+/* Whether img holds the raw sums of `layer` (its first channel, by name). */
+int st_film_has_layer(const st_image *img, const char *layer);
 
 #endif

@@ -1,6 +1,6 @@
 /* st_image.h — images in memory and their files: OpenEXR (float/uint channels) and PNG (8-bit sRGB).
  *
- * An st_image is a rectangle of width x height pixels with 1..8 named channels, stored row-major and
+ * An st_image is a rectangle of width x height pixels with 1..48 named channels, stored row-major and
  * channel-interleaved: sample (x, y, c) lives at index (y*width + x)*channels + c. Every sample takes
  * 4 bytes; FLOAT channels are read and written through `data`, UINT channels through `udata`. In an
  * image made by st_image_create or a load function the two pointers address the SAME buffer (one
@@ -25,7 +25,7 @@
 
 #include <stdint.h>
 
-#define ST_IMAGE_MAX_CHANNELS 8
+#define ST_IMAGE_MAX_CHANNELS 48
 /* The most samples (pixels x channels, 4 GiB of floats) an EXR may declare to be read: a header
  * is only a claim, and found by fuzzing (tests/fuzz/fuzz_exr.c), a 100-byte file asked for 12 GB. */
 #define ST_IMAGE_MAX_SAMPLES ((uint64_t)1 << 30)
@@ -64,8 +64,8 @@ typedef struct st_attr {
  * pixels without weight), written as EXR ints (as doubles from 2^31 on). */
 #define ST_EXR_INT_ATTRS "strata.clamped_splats", "strata.nonfinite", "strata.zero_weight_pixels"
 
-/* Allocates a w x h image of `channels` (1..8) zeroed FLOAT channels. names: `channels` distinct,
- * non-empty names of at most 31 bytes, or NULL for "R","G","B","A" (channels <= 4) or "C0".."C7".
+/* Allocates a w x h image of `channels` (1..48) zeroed FLOAT channels. names: `channels` distinct,
+ * non-empty names of at most 31 bytes, or NULL for "R","G","B","A" (channels <= 4) or "C0".."C47".
  * Set img->types[c] = ST_PIXEL_UINT afterwards for integer channels. On failure *img is zeroed.
  * Errors: ST_ERR_USAGE (bad size or names), ST_ERR_NOMEM. Free with st_image_free. */
 st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channels,
@@ -80,6 +80,11 @@ void st_image_place_like(st_image *dst, const st_image *src);
 
 /* Index of the channel called `name`, or -1. */
 int st_image_find_channel(const st_image *img, const char *name);
+/* Appends src's channels (names and types) after dst's, src the same size;
+ * dst's placement stays; a zeroed dst (no channels) becomes a copy of src's
+ * pixels. ST_ERR_USAGE (sizes, too many channels, a name in
+ * both), ST_ERR_NOMEM; on failure dst is unchanged. */
+st_status st_image_append(st_image *dst, const st_image *src, st_error *err);
 
 /* Writes a single-part scanline EXR, ZIP-compressed, every channel as stored (FLOAT as 32-bit
  * float, UINT as 32-bit uint, so values round-trip bit for bit), data window (0,0)-(w-1,h-1) (with a
@@ -92,7 +97,7 @@ st_status st_image_save_exr(const char *path, const st_image *img, const st_attr
                             st_error *err);
 
 /* Reads the first part of a scanline or tiled EXR (level 0 of a mip/rip map) whose channels are
- * FLOAT, HALF or UINT (HALF widened to float, exactly) and not subsampled, at most 8 of them.
+ * FLOAT, HALF or UINT (HALF widened to float, exactly) and not subsampled, at most 48 of them.
  * Channels come back in file order, which OpenEXR sorts by name (R,G,B is stored as B,G,R): use
  * st_image_find_channel. The data window becomes the image; x0, y0 keep its
  * origin relative to the display window's, display_width/height the display window's size. attrs/nattrs:

@@ -46,6 +46,10 @@ typedef struct st_render_options {
      * textures are filtered (the scene itself is never changed) */
     st_i32 camera;     /* index into scene->cameras; -1: scene->default_camera;
                           ST_CAMERA_AUTO: scene->auto_camera */
+    int look_at_given; /* 1: look_at replaces that camera (st_render_view_camera) */
+    float look_at[9];  /* --look-at: eye, target and up, in the scene's units */
+    float fov;         /* --fov: vertical field of view, degrees, of the view's
+                          (perspective) camera; 0: the camera's own */
     int env_given;     /* 1: env below; 0: the default (st_render_env) */
     float env[3];      /* the environment's radiance, linear RGB: uniform, or the map's
                           scale */
@@ -66,7 +70,25 @@ typedef struct st_render_options {
                           driver that compiles a kernel at its first launch (PoCL) compiles
                           all of a render's in a small warm-up render of its options */
     st_u32 packet_path; /* ST_PACKET_* (--packets) */
+    st_u32 aov;        /* ST_AOV_* (st_shared.h): render that AOV over the same samples
+                          instead of radiance (R, G, B: its value; depth in R); NONE */
 } st_render_options;
+
+/* The AOVs by ST_AOV_* (NONE's entry empty): the name --aov takes, and the
+ * channels an EXR holds, as pbrt-v4's GBufferFilm and OpenEXR's conventions
+ * name them (Albedo.R/G/B, N.X/Y/Z, P.X/Y/Z, Z), the first `channels` of
+ * the AOV render's R, G, B; `layer` prefixes its raw sums in a split
+ * render's part (st_film.h). */
+typedef struct st_aov_layout {
+    const char *name, *layer;
+    st_u32 channels;
+    const char *channel[3];
+} st_aov_layout;
+extern const st_aov_layout st_aov_layouts[ST_AOV_COUNT];
+/* AOV aov's channels, named as st_aov_layouts says, from the first of a
+ * render's (or resolve's) image of it; *out placed as it. ST_ERR_NOMEM. */
+st_status st_render_aov_image(const st_image *rendered, st_u32 aov, st_image *out,
+                              st_error *err);
 
 /* Names on the command line, indexed by ST_INTEGRATOR_* /
  * ST_RECON_*; st_name_lookup returns the index or -1. Sampler and filter
@@ -121,6 +143,13 @@ int st_renderer_packets(const st_renderer *r, const st_render_options *o);
  * launched, in order ("lanes 8: generate_rays, trace_rays,
  * ..."); valid until the next call or render. */
 const char *st_renderer_ran(st_renderer *r);
+/* The camera a render of o sees: the scene's (st_scene_view_camera of
+ * o->camera), or o->look_at's (st_scene_look_at; yfov: o->fov, else a
+ * perspective camera's own, else 40 degrees), with o->fov as its field of
+ * view where given. ST_ERR_USAGE "camera ...", "look at ..." or "fov ...";
+ * --fov on an orthographic camera (it has none). */
+st_status st_render_view_camera(const st_scene *scene, const st_render_options *o,
+                                st_scene_camera *out, st_error *err);
 /* The environment radiance a render of scene with options o sees (a map's
  * scale where o has a map): o->env where given, else 1 with a map and
  * the scene's default lighting (st_scene.default_env) without. */
@@ -191,11 +220,23 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
                     st_render_stats *stats, st_progress_fn progress, void *progress_ctx,
                     st_error *err);
 
+/* A look at the film while a render runs (--display-server): after a wave,
+ * once `seconds` have passed since the last look (or the render began), and
+ * four times the last look's own time (the callback's included), fn
+ * gets the image so far: R, G, B of the crop's window (or the image), placed
+ * as st_render's image, its sums divided on the host as resolve_film divides
+ * them (not the final image, which st_render returns; nothing is counted).
+ * The image is valid during the call. AOV renders show none. NULL fn: no
+ * look; it lasts until set again. */
+typedef void (*st_preview_fn)(void *ctx, const st_image *so_far);
+void st_renderer_set_preview(st_renderer *r, double seconds, st_preview_fn fn, void *ctx);
+
 /* Resolves raw sums (ST_FILM_SUMS per pixel, as st_render returns them) on the device
- * with the render's own resolve_film kernel, so a merged split render equals
+ * with the render's own resolve_film kernel (aov: the ST_AOV_* they hold, whose
+ * values keep their sign), so a merged split render equals
  * one render of all the samples bit for bit. *out: R, G, B, W as st_render;
  * stats (may be NULL) gets the zero-weight and non-finite counts. */
 st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st_u32 height,
-                            st_image *out, st_render_stats *stats, st_error *err);
+                            st_u32 aov, st_image *out, st_render_stats *stats, st_error *err);
 
 #endif

@@ -84,7 +84,7 @@ typedef struct st_scene {
     st_scene_camera default_camera; /* the view of a render that names no camera:
                                        cameras[0], or the default framing */
     st_scene_camera auto_camera;    /* the default framing (--camera auto): the bounds seen
-                                       through their largest face, a little from above */
+                                       from the front (+Z), a little above and to the side */
     st_u32 camera_count;   /* camera nodes, depth first in scene order */
     st_scene_camera *cameras;
     st_u32 punctual_count; /* KHR_lights_punctual lights, depth first in scene order */
@@ -114,8 +114,9 @@ typedef struct st_scene {
    (embedded in the binary); anything else -> a file path.
    Cameras: every camera node, depth first in scene order; it looks down its
    world -Z with +Y up (made orthogonal to forward), from its world
-   translation. scene->default_camera is the first of them. Without one, a default
-   perspective camera looks along -Z from the +Z side of the bounds, yfov 40
+   translation. scene->default_camera is the first of them. Without one, the
+   default framing (auto_camera): a perspective camera from glTF's front (+Z),
+   a little above and to the right, looking at the bounds' centre, yfov 40
    degrees, at the distance where the bounding sphere fits the vertical field
    of view. A scene with no triangle left is ST_ERR_FORMAT.
    On success *out is a new scene (st_scene_destroy frees it); on error *out is
@@ -137,6 +138,14 @@ st_u32 st_scene_content_hash(const st_scene *scene);
    ST_ERR_USAGE when index >= camera_count (the message says how many). */
 st_status st_scene_view_camera(const st_scene *scene, st_i32 index, st_scene_camera *out,
                                st_error *err);
+
+/* A perspective camera at eye looking at target, yfov radians (0 < yfov <
+   pi), with `up` (any vector not along the view) made orthogonal to the
+   view as the image's up. ST_ERR_USAGE "look at ..." where eye and target
+   coincide or up lies along the view; every value must be finite. Pure.
+   Tests: test_scene.c look_at_*. */
+st_status st_scene_look_at(const float eye[3], const float target[3], const float up[3],
+                           float yfov, st_scene_camera *out, st_error *err);
 
 /* Names of the built-in scenes, for --scene-list: fills up to max names, returns the count.
    The count returned is the number of names written (<= max). The names

@@ -96,7 +96,8 @@ for f in none trilinear; do
 done
 pic textures/soft-shadows.png render soft-shadows --width 384 --height 288 --spp 256 --quiet -o @
 # the environment maps' orientation: the compass map itself, and seen through a
-# camera looking along -Z (metal spheres reflect it), then turned by 90 degrees
+# camera looking along -Z at the grid of spheres' centre (metal spheres reflect
+# it), then turned by 90 degrees
 pic_with "$M" envmap/compass.png compass @ 256 128
 pic_with "$M" envmap/sky.png sky @ 256 128
 K=../shared/scenes/khronos
@@ -104,6 +105,7 @@ if [ -d $K ]; then
     SPHERES=$K/MetalRoughSpheresNoTextures/MetalRoughSpheresNoTextures.gltf
     for deg in 0 90; do
         pic envmap/compass-rotate-$deg.png render $SPHERES --width 160 --height 120 --spp 16 \
+            --look-at 0.00277,0.00274,0.011,0.00277,0.00274,-0.0015 --fov 40 \
             --env $E/compass.hdr --env-rotate $deg --quiet -o @
     done
     for f in $(sed -n 's/^| [A-Za-z]* | `\([^`]*\.gl[tb]f*\)` |.*/\1/p' $K/INDEX.md); do

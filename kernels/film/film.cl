@@ -721,9 +721,9 @@ __kernel void splat_tiles(ST_STAGE_PARAMS, __local long4 *acc)
 
 /* Reads film; writes image: I = Σ f L / Σ f wherever Σ f != 0 (the
  * lecture's definition; a negative sum from negative filter lobes divides
- * too, as in pbrt), negative values clamped to 0; a pixel whose weight sum
- * is 0 (no definition), or whose value is not finite, becomes 0 and is
- * counted. ST_W pixels a work-item: region pixels ST_W w .. ST_W w + n - 1
+ * too, as in pbrt), negative values of radiance clamped to 0 (not an AOV's);
+ * a pixel whose weight sum is 0 (no definition), or whose value is not
+ * finite, becomes 0 and is counted. ST_W pixels a work-item: region pixels ST_W w .. ST_W w + n - 1
  * (a crop resolves its window only), their sums gathered (lanes past n
  * repeat the last pixel and are neither stored nor counted), the
  * arithmetic in lanes, each lane the operations of width 1, and the
@@ -745,8 +745,12 @@ __kernel void resolve_film(ST_FILM_PARAMS)
     v = st_lv3_div(st_lv3_scale(v, ST_LF(1.0f / ST_FIXED_SCALE)), w);
     st_li used = ST_IOTA(ST_W) < (st_li)((int)n), zero = w == ST_LF(0.0f);
     st_li finite = isfinite(v.x) & isfinite(v.y) & isfinite(v.z);
-    st_lv3 kept = st_lv3_make(ST_FMAXF(v.x, ST_LF(0.0f)), ST_FMAXF(v.y, ST_LF(0.0f)),
-                              ST_FMAXF(v.z, ST_LF(0.0f)));
+    /* radiance's negative values (the filters' negative lobes) clamped to 0;
+     * an AOV keeps its sign (normals, positions) */
+    st_lv3 kept = p.aov != ST_AOV_NONE
+                      ? v
+                      : st_lv3_make(ST_FMAXF(v.x, ST_LF(0.0f)), ST_FMAXF(v.y, ST_LF(0.0f)),
+                                    ST_FMAXF(v.z, ST_LF(0.0f)));
     v = st_lv3_select(st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), kept, !zero & finite);
     st_u32 nonfinite = popcount(ST_MASK_BITS(ST_W, used & !zero & !finite)),
            unweighted = popcount(ST_MASK_BITS(ST_W, used & zero));

@@ -79,6 +79,28 @@ static void ray_store(__global st_ray *r, float3 o, float3 d, float path_length)
     r->path_length = path_length;
 }
 
+/* An AOV render's value (st_params.aov; ST_AOV_* in st_shared.h) at the hit
+ * h of the camera ray from o along d, travelled long from the camera: the
+ * base colour a.base, the interpolated vertex normal turned, as the
+ * integrator turns it (vertex_surface), to the side of the geometric
+ * normal ng that faces the ray, the hit point, or its distance (in R). */
+static float3 aov_value(const st_params *p, st_hit h, float3 o, float3 d, float3 ng,
+                        __global const st_tri_normals *n, const st_material_at *a,
+                        float travelled)
+{
+    if (p->aov == ST_AOV_ALBEDO)
+        return a->base.xyz;
+    if (p->aov == ST_AOV_POSITION)
+        return o + d * h.t;
+    if (p->aov == ST_AOV_DEPTH)
+        return (float3)(travelled, 0.0f, 0.0f);
+    float3 ns = (1.0f - h.u - h.v) * vload4(0, n->n0).xyz + h.u * vload4(0, n->n1).xyz +
+                h.v * vload4(0, n->n2).xyz;
+    ns = normalize(ns);
+    float3 facing = dot(ng, d) > 0.0f ? -ng : ng;
+    return dot(ns, facing) < 0.0f ? -ns : ns;
+}
+
 /* Lane k's sample dimensions at its depth, where the vertex reads them
  * (integrator.h's u): 0 and 1 for next-event estimation, 2 and 3 for the
  * bounce, and 5 for Russian roulette where it plays. The random sampler's
@@ -202,6 +224,10 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     set_lane3(l->rad, k, vload3(0, gp->radiance));
     l->bsdf_pdf[k] = gp->bsdf_pdf;
     l->depth[k] = depth;
+    if (h.prim == ST_NO_HIT && p->aov != ST_AOV_NONE) { /* an AOV of nothing: 0 */
+        gp->depth = ST_PATH_DEAD;
+        return 0;
+    }
     if (h.prim == ST_NO_HIT) { /* the environment, weighed in lanes (seen_emission) */
         float pdf = gp->env_pdf;
         float3 le = env_lit(sh) ? env_radiance(s, sh, d, &pdf) : (float3)(0.0f);
@@ -231,6 +257,11 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     if (alpha_passes_keyed(p, &a, smp, h.prim, depth, ST_PATH_ALPHA_KEY)) { /* go on through */
         ray_store(r, pos + d * p->ray_eps, d, travelled);
         b->through |= 1u << k;
+        return 0;
+    }
+    if (p->aov != ST_AOV_NONE) { /* what the camera ray sees, and no more */
+        vstore3(aov_value(p, h, o, d, ng, n, &a, travelled), 0, gp->radiance);
+        gp->depth = ST_PATH_DEAD;
         return 0;
     }
     if (a.flags & ST_MAT_UNLIT) {

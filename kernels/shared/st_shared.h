@@ -143,6 +143,22 @@ typedef float st_f32;
 #define ST_INTEGRATOR_DIRECT 0u
 #define ST_INTEGRATOR_PATH 1u
 
+/* Arbitrary output variables (--aov; st_params.aov): a render of one of them
+ * takes the beauty render's samples (the same camera rays, pixel positions
+ * and filter weights) and splats, in place of radiance, what the camera ray
+ * meets first: the base colour (material x texture x vertex colour), the
+ * shading normal (the vertex normals interpolated, turned to face the ray;
+ * normal maps not applied), the hit point, or its distance from the camera
+ * (along the ray: from the eye, or from an orthographic camera's plane).
+ * A ray that meets nothing splats 0. Values keep their sign: resolve_film
+ * clamps radiance alone. Tests: tests/device/test_aov.c. */
+#define ST_AOV_NONE 0u
+#define ST_AOV_ALBEDO 1u
+#define ST_AOV_NORMAL 2u
+#define ST_AOV_POSITION 3u
+#define ST_AOV_DEPTH 4u
+#define ST_AOV_COUNT 5u
+
 /* Halton pixel mapping (pbrt-v4 HaltonSampler): the first two dimensions are
  * scaled by 2^j >= min(width, 128) and 3^k >= min(height, 128), so the pixel
  * pattern repeats every 128 x 243 pixels at most. */
@@ -480,6 +496,7 @@ typedef struct st_params {
     /* 1 where trace_rays takes its items in the order of the wave's
      * `order` (order.cl: sorted by ray) instead of the list's */
     st_u32 ordered;
+    st_u32 aov; /* ST_AOV_*: what the first vertex splats; NONE: radiance */
 } st_params;
 
 /* ---- the wavefront state and the film --------------------------------------
@@ -823,7 +840,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_params, filter)                                                                    \
     X(st_params, camera) X(st_params, region_x) X(st_params, region_y)                      \
     X(st_params, region_w) X(st_params, region_h) X(st_params, last_lights)                 \
-    X(st_params, bin_pass) X(st_params, area_lanes)                                         \
+    X(st_params, bin_pass) X(st_params, area_lanes) X(st_params, aov)                       \
     X(st_sample, film) X(st_sample, pixel) X(st_sample, index) X(st_sample, key)           \
     X(st_sample, word)                                                                      \
     X(st_ray, o) X(st_ray, tmax) X(st_ray, d) X(st_ray, path_length)                        \
@@ -866,7 +883,7 @@ ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 272, "st_params: 272 bytes");
+ST_STATIC_ASSERT(sizeof(st_params) == 280, "st_params: 280 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 24, "st_sample: 24 bytes");
 ST_STATIC_ASSERT(sizeof(st_ray) == 32, "st_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");

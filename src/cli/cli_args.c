@@ -9,6 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "cli_display.h"
 #include "cli_error.h"
 #include "cli_names.h"
 #include "st_trace_bench.h"
@@ -62,8 +63,12 @@ static const char render_help[] =
     "  --texture-filter none|bilinear|trilinear   texture lookups: nearest texel, bilinear,\n"
     "                         or mip-mapped trilinear with ray-cone footprints (default)\n"
     "  --camera N|auto        the scene's N-th camera node (0 = the first, in scene order), or\n"
-    "                         auto: frame the bounds through their largest face, from above a\n"
-    "                         little (the default for a file without cameras)\n"
+    "                         auto: the whole model from its front (glTF's +Z), a little\n"
+    "                         above and to the side (the default for a file without cameras)\n"
+    "  --look-at EX,EY,EZ,TX,TY,TZ[,UX,UY,UZ]   look from the eye E at the target T, up U\n"
+    "                         (default +Y), in the scene's units, instead of the scene's camera\n"
+    "  --fov DEGREES          vertical field of view of the camera (default: the camera's own;\n"
+    "                         40 for --look-at over an orthographic one)\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
     "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
@@ -87,6 +92,13 @@ static const char render_help[] =
     "  --threads N            run on N of a CPU device's compute units (an OpenCL sub-device)\n"
     "                         and build the BVH on at most N threads (default all; the image\n"
     "                         does not change)\n"
+    "  --aov LIST             also write albedo, normal, depth, position (comma-separated)\n"
+    "                         into the EXR, beside R, G, B: Albedo.R/G/B, N.X/Y/Z (shading\n"
+    "                         normal, world space), Z (distance from the camera), P.X/Y/Z,\n"
+    "                         each filtered as the image is (EXR only; not with --adaptive)\n"
+    "  --display-server HOST:PORT   show the image in the tev viewer while it renders\n"
+    "                         (tev's default: localhost:14158); a viewer that is not there\n"
+    "                         is a warning, and the render goes on\n"
     "  --exposure EV          PNG only: scale by 2^EV before the tone curve (default 0)\n"
     "  --tonemap NAME         PNG only: clamp (default), reinhard or filmic; an EXR stays linear\n"
     "  --scene-list           list the built-in scenes and exit\n"
@@ -99,7 +111,7 @@ enum {
     O_B, O_C, O_SIGMA, O_TAU, O_SEED, O_INTEGRATOR, O_DEPTH, O_DEVICE, O_WAVE, O_LOCAL,
     O_SCENE_LIST, O_QUIET, O_JSON, O_RECON, O_ADAPTIVE, O_MIN_SPP, O_MAX_SPP, O_THRESHOLD,
     O_SPP_MAP, O_ENV, O_ENV_ROTATE, O_TEXFILTER, O_CAMERA, O_RAYS, O_COUNT, O_THREADS, O_EXPOSURE, O_TONEMAP, O_CROP,
-    O_PACKETS, O_LANES, O_COLD, O_PART
+    O_PACKETS, O_LANES, O_COLD, O_PART, O_LOOK_AT, O_FOV, O_AOV, O_DISPLAY
 };
 
 static const struct option options[] = {
@@ -135,6 +147,10 @@ static const struct option options[] = {
     {"env-rotate", required_argument, 0, O_ENV_ROTATE},
     {"texture-filter", required_argument, 0, O_TEXFILTER},
     {"camera", required_argument, 0, O_CAMERA},
+    {"look-at", required_argument, 0, O_LOOK_AT},
+    {"fov", required_argument, 0, O_FOV},
+    {"aov", required_argument, 0, O_AOV},
+    {"display-server", required_argument, 0, O_DISPLAY},
     {"threads", required_argument, 0, O_THREADS},
     {"lanes", required_argument, 0, O_LANES},
     {"exposure", required_argument, 0, O_EXPOSURE},
@@ -188,7 +204,7 @@ const st_cli_option_name st_cli_render_option_names[] = {
     {"filter radius", "--filter-radius"}, {"filter b", "--filter-b"},
     {"filter c", "--filter-c"}, {"filter sigma", "--filter-sigma"},
     {"filter tau", "--filter-tau"}, {"texture filter", "--texture-filter"},
-    {"camera", "--camera"}, {NULL, NULL}};
+    {"camera", "--camera"}, {"look at", "--look-at"}, {"fov", "--fov"}, {NULL, NULL}};
 
 int st_cli_option_words(st_error *err, const st_cli_option_name *names)
 {
@@ -347,6 +363,59 @@ static int parse_view_or_adaptive(int c, const char *v, int bench, st_cli_render
     }
 }
 
+/* --look-at: eye and target, and optionally up (default +Y), as 6 or 9
+ * finite numbers separated by commas (their geometry is checked with the
+ * scene's camera, st_render_view_camera). */
+static int parse_look_at(const char *v, st_render_options *o)
+{
+    float x[9] = {0, 0, 0, 0, 0, 0, 0, 1, 0};
+    int n = 0;
+    const char *s = v;
+    for (;;) {
+        char *end;
+        errno = 0;
+        float f = strtof(s, &end);
+        if (end == s || errno || !isfinite(f) || n == 9)
+            break;
+        x[n++] = f;
+        s = end;
+        if (*s != ',')
+            break;
+        s++;
+    }
+    if (*s != '\0' || (n != 6 && n != 9))
+        return st_cli_usage_error("--look-at %s: expected EX,EY,EZ,TX,TY,TZ or "
+                                  "EX,EY,EZ,TX,TY,TZ,UX,UY,UZ (finite numbers)", v);
+    memcpy(o->look_at, x, sizeof x);
+    o->look_at_given = 1;
+    return ST_CLI_OK;
+}
+
+/* --aov: names of st_aov_layouts, separated by commas, each once. */
+static int parse_aovs(const char *v, int bench, st_cli_render_args *a)
+{
+    const char *names[ST_AOV_COUNT - 1];
+    for (st_u32 k = 1; k < ST_AOV_COUNT; k++)
+        names[k - 1] = st_aov_layouts[k].name;
+    if (bench)
+        return st_cli_usage_error("--aov: only `strata render` writes them");
+    a->aovs = 0;
+    for (const char *s = v;;) {
+        size_t len = strcspn(s, ",");
+        char name[32];
+        snprintf(name, sizeof name, "%.*s", (int)(len < sizeof name ? len : sizeof name - 1), s);
+        int k = st_name_lookup(names, ST_AOV_COUNT - 1, name);
+        if (k < 0 || len >= sizeof name)
+            return st_cli_unknown_name("--aov", name, names, ST_AOV_COUNT - 1);
+        if (a->aovs & (1u << (k + 1)))
+            return st_cli_usage_error("--aov %s: %s given twice", v, name);
+        a->aovs |= 1u << (k + 1);
+        if (s[len] == '\0')
+            return ST_CLI_OK;
+        s += len + 1;
+    }
+}
+
 /* n decimal integers of 0..2^32-1 separated by sep, nothing else (no sign,
  * space or wrap-around: sscanf's %u takes "4294967296" as 0); 0 or -1. */
 static int parse_u32_list(const char *v, char sep, unsigned *out, int n)
@@ -476,6 +545,21 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_RAYS:
     case O_COUNT: return parse_trace_bench(c, v, bench, a);
     case O_CROP: return parse_crop(v, bench, o);
+    case O_LOOK_AT: return parse_look_at(v, o);
+    case O_AOV: return parse_aovs(v, bench, a);
+    case O_DISPLAY: {
+        char host[256], port[16];
+        if (bench)
+            return st_cli_usage_error("--display-server: only `strata render` shows its image");
+        a->display_server = v;
+        return st_cli_display_parse(v, host, sizeof host, port, sizeof port);
+    }
+    case O_FOV:
+        if (st_cli_parse_float("--fov", v, &o->fov))
+            return ST_CLI_EXIT_USAGE;
+        if (!(o->fov > 0.0f && o->fov < 180.0f))
+            return st_cli_usage_error("--fov %s: must lie strictly between 0 and 180 degrees", v);
+        return ST_CLI_OK;
     default: return parse_view_or_adaptive(c, v, bench, a);
     }
 }
@@ -545,6 +629,9 @@ int st_cli_parse_render_args(int argc, char **argv, int bench, st_cli_render_arg
                                   "drop --rays or --cold");
     if (a->ray_count && !a->rays)
         return st_cli_usage_error("--count applies to the trace benchmark only: add --rays");
+    if (a->aovs && a->opt.adaptive)
+        return st_cli_usage_error("--aov: not with --adaptive (its samples follow the image's "
+                                  "noise, which the AOVs do not have)");
     if (a->adaptive_opt && !a->opt.adaptive)
         return st_cli_usage_error("%s applies to adaptive renders only: add --adaptive",
                                   a->adaptive_opt);

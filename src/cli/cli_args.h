@@ -36,6 +36,8 @@ typedef struct st_cli_render_args {
     st_u32 part_k, part_n;    /* --part K/N (already applied as opt's sample range);
                                  part_n 0: not given */
     const char *env_file;     /* --env FILE.exr|FILE.hdr (the session reads it); NULL: none */
+    st_u32 aovs;              /* --aov: bit k for ST_AOV_* k (render only) */
+    const char *display_server; /* --display-server HOST:PORT (render only); NULL: none */
 } st_cli_render_args;
 
 /* Parses argv (argv[0] is the subcommand). bench: 0 for render; 1 for bench

@@ -158,11 +158,17 @@ static st_status check_ranges(part *parts, int n, int partial, char *held, char 
     return rc;
 }
 
+/* A part's header and raw sums: sums[0] the image's, sums[k] AOV k's where
+ * the part holds its layer (render --aov), else NULL. */
 static st_status load_part(part *p, st_image *img, st_i64 **sums, st_error *err)
 {
     if (st_image_load_exr(p->path, img, &p->attrs, &p->nattrs, err) ||
-        st_film_from_image(img, p->path, sums, err))
+        st_film_from_image(img, p->path, "", &sums[0], err))
         return err->status;
+    for (st_u32 k = 1; k < ST_AOV_COUNT; k++)
+        if (st_film_has_layer(img, st_aov_layouts[k].layer) &&
+            st_film_from_image(img, p->path, st_aov_layouts[k].layer, &sums[k], err) != ST_OK)
+            return err->status;
     const char *range = attr_value(p, "strata.sample_range");
     char tail;
     if (!range || sscanf(range, "%u:%u%c", &p->begin, &p->end, &tail) != 2 || p->begin >= p->end)
@@ -172,6 +178,25 @@ static st_status load_part(part *p, st_image *img, st_i64 **sums, st_error *err)
 
 /* The first part's settings, labelled with the sample ranges the result
  * holds (and strata.partial when they are not all of 0..spp). */
+/* The AOVs' channels (st_aov_layouts) of the summed sums total[k] that
+ * the parts hold, each resolved as render resolves it, appended to exr. */
+static st_status add_aovs(st_device *dev, st_i64 *const *total, st_u32 w, st_u32 h,
+                          st_image *exr, st_error *err)
+{
+    st_status rc = ST_OK;
+    for (st_u32 k = 1; k < ST_AOV_COUNT && rc == ST_OK; k++) {
+        if (!total[k])
+            continue;
+        st_image resolved = {0}, add = {0};
+        if ((rc = st_render_resolve(dev, total[k], w, h, k, &resolved, NULL, err)) == ST_OK &&
+            (rc = st_render_aov_image(&resolved, k, &add, err)) == ST_OK)
+            rc = st_image_append(exr, &add, err);
+        st_image_free(&resolved);
+        st_image_free(&add);
+    }
+    return rc;
+}
+
 static st_status save_result(const part *parts, int n, const char *held, int complete,
                              const char *out, const st_image *rgb, st_error *err)
 {
@@ -199,32 +224,46 @@ static st_status merge(part *parts, int n, const char *const *outs, int nouts,
                        const char *device, int partial, st_error *err)
 {
     char held[RANGES_TEXT], missing[RANGES_TEXT];
-    st_image img = {0}, resolved = {0}, rgb = {0};
-    st_i64 *total = NULL, *sums = NULL;
+    st_image img = {0}, resolved = {0}, rgb = {0}, exr = {0}; /* exr: rgb and the AOVs */
+    st_i64 *total[ST_AOV_COUNT] = {NULL}, *sums[ST_AOV_COUNT] = {NULL};
     st_device *dev = NULL;
     st_image place = {0}; /* the first part's window in the image (render --crop) */
     st_u32 w = 0, h = 0;
     st_status rc = ST_OK;
     for (int i = 0; i < n && rc == ST_OK; i++) {
-        if ((rc = load_part(&parts[i], &img, &sums, err)) != ST_OK)
+        if ((rc = load_part(&parts[i], &img, sums, err)) != ST_OK) {
+            for (st_u32 k = 0; k < ST_AOV_COUNT; k++)
+                free(sums[k]);
+            st_image_free(&img);
             break;
+        }
         if (i == 0) {
             w = img.width;
             h = img.height;
             st_image_place_like(&place, &img);
-            total = sums;
-            sums = NULL;
+            memcpy(total, sums, sizeof sums);
+            memset(sums, 0, sizeof sums);
         } else if (img.width != w || img.height != h) {
             rc = st_fail(err, ST_ERR_FORMAT, "%s: %ux%u pixels, but %s has %ux%u", parts[i].path,
                          img.width, img.height, parts[0].path, w, h);
         } else if (check_window(&parts[0], &place, &parts[i], &img, err) != ST_OK) {
             rc = err->status;
         } else if ((rc = check_part(&parts[0], &parts[i], err)) == ST_OK) {
-            for (size_t k = 0; k < ST_FILM_SUMS * (size_t)w * h; k++) /* wraps as the device's atom_add */
-                total[k] = (st_i64)((st_u64)total[k] + (st_u64)sums[k]);
+            for (st_u32 a = 0; a < ST_AOV_COUNT && rc == ST_OK; a++) {
+                if (!total[a] != !sums[a])
+                    rc = st_fail(err, ST_ERR_FORMAT, "%s: %s the AOV %s, but %s %s",
+                                 parts[i].path, sums[a] ? "holds" : "lacks",
+                                 st_aov_layouts[a].name, parts[0].path,
+                                 sums[a] ? "does not" : "does");
+                for (size_t k = 0; sums[a] && k < ST_FILM_SUMS * (size_t)w * h; k++)
+                    /* wraps as the device's atom_add */
+                    total[a][k] = (st_i64)((st_u64)total[a][k] + (st_u64)sums[a][k]);
+            }
         }
-        free(sums);
-        sums = NULL;
+        for (st_u32 a = 0; a < ST_AOV_COUNT; a++) {
+            free(sums[a]);
+            sums[a] = NULL;
+        }
         st_image_free(&img);
     }
     if (rc == ST_OK)
@@ -235,23 +274,29 @@ static st_status merge(part *parts, int n, const char *const *outs, int nouts,
     if (rc == ST_OK && st_device_create(device, &dev, err) != ST_OK)
         rc = st_cli_device_words(err);
     st_cli_catch_interrupts(); /* PoCL's LLVM put its own handlers over ours as the device began */
-    if (rc == ST_OK && (st_render_resolve(dev, total, w, h, &resolved, NULL, err) ||
-                        st_cli_rgb_of(&resolved, &rgb, err)))
+    if (rc == ST_OK && (st_render_resolve(dev, total[0], w, h, ST_AOV_NONE, &resolved, NULL, err) ||
+                        st_cli_rgb_of(&resolved, &rgb, err) || st_image_append(&exr, &rgb, err) ||
+                        add_aovs(dev, total, w, h, &exr, err)))
         rc = err->status;
-    if (rc == ST_OK)
+    if (rc == ST_OK) {
         st_image_place_like(&rgb, &place);
+        st_image_place_like(&exr, &place);
+    }
     if (rc == ST_OK) {
         char whole[sizeof parts[0].attrs->value + 2];
         snprintf(whole, sizeof whole, "0:%s", attr_value(&parts[0], "strata.spp"));
         for (int k = 0; k < nouts && rc == ST_OK; k++) /* every -o, as render writes them */
-            rc = save_result(parts, n, held, !strcmp(held, whole), outs[k], &rgb, err);
+            rc = save_result(parts, n, held, !strcmp(held, whole), outs[k],
+                             st_cli_has_extension(outs[k], ".png") ? &rgb : &exr, err);
     }
     if (rc != ST_OK && dev && err->status == ST_ERR_DEVICE && st_device_build_log(dev)[0])
         fprintf(stderr, "%s\n", st_device_build_log(dev));
     st_device_destroy(dev);
     st_image_free(&resolved);
     st_image_free(&rgb);
-    free(total);
+    st_image_free(&exr);
+    for (st_u32 k = 0; k < ST_AOV_COUNT; k++)
+        free(total[k]);
     return rc;
 }
 

@@ -92,6 +92,9 @@ int st_cli_print_names(const char *table)
         print_names(st_ray_set_names, ST_RAYS_COUNT);
     } else if (!strcmp(table, "functions")) {
         print_names(st_signal_function_names, ST_SIGNAL_FUNCTION_COUNT);
+    } else if (!strcmp(table, "aovs")) {
+        for (st_u32 k = 1; k < ST_AOV_COUNT; k++)
+            puts(st_aov_layouts[k].name);
     } else if (!strcmp(table, "scramble")) {
         print_names(on_none, 2);
     } else if (!strcmp(table, "scenes")) {
@@ -103,7 +106,7 @@ int st_cli_print_names(const char *table)
     } else {
         return st_cli_usage_error("--names %s: unknown table; expected samplers, "
                                   "filters, integrators, reconstructions, packets, tonemaps, "
-                                  "texture-filters, rays, functions, scramble, scenes or devices",
+                                  "texture-filters, rays, functions, aovs, scramble, scenes or devices",
                                   table);
     }
     return 0;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli_commands.h"
+#include "cli_display.h"
 #include "cli_error.h"
 #include "cli_progress.h"
 #include "cli_session.h"
@@ -61,16 +62,62 @@ static int check_outputs(const st_cli_render_args *a, int part)
                                       "film to an EXR, for strata merge", out);
         pngs += png;
     }
+    if (a->aovs && pngs == a->noutputs)
+        return st_cli_usage_error("--aov: the AOVs go into an EXR (a PNG holds R, G, B): add "
+                                  "-o OUT.exr");
     if (a->png_opt && !pngs)
         return st_cli_usage_error("%s applies to PNG output only (an EXR stays linear): -o %s",
                                   a->png_opt, a->outputs[0]);
     return ST_CLI_OK;
 }
 
+/* Whether the filter has negative lobes (its profile dips below 0). */
+static int has_negative_lobes(const st_filter *f)
+{
+    enum { N = 257 };
+    double x[N], y[N];
+    st_filter_profile(f, N, x, y);
+    for (int i = 0; i < N; i++)
+        if (y[i] < 0.0)
+            return 1;
+    return 0;
+}
+
+/* The AOVs (--aov) of the render: each an st_render of its own over the same
+ * samples and filter (st_render_options.aov), its channels, or for a split
+ * render its raw sums (st_film.h, under its layer's prefix), appended to out. */
+static st_status add_aovs(const st_cli_render_args *a, const st_cli_session *s, int part,
+                          st_image *out, double *seconds, st_error *err)
+{
+    st_status rc = ST_OK;
+    for (st_u32 k = 1; k < ST_AOV_COUNT && rc == ST_OK; k++) {
+        if (!((a->aovs >> k) & 1u))
+            continue;
+        const st_aov_layout *l = &st_aov_layouts[k];
+        st_render_options o = a->opt;
+        o.aov = k;
+        st_image img = {0}, add = {0};
+        st_i64 *sums = NULL;
+        st_render_stats st = {0};
+        rc = st_render(s->renderer, &o, &img, part ? &sums : NULL, &st, NULL, NULL, err);
+        *seconds += st.seconds;
+        if (rc == ST_OK)
+            rc = part ? st_film_to_image(sums, img.width, img.height, l->layer, &add, err)
+                      : st_render_aov_image(&img, k, &add, err);
+        if (rc == ST_OK)
+            rc = st_image_append(out, &add, err);
+        free(sums);
+        st_image_free(&img);
+        st_image_free(&add);
+    }
+    return rc;
+}
+
 /* The EXRs first (linear, every attribute), then the PNGs (exposure and tone curve applied
  * once to rgb, the settings as text). */
 static st_status save_outputs(const st_cli_render_args *a, const st_cli_session *s,
-                              const st_render_stats *st, st_image *rgb, st_error *err)
+                              const st_render_stats *st, st_image *rgb, const st_image *exr,
+                              st_error *err)
 {
     st_attr attrs[ST_CLI_MAX_ATTRS];
     int nattrs = st_cli_render_attrs(a, s, st, attrs), toned = 0;
@@ -80,7 +127,7 @@ static st_status save_outputs(const st_cli_render_args *a, const st_cli_session 
                 continue;
             if (png && !toned++)
                 nattrs = st_cli_png_settings(a, rgb, attrs, nattrs);
-            if (st_image_save(a->outputs[i], rgb, attrs, nattrs, err) != ST_OK)
+            if (st_image_save(a->outputs[i], png ? rgb : exr, attrs, nattrs, err) != ST_OK)
                 return err->status;
         }
     return ST_OK;
@@ -117,41 +164,61 @@ int st_cli_render(int argc, char **argv)
     if (a.spp_map && st_outfile_check(a.spp_map, &err) != ST_OK)
         return st_cli_fail(&err);
     st_cli_session s;
-    st_image img = {0}, rgb = {0};
+    st_image img = {0}, rgb = {0}, exr = {0}; /* exr: rgb and the AOVs */
     st_render_stats st = {0};
     st_cli_progress_state prog;
     st_u32 first = a.opt.sample_begin, last = a.opt.sample_end ? a.opt.sample_end : a.opt.spp;
     st_u32 region[4]; /* the pixels sampled: a crop's window and apron, or the image */
     st_render_region(&a.opt, region);
     st_i64 *sums = NULL;
+    st_cli_display disp; /* --display-server */
+    double aov_seconds = 0.0;
     int opened = st_cli_session_open(&a, &s, &err) == ST_OK;
+    if (opened && a.display_server) {
+        st_cli_display_init(&disp, a.display_server, a.outputs[0], a.opt.width, a.opt.height);
+        st_renderer_set_preview(s.renderer, ST_CLI_DISPLAY_SECONDS, st_cli_display_preview, &disp);
+    }
     if (opened)
         st_cli_adaptive_note(&a.opt);
+    if (opened && a.aovs && !a.quiet && has_negative_lobes(&a.opt.filter))
+        fprintf(stderr, "strata: note: --aov with filter %s, whose negative lobes ring at "
+                "edges: denoisers expect a box or gaussian filter\n",
+                st_filter_names[a.opt.filter.kind]);
     /* the render's own progress, after the kernels are compiled (which the
      * session's notice covers) */
     st_cli_progress_init(&prog, "render", a.quiet);
     if (!a.opt.adaptive) /* an adaptive render's samples are not known in advance */
         st_cli_progress_work(&prog, (double)region[2] * region[3] * (last - first), "samples");
-    if (!opened ||
-        st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st, st_cli_progress, &prog,
-                  &err) ||
-        (part ? st_film_to_image(sums, img.width, img.height, &rgb, &err)
-              : st_cli_rgb_of(&img, &rgb, &err))) {
+    int failed = !opened || st_render(s.renderer, &a.opt, &img, part ? &sums : NULL, &st,
+                                      st_cli_progress, &prog, &err) != ST_OK;
+    if (!failed && a.display_server) /* the final image, as the outputs hold it */
+        st_cli_display_show(&disp, &img, 1);
+    if (failed ||
+        (part ? st_film_to_image(sums, img.width, img.height, "", &rgb, &err)
+              : st_cli_rgb_of(&img, &rgb, &err)) ||
+        st_image_append(&exr, &rgb, &err) || add_aovs(&a, &s, part, &exr, &aov_seconds, &err)) {
         st_cli_progress_done(&prog);
         rc = st_cli_session_fail(&s, &err);
     } else {
         st_cli_progress_done(&prog);
         st_image_place_like(&rgb, &img); /* a crop's window in the image */
-        if (save_outputs(&a, &s, &st, &rgb, &err) != ST_OK ||
+        st_image_place_like(&exr, &img);
+        if (save_outputs(&a, &s, &st, &rgb, &exr, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
-        else if (!a.quiet && !to_stdout(&a)) /* standard output holds the image */
+        else if (!a.quiet && !to_stdout(&a)) { /* standard output holds the image */
             st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
+            if (a.aovs) /* passes of their own, after the image's */
+                printf("strata: AOVs rendered in %.3f s more\n", aov_seconds);
+        }
     }
+    if (opened && a.display_server)
+        st_cli_display_close(&disp);
     free(sums);
     free(st.spp_map);
     st_image_free(&img);
     st_image_free(&rgb);
+    st_image_free(&exr);
     st_cli_session_close(&s);
     return rc;
 }

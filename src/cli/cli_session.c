@@ -110,7 +110,7 @@ st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error
         st_cli_light_notes(s->scene, &a->opt);
     /* the camera is checked before the device starts, in the flag's words */
     st_scene_camera cam;
-    if (st_scene_view_camera(s->scene, a->opt.camera, &cam, err) != ST_OK) {
+    if (st_render_view_camera(s->scene, &a->opt, &cam, err) != ST_OK) {
         st_cli_option_words(err, st_cli_render_option_names);
         return err->status;
     }
@@ -281,10 +281,27 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                                  : o->texture_filter == ST_TEXFILTER_BILINEAR
                                      ? "bilinear"
                                      : "trilinear");
-    if (s->scene->camera_count && o->camera != ST_CAMERA_AUTO)
+    if (o->look_at_given)
+        ATTR("camera", "look-at %.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g",
+             (double)o->look_at[0], (double)o->look_at[1], (double)o->look_at[2],
+             (double)o->look_at[3], (double)o->look_at[4], (double)o->look_at[5],
+             (double)o->look_at[6], (double)o->look_at[7], (double)o->look_at[8]);
+    else if (s->scene->camera_count && o->camera != ST_CAMERA_AUTO)
         TYPED("camera", ST_ATTR_INT, "%d", o->camera >= 0 ? (int)o->camera : 0);
     else
         ATTR("camera", "default framing");
+    st_scene_camera view;
+    st_error ignored = {0}; /* checked when the session opened */
+    if (st_render_view_camera(s->scene, o, &view, &ignored) == ST_OK && !view.orthographic)
+        TYPED("fov", ST_ATTR_FLOAT, "%.9g", (double)view.yfov * 180.0 / 3.14159265358979323846);
+    if (a->aovs) {
+        char list[64] = "";
+        for (st_u32 k = 1; k < ST_AOV_COUNT; k++)
+            if ((a->aovs >> k) & 1u)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                         list[0] ? "," : "", st_aov_layouts[k].name);
+        ATTR("aov", "%s", list);
+    }
     ATTR("device", "%s", st_device_get_info(s->dev)->name);
     ATTR("kernels", "%s", st_renderer_ran(s->renderer));
     TYPED("render_seconds", ST_ATTR_DOUBLE, "%.6f", st->seconds);

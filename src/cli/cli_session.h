@@ -49,7 +49,7 @@ int st_cli_session_fail(const st_cli_session *s, const st_error *err);
 st_status st_cli_device_words(st_error *err);
 
 /* The render's settings as "strata.*" EXR attributes; returns the count. */
-#define ST_CLI_MAX_ATTRS 32
+#define ST_CLI_MAX_ATTRS 40
 int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
                         const st_render_stats *st, st_attr *attrs);
 /* Drops the facts of the run (render time, device) from attrs, keeping the settings in order, so

@@ -33,8 +33,12 @@ st_status st_image_create(st_image *img, uint32_t w, uint32_t h, uint32_t channe
                           const char *const *names, st_error *err)
 {
     static const char *const rgba[4] = {"R", "G", "B", "A"};
-    static const char *const numbered[ST_IMAGE_MAX_CHANNELS] = {"C0", "C1", "C2", "C3",
-                                                                "C4", "C5", "C6", "C7"};
+    char numbered_text[ST_IMAGE_MAX_CHANNELS][8];
+    const char *numbered[ST_IMAGE_MAX_CHANNELS];
+    for (int c = 0; c < ST_IMAGE_MAX_CHANNELS; c++) {
+        snprintf(numbered_text[c], sizeof numbered_text[c], "C%d", c);
+        numbered[c] = numbered_text[c];
+    }
     memset(img, 0, sizeof *img);
     if (w == 0 || h == 0 || channels == 0 || channels > ST_IMAGE_MAX_CHANNELS)
         return st_fail(err, ST_ERR_USAGE, "image: invalid size %ux%u with %u channels (1 to %d)", w,
@@ -87,6 +91,40 @@ int st_image_find_channel(const st_image *img, const char *name)
         if (strcmp(img->channel_names[c], name) == 0)
             return (int)c;
     return -1;
+}
+
+st_status st_image_append(st_image *dst, const st_image *src, st_error *err)
+{
+    if (dst->channels == 0) { /* an empty image takes src's size (and is a copy) */
+        dst->width = src->width;
+        dst->height = src->height;
+    }
+    if (src->width != dst->width || src->height != dst->height ||
+        dst->channels + src->channels > ST_IMAGE_MAX_CHANNELS)
+        return st_fail(err, ST_ERR_USAGE, "image: cannot append %ux%u with %u channels to %ux%u "
+                       "with %u (same size, at most %d channels)", src->width, src->height,
+                       src->channels, dst->width, dst->height, dst->channels,
+                       ST_IMAGE_MAX_CHANNELS);
+    const char *names[ST_IMAGE_MAX_CHANNELS];
+    uint32_t n = dst->channels + src->channels;
+    for (uint32_t c = 0; c < n; c++)
+        names[c] = c < dst->channels ? dst->channel_names[c]
+                                     : src->channel_names[c - dst->channels];
+    st_image out;
+    if (st_image_create(&out, dst->width, dst->height, n, names, err) != ST_OK)
+        return err ? err->status : ST_ERR_USAGE;
+    size_t pixels = (size_t)dst->width * dst->height;
+    for (size_t i = 0; i < pixels && dst->channels; i++) /* 4-byte samples: udata holds any type */
+        memcpy(out.udata + n * i, dst->udata + dst->channels * i, 4u * dst->channels);
+    for (size_t i = 0; i < pixels; i++)
+        memcpy(out.udata + n * i + dst->channels, src->udata + src->channels * i,
+               4u * src->channels);
+    for (uint32_t c = 0; c < n; c++)
+        out.types[c] = c < dst->channels ? dst->types[c] : src->types[c - dst->channels];
+    st_image_place_like(&out, dst);
+    st_image_free(dst);
+    *dst = out;
+    return ST_OK;
 }
 
 st_status st_image_check(const char *path, const st_image *img, st_error *err)

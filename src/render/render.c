@@ -72,6 +72,27 @@ static st_status check_adaptive(const st_render_options *o, st_error *err)
     return ST_OK;
 }
 
+st_status st_render_view_camera(const st_scene *scene, const st_render_options *o,
+                                st_scene_camera *out, st_error *err)
+{
+    const float deg = (float)(3.14159265358979323846 / 180.0);
+    if (st_scene_view_camera(scene, o->camera, out, err) != ST_OK)
+        return err->status;
+    if (o->fov == 0.0f && !o->look_at_given)
+        return ST_OK;
+    if (o->fov != 0.0f && out->orthographic && !o->look_at_given)
+        return st_fail(err, ST_ERR_USAGE, "fov %g: the view's camera is orthographic (it has "
+                       "no field of view; --look-at makes a perspective one)", (double)o->fov);
+    float yfov = o->fov != 0.0f ? o->fov * deg : out->orthographic ? 40.0f * deg : out->yfov;
+    if (o->look_at_given)
+        return st_scene_look_at(o->look_at, o->look_at + 3, o->look_at + 6, yfov, out, err);
+    if (!(yfov > 0.0f && yfov < 180.0f * deg))
+        return st_fail(err, ST_ERR_USAGE, "fov %g: must lie strictly between 0 and 180 degrees",
+                       (double)o->fov);
+    out->yfov = yfov;
+    return ST_OK;
+}
+
 st_status st_render_check(const st_render_options *o, st_error *err)
 {
     if (o->width < 1 || o->height < 1 || o->width > 32768 || o->height > 32768)
@@ -103,6 +124,12 @@ st_status st_render_check(const st_render_options *o, st_error *err)
                        "across pixels", st_sampler_names[o->sampler]);
     if (o->adaptive && (rc = check_adaptive(o, err)) != ST_OK)
         return rc;
+    if (o->aov >= ST_AOV_COUNT)
+        return st_fail(err, ST_ERR_USAGE, "aov %u: unknown", o->aov);
+    if (o->aov != ST_AOV_NONE && o->adaptive) /* its samples follow the radiance's error */
+        return st_fail(err, ST_ERR_USAGE, "aov %s: an adaptive render's samples follow its "
+                       "radiance, which an AOV render does not see (drop --adaptive)",
+                       st_aov_layouts[o->aov].name);
     if (o->max_depth > 64)
         return st_fail(err, ST_ERR_USAGE, "max depth %u: at most 64", o->max_depth);
     if ((o->crop_w || o->crop_h || o->crop_x || o->crop_y) &&
@@ -433,6 +460,11 @@ static st_params make_params(const st_renderer *r, const st_render_options *o,
     p.filter = o->filter;
     p.reconstruction = o->reconstruction;
     p.camera = st_render_camera(cam, o->width, o->height);
+    p.aov = o->aov;
+    if (o->aov != ST_AOV_NONE) { /* the camera ray's first hit (and one through a cut-out) */
+        p.integrator = ST_INTEGRATOR_DIRECT;
+        p.max_depth = 1u;
+    }
     st_u32 region[4];
     st_render_region(o, region);
     set_region(&p, region);
@@ -657,12 +689,17 @@ st_status st_render_items(st_renderer *r, st_params *p, st_wave *w, const st_ren
             pr->done += p->item_count;
             pr->fn(pr->ctx, pr->done < pr->total ? pr->done / pr->total : 1.0);
         }
+        if (rc == ST_OK && r->preview.fn && o->aov == ST_AOV_NONE) {
+            st_u32 win[4];
+            crop_window(o, win);
+            rc = st_render_preview(r, w, o, win, err);
+        }
     }
     return rc;
 }
 
 st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st_u32 height,
-                            st_image *out, st_render_stats *stats, st_error *err)
+                            st_u32 aov, st_image *out, st_render_stats *stats, st_error *err)
 {
     static const char *const names[4] = {"R", "G", "B", "W"};
     size_t pixels = (size_t)width * height;
@@ -670,6 +707,7 @@ st_status st_render_resolve(st_device *dev, const st_i64 *sums, st_u32 width, st
     memset(&p, 0, sizeof p);
     p.width = width;
     p.height = height;
+    p.aov = aov;
     set_region(&p, (const st_u32[4]){0, 0, width, height});
     st_wave w;
     cl_kernel k;
@@ -787,7 +825,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_scene_camera cam;
     st_render_options so = *o; /* what the sampler is made for */
     so.spp = sampler_spp(o);
-    if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
+    if (st_render_view_camera(r->scene, o, &cam, err) != ST_OK ||
         (r->env_map != o->env_map && st_renderer_upload_env_map(r, o->env_map, err) != ST_OK) ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
         prepare_pmj02(r, &so, err) != ST_OK)
@@ -806,6 +844,7 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     st_shading sh = make_shading(r, o);
     r->plan = st_plan_make(r, o, &sh, &p);
     r->ran_count = 0;
+    r->preview.last = t0; /* the first look comes an interval into the render */
     int ordered = r->plan.order == ST_ORDER_ON;
     st_status rc = st_mem_plan_check(r->dev, wave, pixels, o->adaptive, ordered, err) != ST_OK
                        ? err->status

@@ -84,6 +84,11 @@ struct st_renderer {
      * (log2 0: none) or Halton's digit permutations (render.c) */
     st_u32 pmj02_seed, pmj02_log2;
     st_plan_force force; /* st_renderer_force */
+    struct {             /* st_renderer_set_preview */
+        st_preview_fn fn;
+        void *ctx;
+        double seconds, last, cost; /* the interval; the last look's end and its seconds */
+    } preview;
     st_plan plan;        /* the last render's (st_plan_make) */
     /* the kernels the last render launched, in order, and their description
      * (st_renderer_ran) */
@@ -148,6 +153,12 @@ typedef st_status (*st_render_items_fn)(st_renderer *r, st_params *p, st_wave *w
 st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
                              const st_render_options *o, st_u64 total, st_progress_state *pr,
                              st_render_stats *st, st_render_items_fn items, st_error *err);
+
+/* After a wave of a render whose renderer has a preview (preview.c): the
+ * film so far over the window win (x, y, w, h: the crop's, or the image)
+ * to its callback, when its interval has passed. */
+st_status st_render_preview(st_renderer *r, st_wave *w, const st_render_options *o,
+                            const st_u32 win[4], st_error *err);
 
 /* The camera basis of a view at an image aspect (device_scene.c). */
 st_camera st_render_camera(const st_scene_camera *c, st_u32 w, st_u32 h);

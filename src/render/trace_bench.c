@@ -56,7 +56,7 @@ st_status st_trace_bench_rays(const st_scene *scene, const st_render_options *o,
     if (set < 0 || set >= ST_RAYS_COUNT)
         return st_fail(err, ST_ERR_USAGE, "ray set %d: expected camera or random", set);
     st_scene_camera view;
-    if (st_scene_view_camera(scene, o->camera, &view, err) != ST_OK)
+    if (st_render_view_camera(scene, o, &view, err) != ST_OK)
         return err->status;
     st_camera cam = st_render_camera(&view, o->width, o->height);
     for (size_t i = 0; i < n; i++) {

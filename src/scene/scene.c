@@ -168,47 +168,76 @@ static void compute_bounds(st_scene *s)
 }
 
 /* Default framing (--camera auto, and the view of a file without
- * cameras): the camera looks at the bounds' centre c along the axis normal
- * to the box's largest face (z on a tie, then x), raised by
- * FRAMING_ELEVATION towards +Y (or, for the y face, tilted towards +Z), so
- * that a flat model is seen face-on and a little from above. The bounding
- * sphere (radius r = half the box diagonal) subtends the vertical field of
- * view from distance d = r / sin(yfov / 2) (its tangent cone's half-angle
- * is asin(r / d)). */
+ * cameras): the camera looks at the bounds' centre c from glTF's front
+ * (+Z: "the front of an asset faces +Z", glTF 2.0 §3.4), raised by
+ * FRAMING_ELEVATION and turned by FRAMING_AZIMUTH towards +X, so a model
+ * is seen as its author faced it, a little from above and from the side
+ * (its depth shows). The bounding sphere (radius r = half the box
+ * diagonal) subtends the vertical field of view from distance
+ * d = r / sin(yfov / 2) (its tangent cone's half-angle is asin(r / d)).
+ * Tests: test_scene.c auto_camera_sees_the_front. */
 #define FRAMING_ELEVATION_DEGREES 20.0
+#define FRAMING_AZIMUTH_DEGREES 30.0
 static void frame_bounds(const st_scene *s, st_scene_camera *cam)
 {
-    double c[3], e[3], r2 = 0.0;
+    double c[3], r2 = 0.0;
     for (int k = 0; k < 3; k++) {
+        double e = (double)s->bounds_max[k] - s->bounds_min[k];
         c[k] = 0.5 * ((double)s->bounds_min[k] + s->bounds_max[k]);
-        e[k] = (double)s->bounds_max[k] - s->bounds_min[k];
-        r2 += 0.25 * e[k] * e[k];
+        r2 += 0.25 * e * e;
     }
-    const double face_x = e[1] * e[2], face_y = e[0] * e[2], face_z = e[0] * e[1];
-    const double el = FRAMING_ELEVATION_DEGREES * PI / 180.0, ce = cos(el), se = sin(el);
-    double dir[3] = {0.0, se, ce}, up[3]; /* from c towards the camera */
-    if (face_y > face_z && face_y > face_x) {
-        dir[1] = ce; /* from above, tilted towards +Z */
-        dir[2] = se;
-    } else if (face_x > face_z) {
-        dir[0] = ce;
-        dir[2] = 0.0;
-    }
-    /* up: +Y made orthogonal to the view direction */
-    double dy = dir[1];
-    for (int k = 0; k < 3; k++)
-        up[k] = (k == 1 ? 1.0 : 0.0) - dy * dir[k];
-    double ul = sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
+    const double el = FRAMING_ELEVATION_DEGREES * PI / 180.0;
+    const double az = FRAMING_AZIMUTH_DEGREES * PI / 180.0;
+    const double dir[3] = {cos(el) * sin(az), sin(el), cos(el) * cos(az)}; /* c to the eye */
     const double yfov = DEFAULT_YFOV_DEGREES * PI / 180.0;
     const double d = sqrt(r2) / sin(0.5 * yfov);
+    float eye[3], target[3];
     for (int k = 0; k < 3; k++) {
-        cam->origin[k] = (float)(c[k] + d * dir[k]);
-        cam->forward[k] = (float)-dir[k];
-        cam->up[k] = (float)(up[k] / ul);
+        eye[k] = (float)(c[k] + d * dir[k]);
+        target[k] = (float)c[k];
     }
-    cam->yfov = (float)yfov;
-    cam->orthographic = 0;
+    st_error ignored = {0}; /* d > 0 and the view is never along +Y: it cannot fail */
+    st_scene_look_at(eye, target, (const float[3]){0.0f, 1.0f, 0.0f}, (float)yfov, cam, &ignored);
     cam->from_file = 0;
+}
+
+st_status st_scene_look_at(const float eye[3], const float target[3], const float up[3],
+                           float yfov, st_scene_camera *out, st_error *err)
+{
+    double f[3], u[3], fl = 0.0, ul = 0.0, fu = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(eye[k]) || !isfinite(target[k]) || !isfinite(up[k]))
+            return st_fail(err, ST_ERR_USAGE, "look at: every coordinate must be finite");
+        f[k] = (double)target[k] - eye[k];
+        fl += f[k] * f[k];
+    }
+    if (!(yfov > 0.0f && yfov < (float)PI))
+        return st_fail(err, ST_ERR_USAGE, "fov %g: must lie strictly between 0 and 180 degrees",
+                       yfov * 180.0 / PI);
+    if (fl == 0.0)
+        return st_fail(err, ST_ERR_USAGE, "look at: the eye and the target are the same point");
+    fl = sqrt(fl);
+    for (int k = 0; k < 3; k++) {
+        f[k] /= fl;
+        fu += f[k] * up[k];
+    }
+    for (int k = 0; k < 3; k++) { /* up made orthogonal to the view (Gram-Schmidt) */
+        u[k] = up[k] - fu * f[k];
+        ul += u[k] * u[k];
+    }
+    ul = sqrt(ul);
+    double upl = sqrt((double)up[0] * up[0] + (double)up[1] * up[1] + (double)up[2] * up[2]);
+    if (!(ul > 1e-6 * upl)) /* also up = 0 */
+        return st_fail(err, ST_ERR_USAGE, "look at: the up vector %g,%g,%g lies along the view "
+                       "(give another up)", up[0], up[1], up[2]);
+    memset(out, 0, sizeof *out);
+    for (int k = 0; k < 3; k++) {
+        out->origin[k] = eye[k];
+        out->forward[k] = (float)f[k];
+        out->up[k] = (float)(u[k] / ul);
+    }
+    out->yfov = yfov;
+    return ST_OK;
 }
 
 /* ---- mip chains ----------------------------------------------------------------- */

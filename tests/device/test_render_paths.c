@@ -806,7 +806,7 @@ static void resolve_at_every_width(void **state)
         st_device *d = fixture_device_at(widths[k]);
         st_image img = {0};
         st_render_stats st = {0};
-        if (st_render_resolve(d, sums, W, H, &img, &st, &err) != ST_OK)
+        if (st_render_resolve(d, sums, W, H, ST_AOV_NONE, &img, &st, &err) != ST_OK)
             fail_msg("resolve at %u lanes: %s", widths[k], err.msg);
         assert_int_equal(st.zero_weight, zero);
         assert_int_equal(st.nonfinite, 0);

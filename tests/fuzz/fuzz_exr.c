@@ -31,7 +31,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (s == ST_OK) {
         st_i64 *sums = NULL;
         st_error e2 = {ST_OK, ""};
-        if (st_film_from_image(&img, path, &sums, &e2) != ST_OK && e2.msg[0] == '\0')
+        if (st_film_from_image(&img, path, "", &sums, &e2) != ST_OK && e2.msg[0] == '\0')
             abort();
         free(sums);
     }

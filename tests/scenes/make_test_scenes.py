@@ -150,6 +150,14 @@ sheen_quad    two Lambertian quads (specularFactor 0) side by side, turned 60
               (sheen 0.9, roughness 0.3), a rough gold one under sheen and coat
               and glass under a sheen.
 bad_*         malformed files, each wrong in one way (named by the file).
+markers       two small unlit cubes (half side 0.01), white at (1, 2, -3) and red
+              at (1.5, 2.25, -3.5), no camera: --look-at puts them where the
+              pinhole projection says (tests/device/test_view.c).
+aov_plane     a Lambertian quad of base colour (0.2, 0.5, 0.8) at z = -1.5, facing
+              +Z, filling an orthographic view from z = 2: albedo, normal (0, 0, 1),
+              depth 3.5 and position (x, y, -1.5) in every pixel.
+aov_sphere    a UV sphere (48 x 24 segments) of radius 1 about (0.5, -0.25, -1)
+              with its exact normals at the vertices, seen from (0.5, -0.25, 3).
 """
 import base64
 import json
@@ -1449,6 +1457,77 @@ def write_bad():
     variant("bad_camera_ymag.gltf", lambda g: g["cameras"][0]["orthographic"].update(ymag=0.0))
 
 
+def unlit_cube(b, centre, half):
+    """A cube of half side `half` about centre, its faces wound outwards (as write_sided's)."""
+    pos, ind = [], []
+    for a in range(3):
+        for sg in (1.0, -1.0):
+            c = [0.0, 0.0, 0.0]
+            c[a] = sg
+            u, v = [0.0] * 3, [0.0] * 3
+            u[(a + 1) % 3], v[(a + 2) % 3] = 1.0, 1.0
+            if sg < 0:
+                u, v = v, u
+            base = len(pos) // 3
+            for du, dv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                pos += [centre[k] + half * (c[k] + du * u[k] + dv * v[k]) for k in range(3)]
+            ind += [base, base + 1, base + 2, base, base + 2, base + 3]
+    return {"attributes": {"POSITION": b.accessor(
+                f32(pos), 5126, 24, "VEC3", min=[centre[k] - half for k in range(3)],
+                max=[centre[k] + half for k in range(3)])},
+            "indices": b.accessor(struct.pack("<36H", *ind), 5123, 36, "SCALAR")}
+
+
+def write_view_scenes():
+    b = Blob()
+    white = dict(unlit_cube(b, (1.0, 2.0, -3.0), 0.01), material=0)
+    red = dict(unlit_cube(b, (1.5, 2.25, -3.5), 0.01), material=1)
+    mats = [{"pbrMetallicRoughness": {"baseColorFactor": c}, "doubleSided": True,
+             "extensions": {"KHR_materials_unlit": {}}}
+            for c in ([1.0, 1.0, 1.0, 1.0], [1.0, 0.0, 0.0, 1.0])]
+    write_json("markers.gltf", doc([{"primitives": [white, red]}], b.accessors, b.views,
+                                   b.buffers(), materials=mats,
+                                   extensionsUsed=["KHR_materials_unlit"]))
+    lambert = {"extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}
+    b = Blob()
+    p = dict(b.quad(-1.5), material=0)
+    mat = dict(lambert, pbrMetallicRoughness={"baseColorFactor": [0.2, 0.5, 0.8, 1.0],
+                                              "metallicFactor": 0.0})
+    write_json("aov_plane.gltf", doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                                     nodes=[{"mesh": 0}, ortho_camera_node(2.0)],
+                                     scenes=[{"nodes": [0, 1]}], cameras=ORTHO, materials=[mat],
+                                     extensionsUsed=["KHR_materials_specular"]))
+    c, seg, rings = (0.5, -0.25, -1.0), 48, 24
+    pos, nrm, ind = [], [], []
+    for i in range(rings + 1):
+        th = math.pi * i / rings
+        for j in range(seg + 1):
+            ph = 2.0 * math.pi * j / seg
+            n = [math.sin(th) * math.sin(ph), math.cos(th), math.sin(th) * math.cos(ph)]
+            nrm += n
+            pos += [c[k] + n[k] for k in range(3)]
+    for i in range(rings):
+        for j in range(seg):
+            a, d = i * (seg + 1) + j, (i + 1) * (seg + 1) + j
+            if i + 1 < rings:  # at the bottom pole d = d + 1
+                ind += [a, d, d + 1]
+            if i > 0:  # at the top pole a = a + 1
+                ind += [a, d + 1, a + 1]
+    b = Blob()
+    nv = len(pos) // 3
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, nv, "VEC3",
+                                               min=[c[k] - 1.0 for k in range(3)],
+                                               max=[c[k] + 1.0 for k in range(3)]),
+                        "NORMAL": b.accessor(f32(nrm), 5126, nv, "VEC3")},
+         "indices": b.accessor(struct.pack("<%dH" % len(ind), *ind), 5123, len(ind), "SCALAR"),
+         "material": 0}
+    cam = [{"type": "perspective", "perspective": {"yfov": 0.7, "znear": 0.01}}]
+    write_json("aov_sphere.gltf", doc([{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+                                      nodes=[{"mesh": 0}, {"camera": 0, "translation": [0.5, -0.25, 3.0]}],
+                                      scenes=[{"nodes": [0, 1]}], cameras=cam, materials=[mat],
+                                      extensionsUsed=["KHR_materials_specular"]))
+
+
 def main():
     write_layouts()
     write_trs()
@@ -1475,6 +1554,7 @@ def main():
     write_sheen()
     write_quantized()
     write_bad()
+    write_view_scenes()
 
 
 if __name__ == "__main__":

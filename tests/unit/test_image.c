@@ -169,7 +169,7 @@ static void create_rejects_bad_arguments(void **state)
     struct {
         uint32_t w, h, c;
         const char *const *names;
-    } cases[] = {{0, 4, 3, NULL}, {4, 0, 3, NULL}, {4, 4, 0, NULL}, {4, 4, 9, NULL},
+    } cases[] = {{0, 4, 3, NULL}, {4, 0, 3, NULL}, {4, 4, 0, NULL}, {4, 4, ST_IMAGE_MAX_CHANNELS + 1, NULL},
                  {4, 4, 2, dup},  {4, 4, 2, empty}, {4, 4, 1, longname}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_error err = {ST_OK, ""};

@@ -460,7 +460,7 @@ static void cameras_listed_depth_first_first_is_default(void **state)
 }
 
 /* Without a camera: looking at the bounds' centre (the direction:
- * auto_camera_sees_the_largest_face), yfov 40 degrees, and the bounding
+ * auto_camera_sees_the_front), yfov 40 degrees, and the bounding
  * sphere (centre c, radius r) exactly fills the vertical view:
  * |origin - c| sin(yfov / 2) = r. Then every corner of the bounds is within
  * the cone of half-angle yfov / 2. */
@@ -841,37 +841,76 @@ static void textured_flag_follows_the_factors(void **state)
     st_scene_destroy(s);
 }
 
-/* The default framing looks along the axis normal to the bounds' largest
- * face, raised 20 degrees: a quad in the z = 0 plane (textured_quad) is seen
- * from +z and a little above, the checkerboard's plane y = 0 from above,
- * tilted towards +z; the camera sits r / sin(yfov / 2) from the centre,
- * r the half diagonal. --camera auto (ST_CAMERA_AUTO) gives it even where
- * the file has cameras. */
-static void auto_camera_sees_the_largest_face(void **state)
+/* The default framing sees a model from glTF's front (+Z), a little above
+ * and to the side, whatever the shape of its bounds: a quad in the z = 0
+ * plane (textured_quad) and the checkerboard's floor y = 0, which the old
+ * framing looked down on from above, are both seen from the +Z side, with
+ * the eye raised 10..30 degrees above the centre and turned 15..45 degrees
+ * towards +X (measured here from the eye's offset, not from the code's
+ * angles); up is +Y made orthogonal to the view; the camera sits
+ * r / sin(yfov / 2) from the centre, r the half diagonal. --camera auto
+ * (ST_CAMERA_AUTO) gives it even where the file has cameras. */
+static void auto_camera_sees_the_front(void **state)
 {
     (void)state;
-    const double el = 20.0 * 3.14159265358979323846 / 180.0;
+    const double deg = 180.0 / 3.14159265358979323846;
     static const char *files[] = {SCENES "textured_quad.gltf", "checkerboard"};
-    const double want[2][3] = {{0.0, -sin(el), -cos(el)}, {0.0, -cos(el), -sin(el)}};
     for (int f = 0; f < 2; f++) {
         st_scene *s = load_ok(files[f]);
         st_scene_camera c;
         st_error err = {0};
         assert_int_equal(st_scene_view_camera(s, ST_CAMERA_AUTO, &c, &err), ST_OK);
         assert_int_equal(c.from_file, 0);
-        near3(c.forward, want[f][0], want[f][1], want[f][2], 1e-6, "auto camera forward");
-        near(c.forward[0] * c.up[0] + c.forward[1] * c.up[1] + c.forward[2] * c.up[2], 0.0, 1e-6,
-             "auto camera up . forward");
-        double r2 = 0.0, d2 = 0.0;
+        double r2 = 0.0, d2 = 0.0, o[3];
         for (int k = 0; k < 3; k++) {
             double h = 0.5 * ((double)s->bounds_max[k] - s->bounds_min[k]);
-            double o = c.origin[k] - 0.5 * ((double)s->bounds_max[k] + s->bounds_min[k]);
+            o[k] = c.origin[k] - 0.5 * ((double)s->bounds_max[k] + s->bounds_min[k]);
             r2 += h * h;
-            d2 += o * o;
+            d2 += o[k] * o[k];
         }
-        near(sqrt(d2), sqrt(r2) / sin(0.5 * c.yfov), 1e-4 * sqrt(d2), "auto camera distance");
+        double d = sqrt(d2), elevation = asin(o[1] / d) * deg, azimuth = atan2(o[0], o[2]) * deg;
+        if (!(o[2] > 0.0 && elevation >= 10.0 && elevation <= 30.0 && azimuth >= 15.0 &&
+              azimuth <= 45.0))
+            fail_msg("%s: eye at offset (%g, %g, %g): elevation %g, azimuth %g degrees", files[f],
+                     o[0], o[1], o[2], elevation, azimuth);
+        near3(c.forward, -o[0] / d, -o[1] / d, -o[2] / d, 1e-6, "auto camera looks at the centre");
+        near(c.forward[0] * c.up[0] + c.forward[1] * c.up[1] + c.forward[2] * c.up[2], 0.0, 1e-6,
+             "auto camera up . forward");
+        near(c.up[0] * c.forward[2] - c.up[2] * c.forward[0], 0.0, 1e-6, "up in the plane of +Y");
+        assert_true(c.up[1] > 0.0f);
+        near(d, sqrt(r2) / sin(0.5 * c.yfov), 1e-4 * d, "auto camera distance");
         st_scene_destroy(s);
     }
+}
+
+/* st_scene_look_at: from (1, 2, 3) at (1, 2, -7) with up (0, 5, 1) looks
+ * along -Z with up +Y (the up's part along the view removed, unit
+ * length); the same with the default up of the CLI. Degenerate views are
+ * usage errors naming "look at"; fov outside (0, 180) is "fov". */
+static void look_at_builds_the_view(void **state)
+{
+    (void)state;
+    const float pi = 3.14159265f;
+    st_scene_camera c;
+    st_error err = {0};
+    const float eye[3] = {1, 2, 3}, target[3] = {1, 2, -7}, up[3] = {0, 5, 1};
+    assert_int_equal(st_scene_look_at(eye, target, up, 0.5f, &c, &err), ST_OK);
+    near3(c.origin, 1, 2, 3, 0, "eye");
+    near3(c.forward, 0, 0, -1, 1e-7, "forward");
+    near3(c.up, 0, 1, 0, 1e-7, "up");
+    near(c.yfov, 0.5, 0, "yfov");
+    assert_int_equal(c.orthographic, 0);
+    const float y[3] = {0, 1, 0}, along[3] = {0, 0, -2}, zero[3] = {0, 0, 0};
+    assert_int_equal(st_scene_look_at(eye, eye, y, 0.5f, &c, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "look at"));
+    err = (st_error){0};
+    assert_int_equal(st_scene_look_at(eye, target, along, 0.5f, &c, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "along the view"));
+    err = (st_error){0};
+    assert_int_equal(st_scene_look_at(eye, target, zero, 0.5f, &c, &err), ST_ERR_USAGE);
+    err = (st_error){0};
+    assert_int_equal(st_scene_look_at(eye, target, y, pi, &c, &err), ST_ERR_USAGE);
+    assert_non_null(strstr(err.msg, "fov"));
 }
 
 /* A TRIANGLE_STRIP and a TRIANGLE_FAN of the 2 x 2 quad in z = 0 give its
@@ -1392,7 +1431,8 @@ int main(void)
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
-        cmocka_unit_test(auto_camera_sees_the_largest_face),
+        cmocka_unit_test(auto_camera_sees_the_front),
+        cmocka_unit_test(look_at_builds_the_view),
         cmocka_unit_test(strips_and_fans_become_triangles),
         cmocka_unit_test(sparse_accessors_substitute_values),
         cmocka_unit_test(material_extensions_are_read),
