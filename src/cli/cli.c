@@ -164,13 +164,17 @@ static int help(int argc, char **argv)
 int st_cli_main(int argc, char **argv)
 {
     st_cli_catch_interrupts();
-    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-        fputs(main_help, argc < 2 ? stderr : stdout);
-        return argc < 2 ? ST_CLI_EXIT_USAGE : 0;
+    if (argc < 2) {
+        fputs(main_help, stderr);
+        return ST_CLI_EXIT_USAGE;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        fputs(main_help, stdout);
+        return check_stdout(0);
     }
     if (!strcmp(argv[1], "--version")) {
         printf("strata %s\n", st_version);
-        return 0;
+        return check_stdout(0);
     }
     if (!strcmp(argv[1], "--names")) /* for the shell completion, undocumented in --help */
         return check_stdout(names(argc > 2 ? argv[2] : NULL));

@@ -289,6 +289,17 @@ int st_cli_merge(int argc, char **argv)
     if (rc == 0 && (!nouts || n == 0))
         rc = st_cli_usage_error("merge: needs parts and -o OUT (strata merge A.exr B.exr -o OUT.exr)");
     st_error err = {0};
+    if (rc == 0) {
+        st_outfile_role files[ST_CLI_MAX_OUTPUTS + MAX_PARTS];
+        char roles[MAX_PARTS][24];
+        for (int k = 0; k < nouts; k++)
+            files[k] = (st_outfile_role){outs[k], "-o"};
+        for (int k = 0; k < n; k++) {
+            snprintf(roles[k], sizeof roles[k], "part %d", k + 1);
+            files[nouts + k] = (st_outfile_role){parts[k].path, roles[k]};
+        }
+        rc = st_cli_check_apart(files, nouts + n, nouts);
+    }
     for (int k = 0; k < nouts && rc == 0; k++) {
         if (!st_cli_has_extension(outs[k], ".exr") && !st_cli_has_extension(outs[k], ".png"))
             rc = st_cli_usage_error("-o %s: the output must end in .exr or .png", outs[k]);

@@ -25,7 +25,7 @@ interrupt_at_write() {
     i=0
     while [ $i -lt 200000 ] && kill -0 $pid 2> /dev/null; do
         # shellcheck disable=SC2086 # $size is empty or two words
-        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.tmp.*.1" $size 2> /dev/null)" ]; then
+        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.strata-tmp.*.1" $size 2> /dev/null)" ]; then
             kill -$sig $pid
             caught=1
             break
@@ -52,7 +52,7 @@ for pair in HUP:1 QUIT:3 USR1:10 ALRM:14; do
 done
 interrupt_at_write "$T/int.exr" KILL data
 check "SIGKILL while an EXR is written leaves its temporary (it cannot be caught)" \
-    '[ $caught = 1 ] && [ -n "$(ls -A "$T" | grep "^.int.exr.tmp")" ]' "(caught $caught, $(ls -A "$T" | tr '\n' ' '))"
+    '[ $caught = 1 ] && [ -n "$(ls -A "$T" | grep "^.int.exr.strata-tmp")" ]' "(caught $caught, $(ls -A "$T" | tr '\n' ' '))"
 $S render $R -o "$T/next.exr" 2> "$T/err"
 check "the next write into the folder removes the dead process's temporary" \
     '[ -s "$T/next.exr" ] && [ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T" | tr '\n' ' '))"
