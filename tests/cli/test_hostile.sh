@@ -153,6 +153,11 @@ expect "parts from different devices are refused by name" 1 "$T/dev.exr: strata.
 $S render cornell-box $P --sample-range 2:4 -o "$T/other.exr"
 $S render checkerboard $P --sample-range 0:2 -o "$T/check.exr"
 expect "parts of different scenes are refused by content hash" 1 "$T/other.exr: strata.scene_hash is crc32:" $S merge "$T/check.exr" "$T/other.exr" -o "$T/m.exr"
+$S render --width 16 --height 12 --spp 300000 --sample-range 100000:100001 --sampler random \
+    --quiet -o "$T/wrap.exr" 2> /dev/null
+forge "$T/wrap.exr" strata.sample_range 00:4294967297
+expect "a part's range 0:4294967297 is refused, not read as 0:1" 1 "wrap.exr: no valid strata.sample_range" \
+    $S merge "$T/wrap.exr" -o "$T/m.exr"
 mkdir "$T/sc" && cp tests/scenes/materials_flat.gltf "$T/sc/"
 SA=$(cd "$(dirname "$S")" && pwd)/$(basename "$S")
 (cd "$T/sc" && "$SA" render materials_flat.gltf $P --sample-range 0:2 -o "$T/rel.exr" 2> /dev/null)
