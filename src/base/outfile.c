@@ -337,8 +337,14 @@ st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
         errno = e;
     }
     if (fd < 0) {
-        st_status s = st_fail(err, ST_ERR_IO, "%s: cannot %s (%s)", path,
-                              direct ? "open" : "create", strerror(errno));
+        int e = errno;
+        const char *slash = direct ? NULL : strrchr(f->temp, '/');
+        st_status s = direct ? st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path, strerror(e))
+                             : st_fail(err, ST_ERR_IO, "%s: cannot create its temporary %s "
+                                       "(%s)%s", path, slash ? slash + 1 : f->temp, strerror(e),
+                                       kind == REPLACE && (e == EACCES || e == EROFS)
+                                           ? " (a file is replaced through a new one beside it, "
+                                             "so its folder must be writable too)" : "");
         release(f);
         return s;
     }

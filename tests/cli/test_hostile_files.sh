@@ -2,7 +2,8 @@
 # test_hostile_files.sh — hostile input, round three (issue 55), the files a command writes and
 # the lines it prints: the stale-temporary sweep never touches a live writer's temporary or a
 # file strata did not make; an output is never one of the command's inputs or another output;
-# usage errors quote option values escaped; --help and --version report a failed write. TAP.
+# usage errors quote option values escaped; --help and --version report a failed write;
+# failures name their real cause (PoCL's kernel cache, a temporary, a .hdr's header). TAP.
 . tests/tap.sh
 
 R="--width 16 --height 12 --spp 2 --quiet"
@@ -147,6 +148,29 @@ $S render "$T/odd${nl}dir/s.gltf" $R -o "$T/odd.exr" 2> "$T/err"
 check "the scene path in the lighting note is escaped" \
     '[ "$(grep -c "" "$T/err")" = "$(grep -c "^strata: " "$T/err")" ] && grep -q "odd\\\\x0Adir" "$T/err"' \
     "($(cat -v "$T/err"))"
+
+# ---- messages that name the real cause --------------------------------------------------------
+expect "a kernel cache that is /dev/null: the build failure names it" 1 \
+    "^strata: error: kernel build failed on .*: PoCL's kernel cache /dev/null (POCL_CACHE_DIR) cannot be made: /dev/null is not a folder" \
+    env POCL_CACHE_DIR=/dev/null timeout 300 $S render $R -o "$T/c.exr"
+echo x > "$T/afile"
+expect "a kernel cache under a file: devices exits 1 naming it" 1 \
+    "^strata: error: no OpenCL devices: PoCL's kernel cache $T/afile/k (POCL_CACHE_DIR) cannot be made: $T/afile is not a folder" \
+    env POCL_CACHE_DIR="$T/afile/k" $S devices
+expect "a file-size limit too small for the kernel cache is named" 1 \
+    "^strata: error: kernel build failed on .*: the file-size limit (ulimit -f) of [0-9]* bytes is too small" \
+    sh -c "ulimit -f 8; POCL_CACHE_DIR='$T/fresh-cache' exec timeout 300 $S render $R -o '$T/c.exr'"
+check "no image from a failed build" '[ ! -e "$T/c.exr" ]'
+# /proc takes no new file, even from root: a file there is replaced through a temporary that
+# cannot be made
+expect "a file whose folder takes no new file: the error names the temporary" 1 \
+    "^strata: error: /proc/version: cannot create its temporary .version.strata-tmp.$host.[0-9]*.[0-9]* (" \
+    $S $PAT --csv /proc/version
+printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y -5 +X 10\n' > "$T/neg.hdr"
+expect "a .hdr of negative size names its header, not another format" 1 \
+    "^strata: error: $T/neg.hdr: a Radiance HDR header without a valid size" \
+    $S render $R --env "$T/neg.hdr" -o "$T/c.exr"
+check "... and does not quote stb's last format tried" '! grep -q "not BMP" "$T/err"'
 
 # ---- --help and --version into a full disk -------------------------------------------------
 for arg in --version --help -h; do
