@@ -1,5 +1,6 @@
-/* gltf_shim.h — private C interface of the tinygltf shim (src/scene/gltf_shim.cpp),
- * the one C++ file of strata. Used only by src/scene/scene.c.
+/* gltf_shim.h — private C interface of the tinygltf shim (src/scene/gltf_*.cpp,
+ * strata's C++ files; gltf_shim.cpp holds the entry points). Used only by
+ * src/scene/scene.c.
  *
  * The shim parses one glTF 2.0 document (JSON .gltf or binary .glb, chosen by
  * the "glTF" magic of the bytes, not by the file name), validates every index,

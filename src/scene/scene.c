@@ -1,6 +1,6 @@
 /* scene.c — scene loading (st_scene.h): resolves a scene spec to a built-in
  * scene (embedded in the binary) or a file, hands the bytes to the glTF shim
- * (gltf_shim.cpp), and adds what does not depend on the file format: the
+ * (gltf_*.cpp), and adds what does not depend on the file format: the
  * default material, the textures' mip chains in one texel array, the bounds,
  * the cameras (or the default one) and the environment light.
  *
