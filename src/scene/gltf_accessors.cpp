@@ -1,8 +1,9 @@
 /* gltf_accessors.cpp — accessors (§3.6): checked ranges and typed reads.
  *
  * No byte of a buffer is read before the accessor and bufferView ranges that
- * cover it were checked against the buffer's real size; sparse accessors are
- * made dense once, before anything reads them; each attribute is read with
+ * cover it were checked against the buffer's real size; the sparse accessors
+ * the scene reads are made dense once, before anything reads them (the
+ * others stay sparse: never expanded); each attribute is read with
  * the component types the core and KHR_mesh_quantization allow it. */
 #include "gltf_int.h"
 
@@ -89,19 +90,33 @@ static const unsigned char *view_bytes(const Model &m, int v, size_t offset, siz
     return buf.data() + view.byteOffset + offset;
 }
 
-/* Sparse accessors (§3.6.2.3) made dense, once, before anything reads
- * them: the base (its bufferView, or zeros without one) copied into a new
- * buffer, the sparse values written over it at their indices, and the
- * accessor pointed at the copy. */
-void densify_sparse(Model &m)
+/* The sparse accessors (§3.6.2.3) that `used` marks made dense, once,
+ * before anything reads them: the base (its bufferView, or zeros without
+ * one) copied into a new buffer, the sparse values written over it at their
+ * indices, and the accessor pointed at the copy. Their dense bytes, all
+ * together, are checked against ST_GLTF_MAX_SPARSE_BYTES first: a sparse
+ * accessor of a billion zeros takes a few bytes of JSON. */
+void densify_sparse(Model &m, const std::vector<char> &used)
 {
+    size_t total = 0;
     for (size_t a = 0; a < m.accessors.size(); a++) {
-        tinygltf::Accessor &acc = m.accessors[a];
-        if (!acc.sparse.isSparse)
+        const tinygltf::Accessor &acc = m.accessors[a];
+        if (!acc.sparse.isSparse || !used[a])
             continue;
         const size_t elem = component_size(acc.componentType) * type_components(acc.type);
-        if (elem == 0 || acc.count > (size_t(1) << 30) / elem)
-            fail("accessor %zu: bad type or too many elements for a sparse accessor", a);
+        if (elem == 0)
+            fail("accessor %zu: bad componentType %d or type %d", a, acc.componentType, acc.type);
+        if (acc.count > (ST_GLTF_MAX_SPARSE_BYTES - total) / elem)
+            fail("accessor %zu: sparse accessors made dense for the scene (%zu elements of %zu "
+                 "bytes here): more than %u MiB in all, the limit",
+                 a, acc.count, elem, ST_GLTF_MAX_SPARSE_BYTES >> 20);
+        total += acc.count * elem;
+    }
+    for (size_t a = 0; a < m.accessors.size(); a++) {
+        tinygltf::Accessor &acc = m.accessors[a];
+        if (!acc.sparse.isSparse || !used[a])
+            continue;
+        const size_t elem = component_size(acc.componentType) * type_components(acc.type);
         std::vector<unsigned char> dense(elem * acc.count, 0);
         acc.sparse.isSparse = false;
         if (acc.bufferView >= 0) {
@@ -213,6 +228,22 @@ static unsigned allowed_types(const Model &m, const char *attr)
     return Q_F | Q_INT; /* POSITION, TEXCOORD_n */
 }
 
+/* The types of a mask of allowed_types in words ("unsigned byte or unsigned short"). */
+static std::string type_words(unsigned mask)
+{
+    static const char *const names[] = {
+        "float", "byte", "unsigned byte", "short", "unsigned short", "normalized byte",
+        "normalized unsigned byte", "normalized short", "normalized unsigned short"};
+    std::vector<const char *> on;
+    for (unsigned k = 0; k < sizeof names / sizeof names[0]; k++)
+        if (mask >> k & 1u)
+            on.push_back(names[k]);
+    std::string s;
+    for (size_t i = 0; i < on.size(); i++)
+        s += std::string(i == 0 ? "" : i + 1 == on.size() ? " or " : ", ") + on[i];
+    return s;
+}
+
 /* Reads attribute accessor a (`attr`: POSITION, NORMAL, TANGENT,
  * TEXCOORD_n) of n components per element into floats, of a type that
  * allowed_types permits; vertices > 0: the element count it must have.
@@ -226,7 +257,7 @@ void read_attribute(const Model &m, int a, const char *attr, int n, size_t verti
     const int type = n == 2 ? TINYGLTF_TYPE_VEC2 : n == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
     if (acc.type != type || !(type_bit(ct, acc.normalized) & allowed_types(m, attr)))
         fail("accessor %d: %s must be %s VEC%d (componentType %d%s, type %d)", a, attr,
-             allowed_types(m, attr) == Q_F ? "float" : "float or a permitted integer", n, ct,
+             type_words(allowed_types(m, attr)).c_str(), n, ct,
              acc.normalized ? " normalized" : "", acc.type);
     const span s = accessor_span(m, a);
     if (vertices > 0 && s.count != vertices)

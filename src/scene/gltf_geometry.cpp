@@ -91,6 +91,14 @@ size_t primitive_bound(const Model &m, int mesh, size_t p)
     return n / 3;
 }
 
+/* The vertices a drawing of a primitive reads (its POSITION's elements; 0 when it is not
+ * drawn), for the import's budget of work. */
+size_t primitive_vertices(const Model &m, int mesh, size_t p)
+{
+    const int pos = position_accessor(m, mesh, p);
+    return pos < 0 ? 0 : accessor_span(m, pos).count;
+}
+
 /* Reads COLOR_0 (§3.7.2.1: float, or normalised unsigned byte or short,
  * VEC3 or VEC4; linear) into RGBA, alpha 1 for VEC3. */
 static void read_colors(const Model &m, int a, size_t vertices, std::vector<float> &out)
@@ -236,25 +244,39 @@ static void emit_triangle(const scratch &s, const uint32_t i[3], bool normals, u
     out.mat[out.count++] = material;
 }
 
-/* One primitive of one drawing of a mesh: morphed by `weights`, then
- * skinned by `joints` (the skin's joint matrices; NULL: not skinned) or
- * moved by `world`. */
-void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
-                    const normal_xform &nx, const std::vector<double> &weights,
-                    const std::vector<mat4> *joints, const std::vector<uv_use> &use, scratch &s,
-                    sink &out)
+/* The vertices of idx's whole triangles (a trailing 1 or 2 indices draw nothing), each once,
+ * ascending, into s.used. */
+static void find_used(scratch &s, size_t nv)
+{
+    std::vector<char> mark(nv, 0);
+    for (size_t t = 0; t < s.idx.size() / 3 * 3; t++)
+        mark[s.idx[t]] = 1;
+    s.used.clear();
+    for (size_t v = 0; v < nv; v++)
+        if (mark[v])
+            s.used.push_back(uint32_t(v));
+}
+
+/* One primitive read into s in object space, morphed by `weights`: its attributes (TEXCOORD_1
+ * only when want_uv1), its indices as a triangle list, its tangents (read, or generated from
+ * the normal map's set) and the vertices its triangles use. s.drawn is false for a primitive
+ * strata skips. */
+void read_primitive(const Model &m, int mesh, size_t p, const std::vector<double> &weights,
+                    const std::vector<uv_use> &use, bool want_uv1, scratch &s)
 {
     const int pos = position_accessor(m, mesh, p);
-    if (pos < 0)
+    s.drawn = pos >= 0;
+    if (!s.drawn)
         return;
     const tinygltf::Primitive &prim = primitive(m, mesh, p);
     if (prim.material != -1)
         check_index(prim.material, m.materials.size(), "mesh %d primitive %zu: material", mesh, p);
-    const uint32_t material = prim.material == -1 ? ST_GLTF_NO_MATERIAL : uint32_t(prim.material);
+    s.material = prim.material == -1 ? ST_GLTF_NO_MATERIAL : uint32_t(prim.material);
     read_vec3(m, pos, "POSITION", s.p);
     const size_t nv = s.p.size() / 3;
     apply_morph(m, mesh, p, weights, "POSITION", 3, s.p);
     const int nrm = attribute(m, mesh, p, "NORMAL");
+    s.normals = nrm >= 0;
     if (nrm >= 0) {
         read_vec3(m, nrm, "NORMAL", s.n);
         if (s.n.size() != s.p.size())
@@ -265,9 +287,10 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     const int uv = attribute(m, mesh, p, "TEXCOORD_0");
     if (uv >= 0)
         read_uv(m, uv, "TEXCOORD_0", nv, s.uv);
-    const int uv1 = out.uv1 ? attribute(m, mesh, p, "TEXCOORD_1") : -1;
+    const int uv1 = want_uv1 ? attribute(m, mesh, p, "TEXCOORD_1") : -1;
     if (uv1 >= 0)
         read_uv(m, uv1, "TEXCOORD_1", nv, s.uv1);
+    s.sets = (uv >= 0 ? 1u : 0u) | (uv1 >= 0 ? 2u : 0u);
     if (prim.indices != -1) {
         check_index(prim.indices, m.accessors.size(), "mesh %d primitive %zu: indices accessor",
                     mesh, p);
@@ -278,12 +301,13 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
             s.idx[v] = uint32_t(v);
     }
     strip_or_fan_to_list(prim.mode, s.idx);
+    find_used(s, nv);
     const int col = attribute(m, mesh, p, "COLOR_0");
     s.c.clear();
     if (col >= 0)
         read_colors(m, col, nv, s.c);
     const int tan = attribute(m, mesh, p, "TANGENT");
-    const bool set1 = material != ST_GLTF_NO_MATERIAL && use[material].normal_set == 1;
+    const bool set1 = s.material != ST_GLTF_NO_MATERIAL && use[s.material].normal_set == 1;
     s.t.clear();
     if (tan >= 0 && nrm >= 0) { /* §3.7.2.1: TANGENT is used with NORMAL only */
         read_tangents(m, tan, nv, s.t);
@@ -291,10 +315,20 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
     } else if ((set1 ? uv1 : uv) >= 0) { /* from the normal map's own set */
         generate_tangents(s, set1 ? s.uv1 : s.uv, nrm >= 0);
     }
+}
+
+/* One drawing of a primitive that read_primitive read into s: skinned by `joints` (the skin's
+ * joint matrices; NULL: not skinned) or moved by `world`, then its triangles emitted. */
+void place_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
+                     const normal_xform &nx, const std::vector<mat4> *joints, scratch &s,
+                     sink &out)
+{
+    if (!s.drawn)
+        return;
     if (joints) {
-        skin_vertices(skin_matrices(m, mesh, p, *joints, world, nv), s, nrm >= 0);
+        skin_vertices(skin_matrices(m, mesh, p, *joints, world, s.p.size() / 3), s, s.normals);
     } else {
-        transform_vertices(world, nx, s, nrm >= 0);
+        transform_vertices(world, nx, s, s.normals);
         transform_tangents(world, nx.det, s);
     }
     for (size_t t = 0; t + 3 <= s.idx.size(); t += 3) { /* a trailing 1 or 2 are ignored */
@@ -303,8 +337,7 @@ void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
             tri[1] = s.idx[t + 2];
             tri[2] = s.idx[t + 1];
         }
-        emit_triangle(s, tri, nrm >= 0, (uv >= 0 ? 1u : 0u) | (uv1 >= 0 ? 2u : 0u), material,
-                      out);
+        emit_triangle(s, tri, s.normals, s.sets, s.material, out);
     }
 }
 

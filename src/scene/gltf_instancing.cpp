@@ -27,13 +27,20 @@ static int instancing_accessor(const Model &m, const tinygltf::Value &attrs, con
     return v.Get<int>();
 }
 
+[[noreturn]] static void too_many(int node, size_t drawings)
+{
+    fail("node %d: %zu drawings of meshes (nodes and EXT_mesh_gpu_instancing instances): more "
+         "than %u, the limit", node, drawings, ST_GLTF_MAX_INSTANCES);
+}
+
 /* The node's mesh as it is drawn: once, or, with EXT_mesh_gpu_instancing,
  * once per instance with world = the node's world x T_i R_i S_i (the
  * extension's README: instance transforms apply in the node's space;
  * TRANSLATION, ROTATION and SCALE hold one element each per instance, a
  * missing one is the identity). Instances are flattened into the triangle
  * arrays, so their triangles count against ST_GLTF_MAX_TRIANGLES here,
- * before anything is allocated for them. A skinned node is drawn by its
+ * and the drawings themselves (a mesh without triangles too) against
+ * ST_GLTF_MAX_INSTANCES, before anything is allocated for them. A skinned node is drawn by its
  * joints, once (instancing of it is not read: a warning). */
 void add_mesh_instances(const Model &m, int node, const mat4 &world, std::vector<instance> &out,
                         size_t &instanced, notes &warn)
@@ -47,6 +54,8 @@ void add_mesh_instances(const Model &m, int node, const mat4 &world, std::vector
             note(warn, "node %d: EXT_mesh_gpu_instancing on a skinned mesh is not read: "
                        "drawn once",
                  node);
+        if (out.size() >= ST_GLTF_MAX_INSTANCES)
+            too_many(node, out.size() + 1);
         out.push_back({n.mesh, world, node, n.skin});
         return;
     }
@@ -60,6 +69,8 @@ void add_mesh_instances(const Model &m, int node, const mat4 &world, std::vector
         if (a < 0)
             continue;
         const size_t elems = accessor_span(m, a).count;
+        if (elems > ST_GLTF_MAX_INSTANCES - out.size()) /* before the attributes are read */
+            too_many(node, out.size() + elems);
         if (any && elems != count)
             fail("node %d: EXT_mesh_gpu_instancing attributes of %zu and %zu instances", node,
                  count, elems);

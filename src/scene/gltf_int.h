@@ -123,11 +123,18 @@ struct sink {
     size_t count, dropped;
 };
 
-/* Per-primitive scratch, reused so that big scenes allocate once. */
+/* One primitive as read_primitive made it (object space: p, n, uv, uv1, t, c, idx as a
+ * triangle list, and the vertices its triangles use) and as place_primitive moves it (world
+ * space: wp, wn, wt, neg); kept while consecutive drawings of its mesh reuse it. */
 struct scratch {
     std::vector<float> p, n, uv, uv1, wp, wn, t, wt, c;
     std::vector<uint32_t> idx;
-    std::vector<char> neg; /* skinned: the vertex's skin matrix mirrors (det < 0) */
+    std::vector<uint32_t> used; /* the distinct vertices of idx's whole triangles, ascending */
+    std::vector<char> neg;      /* skinned: the vertex's skin matrix mirrors (det < 0) */
+    bool drawn = false;         /* false: a primitive strata skips (another mode, no POSITION) */
+    bool normals = false;       /* it has NORMAL */
+    unsigned sets = 0;          /* bit k: it has TEXCOORD_k */
+    uint32_t material = ST_GLTF_NO_MATERIAL;
 };
 
 /* What a material's textures read: bit k of `sets` for TEXCOORD_k, and
@@ -182,7 +189,7 @@ void transform_tangents(const mat4 &w, double det, scratch &s);
 
 /* gltf_accessors.cpp */
 span accessor_span(const Model &m, int a);
-void densify_sparse(Model &m);
+void densify_sparse(Model &m, const std::vector<char> &used);
 float component(const unsigned char *p, int ct, bool normalized, int k);
 void read_attribute(const Model &m, int a, const char *attr, int n, size_t vertices,
                     std::vector<float> &out);
@@ -215,10 +222,12 @@ void skin_vertices(const std::vector<mat4> &M, scratch &s, bool normals);
 bool is_triangles(const tinygltf::Primitive &prim);
 void note_skipped_primitives(const Model &m, int mesh, notes &warn);
 size_t primitive_bound(const Model &m, int mesh, size_t p);
-void emit_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
-                    const normal_xform &nx, const std::vector<double> &weights,
-                    const std::vector<mat4> *joints, const std::vector<uv_use> &use, scratch &s,
-                    sink &out);
+size_t primitive_vertices(const Model &m, int mesh, size_t p);
+void read_primitive(const Model &m, int mesh, size_t p, const std::vector<double> &weights,
+                    const std::vector<uv_use> &use, bool want_uv1, scratch &s);
+void place_primitive(const Model &m, int mesh, size_t p, const mat4 &world,
+                     const normal_xform &nx, const std::vector<mat4> *joints, scratch &s,
+                     sink &out);
 
 /* gltf_instancing.cpp */
 size_t mesh_bound(const Model &m, int mesh);
@@ -230,6 +239,7 @@ double ext_number(const tinygltf::Value &obj, const char *key, double fallback, 
 int tex_coord_number(const tinygltf::Value &obj, int fallback, const char *what);
 int texture_ref(const Model &m, const tinygltf::TextureInfo &info, bool srgb, size_t mat,
                 const char *slot, texture_table &table, notes &warn);
+void share_images(const Model &m, const image_bytes &bytes, texture_table &table);
 st_gltf_image decode_or_white(const Model &m, int i, const image_bytes &bytes, notes &warn);
 
 /* gltf_materials.cpp */

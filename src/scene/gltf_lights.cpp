@@ -15,10 +15,11 @@ int node_light(const tinygltf::Node &node, int index, size_t light_count)
     const tinygltf::Value &v = ext->second.Get("light");
     if (!v.IsInt() && !v.IsNumber())
         fail("node %d: KHR_lights_punctual has no light index", index);
-    const int i = v.IsInt() ? v.Get<int>() : int(v.GetNumberAsDouble());
-    if (i < 0 || size_t(i) >= light_count)
-        fail("node %d: light %d out of range (have %zu)", index, i, light_count);
-    return i;
+    /* compared as a double: a number such as 1e20 has no int to convert to */
+    const double i = v.IsInt() ? double(v.Get<int>()) : v.GetNumberAsDouble();
+    if (!(i >= 0.0 && i < double(light_count)) || i != std::floor(i))
+        fail("node %d: light %g out of range (have %zu)", index, i, light_count);
+    return int(i);
 }
 
 /* A punctual light (KHR_lights_punctual) at its node's world translation,

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <iterator> /* std::size */
 
 #include <unistd.h> /* close(2) */
 
@@ -286,6 +287,59 @@ static void check_sizes(const cJSON *root)
     }
 }
 
+/* The keys whose number is an index or an enum of the schema (and of the extensions strata
+ * reads): tinygltf converts each to int, so 4294967296 would read as 0 and 1e20 has no int. */
+static const char *const index_keys[] = {
+    "scene", "camera", "skin", "mesh", "light", "indices", "material", "mode", "bufferView",
+    "buffer", "componentType", "target", "inverseBindMatrices", "skeleton", "source", "sampler",
+    "index", "texCoord", "magFilter", "minFilter", "wrapS", "wrapT", "node", "input", "output"};
+/* Keys of arrays of indices, and of objects whose every member is one. */
+static const char *const index_lists[] = {"nodes", "children", "joints", "attributes"};
+
+static bool named_in(const char *key, const char *const *names, size_t n)
+{
+    for (size_t i = 0; key && i < n; i++)
+        if (strcmp(key, names[i]) == 0)
+            return true;
+    return false;
+}
+
+/* Refuses an index or enum (by its key, or as a member of an index list; a morph target's
+ * members are accessor indices) that is not an integer from 0 to INT_MAX, naming its place
+ * ("nodes[2].mesh"). extras, and extensions strata does not read, are free-form: skipped. The
+ * recursion is bounded by check_nesting's depth. */
+static void check_indices(const cJSON *item, const std::string &at, bool list)
+{
+    const bool targets = cJSON_IsArray(item) && item->string && !strcmp(item->string, "targets");
+    const bool extensions = item->string && !strcmp(item->string, "extensions");
+    size_t i = 0;
+    for (const cJSON *c = item->child; c; c = c->next, i++) {
+        const char *key = cJSON_IsArray(item) ? nullptr : c->string;
+        if (key && (!strcmp(key, "extras") || (extensions && !supported(key))))
+            continue;
+        const std::string here = key ? (at.empty() ? std::string(key) : at + "." + key)
+                                     : at + "[" + std::to_string(i) + "]";
+        if (cJSON_IsNumber(c) && (list || named_in(key, index_keys, std::size(index_keys)))) {
+            const double v = c->valuedouble;
+            if (!(v >= 0.0 && v <= double(INT_MAX) && v == std::floor(v)))
+                fail("%s: %.17g is not an index (an integer from 0 to %d)", here.c_str(), v,
+                     INT_MAX);
+        } else if (cJSON_IsArray(c) || cJSON_IsObject(c)) {
+            check_indices(c, here, named_in(key, index_lists, std::size(index_lists)) || targets);
+        }
+    }
+}
+
+/* A scene's materials, at most: tinygltf makes a large object of each (some 2.5 kB), so a
+ * million empty ones ({} in 3 bytes of JSON each) would take gigabytes before anything is read;
+ * far more than any model has. */
+static void check_counts(const cJSON *root)
+{
+    const int n = cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(root, "materials"));
+    if (n > int(ST_GLTF_MAX_MATERIALS))
+        fail("%d materials: more than %u, the limit", n, ST_GLTF_MAX_MATERIALS);
+}
+
 /* extensionsRequired, read from the JSON (a GLB's first chunk) before
  * tinygltf parses the rest, so that a Draco or meshopt file fails naming
  * the extension instead of on the buffers it cannot decode. */
@@ -303,6 +357,9 @@ static void check_required(const unsigned char *bytes, size_t size, bool glb)
     try {
         check_asset_version(root);
         check_sizes(root);
+        check_counts(root);
+        if (root)
+            check_indices(root, "", false);
     } catch (...) {
         cJSON_Delete(root);
         throw;

@@ -98,6 +98,50 @@ static void walk_scene(const Model &m, std::vector<instance> &out,
     }
 }
 
+/* The accessors the import may read: the attributes, indices and morph targets of the meshes,
+ * the skins' inverseBindMatrices and the EXT_mesh_gpu_instancing attributes of the nodes the
+ * default scene reaches. Bad indices are skipped here: walk_scene reports them. */
+static std::vector<char> used_accessors(const Model &m)
+{
+    std::vector<char> used(m.accessors.size(), 0), seen(m.nodes.size(), 0);
+    auto use = [&used](int a) {
+        if (a >= 0 && size_t(a) < used.size())
+            used[size_t(a)] = 1;
+    };
+    const size_t s = size_t(m.defaultScene >= 0 ? m.defaultScene : 0);
+    std::vector<int> stack;
+    if (s < m.scenes.size())
+        stack = m.scenes[s].nodes;
+    while (!stack.empty()) {
+        const int n = stack.back();
+        stack.pop_back();
+        if (n < 0 || size_t(n) >= m.nodes.size() || seen[size_t(n)])
+            continue;
+        seen[size_t(n)] = 1;
+        const tinygltf::Node &node = m.nodes[size_t(n)];
+        if (node.mesh >= 0 && size_t(node.mesh) < m.meshes.size())
+            for (const tinygltf::Primitive &prim : m.meshes[size_t(node.mesh)].primitives) {
+                use(prim.indices);
+                for (const auto &kv : prim.attributes)
+                    use(kv.second);
+                for (const auto &target : prim.targets)
+                    for (const auto &kv : target)
+                        use(kv.second);
+            }
+        if (node.skin >= 0 && size_t(node.skin) < m.skins.size())
+            use(m.skins[size_t(node.skin)].inverseBindMatrices);
+        auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+        if (ext != node.extensions.end() && ext->second.Get("attributes").IsObject()) {
+            const tinygltf::Value &attrs = ext->second.Get("attributes");
+            for (const std::string &key : attrs.Keys())
+                if (attrs.Get(key).IsInt())
+                    use(attrs.Get(key).Get<int>());
+        }
+        stack.insert(stack.end(), node.children.begin(), node.children.end());
+    }
+    return used;
+}
+
 template <typename T> T *alloc_array(size_t n, size_t per)
 {
     if (n == 0)
@@ -178,6 +222,42 @@ static void check_triangle_bound(size_t bound)
              "limit (about 400 bytes of memory each)", bound);
 }
 
+/* Whether drawing `in` (morphed by `weights`) must read its mesh's primitives anew, or may
+ * reuse those the drawing before it read (*read_mesh, *read_weights; updated): consecutive
+ * drawings of one mesh with the same weights (EXT_mesh_gpu_instancing's instances, sibling
+ * nodes) share one read; a skinned one reads its own. */
+static bool reads_mesh(const instance &in, const std::vector<double> &weights, int &read_mesh,
+                       std::vector<double> &read_weights)
+{
+    if (in.skin < 0 && in.mesh == read_mesh && weights == read_weights)
+        return false;
+    read_mesh = in.skin < 0 ? in.mesh : -1;
+    read_weights = weights;
+    return true;
+}
+
+/* The vertices the import reads, every (re)read of a mesh counted (reads_mesh), checked
+ * against ST_GLTF_MAX_VERTEX_READS before anything is read: a few bytes of JSON may draw a
+ * million-vertex accessor from a thousand nodes. What each drawing then transforms is only
+ * the vertices its triangles use, at most three per triangle, so ST_GLTF_MAX_TRIANGLES bounds
+ * that work. */
+static void check_vertex_reads(const Model &m, const std::vector<instance> &inst)
+{
+    size_t reads = 0;
+    int read_mesh = -1;
+    std::vector<double> read_weights;
+    for (const instance &in : inst) {
+        if (!reads_mesh(in, morph_weights(m, in.node, in.mesh), read_mesh, read_weights))
+            continue;
+        for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
+            reads += primitive_vertices(m, in.mesh, p);
+        if (reads > ST_GLTF_MAX_VERTEX_READS)
+            fail("the scene reads more than %u vertices, every node and instance that draws a "
+                 "mesh counted (a mesh drawn by consecutive nodes or instances once): the limit",
+                 ST_GLTF_MAX_VERTEX_READS);
+    }
+}
+
 static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gltf_data &out)
 {
     std::vector<instance> inst;
@@ -190,13 +270,15 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
     for (size_t i = 0; i < m.materials.size(); i++)
         mats.push_back(read_material(m, i, table, warn));
     const std::vector<uv_use> use = uv_uses(mats, table);
+    share_images(m, bytes, table); /* the texel budget, before anything is expanded */
     bool any_uv1 = false;
     for (const st_gltf_texture &t : table.refs)
         any_uv1 = any_uv1 || t.tex_coord == 1;
-    std::vector<char> mesh_noted(m.meshes.size(), 0);
+    std::vector<bool> mesh_noted(m.meshes.size(), false); /* once per mesh, however many draws */
     size_t bound = 0;
     for (const instance &in : inst) {
-        if (!mesh_noted[size_t(in.mesh)]++) {
+        if (!mesh_noted[size_t(in.mesh)]) {
+            mesh_noted[size_t(in.mesh)] = true;
             note_skipped_primitives(m, in.mesh, warn);
             note_missing_uvs(m, in.mesh, use, warn);
             note_morph_targets(m, in.mesh, warn);
@@ -204,6 +286,7 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
         bound += mesh_bound(m, in.mesh); /* each primitive's <= its accessor's elements */
     }
     check_triangle_bound(bound);
+    check_vertex_reads(m, inst);
     if (!m.animations.empty())
         note(warn, "%zu animation%s not played: the rest pose is rendered (default node "
                    "transforms and morph weights)",
@@ -217,7 +300,9 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
     out.tri_material = alloc_array<uint32_t>(bound, 1);
     sink s = {out.positions, out.normals, out.uvs, out.tangents, out.colors, out.uvs1,
               out.tri_material, 0, 0};
-    scratch tmp;
+    std::vector<scratch> prims; /* the mesh read last, a primitive each (reads_mesh) */
+    int read_mesh = -1;
+    std::vector<double> read_weights;
     node_worlds worlds;
     if (!m.skins.empty())
         worlds = {node_parents(m), std::vector<mat4>(m.nodes.size()),
@@ -228,9 +313,15 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
         const std::vector<double> weights = morph_weights(m, in.node, in.mesh);
         if (in.skin >= 0 && joints[size_t(in.skin)].empty())
             joints[size_t(in.skin)] = joint_matrices(m, in.skin, worlds);
-        for (size_t p = 0; p < m.meshes[size_t(in.mesh)].primitives.size(); p++)
-            emit_primitive(m, in.mesh, p, in.world, nx, weights,
-                           in.skin >= 0 ? &joints[size_t(in.skin)] : nullptr, use, tmp, s);
+        const size_t np = m.meshes[size_t(in.mesh)].primitives.size();
+        if (reads_mesh(in, weights, read_mesh, read_weights)) {
+            prims.resize(std::max(prims.size(), np));
+            for (size_t p = 0; p < np; p++)
+                read_primitive(m, in.mesh, p, weights, use, any_uv1, prims[p]);
+        }
+        for (size_t p = 0; p < np; p++)
+            place_primitive(m, in.mesh, p, in.world, nx,
+                            in.skin >= 0 ? &joints[size_t(in.skin)] : nullptr, prims[p], s);
     }
     out.tri_count = s.count;
     out.dropped = s.dropped;
@@ -316,7 +407,7 @@ extern "C" st_status st_gltf_shim_load(const char *label, const unsigned char *b
         image_bytes images;
         notes warn;
         parse(model, bytes, size, base_dir, images, warn);
-        densify_sparse(model);
+        densify_sparse(model, used_accessors(model));
         flatten(model, images, warn, *out);
         note_degenerate_scale(*out, warn);
         take_warnings(warn, *out);

@@ -193,7 +193,7 @@ void skin_vertices(const std::vector<mat4> &M, scratch &s, bool normals)
     s.wn.resize(normals ? 3 * nv : 0);
     s.wt.assign(s.t.empty() ? 0 : 4 * nv, 0.0f);
     s.neg.assign(nv, 0);
-    for (size_t v = 0; v < nv; v++) {
+    for (size_t v : s.used) {
         const double *w = M[v].m;
         const normal_xform nx = normal_matrix(M[v]);
         s.neg[v] = nx.det < 0.0;

@@ -126,9 +126,10 @@ int texture_ref(const Model &m, const tinygltf::TextureInfo &info, bool srgb, si
     return int(table.refs.size() - 1);
 }
 
-/* Decodes image i (RGBA8) from its bufferView (checked like an accessor's) or
- * from the bytes tinygltf read for its URI. */
-static st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
+/* The encoded bytes of image i: its bufferView's (checked like an accessor's) or those tinygltf
+ * read for its URI. */
+static void encoded_bytes(const Model &m, int i, const image_bytes &bytes,
+                          const unsigned char **out, size_t *out_size)
 {
     const tinygltf::Image &img = m.images[size_t(i)];
     const unsigned char *data = nullptr;
@@ -153,6 +154,17 @@ static st_gltf_image decode_image(const Model &m, int i, const image_bytes &byte
     }
     if (size > size_t(INT_MAX))
         fail("image %d: too large (%zu bytes)", i, size);
+    *out = data;
+    *out_size = size;
+}
+
+/* Decodes image i (RGBA8) from its encoded bytes. */
+static st_gltf_image decode_image(const Model &m, int i, const image_bytes &bytes)
+{
+    const tinygltf::Image &img = m.images[size_t(i)];
+    const unsigned char *data = nullptr;
+    size_t size = 0;
+    encoded_bytes(m, i, bytes, &data, &size);
     int w = 0, h = 0, comp = 0;
     /* the size from the header first: a small file may decode to gigabytes */
     if (stbi_info_from_memory(data, int(size), &w, &h, &comp) &&
@@ -168,6 +180,79 @@ static st_gltf_image decode_image(const Model &m, int i, const image_bytes &byte
         fail("image %d: %d x %d texels: more than 2^26", i, w, h);
     }
     return {uint32_t(w), uint32_t(h), rgba};
+}
+
+/* The texels image i will decode to, from its header (0 when it cannot be read or its header
+ * not parsed, or past 2^26: decode_or_white makes those one white texel). */
+static size_t header_texels(const unsigned char *data, size_t size)
+{
+    int w = 0, h = 0, comp = 0;
+    if (!data || !stbi_info_from_memory(data, int(size), &w, &h, &comp) || w <= 0 || h <= 0 ||
+        size_t(w) * size_t(h) > (size_t(1) << 26))
+        return 1;
+    return size_t(w) * size_t(h);
+}
+
+/* FNV-1a, 64 bits (Fowler, Noll, Vo): a key for finding images of the same bytes. */
+static uint64_t fnv1a(const unsigned char *p, size_t n)
+{
+    uint64_t h = 14695981039346656037ull;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+}
+
+/* Before any image is decoded: the textures' images of identical encoded bytes made one (each
+ * reference, and each image derived from one, points at the first of them, so the bytes are
+ * decoded once), and the texels of those left, as their headers give them, checked against
+ * ST_GLTF_MAX_TEXELS. */
+void share_images(const Model &m, const image_bytes &bytes, texture_table &table)
+{
+    std::vector<int> first(m.images.size(), -1); /* -1: no texture uses it */
+    std::map<std::pair<uint64_t, size_t>, std::vector<int>> by_bytes;
+    std::vector<size_t> texels(m.images.size(), 0);
+    size_t total = 0;
+    for (const st_gltf_texture &t : table.refs) {
+        const int i = t.image;
+        if (size_t(i) >= m.images.size() || first[size_t(i)] >= 0)
+            continue;
+        first[size_t(i)] = i;
+        const unsigned char *data = nullptr;
+        size_t size = 0;
+        try {
+            encoded_bytes(m, i, bytes, &data, &size);
+        } catch (const shim_error &e) { /* decode_or_white says why, and makes it white */
+            if (e.status != ST_ERR_FORMAT)
+                throw;
+            data = nullptr;
+        }
+        if (data) {
+            std::vector<int> &same = by_bytes[{fnv1a(data, size), size}];
+            for (int j : same) {
+                const unsigned char *other = nullptr;
+                size_t n = 0;
+                encoded_bytes(m, j, bytes, &other, &n);
+                if (memcmp(other, data, size) == 0) {
+                    first[size_t(i)] = j;
+                    break;
+                }
+            }
+            if (first[size_t(i)] == i)
+                same.push_back(i);
+        }
+        if (first[size_t(i)] == i)
+            total += texels[size_t(i)] = header_texels(data, size);
+    }
+    for (st_gltf_texture &t : table.refs)
+        if (size_t(t.image) < m.images.size())
+            t.image = first[size_t(t.image)];
+    for (std::pair<int, float> &d : table.derived) {
+        d.first = first[size_t(d.first)];
+        total += texels[size_t(d.first)];
+    }
+    if (total > ST_GLTF_MAX_TEXELS)
+        fail("the textures' images hold %zu texels in all (images of the same bytes once): more "
+             "than 2^%d, the limit", total, ST_GLTF_TEXELS_LOG2);
 }
 
 /* Image i decoded, or, where it cannot be read or decoded, a warning naming

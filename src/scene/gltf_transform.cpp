@@ -122,17 +122,22 @@ bool normalize3(double v[3])
     return true;
 }
 
-/* Tangents to world space: xyz by the world matrix and renormalised, w
- * times the sign of its determinant (a mirror turns the bitangent over). */
+/* Tangents of the used vertices (s.used) to world space: xyz by the world matrix and
+ * renormalised, w times the sign of its determinant (a mirror turns the bitangent over); 0
+ * where xyz cannot be normalised. */
 void transform_tangents(const mat4 &w, double det, scratch &s)
 {
     const size_t nv = s.t.size() / 4;
-    s.wt.assign(4 * nv, 0.0f);
-    for (size_t v = 0; v < nv; v++) {
+    s.wt.resize(4 * nv);
+    if (nv == 0)
+        return;
+    for (size_t v : s.used) {
         const float *t = &s.t[4 * v];
         double o[3];
         for (int r = 0; r < 3; r++)
             o[r] = w.m[r] * t[0] + w.m[4 + r] * t[1] + w.m[8 + r] * t[2];
+        for (int r = 0; r < 4; r++)
+            s.wt[4 * v + size_t(r)] = 0.0f;
         if (!normalize3(o))
             continue;
         for (int r = 0; r < 3; r++)
@@ -162,13 +167,15 @@ void transform_vertex(const mat4 &w, const normal_xform &nx, scratch &s, size_t 
         s.wn[3 * v + size_t(r)] = float(t[r]);
 }
 
-/* Every vertex to world space by one matrix (transform_vertex). */
+/* The vertices the primitive's triangles use (s.used) to world space by one matrix
+ * (transform_vertex): an instance costs what it draws, not the size of the accessor it draws
+ * from. The others keep whatever they held: no triangle reads them. */
 void transform_vertices(const mat4 &w, const normal_xform &nx, scratch &s, bool normals)
 {
     const size_t nv = s.p.size() / 3;
     s.wp.resize(3 * nv);
     s.wn.resize(normals ? 3 * nv : 0);
-    for (size_t v = 0; v < nv; v++)
+    for (size_t v : s.used)
         transform_vertex(w, nx, s, v, normals);
 }
 
