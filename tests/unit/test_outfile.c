@@ -546,6 +546,39 @@ static void outfile_second_writer_keeps_first_ones_temporary(void **state)
     assert_string_equal(content(path), "first");
 }
 
+/* One file by device and inode, through a hard link, a symbolic link and a spelling with "./";
+ * a new name twice is one file too; "-" and distinct files are not. */
+static void outfile_is_same_by_device_and_inode(void **state)
+{
+    (void)state;
+    char a[512], hard[512], soft[512], dot[512], b[512], fresh[512];
+    snprintf(a, sizeof a, "%s", scratch_path("a.exr"));
+    snprintf(hard, sizeof hard, "%s", scratch_path("hard.exr"));
+    snprintf(soft, sizeof soft, "%s", scratch_path("soft.exr"));
+    snprintf(dot, sizeof dot, "%s", scratch_path("./a.exr"));
+    snprintf(b, sizeof b, "%s", scratch_path("b.exr"));
+    snprintf(fresh, sizeof fresh, "%s", scratch_path("new.png"));
+    put_file(a, "a");
+    put_file(b, "b");
+    assert_int_equal(link(a, hard), 0);
+    assert_int_equal(symlink("a.exr", soft), 0);
+    assert_true(st_outfile_is_same(a, hard));
+    assert_true(st_outfile_is_same(soft, a));
+    assert_true(st_outfile_is_same(dot, a));
+    assert_true(st_outfile_is_same(fresh, fresh));
+    assert_false(st_outfile_is_same(a, b));
+    assert_false(st_outfile_is_same(fresh, a));
+    assert_false(st_outfile_is_same("-", "-"));
+    st_outfile_role files[] = {{b, "-o"}, {NULL, "--spp-map"}, {hard, "part 1"}, {a, "part 2"}};
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_check_apart(files, 4, 2, &err), ST_OK);
+    files[0].path = hard;
+    assert_int_equal(st_outfile_check_apart(files, 4, 2, &err), ST_ERR_USAGE);
+    assert_message_names(&err, hard);
+    assert_non_null(strstr(err.msg, "-o and part 1 are the same file"));
+    assert_string_equal(content(a), "a"); /* nothing written */
+}
+
 int main(void)
 {
 #define T(name) cmocka_unit_test_setup_teardown(name, scratch_make, scratch_remove)
@@ -571,6 +604,7 @@ int main(void)
         T(outfile_long_name_works),
         T(outfile_stale_temporaries_removed),
         T(outfile_second_writer_keeps_first_ones_temporary),
+        T(outfile_is_same_by_device_and_inode),
     };
 #undef T
     return cmocka_run_group_tests_name("outfile", tests, NULL, NULL);
