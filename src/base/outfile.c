@@ -88,9 +88,8 @@ void st_outfile_remove_temporaries(void)
 
 /* This host's name as it goes into a temporary's name: letters, digits and '-' kept, anything
  * else (the dots of a domain, a slash) written '_', so the name parses back unambiguously. */
-static const char *host_token(void)
+static void host_token(char host[TEMP_HOST_KEEP + 1])
 {
-    static char host[TEMP_HOST_KEEP + 1];
     char raw[256] = "";
     if (gethostname(raw, sizeof raw - 1) != 0 || !raw[0])
         strcpy(raw, "localhost");
@@ -102,7 +101,6 @@ static const char *host_token(void)
         host[i] = keep ? c : '_';
     }
     host[i] = '\0';
-    return host;
 }
 
 /* Formats the n-th temporary name for f->dest into f->temp (sized by open_temporary). */
@@ -110,8 +108,10 @@ static void temp_name(struct st_outfile *f, size_t size, unsigned n)
 {
     const char *slash = strrchr(f->dest, '/');
     int dir = slash ? (int)(slash - f->dest) + 1 : 0;
+    char host[TEMP_HOST_KEEP + 1];
+    host_token(host);
     snprintf(f->temp, size, "%.*s.%.*s" TEMP_TOKEN "%s.%ld.%u", dir, f->dest, TEMP_NAME_KEEP,
-             f->dest + dir, host_token(), (long)getpid(), n);
+             f->dest + dir, host, (long)getpid(), n);
 }
 
 /* Whether fd is the file that name (relative to folder fd dir, AT_FDCWD for a path) names now. */
@@ -506,15 +506,15 @@ st_status st_outfile_check_apart(const st_outfile_role *files, int n, int nout, 
     return ST_OK;
 }
 
-/* Whether name is one of this host's temporaries, ".NAME.strata-tmp.HOST.PID.N". */
-static int is_our_temporary(const char *name)
+/* Whether name is a temporary of host's (host_token), ".NAME.strata-tmp.HOST.PID.N". */
+static int is_our_temporary(const char *name, const char *host)
 {
     const char *tok = name[0] == '.' ? strstr(name + 1, TEMP_TOKEN) : NULL;
     while (tok && strstr(tok + 1, TEMP_TOKEN))
         tok = strstr(tok + 1, TEMP_TOKEN); /* the last token (NAME may hold one) */
     if (!tok || tok == name + 1)
         return 0;
-    const char *host = host_token(), *p = tok + strlen(TEMP_TOKEN);
+    const char *p = tok + strlen(TEMP_TOKEN);
     size_t n = strlen(host);
     if (strncmp(p, host, n) || p[n] != '.')
         return 0;
@@ -556,9 +556,11 @@ void st_outfile_remove_stale(const char *dest)
     DIR *d = opendir(folder);
     if (!d)
         return;
+    char host[TEMP_HOST_KEEP + 1];
+    host_token(host);
     struct dirent *e;
     while ((e = readdir(d)) != NULL)
-        if (is_our_temporary(e->d_name))
+        if (is_our_temporary(e->d_name, host))
             remove_if_dead(dirfd(d), e->d_name);
     closedir(d);
 }

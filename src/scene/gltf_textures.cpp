@@ -182,8 +182,8 @@ static st_gltf_image decode_image(const Model &m, int i, const image_bytes &byte
     return {uint32_t(w), uint32_t(h), rgba};
 }
 
-/* The texels image i will decode to, from its header (0 when it cannot be read or its header
- * not parsed, or past 2^26: decode_or_white makes those one white texel). */
+/* The texels an image will decode to, from its header; 1 when it cannot be read, its header
+ * not parsed, or it is past 2^26 (decode_or_white makes those one white texel). */
 static size_t header_texels(const unsigned char *data, size_t size)
 {
     int w = 0, h = 0, comp = 0;

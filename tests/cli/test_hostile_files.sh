@@ -44,34 +44,33 @@ wait $holder 2> /dev/null
 $S $PAT --csv "$T/w/pts.csv" 2> "$T/err"
 check "once its writer has ended, that temporary is removed by the next write" '[ ! -e "$live" ]'
 
-# The issue's reproduction: a render stopped while its image is written (its temporary exists
-# and holds data), a second writer of the same name, then the first continued. The second runs
-# in a pid namespace of its own where this machine allows one (root, or user namespaces), as
-# in a container: the first's pid is then one it cannot see.
+# The issue's reproduction: a writer stopped while its output is written (its temporary exists
+# and holds data: a CSV of a million points, written for a second or more), a second writer
+# of the same name, then the first continued. The second runs in a pid namespace of its own
+# where this machine allows one (root, or user namespaces), as in a container: the first's pid
+# is then one it cannot see.
 ns=""
 unshare -p -f --mount-proc true 2> /dev/null && ns="unshare -p -f --mount-proc"
-$S render --width 2048 --height 2048 --spp 1 --sampler random --integrator direct --quiet \
-    -o "$T/w/b.exr" > /dev/null 2> "$T/err1" &
+$S pattern --sampler random --count 1048576 --dims 4 --csv "$T/w/b.csv" 2> "$T/err1" &
 first=$!
 stopped=0
-i=0
-while [ $i -lt 200000 ] && kill -0 $first 2> /dev/null; do
-    if [ -n "$(find "$T/w" -maxdepth 1 -name ".b.exr.*tmp.*.1" -size +0 2> /dev/null)" ]; then
+while kill -0 $first 2> /dev/null; do
+    if [ -n "$(find "$T/w" -maxdepth 1 -name ".b.csv.*tmp.*" -size +0 2> /dev/null)" ]; then
         kill -STOP $first
         stopped=1
         break
     fi
-    i=$((i + 1))
 done
-$ns $S render $R -o "$T/w/b.exr" 2> "$T/err2"
+$ns $S $PAT --csv "$T/w/b.csv" 2> "$T/err2"
 second=$?
-kill -CONT $first
+kill -CONT $first 2> /dev/null
 wait $first
 st=$?
 check "a second writer of one name, while the first is stopped mid-write, succeeds${ns:+ (from another pid namespace)}" \
     '[ $stopped = 1 ] && [ $second = 0 ]' "(stopped $stopped, status $second, $(cat "$T/err2"))"
-check "the first writer, continued, still renames its image into place" '[ $st = 0 ]' \
-    "(status $st, $(cat "$T/err1"))"
+check "the first writer, continued, still renames its file into place" \
+    '[ $st = 0 ] && [ "$(wc -l < "$T/w/b.csv")" = 1048577 ]' "(status $st, $(cat "$T/err1"))"
+rm -f "$T/w/b.csv"
 
 # ---- an output is never an input, nor another output --------------------------------------
 P="--width 16 --height 12 --spp 4 --sampler random --seed 3 --quiet"
