@@ -16,11 +16,13 @@
  *   fprintf(st_outfile_stream(out), ...);            (or st_outfile_write / st_outfile_write_at)
  *   return st_outfile_commit(out, err);              (or st_outfile_abort(out) to give up)
  *
- * The temporary is "<folder>/.<name>.tmp.<pid>.<n>" (<name> cut to NAME_MAX - 27 bytes, so the
- * longest legal name has one), created with O_CREAT|O_EXCL (mode 0666 less
- * the umask, as fopen) in the destination's own folder, so the final rename(2) never crosses a file
- * system and two writers never share a temporary. Commit flushes, fsyncs, closes and renames;
- * whatever fails on the way removes the temporary.
+ * The temporary is "<folder>/.<name>.strata-tmp.<host>.<pid>.<n>" (<name> cut to NAME_MAX - 99
+ * bytes, so the longest legal name has one; <host> is gethostname(2) with anything but letters,
+ * digits and '-' written '_'), created with O_CREAT|O_EXCL (mode 0666 less the umask, as fopen) in
+ * the destination's own folder, so the final rename(2) never crosses a file system and two writers
+ * never share a temporary. Its writer holds an exclusive flock(2) on it until it is renamed or
+ * removed. Commit flushes, fsyncs, closes and renames; whatever fails on the way removes the
+ * temporary.
  *
  * Errors: ST_ERR_IO with one line starting with the destination path ("out.png: cannot create
  * (No such file or directory)"), ST_ERR_NOMEM when the handle cannot be allocated. Nothing here
@@ -77,14 +79,35 @@ void st_outfile_abort(st_outfile *f);
  * same errors as st_outfile_open, or ST_ERR_IO "out.exr: is a folder, not a file to write". */
 st_status st_outfile_check(const char *path, st_error *err);
 
+/* One name of a command's files and what it is to the command ("-o", "--env", "part 2"). */
+typedef struct st_outfile_role {
+    const char *path; /* NULL: not given, skipped */
+    const char *role;
+} st_outfile_role;
+
+/* Whether a and b name one file: the same device and inode (through symbolic links and hard
+ * links, as cp(1) tells "are the same file"), or, for a name not made yet, the same last
+ * component in the same folder (by device and inode). "-" (a stream) is no file. */
+int st_outfile_is_same(const char *a, const char *b);
+
+/* Refuses a command whose output would replace one of its inputs or another of its outputs:
+ * files[0..nout) are outputs, files[nout..n) inputs. ST_ERR_USAGE "p0.exr: -o and part 1 are the
+ * same file; refused (an output never replaces an input or another output)". An output that is a
+ * device or a FIFO (/dev/null, /dev/stdout) may be named twice: it replaces nothing. */
+st_status st_outfile_check_apart(const st_outfile_role *files, int n, int nout, st_error *err);
+
 /* Unlinks every temporary that an open st_outfile of this process holds. Async-signal-safe: for a
  * SIGINT/SIGTERM handler, which then ends the process (the handles stay allocated). At most 64
  * outputs are open at once (st_outfile_open fails beyond that), each name below PATH_MAX. */
 void st_outfile_remove_temporaries(void);
 
-/* Removes the temporaries ".NAME.tmp.PID.N" in dest's folder that a process no longer running left
- * behind (killed by SIGKILL, or by a crash): regular files of this user whose PID does not exist.
- * Called by st_outfile_open before it creates a temporary there. */
+/* Removes the temporaries in dest's folder that a writer no longer running left behind (killed by
+ * SIGKILL, or by a crash): only strata's own kind (".NAME.strata-tmp.HOST.PID.N"), only of this
+ * host, only regular files of this user, and only those whose lock can be taken (the kernel drops
+ * a lock when its process ends, in any pid namespace; a pid is no proof: a writer in a container
+ * has one this process cannot see). Another host's temporaries in a shared folder are never
+ * touched, nor files merely named like them. Called by st_outfile_open before it creates a
+ * temporary there. */
 void st_outfile_remove_stale(const char *dest);
 
 #endif

@@ -18,6 +18,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -35,12 +36,13 @@ static struct {
 struct st_outfile {
     FILE *stream; /* over fd through write_cookie, so a failed write's errno is kept */
     int fd;
+    int lock_fd; /* a dup of fd holding the temporary's flock(2) until it is renamed or unlinked */
     int err_no;  /* errno of the first failed write, 0 if none */
     int slot;    /* index into slots; -1 when written directly */
     int direct;  /* 1: a device, FIFO or stdout written in place, no temporary */
     char *path;  /* destination as the user named it (for messages) */
     char *dest;  /* what is renamed over: path, or a symbolic link's target */
-    char *temp;  /* "<folder>/.<name>.tmp.<pid>.<n>"; NULL when direct */
+    char *temp;  /* "<folder>/.<name>.strata-tmp.<host>.<pid>.<n>"; NULL when direct */
 };
 
 static int claim_slot(void)
@@ -72,22 +74,61 @@ void st_outfile_remove_temporaries(void)
  * hostile folder) leaves names of ours behind. */
 #define TEMP_TRIES 100
 
-/* The most bytes of the destination's name kept in a temporary's name: with ".", ".tmp.", a pid
- * and a counter (at most 1 + 5 + 10 + 1 + 10 bytes) the temporary of the longest legal name still
- * fits in NAME_MAX. */
-#define TEMP_NAME_KEEP (NAME_MAX - 27)
+/* What marks a temporary as strata's own: no other program names its files so, and the sweep
+ * (st_outfile_remove_stale) looks at nothing else. */
+#define TEMP_TOKEN ".strata-tmp."
+
+/* The most bytes of the host name kept in a temporary's name (HOST_NAME_MAX on Linux). */
+#define TEMP_HOST_KEEP 64
+
+/* The most bytes of the destination's name kept in a temporary's name: with ".", the token, the
+ * host, a pid and a counter (at most 1 + 12 + 64 + 1 + 10 + 1 + 10 bytes) the temporary of the
+ * longest legal name still fits in NAME_MAX. */
+#define TEMP_NAME_KEEP (NAME_MAX - 99)
+
+/* This host's name as it goes into a temporary's name: letters, digits and '-' kept, anything
+ * else (the dots of a domain, a slash) written '_', so the name parses back unambiguously. */
+static void host_token(char host[TEMP_HOST_KEEP + 1])
+{
+    char raw[256] = "";
+    if (gethostname(raw, sizeof raw - 1) != 0 || !raw[0])
+        strcpy(raw, "localhost");
+    size_t i = 0;
+    for (; raw[i] && i < TEMP_HOST_KEEP; i++) {
+        char c = raw[i];
+        int keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                   c == '-';
+        host[i] = keep ? c : '_';
+    }
+    host[i] = '\0';
+}
 
 /* Formats the n-th temporary name for f->dest into f->temp (sized by open_temporary). */
 static void temp_name(struct st_outfile *f, size_t size, unsigned n)
 {
     const char *slash = strrchr(f->dest, '/');
     int dir = slash ? (int)(slash - f->dest) + 1 : 0;
-    snprintf(f->temp, size, "%.*s.%.*s.tmp.%ld.%u", dir, f->dest, TEMP_NAME_KEEP, f->dest + dir,
-             (long)getpid(), n);
+    char host[TEMP_HOST_KEEP + 1];
+    host_token(host);
+    snprintf(f->temp, size, "%.*s.%.*s" TEMP_TOKEN "%s.%ld.%u", dir, f->dest, TEMP_NAME_KEEP,
+             f->dest + dir, host, (long)getpid(), n);
 }
 
-/* Creates the temporary exclusively; returns its fd, or -1 with errno set. A process-wide
- * counter spreads concurrent writers of one destination over distinct names at once. */
+/* Whether fd is the file that name (relative to folder fd dir, AT_FDCWD for a path) names now. */
+static int still_named(int dir, const char *name, int fd)
+{
+    struct stat a, b;
+    return fstat(fd, &a) == 0 && fstatat(dir, name, &b, AT_SYMLINK_NOFOLLOW) == 0 &&
+           a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+/* Creates the temporary exclusively and takes its lock; returns its fd, or -1 with errno set.
+ * The lock (flock(2), held by f->lock_fd until the temporary is renamed or unlinked) is what
+ * tells a sweeping writer in any pid namespace of this host that the file is alive. A sweeper
+ * may lock a new name in the instant before its writer does; the writer then finds the lock
+ * taken or its file unlinked, leaves it to the sweeper and takes the next name. A file system
+ * without locks leaves the temporary unlocked, and then no sweeper can lock it either. A
+ * process-wide counter spreads concurrent writers of one destination over distinct names. */
 static int open_temporary(struct st_outfile *f, size_t size)
 {
     static atomic_uint serial;
@@ -95,8 +136,27 @@ static int open_temporary(struct st_outfile *f, size_t size)
         temp_name(f, size, atomic_fetch_add(&serial, 1u));
         list_temporary(f);
         int fd = open(f->temp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST)
-            return fd;
+        if (fd < 0 && errno != EEXIST)
+            return -1;
+        if (fd < 0)
+            continue;
+        int locked = flock(fd, LOCK_EX | LOCK_NB) == 0;
+        if (!locked && errno == EWOULDBLOCK) {
+            close(fd); /* a sweeper holds it and removes it */
+            continue;
+        }
+        if (locked && !still_named(AT_FDCWD, f->temp, fd)) {
+            close(fd); /* a sweeper removed it before the lock was ours */
+            continue;
+        }
+        if ((f->lock_fd = fcntl(fd, F_DUPFD_CLOEXEC, 0)) < 0) {
+            int e = errno;
+            unlink(f->temp);
+            close(fd);
+            errno = e;
+            return -1;
+        }
+        return fd;
     }
     errno = EEXIST;
     return -1;
@@ -151,6 +211,8 @@ static FILE *open_stream(struct st_outfile *f)
 /* After the temporary is gone (renamed or unlinked): frees the slot and f. */
 static void release(struct st_outfile *f)
 {
+    if (f->lock_fd >= 0)
+        close(f->lock_fd); /* the temporary is gone: its lock goes too */
     if (f->slot >= 0)
         atomic_store(&slots[f->slot].used, 0);
     free(f->path);
@@ -231,8 +293,8 @@ st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
     int direct = kind == DIRECT || kind == DIRECT_STDOUT;
     const char *slash = dest ? strrchr(dest, '/') : NULL;
     size_t dir = slash ? (size_t)(slash - dest) + 1 : 0;
-    size_t size = dest ? dir + strlen(dest + dir) + 48 : 0; /* ".", ".tmp.", a pid, a counter */
-    if (!direct && dir + 28 + (strlen(dest + dir) < TEMP_NAME_KEEP ? strlen(dest + dir)
+    size_t size = dest ? dir + strlen(dest + dir) + 128 : 0; /* token, host, pid, counter */
+    if (!direct && dir + 100 + (strlen(dest + dir) < TEMP_NAME_KEEP ? strlen(dest + dir)
                                                                    : TEMP_NAME_KEEP) >= PATH_MAX) {
         free(dest);
         return st_fail(err, ST_ERR_IO, "%.200s...: file name too long", path);
@@ -240,6 +302,7 @@ st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
     struct st_outfile *f = calloc(1, sizeof *f);
     if (f) {
         f->slot = -1;
+        f->lock_fd = -1;
         f->direct = direct;
         f->dest = dest;
         dest = NULL;
@@ -274,8 +337,14 @@ st_status st_outfile_open(const char *path, st_outfile **out, st_error *err)
         errno = e;
     }
     if (fd < 0) {
-        st_status s = st_fail(err, ST_ERR_IO, "%s: cannot %s (%s)", path,
-                              direct ? "open" : "create", strerror(errno));
+        int e = errno;
+        const char *slash = direct ? NULL : strrchr(f->temp, '/');
+        st_status s = direct ? st_fail(err, ST_ERR_IO, "%s: cannot open (%s)", path, strerror(e))
+                             : st_fail(err, ST_ERR_IO, "%s: cannot create its temporary %s "
+                                       "(%s)%s", path, slash ? slash + 1 : f->temp, strerror(e),
+                                       kind == REPLACE && (e == EACCES || e == EROFS)
+                                           ? " (a file is replaced through a new one beside it, "
+                                             "so its folder must be writable too)" : "");
         release(f);
         return s;
     }
@@ -397,20 +466,85 @@ st_status st_outfile_check(const char *path, st_error *err)
     return ST_OK;
 }
 
-/* The pid in a temporary's name ".NAME.tmp.PID.N", or 0 when name is not one. */
-static long temp_pid(const char *name)
+/* A name's identity for st_outfile_is_same: the file's device and inode when it exists, else its
+ * folder's and its last component (*leaf; "" for an existing file). 0: neither can be found. */
+static int identify(const char *path, struct stat *sb, const char **leaf)
 {
-    const char *tmp = name[0] == '.' ? strstr(name + 1, ".tmp.") : NULL;
-    while (tmp && strstr(tmp + 1, ".tmp."))
-        tmp = strstr(tmp + 1, ".tmp."); /* the last ".tmp." (NAME may hold one) */
-    if (!tmp || tmp == name + 1)
+    *leaf = "";
+    if (stat(path, sb) == 0)
+        return 1;
+    const char *slash = strrchr(path, '/');
+    char folder[PATH_MAX];
+    snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - path) + 1 : 1, slash ? path : ".");
+    *leaf = slash ? slash + 1 : path;
+    return stat(folder, sb) == 0;
+}
+
+int st_outfile_is_same(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    const char *la, *lb;
+    if (!a || !b || !strcmp(a, "-") || !strcmp(b, "-") || !identify(a, &sa, &la) ||
+        !identify(b, &sb, &lb))
         return 0;
-    char *end;
-    long pid = strtol(tmp + 5, &end, 10);
-    if (pid <= 0 || *end != '.' || end[1] < '0' || end[1] > '9')
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino && !strcmp(la, lb);
+}
+
+st_status st_outfile_check_apart(const st_outfile_role *files, int n, int nout, st_error *err)
+{
+    for (int i = 0; i < nout; i++)
+        for (int j = i + 1; j < n; j++) {
+            struct stat sb;
+            if (!files[i].path || !files[j].path ||
+                (stat(files[i].path, &sb) == 0 && !S_ISREG(sb.st_mode)) ||
+                !st_outfile_is_same(files[i].path, files[j].path))
+                continue;
+            return st_fail(err, ST_ERR_USAGE, "%s: %s and %s are the same file; refused (an output "
+                           "never replaces an input or another output)", files[i].path,
+                           files[i].role, files[j].role);
+        }
+    return ST_OK;
+}
+
+/* Whether name is a temporary of host's (host_token), ".NAME.strata-tmp.HOST.PID.N". */
+static int is_our_temporary(const char *name, const char *host)
+{
+    const char *tok = name[0] == '.' ? strstr(name + 1, TEMP_TOKEN) : NULL;
+    while (tok && strstr(tok + 1, TEMP_TOKEN))
+        tok = strstr(tok + 1, TEMP_TOKEN); /* the last token (NAME may hold one) */
+    if (!tok || tok == name + 1)
         return 0;
-    strtoul(end + 1, &end, 10);
-    return *end == '\0' ? pid : 0;
+    const char *p = tok + strlen(TEMP_TOKEN);
+    size_t n = strlen(host);
+    if (strncmp(p, host, n) || p[n] != '.')
+        return 0;
+    p += n + 1;
+    for (int field = 0; field < 2; field++) { /* PID '.' N, digits only */
+        if (*p < '0' || *p > '9')
+            return 0;
+        while (*p >= '0' && *p <= '9')
+            p++;
+        if (field == 0 && *p++ != '.')
+            return 0;
+    }
+    return *p == '\0';
+}
+
+/* Removes the temporary `name` in folder dir if its writer is provably gone: a regular file of
+ * this user whose lock can be taken (a lock lives as long as the writer's process, in whatever
+ * pid namespace of this kernel it runs) and that still bears the name once locked. */
+static void remove_if_dead(int dir, const char *name)
+{
+    struct stat sb;
+    if (fstatat(dir, name, &sb, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(sb.st_mode) ||
+        sb.st_uid != geteuid())
+        return;
+    int fd = openat(dir, name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0)
+        return;
+    if (flock(fd, LOCK_EX | LOCK_NB) == 0 && still_named(dir, name, fd))
+        unlinkat(dir, name, 0);
+    close(fd);
 }
 
 void st_outfile_remove_stale(const char *dest)
@@ -422,16 +556,11 @@ void st_outfile_remove_stale(const char *dest)
     DIR *d = opendir(folder);
     if (!d)
         return;
+    char host[TEMP_HOST_KEEP + 1];
+    host_token(host);
     struct dirent *e;
-    while ((e = readdir(d)) != NULL) {
-        long pid = temp_pid(e->d_name);
-        struct stat sb;
-        /* ours to remove: a regular file of this user whose writer no longer runs (kill(2) with
-         * signal 0 only asks whether the pid exists) */
-        if (pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH &&
-            fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 && S_ISREG(sb.st_mode) &&
-            sb.st_uid == geteuid())
-            unlinkat(dirfd(d), e->d_name, 0);
-    }
+    while ((e = readdir(d)) != NULL)
+        if (is_our_temporary(e->d_name, host))
+            remove_if_dead(dirfd(d), e->d_name);
     closedir(d);
 }

@@ -129,7 +129,9 @@ static int check_args(compare_args *c)
         c->filters[c->nfilters++] = ST_FILTER_MITCHELL;
     if (!c->reference_spp)
         c->reference_spp = 256;
-    return ST_CLI_OK;
+    st_outfile_role files[] = {{c->out, "-o"}, {c->csv, "--csv"}, {c->r.scene, "the scene"},
+                               {c->reference, "--reference"}, {c->r.env_file, "--env"}};
+    return st_cli_check_apart(files, 5, 2);
 }
 
 static int parse(int argc, char **argv, compare_args *c)

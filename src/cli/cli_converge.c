@@ -178,7 +178,10 @@ static int parse(int argc, char **argv, converge_args *c)
     if (c->error_spectrum && c->nsamplers * (o->adaptive ? 2u : 1u) > ST_PLOT_MAX_PANELS)
         return st_cli_usage_error("--error-spectrum: at most %u panels (samplers, with "
                                   "--adaptive twice)", ST_PLOT_MAX_PANELS);
-    return ST_CLI_OK;
+    st_outfile_role files[] = {{c->csv, "--csv"}, {c->png, "--png"},
+                               {c->error_spectrum, "--error-spectrum"}, {c->r.scene, "the scene"},
+                               {c->reference, "--reference"}, {c->r.env_file, "--env"}};
+    return st_cli_check_apart(files, 6, 3);
 }
 
 typedef struct series {

@@ -38,8 +38,6 @@ int st_cli_devices(int argc, char **argv)
                d->has_int64_atomics ? "yes" : "no",
                st_render_lanes_describe(&c, lanes, sizeof lanes));
     }
-    if (n == 0)
-        printf("no OpenCL devices (run `make deps`)\n");
     free(list);
     return 0;
 }

@@ -40,13 +40,19 @@ int st_cli_fail(const st_error *err)
 
 int st_cli_usage_error(const char *fmt, ...)
 {
+    char msg[1024]; /* a longer message is cut: an option's value is no reason for a page */
     va_list ap;
     va_start(ap, fmt);
-    fputs("strata: error: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    st_cli_put_line("strata: error: ", msg); /* option values quoted are the user's bytes */
     return ST_CLI_EXIT_USAGE;
+}
+
+int st_cli_check_apart(const st_outfile_role *files, int n, int nout)
+{
+    st_error err = {0};
+    return st_outfile_check_apart(files, n, nout, &err) == ST_OK ? ST_CLI_OK : st_cli_fail(&err);
 }
 
 /* Whatever thread the signal lands on: remove the temporaries, end at once

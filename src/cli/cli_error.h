@@ -6,6 +6,7 @@
 #define ST_CLI_ERROR_H
 
 #include "st_error.h"
+#include "st_outfile.h"
 
 /* Exit statuses (DESIGN.md: 2 for a usage error, 1 for any other failure);
  * ST_CLI_HELP is no exit status: a parser's "help printed, exit 0". */
@@ -20,8 +21,14 @@ void st_cli_put_line(const char *prefix, const char *msg);
  * exit status for err. */
 int st_cli_fail(const st_error *err);
 
-/* Prints a usage error and returns ST_CLI_EXIT_USAGE. */
+/* Prints a usage error, escaped as st_cli_put_line (it quotes option values and arguments), and
+ * returns ST_CLI_EXIT_USAGE. */
 int st_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* A command's files checked apart (st_outfile_check_apart: files[0..nout) are outputs, the rest
+ * inputs): ST_CLI_OK, or the error printed and ST_CLI_EXIT_USAGE when an output is also another
+ * of its files. */
+int st_cli_check_apart(const st_outfile_role *files, int n, int nout);
 
 /* Every catchable signal that would end the process (SIGHUP, SIGINT, SIGQUIT,
  * SIGTERM, SIGALRM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU) removes every

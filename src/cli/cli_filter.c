@@ -89,7 +89,8 @@ static int parse(int argc, char **argv, filter_cli *c)
         return st_cli_usage_error("filter: nothing to do (give --csv or --png)");
     if (c->db && !c->png)
         return st_cli_usage_error("--db applies to the plot: add --png FILE");
-    return ST_CLI_OK;
+    st_outfile_role files[] = {{c->csv, "--csv"}, {c->png, "--png"}};
+    return st_cli_check_apart(files, 2, 2);
 }
 
 static void emit_csv(FILE *f, const void *ctx)

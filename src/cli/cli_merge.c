@@ -6,6 +6,7 @@
  * not the scene's path) and their sample ranges must tile 0..spp exactly, or,
  * with --partial, at least not overlap nor pass spp. Parts of a crop must
  * hold the same data window, which the result keeps. */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,6 +111,22 @@ static void append_range(char *held, st_u32 k, st_u32 m)
     snprintf(held + len, RANGES_TEXT - len, "%s%u:%u", len ? "," : "", k, m);
 }
 
+/* Reads the decimal number at *s (digits only, at most 2^32 - 1: sscanf's %u would wrap
+ * 4294967297 to 1) and moves *s past it; 0 when there is none or it is too large. */
+static int read_u32(const char **s, st_u32 *out)
+{
+    st_u64 v = 0;
+    const char *p = *s;
+    for (; *p >= '0' && *p <= '9'; p++)
+        if ((v = v * 10 + (st_u64)(*p - '0')) > UINT32_MAX)
+            return 0;
+    if (p == *s)
+        return 0;
+    *s = p;
+    *out = (st_u32)v;
+    return 1;
+}
+
 /* Sample ranges, sorted by start, must tile 0..spp: no overlap, none past
  * spp, and (unless partial) no gap. The ranges held go to `held`, the gaps
  * to `missing` (RANGES_TEXT bytes each). */
@@ -117,8 +134,8 @@ static st_status check_ranges(part *parts, int n, int partial, char *held, char 
                               st_error *err)
 {
     const char *spp_text = attr_value(&parts[0], "strata.spp");
-    unsigned spp = 0;
-    if (!spp_text || sscanf(spp_text, "%u", &spp) != 1)
+    st_u32 spp = 0;
+    if (!spp_text || !read_u32(&spp_text, &spp) || *spp_text)
         return st_fail(err, ST_ERR_FORMAT, "%s: no strata.spp in the header", parts[0].path);
     part **order = malloc(sizeof *order * n);
     if (!order)
@@ -170,8 +187,8 @@ static st_status load_part(part *p, st_image *img, st_i64 **sums, st_error *err)
             st_film_from_image(img, p->path, st_aov_layouts[k].layer, &sums[k], err) != ST_OK)
             return err->status;
     const char *range = attr_value(p, "strata.sample_range");
-    char tail;
-    if (!range || sscanf(range, "%u:%u%c", &p->begin, &p->end, &tail) != 2 || p->begin >= p->end)
+    if (!range || !read_u32(&range, &p->begin) || *range++ != ':' || !read_u32(&range, &p->end) ||
+        *range || p->begin >= p->end)
         return st_fail(err, ST_ERR_FORMAT, "%s: no valid strata.sample_range in the header", p->path);
     return ST_OK;
 }
@@ -346,6 +363,17 @@ int st_cli_merge(int argc, char **argv)
     if (rc == 0 && (!nouts || n == 0))
         rc = st_cli_usage_error("merge: needs parts and -o OUT (strata merge A.exr B.exr -o OUT.exr)");
     st_error err = {0};
+    if (rc == 0) {
+        st_outfile_role files[ST_CLI_MAX_OUTPUTS + MAX_PARTS];
+        char roles[MAX_PARTS][24];
+        for (int k = 0; k < nouts; k++)
+            files[k] = (st_outfile_role){outs[k], "-o"};
+        for (int k = 0; k < n; k++) {
+            snprintf(roles[k], sizeof roles[k], "part %d", k + 1);
+            files[nouts + k] = (st_outfile_role){parts[k].path, roles[k]};
+        }
+        rc = st_cli_check_apart(files, nouts + n, nouts);
+    }
     for (int k = 0; k < nouts && rc == 0; k++) {
         if (!st_cli_has_extension(outs[k], ".exr") && !st_cli_has_extension(outs[k], ".png") &&
             strcmp(outs[k], "-"))

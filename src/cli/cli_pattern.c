@@ -140,7 +140,9 @@ static int parse(int argc, char **argv, pattern_args *a)
     if (!a->csv && !a->png && !a->spectrum && !a->radial && !a->discrepancy)
         return st_cli_usage_error("pattern: nothing to do (give --csv, --png, --spectrum, "
                                   "--radial or --discrepancy)");
-    return ST_CLI_OK;
+    st_outfile_role files[] = {{a->csv, "--csv"}, {a->png, "--png"}, {a->spectrum, "--spectrum"},
+                               {a->radial, "--radial"}};
+    return st_cli_check_apart(files, 4, 4);
 }
 
 

@@ -157,6 +157,16 @@ int st_cli_render(int argc, char **argv)
     if ((rc = check_outputs(&a, part)))
         return rc;
     st_error err = {0};
+    st_outfile_role files[ST_CLI_MAX_OUTPUTS + 3];
+    int n = 0;
+    for (int i = 0; i < a.noutputs; i++)
+        files[n++] = (st_outfile_role){a.outputs[i], "-o"};
+    files[n++] = (st_outfile_role){a.spp_map, "--spp-map"};
+    int nout = n;
+    files[n++] = (st_outfile_role){a.scene, "the scene"};
+    files[n++] = (st_outfile_role){a.env_file, "--env"};
+    if ((rc = st_cli_check_apart(files, n, nout)))
+        return rc;
     /* a typo in an output's folder must not cost the render */
     for (int i = 0; i < a.noutputs; i++)
         if (st_outfile_check(a.outputs[i], &err) != ST_OK)

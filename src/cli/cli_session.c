@@ -168,11 +168,15 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
         [ST_ENV_ENCLOSED] = "the camera is inside a closed model; no environment (--env 1 for "
                             "a white one)",
     };
-    if (!o->env_given && !o->env_map)
-        fprintf(stderr, "strata: note: %s: %s\n", scene->name, why[scene->env_default]);
-    else if (!has_env && scene->emitted_power <= 0.0)
-        fprintf(stderr, "strata: warning: %s: no light at all (nothing emits and --env is 0): "
-                        "the image will be black\n", scene->name);
+    char line[1024]; /* the scene's name is a path: the user's bytes, escaped */
+    if (!o->env_given && !o->env_map) {
+        snprintf(line, sizeof line, "%s: %s", scene->name, why[scene->env_default]);
+        st_cli_put_line("strata: note: ", line);
+    } else if (!has_env && scene->emitted_power <= 0.0) {
+        snprintf(line, sizeof line, "%s: no light at all (nothing emits and --env is 0): the "
+                 "image will be black", scene->name);
+        st_cli_put_line("strata: warning: ", line);
+    }
 }
 
 st_status st_cli_device_words(st_error *err)

@@ -289,7 +289,9 @@ static int parse(int argc, char **argv, signal_cli *c)
     st_error err = {0};
     if (st_signal_check(&c->o, &err) != ST_OK)
         return st_cli_fail_options(&err, filter_option_names);
-    return ST_CLI_OK;
+    st_outfile_role files[] = {{c->csv, "--csv"}, {c->spectrum_csv, "--spectrum-csv"},
+                               {c->png, "--png"}};
+    return st_cli_check_apart(files, 3, 3);
 }
 
 /* ---- output ------------------------------------------------------------------------ */

@@ -3,12 +3,16 @@
  * matched as whole tokens. */
 #include "st_device.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "st_embedded.h"
 
@@ -133,8 +137,62 @@ static void fill_info(cl_platform_id p, cl_device_id d, unsigned pi, unsigned di
     }
 }
 
+/* PoCL's name for its platform (CL_PLATFORM_NAME). */
+#define POCL_NAME "Portable Computing Language"
+
+/* The smallest file-size limit (ulimit -f) under which PoCL can write its kernel cache: one
+ * compiled program of strata's is some megabytes. */
+#define POCL_CACHE_MIN_FILE ((rlim_t)64 << 20)
+
+/* Why PoCL could not use its kernel cache, in *why, or 0 when nothing is seen wrong. PoCL keeps
+ * every build there ($POCL_CACHE_DIR, else $XDG_CACHE_HOME/pocl/kcache, else
+ * ~/.cache/pocl/kcache) and, where it cannot write there, fails to build or even to offer its
+ * device, with no word of why. */
+static int pocl_cache_problem(char *why, size_t size)
+{
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_FSIZE, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+        rl.rlim_cur < POCL_CACHE_MIN_FILE) {
+        snprintf(why, size, "the file-size limit (ulimit -f) of %llu bytes is too small for "
+                 "PoCL's kernel cache", (unsigned long long)rl.rlim_cur);
+        return 1;
+    }
+    const char *own = getenv("POCL_CACHE_DIR"), *xdg = getenv("XDG_CACHE_HOME");
+    const char *home = getenv("HOME");
+    char path[1024];
+    if (own && *own)
+        snprintf(path, sizeof path, "%s", own);
+    else if (xdg && *xdg)
+        snprintf(path, sizeof path, "%s/pocl/kcache", xdg);
+    else if (home && *home)
+        snprintf(path, sizeof path, "%s/.cache/pocl/kcache", home);
+    else
+        return 0;
+    const char *var = own && *own ? " (POCL_CACHE_DIR)" : "";
+    /* the folder, or the nearest of its parents that exists, must be a folder this user may
+     * write in */
+    char at[sizeof path];
+    snprintf(at, sizeof at, "%s", path);
+    struct stat sb;
+    while (stat(at, &sb) != 0) {
+        char *slash = strrchr(at, '/');
+        if ((errno != ENOENT && errno != ENOTDIR) || !slash || slash == at)
+            return 0; /* nothing more to say than PoCL's own failure */
+        *slash = '\0';
+    }
+    if (!S_ISDIR(sb.st_mode))
+        snprintf(why, size, "PoCL's kernel cache %.400s%s cannot be made: %.400s is not a folder", path,
+                 var, at);
+    else if (access(at, W_OK | X_OK) != 0)
+        snprintf(why, size, "PoCL's kernel cache %.400s%s cannot be written: %.400s: %s", path, var, at,
+                 strerror(errno));
+    else
+        return 0;
+    return 1;
+}
+
 /* Calls visit(platform, device, info) for every device; stops when it
- * returns nonzero. */
+ * returns nonzero. Fails when there is none at all. */
 static st_status each_device(int (*visit)(cl_platform_id, cl_device_id, const st_device_info *,
                                           void *),
                              void *ctx, st_error *err)
@@ -151,11 +209,17 @@ static st_status each_device(int (*visit)(cl_platform_id, cl_device_id, const st
     if (!ps)
         return st_fail(err, ST_ERR_NOMEM, "out of memory listing platforms");
     clGetPlatformIDs(np, ps, NULL);
-    int stop = 0;
+    int stop = 0, pocl_empty = 0;
+    unsigned devices = 0;
     for (cl_uint p = 0; p < np && !stop; p++) {
         cl_uint nd = 0;
-        if (clGetDeviceIDs(ps[p], CL_DEVICE_TYPE_ALL, 0, NULL, &nd) != CL_SUCCESS || nd == 0)
+        if (clGetDeviceIDs(ps[p], CL_DEVICE_TYPE_ALL, 0, NULL, &nd) != CL_SUCCESS || nd == 0) {
+            char name[256] = "";
+            clGetPlatformInfo(ps[p], CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
+            pocl_empty |= strstr(name, POCL_NAME) != NULL;
             continue; /* a platform without devices is skipped */
+        }
+        devices += nd;
         cl_device_id *ds = calloc(nd, sizeof *ds);
         if (!ds)
             break;
@@ -168,6 +232,12 @@ static st_status each_device(int (*visit)(cl_platform_id, cl_device_id, const st
         free(ds);
     }
     free(ps);
+    char why[1200];
+    if (devices == 0 && pocl_empty && pocl_cache_problem(why, sizeof why))
+        return st_fail(err, ST_ERR_DEVICE, "no OpenCL devices: %s", why);
+    if (devices == 0)
+        return st_fail(err, ST_ERR_DEVICE, "no OpenCL devices on %u platform%s (run `make deps` "
+                       "for PoCL's CPU device)", np, np == 1 ? "" : "s");
     return ST_OK;
 }
 
@@ -383,29 +453,101 @@ static double now_seconds(void)
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-/* A kernel file from $STRATA_KERNEL_DIR, headed by a #line marker so that
- * build logs name it (the embedded sources carry theirs from tools/embed.c). */
-static char *read_text(const char *path)
+/* The most bytes of one kernel file read from $STRATA_KERNEL_DIR (the largest is some 100 kB). */
+#define MAX_KERNEL_FILE (16u << 20)
+
+/* A kernel file from $STRATA_KERNEL_DIR, headed by a #line marker so that build logs name it
+ * (the embedded sources carry theirs from tools/embed.c); the path's quotes and backslashes
+ * escaped in it. Only a regular file is read: a FIFO's read would wait for a writer, a device's
+ * might never end. NULL with err filled. */
+static char *read_text(const char *path, st_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat sb;
+    if (fd < 0 || fstat(fd, &sb) != 0) {
+        st_fail(err, ST_ERR_IO, "%s: cannot read kernel (%s; STRATA_KERNEL_DIR)", path,
+                strerror(errno));
+        if (fd >= 0)
+            close(fd);
         return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char head[1100];
-    int h = snprintf(head, sizeof head, "#line 1 \"%s\"\n", path);
-    char *s = n >= 0 && h > 0 ? malloc((size_t)n + (size_t)h + 1) : NULL;
-    if (s)
-        memcpy(s, head, (size_t)h);
-    if (s && fread(s + h, 1, (size_t)n, f) == (size_t)n)
-        s[h + n] = '\0';
-    else {
-        free(s);
-        s = NULL;
     }
-    fclose(f);
+    if (!S_ISREG(sb.st_mode) || sb.st_size > MAX_KERNEL_FILE) {
+        st_fail(err, ST_ERR_IO, "%s: cannot read kernel (%s; STRATA_KERNEL_DIR)", path,
+                S_ISREG(sb.st_mode) ? "larger than 16 MiB" : "not a regular file");
+        close(fd);
+        return NULL;
+    }
+    size_t n = (size_t)sb.st_size, h = 0, len = strlen(path);
+    char *s = malloc(n + 2 * len + 16);
+    if (!s) {
+        st_fail(err, ST_ERR_NOMEM, "%s: out of memory for the kernel", path);
+        close(fd);
+        return NULL;
+    }
+    h += (size_t)sprintf(s, "#line 1 \"");
+    for (size_t i = 0; i < len; i++) {
+        if (path[i] == '"' || path[i] == '\\')
+            s[h++] = '\\';
+        s[h++] = path[i];
+    }
+    h += (size_t)sprintf(s + h, "\"\n");
+    size_t got = 0;
+    while (got < n) {
+        ssize_t r = read(fd, s + h + got, n - got);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        got += (size_t)r;
+    }
+    close(fd);
+    if (got != n) {
+        st_fail(err, ST_ERR_IO, "%s: cannot read kernel (cut short; STRATA_KERNEL_DIR)", path);
+        free(s);
+        return NULL;
+    }
+    s[h + n] = '\0';
     return s;
+}
+
+/* The folder `dir` as the compiler's -I options may name it: itself, or, where its path holds a
+ * blank or a quote (build options are split at blanks, with no quoting in OpenCL 1.2 §5.8.4),
+ * /proc/self/fd/N of a descriptor held open on it (*fd, to close after the build; -1 if none).
+ * The compilers strata runs on (PoCL, Oclgrind) compile in this process, where that name holds. */
+static const char *include_root(const char *dir, char *buf, size_t size, int *fd)
+{
+    *fd = -1;
+    if (!strpbrk(dir, " \t\n\v\f\r\"'\\"))
+        return dir;
+    if ((*fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC)) < 0)
+        return dir; /* the read of the kernels has found it, or will say why not */
+    snprintf(buf, size, "/proc/self/fd/%d", *fd);
+    return buf;
+}
+
+/* Writes `to` for every `from` in the kept build log (the folder's own name for the
+ * /proc/self/fd name include_root gave the compiler), so that the log names real files. */
+static void rename_in_log(st_device *dev, const char *from, const char *to)
+{
+    size_t nf = strlen(from), nt = strlen(to), count = 0;
+    for (const char *p = dev->log ? strstr(dev->log, from) : NULL; p; p = strstr(p + nf, from))
+        count++;
+    char *out = count ? malloc(strlen(dev->log) + count * nt + 1) : NULL;
+    if (!out)
+        return;
+    char *o = out;
+    for (const char *p = dev->log, *q; (q = strstr(p, from)) || *p; p = q + nf) {
+        size_t keep = q ? (size_t)(q - p) : strlen(p);
+        memcpy(o, p, keep);
+        o += keep;
+        if (!q)
+            break;
+        memcpy(o, to, nt);
+        o += nt;
+    }
+    *o = '\0';
+    free(dev->log);
+    dev->log = out;
 }
 
 static void keep_log(st_device *dev)
@@ -435,7 +577,7 @@ static int is_oclgrind(const st_device *dev)
  * there; no other compiler is asked to take clang's __builtin_prefetch. */
 static int is_pocl_cpu(const st_device *dev)
 {
-    return dev->info.is_cpu && strstr(dev->info.platform_name, "Portable Computing Language");
+    return dev->info.is_cpu && strstr(dev->info.platform_name, POCL_NAME);
 }
 
 st_status st_device_build(st_device *dev, double *seconds, st_error *err)
@@ -447,14 +589,15 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
     const char *src[MAX_KERNELS];
     char *owned[MAX_KERNELS] = {0};
     char options[4096];
+    int dir_fd = -1;
     st_status rc = ST_OK;
     for (unsigned i = 0; i < n && i < MAX_KERNELS; i++) {
         src[i] = (const char *)st_embedded_kernels[i].data;
         if (dir && *dir) {
             char path[1024];
             snprintf(path, sizeof path, "%s/%s", dir, st_embedded_kernels[i].name);
-            if (!(owned[i] = read_text(path))) {
-                rc = st_fail(err, ST_ERR_IO, "%s: cannot read kernel (STRATA_KERNEL_DIR)", path);
+            if (!(owned[i] = read_text(path, err))) {
+                rc = err->status;
                 goto done;
             }
             src[i] = owned[i];
@@ -465,9 +608,11 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
                         is_pocl_cpu(dev) ? " -DST_PREFETCH_HINTS" : "");
     /* the kernel directory's include folders, the search path the embedded sources were
      * inlined with (tools/embed.c) */
+    char root_buf[64];
+    const char *root = dir && *dir ? include_root(dir, root_buf, sizeof root_buf, &dir_fd) : dir;
     for (unsigned i = 0; dir && *dir && st_embedded_kernel_dirs[i] && used > 0; i++) {
         size_t left = sizeof options - (size_t)used;
-        int n = snprintf(options + used, left, " -I%s/%s", dir, st_embedded_kernel_dirs[i]);
+        int n = snprintf(options + used, left, " -I%s/%s", root, st_embedded_kernel_dirs[i]);
         if (n < 0 || (size_t)n >= left) {
             rc = st_fail(err, ST_ERR_USAGE, "%s: kernel directory path too long (STRATA_KERNEL_DIR)", dir);
             goto done;
@@ -483,16 +628,27 @@ st_status st_device_build(st_device *dev, double *seconds, st_error *err)
     }
     code = clBuildProgram(dev->program, 1, &dev->id, options, NULL, NULL);
     keep_log(dev);
+    if (dir_fd >= 0)
+        rename_in_log(dev, root, dir);
+    char why[1200];
+    if (code != CL_SUCCESS && strstr(dev->info.platform_name, POCL_NAME) &&
+        pocl_cache_problem(why, sizeof why)) {
+        rc = st_fail(err, ST_ERR_DEVICE, "kernel build failed on %s: %s: %s", dev->info.name,
+                     st_device_error_name(code), why);
+    } else if (code != CL_SUCCESS) {
+        rc = st_fail(err, ST_ERR_DEVICE, "kernel build failed on %s: %s (compiler log follows)",
+                     dev->info.name, st_device_error_name(code));
+    }
     if (code != CL_SUCCESS) {
         clReleaseProgram(dev->program);
         dev->program = NULL;
-        rc = st_fail(err, ST_ERR_DEVICE, "kernel build failed on %s: %s (compiler log follows)",
-                     dev->info.name, st_device_error_name(code));
         goto done;
     }
     if (seconds)
         *seconds = now_seconds() - t0;
 done:
+    if (dir_fd >= 0)
+        close(dir_fd);
     for (unsigned i = 0; i < n && i < MAX_KERNELS; i++)
         free(owned[i]);
     return rc;

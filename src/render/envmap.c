@@ -224,6 +224,9 @@ static st_status hdr_rgb(const char *path, float **rgb, st_u32 *w, st_u32 *h, st
     if (!sized && iw > 0 && ih > 0)
         return st_fail(err, ST_ERR_FORMAT, "%s: %d x %d texels: an environment map has 1 to 2^26",
                        path, iw, ih);
+    if (!sized) /* stb's reason would be that of the last format it tried ("not BMP") */
+        return st_fail(err, ST_ERR_FORMAT, "%s: a Radiance HDR header without a valid size (its "
+                       "resolution line, -Y H +X W, with H and W positive)", path);
     if (!px) {
         const char *why = stbi_failure_reason();
         return st_fail(err, ST_ERR_FORMAT, "%s: cannot decode (%s)", path, why ? why : "unknown");

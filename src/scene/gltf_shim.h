@@ -1,5 +1,6 @@
-/* gltf_shim.h — private C interface of the tinygltf shim (src/scene/gltf_shim.cpp),
- * the one C++ file of strata. Used only by src/scene/scene.c.
+/* gltf_shim.h — private C interface of the tinygltf shim (src/scene/gltf_*.cpp,
+ * strata's C++ files; gltf_shim.cpp holds the entry points). Used only by
+ * src/scene/scene.c.
  *
  * The shim parses one glTF 2.0 document (JSON .gltf or binary .glb, chosen by
  * the "glTF" magic of the bytes, not by the file name), validates every index,
@@ -30,6 +31,23 @@ extern "C" {
  * file that instances a large buffer many times would otherwise ask for
  * any amount. */
 #define ST_GLTF_MAX_TRIANGLES (1u << 24)
+/* At most this many materials in a file (checked in its JSON, before tinygltf makes an object of
+ * each). */
+#define ST_GLTF_MAX_MATERIALS (1u << 16)
+/* At most this many vertices read by the import: each drawing of a mesh reads its primitives'
+ * POSITION elements (and their other attributes), consecutive drawings of one mesh once. */
+#define ST_GLTF_MAX_VERTEX_READS (1u << 26)
+/* At most this many drawings of meshes (nodes and EXT_mesh_gpu_instancing instances): each
+ * costs a matrix and more, even for a mesh without triangles. */
+#define ST_GLTF_MAX_INSTANCES (1u << 20)
+/* At most this many bytes of sparse accessors made dense, all of those the scene reads
+ * together (an unread one is never expanded). */
+#define ST_GLTF_MAX_SPARSE_BYTES (1u << 30)
+/* At most this many texels in the images the textures use, all together (2^28: 1 GiB as RGBA,
+ * more with mip maps), counted from the images' headers before any is decoded; an image of the
+ * same bytes as another counts once (and is decoded once). */
+#define ST_GLTF_TEXELS_LOG2 28
+#define ST_GLTF_MAX_TEXELS ((size_t)1 << ST_GLTF_TEXELS_LOG2)
 
 /* A material of the file (§3.9). Factors as in the file (defaults filled);
  * *_tex index st_gltf_data.textures, -1 for none. alpha_mode: 0 OPAQUE,

@@ -1,6 +1,6 @@
 /* scene.c — scene loading (st_scene.h): resolves a scene spec to a built-in
  * scene (embedded in the binary) or a file, hands the bytes to the glTF shim
- * (gltf_shim.cpp), and adds what does not depend on the file format: the
+ * (gltf_*.cpp), and adds what does not depend on the file format: the
  * default material, the textures' mip chains in one texel array, the bounds,
  * the cameras (or the default one) and the environment light.
  *
@@ -15,6 +15,7 @@
 #include <zlib.h>
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -692,6 +693,17 @@ static void emitted_power(st_scene *s)
     choose_default_env(s, lamp_power);
 }
 
+/* The most radiant intensity a light may have per channel (colour x intensity, W/sr): each factor
+ * is bounded alike in the file, but their product, in float, may pass FLT_MAX and leave every
+ * sample it lights non-finite. Far above any physical lamp, far below the float range. */
+#define MAX_LIGHT_INTENSITY 1e30
+
+/* A point of the scene, already in float: a coordinate finite as a double (1e39) may not be. */
+static int finite3(const float v[3])
+{
+    return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
+}
+
 static void copy_camera(const st_gltf_camera *c, st_scene_camera *out)
 {
     memcpy(out->origin, c->origin, sizeof out->origin);
@@ -716,8 +728,14 @@ static st_status take_cameras(const st_gltf_data *g, st_scene *s, const char *la
     s->cameras = calloc(g->camera_count, sizeof *s->cameras);
     if (!s->cameras)
         return st_fail(err, ST_ERR_NOMEM, "%s: out of memory", label);
-    for (size_t i = 0; i < g->camera_count; i++)
-        copy_camera(&g->cameras[i], &s->cameras[i]);
+    for (size_t i = 0; i < g->camera_count; i++) {
+        const st_gltf_camera *c = &g->cameras[i];
+        if (!finite3(c->origin) || !finite3(c->forward) || !finite3(c->up))
+            return st_fail(err, ST_ERR_FORMAT, "%s: camera %zu at (%g, %g, %g): a coordinate "
+                           "past the float range (%g)", label, i, c->origin[0], c->origin[1],
+                           c->origin[2], FLT_MAX);
+        copy_camera(c, &s->cameras[i]);
+    }
     s->camera_count = (st_u32)g->camera_count;
     s->default_camera = s->cameras[0];
     return ST_OK;
@@ -738,7 +756,16 @@ static st_status take_lights(const st_gltf_data *g, st_scene *s, const char *lab
     for (size_t i = 0; i < g->light_count; i++) {
         const st_gltf_light *l = &g->lights[i];
         st_punctual *p = &s->punctual[i];
+        if (!finite3(l->pos) || !finite3(l->dir))
+            return st_fail(err, ST_ERR_FORMAT, "%s: light %zu (in node order) at (%g, %g, %g): a "
+                           "coordinate past the float range (%g)", label, i, l->pos[0], l->pos[1],
+                           l->pos[2], FLT_MAX);
         for (int k = 0; k < 3; k++) {
+            double power = (double)l->color[k] * l->intensity;
+            if (!(power <= MAX_LIGHT_INTENSITY))
+                return st_fail(err, ST_ERR_FORMAT, "%s: light %zu (in node order): colour %g x "
+                               "intensity %g = %g, past the most a light may have (%g)", label,
+                               i, l->color[k], l->intensity, power, MAX_LIGHT_INTENSITY);
             p->pos[k] = l->pos[k];
             p->dir[k] = l->dir[k];
             p->intensity[k] = l->color[k] * l->intensity;

@@ -1,5 +1,5 @@
 /* scene_fs.h — how the scene module reads a user's files (the scene file in
- * scene.c; buffers and images by URI in gltf_shim.cpp's tinygltf callbacks):
+ * scene.c; buffers and images by URI in gltf_parse.cpp's tinygltf callbacks):
  * with a size cap, and, for URIs, only inside the scene's own folder.
  *
  * A scene is input from anywhere (a download, a mail): a URI must not reach

@@ -25,7 +25,7 @@ interrupt_at_write() {
     i=0
     while [ $i -lt 200000 ] && kill -0 $pid 2> /dev/null; do
         # shellcheck disable=SC2086 # $size is empty or two words
-        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.tmp.*.1" $size 2> /dev/null)" ]; then
+        if [ -n "$(find "$T" -maxdepth 1 -name ".$name.strata-tmp.*.1" $size 2> /dev/null)" ]; then
             kill -$sig $pid
             caught=1
             break
@@ -52,7 +52,7 @@ for pair in HUP:1 QUIT:3 USR1:10 ALRM:14; do
 done
 interrupt_at_write "$T/int.exr" KILL data
 check "SIGKILL while an EXR is written leaves its temporary (it cannot be caught)" \
-    '[ $caught = 1 ] && [ -n "$(ls -A "$T" | grep "^.int.exr.tmp")" ]' "(caught $caught, $(ls -A "$T" | tr '\n' ' '))"
+    '[ $caught = 1 ] && [ -n "$(ls -A "$T" | grep "^.int.exr.strata-tmp")" ]' "(caught $caught, $(ls -A "$T" | tr '\n' ' '))"
 $S render $R -o "$T/next.exr" 2> "$T/err"
 check "the next write into the folder removes the dead process's temporary" \
     '[ -s "$T/next.exr" ] && [ -z "$(ls -A "$T" | grep int)" ]' "($(ls -A "$T" | tr '\n' ' '))"
@@ -166,6 +166,11 @@ expect "parts from different devices are refused by name" 1 "$T/dev.exr: strata.
 $S render cornell-box $P --sample-range 2:4 -o "$T/other.exr"
 $S render checkerboard $P --sample-range 0:2 -o "$T/check.exr"
 expect "parts of different scenes are refused by content hash" 1 "$T/other.exr: strata.scene_hash is crc32:" $S merge "$T/check.exr" "$T/other.exr" -o "$T/m.exr"
+$S render --width 16 --height 12 --spp 300000 --sample-range 100000:100001 --sampler random \
+    --quiet -o "$T/wrap.exr" 2> /dev/null
+forge "$T/wrap.exr" strata.sample_range 00:4294967297
+expect "a part's range 0:4294967297 is refused, not read as 0:1" 1 "wrap.exr: no valid strata.sample_range" \
+    $S merge "$T/wrap.exr" -o "$T/m.exr"
 mkdir "$T/sc" && cp tests/scenes/materials_flat.gltf "$T/sc/"
 SA=$(cd "$(dirname "$S")" && pwd)/$(basename "$S")
 (cd "$T/sc" && "$SA" render materials_flat.gltf $P --sample-range 0:2 -o "$T/rel.exr" 2> /dev/null)

@@ -1,4 +1,4 @@
-/* fuzz_gltf.c — libFuzzer harness for the glTF importer (src/scene/gltf_shim.cpp
+/* fuzz_gltf.c — libFuzzer harness for the glTF importer (src/scene/gltf_*.cpp
  * behind src/scene/gltf_shim.h): any bytes, as a .gltf or .glb, parsed, validated,
  * flattened and their images decoded, with no file access (as a built-in
  * scene: URIs other than data: are refused). ASan and UBSan find what a

@@ -16,12 +16,14 @@
 #include "scratch.h"
 #include "st_outfile.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -68,7 +70,7 @@ static void outfile_commit_renames_temporary(void **state)
     fprintf(st_outfile_stream(f), "a,b\n");
     assert_int_equal(st_outfile_write(f, "1,2\n", 4), 0);
     assert_int_equal(scratch_entries(name, sizeof name), 1);
-    assert_true(strncmp(name, ".out.csv.tmp.", 13) == 0);
+    assert_true(strncmp(name, ".out.csv.strata-tmp.", 20) == 0);
     assert_int_equal(access(path, F_OK), -1);
     assert_int_equal(st_outfile_commit(f, &err), ST_OK);
     assert_string_equal(content(path), "a,b\n1,2\n");
@@ -191,7 +193,7 @@ static void outfile_unwritable_folder_fails_naming_path(void **state)
     assert_int_equal(st_outfile_open(path, &f, &err), ST_ERR_IO);
     assert_null(f);
     assert_message_names(&err, path);
-    assert_non_null(strstr(err.msg, "cannot create"));
+    assert_non_null(strstr(err.msg, "cannot create its temporary .out.png.strata-tmp."));
     if (!root)
         assert_non_null(strstr(err.msg, strerror(EACCES)));
     assert_int_equal(rmdir(sub), 0); /* still empty */
@@ -450,30 +452,131 @@ static void outfile_long_name_works(void **state)
     assert_int_equal(scratch_entries(NULL, 0), 1);
 }
 
-/* Temporaries of a process that no longer runs go on the next write into the folder; those of a
- * running process, and files merely like them, stay. */
+/* This host's name as the temporaries carry it (see st_outfile.h). */
+static const char *host_token(void)
+{
+    static char host[65];
+    char raw[256] = "";
+    assert_int_equal(gethostname(raw, sizeof raw - 1), 0);
+    size_t i = 0;
+    for (; raw[i] && i < 64; i++)
+        host[i] = isalnum((unsigned char)raw[i]) || raw[i] == '-' ? raw[i] : '_';
+    host[i] = '\0';
+    return host;
+}
+
+/* Holds an exclusive flock on path in a child process (a writer that kill(2) cannot see, as one
+ * in another pid namespace) until the returned pid is killed. */
+static pid_t hold_lock(const char *path)
+{
+    int ready[2];
+    assert_int_equal(pipe(ready), 0);
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0) {
+        int fd = open(path, O_RDONLY);
+        if (fd < 0 || flock(fd, LOCK_EX) != 0)
+            _exit(1);
+        (void)!write(ready[1], "x", 1);
+        pause();
+        _exit(0);
+    }
+    char c;
+    assert_int_equal(read(ready[0], &c, 1), 1);
+    close(ready[0]);
+    close(ready[1]);
+    return child;
+}
+
+/* A dead writer's temporary (unlocked, this host's, strata's kind) goes on the next write into
+ * the folder; a live one stays even when its pid is not one this process can see (a writer in
+ * another pid namespace); so do another host's temporaries and files merely like ours. */
 static void outfile_stale_temporaries_removed(void **state)
 {
     (void)state;
-    pid_t child = fork();
-    assert_true(child >= 0);
-    if (child == 0)
-        _exit(0);
-    assert_int_equal(waitpid(child, NULL, 0), child); /* now a pid that does not run */
-    char dead[512], alive[512], other[512], name[64];
-    snprintf(name, sizeof name, ".x.exr.tmp.%ld.3", (long)child);
+    char dead[512], live[512], host[512], foreign[512], name[256];
+    snprintf(name, sizeof name, ".x.exr.strata-tmp.%s.4000000.3", host_token());
     snprintf(dead, sizeof dead, "%s", scratch_path(name));
-    snprintf(name, sizeof name, ".x.exr.tmp.%ld.3", (long)getppid());
-    snprintf(alive, sizeof alive, "%s", scratch_path(name));
-    snprintf(other, sizeof other, "%s", scratch_path(".x.tmp.notapid"));
+    snprintf(name, sizeof name, ".x.exr.strata-tmp.%s.4000001.3", host_token());
+    snprintf(live, sizeof live, "%s", scratch_path(name));
+    snprintf(host, sizeof host, "%s", scratch_path(".x.exr.strata-tmp.elsewhere-host.4000000.3"));
+    snprintf(foreign, sizeof foreign, "%s", scratch_path(".thesis.tex.tmp.4000000.1"));
     put_file(dead, "partial");
-    put_file(alive, "partial");
-    put_file(other, "kept");
+    put_file(live, "partial");
+    put_file(host, "partial");
+    put_file(foreign, "a user's own");
+    pid_t holder = hold_lock(live);
     st_error err = {ST_OK, ""};
     assert_int_equal(write_text(scratch_path("y.csv"), "new", &err), ST_OK);
+    kill(holder, SIGKILL);
+    waitpid(holder, NULL, 0);
     assert_int_equal(access(dead, F_OK), -1);
-    assert_int_equal(access(alive, F_OK), 0);
-    assert_int_equal(access(other, F_OK), 0);
+    assert_int_equal(access(live, F_OK), 0);
+    assert_int_equal(access(host, F_OK), 0);
+    assert_string_equal(content(foreign), "a user's own");
+}
+
+/* A second writer of the same destination never removes a first one's live temporary: both
+ * commit. */
+static void outfile_second_writer_keeps_first_ones_temporary(void **state)
+{
+    (void)state;
+    char path[512];
+    snprintf(path, sizeof path, "%s", scratch_path("b.csv"));
+    st_outfile *first = NULL;
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_open(path, &first, &err), ST_OK);
+    fputs("first", st_outfile_stream(first));
+    pid_t child = fork(); /* the second writer: another process, which sweeps the folder */
+    assert_true(child >= 0);
+    if (child == 0) {
+        st_outfile *f = NULL;
+        st_error e = {ST_OK, ""};
+        int ok = st_outfile_open(path, &f, &e) == ST_OK;
+        if (ok) {
+            fputs("second", st_outfile_stream(f));
+            st_outfile_abort(f);
+        }
+        _exit(ok ? 0 : 1);
+    }
+    int st;
+    assert_int_equal(waitpid(child, &st, 0), child);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    assert_int_equal(st_outfile_commit(first, &err), ST_OK);
+    assert_string_equal(content(path), "first");
+}
+
+/* One file by device and inode, through a hard link, a symbolic link and a spelling with "./";
+ * a new name twice is one file too; "-" and distinct files are not. */
+static void outfile_is_same_by_device_and_inode(void **state)
+{
+    (void)state;
+    char a[512], hard[512], soft[512], dot[512], b[512], fresh[512];
+    snprintf(a, sizeof a, "%s", scratch_path("a.exr"));
+    snprintf(hard, sizeof hard, "%s", scratch_path("hard.exr"));
+    snprintf(soft, sizeof soft, "%s", scratch_path("soft.exr"));
+    snprintf(dot, sizeof dot, "%s", scratch_path("./a.exr"));
+    snprintf(b, sizeof b, "%s", scratch_path("b.exr"));
+    snprintf(fresh, sizeof fresh, "%s", scratch_path("new.png"));
+    put_file(a, "a");
+    put_file(b, "b");
+    assert_int_equal(link(a, hard), 0);
+    assert_int_equal(symlink("a.exr", soft), 0);
+    assert_true(st_outfile_is_same(a, hard));
+    assert_true(st_outfile_is_same(soft, a));
+    assert_true(st_outfile_is_same(dot, a));
+    assert_true(st_outfile_is_same(fresh, fresh));
+    assert_false(st_outfile_is_same(a, b));
+    assert_false(st_outfile_is_same(fresh, a));
+    assert_false(st_outfile_is_same("-", "-"));
+    st_outfile_role files[] = {{b, "-o"}, {NULL, "--spp-map"}, {hard, "part 1"}, {a, "part 2"}};
+    st_error err = {ST_OK, ""};
+    assert_int_equal(st_outfile_check_apart(files, 4, 2, &err), ST_OK);
+    files[0].path = hard;
+    assert_int_equal(st_outfile_check_apart(files, 4, 2, &err), ST_ERR_USAGE);
+    assert_message_names(&err, hard);
+    assert_non_null(strstr(err.msg, "-o and part 1 are the same file"));
+    assert_string_equal(content(a), "a"); /* nothing written */
 }
 
 int main(void)
@@ -500,6 +603,8 @@ int main(void)
         T(outfile_device_written_directly),
         T(outfile_long_name_works),
         T(outfile_stale_temporaries_removed),
+        T(outfile_second_writer_keeps_first_ones_temporary),
+        T(outfile_is_same_by_device_and_inode),
     };
 #undef T
     return cmocka_run_group_tests_name("outfile", tests, NULL, NULL);

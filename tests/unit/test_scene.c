@@ -1,5 +1,5 @@
 /* test_scene.c — tests of the scene module (st_scene.h, src/scene/scene.c,
- * src/scene/gltf_shim.cpp). Run from the repository root: the test scenes are in
+ * src/scene/gltf_*.cpp). Run from the repository root: the test scenes are in
  * tests/scenes/ (written by tests/scenes/make_test_scenes.py), the Khronos
  * sample models, when present, in ../shared/scenes/khronos.
  *
