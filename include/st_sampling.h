@@ -265,6 +265,21 @@ st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **poi
 st_status st_sampling_pmj02bn(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
                               st_error *err);
 
+/* The renderer's tables for the pmj02bn sampler at spp samples per pixel
+ * (at most 2^ST_PMJ02_MAX_LOG2): st_sampling_pmj02bn's ST_PMJ02_SETS sets of
+ * 2^ceil(log2 spp) points (the later dimensions), then the pixel tile, as
+ * pbrt-v4's GetSortedPMJ02BNPixelSamples makes it: one more pmj02bn
+ * sequence of 2^ST_PMJ02_MAX_LOG2 points over a tile of T x T pixels, T² S
+ * = 2^ST_PMJ02_MAX_LOG2 with S = 4^ceil(log4 spp), each pixel's S points in
+ * sequence order (so every 2^m prefix of a pixel's points is a (0,m,2)-net
+ * of the pixel, and the tile is blue noise across pixels), as fractions of
+ * the pixel; pixel (x, y) of the tile at (y T + x) S, its point j at 2 (that
+ * + j) words past the sets. *points malloc'ed, free() by the caller;
+ * *words: its length. Errors: as st_sampling_pmj02bn (spp 0 or too many:
+ * ST_ERR_USAGE). */
+st_status st_sampling_pmj02bn_tables(st_u32 spp, st_u32 seed, st_u32 **points, size_t *words,
+                                     st_error *err);
+
 /* Exact star discrepancy of n points (x,y pairs, in [0,1)^2), the lecture's
  *   D*_N = sup over a,b in [0,1] of | #{x_i in [0,a)x[0,b)} / N - a*b |,
  * with closed boxes [0,a]x[0,b] included as limits of open ones. The sup is

@@ -95,13 +95,13 @@ st_status st_sampling_pattern(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 
     if (pmj && count > (1u << ST_PMJ02_MAX_LOG2))
         return st_fail(err, ST_ERR_USAGE, "count %u: %s's tables hold at most %u points", count,
                        st_sampler_names[sampler], 1u << ST_PMJ02_MAX_LOG2);
+    size_t words = 0;
     if (pmj && (sampler == ST_SAMPLER_PMJ02BN
-                    ? st_sampling_pmj02bn(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)
+                    ? st_sampling_pmj02bn_tables(count, seed, &pmj02, &words, err)
                     : st_sampling_pmj02(st_log2_ceil(count), ST_PMJ02_SETS, seed, &pmj02, err)) !=
                    ST_OK)
         return err ? err->status : ST_ERR_NOMEM;
     /* scrambled Halton: the renderer's digit permutation tables, in the slot */
-    size_t words = 0;
     p.halton_tables = sampler == ST_SAMPLER_HALTON && scramble;
     if (p.halton_tables && st_sampling_halton_tables(seed, &pmj02, &words, err) != ST_OK)
         return err ? err->status : ST_ERR_NOMEM;
