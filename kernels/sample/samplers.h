@@ -648,7 +648,8 @@ ST_FN st_u32 st_sample_word(const st_params *p, const st_sample_id *id)
 
 /* Sample s of the pixel with index `pixel` again, from the key and word
  * that st_sample_begin made (carried in st_sample): nothing is hashed or
- * solved again; only ZSobol, which reads (px, py), splits the pixel's index
+ * solved again; only ZSobol and pmj02bn (its pixel tile), which read
+ * (px, py), split the pixel's index
  * (the others get (0, 0), which they never read: a 32-bit divide per hit
  * was measurable). The same identity as st_sample_begin's (test_sampling_kernels.c);
  * pmj02 is not set. Forced inline: a returned struct stayed in memory. */
@@ -663,7 +664,7 @@ ST_HOT st_sample_id st_sample_resume(const st_params *p, st_u32 pixel, st_u32 s,
     id.index = ST_SAMPLER_GLOBAL_INDEX(p->sampler) ? word : s;
     id.px = 0u;
     id.py = 0u;
-    if (p->sampler == ST_SAMPLER_ZSOBOL) {
+    if (p->sampler == ST_SAMPLER_ZSOBOL || p->sampler == ST_SAMPLER_PMJ02BN) {
         id.px = pixel % p->width;
         id.py = pixel / p->width;
     }
