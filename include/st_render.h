@@ -98,7 +98,7 @@ extern const char *const st_reconstruction_names[2];
 
 /* The defaults of `strata render`. */
 st_render_options st_render_defaults(void);
-/* An adaptive render's pilot (min_spp, or spp / 4 within 2 .. 16) and cap
+/* An adaptive render's pilot (min_spp, or spp / 8 within 2 .. 16) and cap
  * per pixel (max_spp, or 8 spp). */
 void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32 *max_spp);
 /* Checks sizes, limits, the sampler (st_sampler_check), the filter

@@ -84,7 +84,9 @@ void st_sampler_prepare(st_params *p);
 /* A sampler's point set as the laboratory sees it: the
  * samples of one pixel with spp = count, from the same functions of the
  * shared kernel headers that the renderer runs (kernels/sample/samplers.h), or, for
- * the tiled samplers, the renderer's tile (st_sampling_pixel_tile). So
+ * the tiled samplers, the lecture's patterns over the unit square (Bridson's
+ * Poisson disk, Mitchell's best candidate; st_sampling_pattern_pixels gives
+ * the renderer's tile, one point per pixel and pass, instead). So
  * `strata pattern --sampler halton --scramble none` prints
  * (Φ2(i), Φ3(i), Φ5(i), ...) and hammersley (i/N, Φ2(i), ...).
  * Tests: tests/unit/test_sampling_pattern.c. */
@@ -96,11 +98,19 @@ void st_sampler_prepare(st_params *p);
 /* The first `dims` dimensions of `count` points of sampler `sampler`
  * (ST_SAMPLER_*), seed and scramble as for a render; *points holds
  * *out_count * dims floats in [0, 1), point-major, malloc'ed (caller frees).
- * *out_count equals count except for the tiled samplers (poisson,
- * best-candidate), whose tile of side x side pixels with spp points in each
- * (side = floor(sqrt(count)), spp = count / side^2) holds side^2 spp <= count. */
+ * *out_count equals count except for poisson, whose count is its target
+ * (Bridson's radius follows from it: within 1 % from 256 points). */
 st_status st_sampling_pattern(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
                           st_u32 scramble, float **points, st_u32 *out_count, st_error *err);
+
+/* The tiled samplers' (poisson, best-candidate) points as the renderer
+ * places them: its tile (st_sampling_pixel_tile) of side x side pixels with
+ * spp points in each, side = floor(sqrt(count)), spp = count / side^2 (so
+ * *out_count = side^2 spp <= count), scaled to the unit square; later
+ * dimensions as the renderer draws them. Errors: ST_ERR_USAGE (another
+ * sampler, count or dims out of range), ST_ERR_NOMEM. */
+st_status st_sampling_pattern_pixels(st_u32 sampler, st_u32 count, st_u32 dims, st_u32 seed,
+                                     float **points, st_u32 *out_count, st_error *err);
 
 /* Whether the pattern changes with the seed (spectra average over seeds). */
 int st_sampling_pattern_is_random(st_u32 sampler, st_u32 scramble);
@@ -123,12 +133,12 @@ int st_sampling_pattern_is_random(st_u32 sampler, st_u32 scramble);
 /* Best-candidate: point n (0-based) is the best of
  *   m(n) = min(max(1, ST_BEST_CANDIDATE_K * n), ST_BEST_CANDIDATE_MAX_M)
  * uniform candidates: Mitchell's "candidates proportional to the points so
- * far", capped. Measured (nearest-neighbour distance relative to hexagonal
- * spacing, 4096 points): uncapped m = n gives min 0.711 / mean 0.830 in 0.5 s;
- * cap 1024: 0.694 / 0.824 in 0.2 s; cap 256: 0.646 / 0.809 in 0.07 s. With
- * cap 1024, 65536 points take ~4.4 s (uncapped would take minutes). */
-#define ST_BEST_CANDIDATE_K 1u
-#define ST_BEST_CANDIDATE_MAX_M 1024u
+ * far", capped. Measured (minimum distance x sqrt(N) on the torus, 1024
+ * points, seeds 1..8): k = 1, cap 1024: 0.54..0.76 (one early point with
+ * few candidates can come close); k = 16, cap 4096: 0.77..0.78; cap 16384:
+ * 0.78..0.79 at 3x the time. */
+#define ST_BEST_CANDIDATE_K 16u
+#define ST_BEST_CANDIDATE_MAX_M 4096u
 
 /* Poisson-disk tile on the unit torus by Bridson's algorithm (R. Bridson, "Fast
  * Poisson Disk Sampling in Arbitrary Dimensions", SIGGRAPH 2007 sketch): a
@@ -165,7 +175,7 @@ st_status st_sampling_poisson_tile(st_u32 target_count, st_u32 seed, float **poi
  * candidate cannot beat the best so far, so the result equals the brute-force
  * definition exactly (tested). Every prefix of the output is itself a
  * best-candidate pattern. Cost: sum over n of m(n) queries, about
- * count * min(count, ST_BEST_CANDIDATE_MAX_M): 0.2 s for 4096 points, ~4.4 s
+ * count * min(16 count, ST_BEST_CANDIDATE_MAX_M): 0.6 s for 4096 points, ~13 s
  * for 65536 here.
  * Random stream: splitmix64 seeded with seed; each candidate draws x then y,
  * each the top 24 bits of one output times 2^-24.
@@ -264,6 +274,21 @@ st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **poi
 #define ST_PMJ02BN_CANDIDATES 16u
 st_status st_sampling_pmj02bn(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
                               st_error *err);
+
+/* The renderer's tables for the pmj02bn sampler at spp samples per pixel
+ * (at most 2^ST_PMJ02_MAX_LOG2): st_sampling_pmj02bn's ST_PMJ02_SETS sets of
+ * 2^ceil(log2 spp) points (the later dimensions), then the pixel tile, as
+ * pbrt-v4's GetSortedPMJ02BNPixelSamples makes it: one more pmj02bn
+ * sequence of 2^ST_PMJ02_MAX_LOG2 points over a tile of T x T pixels, T² S
+ * = 2^ST_PMJ02_MAX_LOG2 with S = 4^ceil(log4 spp), each pixel's S points in
+ * sequence order (so every 2^m prefix of a pixel's points is a (0,m,2)-net
+ * of the pixel, and the tile is blue noise across pixels), as fractions of
+ * the pixel; pixel (x, y) of the tile at (y T + x) S, its point j at 2 (that
+ * + j) words past the sets. *points malloc'ed, free() by the caller;
+ * *words: its length. Errors: as st_sampling_pmj02bn (spp 0 or too many:
+ * ST_ERR_USAGE). */
+st_status st_sampling_pmj02bn_tables(st_u32 spp, st_u32 seed, st_u32 **points, size_t *words,
+                                     st_error *err);
 
 /* Exact star discrepancy of n points (x,y pairs, in [0,1)^2), the lecture's
  *   D*_N = sup over a,b in [0,1] of | #{x_i in [0,a)x[0,b)} / N - a*b |,

@@ -6,6 +6,11 @@
  *   its spectrum    F(ν) ⊗ III_{1/T}(ν): copies of F every 1/T; Nyquist 1/(2T)
  *   ideal           f~(x) = Σ_i sinc((x - x_i)/T) f(x_i),  sinc(u) = sin(πu)/(πu)
  *   finite filter   f~(x) = Σ_i r((x - x_i)/T) f(x_i) / Σ_i r((x - x_i)/T)
+ *   jittered        x_i = (i + ξ_i) T, ξ_i uniform in [0, 1): a sine's samples
+ *                   keep E[sin(2π f x_i)] = sinc(f T) sin(2π f (i + 1/2) T) of it,
+ *                   so an alias shrinks by |sinc(f T)| and the rest turns into
+ *                   noise spread over every frequency (the lecture: jitter turns
+ *                   aliasing into noise)
  *                   (the weighted average the renderer's film computes), or the
  *                   lecture's convolution Σ_i r((x - x_i)/T) f(x_i) / ∫ r(u) du
  *
@@ -78,11 +83,13 @@ typedef struct st_signal_filter {
     st_u32 mode;      /* ST_SIGNAL_AVERAGE or ST_SIGNAL_CONVOLUTION */
 } st_signal_filter;
 
-/* Uniform samples: values[i] = f(x0 + i * spacing), i = 0 .. count-1. */
+/* Samples: values[i] = f(x0 + (i + jitter[i]) * spacing), i = 0 .. count-1;
+ * jitter NULL: uniform, f(x0 + i * spacing). */
 typedef struct st_signal_samples {
     double x0, spacing;
     st_u32 count;
     const double *values;
+    const double *jitter; /* each in [0, 1), or NULL */
 } st_signal_samples;
 
 typedef struct st_signal_options {
@@ -90,6 +97,9 @@ typedef struct st_signal_options {
     double length;           /* L > 0: the domain [0, L) */
     double spacing;          /* T > 0 */
     double offset;           /* o in [0, 1): samples at (i + o) T */
+    int jitter;              /* nonzero: at (i + ξ_i) T instead, ξ_i uniform in [0, 1) from
+                                a hash of (seed, i): jittered (stratified) sampling; offset 0 */
+    st_u32 seed;             /* the jitter's */
     st_signal_filter recon;
     st_u32 points;           /* dense points P over [0, L); 0: automatic (see st_signal_check) */
     st_u32 sinc_margin;      /* samples beyond each end for sinc; 0: the default */

@@ -4,8 +4,12 @@
 # deterministic one. `make pictures` prints it; paste it into README.md when it changes.
 set -e
 S=${S:-./strata}
-star() { # sampler count scramble(on, none or - for a sampler without) seed
-    if [ "$3" = - ]; then set -- "$1" "$2" "" "$4"; else set -- "$1" "$2" "--scramble=$3" "$4"; fi
+star() { # sampler count scramble(on, none, - for a sampler without, pixels: --pixels) seed
+    case "$3" in
+    -) set -- "$1" "$2" "" "$4" ;;
+    pixels) set -- "$1" "$2" "--pixels" "$4" ;;
+    *) set -- "$1" "$2" "--scramble=$3" "$4" ;;
+    esac
     "$S" pattern --sampler "$1" --count "$2" $3 --seed "$4" --discrepancy |
         sed -n 's/^star discrepancy (exact, 2-D): //p'
 }
@@ -22,8 +26,10 @@ row random random - 8 5
 row "uniform (16×16, 32×32 grid)" uniform - 1 5
 row stratified stratified on 8 5
 row joint-stratified joint-stratified - 8 5
-row "poisson (N points per pixel of a 16×16, 32×32 tile)" poisson - 8 5
-row "best-candidate (same)" best-candidate - 8 5
+row "poisson (Bridson)" poisson - 8 5
+row "best-candidate (Mitchell)" best-candidate - 8 5
+row "poisson \`--pixels\` (N points a pixel of a 16×16, 32×32 tile)" poisson pixels 8 5
+row "best-candidate \`--pixels\` (same)" best-candidate pixels 8 5
 row "halton (scrambled)" halton on 8 5
 row "halton (\`--scramble none\`)" halton none 1 5
 row "hammersley (scrambled)" hammersley on 8 5

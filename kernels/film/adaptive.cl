@@ -2,15 +2,17 @@
  *
  * A pilot of N0 samples per pixel is splatted as usual; adaptive_moments
  * keeps, per pixel, the sums of Y = (r + g + b) / 3 and Y² of its own
- * samples; adaptive_estimate turns them into each pixel's error estimate
- * and moves the pilot's film aside. The host then gives pixel q m(q) more
- * samples; they are splatted into the emptied film with weight 1 / m(q)
- * (splat_scale), so that every pixel's later samples weigh 1 in all, as if
- * they had the same density everywhere: the filter's weights Σ f stay
- * balanced between sparse and dense pixels, and Σ f L / Σ f stays the
- * filtered image (with plain weights, a pixel next to a dense one would
- * mostly show its neighbour's samples). adaptive_blend combines the two
- * films, each a consistent estimate of the same pixel. */
+ * samples (the pilot's and every later round's); adaptive_estimate turns
+ * them into each pixel's error estimate and, after the pilot, moves the
+ * pilot's film aside. The host then gives pixel q, round by round, more
+ * samples; a sample of round r is splatted into the emptied film with
+ * weight w_r(q) / m_r(q) (splat_scale), its pixel's share of the weight
+ * over its count, where Σ_r w_r(q) = 1 and each w_r, m_r is fixed before
+ * round r's samples are drawn: the later film's sums are then unbiased
+ * estimates of the filter's integrals over the image (Σ f L and Σ f), as
+ * if every pixel had the same density, whatever the counts.
+ * adaptive_blend resolves them against the pilot's film, which is not
+ * part of the estimate but its control variate. */
 #include "st_shared.h"
 #include "filters.h"
 #include "fixed.h"
@@ -32,28 +34,49 @@ static st_u32 pixel_lanes(const st_params *p, st_u32 *count)
     return first;
 }
 
-/* Item i of the pilot is pixel i mod N, sample i / N (N pixels: generate.cl);
- * this wave holds items first_item .. first_item + item_count - 1. For each
- * pixel, adds its samples in this wave to moments: rgb[0] += Y, rgb[1] +=
- * Y², weight += 1. ST_W pixels a work-item, each lane one pixel's sums in
- * sample order: the float sums are the same from run to run and at every
- * lane width. */
+/* The pixels whose items this launch runs (N: the image's, or in a round
+ * the active list's first adaptive_count; item i is pixel slot i mod N,
+ * sample i / N: generate.cl): ST_W slots from ST_W times the work-item's
+ * id, fewer at the end (*count, 0 past it), pixel[l] the pixel of slot l
+ * (the last repeated past *count); returns N. */
+static st_u32 slot_lanes(const st_params *p, __global const st_u32 *active, st_u32 *first,
+                         st_u32 *count, int pixel[ST_W])
+{
+    st_u32 n = p->adaptive_count ? p->adaptive_count : p->width * p->height;
+    *first = ST_W * ST_ITEM();
+    *count = *first < n ? min((st_u32)ST_W, n - *first) : 0u;
+    for (st_u32 l = 0; *count && l < ST_W; l++) {
+        st_u32 s = *first + min(l, *count - 1u);
+        pixel[l] = (int)(p->adaptive_count ? active[s] : s);
+    }
+    return n;
+}
+
+/* This wave holds items first_item .. first_item + item_count - 1 of the
+ * pilot or of a round. For each pixel, adds its samples in this wave to
+ * moments: rgb[0] += Y, rgb[1] += Y², weight += 1 (a sample whose Y is not
+ * finite is counted as 0, as the splat counts it). ST_W pixels a
+ * work-item, each lane one pixel's sums in sample order: the float sums are
+ * the same from run to run and at every lane width. */
 __kernel void adaptive_moments(ST_FILM_PARAMS)
 {
-    st_u32 count, first = pixel_lanes(&p, &count), n = p.width * p.height;
+    st_u32 first, count;
+    int px[ST_W];
+    st_u32 n = slot_lanes(&p, active, &first, &count, px);
     if (count == 0u)
         return;
     float m[3][ST_W];
     for (st_u32 l = 0; l < ST_W; l++) {
-        st_pixel px = moments[first + min(l, count - 1u)];
-        m[0][l] = px.rgb[0];
-        m[1][l] = px.rgb[1];
-        m[2][l] = px.weight;
+        st_pixel q = moments[px[l]];
+        m[0][l] = q.rgb[0];
+        m[1][l] = q.rgb[1];
+        m[2][l] = q.weight;
     }
     st_lf s = ST_VLOAD(ST_W, m[0]), s2 = ST_VLOAD(ST_W, m[1]), w = ST_VLOAD(ST_W, m[2]);
-    for (st_u32 k = 0; k < p.adaptive_pilot; k++) {
+    st_u64 k_end = (p.first_item + p.item_count + n - 1u) / n;
+    for (st_u64 k = p.first_item / n; k < k_end; k++) {
         /* lane l is item k n + first + l, of this wave where lo <= l < hi */
-        st_i64 off = (st_i64)((st_u64)k * n + first) - (st_i64)p.first_item;
+        st_i64 off = (st_i64)(k * n + first) - (st_i64)p.first_item;
         int lo = (int)clamp(-off, (st_i64)0, (st_i64)count),
             hi = (int)clamp((st_i64)p.item_count - off, (st_i64)0, (st_i64)count);
         float L[3][ST_W];
@@ -65,28 +88,28 @@ __kernel void adaptive_moments(ST_FILM_PARAMS)
         }
         st_li in = ST_IOTA(ST_W) >= lo & ST_IOTA(ST_W) < hi;
         st_lf y = (ST_VLOAD(ST_W, L[0]) + ST_VLOAD(ST_W, L[1]) + ST_VLOAD(ST_W, L[2])) / 3.0f;
-        st_li ok = in & isfinite(y); /* the others counted by the splat */
-        s = ST_SELECT(ST_W, s, s + y, ok);
-        s2 = ST_SELECT(ST_W, s2, s2 + y * y, ok);
-        w = ST_SELECT(ST_W, w, w + 1.0f, ok);
+        y = ST_SELECT(ST_W, ST_LF(0.0f), y, isfinite(y));
+        s = ST_SELECT(ST_W, s, s + y, in);
+        s2 = ST_SELECT(ST_W, s2, s2 + y * y, in);
+        w = ST_SELECT(ST_W, w, w + 1.0f, in);
     }
     ST_VSTORE(ST_W, s, m[0]);
     ST_VSTORE(ST_W, s2, m[1]);
     ST_VSTORE(ST_W, w, m[2]);
     for (st_u32 l = 0; l < count; l++) {
-        st_pixel px = {{m[0][l], m[1][l], 0.0f}, m[2][l]};
-        moments[first + l] = px;
+        st_pixel q = {{m[0][l], m[1][l], 0.0f}, m[2][l]};
+        moments[px[l]] = q;
     }
 }
 
 /* Pixel i's error estimate into splat_scale[i] (the host reads it and puts
- * the weights there): the pilot's samples of the 3 x 3 pixels round i
+ * the weights there): the samples so far of the 3 x 3 pixels round i
  * pooled (one pixel's N0 samples are too few to judge by; the pool also
  * sees an edge between neighbours, which the filter blends), then
- * sqrt(var) / (mean² + ε²)^(γ/2). The pilot's film moves to pilot_film and
- * the film starts again from 0 for the later samples. ST_W pixels a
- * work-item, each lane adding its neighbours in rows, as one pixel alone
- * would. */
+ * sqrt(var) / (mean² + ε²)^(γ/2). After the pilot (adaptive_scaled 0) the
+ * pilot's film moves to pilot_film and the film starts again from 0 for
+ * the later samples. ST_W pixels a work-item, each lane adding its
+ * neighbours in rows, as one pixel alone would. */
 __kernel void adaptive_estimate(ST_FILM_PARAMS)
 {
     st_u32 count, first = pixel_lanes(&p, &count);
@@ -123,6 +146,8 @@ __kernel void adaptive_estimate(ST_FILM_PARAMS)
     for (st_u32 l = 0; l < count; l++) {
         st_u32 i = first + l;
         splat_scale[i] = out[l];
+        if (p.adaptive_scaled)
+            continue;
         pilot_film[i] = film[i];
         for (int k = 0; k < ST_FILM_SUMS; k++)
             film[i].sum[k] = 0;
@@ -170,16 +195,18 @@ static st_lv3 film_value(float sum[ST_FILM_SUMS][ST_W], st_li *has)
     return st_lv3_div(v, w);
 }
 
-/* The later film's value from its sums N = Σ f L / m and D = Σ f / m. N / D
- * is a ratio estimator, biased where D varies much: a pixel at the cap
- * beside pixels of one or two samples, whose 1 / m weigh up to a hundred of
- * its own. With splatting and the random sampler (each sample uniform in
- * its pixel), E[D] = W = ∫ f over the image round the pixel whatever the
- * counts (the 1 / m cancels the count), and P + (N − P D) / W, P the
- * pilot's value (independent of these samples), has expectation E[N] / W:
- * the filtered image, exactly. It is N / D where D = W, and its noise is
- * N / D's to first order (P is near the value). Each lane's W is its own
- * loop over the filter (filter_integral), one lane at a time. */
+/* The later film's value from its sums N = Σ w f L / m and D = Σ w f / m.
+ * Their expectations are the filter's integrals over the image round the
+ * pixel, E[N] = ∫ f L and E[D] = W = ∫ f, whatever the counts and weights
+ * (each pixel's weights sum to 1, and each is fixed before its samples are
+ * drawn: src/render/adaptive.c), but N / D, a ratio estimator, is biased
+ * where D varies much: a pixel at the cap beside pixels of one or two
+ * samples, whose weights are up to a hundred times its own. P + (N − P D)
+ * / W, P the pilot's value (independent of these samples), has
+ * expectation E[N] / W: the filtered image, exactly; it is N / D where D
+ * = W, and its noise is N / D's to first order (P is near the value). Each
+ * lane's W is its own loop over the filter (filter_integral), one lane at
+ * a time. */
 static st_lv3 later_value(float sum[ST_FILM_SUMS][ST_W], st_lv3 P, const st_params *p,
                           st_u32 first, st_u32 count)
 {
@@ -197,37 +224,35 @@ static st_lv3 later_value(float sum[ST_FILM_SUMS][ST_W], st_lv3 P, const st_para
                        P.z + (N.z - P.z * D) / w);
 }
 
-/* Pixel i of the film becomes α P + (1 − α) F, P the pilot's value, F the
- * later samples', α = N0 / n(i) (each weighted by its pixel's share of the
- * samples, as inverse variances would be), as sums of weight 1; where one
- * film has no weight the other alone; where neither, 0 (resolve counts it).
- * ST_W pixels a work-item. */
+/* Pixel i of the film becomes the later samples' value alone: with
+ * splatting later_value against the pilot's P (0 where the pilot's film
+ * has no weight), with filter importance sampling Σ w L / m over Σ w / m
+ * (each sample in its own pixel: the denominator is Σ_r w_r = 1, so the
+ * ratio is the weighted mean itself). The pilot's samples only chose the
+ * counts: a weight taken from them would correlate with their values and
+ * bias the image (Kirk and Arvo, "Unbiased sampling techniques for image
+ * synthesis", SIGGRAPH 1991). Written as sums of weight 1; where the film
+ * has no weight, 0 (resolve counts it). ST_W pixels a work-item. */
 __kernel void adaptive_blend(ST_FILM_PARAMS)
 {
     st_u32 count, first = pixel_lanes(&p, &count);
     if (count == 0u)
         return;
-    float ps[ST_FILM_SUMS][ST_W], fs[ST_FILM_SUMS][ST_W], spp[ST_W];
+    float ps[ST_FILM_SUMS][ST_W], fs[ST_FILM_SUMS][ST_W];
     film_lanes(pilot_film, first, count, ps);
     film_lanes(film, first, count, fs);
-    for (st_u32 l = 0; l < ST_W; l++)
-        spp[l] = (float)pixel_spp[first + min(l, count - 1u)];
     st_li has_p, has_f;
     st_lv3 none = st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f));
     st_lv3 P = st_lv3_select(none, film_value(ps, &has_p), has_p);
-    st_lv3 F = st_lv3_select(none, film_value(fs, &has_f), has_f);
-    st_lf a = ST_SELECT(ST_W, (float)p.adaptive_pilot / ST_VLOAD(ST_W, spp), ST_LF(0.0f), !has_p);
-    a = ST_SELECT(ST_W, a, ST_LF(1.0f), !has_f);
+    st_lv3 v = st_lv3_select(none, film_value(fs, &has_f), has_f);
     if (p.reconstruction == ST_RECON_SPLAT)
-        F = st_lv3_select(F, later_value(fs, P, &p, first, count), has_p & has_f);
-    st_lf b = 1.0f - a;
-    st_lv3 v = st_lv3_make(a * P.x + b * F.x, a * P.y + b * F.y, a * P.z + b * F.z);
+        v = later_value(fs, P, &p, first, count);
     float out[3][ST_W];
     int kept[ST_W];
     ST_VSTORE(ST_W, v.x, out[0]);
     ST_VSTORE(ST_W, v.y, out[1]);
     ST_VSTORE(ST_W, v.z, out[2]);
-    ST_VSTORE(ST_W, has_p | has_f, kept);
+    ST_VSTORE(ST_W, has_f, kept);
     st_u32 clamped = 0;
     for (st_u32 l = 0; l < count; l++) {
         if (!kept[l])

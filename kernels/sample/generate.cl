@@ -107,15 +107,17 @@ static st_sample pixel_sample(const st_params *p, __global const st_u32 *pmj02,
 }
 
 /* Render item g of a tiled sampler or of an adaptive round (adaptive.cl),
- * whose items do not follow the region's pixels in order. */
+ * whose items do not follow the region's pixels in order: in a round, the
+ * pixel's samples continue from pixel_spp[pixel], those it has so far. */
 static st_sample scattered_sample(const st_params *p, __global const st_tile_point *tile,
-                                  __global const st_u32 *active, __global const st_u32 *pmj02,
-                                  __global const float *fis_cdf, st_u64 g)
+                                  __global const st_u32 *active, __global const st_u32 *pixel_spp,
+                                  __global const st_u32 *pmj02, __global const float *fis_cdf,
+                                  st_u64 g)
 {
     if (ST_SAMPLER_IS_TILED(p->sampler))
         return tile_sample(p, tile, g);
     st_u32 pixel = active[g % p->adaptive_count];
-    st_u32 s = p->adaptive_base + (st_u32)(g / p->adaptive_count);
+    st_u32 s = pixel_spp[pixel] + p->adaptive_base + (st_u32)(g / p->adaptive_count);
     return pixel_sample(p, pmj02, fis_cdf, pixel % p->width, pixel / p->width, s);
 }
 
@@ -148,13 +150,14 @@ static st_sample lane_sample(const st_sample_lanes *l, st_u32 k)
  * shade gathers them), the tiled samplers' and adaptive rounds' lane by
  * lane. */
 ST_HOT void item_samples(const st_params *p, __global const st_tile_point *tile,
-                         __global const st_u32 *active, __global const st_u32 *pmj02,
-                         __global const float *fis_cdf, st_u64 g, st_u32 n, st_sample_lanes *l)
+                         __global const st_u32 *active, __global const st_u32 *pixel_spp,
+                         __global const st_u32 *pmj02, __global const float *fis_cdf, st_u64 g,
+                         st_u32 n, st_sample_lanes *l)
 {
     const st_sample none = {{0.0f, 0.0f}, 0u, 0u, 0u, 0u};
     if (ST_SAMPLER_IS_TILED(p->sampler) || p->adaptive_count) {
         for (st_u32 k = 0; k < ST_W; k++)
-            set_lane(l, k, k < n ? scattered_sample(p, tile, active, pmj02, fis_cdf, g + k) : none);
+            set_lane(l, k, k < n ? scattered_sample(p, tile, active, pixel_spp, pmj02, fis_cdf, g + k) : none);
         return;
     }
     st_lu px, py, s;
@@ -221,7 +224,7 @@ __kernel void generate_rays(ST_STAGE_PARAMS)
         return;
     st_u32 n = min((st_u32)ST_W, p.item_count - first);
     st_sample_lanes l;
-    item_samples(&p, tile, active, pmj02, fis_cdf, p.first_item + first, n, &l);
+    item_samples(&p, tile, active, pixel_spp, pmj02, fis_cdf, p.first_item + first, n, &l);
     for (st_u32 k = 0; k < n; k++)
         sample[first + k] = lane_sample(&l, k);
     start_paths(&p, &l, first, n, ray, path);

@@ -648,7 +648,8 @@ ST_FN st_u32 st_sample_word(const st_params *p, const st_sample_id *id)
 
 /* Sample s of the pixel with index `pixel` again, from the key and word
  * that st_sample_begin made (carried in st_sample): nothing is hashed or
- * solved again; only ZSobol, which reads (px, py), splits the pixel's index
+ * solved again; only ZSobol and pmj02bn (its pixel tile), which read
+ * (px, py), split the pixel's index
  * (the others get (0, 0), which they never read: a 32-bit divide per hit
  * was measurable). The same identity as st_sample_begin's (test_sampling_kernels.c);
  * pmj02 is not set. Forced inline: a returned struct stayed in memory. */
@@ -663,7 +664,7 @@ ST_HOT st_sample_id st_sample_resume(const st_params *p, st_u32 pixel, st_u32 s,
     id.index = ST_SAMPLER_GLOBAL_INDEX(p->sampler) ? word : s;
     id.px = 0u;
     id.py = 0u;
-    if (p->sampler == ST_SAMPLER_ZSOBOL) {
+    if (p->sampler == ST_SAMPLER_ZSOBOL || p->sampler == ST_SAMPLER_PMJ02BN) {
         id.px = pixel % p->width;
         id.py = pixel / p->width;
     }
@@ -838,28 +839,47 @@ ST_FN st_f32 st_zsobol_dim(const st_params *p, const st_sample_id *id, st_u32 di
     return st_bits_to_unit(bits);
 }
 
+/* pmj02bn's pixel dimensions (pbrt-v4's PMJ02BNSampler::GetPixel2D): the
+ * pixel's own points of the sorted tile (st_sampling_pmj02bn_tables: T x T
+ * pixels of S = 4^ceil(log4 spp) points each, after the sets), at the
+ * pixel's position in the tile, read as they are: every 2^m prefix is a
+ * (0,m,2)-net of the pixel and the tile is blue noise across pixels, which
+ * a rotation would scatter. */
+ST_FN st_u32 st_pmj02bn_pixel_word(const st_params *p, const st_sample_id *id, st_u32 dim)
+{
+    st_u32 log2n = st_log2_ceil(p->spp), log2s = (log2n + 1u) & ~1u;
+    st_u32 log2t = (ST_PMJ02_MAX_LOG2 - log2s) / 2u, mask = (1u << log2t) - 1u;
+    st_u32 cell = ((id->py & mask) << log2t) | (id->px & mask);
+    st_u32 at = (ST_PMJ02_SETS << log2n) + (cell << log2s) + id->sample;
+    return id->pmj02[2u * at + (dim & 1u)];
+}
+
 /* pmj02 and pmj02bn (pbrt-v4's PMJ02BNSampler; pmj02bn's tables are blue
  * noise too, st_sampling_pmj02bn; pmj02's are not): each pair of
  * dimensions reads one of the ST_PMJ02_SETS sequences of 2^ceil(log2 spp)
  * points, chosen by a hash of (pixel, pair); the pixel pair at the sample
- * index, later pairs at an index permuted per (pixel, pair) so that pairs
- * do not correlate. A random digital shift per (pixel, pair) (the xor of
- * the digits with one random word, which maps elementary intervals onto
+ * index (pmj02bn's from its pixel tile instead: st_pmj02bn_pixel_word),
+ * later pairs at an index permuted per (pixel, pair) so that pairs do not
+ * correlate. A random digital shift per (pixel, pair) (the xor of the
+ * digits with one random word, which maps elementary intervals onto
  * elementary intervals) keeps every 2^m prefix a (0,m,2)-net and keeps
- * pixels that share a sequence apart. pmj02bn shifts on the torus instead
- * (the addition of the word mod 2^32, pbrt-v4's Cranley-Patterson
- * rotation), which keeps its blue noise (every distance) and its
- * stratification up to one interval's wrap, where a digital shift would
- * scatter the spacing. No tables (a host caller that gave none): hashed. */
+ * pixels that share a sequence apart. pmj02bn's later pairs shift on the
+ * torus instead (the addition of the word mod 2^32, pbrt-v4's
+ * Cranley-Patterson rotation), which keeps their blue noise (every
+ * distance) and their stratification up to one interval's wrap. No tables
+ * (a host caller that gave none): hashed. */
 ST_FN st_f32 st_pmj02_dim(const st_params *p, const st_sample_id *id, st_u32 dim)
 {
     if (!id->pmj02)
         return st_hashed_dim(id, dim);
+    int bn = p->sampler == ST_SAMPLER_PMJ02BN;
+    if (bn && dim < 2u)
+        return st_bits_to_unit(st_pmj02bn_pixel_word(p, id, dim));
     st_u32 key = st_pair_key(id->pixel_key, dim), set = st_hash32(key ^ 0x706d6a32u) % ST_PMJ02_SETS;
     st_u32 i = dim < 2u ? id->sample : st_permute(id->sample, p->spp, key);
     st_u32 at = (set << st_log2_ceil(p->spp)) + i;
     st_u32 word = id->pmj02[2u * at + (dim & 1u)], shift = st_hash32(key ^ (dim & 1u));
-    return st_bits_to_unit(p->sampler == ST_SAMPLER_PMJ02BN ? word + shift : word ^ shift);
+    return st_bits_to_unit(bn ? word + shift : word ^ shift);
 }
 
 /* Poisson disk and best candidate past the film's dimensions (which the

@@ -458,11 +458,14 @@ typedef struct st_params {
     st_u32 tile_size, tile_begin, tile_count, tiles_x;
     st_u32 reconstruction; /* ST_RECON_* */
     /* adaptive sampling (adaptive.cl): nonzero during a round over the
-     * active-pixel list (item g: pixel active[g mod adaptive_count], sample
-     * adaptive_base + g / adaptive_count); adaptive_scaled: each splat's
-     * weight is multiplied by splat_scale[its pixel]; adaptive_pilot: the
-     * pilot's samples per pixel */
-    st_u32 adaptive_count, adaptive_base, adaptive_scaled, adaptive_pilot;
+     * active-pixel list (item g: pixel q = active[g mod adaptive_count],
+     * sample pixel_spp[q] + adaptive_base + g / adaptive_count);
+     * adaptive_scaled: each splat's weight is multiplied by splat_scale[its
+     * pixel] (0 while the film holds the pilot's plain splats) */
+    st_u32 adaptive_count, adaptive_base, adaptive_scaled;
+    /* 1 where trace_rays takes its items in the order of the wave's
+     * `order` (order.cl: sorted by ray) instead of the list's */
+    st_u32 ordered;
     /* the vertex whose list of live paths a trace or shade launch runs over
      * (0: every item of the wave; st_live_list), and that list's length */
     st_u32 vertex, live_count;
@@ -493,9 +496,6 @@ typedef struct st_params {
     /* 1 where next-event estimation picks its area light in lanes (the
      * plan: area lights alone, from a short list; shade.cl's area_lanes) */
     st_u32 area_lanes;
-    /* 1 where trace_rays takes its items in the order of the wave's
-     * `order` (order.cl: sorted by ray) instead of the list's */
-    st_u32 ordered;
     st_u32 aov; /* ST_AOV_*: what the first vertex splats; NONE: radiance */
 } st_params;
 
@@ -672,9 +672,9 @@ typedef struct st_tile_point {
     X(order_count, st_u32, ST_PER_ORDER) /* bounds, and counts then starts (order.cl) */  \
     X(film, st_film_pixel, ST_PER_PIXEL)                                                    \
     X(pilot_film, st_film_pixel, ST_PER_ADAPTIVE) /* the adaptive pilot's splats */        \
-    X(moments, st_pixel, ST_PER_ADAPTIVE) /* pilot: Σ Y, Σ Y², samples (adaptive.cl) */    \
+    X(moments, st_pixel, ST_PER_ADAPTIVE) /* so far: Σ Y, Σ Y², samples (adaptive.cl) */   \
     X(splat_scale, st_f32, ST_PER_ADAPTIVE) /* adaptive: weight of the pixel's samples */  \
-    X(pixel_spp, st_u32, ST_PER_ADAPTIVE)   /* an adaptive render's samples per pixel */   \
+    X(pixel_spp, st_u32, ST_PER_ADAPTIVE)   /* adaptive: a pixel's samples so far */       \
     X(active, st_u32, ST_PER_ADAPTIVE)      /* pixels by falling sample count */           \
     X(stats, st_film_stats, ST_ONE)                                                         \
     X(image, st_pixel, ST_PER_PIXEL)
@@ -833,7 +833,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_params, halton_inv3) X(st_params, ray_eps) X(st_params, tile_size)                 \
     X(st_params, tile_begin) X(st_params, tile_count) X(st_params, tiles_x)                 \
     X(st_params, reconstruction) X(st_params, adaptive_count) X(st_params, adaptive_base)   \
-    X(st_params, adaptive_scaled) X(st_params, adaptive_pilot) X(st_params, vertex)         \
+    X(st_params, adaptive_scaled) X(st_params, vertex)         \
     X(st_params, live_count) X(st_params, sobol_log2)                                       \
     X(st_params, bin_side) X(st_params, bins_x) X(st_params, bins)                          \
     X(st_params, halton_tables)                                                             \
@@ -883,7 +883,7 @@ ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 280, "st_params: 280 bytes");
+ST_STATIC_ASSERT(sizeof(st_params) == 276, "st_params: 276 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 24, "st_sample: 24 bytes");
 ST_STATIC_ASSERT(sizeof(st_ray) == 32, "st_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");

@@ -11,10 +11,13 @@
  * comes out too flat. A reference made here is therefore the mean of two
  * independent renders of N/2 spp (other seeds), whose difference estimates
  * its variance: floor^2 = mean over the region and R, G, B of (a - b)^2 / 4.
- * A slope is fitted only over points whose RMSE is at least FLOOR_FACTOR
- * times the floor (there the floor adds at most 1/FLOOR_FACTOR^2 to the MSE,
- * 6% to the RMSE at 3), and the floor is reported. A given --reference FILE
- * has no estimate (one image cannot show its own noise). */
+ * Each render's RMSE is then reported with the floor taken out in quadrature,
+ * sqrt(max(e^2 - floor^2, 0)) (the measured one beside it, rmse_measured);
+ * a slope is fitted only over points whose measured RMSE is at least
+ * FLOOR_FACTOR times the floor (below, the difference of two nearly equal
+ * squares is mostly the floor's own uncertainty), and the floor is reported.
+ * A given --reference FILE has no estimate (one image cannot show its own
+ * noise): nothing is taken out. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,7 +50,9 @@ static const char converge_help[] =
     "                        fitted only where the RMSE is at least 3 times the floor\n"
     "  --seeds K             seeds per randomised sampler and count (default 4)\n"
     "  --region X,Y,W,H      measure only this pixel rectangle (default: the whole image)\n"
-    "  --csv FILE|-          sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n"
+    "  --csv FILE|-          sampler,spp,seeds,rmse,rmse_stderr,rel_mse,rmse_measured: rmse\n"
+    "                        with the reference's floor taken out in quadrature,\n"
+    "                        sqrt(e^2 - floor^2) per render (rmse_measured: e)\n"
     "  --png FILE            log-log plot of RMSE against spp, the fitted slope in the legend\n"
     "  --error-spectrum FILE power spectrum of the per-pixel error (mean of R, G, B minus the\n"
     "                        reference) at the first --spp-list count, one panel per sampler,\n"
@@ -188,6 +193,7 @@ typedef struct series {
     char name[48];
     st_u32 sampler, adaptive, n;
     double spp[MAX_SPP], rmse[MAX_SPP], stderr_[MAX_SPP], rel[MAX_SPP], seeds[MAX_SPP];
+    double measured[MAX_SPP]; /* rmse before the floor is taken out */
     double slope;   /* fitted over the falling part above the floor only */
     st_u32 falling; /* points 0 .. falling-1 fall; a plateau follows when falling < n */
     st_u32 above;   /* points 0 .. above-1 lie FLOOR_FACTOR times above the floor */
@@ -239,7 +245,7 @@ static st_u32 falling_part(const series *s)
 static st_u32 above_floor(const series *s, double floor)
 {
     st_u32 k = 0;
-    while (k < s->n && !(s->rmse[k] < FLOOR_FACTOR * floor))
+    while (k < s->n && !(s->measured[k] < FLOOR_FACTOR * floor))
         k++;
     return k;
 }
@@ -416,7 +422,7 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
     o.adaptive = se->adaptive;
     o.spp = c->spp[k]; /* adaptive: the mean, so both cost the same */
     st_u32 runs = st_sampling_pattern_is_random(o.sampler, o.scramble) || o.adaptive ? c->seeds : 1;
-    double sum = 0, sum2 = 0, rel = 0, samples = 0;
+    double sum = 0, sum2 = 0, raw = 0, rel = 0, samples = 0;
     for (st_u32 r = 0; r < runs; r++) {
         st_image img = {0};
         st_render_stats st = {0};
@@ -430,6 +436,9 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
             st_image_free(&img);
             return err->status;
         }
+        raw += e;
+        if (c->floor == c->floor) /* the reference's own error out, in quadrature */
+            e = sqrt(fmax(e * e - c->floor * c->floor, 0.0));
         sum += e;
         sum2 += e * e;
         rel += q;
@@ -441,6 +450,7 @@ static st_status run_point(const converge_args *c, st_cli_session *s, const st_i
     double mean = sum / runs, var = runs > 1 ? (sum2 - runs * mean * mean) / (runs - 1) : 0;
     se->spp[k] = se->adaptive ? samples / runs / ((double)o.width * o.height) : c->spp[k];
     se->rmse[k] = mean;
+    se->measured[k] = raw / runs;
     se->stderr_[k] = runs > 1 ? sqrt(fmax(var, 0) / runs) : 0;
     se->rel[k] = rel / runs;
     se->seeds[k] = runs;
@@ -453,11 +463,12 @@ typedef struct csv_ctx { const series *ss; st_u32 ns; } csv_ctx;
 static void emit_csv(FILE *f, const void *ctx)
 {
     const csv_ctx *c = ctx;
-    fprintf(f, "sampler,spp,seeds,rmse,rmse_stderr,rel_mse\n");
+    fprintf(f, "sampler,spp,seeds,rmse,rmse_stderr,rel_mse,rmse_measured\n");
     for (st_u32 i = 0; i < c->ns; i++)
         for (st_u32 k = 0; k < c->ss[i].n; k++)
-            fprintf(f, "%s,%.6g,%.0f,%.9g,%.9g,%.9g\n", c->ss[i].name, c->ss[i].spp[k],
-                    c->ss[i].seeds[k], c->ss[i].rmse[k], c->ss[i].stderr_[k], c->ss[i].rel[k]);
+            fprintf(f, "%s,%.6g,%.0f,%.9g,%.9g,%.9g,%.9g\n", c->ss[i].name, c->ss[i].spp[k],
+                    c->ss[i].seeds[k], c->ss[i].rmse[k], c->ss[i].stderr_[k], c->ss[i].rel[k],
+                    c->ss[i].measured[k]);
 }
 
 /* "halton (slope -0.98)", "uniform (slope -0.51, flat from 16)", "sobol (slope -1.48 to
@@ -483,7 +494,7 @@ static void guides(const series *ss, st_u32 ns, double *x, double *half, double 
 {
     double lg = 0;
     for (st_u32 i = 0; i < ns; i++)
-        lg += log(ss[i].rmse[0]);
+        lg += log(ss[i].measured[0]);
     double y0 = exp(lg / ns);
     for (st_u32 k = 0; k < ss[0].n; k++) {
         x[k] = ss[0].spp[k];
@@ -502,7 +513,7 @@ static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st
         char legend[MAX_SERIES * 2][96];
         for (st_u32 i = 0; i < ns; i++) {
             series_legend(&ss[i], legend[i], sizeof legend[i]);
-            ps[i] = (st_plot_series){.name = legend[i], .x = ss[i].spp, .y = ss[i].rmse,
+            ps[i] = (st_plot_series){.name = legend[i], .x = ss[i].spp, .y = ss[i].measured,
                                      .n = ss[i].n, .style = ST_PLOT_STYLE_LINE_POINTS,
                                      .yerr = ss[i].stderr_};
         }

@@ -24,6 +24,12 @@ static const char pattern_help[] =
     "                      best-candidate, paddedsobol, sobol, zsobol, joint-stratified,\n"
     "                      pmj02, pmj02bn (count at most 4096)\n"
     "  --count N           number of points (poisson: the target; the radius follows)\n"
+    "  --pixels            poisson, best-candidate: the renderer's tile instead of the\n"
+    "                      lecture's pattern (Bridson's dart throwing, Mitchell's best\n"
+    "                      candidate over the square): floor(sqrt(N))^2 pixels, each\n"
+    "                      getting its share of the points one at a time, which costs\n"
+    "                      the closest pairs (min distance x sqrt(N) about 0.6 at one\n"
+    "                      point a pixel, 0.78 without pixels)\n"
     "  --dims D            dimensions per point (default 2)\n"
     "  --seed S            random seed (default 0)\n"
     "  --scramble on|none  randomise halton, hammersley, the sobols, stratified order (default on)\n"
@@ -43,7 +49,7 @@ static const char pattern_help[] =
 
 typedef struct pattern_args {
     st_u32 sampler, count, dims, seed, scramble, kmax, seeds;
-    int have_sampler, have_count, discrepancy, scramble_given;
+    int have_sampler, have_count, discrepancy, scramble_given, pixels;
     const char *csv, *png, *spectrum, *radial;
     double range[2]; /* --range LO,HI of the spectrum's colours (log10 P); equal: the data's */
 } pattern_args;
@@ -54,7 +60,7 @@ typedef struct pattern_args {
 #define DISCREPANCY_PAIR_NS 4.0
 
 enum { P_SAMPLER = 300, P_COUNT, P_DIMS, P_SEED, P_SCRAMBLE, P_CSV, P_PNG, P_SPECTRUM, P_RADIAL,
-       P_KMAX, P_SEEDS, P_DISCREPANCY, P_RANGE };
+       P_KMAX, P_SEEDS, P_DISCREPANCY, P_RANGE, P_PIXELS };
 
 /* --range LO,HI: two finite numbers, LO < HI. */
 static int parse_range(const char *v, double range[2])
@@ -75,7 +81,8 @@ static int parse(int argc, char **argv, pattern_args *a)
         {"png", required_argument, 0, P_PNG}, {"spectrum", required_argument, 0, P_SPECTRUM},
         {"radial", required_argument, 0, P_RADIAL}, {"kmax", required_argument, 0, P_KMAX},
         {"seeds", required_argument, 0, P_SEEDS}, {"range", required_argument, 0, P_RANGE},
-        {"discrepancy", no_argument, 0, P_DISCREPANCY}, {"help", no_argument, 0, 'h'},
+        {"discrepancy", no_argument, 0, P_DISCREPANCY}, {"pixels", no_argument, 0, P_PIXELS},
+        {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0}};
     memset(a, 0, sizeof *a);
     a->dims = 2;
@@ -118,6 +125,7 @@ static int parse(int argc, char **argv, pattern_args *a)
         case P_KMAX: rc = st_cli_parse_u32("--kmax", v, 1, ST_SPECTRUM_KMAX_MAX, &a->kmax); break;
         case P_SEEDS: rc = st_cli_parse_u32("--seeds", v, 1, 4096, &a->seeds); break;
         case P_DISCREPANCY: a->discrepancy = 1; break;
+        case P_PIXELS: a->pixels = 1; break;
         case P_RANGE: rc = parse_range(v, a->range); break;
         }
         if (rc)
@@ -130,6 +138,9 @@ static int parse(int argc, char **argv, pattern_args *a)
     if (a->scramble_given && !st_sampler_takes_scramble(a->sampler))
         return st_cli_usage_error("--scramble applies to stratified, halton, hammersley, "
                                   "paddedsobol, sobol and zsobol, not %s", st_sampler_names[a->sampler]);
+    if (a->pixels && !ST_SAMPLER_IS_TILED(a->sampler))
+        return st_cli_usage_error("--pixels applies to poisson and best-candidate, not %s",
+                                  st_sampler_names[a->sampler]);
     if (a->discrepancy && a->count > DISCREPANCY_MAX_COUNT) {
         double pairs = (double)a->count * a->count;
         return st_cli_usage_error("--discrepancy with --count %u: O(N^2) work, %.3g point pairs "
@@ -216,6 +227,16 @@ static void data_range(const double *power, st_u32 kmax, double *lo, double *hi)
     free(v);
 }
 
+/* The points asked for, at seed: the pattern, or with --pixels the
+ * renderer's tile. */
+static st_status points_of(const pattern_args *a, st_u32 seed, float **pts, st_u32 *n,
+                           st_error *err)
+{
+    if (a->pixels)
+        return st_sampling_pattern_pixels(a->sampler, a->count, a->dims, seed, pts, n, err);
+    return st_sampling_pattern(a->sampler, a->count, a->dims, seed, a->scramble, pts, n, err);
+}
+
 /* The periodogram averaged over seeds seed, seed+1, ... (one pass for a
  * deterministic pattern), its picture and its radial average. */
 static st_status spectrum(const pattern_args *a, st_u32 n0, st_error *err)
@@ -237,7 +258,7 @@ static st_status spectrum(const pattern_args *a, st_u32 n0, st_error *err)
     for (st_u32 r = 0; r < runs && rc == ST_OK; r++) {
         float *pts;
         st_u32 n;
-        rc = st_sampling_pattern(a->sampler, a->count, a->dims, a->seed + r, a->scramble, &pts, &n, err);
+        rc = points_of(a, a->seed + r, &pts, &n, err);
         if (rc == ST_OK)
             rc = st_spectrum_periodogram(pts, n, a->dims, kmax, power, err);
         free(pts);
@@ -286,7 +307,7 @@ int st_cli_pattern(int argc, char **argv)
     st_error err = {0};
     float *pts = NULL;
     st_u32 n = 0;
-    if (st_sampling_pattern(a.sampler, a.count, a.dims, a.seed, a.scramble, &pts, &n, &err))
+    if (points_of(&a, a.seed, &pts, &n, &err))
         return st_cli_fail(&err);
     points_ctx pc = {pts, n, a.dims};
     if ((a.csv && st_cli_write_text(a.csv, emit_points, &pc, &err)) ||

@@ -45,6 +45,10 @@ static const char signal_help[] =
     "  --length L          the domain [0, L) (default 64)\n"
     "  --spacing T         sample spacing (default 1); or --rate R = 1/T samples per unit\n"
     "  --offset O          samples at (i + O) T, O in [0, 1) (default 0)\n"
+    "  --jitter            jittered samples instead: at (i + u_i) T, u_i uniform in [0, 1),\n"
+    "                      one in each interval; an alias above Nyquist shrinks by\n"
+    "                      |sinc(f T)| and the rest turns into noise over every frequency\n"
+    "  --seed S            the jitter's random numbers (default 0)\n"
     "  Samples continue beyond both ends of [0, L) (sinc: --sinc-margin of them; a filter:\n"
     "  ceil(radius) + 1), so the whole of [0, L) is interior.\n"
     "Reconstruction:\n"
@@ -88,7 +92,8 @@ typedef struct signal_cli {
 
 enum { S_BASE = 500, S_FUNCTION = S_BASE, S_FREQ, S_FREQS, S_F0, S_F1, S_PHASE, S_EDGE,
        S_LENGTH, S_SPACING, S_RATE, S_OFFSET, S_FILTER, S_RECONSTRUCT, S_RADIUS, S_B, S_C,
-       S_SIGMA, S_TAU, S_SINC_MARGIN, S_POINTS, S_CSV, S_SPECTRUM_CSV, S_PNG, S_FMAX, S_END };
+       S_SIGMA, S_TAU, S_SINC_MARGIN, S_POINTS, S_CSV, S_SPECTRUM_CSV, S_PNG, S_FMAX, S_JITTER,
+       S_SEED, S_END };
 
 static const struct option signal_opts[] = {
     {"function", required_argument, 0, S_FUNCTION}, {"freq", required_argument, 0, S_FREQ},
@@ -96,7 +101,8 @@ static const struct option signal_opts[] = {
     {"f1", required_argument, 0, S_F1}, {"phase", required_argument, 0, S_PHASE},
     {"edge", required_argument, 0, S_EDGE}, {"length", required_argument, 0, S_LENGTH},
     {"spacing", required_argument, 0, S_SPACING}, {"rate", required_argument, 0, S_RATE},
-    {"offset", required_argument, 0, S_OFFSET}, {"filter", required_argument, 0, S_FILTER},
+    {"offset", required_argument, 0, S_OFFSET}, {"jitter", no_argument, 0, S_JITTER},
+    {"seed", required_argument, 0, S_SEED}, {"filter", required_argument, 0, S_FILTER},
     {"reconstruct", required_argument, 0, S_RECONSTRUCT},
     {"filter-radius", required_argument, 0, S_RADIUS}, {"filter-b", required_argument, 0, S_B},
     {"filter-c", required_argument, 0, S_C}, {"filter-sigma", required_argument, 0, S_SIGMA},
@@ -201,6 +207,14 @@ static int parse_sampling(signal_cli *c)
         opt_double(c, S_SPACING, "--spacing", &o->spacing) ||
         opt_double(c, S_RATE, "--rate", &rate) || opt_double(c, S_OFFSET, "--offset", &o->offset))
         return ST_CLI_EXIT_USAGE;
+    o->jitter = given(c, S_JITTER) != NULL;
+    if (given(c, S_SEED) && !o->jitter)
+        return st_cli_usage_error("--seed applies to --jitter only");
+    if (given(c, S_SEED) && st_cli_parse_u32("--seed", given(c, S_SEED), 0, 0xffffffffu, &o->seed))
+        return ST_CLI_EXIT_USAGE;
+    if (o->jitter && given(c, S_OFFSET))
+        return st_cli_usage_error("--offset with --jitter: each jittered sample takes its own "
+                                  "offset in its interval");
     if (given(c, S_RATE)) {
         if (!(rate > 0.0))
             return st_cli_usage_error("--rate %s: must be positive", given(c, S_RATE));
@@ -269,7 +283,7 @@ static int parse(int argc, char **argv, signal_cli *c)
             return st_cli_unknown_option("signal", argv[optind - 1], signal_opts);
         if (o == ':')
             return st_cli_usage_error("signal: option %s needs a value", argv[optind - 1]);
-        c->given[o - S_BASE] = optarg;
+        c->given[o - S_BASE] = optarg ? optarg : "on"; /* a flag: given */
     }
     if (optind < argc)
         return st_cli_usage_error("signal: unexpected argument %s", argv[optind]);

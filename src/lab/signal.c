@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "filters.h"
+#include "rng.h"
 #include "st_filter.h"
 
 #define PI 3.14159265358979323846
@@ -94,10 +95,25 @@ static st_status check_filter(const st_signal_filter *r, st_error *err)
     return ST_OK;
 }
 
+/* Sample i's position in units of T from x0. */
+static double sample_u(const st_signal_samples *s, st_u32 i)
+{
+    return s->jitter ? i + s->jitter[i] : (double)i;
+}
+
 /* Σ_i sinc(u - i) v_i over every sample. With u = k + φ (k whole, φ in [0, 1)),
- * sin(π(u - i)) = (-1)^(k-i) sin(πφ), so one sine serves the whole sum. */
+ * sin(π(u - i)) = (-1)^(k-i) sin(πφ), so one sine serves the whole sum;
+ * jittered samples take a sine each. */
 static double sinc_sum(const st_signal_samples *s, double u)
 {
+    if (s->jitter) {
+        double sum = 0.0;
+        for (st_u32 i = 0; i < s->count; i++) {
+            double d = PI * (u - sample_u(s, i));
+            sum += s->values[i] * (d == 0.0 ? 1.0 : sin(d) / d);
+        }
+        return sum;
+    }
     double k = floor(u), phi = u - k;
     if (phi == 0.0) /* on a sample: sinc is 1 there and 0 at every other */
         return k >= 0.0 && k < s->count ? s->values[(st_u32)k] : 0.0;
@@ -109,16 +125,17 @@ static double sinc_sum(const st_signal_samples *s, double u)
     return sum * sin(PI * phi) / PI;
 }
 
-/* Σ_i r(u - i) v_i and Σ_i r(u - i) over the samples within the radius. */
+/* Σ_i r(u - u_i) v_i and Σ_i r(u - u_i) over the samples within the radius
+ * (a jittered sample i lies in [i, i + 1)). */
 static void filter_sums(const st_signal_samples *s, const st_filter *f, double u, double *num,
                         double *den)
 {
-    double lo = ceil(u - f->radius), hi = floor(u + f->radius);
+    double lo = ceil(u - f->radius) - (s->jitter ? 1.0 : 0.0), hi = floor(u + f->radius);
     lo = lo < 0.0 ? 0.0 : lo;
     hi = hi > s->count - 1.0 ? s->count - 1.0 : hi;
     *num = *den = 0.0;
     for (double i = lo; i <= hi; i += 1.0) {
-        double w = st_filter_eval_1d(f, (float)(u - i));
+        double w = st_filter_eval_1d(f, (float)(u - sample_u(s, (st_u32)i)));
         *num += w * s->values[(st_u32)i];
         *den += w;
     }
@@ -292,6 +309,9 @@ st_status st_signal_check(st_signal_options *o, st_error *err)
         return st_fail(err, ST_ERR_USAGE, "--spacing %g: must be positive", o->spacing);
     if (!(o->offset >= 0.0 && o->offset < 1.0))
         return st_fail(err, ST_ERR_USAGE, "--offset %g: must be in [0, 1)", o->offset);
+    if (o->jitter && o->offset != 0.0)
+        return st_fail(err, ST_ERR_USAGE, "--offset %g with --jitter: each jittered sample "
+                       "takes its own offset in its interval", o->offset);
     double nf = o->length / o->spacing;
     if (!(nf <= ST_SIGNAL_MAX_SAMPLES))
         return st_fail(err, ST_ERR_USAGE, "--length %g / --spacing %g: more than %u samples",
@@ -432,7 +452,7 @@ st_status st_signal_build(const st_signal_options *opts, st_signal_result *out, 
     st_u32 window = n + 2u * margin, p = o.points;
     double dense_nyquist = p / (2.0 * o.length);
     st_u32 sbins = (st_u32)floor(dense_nyquist * n * o.spacing) + 1u;
-    double *values = malloc(sizeof(double) * window);
+    double *values = malloc(sizeof(double) * window), *jitter = NULL;
     st_status rc = values ? alloc_result(out, p, n, sbins, err)
                           : st_fail(err, ST_ERR_NOMEM, "signal: out of memory for %u samples",
                                     window);
@@ -440,15 +460,23 @@ st_status st_signal_build(const st_signal_options *opts, st_signal_result *out, 
         goto fail;
     out->margin = margin;
     out->nyquist = 0.5 / o.spacing;
-    st_signal_samples s = {(o.offset - margin) * o.spacing, o.spacing, window, values};
+    st_signal_samples s = {(o.offset - margin) * o.spacing, o.spacing, window, values, NULL};
+    if (o.jitter)
+        s.jitter = jitter = malloc(sizeof(double) * window);
+    if (o.jitter && !jitter) {
+        rc = st_fail(err, ST_ERR_NOMEM, "signal: out of memory for %u samples", window);
+        goto fail;
+    }
+    for (st_u32 i = 0; jitter && i < window; i++) /* ξ of stratum i - margin */
+        jitter[i] = st_rng_unit(st_rng_key(o.seed, i - margin, 0x6a697474u), 0u);
     for (st_u32 i = 0; i < window; i++)
-        values[i] = st_signal_eval(&o.fn, s.x0 + i * o.spacing);
+        values[i] = st_signal_eval(&o.fn, s.x0 + sample_u(&s, i) * o.spacing);
     for (st_u32 j = 0; j < p; j++) {
         out->x[j] = j * o.length / p;
         out->original[j] = st_signal_eval(&o.fn, out->x[j]);
     }
     for (st_u32 i = 0; i < n; i++) {
-        out->sample_x[i] = (i + o.offset) * o.spacing;
+        out->sample_x[i] = (i + o.offset + (jitter ? jitter[margin + i] : 0.0)) * o.spacing;
         out->sample_value[i] = values[margin + i];
     }
     rc = st_signal_reconstruct(&s, &o.recon, out->x, p, out->reconstruction, &out->zero_weight,
@@ -463,9 +491,11 @@ st_status st_signal_build(const st_signal_options *opts, st_signal_result *out, 
     if (rc != ST_OK)
         goto fail;
     free(values);
+    free(jitter);
     return ST_OK;
 fail:
     free(values);
+    free(jitter);
     st_signal_result_free(out);
     return rc;
 }

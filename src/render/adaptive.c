@@ -1,16 +1,25 @@
 /* adaptive.c — adaptive sampling at a budget of spp samples per pixel on
  * average (kernels/film/adaptive.cl has the device side):
- *  1. a pilot: N0 samples per pixel, splatted, and each pixel's moments;
- *  2. each pixel's error estimate e(q) (adaptive_estimate), read back;
- *  3. one allocation: pixel q gets m(q) >= 1 more samples, m ∝ e + β ē
- *     (the count that minimises Σ e² / m at a fixed Σ m; β ē is a
- *     defensive share for pixels whose few pilot samples looked calm),
- *     capped by --max-spp and, with a threshold X, by (e / X)² in all;
- *     the scale is the largest whose counts fit the budget;
- *  4. samples N0 .. N0 + m(q) - 1 of every pixel, a prefix of its own
- *     sequence, splatted with weight 1 / m(q) into an emptied film;
- *  5. adaptive_blend combines the pilot's film and the later one.
- * Every sample traced counts in the cost (the pilot is part of the image). */
+ *  1. a pilot: N0 samples per pixel, splatted into a film of its own, and
+ *     each pixel's moments;
+ *  2. rounds r = 1 .. ADAPTIVE_ROUNDS, each: every pixel's error estimate
+ *     e(q) from the moments of all its samples so far (adaptive_estimate),
+ *     read back; a target T(q) of later samples (allocate: T ∝ e + β ē,
+ *     the count that minimises Σ e² / T at a fixed Σ T, β ē a defensive
+ *     share for pixels whose samples looked calm; at least those taken,
+ *     capped by --max-spp and, with a threshold X, by the relative error
+ *     criterion e / sqrt(T) <= X); the largest scale whose targets fit the
+ *     budget; this round's m(q) = ceil((T − n) / rounds left), n the later
+ *     samples taken, all of T − n in the last round; then samples
+ *     N0 + n .. N0 + n + m − 1 of every pixel, splatted with weight
+ *     rest / (T − n), rest the pixel's share of the weight not yet given;
+ *  3. adaptive_blend resolves the later film against the pilot's.
+ * Unbiased: a round's counts and weights are chosen before its samples are
+ * drawn and each pixel's weights sum to 1, so the later film's sums are
+ * unbiased whatever the counts (a martingale's sum: each round's samples
+ * are unbiased given all that came before); the pilot's samples chose the
+ * first counts and so are not part of the estimate (adaptive.cl). Every
+ * sample traced counts in the cost. */
 #include "render_int.h"
 
 #include <math.h>
@@ -18,49 +27,63 @@
 
 /* β above: the share of the mean estimate every pixel is given. */
 #define ADAPTIVE_DEFENSIVE 0.1
+/* The rounds after the pilot: each spends a share of what is left, from
+ * an estimate that has seen every sample before it. */
+#define ADAPTIVE_ROUNDS 3
 
 void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32 *max_spp)
 {
-    st_u32 n0 = o->spp / 4 < 2 ? 2 : o->spp / 4 > 16 ? 16 : o->spp / 4;
+    st_u32 n0 = o->spp / 8 < 2 ? 2 : o->spp / 8 > 16 ? 16 : o->spp / 8;
     *pilot = o->min_spp ? o->min_spp : n0;
     *max_spp = o->max_spp ? o->max_spp : 8 * o->spp;
 }
 
-/* The allocation's inputs and its result: m[q] more samples for pixel q. */
+/* Per pixel: the later samples taken, the share of the weight not yet
+ * given (0: done), this round's count and each of its samples' weight. */
+typedef struct pixel_plan {
+    st_u32 taken, m;
+    double rest;
+    float scale;
+} pixel_plan;
+
+/* The allocation's inputs: e the error estimates, pp the pixels' plans. */
 typedef struct allocation {
-    const float *e;  /* error estimates */
+    const float *e;
+    pixel_plan *pp;
     size_t pixels;
     double floor;    /* β ē */
-    double cap;      /* most more samples per pixel */
+    double cap;      /* most later samples per pixel */
     double x2;       /* threshold², 0: none */
-    st_u32 pilot;
-    st_u32 *m;
 } allocation;
 
-/* Pixel q's count at scale c: round(c (e + β ē)) within [1, cap], and
- * with a threshold X at most (e / X)² - N0 (at least 1). */
-static st_u32 count_at(const allocation *a, size_t q, double c)
+/* Pixel q's target at scale c: round(c (e + β ē)), with a threshold X at
+ * most (e / X)², within [taken + 1, cap] while its weight is not all given
+ * (its last sample carries what is left), else taken. */
+static st_u32 target_at(const allocation *a, size_t q, double c)
 {
-    double n = floor(c * (a->e[q] + a->floor) + 0.5), cap = a->cap;
+    const pixel_plan *pp = &a->pp[q];
+    double lo = pp->taken + 1.0, n = floor(c * (a->e[q] + a->floor) + 0.5), cap = a->cap;
+    if (pp->rest <= 0.0)
+        return pp->taken;
     if (a->x2 > 0) {
-        double need = ceil((double)a->e[q] * a->e[q] / a->x2) - a->pilot;
+        double need = ceil((double)a->e[q] * a->e[q] / a->x2);
         cap = need < cap ? need : cap;
     }
     n = n < cap ? n : cap;
-    return n < 1 ? 1u : (st_u32)n;
+    return n < lo ? (st_u32)lo : (st_u32)n;
 }
 
 static double total_at(const allocation *a, double c)
 {
     double sum = 0;
     for (size_t q = 0; q < a->pixels; q++)
-        sum += count_at(a, q, c);
+        sum += target_at(a, q, c);
     return sum;
 }
 
-/* Fills a->m at the largest scale whose total is at most budget (found by
+/* The largest scale whose targets total at most budget (found by
  * bisection: the total grows with the scale). */
-static void allocate(allocation *a, double budget)
+static double scale_for(allocation *a, double budget)
 {
     double mean = 0;
     for (size_t q = 0; q < a->pixels; q++)
@@ -74,8 +97,27 @@ static void allocate(allocation *a, double budget)
         double mid = 0.5 * (lo + hi);
         *(total_at(a, mid) <= budget ? &lo : &hi) = mid;
     }
-    for (size_t q = 0; q < a->pixels; q++)
-        a->m[q] = count_at(a, q, hi < 1e30 ? lo : hi);
+    return hi < 1e30 ? lo : hi;
+}
+
+/* Round `round` (1-based) of the plan: each pixel's count m and sample
+ * weight from its target, its weight left and count taken updated. */
+static void plan_round(allocation *a, double budget, int round)
+{
+    double c = scale_for(a, budget);
+    int left = ADAPTIVE_ROUNDS - round + 1;
+    for (size_t q = 0; q < a->pixels; q++) {
+        pixel_plan *pp = &a->pp[q];
+        st_u32 more = target_at(a, q, c) - pp->taken;
+        pp->m = left == 1 ? more : (more + left - 1) / left;
+        pp->scale = 0.0f;
+        if (pp->m == 0)
+            continue;
+        double w = pp->m == more ? pp->rest : pp->rest * pp->m / more;
+        pp->scale = (float)(pp->rest / more);
+        pp->rest = pp->m == more ? 0.0 : pp->rest - w;
+        pp->taken += pp->m;
+    }
 }
 
 typedef struct ranked {
@@ -91,22 +133,19 @@ static int by_count(const void *x, const void *y)
     return a->pixel < b->pixel ? -1 : a->pixel > b->pixel;
 }
 
-/* The pixels by falling count (malloc'ed; NULL: out of memory). */
-static ranked *rank_pixels(const st_u32 *m, size_t n)
+/* The pixels by falling count this round, into rk. */
+static void rank_pixels(const pixel_plan *pp, size_t n, ranked *rk)
 {
-    ranked *rk = malloc(n * sizeof *rk);
-    if (!rk)
-        return NULL;
     for (size_t q = 0; q < n; q++)
-        rk[q] = (ranked){m[q], (st_u32)q};
+        rk[q] = (ranked){pp[q].m, (st_u32)q};
     qsort(rk, n, sizeof *rk, by_count);
-    return rk;
 }
 
-/* The plan to the device: n(q) into pixel_spp, 1 / m(q) into splat_scale,
- * the ranking into active. */
-static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32 pilot,
-                             const ranked *rk, st_error *err)
+/* To the device: the samples each pixel had before this round (pilot +
+ * taken - m) into pixel_spp, the weight of its samples into splat_scale,
+ * the ranking into active (rk NULL: pixel_spp alone, the final counts). */
+static st_status upload_round(st_renderer *r, st_wave *w, const pixel_plan *pp, st_u32 pilot,
+                              const ranked *rk, st_error *err)
 {
     size_t n = w->pixels;
     st_u32 *u = malloc(n * sizeof *u);
@@ -117,16 +156,16 @@ static st_status upload_plan(st_renderer *r, st_wave *w, const st_u32 *m, st_u32
         return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
     }
     for (size_t q = 0; q < n; q++) {
-        u[q] = pilot + m[q];
-        f[q] = 1.0f / (float)m[q];
+        u[q] = pilot + pp[q].taken - (rk ? pp[q].m : 0);
+        f[q] = pp[q].scale;
     }
     st_status rc =
         st_device_buffer_write(r->dev, w->b[ST_WAVE_pixel_spp], n * sizeof *u, u, err);
-    if (rc == ST_OK)
+    if (rc == ST_OK && rk)
         rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *f, f, err);
-    for (size_t q = 0; rc == ST_OK && q < n; q++)
+    for (size_t q = 0; rc == ST_OK && rk && q < n; q++)
         u[q] = rk[q].pixel;
-    if (rc == ST_OK)
+    if (rc == ST_OK && rk)
         rc = st_device_buffer_write(r->dev, w->b[ST_WAVE_active], n * sizeof *u, u, err);
     free(u);
     free(f);
@@ -145,8 +184,9 @@ static st_status launch(st_renderer *r, int k, const st_params *p, st_wave *w, s
     return ST_OK;
 }
 
-/* Step 1: the pilot's `total` items in waves, each wave's moments taken. */
-static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+/* `total` items of the pilot or of a round, in waves, each wave's
+ * moments taken. */
+static st_status run_items(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
                            st_u64 total, st_progress_state *pr, st_render_items_fn items,
                            st_error *err)
 {
@@ -160,48 +200,73 @@ static st_status run_pilot(st_renderer *r, st_params *p, st_wave *w, const st_re
     return rc;
 }
 
-/* Steps 2 and 3: the estimates read back and the counts m chosen. */
-static st_status plan(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
-                      st_u32 pilot, st_u32 max_spp, st_u32 *m, st_error *err)
+/* The error estimates of every pixel, into e. */
+static st_status estimate(st_renderer *r, st_params *p, st_wave *w, float *e, st_error *err)
 {
-    size_t n = w->pixels;
-    float *e = malloc(n * sizeof *e);
-    if (!e)
-        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive estimates");
     st_status rc = launch(r, ST_K_ADAPTIVE_ESTIMATE, p, w, err);
     if (rc == ST_OK)
-        rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_splat_scale], n * sizeof *e, e, err);
-    if (rc == ST_OK) {
-        double x = o->noise_threshold;
-        allocation a = {e, n, 0, (double)(max_spp - pilot), x * x, pilot, m};
-        allocate(&a, (double)(o->spp - pilot) * (double)n);
-    }
-    free(e);
+        rc = st_device_buffer_read(r->dev, w->b[ST_WAVE_splat_scale], w->pixels * sizeof *e, e,
+                                   err);
     return rc;
 }
 
-/* Step 4: rounds over the ranking. A round gives the first `count` pixels
- * (all with m >= hi) their samples lo .. hi - 1 past the pilot; a pixel
- * leaves the list once its m is reached. */
-static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
-                            const ranked *rk, st_u32 pilot, st_progress_state *pr,
-                            st_render_stats *st, st_render_items_fn items, st_error *err)
+/* A round's samples: passes over the ranking. A pass gives the first
+ * `count` pixels (all with m >= hi) their samples lo .. hi - 1 of the
+ * round; a pixel leaves the list once its m is reached. */
+static st_status run_round(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+                           const ranked *rk, st_progress_state *pr, st_render_stats *st,
+                           st_render_items_fn items, st_error *err)
 {
     st_status rc = ST_OK;
     st_u32 lo = 0;
-    p->adaptive_scaled = 1;
     for (size_t j = w->pixels; rc == ST_OK && j-- > 0;) {
         st_u32 hi = rk[j].m, count = (st_u32)(j + 1);
         if (hi == lo)
             continue;
         p->adaptive_count = count;
-        p->adaptive_base = pilot + lo;
-        rc = items(r, p, w, o, 0, (st_u64)count * (hi - lo), pr, err);
+        p->adaptive_base = lo;
+        rc = run_items(r, p, w, o, (st_u64)count * (hi - lo), pr, items, err);
         st->samples += (st_u64)count * (hi - lo);
         lo = hi;
     }
     p->adaptive_count = 0;
+    return rc;
+}
+
+/* Step 2: the rounds, each planned from the estimates of all samples
+ * before it. */
+static st_status run_rounds(st_renderer *r, st_params *p, st_wave *w, const st_render_options *o,
+                            st_u32 pilot, st_u32 max_spp, st_progress_state *pr,
+                            st_render_stats *st, st_render_items_fn items, st_error *err)
+{
+    size_t n = w->pixels;
+    float *e = malloc(n * sizeof *e);
+    pixel_plan *pp = calloc(n, sizeof *pp);
+    ranked *rk = malloc(n * sizeof *rk);
+    st_status rc = ST_OK;
+    if (!e || !pp || !rk)
+        rc = st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
+    double x = o->noise_threshold;
+    allocation a = {e, pp, n, 0, (double)(max_spp - pilot), x * x};
+    for (size_t q = 0; rc == ST_OK && q < n; q++)
+        pp[q].rest = 1.0;
+    for (int round = 1; rc == ST_OK && round <= ADAPTIVE_ROUNDS; round++) {
+        rc = estimate(r, p, w, e, err); /* after the pilot: moves its film aside */
+        p->adaptive_scaled = 1;
+        if (rc != ST_OK)
+            break;
+        plan_round(&a, (double)(o->spp - pilot) * (double)n, round);
+        rank_pixels(pp, n, rk);
+        rc = upload_round(r, w, pp, pilot, rk, err);
+        if (rc == ST_OK)
+            rc = run_round(r, p, w, o, rk, pr, st, items, err);
+    }
     p->adaptive_scaled = 0;
+    if (rc == ST_OK)
+        rc = upload_round(r, w, pp, pilot, NULL, err); /* the spp map */
+    free(rk);
+    free(pp);
+    free(e);
     return rc;
 }
 
@@ -211,28 +276,16 @@ st_status st_render_adaptive(st_renderer *r, st_params *p, st_wave *w,
 {
     st_u32 pilot, max_spp;
     st_render_adaptive_counts(o, &pilot, &max_spp);
-    p->adaptive_pilot = pilot;
-    st_u32 *m = malloc(w->pixels * sizeof *m);
-    if (!m)
-        return st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
-    ranked *rk = NULL;
     st_status rc = ST_OK;
     for (int k = ST_K_ADAPTIVE_MOMENTS; k <= ST_K_ADAPTIVE_BLEND && rc == ST_OK; k++)
         rc = st_wave_bind_film(r->kernel[k], p, w, err);
+    p->adaptive_scaled = 0;
     if (rc == ST_OK)
-        rc = run_pilot(r, p, w, o, total, pr, items, err);
+        rc = run_items(r, p, w, o, total, pr, items, err);
     st->samples = total;
     if (rc == ST_OK)
-        rc = plan(r, p, w, o, pilot, max_spp, m, err);
-    if (rc == ST_OK && !(rk = rank_pixels(m, w->pixels)))
-        rc = st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
-    if (rc == ST_OK)
-        rc = upload_plan(r, w, m, pilot, rk, err);
-    if (rc == ST_OK)
-        rc = run_rounds(r, p, w, o, rk, pilot, pr, st, items, err);
+        rc = run_rounds(r, p, w, o, pilot, max_spp, pr, st, items, err);
     if (rc == ST_OK)
         rc = launch(r, ST_K_ADAPTIVE_BLEND, p, w, err);
-    free(rk);
-    free(m);
     return rc;
 }

@@ -322,7 +322,8 @@ static st_status upload_halton_tables(st_renderer *r, const st_render_options *o
 }
 
 /* Makes (or reuses) the sampler's tables in pmj02's slot: pmj02's,
- * ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points, uploaded once per
+ * ST_PMJ02_SETS sequences of 2^ceil(log2 spp) points (pmj02bn's with its
+ * pixel tile after them), uploaded once per
  * seed and size; a tiled sampler's pads, made for each render; or the
  * scrambled Halton sampler's digit permutations, once per seed. */
 static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_error *err)
@@ -345,13 +346,14 @@ static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_er
     if (halton)
         return upload_halton_tables(r, o, err);
     st_u32 *pts = NULL, n = 1u << (log2n - 1u);
+    size_t words = 2u * ST_PMJ02_SETS * (size_t)n;
     /* a tiled sampler's pad tables take the slot, made anew for each render */
     st_status rc = tiled ? st_sampling_pad_tables(o->sampler, o->spp, o->seed, &pts, &n, err)
-                 : bn    ? st_sampling_pmj02bn(log2n - 1u, ST_PMJ02_SETS, o->seed, &pts, err)
+                 : bn    ? st_sampling_pmj02bn_tables(o->spp, o->seed, &pts, &words, err)
                          : st_sampling_pmj02(log2n - 1u, ST_PMJ02_SETS, o->seed, &pts, err);
     if (rc != ST_OK)
         return rc;
-    size_t bytes = sizeof(st_u32) * 2u * ST_PMJ02_SETS * n;
+    size_t bytes = sizeof(st_u32) * (tiled ? 2u * ST_PMJ02_SETS * (size_t)n : words);
     rc = st_device_buffer_create(r->dev, bytes, pts, &r->scene_buf[ST_SCENE_pmj02], err);
     free(pts);
     r->pmj02_seed = o->seed;

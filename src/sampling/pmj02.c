@@ -21,11 +21,20 @@
  * its sub-quadrant, the one farthest (toroidally) from every point placed
  * so far: best-candidate within the net's constraints, so the sequence is
  * blue noise as well as a (0,2)-sequence. pmj02 takes the first free dart.
+ * Its pixel dimensions come from one more sequence sorted into a tile of
+ * pixels (st_sampling_pmj02bn_tables), as pbrt-v4's
+ * GetSortedPMJ02BNPixelSamples sorts its 65536-point table: the 2^m prefix
+ * of a sequence of T² S points holds 2^m / T² points in each pixel of the
+ * tile, a (0,m - 2 log2 T, 2)-net of it (its elementary intervals are the
+ * sequence's), so each pixel's points in sequence order are nets at every
+ * power-of-two prefix, unrotated.
  *
  * Invariant: coordinates are 32-bit binary fractions (first digit in the
  * most significant bit), so the interval of a point is exact integer work
  * and a digit-wise xor (the sampler's per-pixel shift) keeps every net. */
 #include "sampling_int.h"
+#include "rng.h"
+#include "samplers.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -180,15 +189,10 @@ static st_status pmj_sequence(pmj_state *s, st_u32 seed, st_u32 set, st_error *e
     return ST_OK;
 }
 
-/* The tables of pmj02 (candidates 1) or pmj02bn. */
-static st_status pmj_tables(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 candidates,
-                            st_u32 **points, st_error *err)
+/* Sets first .. first + sets - 1 of pmj02 (candidates 1) or pmj02bn. */
+static st_status pmj_tables_from(st_u32 log2n, st_u32 first, st_u32 sets, st_u32 seed,
+                                 st_u32 candidates, st_u32 **points, st_error *err)
 {
-    if (points)
-        *points = NULL;
-    if (!points || log2n > ST_PMJ02_MAX_LOG2 || sets < 1u || sets > ST_PMJ02_SETS)
-        return st_fail(err, ST_ERR_USAGE, "pmj02: 2^%u points x %u sets: need at most 2^%u "
-                       "points and 1..%u sets", log2n, sets, ST_PMJ02_MAX_LOG2, ST_PMJ02_SETS);
     size_t n = (size_t)1 << log2n;
     pmj_state s = {0};
     s.log2n = log2n;
@@ -207,7 +211,7 @@ static st_status pmj_tables(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 candi
     st_status rc = ST_OK;
     for (st_u32 set = 0; set < sets && rc == ST_OK; set++) {
         s.xy = out + 2 * n * set;
-        rc = pmj_sequence(&s, seed, set, err);
+        rc = pmj_sequence(&s, seed, first + set, err);
     }
     free(s.occ);
     free(s.placed);
@@ -217,6 +221,18 @@ static st_status pmj_tables(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 candi
     }
     *points = out;
     return ST_OK;
+}
+
+/* The tables of pmj02 (candidates 1) or pmj02bn. */
+static st_status pmj_tables(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 candidates,
+                            st_u32 **points, st_error *err)
+{
+    if (points)
+        *points = NULL;
+    if (!points || log2n > ST_PMJ02_MAX_LOG2 || sets < 1u || sets > ST_PMJ02_SETS)
+        return st_fail(err, ST_ERR_USAGE, "pmj02: 2^%u points x %u sets: need at most 2^%u "
+                       "points and 1..%u sets", log2n, sets, ST_PMJ02_MAX_LOG2, ST_PMJ02_SETS);
+    return pmj_tables_from(log2n, 0u, sets, seed, candidates, points, err);
 }
 
 st_status st_sampling_pmj02(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **points,
@@ -229,4 +245,45 @@ st_status st_sampling_pmj02bn(st_u32 log2n, st_u32 sets, st_u32 seed, st_u32 **p
                               st_error *err)
 {
     return pmj_tables(log2n, sets, seed, ST_PMJ02BN_CANDIDATES, points, err);
+}
+
+st_status st_sampling_pmj02bn_tables(st_u32 spp, st_u32 seed, st_u32 **points, size_t *words,
+                                     st_error *err)
+{
+    if (points)
+        *points = NULL;
+    if (!points || !words || spp < 1u || spp > (1u << ST_PMJ02_MAX_LOG2))
+        return st_fail(err, ST_ERR_USAGE, "pmj02bn: spp %u: need 1..%u", spp,
+                       1u << ST_PMJ02_MAX_LOG2);
+    st_u32 log2n = st_log2_ceil(spp), log2s = (log2n + 1u) & ~1u;
+    st_u32 log2t = (ST_PMJ02_MAX_LOG2 - log2s) / 2u, tile = 1u << ST_PMJ02_MAX_LOG2;
+    size_t sets = (size_t)ST_PMJ02_SETS << log2n;
+    st_u32 *seq = NULL, *out = NULL, *filled = NULL;
+    st_status rc = pmj_tables(log2n, ST_PMJ02_SETS, seed, ST_PMJ02BN_CANDIDATES, &out, err);
+    /* the tile's sequence: stream ST_PMJ02_SETS of the seed, past the sets' */
+    if (rc == ST_OK)
+        rc = pmj_tables_from(ST_PMJ02_MAX_LOG2, ST_PMJ02_SETS, 1u, seed, ST_PMJ02BN_CANDIDATES,
+                             &seq, err);
+    st_u32 *all = rc == ST_OK ? realloc(out, 2 * sizeof *out * (sets + tile)) : NULL;
+    filled = rc == ST_OK ? calloc((size_t)1 << (2u * log2t), sizeof *filled) : NULL;
+    if (rc == ST_OK && (!all || !filled))
+        rc = st_fail(err, ST_ERR_NOMEM, "pmj02bn: out of memory for the pixel tile");
+    if (all)
+        out = all;
+    for (st_u32 j = 0; rc == ST_OK && j < tile; j++) {
+        st_u32 x = seq[2 * j], y = seq[2 * j + 1];
+        size_t px = log2t ? x >> (32u - log2t) : 0u, py = log2t ? y >> (32u - log2t) : 0u;
+        size_t cell = (py << log2t) + px, at = sets + (cell << log2s) + filled[cell]++;
+        out[2 * at] = x << log2t; /* the fraction of the pixel */
+        out[2 * at + 1] = y << log2t;
+    }
+    free(seq);
+    free(filled);
+    if (rc != ST_OK) {
+        free(out);
+        return rc;
+    }
+    *points = out;
+    *words = 2 * (sets + tile);
+    return ST_OK;
 }

@@ -5,7 +5,7 @@
 # reference) on the scene set: the zone plate in landscape (80x60, 64x48)
 # and square (64x64) frames, the Cornell box, soft shadows, the
 # checkerboard; for random, the low-discrepancy samplers and stratified.
-# Random stays adaptive and must win (measured: 0.38x to 0.83x of
+# Random stays adaptive and must win (measured: 0.39x to 0.88x of
 # uniform's RMSE; tolerance: below uniform's); the others lose their
 # stratification when pixels get different counts (adaptive was 1.2x to
 # 3.6x uniform's RMSE on landscape zone plates with halton, sobol, pmj02 and

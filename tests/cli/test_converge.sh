@@ -31,7 +31,7 @@ expect() {
 $S converge --sampler random,stratified,joint-stratified --spp-list 4,16,64,256 --width 32 --height 32 \
     --integrator direct --reference-spp 8192 --seeds 4 --region 9,7,14,5 --quiet \
     --csv "$T/c.csv" --png "$T/c.png" > "$T/out" 2>&1
-check "converge writes the CSV header" '[ "$(head -1 "$T/c.csv")" = "sampler,spp,seeds,rmse,rmse_stderr,rel_mse" ]'
+check "converge writes the CSV header" '[ "$(head -1 "$T/c.csv")" = "sampler,spp,seeds,rmse,rmse_stderr,rel_mse,rmse_measured" ]'
 check "one row per sampler and count" '[ "$(wc -l < "$T/c.csv")" -eq 13 ]'
 check "converge writes the plot" '[ -s "$T/c.png" ]'
 slope() { awk -F, -v s="$1" 'NR > 1 && $1 == s { x = log($2); y = log($4); n++; sx += x; sy += y; sxx += x * x; sxy += x * y }

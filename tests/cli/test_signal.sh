@@ -108,4 +108,12 @@ expect "CSV that is a folder exits 1 naming it" 1 "^strata: error: $T/dir.csv" $
 expect "unwritable PNG exits 1 naming it" 1 "^strata: error: $T/no/dir/a.png" $S signal --png "$T/no/dir/a.png"
 check "failed writes leave no temporary" '[ -z "$(ls -A "$T/dir.csv")" ] && [ -z "$(ls -A "$T" | grep tmp)" ]'
 
+# --jitter: the alias at 0.1 no longer dominates (test_signal.c checks the spectrum)
+$S signal --function sine --freq 0.9 --length 256 --jitter --seed 2 --filter gaussian > "$T/j" 2>&1
+check "--jitter: the reconstruction's dominant frequency is not the alias 0.1" \
+    'grep -q "alias |f - k/T| = 0.1" "$T/j" && ! grep -q "reconstruction 0.09[0-9]*;\|reconstruction 0.10[0-9]*;" "$T/j"' "($(cat "$T/j"))"
+expect "--seed without --jitter exits 2" 2 "^strata: error: --seed applies to --jitter only" \
+    $S signal --seed 3
+expect "--offset with --jitter exits 2" 2 "^strata: error: --offset with --jitter" \
+    $S signal --jitter --offset 0.5
 echo "1..$n"

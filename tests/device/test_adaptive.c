@@ -138,8 +138,10 @@ static void column_means(const st_image *img, double *out)
  * Mitchell splatting, the adaptive render gives the edge up to 128 samples (8x the
  * mean), flat pixels 5, and every column's mean over its rows stays within
  * 0.005 of a uniform 256-spp render's (measured: largest difference
- * 0.00017; with the 1 / m weights removed from the splat, 0.020: the flat
- * columns next to the edge pulled toward the dense edge's value). */
+ * 0.0012, the flat pixels' few later samples' positions, the image being
+ * theirs alone; with the pilot blended in, 0.00017; with the 1 / m weights
+ * removed from the splat, 0.020: the flat columns next to the edge pulled
+ * toward the dense edge's value). */
 static void adaptive_density_weighted_splat(void **state)
 {
     (void)state;
@@ -189,12 +191,13 @@ static void errors(const st_image *img, const st_image *ref, double *rmse, doubl
 }
 
 /* At equal cost (16 spp on average against 16 spp everywhere, both splatted
- * with Mitchell, both the random sampler: the one that stays adaptive),
- * adaptive wins on the 48 x 48 Cornell box by both measures, each the mean
- * over seeds 7..10 against a uniform 1024-spp reference (seed 99).
- * Measured: RMSE 0.0349 against 0.0659, relative MSE 0.00619 against
- * 0.00791. Tolerances: RMSE below 0.7x uniform's, relative MSE below
- * uniform's. */
+ * with Mitchell, both the random sampler), adaptive wins on the 48 x 48
+ * Cornell box by RMSE and keeps the relative MSE, each the mean over seeds
+ * 7..10 against a uniform 1024-spp reference (seed 99). Measured: RMSE
+ * 0.0333 against 0.0659, relative MSE 0.00835 against 0.00791 (the pilot,
+ * 2 of the 16, is not part of the estimate, and the calm, dark pixels that
+ * weigh most in the relative MSE get few later samples). Tolerances: RMSE
+ * below 0.7x uniform's, relative MSE below 1.1x uniform's. */
 static void adaptive_beats_uniform_at_equal_cost(void **state)
 {
     (void)state;
@@ -221,7 +224,7 @@ static void adaptive_beats_uniform_at_equal_cost(void **state)
     print_message("RMSE adaptive %.4f uniform %.4f; relative MSE adaptive %.5f uniform %.5f\n",
                   rmse[1], rmse[0], rel[1], rel[0]);
     assert_true(rmse[1] < 0.7 * rmse[0]);
-    assert_true(rel[1] < rel[0]);
+    assert_true(rel[1] < 1.1 * rel[0]);
     st_image_free(&ref);
 }
 
@@ -248,7 +251,8 @@ static double column_error(const st_image *img, const st_image *ref, st_u32 x)
  * uniform one at the same seeds. Measured: with the later samples' film
  * resolved as the ratio Σ f L / m over Σ f / m, columns 9 and 70 -9.6e-4
  * and -1.2e-3 (3.3 and 3.0 standard errors), 68 -1.4e-4 (3.3); with the
- * difference estimator (adaptive.cl, later_value) all within 2.7. */
+ * difference estimator (adaptive.cl, later_value) all within 2.7; with the
+ * image the later samples' alone, all within 1.7. */
 static void adaptive_unbiased_at_the_cap(void **state)
 {
     (void)state;
@@ -289,6 +293,86 @@ static void adaptive_unbiased_at_the_cap(void **state)
             assert_true(fabs(mean) < 3 * se);
         }
     st_image_free(&ref);
+}
+
+/* The image mean of img over the pixels of mask. */
+static double masked_mean(const st_image *img, const unsigned char *mask)
+{
+    double s = 0;
+    size_t n = 0, px = (size_t)img->width * img->height;
+    for (size_t i = 0; i < px; i++)
+        for (int c = 0; mask[i] && c < 3; c++, n++)
+            s += img->data[4 * i + c];
+    return s / (double)n;
+}
+
+/* Unbiased: the Cornell box, 32 x 32, 16 spp, random sampler, Mitchell,
+ * over seeds 1..SEEDS, against a uniform 4096-spp Halton reference (seed
+ * 0), the image mean over the pixels away from the light (whose 5 x 5
+ * neighbourhood in the reference has no value above 1: the light's own
+ * values and its edge dominate the noise). Per seed d_s = mean(render_s) -
+ * mean(ref); the tolerance is 3 standard errors of their mean, with the
+ * reference's own error added in quadrature, bounded by a random
+ * sampler's: a uniform 16-spp render's image-mean variance (measured over
+ * the same seeds) times 16 / 4096. Measured: adaptive -3.3e-5 ± 5.4e-5
+ * (0.6 standard errors), uniform -7.1e-5 ± 5.0e-5 (1.4); with the pilot
+ * kept in the estimate at a weight chosen from the pilot itself (Kirk and
+ * Arvo 1991) adaptive was -3.7e-4 ± 5.1e-5 (7.3). */
+static void adaptive_unbiased_over_seeds(void **state)
+{
+    (void)state;
+    enum { W = 32, H = 32, SEEDS = 96 };
+    st_scene *scene = fixture_scene("cornell-box");
+    st_renderer *r = NULL;
+    st_error err = {0};
+    if (st_renderer_create(dev, scene, &r, &err))
+        fail_msg("renderer: %s", err.msg);
+    st_render_options o = adaptive(W, H, 4096, 0);
+    o.adaptive = 0;
+    o.seed = 0;
+    o.sampler = ST_SAMPLER_HALTON;
+    st_image ref = {0};
+    if (st_render(r, &o, &ref, NULL, NULL, NULL, NULL, &err))
+        fail_msg("render: %s", err.msg);
+    unsigned char mask[W * H];
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            float most = 0;
+            for (int v = y - 2; v <= y + 2; v++)
+                for (int u = x - 2; u <= x + 2; u++)
+                    for (int c = 0; c < 3 && u >= 0 && u < W && v >= 0 && v < H; c++)
+                        most = fmaxf(most, ref.data[4 * (v * W + u) + c]);
+            mask[y * W + x] = most <= 1.0f;
+        }
+    double m_ref = masked_mean(&ref, mask), sum[2] = {0}, sum2[2] = {0};
+    for (st_u32 seed = 1; seed <= SEEDS; seed++)
+        for (int adapt = 0; adapt < 2; adapt++) {
+            st_render_options t = adaptive(W, H, 16, 0);
+            t.seed = seed;
+            t.adaptive = adapt;
+            st_render_stats st;
+            st_image img = {0};
+            if (st_render(r, &t, &img, NULL, &st, NULL, NULL, &err))
+                fail_msg("render: %s", err.msg);
+            double d = masked_mean(&img, mask) - m_ref;
+            sum[adapt] += d;
+            sum2[adapt] += d * d;
+            free(st.spp_map);
+            st_image_free(&img);
+        }
+    double var_u = (sum2[0] - sum[0] * sum[0] / SEEDS) / (SEEDS - 1);
+    double se_ref2 = var_u * 16.0 / 4096.0;
+    for (int adapt = 0; adapt < 2; adapt++) {
+        double mean = sum[adapt] / SEEDS,
+               var = (sum2[adapt] - sum[adapt] * sum[adapt] / SEEDS) / (SEEDS - 1),
+               se = sqrt(var / SEEDS + se_ref2);
+        print_message("%s: mean error %.3g, standard error %.3g (%.1f)\n",
+                      adapt ? "adaptive" : "uniform", mean, se, mean / se);
+        assert_true(fabs(mean) < 3 * se);
+    }
+    st_image_free(&ref);
+    st_renderer_destroy(r);
+    st_scene_destroy(scene);
 }
 
 static void assert_same_image(const st_image *a, const st_image *b)
@@ -380,7 +464,7 @@ static void adaptive_options_checked(void **state)
     assert_int_equal(st_render_check(&o, &err), ST_OK);
     st_u32 pilot, max_spp;
     st_render_adaptive_counts(&o, &pilot, &max_spp);
-    assert_int_equal(pilot, 4);
+    assert_int_equal(pilot, 2);
     assert_int_equal(max_spp, 128);
 }
 
@@ -395,6 +479,7 @@ int main(void)
         cmocka_unit_test(adaptive_at_every_width),
         cmocka_unit_test(adaptive_beats_uniform_at_equal_cost),
         cmocka_unit_test(adaptive_unbiased_at_the_cap),
+        cmocka_unit_test(adaptive_unbiased_over_seeds),
     };
     return cmocka_run_group_tests(tests, device_setup, device_teardown);
 }

@@ -1334,24 +1334,27 @@ static void samplers_values_in_unit_interval(void **state)
  * the key and word that generate carried in the sample record (st_sample):
  * the same identity as st_sample_begin's, and the same value in every
  * dimension, the two pixel dimensions included, with and without
- * scrambling (pmj02 with its tables). */
+ * scrambling (pmj02 and pmj02bn with their tables). */
 static void sample_resume_matches_begin(void **state)
 {
     (void)state;
     const uint32_t w = 5, h = 3, spp = 16;
-    st_u32 *pmj02 = NULL;
+    st_u32 *pmj02 = NULL, *bn = NULL;
+    size_t words = 0;
     st_error err = {0};
-    if (st_sampling_pmj02(4, ST_PMJ02_SETS, 7, &pmj02, &err) != ST_OK)
+    if (st_sampling_pmj02(4, ST_PMJ02_SETS, 7, &pmj02, &err) != ST_OK ||
+        st_sampling_pmj02bn_tables(spp, 7, &bn, &words, &err) != ST_OK)
         fail_msg("%s", err.msg);
     for (uint32_t sampler = 0; sampler < ST_SAMPLER_COUNT; sampler++)
         for (uint32_t scramble = 0; scramble < 2; scramble++) {
             st_params p = image_params(sampler, w, h, spp, scramble, 7);
+            st_u32 *tables = sampler == ST_SAMPLER_PMJ02BN ? bn : pmj02;
             for (uint32_t pix = 0; pix < w * h; pix++)
                 for (uint32_t s = 0; s < spp; s++) {
                     st_sample_id a = st_sample_begin(&p, pix % w, pix / w, s);
                     st_sample_id b =
                         st_sample_resume(&p, pix, s, a.key, st_sample_word(&p, &a));
-                    a.pmj02 = b.pmj02 = pmj02;
+                    a.pmj02 = b.pmj02 = tables;
                     assert_int_equal(a.pixel, b.pixel);
                     assert_int_equal(a.sample, b.sample);
                     assert_int_equal(a.key, b.key);
@@ -1364,6 +1367,7 @@ static void sample_resume_matches_begin(void **state)
                 }
         }
     free(pmj02);
+    free(bn);
 }
 
 /* Tiled samplers pad their later dimensions with their own pattern

@@ -240,6 +240,58 @@ static void renderer_pairs_are_nets(void **state)
     }
 }
 
+/* pmj02bn's pixel dimensions as the renderer reads them (st_sample_dim
+ * with st_sampling_pmj02bn_tables, as pbrt-v4 sorts its tile): for spp =
+ * 2^m (m = 0..12) and each pixel of a 70 x 3 strip (past the largest
+ * tile, 64 pixels across, so the tile repeats), every 2^k prefix (k <= m) of
+ * the pixel's samples is a (0,k,2)-net, read unrotated: the same points
+ * wherever the tile repeats. Before, each pixel's samples were rotated on
+ * the torus and prefixes of 4 or more points were not nets. */
+static void pmj02bn_pixel_prefixes_are_nets(void **state)
+{
+    (void)state;
+    for (st_u32 m = 0; m <= 12; m++) {
+        st_u32 spp = 1u << m, log2t = (12u - ((m + 1u) & ~1u)) / 2u, side = 1u << log2t;
+        st_params p;
+        memset(&p, 0, sizeof p);
+        p.width = 70;
+        p.height = 3;
+        p.spp = spp;
+        p.seed = 5;
+        p.sampler = ST_SAMPLER_PMJ02BN;
+        st_sampler_prepare(&p);
+        st_u32 *t = NULL;
+        size_t words = 0;
+        st_error err = {0};
+        if (st_sampling_pmj02bn_tables(spp, p.seed, &t, &words, &err) != ST_OK)
+            fail_msg("%s", err.msg);
+        double *xy = malloc(2 * sizeof *xy * spp);
+        assert_non_null(xy);
+        st_u32 pixels = m >= 8 ? 3u : 70u * 3u; /* the large counts: a few pixels */
+        for (st_u32 pixel = 0; pixel < pixels; pixel++) {
+            st_u32 x = pixel % 70, y = pixel / 70;
+            for (st_u32 s = 0; s < spp; s++) {
+                st_sample_id id = st_sample_begin(&p, x, y, s);
+                id.pmj02 = t;
+                xy[2 * s] = st_sample_dim(&p, &id, 0);
+                xy[2 * s + 1] = st_sample_dim(&p, &id, 1);
+            }
+            for (st_u32 k = 0; k <= m; k++) {
+                char why[160];
+                if (!is_net(xy, k, why, sizeof why))
+                    fail_msg("spp %u pixel (%u, %u), prefix %u: %s", spp, x, y, 1u << k, why);
+            }
+            for (st_u32 s = 0; x >= side && s < spp; s++) { /* the tile repeats, unrotated */
+                st_sample_id same = st_sample_begin(&p, x % side, y, s);
+                same.pmj02 = t;
+                assert_true(xy[2 * s] == st_sample_dim(&p, &same, 0));
+            }
+        }
+        free(xy);
+        free(t);
+    }
+}
+
 /* `strata pattern --sampler pmj02` shows the renderer's pixel dimensions:
  * st_sampling_pattern's points are st_sample_dim's at pixel (0, 0), read from
  * the tables the renderer makes for spp = count (render.c: ST_PMJ02_SETS
@@ -292,6 +344,7 @@ int main(void)
         cmocka_unit_test(tables_deterministic_and_progressive),
         cmocka_unit_test(bad_arguments_refused),
         cmocka_unit_test(renderer_pairs_are_nets),
+        cmocka_unit_test(pmj02bn_pixel_prefixes_are_nets),
         cmocka_unit_test(pattern_shows_the_renderer_points),
     };
     return cmocka_run_group_tests_name("pmj02", tests, NULL, NULL);

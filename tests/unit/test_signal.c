@@ -187,7 +187,7 @@ static void sinc_matches_direct_sum(void **state)
     srand(7);
     for (int i = 0; i < 50; i++)
         v[i] = rand() / (double)RAND_MAX - 0.5;
-    st_signal_samples s = {-3.0, 0.5, 50, v};
+    st_signal_samples s = {-3.0, 0.5, 50, v, NULL};
     st_signal_filter r = {.sinc = 1};
     double x[200], out[200];
     for (int j = 0; j < 200; j++)
@@ -212,7 +212,7 @@ static void average_matches_brute_force_weighted_sum(void **state)
     srand(11);
     for (int i = 0; i < 40; i++)
         v[i] = rand() / (double)RAND_MAX;
-    st_signal_samples s = {1.0, 0.75, 40, v};
+    st_signal_samples s = {1.0, 0.75, 40, v, NULL};
     double x[300], out[300];
     for (int j = 0; j < 300; j++)
         x[j] = -2.0 + 0.1071 * j;
@@ -245,7 +245,7 @@ static void triangle_is_linear_interpolation(void **state)
     double v[20];
     for (int i = 0; i < 20; i++)
         v[i] = cos(0.9 * i) + 0.1 * i;
-    st_signal_samples s = {0.0, 2.0, 20, v};
+    st_signal_samples s = {0.0, 2.0, 20, v, NULL};
     st_filter tri = st_filter_default(ST_FILTER_TRIANGLE); /* radius 1: r(u) = 1 - |u| */
     assert_true(tri.radius == 1.0f);
     double x[100], out[100];
@@ -273,7 +273,7 @@ static void convolution_divides_by_filter_integral(void **state)
     double v[32];
     for (int i = 0; i < 32; i++)
         v[i] = 0.7;
-    st_signal_samples s = {0.0, 1.0, 32, v};
+    st_signal_samples s = {0.0, 1.0, 32, v, NULL};
     st_signal_filter r = {.filter = st_filter_default(ST_FILTER_GAUSSIAN),
                           .mode = ST_SIGNAL_CONVOLUTION};
     double integral = st_filter_integral(&r.filter);
@@ -298,7 +298,7 @@ static void every_filter_reconstructs_constant_exactly(void **state)
     double v[64];
     for (int i = 0; i < 64; i++)
         v[i] = 0.7;
-    st_signal_samples s = {0.0, 1.0, 64, v};
+    st_signal_samples s = {0.0, 1.0, 64, v, NULL};
     double x[500], out[500];
     for (int j = 0; j < 500; j++)
         x[j] = 10.0 + 0.0873 * j; /* [10, 53.6]: never exactly between two samples */
@@ -334,7 +334,7 @@ static void box_between_two_samples_weighs_both(void **state)
 {
     (void)state;
     double v[4] = {1, 2, 3, 4}, x[2] = {1.5, 1.25}, out[2];
-    st_signal_samples s = {0.0, 1.0, 4, v};
+    st_signal_samples s = {0.0, 1.0, 4, v, NULL};
     st_signal_filter r = {.filter = st_filter_default(ST_FILTER_BOX)}; /* radius 1/2, closed */
     st_u32 zeros = 1;
     assert_int_equal(st_signal_reconstruct(&s, &r, x, 2, out, &zeros, NULL), ST_OK);
@@ -420,6 +420,56 @@ static void dominant_frequency_below_nyquist_is_alias(void **state)
             assert_true(fabs(r.dominant_original - fs[a]) < 1.0 / o.length);
             st_signal_result_free(&r);
         }
+}
+
+/* The peak of the reconstruction's spectrum within 2 bins of frequency f. */
+static double peak_near(const st_signal_result *r, double f)
+{
+    double best = 0.0;
+    for (st_u32 k = 0; k < r->bins; k++)
+        if (fabs(r->freq[k] - f) <= 2.0 * (r->freq[1] - r->freq[0]))
+            best = fmax(best, r->spectrum_reconstruction[k]);
+    return best;
+}
+
+/* Jitter turns aliasing into noise (the lecture): sin(2π 0.9 x), T = 1,
+ * L = 1024, sinc (margin 1024). Uniform samples rebuild the alias at 0.1,
+ * amplitude 1: its peak reads about 1/2 (Hann, two-sided); bound >= 0.4.
+ * Jittered samples (x_i = i + ξ_i) keep sinc(0.9) = 0.109 of the alias
+ * coherently, a peak of 0.055, and the rest of the power (1 - 0.109²) / 2
+ * spreads as noise over the band: about sqrt(0.49 × 1.5 / 1024) = 0.027 a
+ * bin with the Hann window; bound 0.055 + 4 × 0.027, rounded up to 0.2.
+ * The total error stays (noise instead of a wrong sine): the RMS error is
+ * within a factor 1.5 of the uniform one's. Jittered samples lie in their
+ * intervals, each at its own offset, and the same seed gives the same ones. */
+static void jitter_turns_aliasing_into_noise(void **state)
+{
+    (void)state;
+    st_signal_options o = sine_options(0.9, 1.0, 1024.0);
+    o.sinc_margin = 1024;
+    st_signal_result u, j, again;
+    build(&o, &u);
+    o.jitter = 1;
+    o.seed = 3;
+    build(&o, &j);
+    build(&o, &again);
+    double pu = peak_near(&u, 0.1), pj = peak_near(&j, 0.1);
+    print_message("alias peak: uniform %.3f, jittered %.3f; rms error %.3f, %.3f\n", pu, pj,
+                  u.rms_error, j.rms_error);
+    assert_true(pu >= 0.4);
+    assert_true(pj <= 0.2);
+    assert_true(j.rms_error < 1.5 * u.rms_error && u.rms_error < 1.5 * j.rms_error);
+    int moved = 0;
+    for (st_u32 i = 0; i < j.sample_count; i++) {
+        assert_true(j.sample_x[i] >= i && j.sample_x[i] < i + 1.0);
+        assert_true(fabs(j.sample_value[i] - sin(2 * PI * 0.9 * j.sample_x[i])) < 1e-12);
+        assert_true(j.sample_x[i] == again.sample_x[i]);
+        moved += j.sample_x[i] != u.sample_x[i];
+    }
+    assert_true(moved > (int)j.sample_count / 2);
+    st_signal_result_free(&u);
+    st_signal_result_free(&j);
+    st_signal_result_free(&again);
 }
 
 static void sinc_and_lanczos_overshoot_step(void **state)
@@ -626,7 +676,7 @@ static void bad_options_are_usage_errors_naming_the_option(void **state)
     expect_usage(o, "--sinc-margin");
 
     double v[2] = {0, 1}, x = 0.5, out;
-    st_signal_samples s = {0.0, -1.0, 2, v};
+    st_signal_samples s = {0.0, -1.0, 2, v, NULL};
     st_signal_filter sinc = {.sinc = 1};
     st_error err = {0};
     assert_int_equal(st_signal_reconstruct(&s, &sinc, &x, 1, &out, NULL, &err), ST_ERR_USAGE);
@@ -649,6 +699,7 @@ int main(void)
         cmocka_unit_test(samples_lie_on_the_shah_grid),
         cmocka_unit_test(sinc_recovers_bandlimited_sine_above_nyquist),
         cmocka_unit_test(dominant_frequency_below_nyquist_is_alias),
+        cmocka_unit_test(jitter_turns_aliasing_into_noise),
         cmocka_unit_test(sinc_and_lanczos_overshoot_step),
         cmocka_unit_test(box_and_gaussian_do_not_overshoot_and_blur),
         cmocka_unit_test(hann_spectrum_of_bin_sine_reads_half),
