@@ -883,7 +883,7 @@ ST_STATIC_ASSERT(sizeof(st_camera) == 64, "st_camera: 64 bytes");
 ST_STATIC_ASSERT(sizeof(st_filter) == 32, "st_filter: 32 bytes");
 ST_STATIC_ASSERT(offsetof(st_params, filter) == 144, "st_params.filter moved");
 ST_STATIC_ASSERT(offsetof(st_params, camera) == 176, "st_params.camera moved");
-ST_STATIC_ASSERT(sizeof(st_params) == 276, "st_params: 276 bytes");
+ST_STATIC_ASSERT(sizeof(st_params) == 272, "st_params: 272 bytes");
 ST_STATIC_ASSERT(sizeof(st_sample) == 24, "st_sample: 24 bytes");
 ST_STATIC_ASSERT(sizeof(st_ray) == 32, "st_ray: 32 bytes");
 ST_STATIC_ASSERT(sizeof(st_hit) == 16, "st_hit: 16 bytes");
