@@ -170,24 +170,34 @@ static st_gltf_image decode_image(const Model &m, int i, const image_bytes &byte
     return {uint32_t(w), uint32_t(h), rgba};
 }
 
-/* Image i decoded, or, where it cannot be read or decoded, a warning naming
- * it and a 1 x 1 white image in its place: every slot multiplies its
- * factor by the texture, so white leaves the factor alone and the model
- * still renders. */
-st_gltf_image decode_or_white(const Model &m, int i, const image_bytes &bytes, notes &warn)
+/* Every image a texture reference uses, decoded into images[] (zeroed
+ * beforehand); where one cannot be read or decoded, a 1 x 1 white image
+ * takes its place and the result says why, by image index (empty for the
+ * images that decoded). gltf_materials.cpp's note_unreadable decides what
+ * each slot makes of the white image. */
+std::vector<std::string> decode_images(const Model &m, const image_bytes &bytes,
+                                       const texture_table &table, st_gltf_image *images)
 {
-    try {
-        return decode_image(m, i, bytes);
-    } catch (const shim_error &e) {
-        if (e.status != ST_ERR_FORMAT)
-            throw;
-        note(warn, "%s: replaced by a white texture", e.msg.c_str());
+    std::vector<std::string> why(m.images.size());
+    for (const st_gltf_texture &t : table.refs) {
+        const size_t i = size_t(t.image);
+        if (i >= m.images.size() || images[i].rgba)
+            continue;
+        try {
+            images[i] = decode_image(m, t.image, bytes);
+            continue;
+        } catch (const shim_error &e) {
+            if (e.status != ST_ERR_FORMAT)
+                throw;
+            why[i] = e.msg;
+        }
+        unsigned char *white = static_cast<unsigned char *>(malloc(4)); /* stbi_image_free frees */
+        if (!white)
+            throw shim_error{ST_ERR_NOMEM, "out of memory"};
+        memset(white, 255, 4);
+        images[i] = {1u, 1u, white};
     }
-    unsigned char *white = static_cast<unsigned char *>(malloc(4)); /* stbi_image_free frees */
-    if (!white)
-        throw shim_error{ST_ERR_NOMEM, "out of memory"};
-    memset(white, 255, 4);
-    return {1u, 1u, white};
+    return why;
 }
 
 } /* namespace st_gltf */

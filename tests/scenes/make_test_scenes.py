@@ -52,6 +52,7 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
               normalTexture of scale 0.5.
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
+normal_missing  normal_tilt with its normal map's file missing.
 sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
               seen from outside (its fronts face out), KHR_materials_unlit
               (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
@@ -690,6 +691,10 @@ def write_lighting():
                        "normalTexture": {"index": len(g["textures"]) - 1},
                        "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
     write_json("normal_tilt.gltf", g)
+    # the same with its normal map's file missing: the map is left out (a
+    # white texel would tilt the normal by some 55 degrees), not made white
+    g["images"][-1] = {"uri": "no_such_normal_map.png"}
+    write_json("normal_missing.gltf", g)
 
     # the quad, white and Lambertian, with COLOR_0 (normalised bytes 128, 64,
     # 255, 255 at every vertex)

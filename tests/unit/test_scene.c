@@ -775,6 +775,24 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
     st_scene_destroy(s);
 }
 
+/* A normal map whose image cannot be read is left out, not made white (a
+ * white texel is the normal (1, 1, 1), some 55 degrees off): the material
+ * has no normal texture and the warning says so; no white texture stands
+ * in for it. */
+static void unreadable_normal_map_is_left_out(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "normal_missing.gltf");
+    assert_int_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
+    assert_true(has_warning(s, "material 0: normalTexture: image 3 (no_such_normal_map.png): "
+                               "cannot read it: left out (the vertex normals kept)"));
+    assert_false(has_warning(s, "no_such_normal_map.png): cannot read it: replaced by a white"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "normal_tilt.gltf"); /* the same file with its map readable */
+    assert_int_not_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+}
+
 /* KHR_materials_sheen's factors and textures as the specification names
  * them (tests/scenes/sheen_quad.gltf): sheenColorTexture decoded as sRGB,
  * sheenRoughnessTexture read linear, ST_MAT_SHEEN where the colour is not
@@ -1390,6 +1408,7 @@ int main(void)
         cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
+        cmocka_unit_test(unreadable_normal_map_is_left_out),
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_largest_face),
