@@ -167,6 +167,8 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
                               "white one)",
         [ST_ENV_ENCLOSED] = "the camera is inside a closed model; no environment (--env 1 for "
                             "a white one)",
+        [ST_ENV_DARK_VIEW] = "its own lights would leave most of the view black; a dim white "
+                             "environment (0.25) is kept (--env 0 to turn it off)",
     };
     if (!o->env_given && !o->env_map)
         fprintf(stderr, "strata: note: %s: %s\n", scene->name, why[scene->env_default]);

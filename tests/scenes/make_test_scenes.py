@@ -1454,6 +1454,59 @@ def write_bad():
     variant("bad_camera_ymag.gltf", lambda g: g["cameras"][0]["orthographic"].update(ymag=0.0))
 
 
+def write_dark_views():
+    """Scenes whose own lights carry the power but would leave most of the
+    default view black (st_scene.h ST_ENV_DARK_VIEW), and one they light:
+    lamp_in_glass, a Lambertian floor under a closed smooth glass sphere
+    holding a small lamp (emission 20), which next-event estimation cannot
+    reach; sun_behind, a white quad filling an orthographic view, lit by a
+    directional light from behind; sun_front, the same light from the
+    front."""
+    b = Blob()
+    lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
+    floor, bulb, lamp = b.quad(0.0), sphere_prim(b, 0.45), cube_prim(b, 0.1)
+    for k, p in enumerate((floor, bulb, lamp)):
+        p["material"] = k
+    materials = [
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0},
+         "extensions": lambert},
+        glass_material(),
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+         "emissiveFactor": [1.0, 1.0, 1.0],
+         "extensions": dict(lambert, KHR_materials_emissive_strength={"emissiveStrength": 20.0})}]
+    r90 = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # +z normal to +y
+    nodes = [{"mesh": 0, "rotation": r90, "scale": [2.0, 2.0, 1.0]},
+             {"mesh": 1, "translation": [0.0, 0.5, 0.0]},
+             {"mesh": 2, "translation": [0.0, 0.5, 0.0]},
+             {"name": "camera", "camera": 0, "translation": [0.0, 1.2, 4.0],
+              "rotation": [-0.0998, 0.0, 0.0, 0.995]}]
+    write_json("lamp_in_glass.gltf",
+               doc([{"primitives": [p]} for p in (floor, bulb, lamp)], b.accessors, b.views,
+                   b.buffers(), nodes=nodes, scenes=[{"nodes": [0, 1, 2, 3]}],
+                   cameras=[{"type": "perspective", "perspective": {"yfov": 0.7,
+                                                                    "znear": 0.01}}],
+                   materials=materials,
+                   extensionsUsed=["KHR_materials_transmission", "KHR_materials_specular",
+                                   "KHR_materials_emissive_strength"]))
+    for name, rotation in (("sun_behind.gltf", [0.0, 1.0, 0.0, 0.0]),
+                           ("sun_front.gltf", [0.0, 0.0, 0.0, 1.0])):
+        b = Blob()
+        p = b.quad(0.0)
+        p["material"] = 0
+        write_json(name, doc(
+            [{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node(),
+                   {"name": "sun", "rotation": rotation,
+                    "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 0.9, "ymag": 0.9,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[{"pbrMetallicRoughness": {"metallicFactor": 0.0}, "extensions": lambert}],
+            extensions={"KHR_lights_punctual": {"lights": [{"type": "directional",
+                                                             "intensity": 2.0}]}},
+            extensionsUsed=["KHR_lights_punctual", "KHR_materials_specular"]))
+
+
 def main():
     write_layouts()
     write_trs()
@@ -1478,6 +1531,7 @@ def main():
     write_glass()
     write_coat()
     write_sheen()
+    write_dark_views()
     write_quantized()
     write_bad()
 

@@ -23,6 +23,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "dark_view.h"
 #include "st_render.h"
 #include "st_scene.h"
 
@@ -612,8 +613,10 @@ static void texture_references_follow_the_file(void **state)
  * camera out, and glow_box_one_sided, whose walls it sees through from
  * inside); none where lamps or punctual lights carry at least half
  * (the Cornell box and soft-shadows, strengths 17 and 8; lamp_over_glow,
- * 8 pi of 12 pi; punctual) or where the camera sits inside a closed model
- * (furnace, glow_box). */
+ * 8 pi of 12 pi; punctual; sun_front, its quad lit) or where the camera sits
+ * inside a closed model (furnace, glow_box); dim (0.25) where those lights
+ * leave most of the view dark (sun_behind, lit from behind; lamp_in_glass,
+ * a lamp inside a glass bulb). */
 static void default_environment_follows_the_lights(void **state)
 {
     (void)state;
@@ -634,7 +637,10 @@ static void default_environment_follows_the_lights(void **state)
                  {SCENES "punctual.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
                  {SCENES "glow_box.gltf", 0.0f, ST_ENV_ENCLOSED},
                  {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
-                 {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS}};
+                 {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "sun_front.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {SCENES "sun_behind.gltf", 0.25f, ST_ENV_DARK_VIEW},
+                 {SCENES "lamp_in_glass.gltf", 0.25f, ST_ENV_DARK_VIEW}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_scene *s = load_ok(cases[i].spec);
         near3(s->default_env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);
@@ -773,6 +779,35 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
     st_scene *s = load_ok(SCENES "uses_iridescence.gltf");
     assert_true(has_warning(s, "uses extension KHR_materials_iridescence, which strata ignores"));
     st_scene_destroy(s);
+}
+
+/* The fraction of the default view no light reaches directly
+ * (dark_view.h), where it is known exactly: sun_front's quad fills the
+ * orthographic view and faces its directional light (0); sun_behind's
+ * faces away from it (1); lamp_in_glass's lamp lies inside a closed glass
+ * bulb, which blocks every shadow ray to it, and the view around the floor
+ * is empty (1). The Cornell box's light reaches most of its view. */
+static void dark_fraction_counts_what_no_light_reaches(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *spec;
+        double lo, hi;
+    } cases[] = {{SCENES "sun_front.gltf", 0.0, 0.0},
+                 {SCENES "sun_behind.gltf", 1.0, 1.0},
+                 {SCENES "lamp_in_glass.gltf", 1.0, 1.0},
+                 {"cornell-box", 0.0, 0.5}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        st_scene *s = load_ok(cases[i].spec);
+        st_error err = {0};
+        double dark = -1.0;
+        assert_int_equal(st_scene_dark_fraction(s, &dark, &err), ST_OK);
+        print_message("%s: dark fraction %.4f\n", cases[i].spec, dark);
+        if (!(dark >= cases[i].lo && dark <= cases[i].hi))
+            fail_msg("%s: dark fraction %g, want [%g, %g]", cases[i].spec, dark, cases[i].lo,
+                     cases[i].hi);
+        st_scene_destroy(s);
+    }
 }
 
 /* A normal map whose image cannot be read is left out, not made white (a
@@ -1404,6 +1439,7 @@ int main(void)
         cmocka_unit_test(texcoords_float_u8_u16_read_as_file_says),
         cmocka_unit_test(texture_references_follow_the_file),
         cmocka_unit_test(default_environment_follows_the_lights),
+        cmocka_unit_test(dark_fraction_counts_what_no_light_reaches),
         cmocka_unit_test(builtin_scenes_load_by_name),
         cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
