@@ -123,7 +123,8 @@ int st_renderer_packets(const st_renderer *r, const st_render_options *o);
 const char *st_renderer_ran(st_renderer *r);
 /* The environment radiance a render of scene with options o sees (a map's
  * scale where o has a map): o->env where given, else 1 with a map and
- * the scene's default lighting (st_scene.default_env) without. */
+ * the scene's default lighting (st_scene.default_env) without: the scale
+ * of the default sky (st_envmap_sky) where scene->default_sky. */
 void st_render_env(const st_scene *scene, const st_render_options *o, float env[3]);
 
 /* --lanes auto (src/render/lanes_auto.c): the kernels' lane width (ST_W)

@@ -109,6 +109,9 @@ typedef struct st_scene {
      * (src/scene/dark_view.h). */
     float default_env[3];
     st_env_default env_default;
+    /* 1: that environment is the default sky (st_envmap_sky: white above,
+     * a grey ground below) scaled by default_env, where it is on; 0: none */
+    int default_sky;
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;
     char name[256];        /* the file path, or the built-in name */

@@ -786,9 +786,10 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     size_t pixels = (size_t)o->width * o->height;
     st_scene_camera cam;
     st_render_options so = *o; /* what the sampler is made for */
+    const st_envmap *env_map = o->env_map ? o->env_map : o->env_given ? NULL : r->sky;
     so.spp = sampler_spp(o);
     if (st_scene_view_camera(r->scene, o->camera, &cam, err) != ST_OK ||
-        (r->env_map != o->env_map && st_renderer_upload_env_map(r, o->env_map, err) != ST_OK) ||
+        (r->env_map != env_map && st_renderer_upload_env_map(r, env_map, err) != ST_OK) ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
         prepare_pmj02(r, &so, err) != ST_OK)
         return err->status;

@@ -629,6 +629,7 @@ static st_status choose_default_env(st_scene *s, double lamp_power, st_error *er
                                                        : 0.0f;
     for (int k = 0; k < 3; k++)
         s->default_env[k] = level;
+    s->default_sky = level > 0.0f;
     return ST_OK;
 }
 
@@ -893,7 +894,8 @@ st_u32 st_scene_content_hash(const st_scene *s)
     crc = crc_of(crc, s->cameras, s->camera_count * sizeof *s->cameras);
     /* no lights: no bytes, so the hashes of scenes without them stay as they were */
     crc = crc_of(crc, s->punctual, s->punctual_count * sizeof *s->punctual);
-    return crc_of(crc, s->default_env, sizeof s->default_env);
+    crc = crc_of(crc, s->default_env, sizeof s->default_env);
+    return crc_of(crc, &s->default_sky, sizeof s->default_sky);
 }
 
 void st_scene_destroy(st_scene *scene)
