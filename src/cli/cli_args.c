@@ -64,7 +64,8 @@ static const char render_help[] =
     "                         little (the default for a file without cameras)\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
-    "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
+    "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5,\n"
+    "                         12 in a scene with transmissive materials)\n"
     "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
     "  --wave N               work-items per wave (default 1048576, or down to 262144 where\n"
     "                         memory is short; the image does not change)\n"
@@ -437,7 +438,9 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_TAU: fa->tau = v; return ST_CLI_OK;
     case O_SEED: return st_cli_parse_u32("--seed", v, 0, 0xffffffffu, &o->seed);
     case O_INTEGRATOR: return parse_name("--integrator", st_integrator_names, 2, v, &o->integrator);
-    case O_DEPTH: return st_cli_parse_u32("--max-depth", v, 0, 64, &o->max_depth);
+    case O_DEPTH:
+        a->depth_given = 1;
+        return st_cli_parse_u32("--max-depth", v, 0, 64, &o->max_depth);
     case O_DEVICE: a->device = v; return ST_CLI_OK;
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);

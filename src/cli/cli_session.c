@@ -103,6 +103,8 @@ st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error
     if (a->env_file && st_envmap_load(a->env_file, &s->env_map, err) != ST_OK)
         return err->status;
     a->opt.env_map = s->env_map; /* the view's environment, in every render's options */
+    if (!a->depth_given)
+        a->opt.max_depth = st_render_default_depth(s->scene);
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; !a->said && i < s->scene->warning_count; i++)
         st_cli_put_line("strata: warning: ", s->scene->warnings[i]); /* scene text, escaped */

@@ -37,6 +37,14 @@ st_render_options st_render_defaults(void)
     return o;
 }
 
+st_u32 st_render_default_depth(const st_scene *s)
+{
+    for (st_u32 m = 0; m < s->material_count; m++)
+        if (s->materials[m].transmission > 0.0f)
+            return ST_GLASS_DEPTH;
+    return st_render_defaults().max_depth;
+}
+
 /* The samples per pixel the sampler is made for: an adaptive render's
  * pixels draw sample indices up to its cap. */
 static st_u32 sampler_spp(const st_render_options *o)

@@ -53,6 +53,7 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 normal_missing  normal_tilt with its normal map's file missing.
+glass_panes   a lamp seen through four glass panes (eight interfaces).
 sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
               seen from outside (its fronts face out), KHR_materials_unlit
               (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
@@ -1454,6 +1455,33 @@ def write_bad():
     variant("bad_camera_ymag.gltf", lambda g: g["cameras"][0]["orthographic"].update(ymag=0.0))
 
 
+def write_glass_panes():
+    """glass_panes: a lamp quad (emission 4) seen head-on through four smooth
+    glass panes (cubes flattened to 0.1 thick) by an orthographic camera: a
+    camera path meets eight glass interfaces before the lamp, so it needs a
+    max depth of 8 at least."""
+    b = Blob()
+    lamp = b.quad(0.0)
+    lamp["material"] = 0
+    pane = cube_prim(b, 1.0)
+    pane["material"] = 1
+    g = doc([{"primitives": [lamp]}, {"primitives": [pane]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0, "translation": [0.0, 0.0, -1.0], "scale": [2.0, 2.0, 1.0]}] +
+                  [{"mesh": 1, "translation": [0.0, 0.0, 0.4 * k], "scale": [1.5, 1.5, 0.05]}
+                   for k in range(4)] + [ortho_camera_node()],
+            scenes=[{"nodes": list(range(6))}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 0.8, "ymag": 0.8,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[{"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                                 "metallicFactor": 0.0},
+                        "emissiveFactor": [1.0, 1.0, 1.0],
+                        "extensions": {"KHR_materials_emissive_strength":
+                                       {"emissiveStrength": 4.0}}},
+                       glass_material()],
+            extensionsUsed=["KHR_materials_transmission", "KHR_materials_emissive_strength"])
+    write_json("glass_panes.gltf", g)
+
+
 def write_dark_views():
     """Scenes whose own lights carry the power but would leave most of the
     default view black (st_scene.h ST_ENV_DARK_VIEW), and one they light:
@@ -1532,6 +1560,7 @@ def main():
     write_coat()
     write_sheen()
     write_dark_views()
+    write_glass_panes()
     write_quantized()
     write_bad()
 
