@@ -238,6 +238,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
 st_gltf_image roughness_from_gloss(const st_gltf_image &src, float gloss);
 void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &table,
                      const std::vector<std::string> &why, notes &warn);
+void note_occlusion(const Model &m, notes &warn);
 
 /* gltf_parse.cpp */
 void parse(Model &model, const unsigned char *bytes, size_t size, const char *base_dir,

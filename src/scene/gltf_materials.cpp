@@ -361,4 +361,19 @@ void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &t
             note(warn, "%s: replaced by a white texture", why[k].c_str());
 }
 
+/* occlusionTexture (§3.9.3) is not read: it darkens the ambient light a
+ * rasteriser adds, and a path tracer finds that occlusion itself. One
+ * warning names the first material that has one and counts the rest. */
+void note_occlusion(const Model &m, notes &warn)
+{
+    size_t count = 0, first = 0;
+    for (size_t i = 0; i < m.materials.size(); i++)
+        if (m.materials[i].occlusionTexture.index != -1 && count++ == 0)
+            first = i;
+    if (count)
+        note(warn, "occlusionTexture of material %zu%s is not read (a path tracer finds "
+                   "occlusion itself)",
+             first, count > 1 ? (" and " + std::to_string(count - 1) + " more").c_str() : "");
+}
+
 } /* namespace st_gltf */

@@ -189,6 +189,7 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
     std::vector<st_gltf_material> mats;
     for (size_t i = 0; i < m.materials.size(); i++)
         mats.push_back(read_material(m, i, table, warn));
+    note_occlusion(m, warn);
     const std::vector<uv_use> use = uv_uses(mats, table);
     bool any_uv1 = false;
     for (const st_gltf_texture &t : table.refs)

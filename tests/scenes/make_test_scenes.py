@@ -1432,6 +1432,9 @@ def write_bad():
         g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_draco_mesh_compression"]
         g["accessors"][0]["bufferView"] = 99
     variant("bad_requires_draco.gltf", draco)
+    # occlusionTexture is not read: one warning
+    variant("occlusion.gltf",
+            lambda g: g["materials"][0].update(occlusionTexture={"index": 0}))
     variant("uses_iridescence.gltf",
             lambda g: g.update(extensionsUsed=["KHR_materials_iridescence"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]

@@ -756,7 +756,8 @@ static void malformed_files_return_format_error_naming_file(void **state)
 
 /* An image that cannot be decoded or read is a warning naming it, and a
  * 1 x 1 white texture in its place (the factor alone); an extension that is
- * only used and not implemented is a warning naming it. */
+ * only used and not implemented is a warning naming it; so is
+ * occlusionTexture, which is not read. */
 static void unreadable_images_and_unknown_extensions_warn(void **state)
 {
     (void)state;
@@ -776,7 +777,14 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
         assert_int_equal(s->texels[t->offset], 0xffffffffu);
         st_scene_destroy(s);
     }
-    st_scene *s = load_ok(SCENES "uses_iridescence.gltf");
+    st_scene *s = load_ok(SCENES "occlusion.gltf"); /* one material with occlusionTexture */
+    assert_true(has_warning(s, "occlusionTexture of material 0 is not read (a path tracer "
+                               "finds occlusion itself)"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "textured_quad.gltf"); /* none: no word */
+    assert_false(has_warning(s, "occlusionTexture"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "uses_iridescence.gltf");
     assert_true(has_warning(s, "uses extension KHR_materials_iridescence, which strata ignores"));
     st_scene_destroy(s);
 }
