@@ -54,6 +54,9 @@ normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 normal_missing  normal_tilt with its normal map's file missing.
 glass_panes   a lamp seen through four glass panes (eight interfaces).
+glass_mitsuba_coarse  glass_mitsuba with the spheres of glass_furnace_coarse.
+glass_furnace_coarse  glass_furnace's spheres with 6 rings and 8 segments, smooth
+              normals (far from the facets' at the outline).
 sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
               seen from outside (its fronts face out), KHR_materials_unlit
               (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
@@ -1124,6 +1127,14 @@ def write_glass():
             materials=[glass_material(), glass_material(roughness=0.5)],
             extensionsUsed=GLASS_EXTENSIONS[:1])
     write_json("glass_furnace.gltf", g)
+    # the same two spheres coarse (6 rings, 8 segments) with their smooth
+    # normals: the shading normals stray far from the facets' at the outline
+    b = Blob()
+    spheres = [sphere_prim(b, 0.8, 6, 8), sphere_prim(b, 0.8, 6, 8)]
+    spheres[0]["material"], spheres[1]["material"] = 0, 1
+    g["meshes"] = [{"primitives": [spheres[0]]}, {"primitives": [spheres[1]]}]
+    g["accessors"], g["bufferViews"], g["buffers"] = b.accessors, b.views, b.buffers()
+    write_json("glass_furnace_coarse.gltf", g)
 
     tinted = dict(glass_material(roughness=0.2, base=(0.9, 0.7, 0.3), transmission=0.5),
                   extensions={"KHR_materials_transmission": {"transmissionFactor": 0.5},
@@ -1134,6 +1145,7 @@ def write_glass():
                   extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
                               "KHR_materials_ior": {"ior": 1.33}})
     write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
+    write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, coarse=True))
 
 
 def write_coat():
@@ -1222,13 +1234,15 @@ def write_sheen():
     write_json("sheen.gltf", g)
 
 
-def glass_scene(third, light):
+def glass_scene(third, light, coarse=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
-    a smooth glass sphere, a rough one with absorption and `third`."""
+    a smooth glass sphere, a rough one with absorption and `third` (of 6
+    rings and 8 segments where `coarse`, with smooth normals)."""
     b = Blob()
     lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
     floor, wall, lamp = b.quad(0.0), b.quad(0.0), b.quad(0.0)
-    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45) for _ in range(3)]
+    size = (6, 8) if coarse else (16, 24)
+    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45, *size) for _ in range(3)]
     for k, p in enumerate(prims):
         p["material"] = k
     materials = [
