@@ -14,6 +14,7 @@
  * pixels that direct lighting leaves black: an upper bound of those the
  * path tracer leaves black, which finds light through glass and bounces
  * only by chance. Tests: tests/unit/test_scene.c
+ * dark_fraction_counts_what_no_light_reaches,
  * default_environment_follows_the_lights. */
 #include "dark_view.h"
 
