@@ -36,6 +36,19 @@ st_status st_envmap_make(const float *rgb, st_u32 w, st_u32 h, const char *name,
                          st_envmap **out, st_error *err);
 void st_envmap_free(st_envmap *m); /* NULL: does nothing */
 
+/* The default sky (st_scene.default_sky): radiance 1 at the horizon falling
+ * to ST_SKY_ZENITH straight up, L = 1 - (1 - ST_SKY_ZENITH) sin(elevation),
+ * over a uniform grey ground of ST_SKY_GROUND below the horizon (+Y up), as
+ * ST_SKY_WIDTH x ST_SKY_HEIGHT texels (each row its centre's value; the
+ * horizon falls between two rows). So a white model shows its shape under
+ * it: lit from above, darker below, against a brighter background.
+ * ST_ERR_NOMEM. Tests: tests/device/test_envmap.c default_sky_*. */
+#define ST_SKY_ZENITH 0.7f
+#define ST_SKY_GROUND 0.3f
+#define ST_SKY_WIDTH 4u
+#define ST_SKY_HEIGHT 128u
+st_status st_envmap_sky(st_envmap **out, st_error *err);
+
 /* The power next-event estimation weighs an environment with (st_lights.h):
  * π radius² ∫ L dω (pbrt-v4's Phi of an infinite light: the power crossing the
  * disk of the scene's bounding sphere from every direction), with L the map's

@@ -98,6 +98,15 @@ extern const char *const st_reconstruction_names[2];
 
 /* The defaults of `strata render`. */
 st_render_options st_render_defaults(void);
+/* The max depth a render of s takes when none is asked for: the default 5,
+ * or ST_GLASS_DEPTH where a material transmits (KHR_materials_transmission).
+ * A path through glass spends two vertices on every pane or wall it crosses
+ * (a vase's base, a bulb around a filament, a glass behind a glass), so at
+ * 5 thick glass and what lies behind it go dark; 12 is Cycles' default
+ * count of transmission bounces. Russian roulette still ends the paths that
+ * carry little. Tests: tests/cli/test_glass_depth.sh. */
+#define ST_GLASS_DEPTH 12u
+st_u32 st_render_default_depth(const st_scene *s);
 /* An adaptive render's pilot (min_spp, or spp / 8 within 2 .. 16) and cap
  * per pixel (max_spp, or 8 spp). */
 void st_render_adaptive_counts(const st_render_options *o, st_u32 *pilot, st_u32 *max_spp);
@@ -152,7 +161,8 @@ st_status st_render_view_camera(const st_scene *scene, const st_render_options *
                                 st_scene_camera *out, st_error *err);
 /* The environment radiance a render of scene with options o sees (a map's
  * scale where o has a map): o->env where given, else 1 with a map and
- * the scene's default lighting (st_scene.default_env) without. */
+ * the scene's default lighting (st_scene.default_env) without: the scale
+ * of the default sky (st_envmap_sky) where scene->default_sky. */
 void st_render_env(const st_scene *scene, const st_render_options *o, float env[3]);
 
 /* --lanes auto (src/render/lanes_auto.c): the kernels' lane width (ST_W)

@@ -57,7 +57,9 @@ typedef enum st_env_default {
     ST_ENV_NOTHING_EMITS, /* on: nothing in the scene emits */
     ST_ENV_DIM_EMITTERS,  /* on: its emitters are no brighter than white */
     ST_ENV_OWN_LIGHTS,    /* off: lamps and punctual lights carry most of the power */
-    ST_ENV_ENCLOSED       /* off: the default camera sits inside a closed model */
+    ST_ENV_ENCLOSED,      /* off: the default camera sits inside a closed model */
+    ST_ENV_DARK_VIEW      /* dim: own lights carry most of the power but leave most of the
+                             default view dark */
 } st_env_default;
 
 /* A loaded scene; owns every array (st_scene_destroy frees them).
@@ -102,9 +104,14 @@ typedef struct st_scene {
      * factor x strength at most 1 in every channel: a screen, a label)
      * and carry more than half of the power; off when lamps (brighter
      * emitters) and punctual lights carry at least half of it, or when
-     * the default camera sits inside a closed model. */
+     * the default camera sits inside a closed model; dim (0.25) when
+     * those lights would leave more than half of the default view dark
+     * (src/scene/dark_view.h). */
     float default_env[3];
     st_env_default env_default;
+    /* 1: that environment is the default sky (st_envmap_sky: white above,
+     * a grey ground below) scaled by default_env, where it is on; 0: none */
+    int default_sky;
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;
     char name[256];        /* the file path, or the built-in name */

@@ -501,7 +501,11 @@ ST_HOT st_lv3 vertex_radiance(const st_vertex_in *l, const st_shading *sh, st_li
  * Rendering System", 2017). The specular lobe then reflects into the
  * upper hemisphere instead of losing its energy through the surface, which
  * rendered black rims on glossy normal-mapped surfaces. Lambertian lanes
- * keep their normal. */
+ * keep their normal, and so do transmissive ones: there the interpolated
+ * normal is taken as it is and a sample's side is the geometry's
+ * (vertex_bounce), Mitsuba 3's convention for its dielectrics, which keeps
+ * a smooth glass object's energy at its outline (test_render.c
+ * glass_furnace_coarse_keeps_the_outline, test_mitsuba_glass.sh). */
 ST_HOT st_lv3 adapted_normal(st_lv3 ns, st_lv3 ng, st_lv3 wo, st_li glossy)
 {
     st_lf c = 2.0f * st_lv3_dot(wo, ns);
@@ -556,7 +560,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     if (v.layer_bits)
         v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits);
     if (ST_ANY(ST_W, v.glossy))
-        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy);
+        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, trans_bits));
     st_basis(v.ns, &v.tu, &v.tv);
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
@@ -693,11 +697,15 @@ ST_HOT st_lv3 light_sample(const st_vertex_in *l, const st_vertex *v, st_lv3 ori
  * from the BRDF's mixture (bsdf.h), or where transmissive from the whole
  * material's (bsdf_dielectric.h, u3 choosing reflection or refraction);
  * beta *= f |cos| / pdf. *pdf: its density (for MIS where the ray ends;
- * 0 for a refraction, which next-event estimation, on the side the ray
- * came from, cannot make: its emission then takes weight 1), *cz its
- * cosine (< 0: refracted). Returns the lanes whose direction lies on one
- * side of both surfaces, above or (refracted) below (the others' paths
- * end). */
+ * 0 for a direction next-event estimation cannot make, which samples only
+ * above both surfaces: its emission then takes weight 1), *cz its cosine
+ * about the shading normal. An opaque lane's direction must lie above both
+ * the shading and the geometric surface (the others' paths end). A
+ * transmissive lane's goes on wherever it points, its side (into the
+ * object or back out) the geometry's, as in Mitsuba 3: where the shading
+ * normal strays from the facet's, a refraction may leave on the side it
+ * came from and a reflection enter, and ending those paths darkened the
+ * outlines of smooth-normal glass. */
 ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *wi, st_lf *pdf,
                            st_lf *cz)
 {
@@ -726,9 +734,11 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
     if (v->trans_bits) {
-        st_li through = ST_BITS_MASK(ST_W, v->trans_bits) && *cz < 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) < 0.0f;
-        ok = ok || through;
-        *pdf = ST_SELECT(ST_W, *pdf, ST_LF(0.0f), through);
+        st_li trans = ST_BITS_MASK(ST_W, v->trans_bits) && *pdf > 0.0f;
+        st_li through = trans && st_lv3_dot(*wi, v->ng) < 0.0f; /* into the object */
+        st_li back = trans && *cz < 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
+        ok = ok || through || back;
+        *pdf = ST_SELECT(ST_W, *pdf, ST_LF(0.0f), through || back);
     }
     v->beta = st_lv3_select(v->beta, st_lv3_mul(v->beta, weight), ok);
     return ok;

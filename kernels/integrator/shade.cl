@@ -411,12 +411,14 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     ST_VSTORE(ST_W, cz / ST_PI_F, o->env_pdf);
     *refracted = 0u;
     st_lv3 from = origin;
-    if (b->trans) { /* a refracted ray goes on from the other side, where no
-                     * uniform environment's light sample reaches (env_pdf 0) */
-        *refracted = ST_MASK_BITS(ST_W, cz < 0.0f) & goes;
+    if (b->trans) { /* a ray into the object goes on from the other side (the
+                     * geometry's, vertex_bounce), where no uniform
+                     * environment's light sample reaches (env_pdf 0) */
+        st_li below = st_lv3_dot(wi, v.ng) < 0.0f;
+        *refracted = ST_MASK_BITS(ST_W, below) & goes;
         st_lv3 inside = st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps));
         lv3_store(inside, o->next_o);
-        ST_VSTORE(ST_W, fmax(cz, 0.0f) / ST_PI_F, o->env_pdf);
+        ST_VSTORE(ST_W, ST_SELECT(ST_W, fmax(cz, 0.0f), ST_LF(0.0f), below) / ST_PI_F, o->env_pdf);
         from = st_lv3_select(origin, inside, ST_BITS_MASK(ST_W, *refracted));
     }
     *dark = dark_bounces(s, p, sh, from, wi, ST_LV(l->depth), goes);

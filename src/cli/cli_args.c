@@ -59,8 +59,10 @@ static const char render_help[] =
     "  --noise-threshold X    also stop a pixel once its estimated relative error is X\n"
     "                         (default: none; the render may then cost less than --spp)\n"
     "  --spp-map FILE.png     the samples each pixel received, colour-mapped with a legend\n"
-    "  --env R,G,B | --env X  uniform environment light (linear radiance; 0: none). Default:\n"
-    "                         white (1), with a note, for a scene that emits no light, else none\n"
+    "  --env R,G,B | --env X  uniform environment light (linear radiance; 0: none). Default,\n"
+    "                         with a note: a sky, white over a grey ground, unless the scene's\n"
+    "                         own lights carry most of its light (then none, or the sky at 0.25\n"
+    "                         where they leave most of the view dark)\n"
     "  --env FILE.exr|FILE.hdr   equirectangular environment map (linear RGB, +Y up; the image's\n"
     "                         centre looks along -Z, its right quarter along +X), sampled by its\n"
     "                         luminance\n"
@@ -76,7 +78,8 @@ static const char render_help[] =
     "                         40 for --look-at over an orthographic one)\n"
     "  --seed S               random seed (default 0)\n"
     "  --integrator direct|path   (default path)\n"
-    "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5)\n"
+    "  --max-depth D          path vertices at which light is gathered (pbrt's convention; default 5,\n"
+    "                         12 in a scene with transmissive materials)\n"
     "  --device SPEC          cpu, gpu or P:D from `strata devices` (default cpu)\n"
     "  --wave N               work-items per wave (default 1048576, or down to 262144 where\n"
     "                         memory is short; the image does not change)\n"
@@ -522,7 +525,9 @@ static int parse_one(int c, const char *v, int bench, st_cli_render_args *a,
     case O_TAU: fa->tau = v; return ST_CLI_OK;
     case O_SEED: return st_cli_parse_u32("--seed", v, 0, 0xffffffffu, &o->seed);
     case O_INTEGRATOR: return parse_name("--integrator", st_integrator_names, 2, v, &o->integrator);
-    case O_DEPTH: return st_cli_parse_u32("--max-depth", v, 0, 64, &o->max_depth);
+    case O_DEPTH:
+        a->depth_given = 1;
+        return st_cli_parse_u32("--max-depth", v, 0, 64, &o->max_depth);
     case O_DEVICE: a->device = v; return ST_CLI_OK;
     case O_WAVE: return st_cli_parse_u32("--wave", v, 1, 1u << 26, &o->wave);
     case O_LOCAL: return st_cli_parse_u32("--local-size", v, 1, 4096, &o->local_size);

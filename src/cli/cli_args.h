@@ -24,6 +24,7 @@ typedef struct st_cli_render_args {
     int scene_list;     /* --scene-list */
     int quiet;          /* --quiet: no progress bar, no summary */
     int scramble_given; /* --scramble seen (for its error) */
+    int depth_given;    /* --max-depth seen; else the scene's default (st_render_default_depth) */
     const char *spp_map;      /* --spp-map FILE.png */
     const char *adaptive_opt; /* an adaptive-only option seen (for its error) */
     st_u32 threads;           /* --threads N; 0: every compute unit */

@@ -103,6 +103,8 @@ st_status st_cli_session_open(st_cli_render_args *a, st_cli_session *s, st_error
     if (a->env_file && st_envmap_load(a->env_file, &s->env_map, err) != ST_OK)
         return err->status;
     a->opt.env_map = s->env_map; /* the view's environment, in every render's options */
+    if (!a->depth_given)
+        a->opt.max_depth = st_render_default_depth(s->scene);
     s->load_seconds = st_cli_now() - t0;
     for (st_u32 i = 0; !a->said && i < s->scene->warning_count; i++)
         st_cli_put_line("strata: warning: ", s->scene->warnings[i]); /* scene text, escaped */
@@ -158,15 +160,17 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
     st_render_env(scene, o, env);
     int has_env = env[0] > 0.0f || env[1] > 0.0f || env[2] > 0.0f;
     static const char *const why[] = {
-        [ST_ENV_NOTHING_EMITS] = "nothing in the scene emits light; it is lit by the white "
-                                 "environment (--env to change)",
+        [ST_ENV_NOTHING_EMITS] = "nothing in the scene emits light; it is lit by the default "
+                                 "sky, white over a grey ground (--env to change)",
         [ST_ENV_DIM_EMITTERS] = "most of the light it emits comes from surfaces no brighter "
-                                "than white; it is lit by the white environment as well "
+                                "than white; it is lit by the default sky as well "
                                 "(--env 0 to turn it off)",
         [ST_ENV_OWN_LIGHTS] = "lit by its own lights alone, no environment (--env 1 for a "
                               "white one)",
         [ST_ENV_ENCLOSED] = "the camera is inside a closed model; no environment (--env 1 for "
                             "a white one)",
+        [ST_ENV_DARK_VIEW] = "its own lights would leave most of the view black; the default "
+                             "sky is kept, dimmed to 0.25 (--env 0 to turn it off)",
     };
     char line[1024]; /* the scene's name is a path: the user's bytes, escaped */
     if (!o->env_given && !o->env_map) {
@@ -278,6 +282,8 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
     if (a->env_file) {
         ATTR("env", "%s", a->env_file);
         TYPED("env_rotate", ST_ATTR_FLOAT, "%.9g", (double)o->env_rotate);
+    } else if (!o->env_given && s->scene->default_sky) {
+        ATTR("env", "default sky x %.9g", (double)env[0]);
     } else {
         ATTR("env", "%.9g,%.9g,%.9g", (double)env[0], (double)env[1], (double)env[2]);
     }

@@ -171,7 +171,8 @@ st_status st_renderer_create(st_device *dev, const st_scene *scene, st_renderer 
     }
     r->ray_eps = 1e-4f * fmaxf(extent, 1e-3f);
     st_bvh *bvh = NULL;
-    if (st_plan_force_from_env(r, err) != ST_OK)
+    if (st_plan_force_from_env(r, err) != ST_OK ||
+        (scene->default_sky && st_envmap_sky(&r->sky, err) != ST_OK))
         goto fail;
     double t0 = st_render_now();
     if (st_bvh_build_threads(scene->positions, scene->tri_count,
@@ -207,6 +208,7 @@ void st_renderer_destroy(st_renderer *r)
         return;
     for (int b = 0; b < ST_SCENE_BUFFER_COUNT; b++)
         st_device_buffer_destroy(r->scene_buf[b]);
+    st_envmap_free(r->sky);
     free(r);
 }
 

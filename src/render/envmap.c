@@ -256,6 +256,19 @@ st_status st_envmap_load(const char *path, st_envmap **out, st_error *err)
     return rc;
 }
 
+st_status st_envmap_sky(st_envmap **out, st_error *err)
+{
+    float rgb[3 * ST_SKY_WIDTH * ST_SKY_HEIGHT];
+    for (st_u32 j = 0; j < ST_SKY_HEIGHT; j++) {
+        double elevation = PI / 2.0 - PI * (j + 0.5) / ST_SKY_HEIGHT; /* row 0 at the top */
+        float l = elevation > 0.0 ? (float)(1.0 - (1.0 - ST_SKY_ZENITH) * sin(elevation))
+                                  : ST_SKY_GROUND;
+        for (st_u32 k = 0; k < 3 * ST_SKY_WIDTH; k++)
+            rgb[3 * ST_SKY_WIDTH * j + k] = l;
+    }
+    return st_envmap_make(rgb, ST_SKY_WIDTH, ST_SKY_HEIGHT, "the default sky", out, err);
+}
+
 void st_envmap_free(st_envmap *m)
 {
     if (!m)

@@ -37,6 +37,14 @@ st_render_options st_render_defaults(void)
     return o;
 }
 
+st_u32 st_render_default_depth(const st_scene *s)
+{
+    for (st_u32 m = 0; m < s->material_count; m++)
+        if (s->materials[m].transmission > 0.0f)
+            return ST_GLASS_DEPTH;
+    return st_render_defaults().max_depth;
+}
+
 /* The samples per pixel the sampler is made for: an adaptive render's
  * pixels draw sample indices up to its cap. */
 static st_u32 sampler_spp(const st_render_options *o)
@@ -826,9 +834,10 @@ st_status st_render(st_renderer *r, const st_render_options *o, st_image *out, s
     size_t pixels = (size_t)o->width * o->height;
     st_scene_camera cam;
     st_render_options so = *o; /* what the sampler is made for */
+    const st_envmap *env_map = o->env_map ? o->env_map : o->env_given ? NULL : r->sky;
     so.spp = sampler_spp(o);
     if (st_render_view_camera(r->scene, o, &cam, err) != ST_OK ||
-        (r->env_map != o->env_map && st_renderer_upload_env_map(r, o->env_map, err) != ST_OK) ||
+        (r->env_map != env_map && st_renderer_upload_env_map(r, env_map, err) != ST_OK) ||
         prepare_tile(r, o, err) != ST_OK || prepare_fis(r, o, err) != ST_OK ||
         prepare_pmj02(r, &so, err) != ST_OK)
         return err->status;

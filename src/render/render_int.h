@@ -74,7 +74,8 @@ struct st_renderer {
     st_u32 light_count;
     st_u32 punct_count; /* KHR_lights_punctual lights (scene->punctual) */
     const st_envmap *env_map; /* the map uploaded, a render's st_render_options.env_map
-                                 (borrowed); NULL: none */
+                                 (borrowed) or sky; NULL: none */
+    st_envmap *sky; /* the default sky (st_envmap_sky) where scene->default_sky; else NULL */
     float ray_eps;
     double bvh_seconds;
     /* the key of the tiled sampler's tile in scene_buf[ST_SCENE_tile],

@@ -240,11 +240,15 @@ int tex_coord_number(const tinygltf::Value &obj, int fallback, const char *what)
 int texture_ref(const Model &m, const tinygltf::TextureInfo &info, bool srgb, size_t mat,
                 const char *slot, texture_table &table, notes &warn);
 void share_images(const Model &m, const image_bytes &bytes, texture_table &table);
-st_gltf_image decode_or_white(const Model &m, int i, const image_bytes &bytes, notes &warn);
+std::vector<std::string> decode_images(const Model &m, const image_bytes &bytes,
+                                       const texture_table &table, st_gltf_image *images);
 
 /* gltf_materials.cpp */
 st_gltf_material read_material(const Model &m, size_t i, texture_table &table, notes &warn);
 st_gltf_image roughness_from_gloss(const st_gltf_image &src, float gloss);
+void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &table,
+                     const std::vector<std::string> &why, notes &warn);
+void note_occlusion(const Model &m, notes &warn);
 
 /* gltf_parse.cpp */
 void parse(Model &model, const unsigned char *bytes, size_t size, const char *base_dir,

@@ -328,4 +328,52 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     return o;
 }
 
+/* What each slot makes of an image that could not be read (decode_images):
+ * a normal map is left out, the geometric and vertex normals kept, since
+ * its white texel is not neutral (the normal (1, 1, 1), some 55 degrees
+ * off); every other slot keeps the white image, which leaves its factor
+ * alone. One warning per normal map left out, one per image made white. */
+void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &table,
+                     const std::vector<std::string> &why, notes &warn)
+{
+    auto unreadable = [&](int t) {
+        return t >= 0 && size_t(table.refs[size_t(t)].image) < why.size() &&
+               !why[size_t(table.refs[size_t(t)].image)].empty();
+    };
+    std::vector<char> white(why.size(), 0);
+    for (size_t i = 0; i < mats.size(); i++) {
+        st_gltf_material &o = mats[i];
+        if (unreadable(o.normal_tex)) {
+            note(warn, "material %zu: normalTexture: %s: left out (the vertex normals kept)", i,
+                 why[size_t(table.refs[size_t(o.normal_tex)].image)].c_str());
+            o.normal_tex = -1;
+        }
+        const int slots[] = {o.base_color_tex,   o.emission_tex,     o.metallic_roughness_tex,
+                             o.specular_tex,     o.specular_color_tex, o.transmission_tex,
+                             o.clearcoat_tex,    o.clearcoat_roughness_tex, o.sheen_color_tex,
+                             o.sheen_roughness_tex};
+        for (int t : slots)
+            if (unreadable(t))
+                white[size_t(table.refs[size_t(t)].image)] = 1;
+    }
+    for (size_t k = 0; k < why.size(); k++)
+        if (white[k])
+            note(warn, "%s: replaced by a white texture", why[k].c_str());
+}
+
+/* occlusionTexture (§3.9.3) is not read: it darkens the ambient light a
+ * rasteriser adds, and a path tracer finds that occlusion itself. One
+ * warning names the first material that has one and counts the rest. */
+void note_occlusion(const Model &m, notes &warn)
+{
+    size_t count = 0, first = 0;
+    for (size_t i = 0; i < m.materials.size(); i++)
+        if (m.materials[i].occlusionTexture.index != -1 && count++ == 0)
+            first = i;
+    if (count)
+        note(warn, "occlusionTexture of material %zu%s is not read (a path tracer finds "
+                   "occlusion itself)",
+             first, count > 1 ? (" and " + std::to_string(count - 1) + " more").c_str() : "");
+}
+
 } /* namespace st_gltf */

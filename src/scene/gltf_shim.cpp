@@ -269,6 +269,7 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
     std::vector<st_gltf_material> mats;
     for (size_t i = 0; i < m.materials.size(); i++)
         mats.push_back(read_material(m, i, table, warn));
+    note_occlusion(m, warn);
     const std::vector<uv_use> use = uv_uses(mats, table);
     share_images(m, bytes, table); /* the texel budget, before anything is expanded */
     bool any_uv1 = false;
@@ -332,17 +333,15 @@ static void flatten(const Model &m, const image_bytes &bytes, notes &warn, st_gl
     out.tangents = shrink(out.tangents, s.count, 12);
     out.colors = shrink(out.colors, s.count, 12);
     out.tri_material = shrink(out.tri_material, s.count, 1);
-    out.material_count = mats.size();
-    out.materials = copy_out(mats);
-    out.texture_count = table.refs.size();
-    out.textures = copy_out(table.refs);
     out.image_count = m.images.size() + table.derived.size();
     out.images = alloc_array<st_gltf_image>(out.image_count, 1);
     if (out.images)
         memset(out.images, 0, out.image_count * sizeof *out.images);
-    for (const st_gltf_texture &t : table.refs)
-        if (size_t(t.image) < m.images.size() && !out.images[size_t(t.image)].rgba)
-            out.images[size_t(t.image)] = decode_or_white(m, t.image, bytes, warn);
+    note_unreadable(mats, table, decode_images(m, bytes, table, out.images), warn);
+    out.material_count = mats.size();
+    out.materials = copy_out(mats);
+    out.texture_count = table.refs.size();
+    out.textures = copy_out(table.refs);
     for (size_t k = 0; k < table.derived.size(); k++) { /* their sources are decoded above */
         const st_gltf_image &src = out.images[size_t(table.derived[k].first)];
         out.images[m.images.size() + k] = roughness_from_gloss(src, table.derived[k].second);

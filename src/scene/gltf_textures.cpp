@@ -183,7 +183,7 @@ static st_gltf_image decode_image(const Model &m, int i, const image_bytes &byte
 }
 
 /* The texels an image will decode to, from its header; 1 when it cannot be read, its header
- * not parsed, or it is past 2^26 (decode_or_white makes those one white texel). */
+ * not parsed, or it is past 2^26 (decode_images makes those one white texel). */
 static size_t header_texels(const unsigned char *data, size_t size)
 {
     int w = 0, h = 0, comp = 0;
@@ -221,7 +221,7 @@ void share_images(const Model &m, const image_bytes &bytes, texture_table &table
         size_t size = 0;
         try {
             encoded_bytes(m, i, bytes, &data, &size);
-        } catch (const shim_error &e) { /* decode_or_white says why, and makes it white */
+        } catch (const shim_error &e) { /* decode_images says why, and makes it white */
             if (e.status != ST_ERR_FORMAT)
                 throw;
             data = nullptr;
@@ -255,24 +255,34 @@ void share_images(const Model &m, const image_bytes &bytes, texture_table &table
              "than 2^%d, the limit", total, ST_GLTF_TEXELS_LOG2);
 }
 
-/* Image i decoded, or, where it cannot be read or decoded, a warning naming
- * it and a 1 x 1 white image in its place: every slot multiplies its
- * factor by the texture, so white leaves the factor alone and the model
- * still renders. */
-st_gltf_image decode_or_white(const Model &m, int i, const image_bytes &bytes, notes &warn)
+/* Every image a texture reference uses, decoded into images[] (zeroed
+ * beforehand); where one cannot be read or decoded, a 1 x 1 white image
+ * takes its place and the result says why, by image index (empty for the
+ * images that decoded). gltf_materials.cpp's note_unreadable decides what
+ * each slot makes of the white image. */
+std::vector<std::string> decode_images(const Model &m, const image_bytes &bytes,
+                                       const texture_table &table, st_gltf_image *images)
 {
-    try {
-        return decode_image(m, i, bytes);
-    } catch (const shim_error &e) {
-        if (e.status != ST_ERR_FORMAT)
-            throw;
-        note(warn, "%s: replaced by a white texture", e.msg.c_str());
+    std::vector<std::string> why(m.images.size());
+    for (const st_gltf_texture &t : table.refs) {
+        const size_t i = size_t(t.image);
+        if (i >= m.images.size() || images[i].rgba)
+            continue;
+        try {
+            images[i] = decode_image(m, t.image, bytes);
+            continue;
+        } catch (const shim_error &e) {
+            if (e.status != ST_ERR_FORMAT)
+                throw;
+            why[i] = e.msg;
+        }
+        unsigned char *white = static_cast<unsigned char *>(malloc(4)); /* stbi_image_free frees */
+        if (!white)
+            throw shim_error{ST_ERR_NOMEM, "out of memory"};
+        memset(white, 255, 4);
+        images[i] = {1u, 1u, white};
     }
-    unsigned char *white = static_cast<unsigned char *>(malloc(4)); /* stbi_image_free frees */
-    if (!white)
-        throw shim_error{ST_ERR_NOMEM, "out of memory"};
-    memset(white, 255, 4);
-    return {1u, 1u, white};
+    return why;
 }
 
 } /* namespace st_gltf */

@@ -26,6 +26,7 @@
 
 #include "st_embedded.h"
 #include "scene_fs.h"
+#include "dark_view.h"
 #include "gltf_shim.h"
 #include "texture.h"
 #include "st_lights.h"
@@ -639,10 +640,16 @@ static int camera_enclosed(const st_scene *s)
  * dimmer emitters (a screen, a label, a helmet's lights) glow in a lit
  * world; a scene without them would render black. Without lamps the
  * environment is still off when the camera sits inside a closed model,
- * which it could not reach anyway. */
-static void choose_default_env(st_scene *s, double lamp_power)
+ * which it could not reach anyway. Where the own lights would leave most
+ * of the default view black (more than DARK_VIEW_MAX of it unreached by
+ * any light directly, dark_view.h: a lamp behind glass, a lone directional
+ * light from behind, a small model in the dark), a dim environment of
+ * DIM_ENV stays on: the lights still stand out, and nothing is black. */
+#define DARK_VIEW_MAX 0.5
+#define DIM_ENV 0.25f
+static st_status choose_default_env(st_scene *s, double lamp_power, st_error *err)
 {
-    double lights = lamp_power + s->punctual_power, glow = s->emitted_power - lights;
+    double lights = lamp_power + s->punctual_power, glow = s->emitted_power - lights, dark = 0.0;
     if (s->emitted_power <= 0.0)
         s->env_default = ST_ENV_NOTHING_EMITS;
     else if (lights >= glow)
@@ -651,9 +658,20 @@ static void choose_default_env(st_scene *s, double lamp_power)
         s->env_default = ST_ENV_ENCLOSED;
     else
         s->env_default = ST_ENV_DIM_EMITTERS;
-    int on = s->env_default == ST_ENV_NOTHING_EMITS || s->env_default == ST_ENV_DIM_EMITTERS;
+    if (s->env_default == ST_ENV_OWN_LIGHTS) {
+        if (st_scene_dark_fraction(s, &dark, err) != ST_OK)
+            return err->status;
+        if (dark > DARK_VIEW_MAX)
+            s->env_default = ST_ENV_DARK_VIEW;
+    }
+    float level = s->env_default == ST_ENV_NOTHING_EMITS || s->env_default == ST_ENV_DIM_EMITTERS
+                      ? 1.0f
+                  : s->env_default == ST_ENV_DARK_VIEW ? DIM_ENV
+                                                       : 0.0f;
     for (int k = 0; k < 3; k++)
-        s->default_env[k] = on ? 1.0f : 0.0f;
+        s->default_env[k] = level;
+    s->default_sky = level > 0.0f;
+    return ST_OK;
 }
 
 /* The power the emissive surfaces radiate, π x area x the mean of the
@@ -661,7 +679,7 @@ static void choose_default_env(st_scene *s, double lamp_power)
  * of radiance L radiates π L per unit area), and the environment default
  * it decides (choose_default_env). Lamps: materials with an emissive
  * factor (x strength) above 1 in some channel. */
-static void emitted_power(st_scene *s)
+static st_status emitted_power(st_scene *s, st_error *err)
 {
     double power = 0.0, lamp_power = 0.0;
     for (st_u32 t = 0; t < s->tri_count; t++) {
@@ -690,7 +708,7 @@ static void emitted_power(st_scene *s)
         s->punctual_power += st_punctual_power(&s->punctual[i], st_scene_radius(s));
     power += s->punctual_power;
     s->emitted_power = power;
-    choose_default_env(s, lamp_power);
+    return choose_default_env(s, lamp_power, err);
 }
 
 /* The most radiant intensity a light may have per channel (colour x intensity, W/sr): each factor
@@ -835,9 +853,9 @@ static st_status build_scene(st_gltf_data *g, st_scene *s, const char *label, st
     compute_bounds(s);
     if ((status = take_cameras(g, s, label, err)) != ST_OK ||
         (status = take_lights(g, s, label, err)) != ST_OK ||
-        (status = take_warnings(g, s, label, err)) != ST_OK)
+        (status = take_warnings(g, s, label, err)) != ST_OK ||
+        (status = emitted_power(s, err)) != ST_OK)
         return status;
-    emitted_power(s);
     mark_vertex_colors(s);
     snprintf(s->name, sizeof s->name, "%s", label);
     return ST_OK;
@@ -948,7 +966,8 @@ st_u32 st_scene_content_hash(const st_scene *s)
     crc = crc_of(crc, s->cameras, s->camera_count * sizeof *s->cameras);
     /* no lights: no bytes, so the hashes of scenes without them stay as they were */
     crc = crc_of(crc, s->punctual, s->punctual_count * sizeof *s->punctual);
-    return crc_of(crc, s->default_env, sizeof s->default_env);
+    crc = crc_of(crc, s->default_env, sizeof s->default_env);
+    return crc_of(crc, &s->default_sky, sizeof s->default_sky);
 }
 
 void st_scene_destroy(st_scene *scene)

@@ -3,7 +3,8 @@
 # by the power the scene emits (emissive factor x the emissive texture's
 # mean), not by the emissive factor alone, and by who emits it (st_scene.h):
 # a scene that emits nothing, or whose emitters are dim, gets the white
-# environment; one lit by lamps or punctual lights gets none. Each render
+# environment; one lit by lamps or punctual lights gets none, or a dim one
+# where they would leave most of the view black. Each render
 # without --env says which in one `strata: note:` naming the option that
 # changes it; a render with no light at all is a `strata: warning:` (and
 # black, exit 0). TAP output.
@@ -26,7 +27,7 @@ check "a scene lit by its lamp: one note, no environment, --env 1 to add one" \
 
 "$S" render tests/scenes/textured_quad.gltf $R -o "$T/d.exr" 2> "$T/err5"
 check "a scene whose emitters are dim: one note, the white environment, --env 0 to turn it off" \
-    "[ \$(wc -l < '$T/err5') -eq 1 ] && grep -q '^strata: note: .*lit by the white environment as well (--env 0 to turn it off)' '$T/err5'"
+    "[ \$(wc -l < '$T/err5') -eq 1 ] && grep -q '^strata: note: .*lit by the default sky as well (--env 0 to turn it off)' '$T/err5'"
 "$S" render tests/scenes/textured_quad.gltf $R --env 0 -o "$T/d0.exr" 2> /dev/null
 rmse=$(mean_of "$T/d.exr" "$T/d0.exr")
 check "and the environment lights it (against --env 0)" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
@@ -45,6 +46,14 @@ rmse=$(mean_of "$T/p.exr" "$T/p0.exr")
 check "its default environment is off (the same image as --env 0)" "[ '$rmse' = 0 ]" "(rmse $rmse)"
 rmse=$(mean_of "$T/p.exr" "$T/black.exr")
 check "and it is lit" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.05) }'" "(rmse $rmse)"
+"$S" render tests/scenes/sun_behind.gltf $R -o "$T/s.exr" 2> "$T/err8"
+check "own lights that leave the view dark: one note, a dim environment, --env 0 to turn it off" \
+    "[ \$(wc -l < '$T/err8') -eq 1 ] && grep -q '^strata: note: .*its own lights would leave most of the view black; the default sky is kept, dimmed to 0.25 (--env 0 to turn it off)' '$T/err8'"
+"$S" render tests/scenes/sun_behind.gltf $R --env 0 -o "$T/s0.exr" 2> /dev/null
+check "that environment is the default sky at 0.25, as the EXR records" \
+    "grep -aq 'default sky x 0.25' '$T/s.exr'"
+rmse=$(mean_of "$T/s.exr" "$T/s0.exr")
+check "and the quad its light leaves black is lit (against --env 0)" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.05) }'" "(rmse $rmse)"
 "$S" bench cornell-box --width 8 --height 8 --spp 1 > /dev/null 2> "$T/err7"
 check "bench says the lighting default once, though it opens the scene for its build timings too" \
     "[ \$(grep -c '^strata: note: cornell-box: lit by its own lights alone' '$T/err7') -eq 1 ]" "($(cat "$T/err7"))"

@@ -277,6 +277,12 @@ static double irradiance(const st_envmap *m, const double n[3], double rot, int 
  * and uniform sampling are both unbiased (within 4 standard errors of the
  * quadrature) and importance sampling's variance is under a tenth of
  * uniform sampling's. */
+static void near_sky(double got, double want, double tol)
+{
+    if (fabs(got - want) > tol)
+        fail_msg("sky texel %.5f, want %.5f", got, want);
+}
+
 static void importance_sampling_beats_uniform(void **state)
 {
     (void)state;
@@ -410,6 +416,34 @@ static void reads_exr_and_hdr(void **state)
     st_image_free(&y);
 }
 
+/* The default sky (st_envmap_sky): L = 1 - (1 - z) sin(elevation) above the
+ * horizon (z = ST_SKY_ZENITH), the ground's ST_SKY_GROUND below. A surface
+ * facing up receives E / π = 2 ∫ L sin e cos e de over [0, π/2] = 1 -
+ * 2 (1 - z) / 3; one facing down, the ground alone; one facing sideways,
+ * half of each, (1 - 4 (1 - z) / 3π + g) / 2 (∫∫ L cos² e cos φ de dφ over
+ * the quarter spheres). The map's rows (each its centre's value) give these
+ * within 0.5 %; its top row is nearly z, its bottom row the ground. */
+static void default_sky_irradiance(void **state)
+{
+    (void)state;
+    st_envmap *m = NULL;
+    st_error err = {0};
+    assert_int_equal(st_envmap_sky(&m, &err), ST_OK);
+    const double z = ST_SKY_ZENITH, g = ST_SKY_GROUND;
+    const double up[3] = {0, 1, 0}, down[3] = {0, -1, 0}, side[3] = {0, 0, 1};
+    const double want[3] = {1.0 - 2.0 * (1.0 - z) / 3.0, g, 0.5 * (1.0 - 4.0 * (1.0 - z) / (3.0 * PI) + g)};
+    const double *n[3] = {up, down, side};
+    for (int k = 0; k < 3; k++) {
+        double e = irradiance(m, n[k], 0.0, 1, 16) / PI; /* 16: fine in azimuth, 4 texels wide */
+        print_message("default sky, normal %d: E / pi %.5f, want %.5f\n", k, e, want[k]);
+        if (fabs(e - want[k]) > 5e-3 * want[k])
+            fail_msg("normal %d: E / pi %.5f, want %.5f", k, e, want[k]);
+    }
+    near_sky(m->texels[1], z, 0.02);
+    near_sky(m->texels[4 * (m->width * (m->height - 1)) + 1], g, 0.0);
+    st_envmap_free(m);
+}
+
 /* ---- device: a white plane under a map ----------------------------------------------------- */
 
 static st_scene *white_plane(float emit)
@@ -431,6 +465,10 @@ static st_scene *white_plane(float emit)
     return s;
 }
 
+/* The map plane_shows_irradiance leaves to the scene's default (the
+ * renderer's own sky) instead of naming it. */
+static const st_envmap *default_sky;
+
 /* Renders the plane (emitting emit: then an area light too, which cannot
  * light itself) under m turned by rot and compares each channel's mean with
  * emit + E / π. */
@@ -439,7 +477,7 @@ static void plane_shows_irradiance(const st_envmap *m, double rot, float emit, s
 {
     st_scene *s = white_plane(emit);
     st_render_options o = st_render_defaults();
-    o.env_map = m;
+    o.env_map = s->default_sky && m == default_sky ? NULL : m;
     o.env_rotate = (float)rot;
     o.width = 16;
     o.height = 12;
@@ -523,6 +561,22 @@ static void map_and_area_light_chosen_by_power(void **state)
     st_envmap_free(m);
 }
 
+/* A render that names no environment, of a scene whose default is the sky
+ * (textured_quad: its emitters are dim), sees the sky: the white plane
+ * facing +Z, half sky and half ground, shows E / π of st_envmap_sky's map. */
+static void default_sky_lights_a_scene_without_env(void **state)
+{
+    (void)state;
+    st_envmap *m = NULL;
+    st_error err = {0};
+    assert_int_equal(st_envmap_sky(&m, &err), ST_OK);
+    default_sky = m;
+    plane_shows_irradiance(m, 0.0, 0.0f, ST_INTEGRATOR_DIRECT, 64);
+    plane_shows_irradiance(m, 0.0, 0.0f, ST_INTEGRATOR_PATH, 64);
+    default_sky = NULL;
+    st_envmap_free(m);
+}
+
 int main(void)
 {
     const struct CMUnitTest host[] = {
@@ -531,12 +585,14 @@ int main(void)
         cmocka_unit_test(samples_follow_the_luminance),
         cmocka_unit_test(importance_sampling_beats_uniform),
         cmocka_unit_test(power_and_choice),
+        cmocka_unit_test(default_sky_irradiance),
         cmocka_unit_test_setup_teardown(reads_exr_and_hdr, scratch_make, scratch_remove),
     };
     const struct CMUnitTest device[] = {
         cmocka_unit_test(constant_map_furnace),
         cmocka_unit_test(sun_map_irradiance_and_rotation),
         cmocka_unit_test(map_and_area_light_chosen_by_power),
+        cmocka_unit_test(default_sky_lights_a_scene_without_env),
     };
     int failed = cmocka_run_group_tests_name("envmap, host", host, NULL, NULL);
     return failed + cmocka_run_group_tests_name("envmap, device", device, device_setup, device_teardown);

@@ -191,6 +191,30 @@ static void normal_map_tilts_by_its_angle(void **state)
     }
 }
 
+/* The plane of normal_tilt with its normal map's file missing
+ * (tests/scenes/normal_missing.gltf): the map is left out, so the white
+ * Lambertian plane under the uniform environment 1 shows its albedo, 1, in
+ * every pixel, where a white texel in the map's place would tilt the
+ * normal by some 55 degrees and darken it to about (1 + cos 55°) / 2. */
+static void unreadable_normal_map_leaves_the_plane_flat(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/normal_missing.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    st_image img = render_furnace(s, 16);
+    size_t n = (size_t)img.width * img.height;
+    double mean = 0.0;
+    for (size_t p = 0; p < n; p++)
+        mean += img.data[4 * p + 1] / (double)n;
+    print_message("normal map unreadable: mean %.5f, want 1\n", mean);
+    if (fabs(mean - 1.0) > 0.01)
+        fail_msg("mean %.5f, want 1", mean);
+    st_image_free(&img);
+    st_scene_destroy(s);
+}
+
 /* Every pixel of img equals want to 1e-5. */
 static void assert_every_pixel(const st_image *img, const double want[3], const char *what)
 {
@@ -380,6 +404,7 @@ int main(void)
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(direct_mis_resolves_smooth_metal),
         cmocka_unit_test(normal_map_tilts_by_its_angle),
+        cmocka_unit_test(unreadable_normal_map_leaves_the_plane_flat),
         cmocka_unit_test(tilted_glossy_keeps_its_energy),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
         cmocka_unit_test(unlit_shows_base_colour),

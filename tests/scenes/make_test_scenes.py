@@ -52,6 +52,11 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
               normalTexture of scale 0.5.
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
+normal_missing  normal_tilt with its normal map's file missing.
+glass_panes   a lamp seen through four glass panes (eight interfaces).
+glass_mitsuba_coarse  glass_mitsuba with the spheres of glass_furnace_coarse.
+glass_furnace_coarse  glass_furnace's spheres with 6 rings and 8 segments, smooth
+              normals (far from the facets' at the outline).
 sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
               seen from outside (its fronts face out), KHR_materials_unlit
               (0.3, 0.6, 0.9), doubleSided false / true; camera 0 perspective
@@ -698,6 +703,10 @@ def write_lighting():
                        "normalTexture": {"index": len(g["textures"]) - 1},
                        "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}]
     write_json("normal_tilt.gltf", g)
+    # the same with its normal map's file missing: the map is left out (a
+    # white texel would tilt the normal by some 55 degrees), not made white
+    g["images"][-1] = {"uri": "no_such_normal_map.png"}
+    write_json("normal_missing.gltf", g)
 
     # the quad, white and Lambertian, with COLOR_0 (normalised bytes 128, 64,
     # 255, 255 at every vertex)
@@ -1126,6 +1135,14 @@ def write_glass():
             materials=[glass_material(), glass_material(roughness=0.5)],
             extensionsUsed=GLASS_EXTENSIONS[:1])
     write_json("glass_furnace.gltf", g)
+    # the same two spheres coarse (6 rings, 8 segments) with their smooth
+    # normals: the shading normals stray far from the facets' at the outline
+    b = Blob()
+    spheres = [sphere_prim(b, 0.8, 6, 8), sphere_prim(b, 0.8, 6, 8)]
+    spheres[0]["material"], spheres[1]["material"] = 0, 1
+    g["meshes"] = [{"primitives": [spheres[0]]}, {"primitives": [spheres[1]]}]
+    g["accessors"], g["bufferViews"], g["buffers"] = b.accessors, b.views, b.buffers()
+    write_json("glass_furnace_coarse.gltf", g)
 
     tinted = dict(glass_material(roughness=0.2, base=(0.9, 0.7, 0.3), transmission=0.5),
                   extensions={"KHR_materials_transmission": {"transmissionFactor": 0.5},
@@ -1136,6 +1153,7 @@ def write_glass():
                   extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
                               "KHR_materials_ior": {"ior": 1.33}})
     write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
+    write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, coarse=True))
 
 
 def write_coat():
@@ -1224,13 +1242,15 @@ def write_sheen():
     write_json("sheen.gltf", g)
 
 
-def glass_scene(third, light):
+def glass_scene(third, light, coarse=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
-    a smooth glass sphere, a rough one with absorption and `third`."""
+    a smooth glass sphere, a rough one with absorption and `third` (of 6
+    rings and 8 segments where `coarse`, with smooth normals)."""
     b = Blob()
     lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
     floor, wall, lamp = b.quad(0.0), b.quad(0.0), b.quad(0.0)
-    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45) for _ in range(3)]
+    size = (6, 8) if coarse else (16, 24)
+    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45, *size) for _ in range(3)]
     for k, p in enumerate(prims):
         p["material"] = k
     materials = [
@@ -1434,6 +1454,9 @@ def write_bad():
         g["extensionsUsed"] = g["extensionsRequired"] = ["KHR_draco_mesh_compression"]
         g["accessors"][0]["bufferView"] = 99
     variant("bad_requires_draco.gltf", draco)
+    # occlusionTexture is not read: one warning
+    variant("occlusion.gltf",
+            lambda g: g["materials"][0].update(occlusionTexture={"index": 0}))
     variant("uses_iridescence.gltf",
             lambda g: g.update(extensionsUsed=["KHR_materials_iridescence"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
@@ -1528,6 +1551,86 @@ def write_view_scenes():
                                       extensionsUsed=["KHR_materials_specular"]))
 
 
+def write_glass_panes():
+    """glass_panes: a lamp quad (emission 4) seen head-on through four smooth
+    glass panes (cubes flattened to 0.1 thick) by an orthographic camera: a
+    camera path meets eight glass interfaces before the lamp, so it needs a
+    max depth of 8 at least."""
+    b = Blob()
+    lamp = b.quad(0.0)
+    lamp["material"] = 0
+    pane = cube_prim(b, 1.0)
+    pane["material"] = 1
+    g = doc([{"primitives": [lamp]}, {"primitives": [pane]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0, "translation": [0.0, 0.0, -1.0], "scale": [2.0, 2.0, 1.0]}] +
+                  [{"mesh": 1, "translation": [0.0, 0.0, 0.4 * k], "scale": [1.5, 1.5, 0.05]}
+                   for k in range(4)] + [ortho_camera_node()],
+            scenes=[{"nodes": list(range(6))}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 0.8, "ymag": 0.8,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[{"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                                 "metallicFactor": 0.0},
+                        "emissiveFactor": [1.0, 1.0, 1.0],
+                        "extensions": {"KHR_materials_emissive_strength":
+                                       {"emissiveStrength": 4.0}}},
+                       glass_material()],
+            extensionsUsed=["KHR_materials_transmission", "KHR_materials_emissive_strength"])
+    write_json("glass_panes.gltf", g)
+
+
+def write_dark_views():
+    """Scenes whose own lights carry the power but would leave most of the
+    default view black (st_scene.h ST_ENV_DARK_VIEW), and one they light:
+    lamp_in_glass, a Lambertian floor under a closed smooth glass sphere
+    holding a small lamp (emission 20), which next-event estimation cannot
+    reach; sun_behind, a white quad filling an orthographic view, lit by a
+    directional light from behind; sun_front, the same light from the
+    front."""
+    b = Blob()
+    lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
+    floor, bulb, lamp = b.quad(0.0), sphere_prim(b, 0.45), cube_prim(b, 0.1)
+    for k, p in enumerate((floor, bulb, lamp)):
+        p["material"] = k
+    materials = [
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0},
+         "extensions": lambert},
+        glass_material(),
+        {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+         "emissiveFactor": [1.0, 1.0, 1.0],
+         "extensions": dict(lambert, KHR_materials_emissive_strength={"emissiveStrength": 20.0})}]
+    r90 = [-math.sqrt(0.5), 0.0, 0.0, math.sqrt(0.5)]  # +z normal to +y
+    nodes = [{"mesh": 0, "rotation": r90, "scale": [2.0, 2.0, 1.0]},
+             {"mesh": 1, "translation": [0.0, 0.5, 0.0]},
+             {"mesh": 2, "translation": [0.0, 0.5, 0.0]},
+             {"name": "camera", "camera": 0, "translation": [0.0, 1.2, 4.0],
+              "rotation": [-0.0998, 0.0, 0.0, 0.995]}]
+    write_json("lamp_in_glass.gltf",
+               doc([{"primitives": [p]} for p in (floor, bulb, lamp)], b.accessors, b.views,
+                   b.buffers(), nodes=nodes, scenes=[{"nodes": [0, 1, 2, 3]}],
+                   cameras=[{"type": "perspective", "perspective": {"yfov": 0.7,
+                                                                    "znear": 0.01}}],
+                   materials=materials,
+                   extensionsUsed=["KHR_materials_transmission", "KHR_materials_specular",
+                                   "KHR_materials_emissive_strength"]))
+    for name, rotation in (("sun_behind.gltf", [0.0, 1.0, 0.0, 0.0]),
+                           ("sun_front.gltf", [0.0, 0.0, 0.0, 1.0])):
+        b = Blob()
+        p = b.quad(0.0)
+        p["material"] = 0
+        write_json(name, doc(
+            [{"primitives": [p]}], b.accessors, b.views, b.buffers(),
+            nodes=[{"mesh": 0}, ortho_camera_node(),
+                   {"name": "sun", "rotation": rotation,
+                    "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 0.9, "ymag": 0.9,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[{"pbrMetallicRoughness": {"metallicFactor": 0.0}, "extensions": lambert}],
+            extensions={"KHR_lights_punctual": {"lights": [{"type": "directional",
+                                                             "intensity": 2.0}]}},
+            extensionsUsed=["KHR_lights_punctual", "KHR_materials_specular"]))
+
+
 def main():
     write_layouts()
     write_trs()
@@ -1552,6 +1655,8 @@ def main():
     write_glass()
     write_coat()
     write_sheen()
+    write_dark_views()
+    write_glass_panes()
     write_quantized()
     write_bad()
     write_view_scenes()

@@ -24,6 +24,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "dark_view.h"
 #include "st_render.h"
 #include "st_scene.h"
 
@@ -613,8 +614,10 @@ static void texture_references_follow_the_file(void **state)
  * camera out, and glow_box_one_sided, whose walls it sees through from
  * inside); none where lamps or punctual lights carry at least half
  * (the Cornell box and soft-shadows, strengths 17 and 8; lamp_over_glow,
- * 8 pi of 12 pi; punctual) or where the camera sits inside a closed model
- * (furnace, glow_box). */
+ * 8 pi of 12 pi; punctual; sun_front, its quad lit) or where the camera sits
+ * inside a closed model (furnace, glow_box); dim (0.25) where those lights
+ * leave most of the view dark (sun_behind, lit from behind; lamp_in_glass,
+ * a lamp inside a glass bulb). */
 static void default_environment_follows_the_lights(void **state)
 {
     (void)state;
@@ -635,7 +638,10 @@ static void default_environment_follows_the_lights(void **state)
                  {SCENES "punctual.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
                  {SCENES "glow_box.gltf", 0.0f, ST_ENV_ENCLOSED},
                  {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
-                 {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS}};
+                 {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
+                 {SCENES "sun_front.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
+                 {SCENES "sun_behind.gltf", 0.25f, ST_ENV_DARK_VIEW},
+                 {SCENES "lamp_in_glass.gltf", 0.25f, ST_ENV_DARK_VIEW}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         st_scene *s = load_ok(cases[i].spec);
         near3(s->default_env, cases[i].env, cases[i].env, cases[i].env, 0, cases[i].spec);
@@ -751,7 +757,8 @@ static void malformed_files_return_format_error_naming_file(void **state)
 
 /* An image that cannot be decoded or read is a warning naming it, and a
  * 1 x 1 white texture in its place (the factor alone); an extension that is
- * only used and not implemented is a warning naming it. */
+ * only used and not implemented is a warning naming it; so is
+ * occlusionTexture, which is not read. */
 static void unreadable_images_and_unknown_extensions_warn(void **state)
 {
     (void)state;
@@ -771,8 +778,62 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
         assert_int_equal(s->texels[t->offset], 0xffffffffu);
         st_scene_destroy(s);
     }
-    st_scene *s = load_ok(SCENES "uses_iridescence.gltf");
+    st_scene *s = load_ok(SCENES "occlusion.gltf"); /* one material with occlusionTexture */
+    assert_true(has_warning(s, "occlusionTexture of material 0 is not read (a path tracer "
+                               "finds occlusion itself)"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "textured_quad.gltf"); /* none: no word */
+    assert_false(has_warning(s, "occlusionTexture"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "uses_iridescence.gltf");
     assert_true(has_warning(s, "uses extension KHR_materials_iridescence, which strata ignores"));
+    st_scene_destroy(s);
+}
+
+/* The fraction of the default view no light reaches directly
+ * (dark_view.h), where it is known exactly: sun_front's quad fills the
+ * orthographic view and faces its directional light (0); sun_behind's
+ * faces away from it (1); lamp_in_glass's lamp lies inside a closed glass
+ * bulb, which blocks every shadow ray to it, and the view around the floor
+ * is empty (1). The Cornell box's light reaches most of its view. */
+static void dark_fraction_counts_what_no_light_reaches(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *spec;
+        double lo, hi;
+    } cases[] = {{SCENES "sun_front.gltf", 0.0, 0.0},
+                 {SCENES "sun_behind.gltf", 1.0, 1.0},
+                 {SCENES "lamp_in_glass.gltf", 1.0, 1.0},
+                 {"cornell-box", 0.0, 0.5}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        st_scene *s = load_ok(cases[i].spec);
+        st_error err = {0};
+        double dark = -1.0;
+        assert_int_equal(st_scene_dark_fraction(s, &dark, &err), ST_OK);
+        print_message("%s: dark fraction %.4f\n", cases[i].spec, dark);
+        if (!(dark >= cases[i].lo && dark <= cases[i].hi))
+            fail_msg("%s: dark fraction %g, want [%g, %g]", cases[i].spec, dark, cases[i].lo,
+                     cases[i].hi);
+        st_scene_destroy(s);
+    }
+}
+
+/* A normal map whose image cannot be read is left out, not made white (a
+ * white texel is the normal (1, 1, 1), some 55 degrees off): the material
+ * has no normal texture and the warning says so; no white texture stands
+ * in for it. */
+static void unreadable_normal_map_is_left_out(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "normal_missing.gltf");
+    assert_int_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
+    assert_true(has_warning(s, "material 0: normalTexture: image 3 (no_such_normal_map.png): "
+                               "cannot read it: left out (the vertex normals kept)"));
+    assert_false(has_warning(s, "no_such_normal_map.png): cannot read it: replaced by a white"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "normal_tilt.gltf"); /* the same file with its map readable */
+    assert_int_not_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
     st_scene_destroy(s);
 }
 
@@ -1425,10 +1486,12 @@ int main(void)
         cmocka_unit_test(texcoords_float_u8_u16_read_as_file_says),
         cmocka_unit_test(texture_references_follow_the_file),
         cmocka_unit_test(default_environment_follows_the_lights),
+        cmocka_unit_test(dark_fraction_counts_what_no_light_reaches),
         cmocka_unit_test(builtin_scenes_load_by_name),
         cmocka_unit_test(scene_content_hash_follows_content_not_path),
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
+        cmocka_unit_test(unreadable_normal_map_is_left_out),
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
