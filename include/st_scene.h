@@ -110,7 +110,8 @@ typedef struct st_scene {
     float default_env[3];
     st_env_default env_default;
     /* 1: that environment is the default sky (st_envmap_sky: white above,
-     * a grey ground below) scaled by default_env, where it is on; 0: none */
+     * a grey ground below) scaled by default_env, where it is on; 0: none, or a
+     * uniform one for the built-in scenes, whose figures assume it */
     int default_sky;
     st_u32 warning_count;  /* what was skipped, one line each ("FILE: ...") */
     char **warnings;

@@ -905,7 +905,8 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
         return st_fail(err, ST_ERR_USAGE, "%s: strata reads glTF 2.0 scenes (.gltf, .glb) and "
                        "its built-in scenes (--scene-list), not %s files: convert it to glTF "
                        "first", spec, ext);
-    if (is_builtin_spec(spec) && strcmp(spec, "-") != 0) {
+    int builtin = is_builtin_spec(spec) && strcmp(spec, "-") != 0;
+    if (builtin) {
         const st_embedded_file *e = find_builtin(spec);
         if (!e)
             return unknown_builtin(spec, err);
@@ -925,6 +926,8 @@ st_status st_scene_load(const char *spec, st_scene **out, st_error *err)
     }
     if ((status = build_scene(&g, s, spec, err)) != ST_OK)
         goto done;
+    if (builtin) /* the laboratory's scenes keep the uniform environment their figures assume */
+        s->default_sky = 0;
     *out = s;
     s = NULL;
 done:
