@@ -1,5 +1,6 @@
 /* test_shading.c — the glTF BRDF and normal maps on the device: a white
- * furnace, and a normal-mapped plane against the analytic tilt (below).
+ * furnace, a normal-mapped plane against the analytic tilt, and a clear
+ * coat's own normal map against its highlight (below).
  *
  * A white metal (base colour 1, metallic 1) under a uniform environment of
  * radiance 1, seen head-on (tests/scenes/textured_quad.gltf: a quad filling
@@ -398,6 +399,116 @@ static void alpha_blend_shadow_passes_half(void **state)
     assert_true(fabs(blend - want) <= 0.007);
 }
 
+/* The coat of tests/scenes/coat_normal.gltf (factor 1, roughness 0.5,
+ * Fresnel of ior 1.5) about the normal nc over a white Lambertian base
+ * about N = +z, seen head-on (wo = +z) and lit by a directional light of
+ * irradiance 1 from li: f cos, written out from the specification's
+ * formulas (GGX D, height-correlated Smith V, Schlick's Fresnel at F0 =
+ * 0.04) apart from the kernels. The base under the coat keeps
+ * (1 - Fc(wo.nc)) (1 - Fc(li.nc)) of its albedo / π, and the cosine is
+ * the base's, li.N. */
+static double coat_pixel(const double nc[3], const double li[3])
+{
+    const double pi = 3.14159265358979323846, a2 = 0.0625; /* α = 0.5² */
+    double wo[3] = {0.0, 0.0, 1.0}, h[3], hl = 0.0;
+    for (int k = 0; k < 3; k++)
+        h[k] = wo[k] + li[k], hl += h[k] * h[k];
+    double o = nc[2], i = nc[0] * li[0] + nc[1] * li[1] + nc[2] * li[2];
+    double hn = (h[0] * nc[0] + h[1] * nc[1] + h[2] * nc[2]) / sqrt(hl), oh = h[2] / sqrt(hl);
+    double t = hn * hn * (a2 - 1.0) + 1.0, d = a2 / (pi * t * t);
+    double v = 0.5 / (i * sqrt(o * o + a2 * (1.0 - o * o)) + o * sqrt(i * i + a2 * (1.0 - i * i)));
+    double fo = 0.04 + 0.96 * pow(1.0 - oh, 5.0);
+    double pass = (1.0 - (0.04 + 0.96 * pow(1.0 - o, 5.0))) *
+                  (1.0 - (0.04 + 0.96 * pow(1.0 - i, 5.0)));
+    return (pass / pi + fo * d * v) * li[2];
+}
+
+/* The mean of channel 0 of s lit by its own lights alone (no environment). */
+static double own_light_mean(const st_scene *s)
+{
+    st_render_options o = st_render_defaults();
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = 0.0f;
+    o.width = 16;
+    o.height = 12;
+    o.spp = 4;
+    o.seed = 5;
+    st_error err = {0};
+    st_renderer *r = NULL;
+    st_image img = {0};
+    if (st_renderer_create(dev, s, &r, &err) ||
+        st_render(r, &o, &img, NULL, NULL, NULL, NULL, &err))
+        fail_msg("render: %s", err.msg);
+    st_renderer_destroy(r);
+    size_t n = (size_t)img.width * img.height;
+    double mean = 0.0;
+    for (size_t p = 0; p < n; p++)
+        mean += img.data[4 * p] / (double)n;
+    st_image_free(&img);
+    return mean;
+}
+
+/* clearcoatNormalTexture (tests/scenes/coat_normal.gltf): the coat's map
+ * (normal_tilt's texel at scale 1/3) tilts the coat's normal by some 30
+ * degrees towards the tangent, and the light stands at the view's mirror
+ * direction about it, so the coat's highlight peaks in every pixel. The
+ * render matches coat_pixel about the tilted coat normal over the flat
+ * base, and neither a coat without its map nor a base that took the map
+ * too would (their values are printed beside it). */
+static void coat_normal_map_tilts_the_coat_alone(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/coat_normal.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_int_not_equal(s->materials[0].clearcoat_normal_tex, ST_NO_TEXTURE);
+    assert_int_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
+    assert_int_equal(s->punctual_count, 1);
+    double li[3], w = s->tangents[3]; /* the first vertex's handedness */
+    for (int k = 0; k < 3; k++)
+        li[k] = -s->punctual[0].dir[k];
+    /* the map's texel (bytes 238, 128, 191) at scale 1/3 in the frame
+     * tangent +x, bitangent w (+z x +x) = w +y, normal +z */
+    double nc[3] = {(238.0 / 255.0 * 2.0 - 1.0) / 3.0, w * (128.0 / 255.0 * 2.0 - 1.0) / 3.0,
+                    191.0 / 255.0 * 2.0 - 1.0};
+    double len = sqrt(nc[0] * nc[0] + nc[1] * nc[1] + nc[2] * nc[2]);
+    for (int k = 0; k < 3; k++)
+        nc[k] /= len;
+    const double flat[3] = {0.0, 0.0, 1.0};
+    double want = coat_pixel(nc, li), untilted = coat_pixel(flat, li);
+    double both = coat_pixel(nc, li) / li[2] * (nc[0] * li[0] + nc[1] * li[1] + nc[2] * li[2]);
+    double mean = own_light_mean(s);
+    print_message("coat normal map: mean %.6f, want %.6f (coat untilted %.6f, base tilted too "
+                  "%.6f)\n", mean, want, untilted, both);
+    assert_true(fabs(want - untilted) > 0.05 * want && fabs(want - both) > 0.05 * want);
+    if (fabs(mean - want) > 2e-4 * want)
+        fail_msg("mean %.6f, want %.6f", mean, want);
+    st_scene_destroy(s);
+}
+
+/* coat_normal with the coat's map's file missing: the map is left out
+ * (not a white texel, which would tilt the coat by some 55 degrees), so
+ * the plane shows the untilted coat's value. */
+static void unreadable_coat_normal_map_is_left_out(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/coat_normal_missing.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_int_equal(s->materials[0].clearcoat_normal_tex, ST_NO_TEXTURE);
+    double li[3];
+    for (int k = 0; k < 3; k++)
+        li[k] = -s->punctual[0].dir[k];
+    const double flat[3] = {0.0, 0.0, 1.0};
+    double want = coat_pixel(flat, li), mean = own_light_mean(s);
+    print_message("coat normal map unreadable: mean %.6f, want %.6f\n", mean, want);
+    if (fabs(mean - want) > 2e-4 * want)
+        fail_msg("mean %.6f, want %.6f", mean, want);
+    st_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
@@ -405,6 +516,8 @@ int main(void)
         cmocka_unit_test(direct_mis_resolves_smooth_metal),
         cmocka_unit_test(normal_map_tilts_by_its_angle),
         cmocka_unit_test(unreadable_normal_map_leaves_the_plane_flat),
+        cmocka_unit_test(coat_normal_map_tilts_the_coat_alone),
+        cmocka_unit_test(unreadable_coat_normal_map_is_left_out),
         cmocka_unit_test(tilted_glossy_keeps_its_energy),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
         cmocka_unit_test(unlit_shows_base_colour),

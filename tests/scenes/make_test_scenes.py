@@ -53,6 +53,10 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 normal_missing  normal_tilt with its normal map's file missing.
+coat_normal   normal_tilt's map at scale 1/3 as the clearcoatNormalTexture of a
+              rough clear coat over the white plane, lit by a directional
+              light at the view's mirror direction about the coat's normal;
+              coat_normal_missing, the same with that map's file missing.
 glass_panes   a lamp seen through four glass panes (eight interfaces).
 glass_mitsuba_coarse  glass_mitsuba with the spheres of glass_furnace_coarse.
 glass_furnace_coarse  glass_furnace's spheres with 6 rings and 8 segments, smooth
@@ -707,6 +711,32 @@ def write_lighting():
     # white texel would tilt the normal by some 55 degrees), not made white
     g["images"][-1] = {"uri": "no_such_normal_map.png"}
     write_json("normal_missing.gltf", g)
+    # normal_tilt's map (scale 1/3: some 30 degrees) moved to a clear coat
+    # (factor 1, roughness 0.5) over the white Lambertian plane, lit by a
+    # directional light of irradiance 1 from the coat normal's mirror
+    # direction of the view (the tilt's y ignored): the coat's highlight
+    # peaks there, the base keeps the plane's normal
+    g["images"][-1] = {"uri": png_uri(constant_png((238, 128, 191)))}
+    tilt = math.atan2((238 / 255 * 2 - 1) / 3, 191 / 255 * 2 - 1)
+    g["materials"] = [{"name": "coat_tilted", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                       "extensions": {
+                           "KHR_materials_specular": {"specularFactor": 0.0},
+                           "KHR_materials_clearcoat": {
+                               "clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5,
+                               "clearcoatNormalTexture": {"index": len(g["textures"]) - 1,
+                                                          "scale": 1.0 / 3.0}}}}]
+    g["nodes"].append({"name": "sun", "rotation": [0.0, math.sin(tilt), 0.0, math.cos(tilt)],
+                       "extensions": {"KHR_lights_punctual": {"light": 0}}})
+    g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+    g["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "directional",
+                                                            "intensity": 1.0}]}}
+    g["extensionsUsed"] = sorted(set(g.get("extensionsUsed", [])) |
+                                 {"KHR_lights_punctual", "KHR_materials_clearcoat",
+                                  "KHR_materials_specular"})
+    write_json("coat_normal.gltf", g)
+    # the same with the coat's normal map's file missing: left out
+    g["images"][-1] = {"uri": "no_such_coat_normal_map.png"}
+    write_json("coat_normal_missing.gltf", g)
 
     # the quad, white and Lambertian, with COLOR_0 (normalised bytes 128, 64,
     # 255, 255 at every vertex)

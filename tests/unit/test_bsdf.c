@@ -158,7 +158,7 @@ static void albedo_matches_quadrature(void **state)
 {
     (void)state;
     const float params[][4] = {/* base, metallic, roughness, specular */
-                               {0.8f, 0.0f, 1.0f, 1.0f}, {0.8f, 0.0f, 0.5f, 1.0f},
+                                {0.8f, 0.0f, 1.0f, 1.0f}, {0.8f, 0.0f, 0.5f, 1.0f},
                                {0.5f, 1.0f, 0.6f, 1.0f}, {0.9f, 0.5f, 0.4f, 0.7f},
                                {0.2f, 0.0f, 0.3f, 1.0f}};
     const double zs[] = {0.95, 0.5, 0.15};
@@ -309,7 +309,8 @@ static st_brdf glass(float c, float m, float r, float tr, float eta, st_dielectr
 /* Monte Carlo energy of the material towards wo: E[f |cos| / pdf] over the
  * whole sphere, the transmitted samples times η² (the radiance BTDF's
  * 1 / η² undone: what is left is the share of power that goes on). */
-static const st_coat no_coat = {0.0f, 0.5f};
+static const st_coat no_coat = {0.0f, 0.5f, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f},
+                                {0.0f, 0.0f, 1.0f}};
 static const st_sheen no_sheen = {{0.0f, 0.0f, 0.0f}, 0.0f, 0.5f, 0.25f};
 
 /* ... of channel `ch` under a sheen and a coat. */
@@ -425,7 +426,8 @@ static st_dir mirror(st_dir w)
     return m;
 }
 
-/* Reciprocity, bare and under a clear coat and a sheen: reflections f(wo, wi) =
+/* Reciprocity, bare and under a clear coat (tilted by its own normal map
+ * or not) and a sheen: reflections f(wo, wi) =
  * f(wi, wo); refractions, the generalised form f(wo, wi) / η(wo)² = f(wi, wo) / η(wi)², i.e. with wo's
  * side at 1, f(wo, wi; η) = f(mirror wi, mirror wo; 1 / η) / η². */
 static void dielectric_is_reciprocal(void **state)
@@ -447,6 +449,9 @@ static void dielectric_is_reciprocal(void **state)
         /* and a third under a sheen (bsdf_sheen.h) */
         const float sc[3] = {(float)next_unit(&s), (float)next_unit(&s), (float)next_unit(&s)};
         st_sheen sh = i % 3 ? no_sheen : st_sheen_make(sc, (float)next_unit(&s));
+        /* and, for reflections, a quarter about a tilted coat normal */
+        if (i % 4 == 1 && wi.z > 0.0f)
+            st_coat_tilt(&cc, dir_from(0.3 + 0.7 * next_unit(&s), 2 * PI * next_unit(&s)));
         float f[3], g[3];
         st_coated_sheened_eval(&b, &d, &sh, &cc, wo, wi, f);
         if (wi.z > 0.0f) {
@@ -480,7 +485,8 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_shee
 }
 
 /* Chi-square of st_coated_sample against st_coated_pdf (bare, coated,
- * sheened, with and without transmission) over the sphere: SZ x
+ * the coat about its own normal or not, sheened, with and without
+ * transmission) over the sphere: SZ x
  * SPHI bins of equal solid angle in (cos θ in [-1, 1], φ), expected counts
  * from the pdf by SQ x SQ midpoint quadrature inside each bin (the refracted
  * peak is narrow), one more bin
@@ -493,18 +499,21 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_shee
 static void transmission_sampler_passes_chi_square(void **state)
 {
     (void)state;
-    const float params[][9] = {/* base, metallic, roughness, transmission, η, coat, its
-                                  roughness, sheen colour, sheen roughness */
-                               {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {0.9f, 0.0f, 0.8f, 1.0f, 2.0f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f, 0.0f, 0.0f},
-                               {0.6f, 1.0f, 0.5f, 0.0f, 1.5f, 0.7f, 0.4f, 0.0f, 0.0f},
-                               {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.5f, 0.0f, 0.0f},
-                               {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 0.0f, 0.0f, 1.0f, 0.5f},
-                               {0.5f, 1.0f, 0.3f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.2f},
-                               {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.6f, 0.3f, 0.8f, 0.9f}};
+    const float params[][10] = {/* base, metallic, roughness, transmission, η, coat, its
+                                   roughness, sheen colour, sheen roughness, the coat's
+                                   normal's z (tilted towards φ = 1: st_coat_tilt) */
+                                {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f},
+                                {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f},
+                                {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f},
+                                {0.9f, 0.0f, 0.8f, 1.0f, 2.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f},
+                                {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f, 0.0f, 0.0f, 1.0f},
+                                {0.6f, 1.0f, 0.5f, 0.0f, 1.5f, 0.7f, 0.4f, 0.0f, 0.0f, 1.0f},
+                                {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.5f, 0.0f, 0.0f, 1.0f},
+                                {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 0.0f, 0.0f, 1.0f, 0.5f, 1.0f},
+                                {0.5f, 1.0f, 0.3f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.2f, 1.0f},
+                                {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.6f, 0.3f, 0.8f, 0.9f, 1.0f},
+                                {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f, 0.0f, 0.0f, 0.8f},
+                                {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.2f, 0.0f, 0.0f, 0.9f}};
     const int nmat = (int)(sizeof params / sizeof params[0]);
     const double zs[] = {0.9, 0.35};
     const int n = 1000000;
@@ -515,6 +524,8 @@ static void transmission_sampler_passes_chi_square(void **state)
             st_brdf b = glass(params[p][0], params[p][1], params[p][2], params[p][3],
                               params[p][4], &d);
             st_coat cc = st_coat_make(params[p][5], params[p][6]);
+            if (params[p][9] < 1.0f)
+                st_coat_tilt(&cc, dir_from(params[p][9], 1.0));
             const float sc[3] = {params[p][7], 0.8f * params[p][7], 0.5f * params[p][7]};
             st_sheen sh = st_sheen_make(sc, params[p][8]);
             st_dir wo = dir_from(zs[k], 0.5);
