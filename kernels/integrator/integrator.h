@@ -567,12 +567,12 @@ ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
- * transmission > 0: vertex_gather), the clear coat where coat_bits' is
- * (about its own normal where cmapped's is) and the sheen where
- * sheen_bits' is. */
+ * transmission > 0: vertex_gather; thin-walled where thin_bits' is), the
+ * clear coat where coat_bits' is (about its own normal where cmapped's is)
+ * and the sheen where sheen_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_u32 trans_bits, st_u32 coat_bits, st_u32 cmapped,
-                                st_u32 sheen_bits,
+                                st_u32 trans_bits, st_u32 thin_bits, st_u32 coat_bits,
+                                st_u32 cmapped, st_u32 sheen_bits,
                                 const st_sheen_in *shn, st_layers *lay, st_li miss,
                                 const st_shading *sh, st_lf *cos_o)
 {
@@ -605,7 +605,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
         if (v.layer_bits) { /* entering where the ray meets the front */
-            lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
+            lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f,
+                                           ST_BITS_MASK(ST_W, thin_bits));
             lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
             if (cmapped)
                 coat_normal(s, l, cmapped, &v, &lay->coat);

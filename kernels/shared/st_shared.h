@@ -276,6 +276,7 @@ typedef struct st_tri_normals {
 #define ST_MAT_DOUBLE_SIDED 4u /* glTF doubleSided: its triangles are hit from both sides */
 #define ST_MAT_SHEEN 8u        /* KHR_materials_sheen with a sheen colour other than black */
 #define ST_MAT_TEXTURED 16u    /* some factor that material_at reads has a texture */
+#define ST_MAT_THIN 32u        /* transmission without KHR_materials_volume: thin-walled */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its

@@ -94,7 +94,9 @@ static void ext_numbers(const tinygltf::Value &obj, const char *key, int n, floa
 /* KHR_materials_transmission (transmissionFactor 0, transmissionTexture's R)
  * and KHR_materials_volume's attenuation (attenuationColor 1,
  * attenuationDistance +infinity) of material i. The volume's thickness is
- * a rasteriser's stand-in for the geometry a path tracer follows: unused. */
+ * a rasteriser's stand-in for the geometry a path tracer follows: unused.
+ * Transmission without a volume is thin-walled (the specification's
+ * default): the surface bounds no interior. */
 static void read_transmission_volume(const Model &m, size_t i, texture_table &table, notes &warn,
                                      st_gltf_material &o)
 {
@@ -102,6 +104,7 @@ static void read_transmission_volume(const Model &m, size_t i, texture_table &ta
     char what[64];
     o.transmission = 0.0f;
     o.transmission_tex = -1;
+    o.thin_walled = 0;
     o.attenuation[0] = o.attenuation[1] = o.attenuation[2] = 1.0f;
     o.attenuation[3] = INFINITY;
     auto tr = exts.find("KHR_materials_transmission");
@@ -115,6 +118,7 @@ static void read_transmission_volume(const Model &m, size_t i, texture_table &ta
                                          false, i, "transmissionTexture", table, warn);
     }
     auto vol = exts.find("KHR_materials_volume");
+    o.thin_walled = tr != exts.end() && vol == exts.end();
     if (vol != exts.end()) {
         snprintf(what, sizeof what, "material %zu: KHR_materials_volume", i);
         ext_numbers(vol->second, "attenuationColor", 3, o.attenuation, what);

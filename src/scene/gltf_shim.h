@@ -68,6 +68,7 @@ typedef struct st_gltf_material {
     float normal_scale;    /* normalTexture.scale, 1 by default */
     float transmission;    /* KHR_materials_transmission's transmissionFactor, 0 by default */
     int transmission_tex;  /* its transmissionTexture (R) */
+    int thin_walled;       /* transmission without KHR_materials_volume (no interior) */
     float attenuation[4];  /* KHR_materials_volume: attenuationColor RGB (1) and
                               attenuationDistance (+infinity) */
     float clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors (0, 0) */

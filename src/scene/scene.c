@@ -523,6 +523,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
             m->flags |= ST_MAT_SHEEN; /* a black sheen colour turns the layer off */
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
+        if (in->thin_walled && in->transmission > 0.0f)
+            m->flags |= ST_MAT_THIN;
         for (int k = 0; k < 3; k++) /* Beer-Lambert: attenuationColor after attenuationDistance */
             m->absorption[k] = isinf(in->attenuation[3]) || in->attenuation[k] >= 1.0f
                                    ? 0.0f

@@ -423,15 +423,16 @@ static double coat_pixel(const double nc[3], const double li[3])
     return (pass / pi + fo * d * v) * li[2];
 }
 
-/* The mean of channel 0 of s lit by its own lights alone (no environment). */
-static double own_light_mean(const st_scene *s)
+/* The mean of each channel of s in the uniform environment env (0: lit by
+ * its own lights alone), in mean[3]. */
+static void view_means(const st_scene *s, float env, double mean[3])
 {
     st_render_options o = st_render_defaults();
     o.env_given = 1;
-    o.env[0] = o.env[1] = o.env[2] = 0.0f;
+    o.env[0] = o.env[1] = o.env[2] = env;
     o.width = 16;
     o.height = 12;
-    o.spp = 4;
+    o.spp = 16;
     o.seed = 5;
     st_error err = {0};
     st_renderer *r = NULL;
@@ -441,11 +442,19 @@ static double own_light_mean(const st_scene *s)
         fail_msg("render: %s", err.msg);
     st_renderer_destroy(r);
     size_t n = (size_t)img.width * img.height;
-    double mean = 0.0;
-    for (size_t p = 0; p < n; p++)
-        mean += img.data[4 * p] / (double)n;
+    for (int k = 0; k < 3; k++) {
+        mean[k] = 0.0;
+        for (size_t p = 0; p < n; p++)
+            mean[k] += img.data[4 * p + k] / (double)n;
+    }
     st_image_free(&img);
-    return mean;
+}
+
+static double own_light_mean(const st_scene *s)
+{
+    double mean[3];
+    view_means(s, 0.0f, mean);
+    return mean[0];
 }
 
 /* clearcoatNormalTexture (tests/scenes/coat_normal.gltf): the coat's map
@@ -509,6 +518,66 @@ static void unreadable_coat_normal_map_is_left_out(void **state)
     st_scene_destroy(s);
 }
 
+/* A thin wall's reflectance at normal incidence: one face's Fresnel R =
+ * ((ior - 1) / (ior + 1))², summed over the light that bounces between
+ * the two faces, R' = R + (1 - R)² R / (1 - R²) = 2 R / (1 + R). */
+static double thin_reflectance(double ior)
+{
+    double r = (ior - 1.0) / (ior + 1.0);
+    return 2.0 * r * r / (1.0 + r * r);
+}
+
+/* Thin-walled transmission (tests/scenes/thin_pane.gltf: a smooth quad of
+ * transmission 1, ior 1.5, base colour (0.9, 0.7, 0.3), no
+ * KHR_materials_volume, before a lamp of radiance 1): the camera sees the
+ * lamp straight through, (1 - R') x base colour in each channel; no
+ * refraction into an interior (which would give (1 - R) c / 1.5²). */
+static void thin_pane_passes_the_lamp_straight_through(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/thin_pane.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_true(s->materials[1].flags & ST_MAT_THIN);
+    const double c[3] = {0.9, 0.7, 0.3}, t = 1.0 - thin_reflectance(1.5);
+    double mean[3];
+    view_means(s, 0.0f, mean);
+    for (int k = 0; k < 3; k++) {
+        print_message("thin pane, channel %d: mean %.6f, want %.6f\n", k, mean[k], t * c[k]);
+        if (fabs(mean[k] - t * c[k]) > 1e-3 * c[k])
+            fail_msg("channel %d: mean %.6f, want %.6f", k, mean[k], t * c[k]);
+    }
+    st_scene_destroy(s);
+}
+
+/* A white thin pane in a white furnace (tests/scenes/thin_pane_white.gltf,
+ * environment 1, seen head-on): smooth, what it reflects and what it
+ * passes add up to 1 (R' + T' = 1, the slab absorbs nothing); rough (0.3,
+ * 0.7), R' and T' share one GGX lobe, the transmission its mirror image,
+ * so together they keep what a white metal's lobe keeps at normal
+ * incidence (albedo_head_on, by quadrature). */
+static void thin_pane_keeps_the_furnace_energy(void **state)
+{
+    (void)state;
+    const float rough[] = {0.0f, 0.3f, 0.7f};
+    for (int j = 0; j < 3; j++) {
+        st_error err = {0};
+        st_scene *s = NULL;
+        if (st_scene_load("tests/scenes/thin_pane_white.gltf", &s, &err) != ST_OK)
+            fail_msg("load: %s", err.msg);
+        s->materials[1].roughness = rough[j];
+        double mean[3];
+        view_means(s, 1.0f, mean);
+        double want = rough[j] == 0.0f ? 1.0 : albedo_head_on(rough[j]);
+        print_message("white thin pane, roughness %.1f: mean %.6f, want %.6f\n", rough[j],
+                      mean[0], want);
+        if (fabs(mean[0] - want) > 2e-3)
+            fail_msg("roughness %g: mean %.6f, want %.6f", rough[j], mean[0], want);
+        st_scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
@@ -518,6 +587,8 @@ int main(void)
         cmocka_unit_test(unreadable_normal_map_leaves_the_plane_flat),
         cmocka_unit_test(coat_normal_map_tilts_the_coat_alone),
         cmocka_unit_test(unreadable_coat_normal_map_is_left_out),
+        cmocka_unit_test(thin_pane_passes_the_lamp_straight_through),
+        cmocka_unit_test(thin_pane_keeps_the_furnace_energy),
         cmocka_unit_test(tilted_glossy_keeps_its_energy),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
         cmocka_unit_test(unlit_shows_base_colour),

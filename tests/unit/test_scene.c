@@ -850,6 +850,31 @@ static void unreadable_normal_map_is_left_out(void **state)
     st_scene_destroy(s);
 }
 
+/* KHR_materials_transmission without KHR_materials_volume is thin-walled
+ * (ST_MAT_THIN: tests/scenes/thin_pane.gltf's pane), with a volume a
+ * solid (glass_slab.gltf, whose volume absorbs, and glass.gltf, whose
+ * volume only has a thickness); a material without transmission is
+ * neither (the lamp). */
+static void transmission_without_volume_is_thin(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "thin_pane.gltf");
+    assert_false(s->materials[0].flags & ST_MAT_THIN);
+    assert_true(s->materials[1].flags & ST_MAT_THIN);
+    st_scene_destroy(s);
+    const char *solid[] = {SCENES "glass_slab.gltf", SCENES "glass.gltf"};
+    for (int k = 0; k < 2; k++) {
+        s = load_ok(solid[k]);
+        int glass = 0;
+        for (st_u32 i = 0; i < s->material_count; i++) {
+            glass += s->materials[i].transmission > 0.0f;
+            assert_false(s->materials[i].flags & ST_MAT_THIN);
+        }
+        assert_true(glass > 0);
+        st_scene_destroy(s);
+    }
+}
+
 /* KHR_materials_sheen's factors and textures as the specification names
  * them (tests/scenes/sheen_quad.gltf): sheenColorTexture decoded as sRGB,
  * sheenRoughnessTexture read linear, ST_MAT_SHEEN where the colour is not
@@ -1505,6 +1530,7 @@ int main(void)
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(unreadable_normal_map_is_left_out),
+        cmocka_unit_test(transmission_without_volume_is_thin),
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
