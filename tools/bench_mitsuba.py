@@ -82,7 +82,8 @@ def write_ply(path, triangles, normals=None):
 
 def glass_dict(m, rgb):
     """KHR_materials_transmission at factor 1 on a dielectric (metallic 0)
-    as Mitsuba's `dielectric` (roughness 0) or `roughdielectric` (GGX, alpha
+    as Mitsuba's `thindielectric` without KHR_materials_volume (thin-walled,
+    smooth only), else `dielectric` (roughness 0) or `roughdielectric` (GGX, alpha
     roughness², visible normals), the ior of KHR_materials_ior (1.5), the
     base colour as the transmittance; KHR_materials_volume's attenuation as
     a purely absorbing `homogeneous` medium inside (sigma_t = -ln(colour) /
@@ -93,6 +94,13 @@ def glass_dict(m, rgb):
             pbr.get("metallicFactor", 1.0) != 0.0:
         sys.exit("bench_mitsuba: only transmissionFactor 1 on metallic 0 has a Mitsuba match")
     r = pbr.get("roughnessFactor", 1.0)
+    if "KHR_materials_volume" not in ext:  # thin-walled: Mitsuba's thindielectric
+        if r > 0.0:
+            sys.exit("bench_mitsuba: Mitsuba has no rough thin dielectric")
+        return {"bsdf": {"type": "thindielectric",
+                         "int_ior": ext.get("KHR_materials_ior", {}).get("ior", 1.5),
+                         "ext_ior": 1.0,
+                         "specular_transmittance": {"type": "rgb", "value": rgb}}}
     bsdf = {"type": "dielectric" if r == 0.0 else "roughdielectric",
             "int_ior": ext.get("KHR_materials_ior", {}).get("ior", 1.5), "ext_ior": 1.0,
             "specular_transmittance": {"type": "rgb", "value": rgb}}

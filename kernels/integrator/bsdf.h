@@ -233,16 +233,14 @@ ST_FN st_lf st_power_heuristic(st_lf a, st_lf b)
     return a * a / (a * a + b * b);
 }
 
-#ifdef __OPENCL_VERSION__
 /* Orthonormal basis around n in lanes (Duff et al., "Building an
  * Orthonormal Basis, Revisited", JCGT 6(1), 2017). */
-ST_HOT void st_basis(st_lv3 n, st_lv3 *t, st_lv3 *b)
+ST_FN void st_basis(st_lv3 n, st_lv3 *t, st_lv3 *b)
 {
     st_lf s = ST_SELECT(ST_W, ST_LF(-1.0f), ST_LF(1.0f), n.z >= 0.0f);
     st_lf a = -1.0f / (s + n.z), c = n.x * n.y * a;
     *t = st_lv3_make(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
     *b = st_lv3_make(c, s + n.y * n.y * a, -n.y);
 }
-#endif
 
 #endif

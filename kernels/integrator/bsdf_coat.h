@@ -16,7 +16,11 @@
  * wi, and D_c, V_c bsdf.h's GGX terms at α_c = clearcoatRoughness² (x
  * texture G). Each factor is symmetric in wo and wi, so the base's
  * reciprocity (and a refraction's generalised one) holds under the coat.
- * The coat shares the shading normal (clearcoatNormalTexture is not read).
+ * The coat's lobe and Fresnel are taken about its own normal (from
+ * clearcoatNormalTexture; the base's shading normal without one), given
+ * in the base's shading frame (st_coat_tilt): wo and wi turn into the
+ * coat's frame for them, while the base keeps its frame and cosines. A
+ * direction must lie above both surfaces, the coat's and the base's.
  *
  * Sampling: the coat's visible normals (reflected) with probability
  * st_coat_prob (w x its Fresnel towards wo, lifted so that its sharp lobe
@@ -29,6 +33,7 @@
 typedef struct st_coat {
     st_lf weight; /* clearcoat factor x texture, in [0, 1] */
     st_lf alpha;  /* (clearcoatRoughness x texture)², at least bsdf.h's least α */
+    st_lv3 tu, tv, n; /* the coat's frame in the base's shading frame */
 } st_coat;
 
 ST_FN st_coat st_coat_make(st_lf factor, st_lf roughness)
@@ -37,7 +42,30 @@ ST_FN st_coat st_coat_make(st_lf factor, st_lf roughness)
     st_lf r = st_clamp01(roughness);
     c.weight = st_clamp01(factor);
     c.alpha = ST_FMAXF(r * r, ST_BRDF_MIN_ALPHA);
+    c.tu = st_lv3_make(ST_LF(1.0f), ST_LF(0.0f), ST_LF(0.0f));
+    c.tv = st_lv3_make(ST_LF(0.0f), ST_LF(1.0f), ST_LF(0.0f));
+    c.n = st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(1.0f));
     return c;
+}
+
+/* The coat's normal n (unit, n.z > 0) in the base's shading frame. */
+ST_FN void st_coat_tilt(st_coat *c, st_dir n)
+{
+    c->n = n;
+    st_basis(n, &c->tu, &c->tv);
+}
+
+/* w (in the base's frame) in the coat's frame, and back. */
+ST_FN st_dir st_coat_in(const st_coat *c, st_dir w)
+{
+    return st_lv3_make(st_lv3_dot(w, c->tu), st_lv3_dot(w, c->tv), st_lv3_dot(w, c->n));
+}
+
+ST_FN st_dir st_coat_out(const st_coat *c, st_dir w)
+{
+    return st_lv3_make(w.x * c->tu.x + w.y * c->tv.x + w.z * c->n.x,
+                       w.x * c->tu.y + w.y * c->tv.y + w.z * c->n.y,
+                       w.x * c->tu.z + w.y * c->tv.z + w.z * c->n.z);
 }
 
 /* The coat's Schlick Fresnel at cosine x (ior 1.5: F0 = 0.04, F90 = 1). */
@@ -49,31 +77,44 @@ ST_FN st_lf st_coat_fresnel(st_lf x)
 /* What the coat passes of the base's f(wo, wi). */
 ST_FN st_lf st_coat_pass(const st_coat *c, st_dir wo, st_dir wi)
 {
-    return (1.0f - c->weight * st_coat_fresnel(ST_FABSF(wo.z))) *
-           (1.0f - c->weight * st_coat_fresnel(ST_FABSF(wi.z)));
+    return (1.0f - c->weight * st_coat_fresnel(ST_FABSF(st_lv3_dot(wo, c->n)))) *
+           (1.0f - c->weight * st_coat_fresnel(ST_FABSF(st_lv3_dot(wi, c->n))));
 }
 
 /* The coat's own reflection w Fc(wo.h) D_c V_c (0 unless both above). */
 ST_FN st_lf st_coat_eval(const st_coat *c, st_dir wo, st_dir wi)
 {
-    st_dir h = st_half_vector(wo, wi);
-    st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
-    st_lf f = c->weight * st_coat_fresnel(oh) * st_ggx_d(c->alpha, h) * st_ggx_v(c->alpha, wo, wi);
-    return ST_SELECT(ST_W, ST_LF(0.0f), f, wo.z > 0.0f && wi.z > 0.0f);
+    st_dir o = st_coat_in(c, wo), i = st_coat_in(c, wi);
+    st_dir h = st_half_vector(o, i);
+    st_lf oh = o.x * h.x + o.y * h.y + o.z * h.z;
+    st_lf f = c->weight * st_coat_fresnel(oh) * st_ggx_d(c->alpha, h) * st_ggx_v(c->alpha, o, i);
+    return ST_SELECT(ST_W, ST_LF(0.0f), f, o.z > 0.0f && i.z > 0.0f && wo.z > 0.0f && wi.z > 0.0f);
 }
 
 /* The probability of sampling the coat towards wo. */
 ST_FN st_lf st_coat_prob(const st_coat *c, st_dir wo)
 {
-    return ST_FMINF(c->weight * (0.2f + 0.8f * st_coat_fresnel(wo.z)), 0.9f);
+    return ST_FMINF(c->weight * (0.2f + 0.8f * st_coat_fresnel(st_lv3_dot(wo, c->n))), 0.9f);
 }
 
 /* The coat lobe's own density: its visible normals reflected. */
 ST_FN st_lf st_coat_lobe_pdf(const st_coat *c, st_dir wo, st_dir wi)
 {
-    st_dir h = st_half_vector(wo, wi);
-    st_lf p = st_ggx_g1(c->alpha, wo) * st_ggx_d(c->alpha, h) / (4.0f * wo.z);
-    return ST_SELECT(ST_W, ST_LF(0.0f), p, wo.z > 0.0f && wi.z > 0.0f);
+    st_dir o = st_coat_in(c, wo), i = st_coat_in(c, wi);
+    st_dir h = st_half_vector(o, i);
+    st_lf p = st_ggx_g1(c->alpha, o) * st_ggx_d(c->alpha, h) / (4.0f * o.z);
+    return ST_SELECT(ST_W, ST_LF(0.0f), p, o.z > 0.0f && i.z > 0.0f && wo.z > 0.0f && wi.z > 0.0f);
+}
+
+/* A direction from the coat's visible normals (u1 in [0, 1)), reflected;
+ * (0, 0, 0) where it falls below either surface (lost, as the base's). */
+ST_FN st_dir st_coat_reflect(const st_coat *c, st_dir wo, st_lf u1, st_lf u2)
+{
+    st_dir o = st_coat_in(c, wo);
+    st_dir h = st_ggx_visible_normal(c->alpha, o, u1, u2);
+    st_dir r = st_reflect(o, h), w = st_coat_out(c, r);
+    st_li lost = r.z <= 0.0f || w.z <= 0.0f;
+    return st_lv3_select(w, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), lost);
 }
 
 /* ---- the coated material: the coat over bsdf_dielectric.h's whole, or
@@ -108,12 +149,8 @@ ST_FN st_dir st_coat_pick(const st_coat *c, st_dir wo, st_lf u1, st_lf u2, st_di
     st_lf p = st_coat_prob(c, wo);
     st_li coat = u1 < p;
     st_dir wi = base;
-    if (ST_ANY(ST_W, coat)) {
-        st_dir h = st_ggx_visible_normal(c->alpha, wo, ST_FMINF(u1 / p, 0.99999994f), u2);
-        st_dir r = st_reflect(wo, h);
-        r = st_lv3_select(r, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), r.z <= 0.0f);
-        wi = st_lv3_select(wi, r, coat);
-    }
+    if (ST_ANY(ST_W, coat))
+        wi = st_lv3_select(wi, st_coat_reflect(c, wo, ST_FMINF(u1 / p, 0.99999994f), u2), coat);
     return wi;
 }
 
@@ -144,12 +181,8 @@ ST_FN st_dir st_coated_sample(const st_brdf *b, const st_dielectric *d, const st
     st_dir wi = wo;
     if (ST_ANY(ST_W, !coat))
         wi = st_bsdf_sample(b, d, wo, ST_FMINF((u1 - p) / (1.0f - p), 0.99999994f), u2, u3);
-    if (ST_ANY(ST_W, coat)) {
-        st_dir h = st_ggx_visible_normal(c->alpha, wo, ST_FMINF(u1 / p, 0.99999994f), u2);
-        st_dir r = st_reflect(wo, h);
-        r = st_lv3_select(r, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), r.z <= 0.0f);
-        wi = st_lv3_select(wi, r, coat);
-    }
+    if (ST_ANY(ST_W, coat))
+        wi = st_lv3_select(wi, st_coat_reflect(c, wo, ST_FMINF(u1 / p, 0.99999994f), u2), coat);
     return wi;
 }
 

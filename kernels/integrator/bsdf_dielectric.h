@@ -26,6 +26,20 @@
  * dimension, u3); pdf G1(wo) D(h) (wo.h) / wo.z x F / (4 wo.h) or
  * x (1 - F) η² |wi.h| / (wo.h + η wi.h)². A smooth surface is GGX at
  * bsdf.h's least α, as for the opaque lobes: no delta lobe to special-case.
+ *
+ * Thin-walled (KHR_materials_transmission without KHR_materials_volume:
+ * the surface bounds no interior): light crosses the surface and goes on
+ * in its direction. A transmitted direction is the reflection about the
+ * microfacet normal mirrored through the surface, (x, y, -z), so the
+ * smooth surface passes -wo and a rough one spreads about it with the
+ * reflection's GGX lobe; there is no 1 / η² (the same medium on both
+ * sides). The Fresnel reflectance is the slab's, the interreflections
+ * between its two faces summed without absorption (Mitsuba 3's
+ * thindielectric): R' = 2 R / (1 + R), T' = 1 - R', with R that of one
+ * face at wo.h with the ior. So
+ *   f = R' D G2 / (4 |wo.z| |wi.z|)                 (wi above)
+ *   f = T' c D G2 / (4 |wo.z| |wi.z|)               (wi below, h of wo and wi mirrored)
+ * and a smooth white thin surface keeps all of the energy.
  * This file follows bsdf.h (it uses its helpers). */
 #ifndef ST_BSDF_DIELECTRIC_H
 #define ST_BSDF_DIELECTRIC_H
@@ -37,23 +51,31 @@
 /* The transmission lobe at one point. */
 typedef struct st_dielectric {
     st_lf weight; /* (1 - metallic) x transmission: its share of the material */
-    st_lf eta;    /* η(wi's side) / η(wo's side) for a refraction */
+    st_lf eta;    /* η(wi's side) / η(wo's side) for a refraction; the ior where thin */
     st_lf tint[3];
+    st_li thin;   /* thin-walled: passes light straight through */
 } st_dielectric;
 
 /* The lobe of a material with transmission tr, metallic m, base colour c
  * and the ior, for a ray that arrived from outside (`entering`) or from
- * inside. */
+ * inside; thin-walled where `thin`. */
 ST_FN st_dielectric st_dielectric_make(st_lf tr, st_lf m, const st_lf *c, st_lf ior,
-                                       st_li entering)
+                                       st_li entering, st_li thin)
 {
     st_dielectric d;
     st_lf n = ST_FMAXF(ior, ST_DIELECTRIC_MIN_IOR);
     d.weight = (1.0f - st_clamp01(m)) * st_clamp01(tr);
-    d.eta = ST_SELECT(ST_W, 1.0f / n, n, entering);
+    d.eta = ST_SELECT(ST_W, 1.0f / n, n, entering || thin);
     for (int k = 0; k < 3; k++)
         d.tint[k] = st_clamp01(c[k]);
+    d.thin = thin;
     return d;
+}
+
+/* w mirrored through the surface's plane. */
+ST_FN st_dir st_mirror_z(st_dir w)
+{
+    return st_lv3_make(w.x, w.y, -w.z);
 }
 
 /* The unpolarised Fresnel reflectance of a dielectric interface at cos_i
@@ -105,15 +127,21 @@ ST_FN st_lf st_ggx_v_abs(st_lf alpha, st_dir wo, st_dir wi)
 ST_FN void st_dielectric_eval(const st_dielectric *d, st_lf alpha, st_dir wo, st_dir wi, st_lf *f)
 {
     st_li refl = wi.z > 0.0f;
-    st_dir hr = st_half_vector(wo, wi), ht = st_refraction_half(wo, wi, d->eta);
-    st_dir h = st_lv3_select(ht, hr, refl);
-    st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z, ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
+    /* a thin wall's transmission is its reflection mirrored: wr */
+    st_dir wr = st_lv3_select(wi, st_mirror_z(wi), d->thin && !refl);
+    st_li as_refl = refl || d->thin;
+    st_dir hr = st_half_vector(wo, wr), ht = st_refraction_half(wo, wi, d->eta);
+    st_dir h = st_lv3_select(ht, hr, as_refl);
+    st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z, ih = wr.x * h.x + wr.y * h.y + wr.z * h.z;
     st_lf fr = st_fresnel_dielectric(ST_FMAXF(oh, 0.0f), d->eta);
+    fr = ST_SELECT(ST_W, fr, 2.0f * fr / (1.0f + fr), d->thin);
     st_lf dv = st_ggx_d(alpha, h) * st_ggx_v_abs(alpha, wo, wi);
     st_lf den = oh + d->eta * ih;
-    st_lf t = (1.0f - fr) * dv * 4.0f * oh * ST_FABSF(ih) / (den * den);
-    /* a refraction needs wo and wi on opposite sides of h, a reflection the same side */
-    st_li valid = wo.z > 0.0f && oh > 0.0f && ST_SELECT(ST_W, ih < 0.0f, ih > 0.0f, refl) &&
+    st_lf t = ST_SELECT(ST_W, (1.0f - fr) * dv * 4.0f * oh * ST_FABSF(ih) / (den * den),
+                        (1.0f - fr) * dv, d->thin);
+    /* a refraction needs wo and wi on opposite sides of h, a reflection the
+     * same side (and so does a thin wall's transmission, mirrored) */
+    st_li valid = wo.z > 0.0f && oh > 0.0f && ST_SELECT(ST_W, ih < 0.0f, ih > 0.0f, as_refl) &&
                   wi.z != 0.0f;
     for (int k = 0; k < 3; k++)
         f[k] = ST_SELECT(ST_W, ST_LF(0.0f), ST_SELECT(ST_W, d->tint[k] * t, fr * dv, refl),
@@ -124,17 +152,21 @@ ST_FN void st_dielectric_eval(const st_dielectric *d, st_lf alpha, st_dir wo, st
 ST_FN st_lf st_dielectric_pdf(const st_dielectric *d, st_lf alpha, st_dir wo, st_dir wi)
 {
     st_li refl = wi.z > 0.0f;
-    st_dir hr = st_half_vector(wo, wi), ht = st_refraction_half(wo, wi, d->eta);
-    st_dir h = st_lv3_select(ht, hr, refl);
-    st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z, ih = wi.x * h.x + wi.y * h.y + wi.z * h.z;
+    /* a thin wall's transmission is its reflection mirrored: wr */
+    st_dir wr = st_lv3_select(wi, st_mirror_z(wi), d->thin && !refl);
+    st_li as_refl = refl || d->thin;
+    st_dir hr = st_half_vector(wo, wr), ht = st_refraction_half(wo, wi, d->eta);
+    st_dir h = st_lv3_select(ht, hr, as_refl);
+    st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z, ih = wr.x * h.x + wr.y * h.y + wr.z * h.z;
     st_lf fr = st_fresnel_dielectric(ST_FMAXF(oh, 0.0f), d->eta);
+    fr = ST_SELECT(ST_W, fr, 2.0f * fr / (1.0f + fr), d->thin);
     st_lf vis = st_ggx_g1(alpha, wo) * oh * st_ggx_d(alpha, h) / wo.z;
     st_lf den = oh + d->eta * ih;
-    st_lf pr = fr * vis / (4.0f * oh);
+    st_lf pr = ST_SELECT(ST_W, fr, 1.0f - fr, d->thin && !refl) * vis / (4.0f * oh);
     st_lf pt = (1.0f - fr) * vis * d->eta * d->eta * ST_FABSF(ih) / (den * den);
-    st_li valid = wo.z > 0.0f && oh > 0.0f && ST_SELECT(ST_W, ih < 0.0f, ih > 0.0f, refl) &&
+    st_li valid = wo.z > 0.0f && oh > 0.0f && ST_SELECT(ST_W, ih < 0.0f, ih > 0.0f, as_refl) &&
                   wi.z != 0.0f;
-    return ST_SELECT(ST_W, ST_LF(0.0f), ST_SELECT(ST_W, pt, pr, refl), valid);
+    return ST_SELECT(ST_W, ST_LF(0.0f), ST_SELECT(ST_W, pt, pr, as_refl), valid);
 }
 
 /* A direction from the lobe: a visible normal from (u1, u2), then
@@ -148,8 +180,11 @@ ST_FN st_dir st_dielectric_sample(const st_dielectric *d, st_lf alpha, st_dir wo
     st_dir h = st_ggx_visible_normal(alpha, wo, u1, u2);
     st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
     st_lf fr = st_fresnel_dielectric(ST_FMAXF(oh, 0.0f), d->eta);
+    fr = ST_SELECT(ST_W, fr, 2.0f * fr / (1.0f + fr), d->thin);
     st_li refl = u3 < fr;
-    st_dir wi = st_lv3_select(st_refract(wo, h, d->eta), st_reflect(wo, h), refl);
+    st_dir r = st_reflect(wo, h);
+    st_dir t = st_lv3_select(st_refract(wo, h, d->eta), st_mirror_z(r), d->thin);
+    st_dir wi = st_lv3_select(t, r, refl);
     st_li kept = ST_SELECT(ST_W, wi.z < 0.0f, wi.z > 0.0f, refl);
     return st_lv3_select(st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), wi, kept);
 }

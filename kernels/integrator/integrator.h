@@ -59,6 +59,7 @@ typedef struct st_vertex_in {
     float nmap[3][ST_W], nscale[ST_W]; /* the normal map's texel and scale */
     float transmission[ST_W]; /* KHR_materials_transmission */
     float coat[ST_W], coat_rough[ST_W]; /* KHR_materials_clearcoat */
+    float cnmap[3][ST_W], cnscale[ST_W]; /* its normal map's texel and scale */
 } st_vertex_in;
 
 /* KHR_materials_sheen's colour and roughness per lane, apart from
@@ -96,12 +97,12 @@ static void set_lane3(float (*a)[ST_W], st_u32 k, float3 v)
 
 /* The material of the triangle hit at h, its factors times their textures
  * (looked up with the ray cone's footprint: width at the hit, cos_nd its
- * slant), and vertex colours; the normal map's texel in *nmap (its w: 0
- * without a normal map). */
+ * slant), and vertex colours; the normal map's texel in nmap, the clear
+ * coat's in cnmap (their w: 0 without a map). */
 typedef struct st_material_at {
-    float4 base, spec, nmap;
+    float4 base, spec, nmap, cnmap;
     float3 le, absorb;
-    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough;
+    float metallic, roughness, ior, normal_scale, transmission, coat, coat_rough, coat_nscale;
     st_u32 flags, alpha_mode;
     float alpha_cutoff;
 } st_material_at;
@@ -126,7 +127,8 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
     a.absorb = a.transmission > 0.0f ? vload3(0, m->absorption) : (float3)(0.0f);
     a.coat = m->clearcoat;
     a.coat_rough = m->clearcoat_roughness;
-    a.nmap = (float4)(0.0f);
+    a.coat_nscale = m->clearcoat_normal_scale;
+    a.nmap = a.cnmap = (float4)(0.0f);
     if (m->flags & ST_MAT_VERTEX_COLOR) { /* COLOR_0 multiplies the base colour */
         __global const st_tri_colors *c = &s->colors[t];
         a.base *= (1.0f - h.u - h.v) * vload4(0, c->c0) + h.u * vload4(0, c->c1) +
@@ -150,6 +152,9 @@ static st_material_at material_at(const st_scene_refs *s, const st_params *p,
         a.coat_rough *= tex_lookup(x, m->clearcoat_roughness_tex, t, b1, b2, width, cos_nd, f).y;
         if (m->normal_tex != ST_NO_TEXTURE)
             a.nmap = (float4)(tex_lookup(x, m->normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
+        if (m->clearcoat_normal_tex != ST_NO_TEXTURE)
+            a.cnmap = (float4)(
+                tex_lookup(x, m->clearcoat_normal_tex, t, b1, b2, width, cos_nd, f).xyz, 1.0f);
     }
     return a;
 }
@@ -446,26 +451,56 @@ typedef struct st_vertex {
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
 } st_vertex;
 
-/* The shading normal interpolated from the vertex normals, bent by the
- * normal map where a lane has one (one lane at a time: normal_mapped reads
- * the triangle's tangents). */
-ST_HOT st_lv3 shading_normal(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped, st_lv3 ng)
+/* The normal interpolated from the vertex normals. */
+ST_HOT st_lv3 interpolated_normal(const st_vertex_in *l)
 {
     st_lf bu = ST_LV(l->bu), bv = ST_LV(l->bv), w0 = 1.0f - bu - bv;
     st_lv3 n0 = ST_LV3_OF(l->n0), n1 = ST_LV3_OF(l->n1), n2 = ST_LV3_OF(l->n2);
     st_lv3 sum = st_lv3_make(w0 * n0.x + bu * n1.x + bv * n2.x, w0 * n0.y + bu * n1.y + bv * n2.y,
                              w0 * n0.z + bu * n1.z + bv * n2.z);
-    st_lv3 ns = st_lv3_div(sum, sqrt(st_lv3_dot(sum, sum)));
-    if (!nmapped)
-        return ns;
+    return st_lv3_div(sum, sqrt(st_lv3_dot(sum, sum)));
+}
+
+/* ns bent by the normal map (texels map, scales scale) in the lanes of
+ * `bits` (one lane at a time: normal_mapped reads the triangle's
+ * tangents): the base's, or the clear coat's. */
+ST_HOT st_lv3 mapped_normal(const st_scene_refs *s, const st_vertex_in *l, st_u32 bits,
+                            const float (*map)[ST_W], const float *scale, st_lv3 ns, st_lv3 ng)
+{
     float nsa[3][ST_W], nga[3][ST_W];
     lv3_store(ns, nsa);
     lv3_store(ng, nga);
     for (st_u32 k = 0; k < ST_W; k++)
-        if ((nmapped >> k) & 1u)
+        if ((bits >> k) & 1u)
             set_lane3(nsa, k, normal_mapped(s, l->prim[k], l->bu[k], l->bv[k], lane3(nsa, k),
-                                            lane3(nga, k), lane3(l->nmap, k), l->nscale[k]));
+                                            lane3(nga, k), lane3(map, k), scale[k]));
     return ST_LV3_OF(nsa);
+}
+
+/* The clear coat's own normal where a lane has its normal map (the lanes
+ * of cmapped), in the base's shading frame of v and turned to its side. */
+ST_COLD void coat_normal(const st_scene_refs *s, const st_vertex_in *l, st_u32 cmapped,
+                         const st_vertex *v, st_coat *c)
+{
+    st_lv3 nc = mapped_normal(s, l, cmapped, l->cnmap, l->cnscale, interpolated_normal(l), v->ng);
+    nc = st_lv3_select(nc, st_lv3_neg(nc), st_lv3_dot(nc, v->ng) < 0.0f);
+    st_lv3 nl = st_lv3_make(st_lv3_dot(nc, v->tu), st_lv3_dot(nc, v->tv),
+                          fmax(st_lv3_dot(nc, v->ns), 0.01f));
+    nl = st_lv3_div(nl, sqrt(st_lv3_dot(nl, nl)));
+    st_coat tilted = *c;
+    st_coat_tilt(&tilted, nl);
+    st_li mapped = ST_BITS_MASK(ST_W, cmapped);
+    c->tu = st_lv3_select(c->tu, tilted.tu, mapped);
+    c->tv = st_lv3_select(c->tv, tilted.tv, mapped);
+    c->n = st_lv3_select(c->n, tilted.n, mapped);
+}
+
+/* The shading normal interpolated from the vertex normals, bent by the
+ * normal map where a lane has one. */
+ST_HOT st_lv3 shading_normal(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped, st_lv3 ng)
+{
+    st_lv3 ns = interpolated_normal(l);
+    return nmapped ? mapped_normal(s, l, nmapped, l->nmap, l->nscale, ns, ng) : ns;
 }
 
 /* The emission seen along each lane's ray, weighted: 1 for a camera ray,
@@ -532,10 +567,12 @@ ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
- * transmission > 0: vertex_gather), the clear coat where coat_bits' is
+ * transmission > 0: vertex_gather; thin-walled where thin_bits' is), the
+ * clear coat where coat_bits' is (about its own normal where cmapped's is)
  * and the sheen where sheen_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
-                                st_u32 trans_bits, st_u32 coat_bits, st_u32 sheen_bits,
+                                st_u32 trans_bits, st_u32 thin_bits, st_u32 coat_bits,
+                                st_u32 cmapped, st_u32 sheen_bits,
                                 const st_sheen_in *shn, st_layers *lay, st_li miss,
                                 const st_shading *sh, st_lf *cos_o)
 {
@@ -568,8 +605,11 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
         if (v.layer_bits) { /* entering where the ray meets the front */
-            lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f);
+            lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f,
+                                           ST_BITS_MASK(ST_W, thin_bits));
             lay->coat = st_coat_make(ST_LV(l->coat), ST_LV(l->coat_rough));
+            if (cmapped)
+                coat_normal(s, l, cmapped, &v, &lay->coat);
             if (sheen_bits)
                 sheen_layer(shn, lay);
         }

@@ -137,7 +137,7 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
-    st_u32 miss, nmapped, trans, coated, sheened;
+    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened;
     st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
@@ -160,12 +160,14 @@ ST_HOT void vertex_clear_some(st_vertex_in *l)
         ST_VSTORE(ST_W, z, l->ll[a]);
         ST_VSTORE(ST_W, z, l->lnl[a]);
         ST_VSTORE(ST_W, z, l->nmap[a]);
+        ST_VSTORE(ST_W, z, l->cnmap[a]);
     }
     ST_VSTORE(ST_W, z, l->lq);
     ST_VSTORE(ST_W, z, l->lco);
     ST_VSTORE(ST_W, z, l->lci);
     ST_VSTORE(ST_W, (st_li)(0), l->lkind);
     ST_VSTORE(ST_W, z, l->nscale);
+    ST_VSTORE(ST_W, z, l->cnscale);
     ST_VSTORE(ST_W, z, l->coat);
     ST_VSTORE(ST_W, z, l->coat_rough);
 }
@@ -287,11 +289,18 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     if (a.coat > 0.0f) {
         l->coat[k] = a.coat, l->coat_rough[k] = a.coat_rough;
         b->coated |= 1u << k;
+        if (a.cnmap.w > 0.0f) {
+            set_lane3(l->cnmap, k, a.cnmap.xyz);
+            l->cnscale[k] = a.coat_nscale;
+            b->cmapped |= 1u << k;
+        }
     }
     if (a.flags & ST_MAT_SHEEN) /* sheen_gather reads its sheen */
         b->sheened |= 1u << k;
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
+        if (a.flags & ST_MAT_THIN)
+            b->thin |= 1u << k;
         /* met from inside: the medium absorbed along the segment (Beer-Lambert;
          * the item's own exp, which a vector's lanes would round otherwise) */
         if (dot(ng, d) > 0.0f)
@@ -387,8 +396,8 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
         dims_random(l, b->trans != 0u);
     st_lf cos_o;
     st_layers lay;
-    st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->coated, b->sheened, &sn, &lay,
-                                 ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
+    st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->thin, b->coated, b->cmapped,
+                                 b->sheened, &sn, &lay, ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
     lv3_store(v.rad, o->rad);
     st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
     lv3_store(origin, o->origin);
@@ -441,7 +450,7 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
 {
     st_vertex_in l; /* cleared where no gather writes it: vertex_clear_some */
     st_u32 live = 0u, item[ST_W];
-    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u};
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     /* two loops, not one select: vectorised, the select became a masked
      * load from the null list at vertex 0, which faults in every lane it
      * masks off, and the CPU's microcode repairs that at great cost (on

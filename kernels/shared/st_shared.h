@@ -276,6 +276,7 @@ typedef struct st_tri_normals {
 #define ST_MAT_DOUBLE_SIDED 4u /* glTF doubleSided: its triangles are hit from both sides */
 #define ST_MAT_SHEEN 8u        /* KHR_materials_sheen with a sheen colour other than black */
 #define ST_MAT_TEXTURED 16u    /* some factor that material_at reads has a texture */
+#define ST_MAT_THIN 32u        /* transmission without KHR_materials_volume: thin-walled */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
@@ -287,7 +288,8 @@ typedef struct st_tri_normals {
  * normal map, read in the frame of st_tri_tangents), transmission_tex
  * (KHR_materials_transmission's transmissionTexture, linear, R),
  * clearcoat_tex and clearcoat_roughness_tex (KHR_materials_clearcoat's
- * clearcoatTexture, R, and clearcoatRoughnessTexture, G; linear),
+ * clearcoatTexture, R, and clearcoatRoughnessTexture, G; linear;
+ * clearcoat_normal_tex its clearcoatNormalTexture, read as normal_tex),
  * sheen_color_tex and sheen_roughness_tex (KHR_materials_sheen's
  * sheenColorTexture, sRGB RGB, and sheenRoughnessTexture, linear A). */
 typedef struct st_material {
@@ -310,6 +312,8 @@ typedef struct st_material {
                               -ln(attenuationColor) / attenuationDistance (0: clear) */
     st_f32 clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors, 0 and 0 */
     st_u32 clearcoat_tex, clearcoat_roughness_tex;
+    st_u32 clearcoat_normal_tex;   /* the coat's own normal map (the base keeps normal_tex) */
+    st_f32 clearcoat_normal_scale; /* its scale, as normal_scale */
     st_f32 sheen_color[3];  /* KHR_materials_sheen's sheenColorFactor, 0 (no sheen) */
     st_f32 sheen_roughness; /* its sheenRoughnessFactor, 0 */
     st_u32 sheen_color_tex, sheen_roughness_tex;
@@ -318,14 +322,14 @@ typedef struct st_material {
 /* Whether material m has a texture on a factor that the kernels'
  * material_at multiplies (the sheen's are read apart, by sheen_gather):
  * the scene sets ST_MAT_TEXTURED from it, so that material_at tests one
- * flag where it tested nine indices. */
+ * flag where it tested ten indices. */
 ST_FN int st_material_reads_textures(const st_material *m)
 {
     return m->base_color_tex != ST_NO_TEXTURE || m->emission_tex != ST_NO_TEXTURE ||
            m->metallic_roughness_tex != ST_NO_TEXTURE || m->specular_tex != ST_NO_TEXTURE ||
            m->specular_color_tex != ST_NO_TEXTURE || m->normal_tex != ST_NO_TEXTURE ||
            m->transmission_tex != ST_NO_TEXTURE || m->clearcoat_tex != ST_NO_TEXTURE ||
-           m->clearcoat_roughness_tex != ST_NO_TEXTURE;
+           m->clearcoat_roughness_tex != ST_NO_TEXTURE || m->clearcoat_normal_tex != ST_NO_TEXTURE;
 }
 
 /* A KHR_lights_punctual light in world space (st_lights.h). */
@@ -809,7 +813,8 @@ static st_u32 st_live_count(const st_params *p)
     X(st_material, normal_tex) X(st_material, normal_scale) X(st_material, transmission)    \
     X(st_material, transmission_tex) X(st_material, absorption) X(st_material, clearcoat)   \
     X(st_material, clearcoat_roughness) X(st_material, clearcoat_tex)                       \
-    X(st_material, clearcoat_roughness_tex) X(st_material, sheen_color)                     \
+    X(st_material, clearcoat_roughness_tex) X(st_material, clearcoat_normal_tex)            \
+    X(st_material, clearcoat_normal_scale) X(st_material, sheen_color)                      \
     X(st_material, sheen_roughness) X(st_material, sheen_color_tex)                         \
     X(st_material, sheen_roughness_tex)                                                     \
     X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
@@ -871,7 +876,7 @@ ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
                  "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 160, "st_material: 160 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 168, "st_material: 168 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");

@@ -94,7 +94,9 @@ static void ext_numbers(const tinygltf::Value &obj, const char *key, int n, floa
 /* KHR_materials_transmission (transmissionFactor 0, transmissionTexture's R)
  * and KHR_materials_volume's attenuation (attenuationColor 1,
  * attenuationDistance +infinity) of material i. The volume's thickness is
- * a rasteriser's stand-in for the geometry a path tracer follows: unused. */
+ * a rasteriser's stand-in for the geometry a path tracer follows: unused.
+ * Transmission without a volume is thin-walled (the specification's
+ * default): the surface bounds no interior. */
 static void read_transmission_volume(const Model &m, size_t i, texture_table &table, notes &warn,
                                      st_gltf_material &o)
 {
@@ -102,6 +104,7 @@ static void read_transmission_volume(const Model &m, size_t i, texture_table &ta
     char what[64];
     o.transmission = 0.0f;
     o.transmission_tex = -1;
+    o.thin_walled = 0;
     o.attenuation[0] = o.attenuation[1] = o.attenuation[2] = 1.0f;
     o.attenuation[3] = INFINITY;
     auto tr = exts.find("KHR_materials_transmission");
@@ -115,6 +118,7 @@ static void read_transmission_volume(const Model &m, size_t i, texture_table &ta
                                          false, i, "transmissionTexture", table, warn);
     }
     auto vol = exts.find("KHR_materials_volume");
+    o.thin_walled = tr != exts.end() && vol == exts.end();
     if (vol != exts.end()) {
         snprintf(what, sizeof what, "material %zu: KHR_materials_volume", i);
         ext_numbers(vol->second, "attenuationColor", 3, o.attenuation, what);
@@ -128,14 +132,15 @@ static void read_transmission_volume(const Model &m, size_t i, texture_table &ta
 }
 
 /* KHR_materials_clearcoat of material i: clearcoatFactor and
- * clearcoatRoughnessFactor (0, 0) with their textures (R and G, linear).
- * clearcoatNormalTexture is not read: the coat takes the base's shading
- * normal (a warning). */
+ * clearcoatRoughnessFactor (0, 0) with their textures (R and G, linear),
+ * and clearcoatNormalTexture with its scale (1): the coat's own normal map,
+ * which bends the interpolated normal as normalTexture does the base's. */
 static void read_clearcoat(const Model &m, size_t i, texture_table &table, notes &warn,
                            st_gltf_material &o)
 {
     o.clearcoat = o.clearcoat_roughness = 0.0f;
-    o.clearcoat_tex = o.clearcoat_roughness_tex = -1;
+    o.clearcoat_tex = o.clearcoat_roughness_tex = o.clearcoat_normal_tex = -1;
+    o.clearcoat_normal_scale = 1.0f;
     auto cc = m.materials[i].extensions.find("KHR_materials_clearcoat");
     if (cc == m.materials[i].extensions.end())
         return;
@@ -152,9 +157,15 @@ static void read_clearcoat(const Model &m, size_t i, texture_table &table, notes
     o.clearcoat_roughness_tex =
         texture_ref(m, ext_texture_info(v, "clearcoatRoughnessTexture", what), false, i,
                     "clearcoatRoughnessTexture", table, warn);
-    if (v.IsObject() && v.Has("clearcoatNormalTexture"))
-        note(warn, "%s: clearcoatNormalTexture is not read (the coat takes the base's normal)",
-                 what);
+    o.clearcoat_normal_tex =
+        texture_ref(m, ext_texture_info(v, "clearcoatNormalTexture", what), false, i,
+                    "clearcoatNormalTexture", table, warn);
+    if (o.clearcoat_normal_tex >= 0) {
+        const tinygltf::Value &n = v.Get("clearcoatNormalTexture");
+        o.clearcoat_normal_scale = float(ext_number(n, "scale", 1.0, what));
+        if (!std::isfinite(o.clearcoat_normal_scale))
+            fail("%s: clearcoatNormalTexture.scale is not finite", what);
+    }
 }
 
 /* KHR_materials_sheen of material i: sheenColorFactor (0, 0, 0: no sheen)
@@ -329,10 +340,11 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
 }
 
 /* What each slot makes of an image that could not be read (decode_images):
- * a normal map is left out, the geometric and vertex normals kept, since
- * its white texel is not neutral (the normal (1, 1, 1), some 55 degrees
- * off); every other slot keeps the white image, which leaves its factor
- * alone. One warning per normal map left out, one per image made white. */
+ * a normal map (the base's or the clear coat's) is left out, the geometric
+ * and vertex normals kept, since its white texel is not neutral (the
+ * normal (1, 1, 1), some 55 degrees off); every other slot keeps the white
+ * image, which leaves its factor alone. One warning per normal map left
+ * out, one per image made white. */
 void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &table,
                      const std::vector<std::string> &why, notes &warn)
 {
@@ -347,6 +359,12 @@ void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &t
             note(warn, "material %zu: normalTexture: %s: left out (the vertex normals kept)", i,
                  why[size_t(table.refs[size_t(o.normal_tex)].image)].c_str());
             o.normal_tex = -1;
+        }
+        if (unreadable(o.clearcoat_normal_tex)) {
+            note(warn,
+                 "material %zu: clearcoatNormalTexture: %s: left out (the vertex normals kept)",
+                 i, why[size_t(table.refs[size_t(o.clearcoat_normal_tex)].image)].c_str());
+            o.clearcoat_normal_tex = -1;
         }
         const int slots[] = {o.base_color_tex,   o.emission_tex,     o.metallic_roughness_tex,
                              o.specular_tex,     o.specular_color_tex, o.transmission_tex,

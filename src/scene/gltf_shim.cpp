@@ -10,7 +10,7 @@
  * §3.7.2.2 morph targets, §3.7.3 skins, and the extensions
  * KHR_materials_emissive_strength, KHR_materials_specular, KHR_materials_ior,
  * KHR_materials_transmission, KHR_materials_volume (attenuation),
- * KHR_materials_clearcoat (no clearcoatNormalTexture), KHR_materials_sheen,
+ * KHR_materials_clearcoat, KHR_materials_sheen,
  * KHR_materials_unlit, KHR_materials_pbrSpecularGlossiness (converted),
  * KHR_texture_transform, KHR_mesh_quantization, KHR_lights_punctual and
  * EXT_mesh_gpu_instancing.
@@ -183,12 +183,17 @@ static std::vector<uv_use> uv_uses(const std::vector<st_gltf_material> &mats,
     for (size_t i = 0; i < mats.size(); i++) {
         const st_gltf_material &o = mats[i];
         const int slots[] = {o.base_color_tex, o.emission_tex,       o.metallic_roughness_tex,
-                             o.specular_tex,   o.specular_color_tex, o.normal_tex};
+                             o.specular_tex,   o.specular_color_tex, o.normal_tex,
+                             o.clearcoat_normal_tex};
         for (int t : slots)
             if (t >= 0)
                 use[i].sets |= 1u << table.refs[size_t(t)].tex_coord;
+        /* one tangent frame per triangle: the base's normal map's set, else
+         * the clear coat's */
         if (o.normal_tex >= 0)
             use[i].normal_set = table.refs[size_t(o.normal_tex)].tex_coord;
+        else if (o.clearcoat_normal_tex >= 0)
+            use[i].normal_set = table.refs[size_t(o.clearcoat_normal_tex)].tex_coord;
     }
     return use;
 }

@@ -68,10 +68,13 @@ typedef struct st_gltf_material {
     float normal_scale;    /* normalTexture.scale, 1 by default */
     float transmission;    /* KHR_materials_transmission's transmissionFactor, 0 by default */
     int transmission_tex;  /* its transmissionTexture (R) */
+    int thin_walled;       /* transmission without KHR_materials_volume (no interior) */
     float attenuation[4];  /* KHR_materials_volume: attenuationColor RGB (1) and
                               attenuationDistance (+infinity) */
     float clearcoat, clearcoat_roughness; /* KHR_materials_clearcoat's factors (0, 0) */
     int clearcoat_tex, clearcoat_roughness_tex; /* clearcoatTexture (R), ..RoughnessTexture (G) */
+    int clearcoat_normal_tex;     /* clearcoatNormalTexture */
+    float clearcoat_normal_scale; /* its scale, 1 by default */
     float sheen_color[3], sheen_roughness; /* KHR_materials_sheen's factors (0, 0) */
     int sheen_color_tex, sheen_roughness_tex; /* sheenColorTexture (sRGB RGB), ..RoughnessTexture (A) */
 } st_gltf_material;

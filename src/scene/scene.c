@@ -513,6 +513,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->clearcoat_roughness = in->clearcoat_roughness;
         m->clearcoat_tex = texture_index(in->clearcoat_tex);
         m->clearcoat_roughness_tex = texture_index(in->clearcoat_roughness_tex);
+        m->clearcoat_normal_tex = texture_index(in->clearcoat_normal_tex);
+        m->clearcoat_normal_scale = in->clearcoat_normal_scale;
         memcpy(m->sheen_color, in->sheen_color, sizeof m->sheen_color);
         m->sheen_roughness = in->sheen_roughness;
         m->sheen_color_tex = texture_index(in->sheen_color_tex);
@@ -521,6 +523,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
             m->flags |= ST_MAT_SHEEN; /* a black sheen colour turns the layer off */
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
+        if (in->thin_walled && in->transmission > 0.0f)
+            m->flags |= ST_MAT_THIN;
         for (int k = 0; k < 3; k++) /* Beer-Lambert: attenuationColor after attenuationDistance */
             m->absorption[k] = isinf(in->attenuation[3]) || in->attenuation[k] >= 1.0f
                                    ? 0.0f
@@ -538,6 +542,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->specular_tex = m->specular_color_tex = m->normal_tex = ST_NO_TEXTURE;
         m->normal_scale = 1.0f;
         m->transmission_tex = m->clearcoat_tex = m->clearcoat_roughness_tex = ST_NO_TEXTURE;
+        m->clearcoat_normal_tex = ST_NO_TEXTURE;
+        m->clearcoat_normal_scale = 1.0f;
         m->sheen_color_tex = m->sheen_roughness_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)

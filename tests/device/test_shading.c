@@ -1,5 +1,6 @@
 /* test_shading.c — the glTF BRDF and normal maps on the device: a white
- * furnace, and a normal-mapped plane against the analytic tilt (below).
+ * furnace, a normal-mapped plane against the analytic tilt, and a clear
+ * coat's own normal map against its highlight (below).
  *
  * A white metal (base colour 1, metallic 1) under a uniform environment of
  * radiance 1, seen head-on (tests/scenes/textured_quad.gltf: a quad filling
@@ -398,6 +399,185 @@ static void alpha_blend_shadow_passes_half(void **state)
     assert_true(fabs(blend - want) <= 0.007);
 }
 
+/* The coat of tests/scenes/coat_normal.gltf (factor 1, roughness 0.5,
+ * Fresnel of ior 1.5) about the normal nc over a white Lambertian base
+ * about N = +z, seen head-on (wo = +z) and lit by a directional light of
+ * irradiance 1 from li: f cos, written out from the specification's
+ * formulas (GGX D, height-correlated Smith V, Schlick's Fresnel at F0 =
+ * 0.04) apart from the kernels. The base under the coat keeps
+ * (1 - Fc(wo.nc)) (1 - Fc(li.nc)) of its albedo / π, and the cosine is
+ * the base's, li.N. */
+static double coat_pixel(const double nc[3], const double li[3])
+{
+    const double pi = 3.14159265358979323846, a2 = 0.0625; /* α = 0.5² */
+    double wo[3] = {0.0, 0.0, 1.0}, h[3], hl = 0.0;
+    for (int k = 0; k < 3; k++)
+        h[k] = wo[k] + li[k], hl += h[k] * h[k];
+    double o = nc[2], i = nc[0] * li[0] + nc[1] * li[1] + nc[2] * li[2];
+    double hn = (h[0] * nc[0] + h[1] * nc[1] + h[2] * nc[2]) / sqrt(hl), oh = h[2] / sqrt(hl);
+    double t = hn * hn * (a2 - 1.0) + 1.0, d = a2 / (pi * t * t);
+    double v = 0.5 / (i * sqrt(o * o + a2 * (1.0 - o * o)) + o * sqrt(i * i + a2 * (1.0 - i * i)));
+    double fo = 0.04 + 0.96 * pow(1.0 - oh, 5.0);
+    double pass = (1.0 - (0.04 + 0.96 * pow(1.0 - o, 5.0))) *
+                  (1.0 - (0.04 + 0.96 * pow(1.0 - i, 5.0)));
+    return (pass / pi + fo * d * v) * li[2];
+}
+
+/* The mean of each channel of s in the uniform environment env (0: lit by
+ * its own lights alone), in mean[3]. */
+static void view_means(const st_scene *s, float env, double mean[3])
+{
+    st_render_options o = st_render_defaults();
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = env;
+    o.width = 16;
+    o.height = 12;
+    o.spp = 16;
+    o.seed = 5;
+    st_error err = {0};
+    st_renderer *r = NULL;
+    st_image img = {0};
+    if (st_renderer_create(dev, s, &r, &err) ||
+        st_render(r, &o, &img, NULL, NULL, NULL, NULL, &err))
+        fail_msg("render: %s", err.msg);
+    st_renderer_destroy(r);
+    size_t n = (size_t)img.width * img.height;
+    for (int k = 0; k < 3; k++) {
+        mean[k] = 0.0;
+        for (size_t p = 0; p < n; p++)
+            mean[k] += img.data[4 * p + k] / (double)n;
+    }
+    st_image_free(&img);
+}
+
+static double own_light_mean(const st_scene *s)
+{
+    double mean[3];
+    view_means(s, 0.0f, mean);
+    return mean[0];
+}
+
+/* clearcoatNormalTexture (tests/scenes/coat_normal.gltf): the coat's map
+ * (normal_tilt's texel at scale 1/3) tilts the coat's normal by some 30
+ * degrees towards the tangent, and the light stands at the view's mirror
+ * direction about it, so the coat's highlight peaks in every pixel. The
+ * render matches coat_pixel about the tilted coat normal over the flat
+ * base, and neither a coat without its map nor a base that took the map
+ * too would (their values are printed beside it). */
+static void coat_normal_map_tilts_the_coat_alone(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/coat_normal.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_int_not_equal(s->materials[0].clearcoat_normal_tex, ST_NO_TEXTURE);
+    assert_int_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
+    assert_int_equal(s->punctual_count, 1);
+    double li[3], w = s->tangents[3]; /* the first vertex's handedness */
+    for (int k = 0; k < 3; k++)
+        li[k] = -s->punctual[0].dir[k];
+    /* the map's texel (bytes 238, 128, 191) at scale 1/3 in the frame
+     * tangent +x, bitangent w (+z x +x) = w +y, normal +z */
+    double nc[3] = {(238.0 / 255.0 * 2.0 - 1.0) / 3.0, w * (128.0 / 255.0 * 2.0 - 1.0) / 3.0,
+                    191.0 / 255.0 * 2.0 - 1.0};
+    double len = sqrt(nc[0] * nc[0] + nc[1] * nc[1] + nc[2] * nc[2]);
+    for (int k = 0; k < 3; k++)
+        nc[k] /= len;
+    const double flat[3] = {0.0, 0.0, 1.0};
+    double want = coat_pixel(nc, li), untilted = coat_pixel(flat, li);
+    double both = coat_pixel(nc, li) / li[2] * (nc[0] * li[0] + nc[1] * li[1] + nc[2] * li[2]);
+    double mean = own_light_mean(s);
+    print_message("coat normal map: mean %.6f, want %.6f (coat untilted %.6f, base tilted too "
+                  "%.6f)\n", mean, want, untilted, both);
+    assert_true(fabs(want - untilted) > 0.05 * want && fabs(want - both) > 0.05 * want);
+    if (fabs(mean - want) > 2e-4 * want)
+        fail_msg("mean %.6f, want %.6f", mean, want);
+    st_scene_destroy(s);
+}
+
+/* coat_normal with the coat's map's file missing: the map is left out
+ * (not a white texel, which would tilt the coat by some 55 degrees), so
+ * the plane shows the untilted coat's value. */
+static void unreadable_coat_normal_map_is_left_out(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/coat_normal_missing.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_int_equal(s->materials[0].clearcoat_normal_tex, ST_NO_TEXTURE);
+    double li[3];
+    for (int k = 0; k < 3; k++)
+        li[k] = -s->punctual[0].dir[k];
+    const double flat[3] = {0.0, 0.0, 1.0};
+    double want = coat_pixel(flat, li), mean = own_light_mean(s);
+    print_message("coat normal map unreadable: mean %.6f, want %.6f\n", mean, want);
+    if (fabs(mean - want) > 2e-4 * want)
+        fail_msg("mean %.6f, want %.6f", mean, want);
+    st_scene_destroy(s);
+}
+
+/* A thin wall's reflectance at normal incidence: one face's Fresnel R =
+ * ((ior - 1) / (ior + 1))², summed over the light that bounces between
+ * the two faces, R' = R + (1 - R)² R / (1 - R²) = 2 R / (1 + R). */
+static double thin_reflectance(double ior)
+{
+    double r = (ior - 1.0) / (ior + 1.0);
+    return 2.0 * r * r / (1.0 + r * r);
+}
+
+/* Thin-walled transmission (tests/scenes/thin_pane.gltf: a smooth quad of
+ * transmission 1, ior 1.5, base colour (0.9, 0.7, 0.3), no
+ * KHR_materials_volume, before a lamp of radiance 1): the camera sees the
+ * lamp straight through, (1 - R') x base colour in each channel; no
+ * refraction into an interior (which would give (1 - R) c / 1.5²). */
+static void thin_pane_passes_the_lamp_straight_through(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    st_scene *s = NULL;
+    if (st_scene_load("tests/scenes/thin_pane.gltf", &s, &err) != ST_OK)
+        fail_msg("load: %s", err.msg);
+    assert_true(s->materials[1].flags & ST_MAT_THIN);
+    const double c[3] = {0.9, 0.7, 0.3}, t = 1.0 - thin_reflectance(1.5);
+    double mean[3];
+    view_means(s, 0.0f, mean);
+    for (int k = 0; k < 3; k++) {
+        print_message("thin pane, channel %d: mean %.6f, want %.6f\n", k, mean[k], t * c[k]);
+        if (fabs(mean[k] - t * c[k]) > 1e-3 * c[k])
+            fail_msg("channel %d: mean %.6f, want %.6f", k, mean[k], t * c[k]);
+    }
+    st_scene_destroy(s);
+}
+
+/* A white thin pane in a white furnace (tests/scenes/thin_pane_white.gltf,
+ * environment 1, seen head-on): smooth, what it reflects and what it
+ * passes add up to 1 (R' + T' = 1, the slab absorbs nothing); rough (0.3,
+ * 0.7), R' and T' share one GGX lobe, the transmission its mirror image,
+ * so together they keep what a white metal's lobe keeps at normal
+ * incidence (albedo_head_on, by quadrature). */
+static void thin_pane_keeps_the_furnace_energy(void **state)
+{
+    (void)state;
+    const float rough[] = {0.0f, 0.3f, 0.7f};
+    for (int j = 0; j < 3; j++) {
+        st_error err = {0};
+        st_scene *s = NULL;
+        if (st_scene_load("tests/scenes/thin_pane_white.gltf", &s, &err) != ST_OK)
+            fail_msg("load: %s", err.msg);
+        s->materials[1].roughness = rough[j];
+        double mean[3];
+        view_means(s, 1.0f, mean);
+        double want = rough[j] == 0.0f ? 1.0 : albedo_head_on(rough[j]);
+        print_message("white thin pane, roughness %.1f: mean %.6f, want %.6f\n", rough[j],
+                      mean[0], want);
+        if (fabs(mean[0] - want) > 2e-3)
+            fail_msg("roughness %g: mean %.6f, want %.6f", rough[j], mean[0], want);
+        st_scene_destroy(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest device[] = {
@@ -405,6 +585,10 @@ int main(void)
         cmocka_unit_test(direct_mis_resolves_smooth_metal),
         cmocka_unit_test(normal_map_tilts_by_its_angle),
         cmocka_unit_test(unreadable_normal_map_leaves_the_plane_flat),
+        cmocka_unit_test(coat_normal_map_tilts_the_coat_alone),
+        cmocka_unit_test(unreadable_coat_normal_map_is_left_out),
+        cmocka_unit_test(thin_pane_passes_the_lamp_straight_through),
+        cmocka_unit_test(thin_pane_keeps_the_furnace_energy),
         cmocka_unit_test(tilted_glossy_keeps_its_energy),
         cmocka_unit_test(vertex_color_multiplies_base_colour),
         cmocka_unit_test(unlit_shows_base_colour),

@@ -12,7 +12,9 @@
 # fails the block test. glass_mitsuba_coarse repeats it with coarse spheres
 # (6 rings, 8 segments) whose smooth normals stray far from the facets at
 # the outline, where the two agree on the shading-normal convention at a
-# refracting surface (kernels/integrator/integrator.h vertex_bounce). Needs
+# refracting surface (kernels/integrator/integrator.h vertex_bounce).
+# glass_mitsuba_thin makes the three spheres smooth and thin-walled (no
+# KHR_materials_volume) against Mitsuba's `thindielectric`. Needs
 # Mitsuba 3 in build/bench-py (`make bench-deps`); without it the test is
 # skipped, saying so. TAP output.
 . tests/tap.sh
@@ -23,7 +25,8 @@ if [ ! -x "$PY" ] || ! "$PY" -c "import mitsuba" 2> /dev/null; then
     exit 0
 fi
 W=96 H=72 SPP=1024 DEPTH=12
-for SCENE in tests/scenes/glass_mitsuba.gltf tests/scenes/glass_mitsuba_coarse.gltf; do
+for SCENE in tests/scenes/glass_mitsuba.gltf tests/scenes/glass_mitsuba_coarse.gltf \
+    tests/scenes/glass_mitsuba_thin.gltf; do
     name=$(basename $SCENE .gltf)
     $S render $SCENE --env 1,1,1 --width $W --height $H --spp $SPP --sampler random \
         --filter box --max-depth $DEPTH -q -o "$T/strata.exr" 2> "$T/s.err"

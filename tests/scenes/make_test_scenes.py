@@ -53,8 +53,15 @@ material_extensions  the quad with KHR_materials_specular (factor 0.5, colour
 normal_tilt   textured_quad as a white Lambertian plane whose constant normal
               map tilts the shading normal by about 60 degrees.
 normal_missing  normal_tilt with its normal map's file missing.
+coat_normal   normal_tilt's map at scale 1/3 as the clearcoatNormalTexture of a
+              rough clear coat over the white plane, lit by a directional
+              light at the view's mirror direction about the coat's normal;
+              coat_normal_missing, the same with that map's file missing.
 glass_panes   a lamp seen through four glass panes (eight interfaces).
 glass_mitsuba_coarse  glass_mitsuba with the spheres of glass_furnace_coarse.
+glass_mitsuba_thin  glass_mitsuba with its spheres smooth and thin-walled.
+thin_pane     a smooth thin-walled glass quad (no KHR_materials_volume) before
+              a lamp quad; thin_pane_white, a white one and no lamp.
 glass_furnace_coarse  glass_furnace's spheres with 6 rings and 8 segments, smooth
               normals (far from the facets' at the outline).
 sided_one, sided_two  a 2 x 2 x 2 cube about the origin, counter-clockwise
@@ -707,6 +714,32 @@ def write_lighting():
     # white texel would tilt the normal by some 55 degrees), not made white
     g["images"][-1] = {"uri": "no_such_normal_map.png"}
     write_json("normal_missing.gltf", g)
+    # normal_tilt's map (scale 1/3: some 30 degrees) moved to a clear coat
+    # (factor 1, roughness 0.5) over the white Lambertian plane, lit by a
+    # directional light of irradiance 1 from the coat normal's mirror
+    # direction of the view (the tilt's y ignored): the coat's highlight
+    # peaks there, the base keeps the plane's normal
+    g["images"][-1] = {"uri": png_uri(constant_png((238, 128, 191)))}
+    tilt = math.atan2((238 / 255 * 2 - 1) / 3, 191 / 255 * 2 - 1)
+    g["materials"] = [{"name": "coat_tilted", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                       "extensions": {
+                           "KHR_materials_specular": {"specularFactor": 0.0},
+                           "KHR_materials_clearcoat": {
+                               "clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5,
+                               "clearcoatNormalTexture": {"index": len(g["textures"]) - 1,
+                                                          "scale": 1.0 / 3.0}}}}]
+    g["nodes"].append({"name": "sun", "rotation": [0.0, math.sin(tilt), 0.0, math.cos(tilt)],
+                       "extensions": {"KHR_lights_punctual": {"light": 0}}})
+    g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+    g["extensions"] = {"KHR_lights_punctual": {"lights": [{"type": "directional",
+                                                            "intensity": 1.0}]}}
+    g["extensionsUsed"] = sorted(set(g.get("extensionsUsed", [])) |
+                                 {"KHR_lights_punctual", "KHR_materials_clearcoat",
+                                  "KHR_materials_specular"})
+    write_json("coat_normal.gltf", g)
+    # the same with the coat's normal map's file missing: left out
+    g["images"][-1] = {"uri": "no_such_coat_normal_map.png"}
+    write_json("coat_normal_missing.gltf", g)
 
     # the quad, white and Lambertian, with COLOR_0 (normalised bytes 128, 64,
     # 255, 255 at every vertex)
@@ -1089,12 +1122,18 @@ def sphere_prim(b, radius, rings=16, segments=24):
                                   "SCALAR")}
 
 
+# KHR_materials_volume with a thickness: the mesh bounds a solid (without
+# it, transmission is thin-walled)
+SOLID = {"thicknessFactor": 1.0}
+
+
 def glass_material(roughness=0.0, base=(1.0, 1.0, 1.0), transmission=1.0, metallic=0.0,
                    attenuation=None):
-    ext = {"KHR_materials_transmission": {"transmissionFactor": transmission}}
+    ext = {"KHR_materials_transmission": {"transmissionFactor": transmission},
+           "KHR_materials_volume": dict(SOLID)}
     if attenuation is not None:
-        ext["KHR_materials_volume"] = {"attenuationColor": list(attenuation[0]),
-                                       "attenuationDistance": attenuation[1]}
+        ext["KHR_materials_volume"].update({"attenuationColor": list(attenuation[0]),
+                                            "attenuationDistance": attenuation[1]})
     return {"pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0],
                                      "metallicFactor": metallic, "roughnessFactor": roughness},
             "extensions": ext}
@@ -1146,14 +1185,52 @@ def write_glass():
 
     tinted = dict(glass_material(roughness=0.2, base=(0.9, 0.7, 0.3), transmission=0.5),
                   extensions={"KHR_materials_transmission": {"transmissionFactor": 0.5},
+                              "KHR_materials_volume": SOLID,
                               "KHR_materials_ior": {"ior": 1.33}})
     write_json("glass.gltf", glass_scene(tinted, light=True))
     # what Mitsuba's dielectric and roughdielectric match: transmission 1, metallic 0
     tinted = dict(glass_material(base=(0.9, 0.7, 0.3)),
                   extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                              "KHR_materials_volume": SOLID,
                               "KHR_materials_ior": {"ior": 1.33}})
     write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
     write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, coarse=True))
+    # glass_mitsuba with its three spheres smooth and thin-walled (no
+    # KHR_materials_volume): what Mitsuba's thindielectric matches
+    g = glass_scene(tinted, light=False)
+    for m in g["materials"][3:]:
+        m["extensions"].pop("KHR_materials_volume")
+        m["pbrMetallicRoughness"]["roughnessFactor"] = 0.0
+    write_json("glass_mitsuba_thin.gltf", g)
+    # thin_pane: a smooth thin-walled quad (transmission 1, ior 1.5, base
+    # colour 0.9, 0.7, 0.3; no KHR_materials_volume) face-on to an
+    # orthographic camera, before a lamp quad (emission 1) that fills the
+    # view; thin_pane_white, the same pane white and without the lamp
+    b = Blob()
+    lamp, pane = b.quad(0.0), b.quad(0.0)
+    lamp["material"], pane["material"] = 0, 1
+    glass = glass_material(base=(0.9, 0.7, 0.3))
+    glass["extensions"].pop("KHR_materials_volume")
+    materials = [{"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                           "metallicFactor": 0.0},
+                  "emissiveFactor": [1.0, 1.0, 1.0],
+                  "extensions": {"KHR_materials_specular": {"specularFactor": 0.0}}}, glass]
+    nodes = [{"mesh": 0, "translation": [0.0, 0.0, -1.0], "scale": [3.0, 3.0, 1.0]},
+             {"mesh": 1, "scale": [2.0, 2.0, 1.0]}, ortho_camera_node()]
+    cameras = [{"type": "orthographic", "orthographic": {"xmag": 0.8, "ymag": 0.6,
+                                                         "zfar": 100.0, "znear": 0.01}}]
+    used = ["KHR_materials_transmission", "KHR_materials_specular"]
+    write_json("thin_pane.gltf", doc([{"primitives": [lamp]}, {"primitives": [pane]}],
+                                     b.accessors, b.views, b.buffers(), nodes=nodes,
+                                     scenes=[{"nodes": [0, 1, 2]}], cameras=cameras,
+                                     materials=materials, extensionsUsed=used))
+    white = glass_material()
+    white["extensions"].pop("KHR_materials_volume")
+    write_json("thin_pane_white.gltf", doc([{"primitives": [lamp]}, {"primitives": [pane]}],
+                                           b.accessors, b.views, b.buffers(),
+                                           nodes=nodes[1:], scenes=[{"nodes": [0, 1]}],
+                                           cameras=cameras, materials=[materials[0], white],
+                                           extensionsUsed=used))
 
 
 def write_coat():
@@ -1187,7 +1264,8 @@ def write_coat():
             extensionsUsed=["KHR_materials_clearcoat", "KHR_materials_specular"])
     write_json("coat_quad.gltf", g)
     glass = coated((1.0, 1.0, 1.0), 0.5, 0.1, roughness=0.0,
-                   extra={"KHR_materials_transmission": {"transmissionFactor": 1.0}})
+                   extra={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                          "KHR_materials_volume": SOLID})
     g = glass_scene(glass, light=True)
     g["materials"][3] = coated((0.8, 0.1, 0.1))
     g["materials"][4] = coated((1.0, 0.8, 0.4), 0.7, 0.3, metallic=1.0, roughness=0.5)
@@ -1231,7 +1309,8 @@ def write_sheen():
             extensionsUsed=["KHR_materials_sheen", "KHR_materials_specular"])
     write_json("sheen_quad.gltf", g)
     glass = sheened((1.0, 1.0, 1.0), (0.6, 0.7, 0.9), 0.2, roughness=0.0,
-                    extra={"KHR_materials_transmission": {"transmissionFactor": 1.0}})
+                    extra={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                           "KHR_materials_volume": SOLID})
     g = glass_scene(glass, light=True)
     g["materials"][3] = sheened((0.5, 0.05, 0.05), (0.9, 0.9, 0.9), 0.3)
     g["materials"][4] = sheened((1.0, 0.8, 0.4), (0.3, 0.5, 1.0), 0.7, metallic=1.0,
@@ -1574,7 +1653,8 @@ def write_glass_panes():
                         "extensions": {"KHR_materials_emissive_strength":
                                        {"emissiveStrength": 4.0}}},
                        glass_material()],
-            extensionsUsed=["KHR_materials_transmission", "KHR_materials_emissive_strength"])
+            extensionsUsed=["KHR_materials_transmission", "KHR_materials_volume",
+                            "KHR_materials_emissive_strength"])
     write_json("glass_panes.gltf", g)
 
 
@@ -1610,8 +1690,8 @@ def write_dark_views():
                    cameras=[{"type": "perspective", "perspective": {"yfov": 0.7,
                                                                     "znear": 0.01}}],
                    materials=materials,
-                   extensionsUsed=["KHR_materials_transmission", "KHR_materials_specular",
-                                   "KHR_materials_emissive_strength"]))
+                   extensionsUsed=["KHR_materials_transmission", "KHR_materials_volume",
+                                   "KHR_materials_specular", "KHR_materials_emissive_strength"]))
     for name, rotation in (("sun_behind.gltf", [0.0, 1.0, 0.0, 0.0]),
                            ("sun_front.gltf", [0.0, 0.0, 0.0, 1.0])):
         b = Blob()

@@ -158,7 +158,7 @@ static void albedo_matches_quadrature(void **state)
 {
     (void)state;
     const float params[][4] = {/* base, metallic, roughness, specular */
-                               {0.8f, 0.0f, 1.0f, 1.0f}, {0.8f, 0.0f, 0.5f, 1.0f},
+                                {0.8f, 0.0f, 1.0f, 1.0f}, {0.8f, 0.0f, 0.5f, 1.0f},
                                {0.5f, 1.0f, 0.6f, 1.0f}, {0.9f, 0.5f, 0.4f, 0.7f},
                                {0.2f, 0.0f, 0.3f, 1.0f}};
     const double zs[] = {0.95, 0.5, 0.15};
@@ -302,14 +302,15 @@ static st_brdf glass(float c, float m, float r, float tr, float eta, st_dielectr
 {
     const float base[3] = {c, c, c}, white[3] = {1.0f, 1.0f, 1.0f};
     float ior = eta >= 1.0f ? eta : 1.0f / eta;
-    *d = st_dielectric_make(tr, m, base, ior, eta >= 1.0f);
+    *d = st_dielectric_make(tr, m, base, ior, eta >= 1.0f, 0);
     return st_brdf_make(base, m, r, 1.0f, white, ior, tr);
 }
 
 /* Monte Carlo energy of the material towards wo: E[f |cos| / pdf] over the
  * whole sphere, the transmitted samples times η² (the radiance BTDF's
  * 1 / η² undone: what is left is the share of power that goes on). */
-static const st_coat no_coat = {0.0f, 0.5f};
+static const st_coat no_coat = {0.0f, 0.5f, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f},
+                                {0.0f, 0.0f, 1.0f}};
 static const st_sheen no_sheen = {{0.0f, 0.0f, 0.0f}, 0.0f, 0.5f, 0.25f};
 
 /* ... of channel `ch` under a sheen and a coat. */
@@ -324,7 +325,7 @@ static double sampled_energy_layered(const st_brdf *b, const st_dielectric *d, c
         float f[3], pdf = st_coated_sheened_pdf(b, d, sh, c, wo, wi);
         st_coated_sheened_eval(b, d, sh, c, wo, wi, f);
         double w = pdf > 0.0f && wi.z != 0.0f ? f[ch] * fabs(wi.z) / pdf : 0.0;
-        if (wi.z < 0.0f)
+        if (wi.z < 0.0f && !d->thin) /* a thin wall has the same medium on both sides */
             w *= (double)d->eta * d->eta;
         sum += w;
         sum2 += w * w;
@@ -425,7 +426,8 @@ static st_dir mirror(st_dir w)
     return m;
 }
 
-/* Reciprocity, bare and under a clear coat and a sheen: reflections f(wo, wi) =
+/* Reciprocity, bare and under a clear coat (tilted by its own normal map
+ * or not) and a sheen: reflections f(wo, wi) =
  * f(wi, wo); refractions, the generalised form f(wo, wi) / η(wo)² = f(wi, wo) / η(wi)², i.e. with wo's
  * side at 1, f(wo, wi; η) = f(mirror wi, mirror wo; 1 / η) / η². */
 static void dielectric_is_reciprocal(void **state)
@@ -447,6 +449,9 @@ static void dielectric_is_reciprocal(void **state)
         /* and a third under a sheen (bsdf_sheen.h) */
         const float sc[3] = {(float)next_unit(&s), (float)next_unit(&s), (float)next_unit(&s)};
         st_sheen sh = i % 3 ? no_sheen : st_sheen_make(sc, (float)next_unit(&s));
+        /* and, for reflections, a quarter about a tilted coat normal */
+        if (i % 4 == 1 && wi.z > 0.0f)
+            st_coat_tilt(&cc, dir_from(0.3 + 0.7 * next_unit(&s), 2 * PI * next_unit(&s)));
         float f[3], g[3];
         st_coated_sheened_eval(&b, &d, &sh, &cc, wo, wi, f);
         if (wi.z > 0.0f) {
@@ -466,6 +471,64 @@ static void dielectric_is_reciprocal(void **state)
         fail_msg("only %d refractions with f > 0", refractions);
 }
 
+/* A thin wall (bsdf_dielectric.h): smooth and white, it keeps all of the
+ * energy at every angle, passing T' = 1 - 2R / (1 + R) of it (R the
+ * exact Fresnel reflectance of one face at wo's angle) straight through,
+ * wi = -wo (all but GGX's far tail at the least α); at any roughness f
+ * is reciprocal, f(wo, wi) = f(wi, wo) for a reflection and f(wo, wi) =
+ * f(mirror wi, mirror wo) for a transmission (the wall is the same from
+ * both sides, no 1 / η²). */
+static void thin_wall_passes_straight_through(void **state)
+{
+    (void)state;
+    const float one[3] = {1.0f, 1.0f, 1.0f};
+    const double zs[] = {0.95, 0.6, 0.3};
+    for (int k = 0; k < 3; k++) {
+        st_brdf b = st_brdf_make(one, 0.0f, 0.0f, 1.0f, one, 1.5f, 1.0f);
+        st_dielectric d = st_dielectric_make(1.0f, 0.0f, one, 1.5f, 1, 1);
+        st_dir wo = dir_from(zs[k], 0.7);
+        uint64_t s = 3;
+        const int n = 200000;
+        double sum = 0.0, through = 0.0, along = 0.0;
+        for (int i = 0; i < n; i++) {
+            float u1 = (float)next_unit(&s), u2 = (float)next_unit(&s), u3 = (float)next_unit(&s);
+            st_dir wi = st_bsdf_sample(&b, &d, wo, u1, u2, u3);
+            float f[3], pdf = st_bsdf_pdf(&b, &d, wo, wi);
+            st_bsdf_eval(&b, &d, wo, wi, f);
+            double w = pdf > 0.0f ? f[0] * fabs(wi.z) / pdf : 0.0;
+            sum += w / n;
+            if (wi.z < 0.0f) {
+                through += w / n;
+                if (fabs(wi.x + wo.x) + fabs(wi.y + wo.y) + fabs(wi.z + wo.z) < 0.1)
+                    along += w / n;
+            }
+        }
+        double r = st_fresnel_dielectric((float)zs[k], 1.5f), t = 1.0 - 2.0 * r / (1.0 + r);
+        print_message("thin wall at cos %.2f: energy %.6f, through %.6f (T' %.6f), %.6f of it "
+                      "within 0.1 of -wo\n", zs[k], sum, through, t, along / through);
+        if (fabs(sum - 1.0) > 2e-3 || fabs(through - t) > 2e-3 || along < 0.99 * through)
+            fail_msg("cos %g: energy %.6f, through %.6f (T' %.6f), along -wo %.6f", zs[k], sum,
+                     through, t, along);
+    }
+    uint64_t s = 17;
+    for (int i = 0; i < 4000; i++) {
+        float r = (float)(0.1 + 0.9 * next_unit(&s)), c = (float)next_unit(&s);
+        const float base[3] = {c, c, c};
+        st_brdf b = st_brdf_make(base, 0.0f, r, 1.0f, one, 1.5f, 1.0f);
+        st_dielectric d = st_dielectric_make(1.0f, 0.0f, base, 1.5f, next_unit(&s) < 0.5, 1);
+        st_dir wo = dir_from(0.01 + 0.99 * next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir wi = dir_from(-1.0 + 2.0 * next_unit(&s), 2 * PI * next_unit(&s));
+        float f[3], g[3];
+        st_bsdf_eval(&b, &d, wo, wi, f);
+        if (wi.z > 0.0f)
+            st_bsdf_eval(&b, &d, wi, wo, g);
+        else
+            st_bsdf_eval(&b, &d, mirror(wi), mirror(wo), g);
+        if (fabsf(f[0] - g[0]) > 2e-3f * fmaxf(1e-2f, fabsf(f[0])))
+            fail_msg("roughness %g, wi.z %g: f %g, reversed %g", r, wi.z, f[0], g[0]);
+    }
+}
+
 /* The mixture's pdf over the whole sphere (z in [-1, 1]) by the midpoint
  * rule: 1 less the share of samples lost (none for these). */
 static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_sheen *sh,
@@ -480,7 +543,8 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_shee
 }
 
 /* Chi-square of st_coated_sample against st_coated_pdf (bare, coated,
- * sheened, with and without transmission) over the sphere: SZ x
+ * the coat about its own normal or not, sheened, with and without
+ * transmission, solid or thin-walled) over the sphere: SZ x
  * SPHI bins of equal solid angle in (cos θ in [-1, 1], φ), expected counts
  * from the pdf by SQ x SQ midpoint quadrature inside each bin (the refracted
  * peak is narrow), one more bin
@@ -493,18 +557,24 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_shee
 static void transmission_sampler_passes_chi_square(void **state)
 {
     (void)state;
-    const float params[][9] = {/* base, metallic, roughness, transmission, η, coat, its
-                                  roughness, sheen colour, sheen roughness */
-                               {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {0.9f, 0.0f, 0.8f, 1.0f, 2.0f, 0.0f, 0.0f, 0.0f, 0.0f},
-                               {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f, 0.0f, 0.0f},
-                               {0.6f, 1.0f, 0.5f, 0.0f, 1.5f, 0.7f, 0.4f, 0.0f, 0.0f},
-                               {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.5f, 0.0f, 0.0f},
-                               {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 0.0f, 0.0f, 1.0f, 0.5f},
-                               {0.5f, 1.0f, 0.3f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.2f},
-                               {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.6f, 0.3f, 0.8f, 0.9f}};
+    /* base, metallic, roughness, transmission, η, coat, its roughness, sheen colour, sheen
+     * roughness, the coat's normal's z (tilted towards φ = 1: st_coat_tilt), thin-walled */
+    const float params[][11] = {
+        {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {0.9f, 0.0f, 0.8f, 1.0f, 2.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {0.6f, 1.0f, 0.5f, 0.0f, 1.5f, 0.7f, 0.4f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.5f, 0.0f, 0.0f, 1.0f, 0.0f},
+        {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 0.0f, 0.0f, 1.0f, 0.5f, 1.0f, 0.0f},
+        {0.5f, 1.0f, 0.3f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.2f, 1.0f, 0.0f},
+        {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.6f, 0.3f, 0.8f, 0.9f, 1.0f, 0.0f},
+        {0.8f, 0.0f, 0.7f, 0.0f, 1.5f, 1.0f, 0.3f, 0.0f, 0.0f, 0.8f, 0.0f},
+        {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.2f, 0.0f, 0.0f, 0.9f, 0.0f},
+        {1.0f, 0.0f, 0.2f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f},
+        {0.9f, 0.0f, 0.5f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f},
+        {0.8f, 0.0f, 0.3f, 0.6f, 1.33f, 0.5f, 0.2f, 0.0f, 0.0f, 1.0f, 1.0f}};
     const int nmat = (int)(sizeof params / sizeof params[0]);
     const double zs[] = {0.9, 0.35};
     const int n = 1000000;
@@ -514,7 +584,10 @@ static void transmission_sampler_passes_chi_square(void **state)
             st_dielectric d;
             st_brdf b = glass(params[p][0], params[p][1], params[p][2], params[p][3],
                               params[p][4], &d);
+            d.thin = params[p][10] > 0.0f; /* its η: the ior, from either side */
             st_coat cc = st_coat_make(params[p][5], params[p][6]);
+            if (params[p][9] < 1.0f)
+                st_coat_tilt(&cc, dir_from(params[p][9], 1.0));
             const float sc[3] = {params[p][7], 0.8f * params[p][7], 0.5f * params[p][7]};
             st_sheen sh = st_sheen_make(sc, params[p][8]);
             st_dir wo = dir_from(zs[k], 0.5);
@@ -591,7 +664,7 @@ static void coat_furnace(void **state)
         for (int k = 0; k < 3; k++)
             for (int r = 0; r < 2; r++) {
                 const float base[3] = {1.0f, 1.0f, 1.0f};
-                st_dielectric d = st_dielectric_make(bases[p][3], bases[p][1], base, 1.5f, 1);
+                st_dielectric d = st_dielectric_make(bases[p][3], bases[p][1], base, 1.5f, 1, 0);
                 st_brdf b = st_brdf_make(base, bases[p][1], bases[p][2], bases[p][4], base, 1.5f,
                                          bases[p][3]);
                 st_coat c = st_coat_make(1.0f, r ? 0.4f : 0.0f);
@@ -602,7 +675,7 @@ static void coat_furnace(void **state)
                              zs[k], a, se);
             }
     const float black[3] = {0.0f, 0.0f, 0.0f};
-    st_dielectric d = st_dielectric_make(0.0f, 0.0f, black, 1.5f, 1);
+    st_dielectric d = st_dielectric_make(0.0f, 0.0f, black, 1.5f, 1, 0);
     st_brdf b = st_brdf_make(black, 0.0f, 1.0f, 0.0f, black, 1.5f, 0.0f);
     st_coat c = st_coat_make(1.0f, 0.0f);
     double se, a = sampled_energy_coated(&b, &d, &c, dir_from(1.0, 0.0), 100000, &se);
@@ -703,7 +776,7 @@ static void sheen_furnace(void **state)
             float r = rows[a] / 31.0f, x = cols[c] / 31.0f, mu = x * x;
             st_dir wo = dir_from(mu, 0.4);
             float e = st_sheen_albedo_table[32 * rows[a] + cols[c]];
-            st_dielectric d = st_dielectric_make(0.0f, 0.0f, black, 1.5f, 1);
+            st_dielectric d = st_dielectric_make(0.0f, 0.0f, black, 1.5f, 1, 0);
             st_brdf dark = st_brdf_make(black, 0.0f, 1.0f, 0.0f, black, 1.5f, 0.0f);
             st_sheen sh = st_sheen_make(colour, r);
             for (int ch = 0; ch < 3; ch++) {
@@ -776,6 +849,7 @@ int main(void)
         cmocka_unit_test(dielectric_furnace),
         cmocka_unit_test(transmission_mixture_energy),
         cmocka_unit_test(dielectric_is_reciprocal),
+        cmocka_unit_test(thin_wall_passes_straight_through),
         cmocka_unit_test(transmission_sampler_passes_chi_square),
         cmocka_unit_test(coat_furnace),
         cmocka_unit_test(sheen_distribution_is_normalised),

@@ -819,10 +819,10 @@ static void dark_fraction_counts_what_no_light_reaches(void **state)
     }
 }
 
-/* A normal map whose image cannot be read is left out, not made white (a
- * white texel is the normal (1, 1, 1), some 55 degrees off): the material
- * has no normal texture and the warning says so; no white texture stands
- * in for it. */
+/* A normal map (the base's or the clear coat's) whose image cannot be
+ * read is left out, not made white (a white texel is the normal (1, 1, 1),
+ * some 55 degrees off): the material has no such texture and the warning
+ * says so; no white texture stands in for it. */
 static void unreadable_normal_map_is_left_out(void **state)
 {
     (void)state;
@@ -835,6 +835,44 @@ static void unreadable_normal_map_is_left_out(void **state)
     s = load_ok(SCENES "normal_tilt.gltf"); /* the same file with its map readable */
     assert_int_not_equal(s->materials[0].normal_tex, ST_NO_TEXTURE);
     st_scene_destroy(s);
+    s = load_ok(SCENES "coat_normal_missing.gltf"); /* the clear coat's normal map */
+    assert_int_equal(s->materials[0].clearcoat_normal_tex, ST_NO_TEXTURE);
+    assert_true(has_warning(s, "material 0: clearcoatNormalTexture: image 3 "
+                               "(no_such_coat_normal_map.png): cannot read it: left out (the "
+                               "vertex normals kept)"));
+    assert_false(has_warning(s, "no_such_coat_normal_map.png): cannot read it: replaced by"));
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat_normal.gltf"); /* readable: read, with its scale */
+    assert_int_not_equal(s->materials[0].clearcoat_normal_tex, ST_NO_TEXTURE);
+    near(s->materials[0].clearcoat_normal_scale, 1.0 / 3.0, 1e-7, "clearcoatNormalTexture.scale");
+    assert_true(s->materials[0].flags & ST_MAT_TEXTURED);
+    assert_false(has_warning(s, "clearcoatNormalTexture"));
+    st_scene_destroy(s);
+}
+
+/* KHR_materials_transmission without KHR_materials_volume is thin-walled
+ * (ST_MAT_THIN: tests/scenes/thin_pane.gltf's pane), with a volume a
+ * solid (glass_slab.gltf, whose volume absorbs, and glass.gltf, whose
+ * volume only has a thickness); a material without transmission is
+ * neither (the lamp). */
+static void transmission_without_volume_is_thin(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "thin_pane.gltf");
+    assert_false(s->materials[0].flags & ST_MAT_THIN);
+    assert_true(s->materials[1].flags & ST_MAT_THIN);
+    st_scene_destroy(s);
+    const char *solid[] = {SCENES "glass_slab.gltf", SCENES "glass.gltf"};
+    for (int k = 0; k < 2; k++) {
+        s = load_ok(solid[k]);
+        int glass = 0;
+        for (st_u32 i = 0; i < s->material_count; i++) {
+            glass += s->materials[i].transmission > 0.0f;
+            assert_false(s->materials[i].flags & ST_MAT_THIN);
+        }
+        assert_true(glass > 0);
+        st_scene_destroy(s);
+    }
 }
 
 /* KHR_materials_sheen's factors and textures as the specification names
@@ -868,9 +906,9 @@ static void sheen_is_imported(void **state)
 }
 
 /* ST_MAT_TEXTURED, the one test material_at makes before its texture
- * lookups: set by each of the nine textured factors it reads alone, not by
+ * lookups: set by each of the ten textured factors it reads alone, not by
  * the sheen's (sheen_gather reads those), and on the imported materials
- * exactly where one of the nine has a texture. */
+ * exactly where one of the ten has a texture. */
 static void textured_flag_follows_the_factors(void **state)
 {
     (void)state;
@@ -878,7 +916,7 @@ static void textured_flag_follows_the_factors(void **state)
     st_u32 *slot[] = {&m.base_color_tex,   &m.emission_tex,   &m.metallic_roughness_tex,
                       &m.specular_tex,     &m.specular_color_tex, &m.normal_tex,
                       &m.transmission_tex, &m.clearcoat_tex,  &m.clearcoat_roughness_tex,
-                      &m.sheen_color_tex,  &m.sheen_roughness_tex};
+                      &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex};
     const size_t slots = sizeof slot / sizeof slot[0];
     for (size_t k = 0; k <= slots; k++) { /* k = slots: none textured */
         memset(&m, 0, sizeof m);
@@ -886,7 +924,7 @@ static void textured_flag_follows_the_factors(void **state)
             *slot[j] = ST_NO_TEXTURE;
         if (k < slots)
             *slot[k] = 3u;
-        assert_int_equal(st_material_reads_textures(&m) != 0, k < 9);
+        assert_int_equal(st_material_reads_textures(&m) != 0, k < 10);
     }
     st_scene *s = load_ok(SCENES "textures.gltf"); /* base colour (and more) textured */
     for (st_u32 i = 0; i < s->material_count; i++)
@@ -1492,6 +1530,7 @@ int main(void)
         cmocka_unit_test(malformed_files_return_format_error_naming_file),
         cmocka_unit_test(unreadable_images_and_unknown_extensions_warn),
         cmocka_unit_test(unreadable_normal_map_is_left_out),
+        cmocka_unit_test(transmission_without_volume_is_thin),
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
