@@ -94,9 +94,10 @@ static void ext_numbers(const tinygltf::Value &obj, const char *key, int n, floa
 /* KHR_materials_transmission (transmissionFactor 0, transmissionTexture's R)
  * and KHR_materials_volume's attenuation (attenuationColor 1,
  * attenuationDistance +infinity) of material i. The volume's thickness is
- * a rasteriser's stand-in for the geometry a path tracer follows: unused.
- * Transmission without a volume is thin-walled (the specification's
- * default): the surface bounds no interior. */
+ * a rasteriser's stand-in for the geometry a path tracer follows, except
+ * that 0, its default, makes the material thin-walled, as does transmission
+ * without a volume (the specification's rule): the surface bounds no
+ * interior. */
 static void read_transmission_volume(const Model &m, size_t i, texture_table &table, notes &warn,
                                      st_gltf_material &o)
 {
@@ -118,9 +119,15 @@ static void read_transmission_volume(const Model &m, size_t i, texture_table &ta
                                          false, i, "transmissionTexture", table, warn);
     }
     auto vol = exts.find("KHR_materials_volume");
-    o.thin_walled = tr != exts.end() && vol == exts.end();
+    double thickness = 0.0; /* the specification's default: thin-walled */
     if (vol != exts.end()) {
         snprintf(what, sizeof what, "material %zu: KHR_materials_volume", i);
+        thickness = ext_number(vol->second, "thicknessFactor", 0.0, what);
+        if (!(thickness >= 0.0))
+            fail("%s: thicknessFactor %g is not >= 0", what, thickness);
+    }
+    o.thin_walled = tr != exts.end() && thickness == 0.0;
+    if (vol != exts.end()) {
         ext_numbers(vol->second, "attenuationColor", 3, o.attenuation, what);
         o.attenuation[3] = float(ext_number(vol->second, "attenuationDistance", INFINITY, what));
         for (int k = 0; k < 3; k++)

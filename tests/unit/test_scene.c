@@ -183,6 +183,13 @@ static void write_all(const char *path, const unsigned char *data, size_t size)
     assert_int_equal(fclose(f), 0);
 }
 
+/* A scratch directory for generated files, removed by the caller. */
+static void make_scratch(char dir[64])
+{
+    snprintf(dir, 64, "/tmp/strata-test-scene-XXXXXX");
+    assert_non_null(mkdtemp(dir));
+}
+
 static int dir_exists(const char *path)
 {
     struct stat st;
@@ -873,6 +880,36 @@ static void transmission_without_volume_is_thin(void **state)
         assert_true(glass > 0);
         st_scene_destroy(s);
     }
+    /* KHR_materials_volume: thicknessFactor 0, its default, is thin-walled
+     * too; any other thickness bounds a solid */
+    static const double thickness[] = {-1.0 /* not given */, 0.0, 0.5};
+    char dir[64], path[128];
+    size_t size;
+    unsigned char *data = read_all(SCENES "thin_pane.gltf", &size);
+    make_scratch(dir);
+    snprintf(path, sizeof path, "%s/volume.gltf", dir);
+    for (int k = 0; k < 3; k++) {
+        cJSON *doc = cJSON_ParseWithLength((const char *)data, size);
+        assert_non_null(doc);
+        cJSON *ext = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "materials"),
+                                                            1), "extensions");
+        cJSON *vol = cJSON_AddObjectToObject(ext, "KHR_materials_volume");
+        if (thickness[k] >= 0.0)
+            cJSON_AddNumberToObject(vol, "thicknessFactor", thickness[k]);
+        char *text = cJSON_PrintUnformatted(doc);
+        write_all(path, (const unsigned char *)text, strlen(text));
+        cJSON_free(text);
+        cJSON_Delete(doc);
+        s = load_ok(path);
+        if (k < 2)
+            assert_true(s->materials[1].flags & ST_MAT_THIN);
+        else
+            assert_false(s->materials[1].flags & ST_MAT_THIN);
+        st_scene_destroy(s);
+    }
+    unlink(path);
+    rmdir(dir);
+    free(data);
 }
 
 /* KHR_materials_sheen's factors and textures as the specification names
@@ -1093,13 +1130,6 @@ static void material_extensions_are_read(void **state)
     near(m->ior, 1.5, 0, "default ior");
     assert_int_equal(m->normal_tex, ST_NO_TEXTURE);
     st_scene_destroy(s);
-}
-
-/* A scratch directory for generated files, removed by the caller. */
-static void make_scratch(char dir[64])
-{
-    snprintf(dir, 64, "/tmp/strata-test-scene-XXXXXX");
-    assert_non_null(mkdtemp(dir));
 }
 
 /* ---- instancing, morph targets, skins -------------------------------------------- */
