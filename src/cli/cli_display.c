@@ -211,6 +211,13 @@ static int connect_if_due(st_cli_display *d, packet *p, int final)
     return finish(d, p);
 }
 
+void st_cli_display_open(st_cli_display *d)
+{
+    packet p = {0};
+    connect_if_due(d, &p, 1);
+    free(p.b);
+}
+
 void st_cli_display_show(st_cli_display *d, const st_image *img, int final)
 {
     packet p = {0};

@@ -41,6 +41,10 @@ int st_cli_display_parse(const char *spec, char *host, size_t host_cap, char *po
  * nothing is connected yet. */
 void st_cli_display_init(st_cli_display *d, const char *spec, const char *name, unsigned width,
                          unsigned height);
+/* Connects and announces the image (CreateImage) before the render starts, so
+ * the viewer shows it at once; trouble is the one warning, and a later look
+ * tries again. */
+void st_cli_display_open(st_cli_display *d);
 /* Sends img (R, G, B, placed by its x0, y0 in the image), connecting first
  * where there is no connection and a try is due (final: try now). Never
  * fails: trouble is a warning, once. */

@@ -187,6 +187,7 @@ int st_cli_render(int argc, char **argv)
     if (opened && a.display_server) {
         st_cli_display_init(&disp, a.display_server, a.outputs[0], a.opt.width, a.opt.height);
         st_renderer_set_preview(s.renderer, ST_CLI_DISPLAY_SECONDS, st_cli_display_preview, &disp);
+        st_cli_display_open(&disp);
     }
     if (opened)
         st_cli_adaptive_note(&a.opt);
