@@ -114,7 +114,7 @@ st_status st_device_timed_seconds(st_device *dev, double *seconds, unsigned tags
 
 st_status st_device_buffer_create(st_device *dev, size_t bytes, const void *init, cl_mem *out,
                                   st_error *err);
-void st_device_buffer_destroy(cl_mem mem); /* NULL: does nothing */
+void st_device_buffer_destroy(st_device *dev, cl_mem mem); /* NULL: does nothing */
 st_status st_device_buffer_read(st_device *dev, cl_mem mem, size_t bytes, void *dst, st_error *err);
 st_status st_device_buffer_write(st_device *dev, cl_mem mem, size_t bytes, const void *src,
                                  st_error *err);

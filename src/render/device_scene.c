@@ -207,7 +207,7 @@ void st_renderer_destroy(st_renderer *r)
     if (!r)
         return;
     for (int b = 0; b < ST_SCENE_BUFFER_COUNT; b++)
-        st_device_buffer_destroy(r->scene_buf[b]);
+        st_device_buffer_destroy(r->dev, r->scene_buf[b]);
     st_envmap_free(r->sky);
     free(r);
 }
@@ -222,8 +222,8 @@ st_status st_renderer_upload_env_map(st_renderer *r, const st_envmap *m, st_erro
 {
     static const float none[4]; /* device buffers are never empty */
     size_t n = m ? (size_t)m->width * m->height : 0;
-    st_device_buffer_destroy(r->scene_buf[ST_SCENE_env_texels]);
-    st_device_buffer_destroy(r->scene_buf[ST_SCENE_env_cdf]);
+    st_device_buffer_destroy(r->dev, r->scene_buf[ST_SCENE_env_texels]);
+    st_device_buffer_destroy(r->dev, r->scene_buf[ST_SCENE_env_cdf]);
     r->scene_buf[ST_SCENE_env_texels] = r->scene_buf[ST_SCENE_env_cdf] = NULL;
     r->env_map = NULL;
     st_status rc = st_device_buffer_create(r->dev, m ? sizeof(float) * 4 * n : sizeof none,

@@ -275,7 +275,7 @@ static st_status prepare_tile(st_renderer *r, const st_render_options *o, st_err
     if (r->scene_buf[ST_SCENE_tile] && (!tiled || (r->tile_sampler == o->sampler && r->tile_spp == o->spp &&
                                r->tile_seed == o->seed)))
         return ST_OK;
-    st_device_buffer_destroy(r->scene_buf[ST_SCENE_tile]);
+    st_device_buffer_destroy(r->dev, r->scene_buf[ST_SCENE_tile]);
     r->scene_buf[ST_SCENE_tile] = NULL;
     if (!tiled) /* kernels take the argument anyway */
         return st_device_buffer_create(r->dev, 16, NULL, &r->scene_buf[ST_SCENE_tile], err);
@@ -346,7 +346,7 @@ static st_status prepare_pmj02(st_renderer *r, const st_render_options *o, st_er
     if (r->scene_buf[ST_SCENE_pmj02] &&
         (!used || (r->pmj02_seed == o->seed && r->pmj02_log2 == key)))
         return ST_OK;
-    st_device_buffer_destroy(r->scene_buf[ST_SCENE_pmj02]);
+    st_device_buffer_destroy(r->dev, r->scene_buf[ST_SCENE_pmj02]);
     r->scene_buf[ST_SCENE_pmj02] = NULL;
     r->pmj02_log2 = 0u;
     if (!used) /* kernels take the argument anyway */
@@ -376,7 +376,7 @@ static st_status prepare_fis(st_renderer *r, const st_render_options *o, st_erro
 {
     float cdf[ST_FIS_BINS + 1];
     st_filter_fis_cdf(&o->filter, cdf);
-    st_device_buffer_destroy(r->scene_buf[ST_SCENE_fis_cdf]);
+    st_device_buffer_destroy(r->dev, r->scene_buf[ST_SCENE_fis_cdf]);
     r->scene_buf[ST_SCENE_fis_cdf] = NULL;
     return st_device_buffer_create(r->dev, sizeof cdf, cdf, &r->scene_buf[ST_SCENE_fis_cdf], err);
 }

@@ -34,6 +34,7 @@ st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adapti
                          st_wave *w, st_error *err)
 {
     memset(w, 0, sizeof *w);
+    w->dev = dev;
     w->items = items;
     w->pixels = pixels;
     w->adaptive = adaptive;
@@ -55,7 +56,7 @@ st_status st_wave_create(st_device *dev, size_t items, size_t pixels, int adapti
 void st_wave_destroy(st_wave *w)
 {
     for (int b = 0; b < ST_WAVE_BUFFER_COUNT; b++) {
-        st_device_buffer_destroy(w->b[b]);
+        st_device_buffer_destroy(w->dev, w->b[b]);
         w->b[b] = NULL;
     }
 }

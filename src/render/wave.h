@@ -19,6 +19,7 @@ typedef struct st_wave {
     size_t items, pixels; /* work-items per wave; image pixels */
     int adaptive;         /* the ST_PER_ADAPTIVE buffers hold one per pixel */
     int ordered;          /* the ray order's buffers (order.cl) hold a wave's sort */
+    st_device *dev;       /* that holds the buffers */
 } st_wave;
 
 /* Elements of buffer b (ST_WAVE_*) and their bytes. */

@@ -30,7 +30,7 @@ static void mask_bits_are_the_lanes_bits(void **state)
     assert_int_equal(st_device_set_args(k, &err, 1, sizeof(cl_mem), (const void *)&b), ST_OK);
     assert_int_equal(st_device_launch(dev, k, MASKS, 0, &err), ST_OK);
     assert_int_equal(st_device_buffer_read(dev, b, bytes, got, &err), ST_OK);
-    st_device_buffer_destroy(b);
+    st_device_buffer_destroy(dev, b);
     printf("# the device's mask bits: %s\n", got[9] ? "movmskps" : "the portable or-reduction");
     for (uint32_t m = 0; m < MASKS; m++) {
         const uint32_t *o = got + (size_t)m * OUTS;

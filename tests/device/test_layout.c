@@ -35,7 +35,7 @@ static void device_layout_matches_host(void **state)
     assert_int_equal(st_device_set_args(k, &err, 1, sizeof(cl_mem), (const void *)&out), ST_OK);
     assert_int_equal(st_device_launch(dev, k, 1, 1, &err), ST_OK);
     assert_int_equal(st_device_buffer_read(dev, out, sizeof got, got, &err), ST_OK);
-    st_device_buffer_destroy(out);
+    st_device_buffer_destroy(dev, out);
     for (int i = 0; i < ENTRIES; i++)
         if (got[i] != host[i])
             fail_msg("%s: device %u, host %u", names[i], got[i], host[i]);

@@ -160,7 +160,7 @@ static st_hit *probe(const st_bvh *bvh, const st_ray *rays, const uint32_t *slot
     assert_int_equal(st_device_launch(dev, k, pairs, 0, &err), ST_OK);
     assert_int_equal(st_device_buffer_read(dev, b[4], 4 * pairs * sizeof *out, out, &err), ST_OK);
     for (int i = 0; i < 5; i++)
-        st_device_buffer_destroy(b[i]);
+        st_device_buffer_destroy(dev, b[i]);
     return out;
 }
 

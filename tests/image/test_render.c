@@ -139,8 +139,8 @@ static void device_closest_check(int one_sided)
     cl_mem scene[ST_SCENE_BUFFER_COUNT];
     for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
         assert_int_equal(st_device_buffer_create(dev, 16, NULL, &scene[i], &err), ST_OK);
-    st_device_buffer_destroy(scene[ST_SCENE_nodes]);
-    st_device_buffer_destroy(scene[ST_SCENE_tris]);
+    st_device_buffer_destroy(dev, scene[ST_SCENE_nodes]);
+    st_device_buffer_destroy(dev, scene[ST_SCENE_tris]);
     assert_int_equal(st_device_buffer_create(dev, sizeof(st_bvh_wide_node) * (bvh->wide_count + bvh->leaf_slots), bvh->wide, &scene[ST_SCENE_nodes], &err), ST_OK);
     assert_int_equal(st_device_buffer_create(dev, sizeof(st_triangle) * TRIS, bvh->tris, &scene[ST_SCENE_tris], &err), ST_OK);
     st_wave w;
@@ -191,7 +191,7 @@ static void device_closest_check(int one_sided)
     }
     assert_true(hits > RAYS / 10); /* the test exercises hits, not only misses */
     for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
-        st_device_buffer_destroy(scene[i]);
+        st_device_buffer_destroy(dev, scene[i]);
     st_wave_destroy(&w);
     st_bvh_destroy(bvh);
     free(pos); free(rays); free(hit);
@@ -292,7 +292,7 @@ static void generate_matches_definitions(void **state)
     free(path);
     st_wave_destroy(&w);
     for (int i = 0; i < ST_SCENE_BUFFER_COUNT; i++)
-        st_device_buffer_destroy(scene[i]);
+        st_device_buffer_destroy(dev, scene[i]);
 }
 
 static void assert_same_bits(const st_image *a, const st_image *b)

@@ -70,6 +70,9 @@ run "splat tiles alone in four passes, lanczos" render --device 0:0 --width 40 -
 STRATA_SPLAT=pixels
 run "splat by pixel and edges, box" render $D --spp 2 --integrator direct --filter box --sampler hammersley --scramble none -o "$T/u.exr"
 unset STRATA_SPLAT
+# the AOVs, each a render of its own after the image's: buffers released by
+# one render and created by the next (device.c's third Oclgrind limit)
+run "AOVs after the image, direct, 8 lanes" render $D --spp 2 --integrator direct --lanes 8 --aov albedo,normal,depth,position -o "$T/v.exr"
 run "split part 0:1" render $D --spp 2 --sample-range 0:1 -o "$T/p1.exr"
 run "split part 1:2" render $D --spp 2 --sample-range 1:2 -o "$T/p2.exr"
 run "merge (resolve on the device)" merge "$T/p1.exr" "$T/p2.exr" --device 0:0 -o "$T/m.exr"
