@@ -59,6 +59,39 @@ static st_plot_rect fit_aspect(st_plot_rect r, double a)
     return f;
 }
 
+/* The legend box's width: its longest name at 0.9 fs, its line sample and
+ * padding; *rows: the named series. */
+static double legend_width(cairo_t *cr, const st_plot_lines *p, double fs, uint32_t *rows)
+{
+    double wmax = 0.0;
+    *rows = 0;
+    cairo_save(cr);
+    cairo_set_font_size(cr, 0.9 * fs);
+    for (uint32_t s = 0; s < p->series_count; ++s)
+        if (p->series[s].name) {
+            cairo_text_extents_t te;
+            cairo_text_extents(cr, p->series[s].name, &te);
+            wmax = te.x_advance > wmax ? te.x_advance : wmax;
+            ++*rows;
+        }
+    cairo_restore(cr);
+    return wmax + 3.6 * fs;
+}
+
+/* The margin an outside legend takes on the right: its box and a gap either
+ * side, measured on a scratch surface (the layout is asked before there is
+ * one to draw on), and never more than half the panel. */
+static double outside_legend_margin(const st_plot_lines *p, uint32_t width, double fs)
+{
+    cairo_surface_t *scratch = cairo_image_surface_create(CAIRO_FORMAT_A8, 1, 1);
+    cairo_t *cr = cairo_create(scratch);
+    uint32_t rows;
+    double m = legend_width(cr, p, fs, &rows) + 1.2 * fs;
+    cairo_destroy(cr);
+    cairo_surface_destroy(scratch);
+    return m > 0.5 * width ? 0.5 * width : m;
+}
+
 st_plot_rect st_plot_data_rect(const st_plot_panel *panel, uint32_t width, uint32_t height)
 {
     double fs = font_size(width, height);
@@ -73,7 +106,9 @@ st_plot_rect st_plot_data_rect(const st_plot_panel *panel, uint32_t width, uint3
     case ST_PLOT_LINES:
     default:
         return margins(width, height, fs,
-                       panel->lines && panel->lines->legend_outside ? 19.0 * fs : 1.5 * fs);
+                       panel->lines && panel->lines->legend_outside
+                           ? outside_legend_margin(panel->lines, width, fs)
+                           : 1.5 * fs);
     }
 }
 
@@ -676,22 +711,13 @@ static void draw_markers(cairo_t *cr, const st_plot_lines *p, st_plot_rect r, co
 
 static void draw_legend(cairo_t *cr, const st_plot_lines *p, st_plot_rect r, double fs)
 {
-    double wmax = 0.0;
     uint32_t rows = 0;
+    double bw = legend_width(cr, p, fs, &rows);
+    if (rows == 0)
+        return;
     cairo_save(cr);
     cairo_set_font_size(cr, 0.9 * fs);
-    for (uint32_t s = 0; s < p->series_count; ++s)
-        if (p->series[s].name) {
-            cairo_text_extents_t te;
-            cairo_text_extents(cr, p->series[s].name, &te);
-            wmax = te.x_advance > wmax ? te.x_advance : wmax;
-            ++rows;
-        }
-    if (rows == 0) {
-        cairo_restore(cr);
-        return;
-    }
-    double line = 1.4 * fs, bw = wmax + 3.6 * fs, bh = rows * line + 0.6 * fs;
+    double line = 1.4 * fs, bh = rows * line + 0.6 * fs;
     double bx = p->legend_outside ? r.x + r.w + 0.6 * fs
                 : p->legend_left  ? r.x + 0.6 * fs
                                   : r.x + r.w - bw - 0.6 * fs,

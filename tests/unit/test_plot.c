@@ -213,6 +213,31 @@ static void plot_lines_series_and_marker(void **state)
     cairo_surface_destroy(s);
 }
 
+/* A legend outside the axes, on the right, whose names are long: the
+ * axes make room for it, so that its box and text end inside the picture
+ * (the last columns stay white) and the names' ink lies right of the axes. */
+static void plot_lines_outside_legend_fits(void **state)
+{
+    (void)state;
+    st_error err = {0};
+    const double x[2] = {1.0, 100.0}, y[2] = {1.0, 0.01};
+    st_plot_series se[2] = {
+        {.name = "uniform (slope -1.62, flat from 16 spp on)", .x = x, .y = y, .n = 2, .width = 2},
+        {.name = "a second, shorter name", .x = x, .y = y, .n = 2, .width = 2, .dashed = 1}};
+    st_plot_lines pl = {.xlabel = "x", .ylabel = "y", .series = se, .series_count = 2,
+                        .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y, .legend_outside = 1};
+    const char *path = scratch_path("legend.png");
+    assert_int_equal(st_plot_save_lines(path, &pl, 600, 400, &err), ST_OK);
+    cairo_surface_t *s = load_png(path, 600, 400);
+    st_plot_panel panel = {.kind = ST_PLOT_LINES, .lines = &pl};
+    st_plot_rect r = st_plot_data_rect(&panel, 600, 400);
+    assert_true(r.w > 0.3 * 600); /* the axes keep most of the room */
+    for (double xx = 595.0; xx < 600.0; xx += 1.0)
+        assert_false(column_has_ink(s, xx, 0.0, 399.0));
+    assert_true(column_has_ink(s, r.x + r.w + 0.5 * (600.0 - r.x - r.w), r.y, r.y + 60.0));
+    cairo_surface_destroy(s);
+}
+
 /* Log-log axes: the line y = x through (1,1) .. (100,100) passes the centre
  * of the data rectangle at (10, 10); points <= 0 are skipped, not fatal. */
 static void plot_lines_log_axes(void **state)
@@ -413,6 +438,7 @@ int main(void)
         T(plot_heatmap_log_scale),
         T(plot_lines_series_and_marker),
         T(plot_lines_log_axes),
+        T(plot_lines_outside_legend_fits),
         T(plot_row_panels_side_by_side),
         T(plot_unwritable_path_fails_and_leaves_nothing),
         T(plot_failed_rename_removes_temporary),
