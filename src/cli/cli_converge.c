@@ -535,7 +535,7 @@ static st_status write_outputs(const converge_args *c, series *ss, st_u32 ns, st
         st_plot_lines pl = {.title = title, .xlabel = "samples per pixel", .ylabel = "RMSE",
                              .series = ps, .series_count = ns + extra,
                              .flags = ST_PLOT_LOG_X | ST_PLOT_LOG_Y, .legend_outside = 1};
-        if (st_plot_save_lines(c->png, &pl, 800, 600, err) != ST_OK)
+        if (st_plot_save_lines(c->png, &pl, 960, 600, err) != ST_OK)
             return err->status;
     }
     return ST_OK;
