@@ -182,8 +182,25 @@ st_status st_render_lanes_recall(const st_device_info *info, st_lanes_choice *c,
     return ST_OK;
 }
 
+/* 1 when the line of n bytes is this key's device under any version of
+ * strata: the same key past its first " | " (the version before it). */
+static int same_device(const char *line, size_t n, const char *key)
+{
+    const char *kd = strstr(key, " | ");
+    char copy[ST_LANES_PATH_MAX];
+    if (!kd || n >= sizeof copy)
+        return 0;
+    memcpy(copy, line, n);
+    copy[n] = '\0';
+    const char *ld = strstr(copy, " | ");
+    size_t klen = strlen(kd);
+    return ld && !strncmp(ld, kd, klen) && ld[klen] == '\t';
+}
+
 /* Writes c's line for key into the wisdom file, keeping the other devices'
- * lines: the whole file anew, through a temporary and a rename. */
+ * lines and dropping this device's lines of other strata versions (whose
+ * kernels are not these): the whole file anew, through a temporary and a
+ * rename. */
 static st_status keep_wisdom(const st_lanes_choice *c, const char *key, st_error *err)
 {
     char dir[ST_LANES_PATH_MAX];
@@ -204,7 +221,7 @@ static st_status keep_wisdom(const st_lanes_choice *c, const char *key, st_error
         const char *end = strchr(line, '\n');
         size_t n = end ? (size_t)(end - line) : strlen(line);
         int same = n > klen && !strncmp(line, key, klen) && line[klen] == '\t';
-        if (!same && n > 0)
+        if (!same && n > 0 && !same_device(line, n, key))
             fprintf(f, "%.*s\n", (int)n, line);
         line = end ? end + 1 : NULL;
     }

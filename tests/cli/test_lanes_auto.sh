@@ -76,6 +76,16 @@ check "a remembered width of 3 is no width: the render measures again" \
     '[ -s "$T/third.exr" ] && [ "$(grep -c "^$(cut -f1 "$T/wisdom.before")	\(1\|4\|8\|16\)	" "$W")" -eq 1 ]' "($(cat "$W"))"
 check "... keeping the other device's line" 'grep -q "^strata 0.0.0 | Another Platform" "$W"'
 
+# this device's line from another strata version (other kernels) is
+# dropped when this version's is written; other devices' lines stay
+cut -f1 "$T/wisdom.before" | sed 's/^strata [^ ]* /strata 0.0.0-old /' | tr -d '\n' > "$T/old"
+printf '\t8\t1:1 4:2 8:3 16:2\n' >> "$T/old"
+grep "^strata 0.0.0 | Another Platform" "$W" > "$T/kept"
+cat "$T/kept" "$T/old" > "$W"
+$S render $R -q -o "$T/fourth.exr" 2> /dev/null
+check "this device's line of another version is dropped, another device's kept" \
+    '! grep -q "^strata 0.0.0-old " "$W" && grep -q "^strata 0.0.0 | Another Platform" "$W" && [ "$(wc -l < "$W")" -eq 2 ]' "($(cat "$W"))"
+
 # a wisdom folder that cannot be made: the render measures, renders, and
 # says the choice was not kept
 printf 'x' > "$T/file"
