@@ -16,6 +16,9 @@
  *   V the height-correlated Smith visibility G2 / (4 |n.l| |n.v|)
  *     (Heitz, "Understanding the Masking-Shadowing Function", JCGT 3(2), 2014).
  * specularFactor 0 leaves the Lambertian (1 - m) c / π alone.
+ * KHR_materials_anisotropy stretches D and V along the frame's x axis (the
+ * anisotropy direction): α_t = mix(α, 1, strength²) there, α across it
+ * (st_brdf_anisotropic).
  *
  * Sampling: a mixture of the cosine-weighted diffuse lobe and the specular
  * lobe by its distribution of visible normals (Heitz, "Sampling the GGX
@@ -48,7 +51,10 @@ typedef struct st_brdf {
     st_lf diffuse[3];    /* (1 - m) c: the Lambertian part's albedo before Fresnel */
     st_lf f0[3], f90[3]; /* the specular lobe's Schlick Fresnel */
     st_lf fd0, fd90;     /* max3 f0_d and f90_d: the diffuse part's loss to F_d */
-    st_lf alpha;
+    st_lf alpha;   /* roughness²: the specular lobe's α across the tangent (and the
+                      transmission lobe's, bsdf_dielectric.h) */
+    st_lf alpha_t; /* its α along the tangent, the frame's x: alpha unless
+                      anisotropic (st_brdf_anisotropic) */
 } st_brdf;
 
 ST_FN st_lf st_max3(const st_lf *c)
@@ -86,7 +92,18 @@ ST_FN st_brdf st_brdf_make(const st_lf *c, st_lf m, st_lf roughness, st_lf specu
     }
     b.fd90 = specular;
     b.alpha = ST_FMAXF(r * r, ST_BRDF_MIN_ALPHA);
+    b.alpha_t = b.alpha;
     return b;
+}
+
+/* KHR_materials_anisotropy's stretch of the specular lobe along the
+ * tangent (the frame's x axis) by strength s in [0, 1]: α_t = mix(α, 1, s²),
+ * α_b = α (the extension's definition). s = 0 leaves α_t = α exactly,
+ * so that the lobe stays isotropic, bit for bit. */
+ST_FN void st_brdf_anisotropic(st_brdf *b, st_lf s)
+{
+    s = st_clamp01(s);
+    b->alpha_t = b->alpha + (1.0f - b->alpha) * (s * s);
 }
 
 /* GGX D(h) for a unit h: α² / (π ((h.x² + h.y²) + α² h.z²)²), the form of
@@ -119,6 +136,56 @@ ST_FN st_lf st_ggx_g1(st_lf alpha, st_dir w)
     return 2.0f * w.z / (w.z + st_ggx_lambda_term(alpha, w));
 }
 
+/* The anisotropic forms, α_x along x and α_y along y (Heitz 2014, eqs. 85
+ * and 86; the KHR_materials_anisotropy definition with α_x = α_t):
+ *   D(h) = 1 / (π α_x α_y ((h.x / α_x)² + (h.y / α_y)² + h.z²)²),
+ *   the term sqrt(z² + (α_x x)² + (α_y y)²) of Λ as st_ggx_lambda_term's. */
+ST_FN st_lf st_ggx_d_aniso(st_lf ax, st_lf ay, st_dir h)
+{
+    st_lf x = h.x / ax, y = h.y / ay, t = x * x + y * y + h.z * h.z;
+    return ST_SELECT(ST_W, ST_LF(0.0f), 1.0f / (ST_PI_F * ax * ay * t * t), h.z > 0.0f);
+}
+
+ST_FN st_lf st_ggx_lambda_term_aniso(st_lf ax, st_lf ay, st_dir w)
+{
+    st_lf x = ax * w.x, y = ay * w.y;
+    return ST_SQRTF(w.z * w.z + (x * x + y * y));
+}
+
+/* The specular lobe's D and Λ term: the isotropic forms, and the
+ * anisotropic ones in the lanes whose α_t differs from α (computed only
+ * where some lane needs them), so that an isotropic material computes
+ * exactly what it computed before anisotropy was added. */
+ST_FN st_lf st_brdf_d(const st_brdf *b, st_dir h)
+{
+    st_lf d = st_ggx_d(b->alpha, h);
+    st_li aniso = b->alpha_t != b->alpha;
+    if (ST_ANY(ST_W, aniso))
+        d = ST_SELECT(ST_W, d, st_ggx_d_aniso(b->alpha_t, b->alpha, h), aniso);
+    return d;
+}
+
+ST_FN st_lf st_brdf_lambda_term(const st_brdf *b, st_dir w)
+{
+    st_lf l = st_ggx_lambda_term(b->alpha, w);
+    st_li aniso = b->alpha_t != b->alpha;
+    if (ST_ANY(ST_W, aniso))
+        l = ST_SELECT(ST_W, l, st_ggx_lambda_term_aniso(b->alpha_t, b->alpha, w), aniso);
+    return l;
+}
+
+/* st_ggx_v and st_ggx_g1 of the specular lobe (with st_brdf_lambda_term). */
+ST_FN st_lf st_brdf_v(const st_brdf *b, st_dir wo, st_dir wi)
+{
+    st_lf lo = st_brdf_lambda_term(b, wo), li = st_brdf_lambda_term(b, wi);
+    return 0.5f / (wi.z * lo + wo.z * li);
+}
+
+ST_FN st_lf st_brdf_g1(const st_brdf *b, st_dir w)
+{
+    return 2.0f * w.z / (w.z + st_brdf_lambda_term(b, w));
+}
+
 ST_FN st_dir st_dir_normalize(st_dir d)
 {
     st_lf n = ST_SQRTF(d.x * d.x + d.y * d.y + d.z * d.z);
@@ -143,7 +210,7 @@ ST_FN void st_brdf_eval(const st_brdf *b, st_dir wo, st_dir wi, st_lf *f)
     st_li above = wo.z > 0.0f && wi.z > 0.0f;
     st_dir h = st_half_vector(wo, wi);
     st_lf s = st_schlick(wo.x * h.x + wo.y * h.y + wo.z * h.z);
-    st_lf dv = st_ggx_d(b->alpha, h) * st_ggx_v(b->alpha, wo, wi);
+    st_lf dv = st_brdf_d(b, h) * st_brdf_v(b, wo, wi);
     st_lf kd = (1.0f - (b->fd0 + (b->fd90 - b->fd0) * s)) / ST_PI_F;
     for (int k = 0; k < 3; k++) {
         st_lf fk = b->diffuse[k] * kd + (b->f0[k] + (b->f90[k] - b->f0[k]) * s) * dv;
@@ -170,18 +237,19 @@ ST_FN st_lf st_brdf_pdf(const st_brdf *b, st_dir wo, st_dir wi)
     st_li above = wo.z > 0.0f && wi.z > 0.0f;
     st_lf ps = st_brdf_spec_prob(b, wo);
     st_dir h = st_half_vector(wo, wi);
-    st_lf spec = st_ggx_g1(b->alpha, wo) * st_ggx_d(b->alpha, h) / (4.0f * wo.z);
+    st_lf spec = st_brdf_g1(b, wo) * st_brdf_d(b, h) / (4.0f * wo.z);
     spec = ST_SELECT(ST_W, ST_LF(0.0f), spec, ps > 0.0f);
     return ST_SELECT(ST_W, ST_LF(0.0f), ps * spec + (1.0f - ps) * wi.z / ST_PI_F, above);
 }
 
-/* A visible normal of GGX towards wo (wo.z > 0) from (u1, u2) (Heitz 2018,
- * listing 1, isotropic α): stretch wo to the hemisphere configuration, take
- * a point on the projected disk whose lower half is squashed by the
- * hemisphere's foreshortening, lift it onto the hemisphere and unstretch. */
-ST_FN st_dir st_ggx_visible_normal(st_lf alpha, st_dir wo, st_lf u1, st_lf u2)
+/* A visible normal of GGX (α_x along x, α_y along y; equal: isotropic)
+ * towards wo (wo.z > 0) from (u1, u2) (Heitz 2018, listing 1): stretch wo
+ * to the hemisphere configuration, take a point on the projected disk whose
+ * lower half is squashed by the hemisphere's foreshortening, lift it onto
+ * the hemisphere and unstretch. */
+ST_FN st_dir st_ggx_visible_normal(st_lf ax, st_lf ay, st_dir wo, st_lf u1, st_lf u2)
 {
-    st_dir vh = st_dir_normalize(st_lv3_make(alpha * wo.x, alpha * wo.y, wo.z));
+    st_dir vh = st_dir_normalize(st_lv3_make(ax * wo.x, ay * wo.y, wo.z));
     st_lf len2 = vh.x * vh.x + vh.y * vh.y, inv = 1.0f / ST_SQRTF(len2);
     st_li tilted = len2 > 0.0f;
     st_dir t1 = st_lv3_make(ST_SELECT(ST_W, ST_LF(1.0f), -vh.y * inv, tilted),
@@ -194,7 +262,7 @@ ST_FN st_dir st_ggx_visible_normal(st_lf alpha, st_dir wo, st_lf u1, st_lf u2)
     st_lf p3 = ST_SQRTF(ST_FMAXF(0.0f, 1.0f - p1 * p1 - p2 * p2));
     st_dir nh = st_lv3_make(p1 * t1.x + p2 * t2.x + p3 * vh.x, p1 * t1.y + p2 * t2.y + p3 * vh.y,
                             p1 * t1.z + p2 * t2.z + p3 * vh.z);
-    return st_dir_normalize(st_lv3_make(alpha * nh.x, alpha * nh.y, ST_FMAXF(0.0f, nh.z)));
+    return st_dir_normalize(st_lv3_make(ax * nh.x, ay * nh.y, ST_FMAXF(0.0f, nh.z)));
 }
 
 /* A cosine-distributed direction about z from (u1, u2): the Lambertian
@@ -218,7 +286,8 @@ ST_FN st_dir st_brdf_sample(const st_brdf *b, st_dir wo, st_lf u1, st_lf u2)
     if (ST_ANY(ST_W, !spec))
         wi = st_cosine_sample(ST_FMINF((u1 - ps) / (1.0f - ps), 0.99999994f), u2);
     if (ST_ANY(ST_W, spec)) {
-        st_dir h = st_ggx_visible_normal(b->alpha, wo, ST_FMINF(u1 / ps, 0.99999994f), u2);
+        st_dir h = st_ggx_visible_normal(b->alpha_t, b->alpha, wo, ST_FMINF(u1 / ps, 0.99999994f),
+                                         u2);
         st_lf d = 2.0f * (wo.x * h.x + wo.y * h.y + wo.z * h.z);
         st_dir r = st_lv3_make(d * h.x - wo.x, d * h.y - wo.y, d * h.z - wo.z);
         wi = st_lv3_select(wi, r, spec);

@@ -177,7 +177,7 @@ ST_FN st_lf st_dielectric_pdf(const st_dielectric *d, st_lf alpha, st_dir wo, st
 ST_FN st_dir st_dielectric_sample(const st_dielectric *d, st_lf alpha, st_dir wo, st_lf u1,
                                   st_lf u2, st_lf u3)
 {
-    st_dir h = st_ggx_visible_normal(alpha, wo, u1, u2);
+    st_dir h = st_ggx_visible_normal(alpha, alpha, wo, u1, u2);
     st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
     st_lf fr = st_fresnel_dielectric(ST_FMAXF(oh, 0.0f), d->eta);
     fr = ST_SELECT(ST_W, fr, 2.0f * fr / (1.0f + fr), d->thin);
