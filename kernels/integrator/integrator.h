@@ -69,6 +69,13 @@ typedef struct st_sheen_in {
     float colour[3][ST_W], rough[ST_W];
 } st_sheen_in;
 
+/* KHR_materials_anisotropy's direction in world space (not yet orthogonal
+ * to the shading normal) and strength per lane, apart for the same reason
+ * (aniso_gather clears them). */
+typedef struct st_aniso_in {
+    float dir[3][ST_W], strength[ST_W];
+} st_aniso_in;
+
 #define ST_LV(a) ST_VLOAD(ST_W, a)
 #define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
 
@@ -207,6 +214,59 @@ static int alpha_passes_keyed(const st_params *p, const st_material_at *a, st_sa
 /* The key of the rays a path follows (shadow rays: shadow.h). */
 #define ST_PATH_ALPHA_KEY 0xa1fa0000u
 
+/* The tangent of triangle prim interpolated at (bu, bv), and in *w its
+ * handedness (0: the triangle has no tangents). */
+static float3 interpolated_tangent(const st_scene_refs *s, st_u32 prim, float bu, float bv,
+                                   float *w)
+{
+    __global const st_tri_tangents *tt = &s->tangents[prim];
+    *w = tt->t0[3];
+    return (1.0f - bu - bv) * vload4(0, tt->t0).xyz + bu * vload4(0, tt->t1).xyz +
+           bv * vload4(0, tt->t2).xyz;
+}
+
+/* The anisotropy (KHR_materials_anisotropy) of the lanes in `bits`, whose
+ * materials have ST_MAT_ANISO, into an (the other lanes' cleared): the
+ * strength, anisotropyStrength x texture B, and the direction, texture RG
+ * as 2 c - 1 ((1, 0) without a texture) turned counter-clockwise by
+ * anisotropyRotation in the frame of the tangent and the bitangent w x
+ * cross(n, tangent) (the normal map's frame), in world space. A triangle
+ * without tangents (no texture coordinates), or a texel of no direction,
+ * gets strength 0: the isotropic lobe. Out of line, as sheen_gather. */
+ST_COLD void aniso_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                          const st_vertex_in *l, st_u32 bits, st_aniso_in *an)
+{
+    *an = (st_aniso_in){{{0.0f}}, {0.0f}};
+    float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+    st_tex_refs x = tex_refs(s);
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        st_u32 t = l->prim[k];
+        __global const st_material *m = &s->materials[s->tri_material[t]];
+        float strength = m->anisotropy[0];
+        float2 d = (float2)(1.0f, 0.0f);
+        if (m->anisotropy_tex != ST_NO_TEXTURE) {
+            float width = p->camera.forward[3] > 0.5f ? px : px * l->travelled[k];
+            float cos_nd = -dot(lane3(l->ng, k), lane3(l->d, k));
+            float3 c = tex_lookup(x, m->anisotropy_tex, t, l->bu[k], l->bv[k], width, cos_nd,
+                                  sh->texture_filter).xyz;
+            d = 2.0f * c.xy - 1.0f;
+            strength *= c.z;
+        }
+        float cr = m->anisotropy[1], sr = m->anisotropy[2], w;
+        d = (float2)(cr * d.x - sr * d.y, sr * d.x + cr * d.y);
+        float3 tg = interpolated_tangent(s, t, l->bu[k], l->bv[k], &w);
+        float bu = l->bu[k], bv = l->bv[k];
+        float3 n = (1.0f - bu - bv) * lane3(l->n0, k) + bu * lane3(l->n1, k) + bv * lane3(l->n2, k);
+        float3 dir = d.x * tg + d.y * w * cross(n, tg);
+        if (w == 0.0f || !(dot(dir, dir) > 1e-12f))
+            strength = 0.0f;
+        set_lane3(an->dir, k, dir);
+        an->strength[k] = strength;
+    }
+}
+
 /* The shading normal ns bent by a normal map's texel c (tangent-space
  * normal 2 c - 1, x and y times normalTexture.scale) in the frame of the
  * interpolated tangent, made orthogonal to ns, and the bitangent w x
@@ -216,10 +276,8 @@ static int alpha_passes_keyed(const st_params *p, const st_material_at *a, st_sa
 static float3 normal_mapped(const st_scene_refs *s, st_u32 prim, float bu, float bv, float3 ns,
                             float3 ng, float3 c, float scale)
 {
-    __global const st_tri_tangents *tt = &s->tangents[prim];
-    float3 tg = (1.0f - bu - bv) * vload4(0, tt->t0).xyz + bu * vload4(0, tt->t1).xyz +
-                bv * vload4(0, tt->t2).xyz;
-    float w = tt->t0[3];
+    float w;
+    float3 tg = interpolated_tangent(s, prim, bu, bv, &w);
     tg -= ns * dot(ns, tg);
     float len = length(tg);
     if (!(len > 1e-6f) || w == 0.0f)
@@ -564,16 +622,36 @@ ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
     lay->sheen = st_sheen_make(sc, ST_LV(shn->rough));
 }
 
+/* Where a lane is anisotropic (the lanes of aniso_bits, directions and
+ * strengths in an), the shading frame turned about ns so that tu runs
+ * along the anisotropy direction made orthogonal to ns; returns the
+ * strengths (0 where the direction lies along ns, whose lanes keep their
+ * frame, and in the other lanes). */
+ST_COLD st_lf aniso_frame(st_vertex *v, const st_aniso_in *an, st_u32 aniso_bits)
+{
+    st_lv3 d = ST_LV3_OF(an->dir), n = v->ns;
+    d = st_lv3_along(d, n, -st_lv3_dot(d, n));
+    st_lf len = sqrt(st_lv3_dot(d, d));
+    st_li on = ST_BITS_MASK(ST_W, aniso_bits) && len > 1e-6f;
+    st_lv3 t = st_lv3_div(d, ST_SELECT(ST_W, ST_LF(1.0f), len, on));
+    st_lv3 b = st_lv3_make(n.y * t.z - n.z * t.y, n.z * t.x - n.x * t.z, n.x * t.y - n.y * t.x);
+    v->tu = st_lv3_select(v->tu, t, on);
+    v->tv = st_lv3_select(v->tv, b, on);
+    return ST_SELECT(ST_W, ST_LF(0.0f), ST_LV(an->strength), on);
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
  * transmission > 0: vertex_gather; thin-walled where thin_bits' is), the
- * clear coat where coat_bits' is (about its own normal where cmapped's is)
- * and the sheen where sheen_bits' is. */
+ * clear coat where coat_bits' is (about its own normal where cmapped's is),
+ * the sheen where sheen_bits' is and the anisotropic specular lobe, in a
+ * frame along its direction, where aniso_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
                                 st_u32 trans_bits, st_u32 thin_bits, st_u32 coat_bits,
                                 st_u32 cmapped, st_u32 sheen_bits,
-                                const st_sheen_in *shn, st_layers *lay, st_li miss,
+                                const st_sheen_in *shn, st_u32 aniso_bits,
+                                const st_aniso_in *an, st_layers *lay, st_li miss,
                                 const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
@@ -599,11 +677,14 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     if (ST_ANY(ST_W, v.glossy))
         v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, trans_bits));
     st_basis(v.ns, &v.tu, &v.tv);
+    st_lf strength = aniso_bits ? aniso_frame(&v, an, aniso_bits) : ST_LF(0.0f);
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
+        if (aniso_bits)
+            st_brdf_anisotropic(&v.brdf, strength);
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f,
                                            ST_BITS_MASK(ST_W, thin_bits));

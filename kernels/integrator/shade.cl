@@ -137,7 +137,7 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
-    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened;
+    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened, aniso;
     st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
@@ -205,7 +205,8 @@ ST_HOT void vertex_clear_lane(st_vertex_in *l, st_u32 k, int path)
  * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
  * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
  * of b->trans for a transmissive one, of b->coated for a clear-coated one,
- * of b->sheened for one with a sheen, which sheen_gather reads)
+ * of b->sheened for one with a sheen, which sheen_gather reads, of
+ * b->aniso for an anisotropic one, which aniso_gather reads)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
@@ -297,6 +298,8 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     }
     if (a.flags & ST_MAT_SHEEN) /* sheen_gather reads its sheen */
         b->sheened |= 1u << k;
+    if (a.flags & ST_MAT_ANISO) /* aniso_gather reads its anisotropy */
+        b->aniso |= 1u << k;
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
         if (a.flags & ST_MAT_THIN)
@@ -392,12 +395,16 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     st_sheen_in sn;
     if (b->sheened)
         sheen_gather(s, p, sh, l, b->sheened, &sn);
+    st_aniso_in an;
+    if (b->aniso)
+        aniso_gather(s, p, sh, l, b->aniso, &an);
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(l, b->trans != 0u);
     st_lf cos_o;
     st_layers lay;
     st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->thin, b->coated, b->cmapped,
-                                 b->sheened, &sn, &lay, ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
+                                 b->sheened, &sn, b->aniso, &an, &lay,
+                                 ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
     lv3_store(v.rad, o->rad);
     st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
     lv3_store(origin, o->origin);
@@ -450,7 +457,7 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
 {
     st_vertex_in l; /* cleared where no gather writes it: vertex_clear_some */
     st_u32 live = 0u, item[ST_W];
-    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     /* two loops, not one select: vectorised, the select became a masked
      * load from the null list at vertex 0, which faults in every lane it
      * masks off, and the CPU's microcode repairs that at great cost (on

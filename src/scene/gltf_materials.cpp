@@ -2,8 +2,8 @@
  *
  * The core metallic-roughness material with its factors' defaults, and
  * KHR_materials_emissive_strength, _specular, _ior, _unlit, _transmission,
- * _volume (attenuation), _clearcoat, _sheen and _pbrSpecularGlossiness
- * (converted to metallic-roughness). */
+ * _volume (attenuation), _clearcoat, _sheen, _anisotropy and
+ * _pbrSpecularGlossiness (converted to metallic-roughness). */
 #include "gltf_int.h"
 
 #include <algorithm>
@@ -202,6 +202,30 @@ static void read_sheen(const Model &m, size_t i, texture_table &table, notes &wa
                                         false, i, "sheenRoughnessTexture", table, warn);
 }
 
+/* KHR_materials_anisotropy of material i: anisotropyStrength (0, in
+ * [0, 1]), anisotropyRotation (0 radians, any finite angle) and
+ * anisotropyTexture (linear: RG the direction, B the strength). */
+static void read_anisotropy(const Model &m, size_t i, texture_table &table, notes &warn,
+                            st_gltf_material &o)
+{
+    o.anisotropy = o.anisotropy_rotation = 0.0f;
+    o.anisotropy_tex = -1;
+    auto an = m.materials[i].extensions.find("KHR_materials_anisotropy");
+    if (an == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = an->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_anisotropy", i);
+    o.anisotropy = float(ext_number(v, "anisotropyStrength", 0.0, what));
+    o.anisotropy_rotation = float(ext_number(v, "anisotropyRotation", 0.0, what));
+    if (!(o.anisotropy >= 0.0f && o.anisotropy <= 1.0f))
+        fail("%s: anisotropyStrength %g is not in [0, 1]", what, double(o.anisotropy));
+    if (!std::isfinite(o.anisotropy_rotation))
+        fail("%s: anisotropyRotation is not finite", what);
+    o.anisotropy_tex = texture_ref(m, ext_texture_info(v, "anisotropyTexture", what), false, i,
+                                   "anisotropyTexture", table, warn);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -334,6 +358,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     read_transmission_volume(m, i, table, warn, o);
     read_clearcoat(m, i, table, warn, o);
     read_sheen(m, i, table, warn, o);
+    read_anisotropy(m, i, table, warn, o);
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;
@@ -349,7 +374,8 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
 /* What each slot makes of an image that could not be read (decode_images):
  * a normal map (the base's or the clear coat's) is left out, the geometric
  * and vertex normals kept, since its white texel is not neutral (the
- * normal (1, 1, 1), some 55 degrees off); every other slot keeps the white
+ * normal (1, 1, 1), some 55 degrees off), and so is an anisotropy texture
+ * (white turns the direction by 45 degrees); every other slot keeps the white
  * image, which leaves its factor alone. One warning per normal map left
  * out, one per image made white. */
 void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &table,
@@ -372,6 +398,11 @@ void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &t
                  "material %zu: clearcoatNormalTexture: %s: left out (the vertex normals kept)",
                  i, why[size_t(table.refs[size_t(o.clearcoat_normal_tex)].image)].c_str());
             o.clearcoat_normal_tex = -1;
+        }
+        if (unreadable(o.anisotropy_tex)) {
+            note(warn, "material %zu: anisotropyTexture: %s: left out (the factors kept)", i,
+                 why[size_t(table.refs[size_t(o.anisotropy_tex)].image)].c_str());
+            o.anisotropy_tex = -1;
         }
         const int slots[] = {o.base_color_tex,   o.emission_tex,     o.metallic_roughness_tex,
                              o.specular_tex,     o.specular_color_tex, o.transmission_tex,

@@ -77,6 +77,9 @@ typedef struct st_gltf_material {
     float clearcoat_normal_scale; /* its scale, 1 by default */
     float sheen_color[3], sheen_roughness; /* KHR_materials_sheen's factors (0, 0) */
     int sheen_color_tex, sheen_roughness_tex; /* sheenColorTexture (sRGB RGB), ..RoughnessTexture (A) */
+    float anisotropy, anisotropy_rotation; /* KHR_materials_anisotropy's strength and
+                                              rotation (radians), 0 and 0 */
+    int anisotropy_tex;    /* its anisotropyTexture (RG direction, B strength; linear) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

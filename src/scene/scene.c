@@ -521,6 +521,12 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->sheen_roughness_tex = texture_index(in->sheen_roughness_tex);
         if (in->sheen_color[0] > 0.0f || in->sheen_color[1] > 0.0f || in->sheen_color[2] > 0.0f)
             m->flags |= ST_MAT_SHEEN; /* a black sheen colour turns the layer off */
+        m->anisotropy[0] = in->anisotropy;
+        m->anisotropy[1] = cosf(in->anisotropy_rotation);
+        m->anisotropy[2] = sinf(in->anisotropy_rotation);
+        m->anisotropy_tex = texture_index(in->anisotropy_tex);
+        if (in->anisotropy > 0.0f) /* strength 0 is the isotropic lobe */
+            m->flags |= ST_MAT_ANISO;
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
         if (in->thin_walled && in->transmission > 0.0f)
@@ -545,6 +551,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->clearcoat_normal_tex = ST_NO_TEXTURE;
         m->clearcoat_normal_scale = 1.0f;
         m->sheen_color_tex = m->sheen_roughness_tex = ST_NO_TEXTURE;
+        m->anisotropy[1] = 1.0f;
+        m->anisotropy_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

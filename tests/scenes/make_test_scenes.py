@@ -161,6 +161,17 @@ sheen_quad    two Lambertian quads (specularFactor 0) side by side, turned 60
               sheen: glass's floor, wall and light with a red velvet sphere
               (sheen 0.9, roughness 0.3), a rough gold one under sheen and coat
               and glass under a sheen.
+aniso_mitsuba glass_mitsuba's floor and wall with three white metal spheres
+              (roughness 0.2; 32 rings and 48 segments with texture
+              coordinates, so tangents run along the latitudes) under
+              KHR_materials_anisotropy: strength 0, 0.5 along the tangent and
+              0.5 turned by 90 degrees (what Mitsuba's roughconductor with
+              alpha_u, alpha_v matches).
+aniso_quad    sheen_quad's two tilted quads (texture coordinates: u along x),
+              white metals: left of roughness 0.4 under anisotropy 0.8 turned
+              by 0.5 radians x an anisotropyTexture of direction (1, 1) and
+              strength 128 / 255 (texel (255, 255, 128)), right of roughness
+              0.3 with strength 0 (isotropic).
 bad_*         malformed files, each wrong in one way (named by the file).
 markers       two small unlit cubes (half side 0.01), white at (1, 2, -3) and red
               at (1.5, 2.25, -3.5), no camera: --look-at puts them where the
@@ -1097,9 +1108,11 @@ def cube_prim(b, half):
             "indices": b.accessor(struct.pack("<36H", *ind), 5123, 36, "SCALAR")}
 
 
-def sphere_prim(b, radius, rings=16, segments=24):
-    """A UV sphere with smooth normals, outwards."""
-    pos, nrm, ind = [], [], []
+def sphere_prim(b, radius, rings=16, segments=24, uv=False):
+    """A UV sphere with smooth normals, outwards; with `uv`, TEXCOORD_0 u
+    along the segments (east, about +y) and v along the rings (north to
+    south)."""
+    pos, nrm, ind, tex = [], [], [], []
     for i in range(rings + 1):
         th = math.pi * i / rings
         for j in range(segments + 1):
@@ -1107,6 +1120,7 @@ def sphere_prim(b, radius, rings=16, segments=24):
             n = [math.sin(th) * math.cos(ph), math.cos(th), -math.sin(th) * math.sin(ph)]
             nrm += n
             pos += [radius * c for c in n]
+            tex += [j / segments, i / rings]
     for i in range(rings):
         for j in range(segments):
             a, c = i * (segments + 1) + j, (i + 1) * (segments + 1) + j
@@ -1115,11 +1129,13 @@ def sphere_prim(b, radius, rings=16, segments=24):
             if i < rings - 1:
                 ind += [a + 1, c, c + 1]
     count = len(pos) // 3
-    return {"attributes": {"POSITION": b.accessor(f32(pos), 5126, count, "VEC3",
-                                                  min=[-radius] * 3, max=[radius] * 3),
-                           "NORMAL": b.accessor(f32(nrm), 5126, count, "VEC3")},
-            "indices": b.accessor(struct.pack("<%dH" % len(ind), *ind), 5123, len(ind),
-                                  "SCALAR")}
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, count, "VEC3",
+                                               min=[-radius] * 3, max=[radius] * 3),
+                        "NORMAL": b.accessor(f32(nrm), 5126, count, "VEC3")},
+         "indices": b.accessor(struct.pack("<%dH" % len(ind), *ind), 5123, len(ind), "SCALAR")}
+    if uv:
+        p["attributes"]["TEXCOORD_0"] = b.accessor(f32(tex), 5126, count, "VEC2")
+    return p
 
 
 # KHR_materials_volume with a thickness: the mesh bounds a solid (without
@@ -1194,7 +1210,7 @@ def write_glass():
                               "KHR_materials_volume": SOLID,
                               "KHR_materials_ior": {"ior": 1.33}})
     write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
-    write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, coarse=True))
+    write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, size=(6, 8)))
     # glass_mitsuba with its three spheres smooth and thin-walled (no
     # KHR_materials_volume): what Mitsuba's thindielectric matches
     g = glass_scene(tinted, light=False)
@@ -1321,15 +1337,55 @@ def write_sheen():
     write_json("sheen.gltf", g)
 
 
-def glass_scene(third, light, coarse=False):
+def anisotropic(strength, rotation=0.0, roughness=0.3, texture=None):
+    """A white metal (F = 1) of `roughness` under KHR_materials_anisotropy."""
+    ext = {"anisotropyStrength": strength, "anisotropyRotation": rotation}
+    if texture is not None:
+        ext["anisotropyTexture"] = {"index": texture}
+    return {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                                     "metallicFactor": 1.0, "roughnessFactor": roughness},
+            "extensions": {"KHR_materials_anisotropy": ext}}
+
+
+def write_anisotropy():
+    """aniso_mitsuba and aniso_quad (see the top)."""
+    # fine spheres: where smooth normals stray from coarse facets at the
+    # outline, strata and Mitsuba treat a glossy lobe below the facet
+    # differently (integrator.h adapted_normal), which is not anisotropy
+    g = glass_scene(anisotropic(0.5, math.pi / 2, roughness=0.2), light=False, size=(32, 48),
+                    uv=True)
+    g["materials"][3] = anisotropic(0.0, roughness=0.2)
+    g["materials"][4] = anisotropic(0.5, roughness=0.2)
+    g["extensionsUsed"].append("KHR_materials_anisotropy")
+    write_json("aniso_mitsuba.gltf", g)
+    b = Blob()
+    left, right = b.quad(0.0, QUAD_UV), b.quad(0.0, QUAD_UV)
+    left["material"], right["material"] = 0, 1
+    tilt = [math.sin(math.radians(-30.0)), 0.0, 0.0, math.cos(math.radians(-30.0))]
+    # the texel: direction (1, 1) as RG (255, 255), strength 128 / 255 as B
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0], "rotation": tilt},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0], "rotation": tilt},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[anisotropic(0.8, 0.5, roughness=0.4, texture=0), anisotropic(0.0)],
+            images=[{"uri": png_uri(constant_png((255, 255, 128)))}],
+            textures=[{"source": 0}], extensionsUsed=["KHR_materials_anisotropy"])
+    write_json("aniso_quad.gltf", g)
+
+
+def glass_scene(third, light, size=(16, 24), uv=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
-    a smooth glass sphere, a rough one with absorption and `third` (of 6
-    rings and 8 segments where `coarse`, with smooth normals)."""
+    a smooth glass sphere, a rough one with absorption and `third` (of the
+    rings and segments `size` gives, with smooth normals; with texture
+    coordinates where `uv`)."""
     b = Blob()
     lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
     floor, wall, lamp = b.quad(0.0), b.quad(0.0), b.quad(0.0)
-    size = (6, 8) if coarse else (16, 24)
-    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45, *size) for _ in range(3)]
+    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45, *size, uv=uv) for _ in range(3)]
     for k, p in enumerate(prims):
         p["material"] = k
     materials = [
@@ -1735,6 +1791,7 @@ def main():
     write_glass()
     write_coat()
     write_sheen()
+    write_anisotropy()
     write_dark_views()
     write_glass_panes()
     write_quantized()

@@ -942,9 +942,101 @@ static void sheen_is_imported(void **state)
     st_scene_destroy(s);
 }
 
+/* A copy of file with material `mat`'s KHR_materials_anisotropy replaced by
+ * the JSON object `ext`, written to dir/aniso.gltf (its path in path). */
+static void write_aniso_variant(const char *file, int mat, const char *ext, const char *dir,
+                                char *path, size_t len)
+{
+    size_t size;
+    unsigned char *data = read_all(file, &size);
+    cJSON *doc = cJSON_ParseWithLength((const char *)data, size);
+    assert_non_null(doc);
+    cJSON *exts = cJSON_GetObjectItem(
+        cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "materials"), mat), "extensions");
+    cJSON *value = cJSON_Parse(ext);
+    assert_non_null(value);
+    cJSON_ReplaceItemInObject(exts, "KHR_materials_anisotropy", value);
+    char *text = cJSON_PrintUnformatted(doc);
+    snprintf(path, len, "%s/aniso.gltf", dir);
+    write_all(path, (const unsigned char *)text, strlen(text));
+    cJSON_free(text);
+    cJSON_Delete(doc);
+    free(data);
+}
+
+/* KHR_materials_anisotropy as the specification names it
+ * (tests/scenes/aniso_quad.gltf): anisotropyStrength, anisotropyRotation
+ * as its cosine and sine, anisotropyTexture read linear, ST_MAT_ANISO where
+ * the strength is above 0, and no warning; the material without the
+ * extension gets strength 0 and rotation 0. A strength outside [0, 1], or a
+ * rotation or strength that is no number, is an error naming the material;
+ * an anisotropyTexture that cannot be read is left out, with a warning. */
+static void anisotropy_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "aniso_quad.gltf");
+    assert_false(has_warning(s, "KHR_materials_anisotropy"));
+    const st_material *m = &s->materials[0], *w = &s->materials[1];
+    near(m->anisotropy[0], 0.8, 1e-7, "anisotropyStrength");
+    near(m->anisotropy[1], cos(0.5), 1e-6, "cos anisotropyRotation");
+    near(m->anisotropy[2], sin(0.5), 1e-6, "sin anisotropyRotation");
+    assert_true(m->flags & ST_MAT_ANISO);
+    assert_int_not_equal(m->anisotropy_tex, ST_NO_TEXTURE);
+    assert_false(s->textures[m->anisotropy_tex].flags & ST_TEX_SRGB);
+    assert_false(m->flags & ST_MAT_TEXTURED); /* aniso_gather reads it, not material_at */
+    assert_false(w->flags & ST_MAT_ANISO);
+    near(w->anisotropy[0], 0.0, 0.0, "no strength");
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat.gltf"); /* no anisotropy: strength 0, rotation 0 */
+    for (st_u32 i = 0; i < s->material_count; i++) {
+        assert_false(s->materials[i].flags & ST_MAT_ANISO);
+        near3(s->materials[i].anisotropy, 0.0, 1.0, 0.0, 0.0, "no anisotropy");
+        assert_int_equal(s->materials[i].anisotropy_tex, ST_NO_TEXTURE);
+    }
+    st_scene_destroy(s);
+    static const struct {
+        const char *ext, *phrase;
+    } bad[] = {
+        {"{\"anisotropyStrength\": 1.5}",
+         "material 0: KHR_materials_anisotropy: anisotropyStrength 1.5 is not in [0, 1]"},
+        {"{\"anisotropyStrength\": -0.1}", "anisotropyStrength -0.1 is not in [0, 1]"},
+        {"{\"anisotropyStrength\": \"high\"}", "anisotropyStrength is not a number"},
+        {"{\"anisotropyRotation\": \"east\"}", "anisotropyRotation is not a number"},
+        {"{\"anisotropyTexture\": {\"index\": 9}}", "anisotropyTexture: texture 9 out of range"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_aniso_variant(SCENES "aniso_quad.gltf", 0, bad[k].ext, dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
+    }
+    /* an unreadable anisotropyTexture is left out (white would turn the
+     * direction by 45 degrees), the factors kept */
+    size_t size;
+    unsigned char *data = read_all(SCENES "aniso_quad.gltf", &size);
+    cJSON *doc = cJSON_ParseWithLength((const char *)data, size);
+    cJSON_ReplaceItemInObject(cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "images"), 0), "uri",
+                              cJSON_CreateString("no_such_aniso_map.png"));
+    char *text = cJSON_PrintUnformatted(doc);
+    write_all(path, (const unsigned char *)text, strlen(text));
+    cJSON_free(text);
+    cJSON_Delete(doc);
+    free(data);
+    s = load_ok(path);
+    assert_int_equal(s->materials[0].anisotropy_tex, ST_NO_TEXTURE);
+    near(s->materials[0].anisotropy[0], 0.8, 1e-7, "anisotropyStrength kept");
+    assert_true(has_warning(s, "material 0: anisotropyTexture: image 0 (no_such_aniso_map.png): "
+                               "cannot read it: left out (the factors kept)"));
+    assert_false(has_warning(s, "replaced by a white"));
+    st_scene_destroy(s);
+    unlink(path);
+    rmdir(dir);
+}
+
 /* ST_MAT_TEXTURED, the one test material_at makes before its texture
  * lookups: set by each of the ten textured factors it reads alone, not by
- * the sheen's (sheen_gather reads those), and on the imported materials
+ * the sheen's or the anisotropy's (sheen_gather and aniso_gather read
+ * those), and on the imported materials
  * exactly where one of the ten has a texture. */
 static void textured_flag_follows_the_factors(void **state)
 {
@@ -953,7 +1045,8 @@ static void textured_flag_follows_the_factors(void **state)
     st_u32 *slot[] = {&m.base_color_tex,   &m.emission_tex,   &m.metallic_roughness_tex,
                       &m.specular_tex,     &m.specular_color_tex, &m.normal_tex,
                       &m.transmission_tex, &m.clearcoat_tex,  &m.clearcoat_roughness_tex,
-                      &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex};
+                      &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex,
+                      &m.anisotropy_tex};
     const size_t slots = sizeof slot / sizeof slot[0];
     for (size_t k = 0; k <= slots; k++) { /* k = slots: none textured */
         memset(&m, 0, sizeof m);
@@ -1562,6 +1655,7 @@ int main(void)
         cmocka_unit_test(unreadable_normal_map_is_left_out),
         cmocka_unit_test(transmission_without_volume_is_thin),
         cmocka_unit_test(sheen_is_imported),
+        cmocka_unit_test(anisotropy_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
         cmocka_unit_test(look_at_builds_the_view),
