@@ -16,6 +16,12 @@
  *   V the height-correlated Smith visibility G2 / (4 |n.l| |n.v|)
  *     (Heitz, "Understanding the Masking-Shadowing Function", JCGT 3(2), 2014).
  * specularFactor 0 leaves the Lambertian (1 - m) c / π alone.
+ * KHR_materials_diffuse_transmission splits the Lambertian part, as the
+ * specification's mix: (1 - t) of it reflects the base colour and t passes
+ * into the other hemisphere as a Lambertian transmission of its colour c_t,
+ *   f = (1 - m) c_t t / π (1 - max3 F_d)        (wi below; F_d at the half
+ *                                                 vector of wo and wi mirrored)
+ * (st_brdf_diffuse_transmission).
  * KHR_materials_anisotropy stretches D and V along the frame's x axis (the
  * anisotropy direction): α_t = mix(α, 1, strength²) there, α across it
  * (st_brdf_anisotropic).
@@ -49,6 +55,7 @@ typedef st_lv3 st_dir;
 /* The BRDF at one point, from the material's factors times their textures. */
 typedef struct st_brdf {
     st_lf diffuse[3];    /* (1 - m) c: the Lambertian part's albedo before Fresnel */
+    st_lf dtrans[3];     /* (1 - m) t c_t: its diffuse transmission's (0: none) */
     st_lf f0[3], f90[3]; /* the specular lobe's Schlick Fresnel */
     st_lf fd0, fd90;     /* max3 f0_d and f90_d: the diffuse part's loss to F_d */
     st_lf alpha;   /* roughness²: the specular lobe's α across the tangent (and the
@@ -87,6 +94,7 @@ ST_FN st_brdf st_brdf_make(const st_lf *c, st_lf m, st_lf roughness, st_lf specu
         st_lf f0d = ST_FMINF(q * q * specular_colour[k], 1.0f) * specular;
         b.fd0 = ST_FMAXF(b.fd0, f0d);
         b.diffuse[k] = dm * c[k];
+        b.dtrans[k] = ST_LF(0.0f);
         b.f0[k] = dm * f0d + m * c[k];
         b.f90[k] = dm * specular + m;
     }
@@ -94,6 +102,27 @@ ST_FN st_brdf st_brdf_make(const st_lf *c, st_lf m, st_lf roughness, st_lf specu
     b.alpha = ST_FMAXF(r * r, ST_BRDF_MIN_ALPHA);
     b.alpha_t = b.alpha;
     return b;
+}
+
+/* KHR_materials_diffuse_transmission's share t in [0, 1] of the Lambertian
+ * part (of a material with metallic m and transmission tr, as made by
+ * st_brdf_make) passed into the other hemisphere, tinted by colour: the
+ * reflection keeps (1 - t) of it. t = 0 changes nothing. */
+ST_FN void st_brdf_diffuse_transmission(st_brdf *b, st_lf m, st_lf transmission, st_lf t,
+                                        const st_lf *colour)
+{
+    st_lf dm = (1.0f - st_clamp01(m)) * (1.0f - st_clamp01(transmission));
+    t = st_clamp01(t);
+    for (int k = 0; k < 3; k++) {
+        b->dtrans[k] = dm * t * colour[k];
+        b->diffuse[k] = b->diffuse[k] * (1.0f - t);
+    }
+}
+
+/* The lanes whose Lambertian part transmits. */
+ST_FN st_li st_brdf_transmits(const st_brdf *b)
+{
+    return st_max3(b->dtrans) > 0.0f;
 }
 
 /* KHR_materials_anisotropy's stretch of the specular lobe along the
@@ -204,7 +233,8 @@ ST_FN st_lf st_schlick(st_lf x)
     return a2 * a2 * a;
 }
 
-/* f(wo, wi) per channel into f[3]; 0 unless both lie above the surface. */
+/* f(wo, wi) per channel into f[3]; 0 unless both lie above the surface,
+ * or wi below it where the Lambertian part transmits. */
 ST_FN void st_brdf_eval(const st_brdf *b, st_dir wo, st_dir wi, st_lf *f)
 {
     st_li above = wo.z > 0.0f && wi.z > 0.0f;
@@ -216,6 +246,14 @@ ST_FN void st_brdf_eval(const st_brdf *b, st_dir wo, st_dir wi, st_lf *f)
         st_lf fk = b->diffuse[k] * kd + (b->f0[k] + (b->f90[k] - b->f0[k]) * s) * dv;
         f[k] = ST_SELECT(ST_W, ST_LF(0.0f), fk, above);
     }
+    st_li through = wo.z > 0.0f && wi.z < 0.0f && st_brdf_transmits(b);
+    if (ST_ANY(ST_W, through)) {
+        h = st_half_vector(wo, st_lv3_make(wi.x, wi.y, -wi.z));
+        s = st_schlick(wo.x * h.x + wo.y * h.y + wo.z * h.z);
+        kd = (1.0f - (b->fd0 + (b->fd90 - b->fd0) * s)) / ST_PI_F;
+        for (int k = 0; k < 3; k++)
+            f[k] = ST_SELECT(ST_W, f[k], b->dtrans[k] * kd, through);
+    }
 }
 
 /* The probability of sampling the specular lobe towards wo: its Fresnel
@@ -226,20 +264,33 @@ ST_FN st_lf st_brdf_spec_prob(const st_brdf *b, st_dir wo)
     st_lf s = ST_FMINF(ST_FMAXF(st_schlick(wo.z), 0.05f), 0.95f), ws = ST_LF(0.0f);
     for (int k = 0; k < 3; k++)
         ws = ST_FMAXF(ws, b->f0[k] + (b->f90[k] - b->f0[k]) * s);
-    st_lf wd = st_max3(b->diffuse) * (1.0f - (b->fd0 + (b->fd90 - b->fd0) * s));
+    st_lf wd = (st_max3(b->diffuse) + st_max3(b->dtrans)) *
+               (1.0f - (b->fd0 + (b->fd90 - b->fd0) * s));
     return ST_SELECT(ST_W, ST_LF(0.0f), ws / (ws + wd), ws + wd > 0.0f);
 }
 
+/* The probability that the Lambertian part's sample transmits: its
+ * transmission's share of it (0 where it does not transmit). */
+ST_FN st_lf st_brdf_trans_prob(const st_brdf *b)
+{
+    st_lf t = st_max3(b->dtrans), r = st_max3(b->diffuse);
+    return ST_SELECT(ST_W, ST_LF(0.0f), t / (t + r), t > 0.0f);
+}
+
 /* The pdf (solid angle) of st_brdf_sample choosing wi: the mixture of
- * cos / π and the visible-normal density G1(wo) D(h) / (4 wo.z). */
+ * cos / π and the visible-normal density G1(wo) D(h) / (4 wo.z), the
+ * cosine lobe split by st_brdf_trans_prob into the two hemispheres. */
 ST_FN st_lf st_brdf_pdf(const st_brdf *b, st_dir wo, st_dir wi)
 {
     st_li above = wo.z > 0.0f && wi.z > 0.0f;
-    st_lf ps = st_brdf_spec_prob(b, wo);
+    st_lf ps = st_brdf_spec_prob(b, wo), pt = st_brdf_trans_prob(b);
     st_dir h = st_half_vector(wo, wi);
     st_lf spec = st_brdf_g1(b, wo) * st_brdf_d(b, h) / (4.0f * wo.z);
     spec = ST_SELECT(ST_W, ST_LF(0.0f), spec, ps > 0.0f);
-    return ST_SELECT(ST_W, ST_LF(0.0f), ps * spec + (1.0f - ps) * wi.z / ST_PI_F, above);
+    st_lf p = ps * spec + (1.0f - ps) * (1.0f - pt) * wi.z / ST_PI_F;
+    st_li through = wo.z > 0.0f && wi.z < 0.0f && pt > 0.0f;
+    p = ST_SELECT(ST_W, p, (1.0f - ps) * pt * -wi.z / ST_PI_F, through);
+    return ST_SELECT(ST_W, ST_LF(0.0f), p, above || through);
 }
 
 /* A visible normal of GGX (α_x along x, α_y along y; equal: isotropic)
@@ -275,21 +326,32 @@ ST_FN st_dir st_cosine_sample(st_lf u1, st_lf u2)
 
 /* A direction from the mixture: u1 below st_brdf_spec_prob picks the
  * specular lobe (u1 rescaled to [0, 1) for it, so one dimension both
- * chooses and places), else the cosine lobe. The result may point below
- * the surface (z <= 0): then the sample is lost. Each lobe is computed only
- * where some lane takes it. */
+ * chooses and places), else the cosine lobe, whose rescaled u1 below
+ * st_brdf_trans_prob turns it into the lower hemisphere (rescaled again).
+ * A specular sample may point below the surface (z <= 0): then it is lost
+ * (as (0, 0, 0) where the Lambertian part transmits).
+ * Each lobe is computed only where some lane takes it. */
 ST_FN st_dir st_brdf_sample(const st_brdf *b, st_dir wo, st_lf u1, st_lf u2)
 {
     st_lf ps = st_brdf_spec_prob(b, wo);
     st_li spec = u1 < ps;
     st_dir wi = wo;
-    if (ST_ANY(ST_W, !spec))
-        wi = st_cosine_sample(ST_FMINF((u1 - ps) / (1.0f - ps), 0.99999994f), u2);
+    if (ST_ANY(ST_W, !spec)) {
+        st_lf v = ST_FMINF((u1 - ps) / (1.0f - ps), 0.99999994f), pt = st_brdf_trans_prob(b);
+        st_li through = v < pt;
+        v = ST_SELECT(ST_W, (v - pt) / (1.0f - pt), v / pt, through);
+        wi = st_cosine_sample(ST_FMINF(v, 0.99999994f), u2);
+        wi.z = ST_SELECT(ST_W, wi.z, -wi.z, through);
+    }
     if (ST_ANY(ST_W, spec)) {
         st_dir h = st_ggx_visible_normal(b->alpha_t, b->alpha, wo, ST_FMINF(u1 / ps, 0.99999994f),
                                          u2);
         st_lf d = 2.0f * (wo.x * h.x + wo.y * h.y + wo.z * h.z);
         st_dir r = st_lv3_make(d * h.x - wo.x, d * h.y - wo.y, d * h.z - wo.z);
+        /* below the surface a transmitting lane would take it for the
+         * Lambertian part's: lost there as (0, 0, 0) */
+        st_li lost = r.z <= 0.0f && st_brdf_transmits(b);
+        r = st_lv3_select(r, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), lost);
         wi = st_lv3_select(wi, r, spec);
     }
     return wi;

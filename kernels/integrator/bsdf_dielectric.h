@@ -218,9 +218,11 @@ ST_FN st_dir st_bsdf_sample(const st_brdf *b, const st_dielectric *d, st_dir wo,
     st_lf w = d->weight;
     st_li lobe = u1 < w;
     st_dir wi = wo;
-    if (ST_ANY(ST_W, !lobe)) { /* the BRDF's below the surface are lost, as the lobe's */
+    if (ST_ANY(ST_W, !lobe)) { /* the BRDF's below the surface are lost, as the lobe's,
+                                  but where its Lambertian part transmits */
         wi = st_brdf_sample(b, wo, ST_FMINF((u1 - w) / (1.0f - w), 0.99999994f), u2);
-        wi = st_lv3_select(wi, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), wi.z <= 0.0f);
+        wi = st_lv3_select(wi, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)),
+                           wi.z <= 0.0f && !st_brdf_transmits(b));
     }
     if (ST_ANY(ST_W, lobe))
         wi = st_lv3_select(

@@ -76,6 +76,12 @@ typedef struct st_aniso_in {
     float dir[3][ST_W], strength[ST_W];
 } st_aniso_in;
 
+/* KHR_materials_diffuse_transmission's colour and share per lane, apart
+ * for the same reason (dtrans_gather clears them). */
+typedef struct st_dtrans_in {
+    float colour[3][ST_W], share[ST_W];
+} st_dtrans_in;
+
 #define ST_LV(a) ST_VLOAD(ST_W, a)
 #define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
 
@@ -214,6 +220,41 @@ static int alpha_passes_keyed(const st_params *p, const st_material_at *a, st_sa
 /* The key of the rays a path follows (shadow rays: shadow.h). */
 #define ST_PATH_ALPHA_KEY 0xa1fa0000u
 
+/* Texture tex at lane k's hit, looked up with material_at's footprint
+ * from what vertex_gather left in l (white where tex is ST_NO_TEXTURE). */
+static float4 lane_texel(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                         const st_vertex_in *l, st_u32 k, st_u32 tex)
+{
+    float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+    float width = p->camera.forward[3] > 0.5f ? px : px * l->travelled[k];
+    float cos_nd = -dot(lane3(l->ng, k), lane3(l->d, k));
+    return tex_lookup(tex_refs(s), tex, l->prim[k], l->bu[k], l->bv[k], width, cos_nd,
+                      sh->texture_filter);
+}
+
+/* The diffuse transmission (KHR_materials_diffuse_transmission) of the
+ * lanes in `bits`, whose materials have ST_MAT_DIFFUSE_TRANS, into dt (the
+ * other lanes' cleared): the share, diffuseTransmissionFactor x texture A,
+ * and the colour, diffuseTransmissionColorFactor x texture RGB. Out of
+ * line, as sheen_gather. */
+ST_COLD void dtrans_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                           const st_vertex_in *l, st_u32 bits, st_dtrans_in *dt)
+{
+    *dt = (st_dtrans_in){{{0.0f}}, {0.0f}};
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        __global const st_material *m = &s->materials[s->tri_material[l->prim[k]]];
+        float4 f = vload4(0, m->diffuse_trans);
+        if (m->diffuse_trans_tex != ST_NO_TEXTURE)
+            f.w *= lane_texel(s, p, sh, l, k, m->diffuse_trans_tex).w;
+        if (m->diffuse_trans_color_tex != ST_NO_TEXTURE)
+            f.xyz *= lane_texel(s, p, sh, l, k, m->diffuse_trans_color_tex).xyz;
+        set_lane3(dt->colour, k, f.xyz);
+        dt->share[k] = f.w;
+    }
+}
+
 /* The tangent of triangle prim interpolated at (bu, bv), and in *w its
  * handedness (0: the triangle has no tangents). */
 static float3 interpolated_tangent(const st_scene_refs *s, st_u32 prim, float bu, float bv,
@@ -237,8 +278,6 @@ ST_COLD void aniso_gather(const st_scene_refs *s, const st_params *p, const st_s
                           const st_vertex_in *l, st_u32 bits, st_aniso_in *an)
 {
     *an = (st_aniso_in){{{0.0f}}, {0.0f}};
-    float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
-    st_tex_refs x = tex_refs(s);
     for (st_u32 k = 0; k < ST_W; k++) {
         if (!((bits >> k) & 1u))
             continue;
@@ -247,10 +286,7 @@ ST_COLD void aniso_gather(const st_scene_refs *s, const st_params *p, const st_s
         float strength = m->anisotropy[0];
         float2 d = (float2)(1.0f, 0.0f);
         if (m->anisotropy_tex != ST_NO_TEXTURE) {
-            float width = p->camera.forward[3] > 0.5f ? px : px * l->travelled[k];
-            float cos_nd = -dot(lane3(l->ng, k), lane3(l->d, k));
-            float3 c = tex_lookup(x, m->anisotropy_tex, t, l->bu[k], l->bv[k], width, cos_nd,
-                                  sh->texture_filter).xyz;
+            float3 c = lane_texel(s, p, sh, l, k, m->anisotropy_tex).xyz;
             d = 2.0f * c.xy - 1.0f;
             strength *= c.z;
         }
@@ -504,6 +540,7 @@ typedef struct st_vertex {
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
+    st_u32 pass_bits;   /* those and the lanes with diffuse transmission: light passes */
     st_u32 layer_bits;  /* the lanes with transmission, a sheen or a clear coat (of glossy) */
     st_u32 sheen_bits;  /* the lanes with a sheen (of layer_bits) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
@@ -640,18 +677,28 @@ ST_COLD st_lf aniso_frame(st_vertex *v, const st_aniso_in *an, st_u32 aniso_bits
     return ST_SELECT(ST_W, ST_LF(0.0f), ST_LV(an->strength), on);
 }
 
+/* The Lambertian part's transmission where a lane has it (dtrans_gather's
+ * share 0 elsewhere, which changes nothing). */
+ST_COLD void dtrans_layer(const st_dtrans_in *dt, st_lf metallic, st_lf tr, st_brdf *b)
+{
+    st_lf c[3] = {ST_LV(dt->colour[0]), ST_LV(dt->colour[1]), ST_LV(dt->colour[2])};
+    st_brdf_diffuse_transmission(b, metallic, tr, ST_LV(dt->share), c);
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
  * transmission > 0: vertex_gather; thin-walled where thin_bits' is), the
  * clear coat where coat_bits' is (about its own normal where cmapped's is),
- * the sheen where sheen_bits' is and the anisotropic specular lobe, in a
- * frame along its direction, where aniso_bits' is. */
+ * the sheen where sheen_bits' is, the anisotropic specular lobe, in a
+ * frame along its direction, where aniso_bits' is and the diffuse
+ * transmission where dtrans_bits' is. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
                                 st_u32 trans_bits, st_u32 thin_bits, st_u32 coat_bits,
                                 st_u32 cmapped, st_u32 sheen_bits,
                                 const st_sheen_in *shn, st_u32 aniso_bits,
-                                const st_aniso_in *an, st_layers *lay, st_li miss,
+                                const st_aniso_in *an, st_u32 dtrans_bits,
+                                const st_dtrans_in *dtn, st_layers *lay, st_li miss,
                                 const st_shading *sh, st_lf *cos_o)
 {
     st_vertex v;
@@ -664,6 +711,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.beta = ST_LV3_OF(l->beta);
     v.lay = lay;
     v.trans_bits = trans_bits;
+    v.pass_bits = trans_bits | dtrans_bits;
     v.layer_bits = trans_bits | coat_bits | sheen_bits;
     v.sheen_bits = sheen_bits;
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
@@ -672,10 +720,10 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
     v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
-    if (v.layer_bits)
-        v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits);
+    if (v.layer_bits | dtrans_bits)
+        v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits | dtrans_bits);
     if (ST_ANY(ST_W, v.glossy))
-        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, trans_bits));
+        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, v.pass_bits));
     st_basis(v.ns, &v.tu, &v.tv);
     st_lf strength = aniso_bits ? aniso_frame(&v, an, aniso_bits) : ST_LF(0.0f);
     v.albedo = ST_LV3_OF(l->base);
@@ -685,6 +733,8 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
         if (aniso_bits)
             st_brdf_anisotropic(&v.brdf, strength);
+        if (dtrans_bits)
+            dtrans_layer(dtn, metallic, tr, &v.brdf);
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f,
                                            ST_BITS_MASK(ST_W, thin_bits));
@@ -854,8 +904,8 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     *cz = w.z;
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
-    if (v->trans_bits) {
-        st_li trans = ST_BITS_MASK(ST_W, v->trans_bits) && *pdf > 0.0f;
+    if (v->pass_bits) {
+        st_li trans = ST_BITS_MASK(ST_W, v->pass_bits) && *pdf > 0.0f;
         st_li through = trans && st_lv3_dot(*wi, v->ng) < 0.0f; /* into the object */
         st_li back = trans && *cz < 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
         ok = ok || through || back;

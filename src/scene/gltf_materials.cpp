@@ -2,8 +2,9 @@
  *
  * The core metallic-roughness material with its factors' defaults, and
  * KHR_materials_emissive_strength, _specular, _ior, _unlit, _transmission,
- * _volume (attenuation), _clearcoat, _sheen, _anisotropy and
- * _pbrSpecularGlossiness (converted to metallic-roughness). */
+ * _volume (attenuation), _clearcoat, _sheen, _anisotropy,
+ * _diffuse_transmission and _pbrSpecularGlossiness (converted to
+ * metallic-roughness). */
 #include "gltf_int.h"
 
 #include <algorithm>
@@ -226,6 +227,36 @@ static void read_anisotropy(const Model &m, size_t i, texture_table &table, note
                                    "anisotropyTexture", table, warn);
 }
 
+/* KHR_materials_diffuse_transmission of material i:
+ * diffuseTransmissionFactor (0) x diffuseTransmissionTexture's A (linear)
+ * and diffuseTransmissionColorFactor (1, 1, 1) x
+ * diffuseTransmissionColorTexture's RGB (sRGB), each in [0, 1]. */
+static void read_diffuse_transmission(const Model &m, size_t i, texture_table &table, notes &warn,
+                                      st_gltf_material &o)
+{
+    o.diffuse_trans[0] = o.diffuse_trans[1] = o.diffuse_trans[2] = 1.0f;
+    o.diffuse_trans[3] = 0.0f;
+    o.diffuse_trans_tex = o.diffuse_trans_color_tex = -1;
+    auto dt = m.materials[i].extensions.find("KHR_materials_diffuse_transmission");
+    if (dt == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = dt->second;
+    char what[72];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_diffuse_transmission", i);
+    o.diffuse_trans[3] = float(ext_number(v, "diffuseTransmissionFactor", 0.0, what));
+    ext_numbers(v, "diffuseTransmissionColorFactor", 3, o.diffuse_trans, what);
+    for (int k = 0; k < 4; k++)
+        if (!(o.diffuse_trans[k] >= 0.0f && o.diffuse_trans[k] <= 1.0f))
+            fail("%s: diffuseTransmissionFactor and diffuseTransmissionColorFactor must lie in "
+                 "[0, 1]",
+                 what);
+    o.diffuse_trans_tex = texture_ref(m, ext_texture_info(v, "diffuseTransmissionTexture", what),
+                                      false, i, "diffuseTransmissionTexture", table, warn);
+    o.diffuse_trans_color_tex =
+        texture_ref(m, ext_texture_info(v, "diffuseTransmissionColorTexture", what), true, i,
+                    "diffuseTransmissionColorTexture", table, warn);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -359,6 +390,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     read_clearcoat(m, i, table, warn, o);
     read_sheen(m, i, table, warn, o);
     read_anisotropy(m, i, table, warn, o);
+    read_diffuse_transmission(m, i, table, warn, o);
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;
@@ -407,7 +439,8 @@ void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &t
         const int slots[] = {o.base_color_tex,   o.emission_tex,     o.metallic_roughness_tex,
                              o.specular_tex,     o.specular_color_tex, o.transmission_tex,
                              o.clearcoat_tex,    o.clearcoat_roughness_tex, o.sheen_color_tex,
-                             o.sheen_roughness_tex};
+                             o.sheen_roughness_tex, o.diffuse_trans_tex,
+                             o.diffuse_trans_color_tex};
         for (int t : slots)
             if (unreadable(t))
                 white[size_t(table.refs[size_t(t)].image)] = 1;

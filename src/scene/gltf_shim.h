@@ -80,6 +80,9 @@ typedef struct st_gltf_material {
     float anisotropy, anisotropy_rotation; /* KHR_materials_anisotropy's strength and
                                               rotation (radians), 0 and 0 */
     int anisotropy_tex;    /* its anisotropyTexture (RG direction, B strength; linear) */
+    float diffuse_trans[4]; /* KHR_materials_diffuse_transmission: colour (1, 1, 1) and
+                               factor (0) */
+    int diffuse_trans_tex, diffuse_trans_color_tex; /* their textures (A linear; sRGB RGB) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

@@ -501,8 +501,9 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         memcpy(m->specular, in->specular, sizeof m->specular);
         m->ior = in->ior;
         /* a transmissive surface is met from inside too, where the ray leaves */
+        int passes = in->transmission > 0.0f || in->diffuse_trans[3] > 0.0f;
         m->flags = (in->unlit ? ST_MAT_UNLIT : 0u) |
-                   (in->double_sided || in->transmission > 0.0f ? ST_MAT_DOUBLE_SIDED : 0u);
+                   (in->double_sided || passes ? ST_MAT_DOUBLE_SIDED : 0u);
         m->specular_tex = texture_index(in->specular_tex);
         m->specular_color_tex = texture_index(in->specular_color_tex);
         m->normal_tex = texture_index(in->normal_tex);
@@ -527,6 +528,11 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->anisotropy_tex = texture_index(in->anisotropy_tex);
         if (in->anisotropy > 0.0f) /* strength 0 is the isotropic lobe */
             m->flags |= ST_MAT_ANISO;
+        memcpy(m->diffuse_trans, in->diffuse_trans, sizeof m->diffuse_trans);
+        m->diffuse_trans_tex = texture_index(in->diffuse_trans_tex);
+        m->diffuse_trans_color_tex = texture_index(in->diffuse_trans_color_tex);
+        if (in->diffuse_trans[3] > 0.0f)
+            m->flags |= ST_MAT_DIFFUSE_TRANS;
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
         if (in->thin_walled && in->transmission > 0.0f)
@@ -553,6 +559,8 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->sheen_color_tex = m->sheen_roughness_tex = ST_NO_TEXTURE;
         m->anisotropy[1] = 1.0f;
         m->anisotropy_tex = ST_NO_TEXTURE;
+        m->diffuse_trans[0] = m->diffuse_trans[1] = m->diffuse_trans[2] = 1.0f;
+        m->diffuse_trans_tex = m->diffuse_trans_color_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

@@ -172,6 +172,12 @@ aniso_quad    sheen_quad's two tilted quads (texture coordinates: u along x),
               by 0.5 radians x an anisotropyTexture of direction (1, 1) and
               strength 128 / 255 (texel (255, 255, 128)), right of roughness
               0.3 with strength 0 (isotropic).
+dtrans_lamp   a white Lambertian sheet (specularFactor 0, [-1, 1]² at z = 0,
+              facing +Z, filling an orthographic view from z = 5) under
+              KHR_materials_diffuse_transmission: factor 0.75 x a texture of
+              A 204 (0.6), colour (1, 0.5, 1) x an sRGB texture (255, 255,
+              128); behind it, at z = -0.5, a lamp [-1.5, 1.5]² facing it
+              (emission 1, black).
 bad_*         malformed files, each wrong in one way (named by the file).
 markers       two small unlit cubes (half side 0.01), white at (1, 2, -3) and red
               at (1.5, 2.25, -3.5), no camera: --look-at puts them where the
@@ -1377,6 +1383,36 @@ def write_anisotropy():
     write_json("aniso_quad.gltf", g)
 
 
+def write_diffuse_transmission():
+    """dtrans_lamp (see the top)."""
+    b = Blob()
+    sheet, lamp = b.quad(0.0, QUAD_UV), b.quad(0.0)
+    sheet["material"], lamp["material"] = 0, 1
+    spec0 = {"KHR_materials_specular": {"specularFactor": 0.0}}
+    dt = {"diffuseTransmissionFactor": 0.75, "diffuseTransmissionTexture": {"index": 0},
+          "diffuseTransmissionColorFactor": [1.0, 0.5, 1.0],
+          "diffuseTransmissionColorTexture": {"index": 1}}
+    materials = [{"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                                           "metallicFactor": 0.0},
+                  "extensions": dict(spec0, KHR_materials_diffuse_transmission=dt)},
+                 {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                           "metallicFactor": 0.0},
+                  "emissiveFactor": [1.0, 1.0, 1.0], "extensions": spec0}]
+    images = [{"uri": png_uri(png(4, 4, 4, [[255, 255, 255, 204] * 4] * 4))},
+              {"uri": png_uri(constant_png((255, 255, 128)))}]
+    g = doc([{"primitives": [sheet]}, {"primitives": [lamp]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0}, {"mesh": 1, "translation": [0.0, 0.0, -0.5],
+                                 "scale": [1.5, 1.5, 1.0]},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 1.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=materials, images=images, textures=[{"source": 0}, {"source": 1}],
+            extensionsUsed=["KHR_materials_diffuse_transmission", "KHR_materials_specular"])
+    write_json("dtrans_lamp.gltf", g)
+
+
 def glass_scene(third, light, size=(16, 24), uv=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
     a smooth glass sphere, a rough one with absorption and `third` (of the
@@ -1792,6 +1828,7 @@ def main():
     write_coat()
     write_sheen()
     write_anisotropy()
+    write_diffuse_transmission()
     write_dark_views()
     write_glass_panes()
     write_quantized()

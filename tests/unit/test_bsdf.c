@@ -643,8 +643,9 @@ static void transmission_sampler_passes_chi_square(void **state)
 {
     (void)state;
     /* base, metallic, roughness, transmission, η, coat, its roughness, sheen colour, sheen
-     * roughness, the coat's normal's z (tilted towards φ = 1: st_coat_tilt), thin-walled */
-    const float params[][11] = {
+     * roughness, the coat's normal's z (tilted towards φ = 1: st_coat_tilt), thin-walled,
+     * diffuse transmission (KHR_materials_diffuse_transmission, colour (1, 0.6, 0.3)) */
+    const float params[][12] = {
         {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
         {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
         {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
@@ -659,7 +660,11 @@ static void transmission_sampler_passes_chi_square(void **state)
         {0.9f, 0.0f, 0.4f, 1.0f, 1.5f, 0.5f, 0.2f, 0.0f, 0.0f, 0.9f, 0.0f},
         {1.0f, 0.0f, 0.2f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f},
         {0.9f, 0.0f, 0.5f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 1.0f},
-        {0.8f, 0.0f, 0.3f, 0.6f, 1.33f, 0.5f, 0.2f, 0.0f, 0.0f, 1.0f, 1.0f}};
+        {0.8f, 0.0f, 0.3f, 0.6f, 1.33f, 0.5f, 0.2f, 0.0f, 0.0f, 1.0f, 1.0f},
+        {0.8f, 0.0f, 0.5f, 0.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f},
+        {0.2f, 0.0f, 0.6f, 0.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 1.0f},
+        {0.9f, 0.3f, 0.4f, 0.5f, 1.5f, 0.5f, 0.3f, 0.0f, 0.0f, 1.0f, 0.0f, 0.7f},
+        {0.7f, 0.0f, 0.6f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.4f, 1.0f, 0.0f, 0.6f}};
     const int nmat = (int)(sizeof params / sizeof params[0]);
     const double zs[] = {0.9, 0.35};
     const int n = 1000000;
@@ -670,6 +675,8 @@ static void transmission_sampler_passes_chi_square(void **state)
             st_brdf b = glass(params[p][0], params[p][1], params[p][2], params[p][3],
                               params[p][4], &d);
             d.thin = params[p][10] > 0.0f; /* its η: the ior, from either side */
+            const float dtc[3] = {1.0f, 0.6f, 0.3f};
+            st_brdf_diffuse_transmission(&b, params[p][1], params[p][3], params[p][11], dtc);
             st_coat cc = st_coat_make(params[p][5], params[p][6]);
             if (params[p][9] < 1.0f)
                 st_coat_tilt(&cc, dir_from(params[p][9], 1.0));
@@ -730,6 +737,122 @@ static void transmission_sampler_passes_chi_square(void **state)
                 fail_msg("material %d, wo.z %g: chi-square %.1f over %d dof, limit %.1f", p,
                          zs[k], chi2, dof, limit);
         }
+}
+
+/* ---- diffuse transmission (KHR_materials_diffuse_transmission) ---------- */
+
+/* ∫ f |cos| dω of channel ch over the upper (sign 1) or lower (-1)
+ * hemisphere by the midpoint rule in (z, φ). */
+static double hemisphere_f_cos(const st_brdf *b, st_dir wo, int ch, double sign)
+{
+    const int nz = 1000, nphi = 256;
+    double sum = 0.0;
+    for (int i = 0; i < nz; i++)
+        for (int j = 0; j < nphi; j++) {
+            st_dir w = dir_from(sign * (i + 0.5) / nz, 2.0 * PI * (j + 0.5) / nphi);
+            float f[3];
+            st_brdf_eval(b, wo, w, f);
+            sum += f[ch] * fabs(w.z);
+        }
+    return sum * 2.0 * PI / ((double)nz * nphi);
+}
+
+/* A white Lambertian material (specularFactor 0) whose diffuse part
+ * transmits t of colour c keeps all the energy when c is white: the upper
+ * hemisphere's ∫ f |cos| dω is 1 - t and the lower one's t c (the
+ * specification's mix), by quadrature of st_brdf_eval; sampled, f |cos| /
+ * pdf over the sphere gives the same split, and the pdf integrates to 1. */
+static void diffuse_transmission_furnace(void **state)
+{
+    (void)state;
+    const float ts[] = {0.0f, 0.3f, 0.75f, 1.0f}, white[3] = {1.0f, 1.0f, 1.0f};
+    const float tint[3] = {1.0f, 0.5f, 0.2f};
+    for (int i = 0; i < 4; i++)
+        for (int w = 0; w < 2; w++) {
+            const float *c = w ? tint : white;
+            st_brdf b = material(1.0f, 0.0f, 0.5f, 0.0f);
+            st_brdf_diffuse_transmission(&b, 0.0f, 0.0f, ts[i], c);
+            st_dir wo = dir_from(0.6, 0.3);
+            for (int k = 0; k < 3; k++) {
+                double up = hemisphere_f_cos(&b, wo, k, 1.0), down = hemisphere_f_cos(&b, wo, k, -1.0);
+                if (fabs(up - (1.0 - ts[i])) > 1e-4 || fabs(down - ts[i] * c[k]) > 1e-4)
+                    fail_msg("t %g, channel %d: reflected %.5f (want %.5f), transmitted %.5f "
+                             "(want %.5f)", ts[i], k, up, 1.0 - ts[i], down, ts[i] * c[k]);
+            }
+            uint64_t s = 41;
+            double r = 0.0, t = 0.0, r2 = 0.0, t2 = 0.0, pdf_sum = 0.0;
+            const int n = 200000;
+            for (int j = 0; j < n; j++) {
+                st_dir wi = st_brdf_sample(&b, wo, (float)next_unit(&s), (float)next_unit(&s));
+                float f[3], pdf = st_brdf_pdf(&b, wo, wi);
+                st_brdf_eval(&b, wo, wi, f);
+                double e = pdf > 0.0f ? f[1] * fabs(wi.z) / pdf : 0.0;
+                if (wi.z > 0.0f)
+                    r += e / n, r2 += e * e / n;
+                else
+                    t += e / n, t2 += e * e / n;
+            }
+            /* five standard errors of each mean (the split is binomial) */
+            double sr = 5.0 * sqrt(fmax(0.0, r2 - r * r) / n) + 1e-6;
+            double st = 5.0 * sqrt(fmax(0.0, t2 - t * t) / n) + 1e-6;
+            for (int a = 0; a < 1000; a++)
+                for (int q = 0; q < 256; q++)
+                    pdf_sum += st_brdf_pdf(&b, wo, dir_from(-1.0 + 2.0 * (a + 0.5) / 1000,
+                                                            2 * PI * (q + 0.5) / 256));
+            pdf_sum *= 4.0 * PI / (1000.0 * 256);
+            if (fabs(r - (1.0 - ts[i])) > sr || fabs(t - ts[i] * c[1]) > st ||
+                fabs(pdf_sum - 1.0) > 1e-3)
+                fail_msg("t %g: sampled reflection %.5f, transmission %.5f, ∫ pdf %.5f", ts[i],
+                         r, t, pdf_sum);
+        }
+}
+
+/* Diffuse transmission is reciprocal across the surface: seen from the
+ * other side the frame turns over, (x, y, z) -> (x, -y, -z), and f(wo, wi)
+ * = f(wi', wo') with the primes turned; with a specular lobe above (its
+ * Fresnel, at the half vector of wo and the mirrored wi, is symmetric). */
+static void diffuse_transmission_is_reciprocal(void **state)
+{
+    (void)state;
+    uint64_t s = 43;
+    const float c[3] = {0.9f, 0.4f, 0.7f};
+    for (int i = 0; i < 2000; i++) {
+        st_brdf b = material((float)next_unit(&s), (float)next_unit(&s),
+                             (float)(0.05 + next_unit(&s)), (float)next_unit(&s));
+        st_brdf_diffuse_transmission(&b, 0.0f, 0.0f, (float)next_unit(&s), c);
+        st_dir wo = dir_from(next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir wi = dir_from(-next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir wo2 = {wi.x, -wi.y, -wi.z}, wi2 = {wo.x, -wo.y, -wo.z};
+        float f[3], g[3];
+        st_brdf_eval(&b, wo, wi, f);
+        st_brdf_eval(&b, wo2, wi2, g);
+        for (int k = 0; k < 3; k++)
+            if (fabsf(f[k] - g[k]) > 1e-5f * fmaxf(1.0f, fabsf(f[k])) || !(f[k] >= 0.0f))
+                fail_msg("f(wo, wi) = %g but f(wi', wo') = %g", f[k], g[k]);
+    }
+}
+
+/* Transmission 0 changes nothing, bit for bit: f, pdf and the samples. */
+static void diffuse_transmission_zero_changes_nothing(void **state)
+{
+    (void)state;
+    uint64_t s = 47;
+    const float c[3] = {1.0f, 1.0f, 1.0f};
+    for (int i = 0; i < 1000; i++) {
+        st_brdf a = material((float)next_unit(&s), (float)next_unit(&s), (float)next_unit(&s),
+                             (float)next_unit(&s)),
+                b = a;
+        st_brdf_diffuse_transmission(&b, 0.0f, 0.0f, 0.0f, c);
+        st_dir wo = dir_from(next_unit(&s), 2 * PI * next_unit(&s));
+        st_dir wi = dir_from(2.0 * next_unit(&s) - 1.0, 2 * PI * next_unit(&s));
+        float fa[3], fb[3], u1 = (float)next_unit(&s), u2 = (float)next_unit(&s);
+        st_brdf_eval(&a, wo, wi, fa);
+        st_brdf_eval(&b, wo, wi, fb);
+        assert_memory_equal(fa, fb, sizeof fa);
+        assert_true(st_brdf_pdf(&a, wo, wi) == st_brdf_pdf(&b, wo, wi));
+        st_dir sa = st_brdf_sample(&a, wo, u1, u2), sb = st_brdf_sample(&b, wo, u1, u2);
+        assert_memory_equal(&sa, &sb, sizeof sa);
+    }
 }
 
 /* A clear coat over white bases reflects at most what it receives: over a
@@ -939,6 +1062,9 @@ int main(void)
         cmocka_unit_test(dielectric_is_reciprocal),
         cmocka_unit_test(thin_wall_passes_straight_through),
         cmocka_unit_test(transmission_sampler_passes_chi_square),
+        cmocka_unit_test(diffuse_transmission_furnace),
+        cmocka_unit_test(diffuse_transmission_is_reciprocal),
+        cmocka_unit_test(diffuse_transmission_zero_changes_nothing),
         cmocka_unit_test(coat_furnace),
         cmocka_unit_test(sheen_distribution_is_normalised),
         cmocka_unit_test(sheen_table_matches_quadrature),

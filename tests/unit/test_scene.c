@@ -942,10 +942,10 @@ static void sheen_is_imported(void **state)
     st_scene_destroy(s);
 }
 
-/* A copy of file with material `mat`'s KHR_materials_anisotropy replaced by
- * the JSON object `ext`, written to dir/aniso.gltf (its path in path). */
-static void write_aniso_variant(const char *file, int mat, const char *ext, const char *dir,
-                                char *path, size_t len)
+/* A copy of file with material `mat`'s extension `name` replaced by the
+ * JSON object `ext`, written to dir/variant.gltf (its path in path). */
+static void write_ext_variant(const char *file, int mat, const char *name, const char *ext,
+                              const char *dir, char *path, size_t len)
 {
     size_t size;
     unsigned char *data = read_all(file, &size);
@@ -955,9 +955,9 @@ static void write_aniso_variant(const char *file, int mat, const char *ext, cons
         cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "materials"), mat), "extensions");
     cJSON *value = cJSON_Parse(ext);
     assert_non_null(value);
-    cJSON_ReplaceItemInObject(exts, "KHR_materials_anisotropy", value);
+    cJSON_ReplaceItemInObject(exts, name, value);
     char *text = cJSON_PrintUnformatted(doc);
-    snprintf(path, len, "%s/aniso.gltf", dir);
+    snprintf(path, len, "%s/variant.gltf", dir);
     write_all(path, (const unsigned char *)text, strlen(text));
     cJSON_free(text);
     cJSON_Delete(doc);
@@ -1007,7 +1007,8 @@ static void anisotropy_is_imported(void **state)
     char dir[64], path[128];
     make_scratch(dir);
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        write_aniso_variant(SCENES "aniso_quad.gltf", 0, bad[k].ext, dir, path, sizeof path);
+        write_ext_variant(SCENES "aniso_quad.gltf", 0, "KHR_materials_anisotropy", bad[k].ext, dir,
+                          path, sizeof path);
         load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
     }
     /* an unreadable anisotropyTexture is left out (white would turn the
@@ -1033,10 +1034,62 @@ static void anisotropy_is_imported(void **state)
     rmdir(dir);
 }
 
+/* KHR_materials_diffuse_transmission as the specification names it
+ * (tests/scenes/dtrans_lamp.gltf): the factor and the colour factor, the
+ * texture read linear and the colour texture as sRGB, ST_MAT_DIFFUSE_TRANS
+ * where the factor is above 0 and a surface met from both sides
+ * (ST_MAT_DOUBLE_SIDED, as a transmissive one), and no warning; without
+ * the extension, factor 0 and colour 1. A factor outside [0, 1] or one that
+ * is no number is an error naming the material. */
+static void diffuse_transmission_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "dtrans_lamp.gltf");
+    assert_false(has_warning(s, "KHR_materials_diffuse_transmission"));
+    const st_material *m = &s->materials[0], *lamp = &s->materials[1];
+    near(m->diffuse_trans[3], 0.75, 0.0, "diffuseTransmissionFactor");
+    near3(m->diffuse_trans, 1.0, 0.5, 1.0, 0.0, "diffuseTransmissionColorFactor");
+    assert_true(m->flags & ST_MAT_DIFFUSE_TRANS);
+    assert_true(m->flags & ST_MAT_DOUBLE_SIDED);
+    assert_int_not_equal(m->diffuse_trans_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(m->diffuse_trans_color_tex, ST_NO_TEXTURE);
+    assert_false(s->textures[m->diffuse_trans_tex].flags & ST_TEX_SRGB);
+    assert_true(s->textures[m->diffuse_trans_color_tex].flags & ST_TEX_SRGB);
+    assert_false(m->flags & ST_MAT_TEXTURED); /* dtrans_gather reads them, not material_at */
+    assert_false(lamp->flags & (ST_MAT_DIFFUSE_TRANS | ST_MAT_DOUBLE_SIDED));
+    near(lamp->diffuse_trans[3], 0.0, 0.0, "no diffuse transmission");
+    near3(lamp->diffuse_trans, 1.0, 1.0, 1.0, 0.0, "its colour");
+    assert_int_equal(lamp->diffuse_trans_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+    static const struct {
+        const char *ext, *phrase;
+    } bad[] = {
+        {"{\"diffuseTransmissionFactor\": 1.5}", "material 0: KHR_materials_diffuse_transmission: "
+                                                 "diffuseTransmissionFactor and "
+                                                 "diffuseTransmissionColorFactor must lie in [0, 1]"},
+        {"{\"diffuseTransmissionColorFactor\": [1, -0.5, 1]}", "must lie in [0, 1]"},
+        {"{\"diffuseTransmissionColorFactor\": [1, 1]}",
+         "diffuseTransmissionColorFactor must be an array of 3 numbers"},
+        {"{\"diffuseTransmissionFactor\": \"half\"}", "diffuseTransmissionFactor is not a number"},
+        {"{\"diffuseTransmissionTexture\": {\"index\": 5}}",
+         "diffuseTransmissionTexture: texture 5 out of range"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_ext_variant(SCENES "dtrans_lamp.gltf", 0, "KHR_materials_diffuse_transmission",
+                          bad[k].ext, dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
+    }
+    unlink(path);
+    rmdir(dir);
+}
+
 /* ST_MAT_TEXTURED, the one test material_at makes before its texture
  * lookups: set by each of the ten textured factors it reads alone, not by
- * the sheen's or the anisotropy's (sheen_gather and aniso_gather read
- * those), and on the imported materials
+ * the sheen's, the anisotropy's or the diffuse transmission's
+ * (sheen_gather, aniso_gather and dtrans_gather read those), and on the
+ * imported materials
  * exactly where one of the ten has a texture. */
 static void textured_flag_follows_the_factors(void **state)
 {
@@ -1046,7 +1099,7 @@ static void textured_flag_follows_the_factors(void **state)
                       &m.specular_tex,     &m.specular_color_tex, &m.normal_tex,
                       &m.transmission_tex, &m.clearcoat_tex,  &m.clearcoat_roughness_tex,
                       &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex,
-                      &m.anisotropy_tex};
+                      &m.anisotropy_tex, &m.diffuse_trans_tex, &m.diffuse_trans_color_tex};
     const size_t slots = sizeof slot / sizeof slot[0];
     for (size_t k = 0; k <= slots; k++) { /* k = slots: none textured */
         memset(&m, 0, sizeof m);
@@ -1656,6 +1709,7 @@ int main(void)
         cmocka_unit_test(transmission_without_volume_is_thin),
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(anisotropy_is_imported),
+        cmocka_unit_test(diffuse_transmission_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
         cmocka_unit_test(look_at_builds_the_view),
