@@ -22,6 +22,10 @@
  *   f = (1 - m) c_t t / π (1 - max3 F_d)        (wi below; F_d at the half
  *                                                 vector of wo and wi mirrored)
  * (st_brdf_diffuse_transmission).
+ * KHR_materials_iridescence mixes, with its factor ι, the Schlick Fresnel
+ * of the dielectric part (F0 f0_d) and of the metal (F0 c) each with the
+ * thin film's over that F0 (thin_film.h) at wo.h, in the specular lobe and
+ * in the diffuse part's loss (st_brdf_fresnel).
  * KHR_materials_anisotropy stretches D and V along the frame's x axis (the
  * anisotropy direction): α_t = mix(α, 1, strength²) there, α across it
  * (st_brdf_anisotropic).
@@ -44,6 +48,7 @@
 #include "st_shared.h"
 #endif
 #include "lanes.h"
+#include "thin_film.h"
 
 /* The smallest α: below it D's peak (1 / (π α²)) and the sampling pdf
  * grow past what the MIS weights can square in single precision. */
@@ -62,6 +67,10 @@ typedef struct st_brdf {
                       transmission lobe's, bsdf_dielectric.h) */
     st_lf alpha_t; /* its α along the tangent, the frame's x: alpha unless
                       anisotropic (st_brdf_anisotropic) */
+    st_lf wd, wm;        /* the opaque dielectric's and the metal's weights */
+    st_lf f0d[3], f0m[3]; /* their own F0s: f0_d and the base colour */
+    st_lf irid;          /* the thin film's weight ι (0: none; st_brdf_iridescent) */
+    st_lf film_ior, film_nm; /* its ior and thickness (nm) */
 } st_brdf;
 
 ST_FN st_lf st_max3(const st_lf *c)
@@ -95,13 +104,53 @@ ST_FN st_brdf st_brdf_make(const st_lf *c, st_lf m, st_lf roughness, st_lf specu
         b.fd0 = ST_FMAXF(b.fd0, f0d);
         b.diffuse[k] = dm * c[k];
         b.dtrans[k] = ST_LF(0.0f);
+        b.f0d[k] = f0d;
+        b.f0m[k] = c[k];
         b.f0[k] = dm * f0d + m * c[k];
         b.f90[k] = dm * specular + m;
     }
     b.fd90 = specular;
     b.alpha = ST_FMAXF(r * r, ST_BRDF_MIN_ALPHA);
     b.alpha_t = b.alpha;
+    b.wd = dm;
+    b.wm = m;
+    b.irid = b.film_ior = b.film_nm = ST_LF(0.0f);
     return b;
+}
+
+/* KHR_materials_iridescence: a thin film of weight ι in [0, 1], ior n and
+ * thickness d nm over the specular lobe (ι = 0 changes nothing). */
+ST_FN void st_brdf_iridescent(st_brdf *b, st_lf iota, st_lf n, st_lf d)
+{
+    b->irid = st_clamp01(iota);
+    b->film_ior = n;
+    b->film_nm = ST_FMAXF(d, 0.0f);
+}
+
+/* The specular lobe's Fresnel per channel into F[3], at Schlick's weight
+ * s of wo.h = cos_vh, and the diffuse part's loss to the dielectric's
+ * Fresnel (returned); with the thin film mixed in where a lane has one. */
+ST_FN st_lf st_brdf_fresnel(const st_brdf *b, st_lf s, st_lf cos_vh, st_lf *F)
+{
+    for (int k = 0; k < 3; k++)
+        F[k] = b->f0[k] + (b->f90[k] - b->f0[k]) * s;
+    st_lf loss = b->fd0 + (b->fd90 - b->fd0) * s;
+    st_li on = b->irid > 0.0f;
+    if (ST_ANY(ST_W, on)) {
+        st_lf id[3], im[3], ld = ST_LF(0.0f);
+        st_lf c = st_clamp01(cos_vh);
+        st_thin_film(b->film_ior, b->film_nm, c, b->f0d, id);
+        st_thin_film(b->film_ior, b->film_nm, c, b->f0m, im);
+        for (int k = 0; k < 3; k++) {
+            st_lf fd = b->f0d[k] + (b->fd90 - b->f0d[k]) * s;
+            st_lf fm = b->f0m[k] + (1.0f - b->f0m[k]) * s;
+            st_lf fi = F[k] + b->irid * (b->wd * (id[k] - fd) + b->wm * (im[k] - fm));
+            F[k] = ST_SELECT(ST_W, F[k], fi, on);
+            ld = ST_FMAXF(ld, fd + b->irid * (id[k] - fd));
+        }
+        loss = ST_SELECT(ST_W, loss, ld, on);
+    }
+    return loss;
 }
 
 /* KHR_materials_diffuse_transmission's share t in [0, 1] of the Lambertian
@@ -239,11 +288,11 @@ ST_FN void st_brdf_eval(const st_brdf *b, st_dir wo, st_dir wi, st_lf *f)
 {
     st_li above = wo.z > 0.0f && wi.z > 0.0f;
     st_dir h = st_half_vector(wo, wi);
-    st_lf s = st_schlick(wo.x * h.x + wo.y * h.y + wo.z * h.z);
+    st_lf vh = wo.x * h.x + wo.y * h.y + wo.z * h.z, s = st_schlick(vh), fr[3];
     st_lf dv = st_brdf_d(b, h) * st_brdf_v(b, wo, wi);
-    st_lf kd = (1.0f - (b->fd0 + (b->fd90 - b->fd0) * s)) / ST_PI_F;
+    st_lf kd = (1.0f - st_brdf_fresnel(b, s, vh, fr)) / ST_PI_F;
     for (int k = 0; k < 3; k++) {
-        st_lf fk = b->diffuse[k] * kd + (b->f0[k] + (b->f90[k] - b->f0[k]) * s) * dv;
+        st_lf fk = b->diffuse[k] * kd + fr[k] * dv;
         f[k] = ST_SELECT(ST_W, ST_LF(0.0f), fk, above);
     }
     st_li through = wo.z > 0.0f && wi.z < 0.0f && st_brdf_transmits(b);

@@ -78,17 +78,7 @@ ST_FN st_dir st_mirror_z(st_dir w)
     return st_lv3_make(w.x, w.y, -w.z);
 }
 
-/* The unpolarised Fresnel reflectance of a dielectric interface at cos_i
- * (>= 0) on the incident side, η = η(transmitted side) / η(incident side);
- * 1 past the critical angle. */
-ST_FN st_lf st_fresnel_dielectric(st_lf cos_i, st_lf eta)
-{
-    st_lf sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-    st_lf cos_t = ST_SQRTF(ST_FMAXF(0.0f, 1.0f - sin2_t));
-    st_lf rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    st_lf rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    return ST_SELECT(ST_W, 0.5f * (rs * rs + rp * rp), ST_LF(1.0f), sin2_t >= 1.0f);
-}
+/* st_fresnel_dielectric: thin_film.h. */
 
 /* The half vector of a refraction from wo into wi: -(wo + η wi), turned
  * to wo's side (z > 0). */

@@ -82,6 +82,21 @@ typedef struct st_dtrans_in {
     float colour[3][ST_W], share[ST_W];
 } st_dtrans_in;
 
+/* KHR_materials_iridescence's film per lane: its weight, ior and thickness
+ * (nm), apart for the same reason (irid_gather clears them). */
+typedef struct st_irid_in {
+    float weight[ST_W], ior[ST_W], nm[ST_W];
+} st_irid_in;
+
+/* The extensions' inputs gathered out of line, with the lanes that have
+ * each (lane k bit k): only those lanes' rows are read. */
+typedef struct st_more_in {
+    st_u32 aniso_bits, dtrans_bits, irid_bits;
+    st_aniso_in aniso;
+    st_dtrans_in dtrans;
+    st_irid_in irid;
+} st_more_in;
+
 #define ST_LV(a) ST_VLOAD(ST_W, a)
 #define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
 
@@ -255,6 +270,31 @@ ST_COLD void dtrans_gather(const st_scene_refs *s, const st_params *p, const st_
     }
 }
 
+/* The thin film (KHR_materials_iridescence) of the lanes in `bits`, whose
+ * materials have ST_MAT_IRIDESCENT, into ir (the other lanes' cleared):
+ * its weight, iridescenceFactor x texture R, its ior, and its thickness,
+ * mix(minimum, maximum, thickness texture G), the maximum without that
+ * texture. Out of line, as sheen_gather. */
+ST_COLD void irid_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                         const st_vertex_in *l, st_u32 bits, st_irid_in *ir)
+{
+    *ir = (st_irid_in){{0.0f}, {0.0f}, {0.0f}};
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        __global const st_material *m = &s->materials[s->tri_material[l->prim[k]]];
+        float4 f = vload4(0, m->iridescence);
+        float w = f.x, nm = f.w;
+        if (m->iridescence_tex != ST_NO_TEXTURE)
+            w *= lane_texel(s, p, sh, l, k, m->iridescence_tex).x;
+        if (m->iridescence_thickness_tex != ST_NO_TEXTURE)
+            nm = mix(f.z, f.w, lane_texel(s, p, sh, l, k, m->iridescence_thickness_tex).y);
+        ir->weight[k] = w;
+        ir->ior[k] = f.y;
+        ir->nm[k] = nm;
+    }
+}
+
 /* The tangent of triangle prim interpolated at (bu, bv), and in *w its
  * handedness (0: the triangle has no tangents). */
 static float3 interpolated_tangent(const st_scene_refs *s, st_u32 prim, float bu, float bv,
@@ -301,6 +341,18 @@ ST_COLD void aniso_gather(const st_scene_refs *s, const st_params *p, const st_s
         set_lane3(an->dir, k, dir);
         an->strength[k] = strength;
     }
+}
+
+/* The inputs of more->*_bits' lanes (the bits set by the caller). */
+ST_HOT void more_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                        const st_vertex_in *l, st_more_in *more)
+{
+    if (more->aniso_bits)
+        aniso_gather(s, p, sh, l, more->aniso_bits, &more->aniso);
+    if (more->dtrans_bits)
+        dtrans_gather(s, p, sh, l, more->dtrans_bits, &more->dtrans);
+    if (more->irid_bits)
+        irid_gather(s, p, sh, l, more->irid_bits, &more->irid);
 }
 
 /* The shading normal ns bent by a normal map's texel c (tangent-space
@@ -685,22 +737,27 @@ ST_COLD void dtrans_layer(const st_dtrans_in *dt, st_lf metallic, st_lf tr, st_b
     st_brdf_diffuse_transmission(b, metallic, tr, ST_LV(dt->share), c);
 }
 
+/* The thin film where a lane has it (weight 0 elsewhere: no film). */
+ST_COLD void irid_layer(const st_irid_in *ir, st_brdf *b)
+{
+    st_brdf_iridescent(b, ST_LV(ir->weight), ST_LV(ir->ior), ST_LV(ir->nm));
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
  * transmission > 0: vertex_gather; thin-walled where thin_bits' is), the
  * clear coat where coat_bits' is (about its own normal where cmapped's is),
- * the sheen where sheen_bits' is, the anisotropic specular lobe, in a
- * frame along its direction, where aniso_bits' is and the diffuse
- * transmission where dtrans_bits' is. */
+ * the sheen where sheen_bits' is, and where more's bits say so the
+ * anisotropic specular lobe (in a frame along its direction), the diffuse
+ * transmission and the thin film. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
                                 st_u32 trans_bits, st_u32 thin_bits, st_u32 coat_bits,
                                 st_u32 cmapped, st_u32 sheen_bits,
-                                const st_sheen_in *shn, st_u32 aniso_bits,
-                                const st_aniso_in *an, st_u32 dtrans_bits,
-                                const st_dtrans_in *dtn, st_layers *lay, st_li miss,
-                                const st_shading *sh, st_lf *cos_o)
+                                const st_sheen_in *shn, const st_more_in *more,
+                                st_layers *lay, st_li miss, const st_shading *sh, st_lf *cos_o)
 {
+    st_u32 dtrans_bits = more->dtrans_bits, aniso_bits = more->aniso_bits;
     st_vertex v;
     st_lv3 d = ST_LV3_OF(l->d);
     v.wo = st_lv3_neg(d);
@@ -725,7 +782,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     if (ST_ANY(ST_W, v.glossy))
         v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, v.pass_bits));
     st_basis(v.ns, &v.tu, &v.tv);
-    st_lf strength = aniso_bits ? aniso_frame(&v, an, aniso_bits) : ST_LF(0.0f);
+    st_lf strength = aniso_bits ? aniso_frame(&v, &more->aniso, aniso_bits) : ST_LF(0.0f);
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
@@ -734,7 +791,9 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
         if (aniso_bits)
             st_brdf_anisotropic(&v.brdf, strength);
         if (dtrans_bits)
-            dtrans_layer(dtn, metallic, tr, &v.brdf);
+            dtrans_layer(&more->dtrans, metallic, tr, &v.brdf);
+        if (more->irid_bits)
+            irid_layer(&more->irid, &v.brdf);
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f,
                                            ST_BITS_MASK(ST_W, thin_bits));

@@ -137,7 +137,7 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
 
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
-    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened, aniso, dtrans;
+    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened, aniso, dtrans, irid;
     st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
@@ -207,7 +207,8 @@ ST_HOT void vertex_clear_lane(st_vertex_in *l, st_u32 k, int path)
  * of b->trans for a transmissive one, of b->coated for a clear-coated one,
  * of b->sheened for one with a sheen, which sheen_gather reads, of
  * b->aniso for an anisotropic one, which aniso_gather reads, of b->dtrans
- * for one with diffuse transmission, which dtrans_gather reads)
+ * for one with diffuse transmission, which dtrans_gather reads, of b->irid
+ * for an iridescent one, which irid_gather reads)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
@@ -303,6 +304,8 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
         b->aniso |= 1u << k;
     if (a.flags & ST_MAT_DIFFUSE_TRANS) /* dtrans_gather reads its diffuse transmission */
         b->dtrans |= 1u << k;
+    if (a.flags & ST_MAT_IRIDESCENT) /* irid_gather reads its thin film */
+        b->irid |= 1u << k;
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
         if (a.flags & ST_MAT_THIN)
@@ -398,18 +401,15 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     st_sheen_in sn;
     if (b->sheened)
         sheen_gather(s, p, sh, l, b->sheened, &sn);
-    st_aniso_in an;
-    if (b->aniso)
-        aniso_gather(s, p, sh, l, b->aniso, &an);
-    st_dtrans_in dt;
-    if (b->dtrans)
-        dtrans_gather(s, p, sh, l, b->dtrans, &dt);
+    st_more_in more;
+    more.aniso_bits = b->aniso, more.dtrans_bits = b->dtrans, more.irid_bits = b->irid;
+    more_gather(s, p, sh, l, &more);
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(l, b->trans != 0u);
     st_lf cos_o;
     st_layers lay;
     st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->thin, b->coated, b->cmapped,
-                                 b->sheened, &sn, b->aniso, &an, b->dtrans, &dt, &lay,
+                                 b->sheened, &sn, &more, &lay,
                                  ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
     lv3_store(v.rad, o->rad);
     st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
@@ -464,7 +464,7 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
 {
     st_vertex_in l; /* cleared where no gather writes it: vertex_clear_some */
     st_u32 live = 0u, item[ST_W];
-    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     /* two loops, not one select: vectorised, the select became a masked
      * load from the null list at vertex 0, which faults in every lane it
      * masks off, and the CPU's microcode repairs that at great cost (on

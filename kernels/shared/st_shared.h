@@ -279,6 +279,7 @@ typedef struct st_tri_normals {
 #define ST_MAT_THIN 32u        /* transmission without KHR_materials_volume: thin-walled */
 #define ST_MAT_ANISO 64u       /* KHR_materials_anisotropy with a strength above 0 */
 #define ST_MAT_DIFFUSE_TRANS 128u /* KHR_materials_diffuse_transmission, factor above 0 */
+#define ST_MAT_IRIDESCENT 256u /* KHR_materials_iridescence with a factor above 0 */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
@@ -298,7 +299,9 @@ typedef struct st_tri_normals {
  * the direction in the tangent frame as 2 c - 1, B the strength),
  * diffuse_trans_tex and diffuse_trans_color_tex
  * (KHR_materials_diffuse_transmission's diffuseTransmissionTexture, linear
- * A, and diffuseTransmissionColorTexture, sRGB RGB). */
+ * A, and diffuseTransmissionColorTexture, sRGB RGB), iridescence_tex and
+ * iridescence_thickness_tex (KHR_materials_iridescence's
+ * iridescenceTexture, R, and iridescenceThicknessTexture, G; linear). */
 typedef struct st_material {
     st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
     st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
@@ -332,6 +335,10 @@ typedef struct st_material {
                                 (1, 1, 1) and the factor (0), the share of the
                                 Lambertian part that passes through */
     st_u32 diffuse_trans_tex, diffuse_trans_color_tex;
+    st_f32 iridescence[4]; /* KHR_materials_iridescence: iridescenceFactor (0), the film's
+                              ior (1.3), its thickness's minimum and maximum (100,
+                              400 nm; without a thickness texture, the maximum) */
+    st_u32 iridescence_tex, iridescence_thickness_tex;
 } st_material;
 
 /* Whether material m has a texture on a factor that the kernels'
@@ -834,6 +841,8 @@ static st_u32 st_live_count(const st_params *p)
     X(st_material, sheen_roughness_tex) X(st_material, anisotropy)                          \
     X(st_material, anisotropy_tex) X(st_material, diffuse_trans)                            \
     X(st_material, diffuse_trans_tex) X(st_material, diffuse_trans_color_tex)               \
+    X(st_material, iridescence) X(st_material, iridescence_tex)                             \
+    X(st_material, iridescence_thickness_tex)                                               \
     X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
     X(st_tri_colors, c0) X(st_tri_colors, c1) X(st_tri_colors, c2)                          \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
@@ -893,7 +902,7 @@ ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
                  "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 208, "st_material: 208 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 232, "st_material: 232 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");

@@ -3,8 +3,8 @@
  * The core metallic-roughness material with its factors' defaults, and
  * KHR_materials_emissive_strength, _specular, _ior, _unlit, _transmission,
  * _volume (attenuation), _clearcoat, _sheen, _anisotropy,
- * _diffuse_transmission and _pbrSpecularGlossiness (converted to
- * metallic-roughness). */
+ * _diffuse_transmission, _iridescence and _pbrSpecularGlossiness (converted
+ * to metallic-roughness). */
 #include "gltf_int.h"
 
 #include <algorithm>
@@ -257,6 +257,43 @@ static void read_diffuse_transmission(const Model &m, size_t i, texture_table &t
                     "diffuseTransmissionColorTexture", table, warn);
 }
 
+/* KHR_materials_iridescence of material i: iridescenceFactor (0, in
+ * [0, 1]) x iridescenceTexture's R, iridescenceIor (1.3, >= 1) and the
+ * thickness, mix(iridescenceThicknessMinimum (100 nm), ..Maximum (400 nm),
+ * iridescenceThicknessTexture's G), the maximum without that texture
+ * (both >= 0; linear textures). */
+static void read_iridescence(const Model &m, size_t i, texture_table &table, notes &warn,
+                             st_gltf_material &o)
+{
+    o.iridescence[0] = 0.0f;
+    o.iridescence[1] = 1.3f;
+    o.iridescence[2] = 100.0f;
+    o.iridescence[3] = 400.0f;
+    o.iridescence_tex = o.iridescence_thickness_tex = -1;
+    auto ir = m.materials[i].extensions.find("KHR_materials_iridescence");
+    if (ir == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = ir->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_iridescence", i);
+    o.iridescence[0] = float(ext_number(v, "iridescenceFactor", 0.0, what));
+    o.iridescence[1] = float(ext_number(v, "iridescenceIor", 1.3, what));
+    o.iridescence[2] = float(ext_number(v, "iridescenceThicknessMinimum", 100.0, what));
+    o.iridescence[3] = float(ext_number(v, "iridescenceThicknessMaximum", 400.0, what));
+    if (!(o.iridescence[0] >= 0.0f && o.iridescence[0] <= 1.0f))
+        fail("%s: iridescenceFactor %g is not in [0, 1]", what, double(o.iridescence[0]));
+    if (!(o.iridescence[1] >= 1.0f) || !std::isfinite(o.iridescence[1]))
+        fail("%s: iridescenceIor %g is not a finite number >= 1", what, double(o.iridescence[1]));
+    for (int k = 2; k < 4; k++)
+        if (!(o.iridescence[k] >= 0.0f) || !std::isfinite(o.iridescence[k]))
+            fail("%s: iridescenceThicknessMinimum and ..Maximum must be finite and >= 0", what);
+    o.iridescence_tex = texture_ref(m, ext_texture_info(v, "iridescenceTexture", what), false, i,
+                                    "iridescenceTexture", table, warn);
+    o.iridescence_thickness_tex =
+        texture_ref(m, ext_texture_info(v, "iridescenceThicknessTexture", what), false, i,
+                    "iridescenceThicknessTexture", table, warn);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -391,6 +428,7 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     read_sheen(m, i, table, warn, o);
     read_anisotropy(m, i, table, warn, o);
     read_diffuse_transmission(m, i, table, warn, o);
+    read_iridescence(m, i, table, warn, o);
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;
@@ -440,7 +478,8 @@ void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &t
                              o.specular_tex,     o.specular_color_tex, o.transmission_tex,
                              o.clearcoat_tex,    o.clearcoat_roughness_tex, o.sheen_color_tex,
                              o.sheen_roughness_tex, o.diffuse_trans_tex,
-                             o.diffuse_trans_color_tex};
+                             o.diffuse_trans_color_tex, o.iridescence_tex,
+                             o.iridescence_thickness_tex};
         for (int t : slots)
             if (unreadable(t))
                 white[size_t(table.refs[size_t(t)].image)] = 1;

@@ -185,7 +185,8 @@ static std::vector<uv_use> uv_uses(const std::vector<st_gltf_material> &mats,
         const int slots[] = {o.base_color_tex, o.emission_tex,       o.metallic_roughness_tex,
                              o.specular_tex,   o.specular_color_tex, o.normal_tex,
                              o.clearcoat_normal_tex, o.anisotropy_tex, o.diffuse_trans_tex,
-                             o.diffuse_trans_color_tex};
+                             o.diffuse_trans_color_tex, o.iridescence_tex,
+                             o.iridescence_thickness_tex};
         for (int t : slots)
             if (t >= 0)
                 use[i].sets |= 1u << table.refs[size_t(t)].tex_coord;

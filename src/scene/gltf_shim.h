@@ -83,6 +83,9 @@ typedef struct st_gltf_material {
     float diffuse_trans[4]; /* KHR_materials_diffuse_transmission: colour (1, 1, 1) and
                                factor (0) */
     int diffuse_trans_tex, diffuse_trans_color_tex; /* their textures (A linear; sRGB RGB) */
+    float iridescence[4];  /* KHR_materials_iridescence: factor (0), ior (1.3), thickness
+                              minimum and maximum (100, 400 nm) */
+    int iridescence_tex, iridescence_thickness_tex; /* their textures (R; G; linear) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

@@ -533,6 +533,11 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->diffuse_trans_color_tex = texture_index(in->diffuse_trans_color_tex);
         if (in->diffuse_trans[3] > 0.0f)
             m->flags |= ST_MAT_DIFFUSE_TRANS;
+        memcpy(m->iridescence, in->iridescence, sizeof m->iridescence);
+        m->iridescence_tex = texture_index(in->iridescence_tex);
+        m->iridescence_thickness_tex = texture_index(in->iridescence_thickness_tex);
+        if (in->iridescence[0] > 0.0f)
+            m->flags |= ST_MAT_IRIDESCENT;
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
         if (in->thin_walled && in->transmission > 0.0f)
@@ -561,6 +566,10 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->anisotropy_tex = ST_NO_TEXTURE;
         m->diffuse_trans[0] = m->diffuse_trans[1] = m->diffuse_trans[2] = 1.0f;
         m->diffuse_trans_tex = m->diffuse_trans_color_tex = ST_NO_TEXTURE;
+        m->iridescence[1] = 1.3f;
+        m->iridescence[2] = 100.0f;
+        m->iridescence[3] = 400.0f;
+        m->iridescence_tex = m->iridescence_thickness_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

@@ -24,6 +24,7 @@
 #include "wave.h"
 #include "device_fixture.h"
 #include "plan.h"
+#include "thin_film.h"
 #include "render_int.h"
 #include "samplers.h"
 #include "camera.h"
@@ -1034,6 +1035,48 @@ static void diffuse_transmission_lights_the_front(void **state)
     st_image_free(&img);
 }
 
+/* KHR_materials_iridescence in a uniform environment of radiance 1, on two
+ * smooth quads seen at cos 0.5 (tests/scenes/irid_quad.gltf), each showing
+ * its mirror reflectance, the Fresnel at wo.h = 0.5 (GGX at the least α
+ * keeps all but 0.2 % of it): left a black dielectric (F0 0.04) under a
+ * film of weight 191 / 255 (factor 1 x texture R), ior 1.3 and thickness
+ * 200 + 400 x 128 / 255 nm (texture G), its Fresnel (1 - ι) Schlick +
+ * ι film; right a metal of base colour c under a film of weight 0.5, ior
+ * 1.8 and the default 400 nm, 0.5 (c + (1 - c) s) + 0.5 film(c). The film
+ * is thin_film.h's on the host, whose formula tests/unit/test_thin_film.c
+ * checks; this checks that the material reaches it (factor, textures,
+ * thickness range, both parts of the lobe). Tolerance 0.5 % plus 0.002. */
+static void iridescence_matches_its_fresnel(void **state)
+{
+    (void)state;
+    st_render_options o = small(32, 16, 256);
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    o.integrator = ST_INTEGRATOR_PATH;
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    st_image img = render("tests/scenes/irid_quad.gltf", &o, NULL);
+    double left[3] = {0.0, 0.0, 0.0}, right[3] = {0.0, 0.0, 0.0};
+    for (st_u32 y = 5; y < 11; y++) /* the quads span rows 4 .. 11 */
+        for (st_u32 x = 2; x < 30; x++) {
+            if (x >= 14 && x < 18)
+                continue;
+            for (int k = 0; k < 3; k++)
+                (x < 16 ? left : right)[k] += img.data[4 * (y * 32 + x) + k] / (12.0 * 6.0);
+        }
+    const double s = pow(0.5, 5.0), w = 191.0 / 255.0;
+    float f0d[3] = {0.04f, 0.04f, 0.04f}, c[3] = {0.9f, 0.6f, 0.3f}, fl[3], fr[3];
+    st_thin_film(1.3f, (float)(200.0 + 400.0 * 128.0 / 255.0), 0.5f, f0d, fl);
+    st_thin_film(1.8f, 400.0f, 0.5f, c, fr);
+    for (int k = 0; k < 3; k++) {
+        double wl = (1.0 - w) * (0.04 + 0.96 * s) + w * fl[k];
+        double wr = 0.5 * (c[k] + (1.0 - c[k]) * s) + 0.5 * fr[k];
+        if (fabs(left[k] - wl) > 0.005 * wl + 0.002 || fabs(right[k] - wr) > 0.005 * wr + 0.002)
+            fail_msg("channel %d: dielectric %.5f (want %.5f), metal %.5f (want %.5f)", k,
+                     left[k], wl, right[k], wr);
+    }
+    st_image_free(&img);
+}
+
 /* The default scene against tests/golden/cornell-box-48.exr (made by
  * `strata render --width 48 --height 48 --spp 16 --seed 7 -o ...` when the
  * renderer was checked by eye and by the tests above). RMSE below 0.01 (the
@@ -1091,6 +1134,7 @@ int main(void)
         cmocka_unit_test(sheen_matches_its_albedo),
         cmocka_unit_test(anisotropy_matches_its_albedo),
         cmocka_unit_test(diffuse_transmission_lights_the_front),
+        cmocka_unit_test(iridescence_matches_its_fresnel),
         cmocka_unit_test(bvh_device_closest_equals_brute_force_one_sided),
         cmocka_unit_test(render_same_bits_twice),
         cmocka_unit_test(one_renderer_many_views),

@@ -38,7 +38,7 @@ cutout        two quads seen by an orthographic camera: the front one red,
               (both Lambertian: specularFactor 0).
 image_*       textured_quad with an image that cannot be decoded or read: a
               warning, and a white texture in its place.
-uses_iridescence  textured_quad using (not requiring) KHR_materials_iridescence: a
+uses_variants textured_quad using (not requiring) KHR_materials_variants: a
               warning.
 quad_strip, quad_fan  the quad as a TRIANGLE_STRIP and as a TRIANGLE_FAN.
 quad_sparse   the quad with vertex 2 moved to (2, 3, 0) by a sparse accessor
@@ -178,6 +178,11 @@ dtrans_lamp   a white Lambertian sheet (specularFactor 0, [-1, 1]² at z = 0,
               A 204 (0.6), colour (1, 0.5, 1) x an sRGB texture (255, 255,
               128); behind it, at z = -0.5, a lamp [-1.5, 1.5]² facing it
               (emission 1, black).
+irid_quad     sheen_quad's two tilted quads, smooth (roughness 0): left a black
+              dielectric under KHR_materials_iridescence (factor 1 x texture R
+              191, ior 1.3, thickness 200 .. 600 nm by texture G 128), right a
+              metal of base colour (0.9, 0.6, 0.3) under a film of factor 0.5
+              and ior 1.8 (thickness: the default maximum, 400 nm).
 bad_*         malformed files, each wrong in one way (named by the file).
 markers       two small unlit cubes (half side 0.01), white at (1, 2, -3) and red
               at (1.5, 2.25, -3.5), no camera: --look-at puts them where the
@@ -1413,6 +1418,36 @@ def write_diffuse_transmission():
     write_json("dtrans_lamp.gltf", g)
 
 
+def write_iridescence():
+    """irid_quad (see the top)."""
+    b = Blob()
+    left, right = b.quad(0.0, QUAD_UV), b.quad(0.0, QUAD_UV)
+    left["material"], right["material"] = 0, 1
+    tilt = [math.sin(math.radians(-30.0)), 0.0, 0.0, math.cos(math.radians(-30.0))]
+    film = {"iridescenceFactor": 1.0, "iridescenceIor": 1.3, "iridescenceTexture": {"index": 0},
+            "iridescenceThicknessMinimum": 200.0, "iridescenceThicknessMaximum": 600.0,
+            "iridescenceThicknessTexture": {"index": 0}}
+    materials = [{"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                           "metallicFactor": 0.0, "roughnessFactor": 0.0},
+                  "extensions": {"KHR_materials_iridescence": film}},
+                 {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.6, 0.3, 1.0],
+                                           "metallicFactor": 1.0, "roughnessFactor": 0.0},
+                  "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 0.5,
+                                                               "iridescenceIor": 1.8}}}]
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0], "rotation": tilt},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0], "rotation": tilt},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=materials,
+            images=[{"uri": png_uri(png(4, 4, 4, [[191, 128, 0, 255] * 4] * 4))}],
+            textures=[{"source": 0}], extensionsUsed=["KHR_materials_iridescence"])
+    write_json("irid_quad.gltf", g)
+
+
 def glass_scene(third, light, size=(16, 24), uv=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
     a smooth glass sphere, a rough one with absorption and `third` (of the
@@ -1628,8 +1663,8 @@ def write_bad():
     # occlusionTexture is not read: one warning
     variant("occlusion.gltf",
             lambda g: g["materials"][0].update(occlusionTexture={"index": 0}))
-    variant("uses_iridescence.gltf",
-            lambda g: g.update(extensionsUsed=["KHR_materials_iridescence"]))
+    variant("uses_variants.gltf",
+            lambda g: g.update(extensionsUsed=["KHR_materials_variants"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
             ["baseColorTexture"].update(index=7))
     variant("bad_image_index.gltf", lambda g: g["textures"][1].update(source=9))
@@ -1829,6 +1864,7 @@ def main():
     write_sheen()
     write_anisotropy()
     write_diffuse_transmission()
+    write_iridescence()
     write_dark_views()
     write_glass_panes()
     write_quantized()

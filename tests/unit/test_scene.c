@@ -792,8 +792,8 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
     s = load_ok(SCENES "textured_quad.gltf"); /* none: no word */
     assert_false(has_warning(s, "occlusionTexture"));
     st_scene_destroy(s);
-    s = load_ok(SCENES "uses_iridescence.gltf");
-    assert_true(has_warning(s, "uses extension KHR_materials_iridescence, which strata ignores"));
+    s = load_ok(SCENES "uses_variants.gltf");
+    assert_true(has_warning(s, "uses extension KHR_materials_variants, which strata ignores"));
     st_scene_destroy(s);
 }
 
@@ -1085,10 +1085,65 @@ static void diffuse_transmission_is_imported(void **state)
     rmdir(dir);
 }
 
+/* KHR_materials_iridescence as the specification names it
+ * (tests/scenes/irid_quad.gltf): the factor, the film's ior and thickness
+ * range (100 and 400 nm by default), both textures read linear,
+ * ST_MAT_IRIDESCENT where the factor is above 0, and no warning; without
+ * the extension, factor 0. Out-of-range values are errors naming the
+ * material. */
+static void iridescence_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "irid_quad.gltf");
+    assert_false(has_warning(s, "KHR_materials_iridescence"));
+    const st_material *m = &s->materials[0], *w = &s->materials[1];
+    const float want_m[4] = {1.0f, 1.3f, 200.0f, 600.0f}, want_w[4] = {0.5f, 1.8f, 100.0f, 400.0f};
+    for (int k = 0; k < 4; k++) {
+        near(m->iridescence[k], want_m[k], 0.0, "iridescence (textured)");
+        near(w->iridescence[k], want_w[k], 0.0, "iridescence (defaults)");
+    }
+    assert_true((m->flags & ST_MAT_IRIDESCENT) && (w->flags & ST_MAT_IRIDESCENT));
+    assert_int_not_equal(m->iridescence_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(m->iridescence_thickness_tex, ST_NO_TEXTURE);
+    assert_false(s->textures[m->iridescence_tex].flags & ST_TEX_SRGB);
+    assert_false(s->textures[m->iridescence_thickness_tex].flags & ST_TEX_SRGB);
+    assert_false(m->flags & ST_MAT_TEXTURED); /* irid_gather reads them, not material_at */
+    assert_int_equal(w->iridescence_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat.gltf");
+    for (st_u32 i = 0; i < s->material_count; i++) {
+        assert_false(s->materials[i].flags & ST_MAT_IRIDESCENT);
+        near(s->materials[i].iridescence[0], 0.0, 0.0, "no iridescence");
+    }
+    st_scene_destroy(s);
+    static const struct {
+        const char *ext, *phrase;
+    } bad[] = {
+        {"{\"iridescenceFactor\": 2}",
+         "material 0: KHR_materials_iridescence: iridescenceFactor 2 is not in [0, 1]"},
+        {"{\"iridescenceFactor\": 1, \"iridescenceIor\": 0.5}",
+         "iridescenceIor 0.5 is not a finite number >= 1"},
+        {"{\"iridescenceFactor\": 1, \"iridescenceThicknessMinimum\": -10}",
+         "iridescenceThicknessMinimum and ..Maximum must be finite and >= 0"},
+        {"{\"iridescenceFactor\": \"all\"}", "iridescenceFactor is not a number"},
+        {"{\"iridescenceThicknessTexture\": {\"index\": 4}}",
+         "iridescenceThicknessTexture: texture 4 out of range"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_ext_variant(SCENES "irid_quad.gltf", 0, "KHR_materials_iridescence", bad[k].ext,
+                          dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
+    }
+    unlink(path);
+    rmdir(dir);
+}
+
 /* ST_MAT_TEXTURED, the one test material_at makes before its texture
  * lookups: set by each of the ten textured factors it reads alone, not by
- * the sheen's, the anisotropy's or the diffuse transmission's
- * (sheen_gather, aniso_gather and dtrans_gather read those), and on the
+ * the sheen's, the anisotropy's, the diffuse transmission's or the
+ * film's (sheen_gather and the other gathers read those), and on the
  * imported materials
  * exactly where one of the ten has a texture. */
 static void textured_flag_follows_the_factors(void **state)
@@ -1099,7 +1154,8 @@ static void textured_flag_follows_the_factors(void **state)
                       &m.specular_tex,     &m.specular_color_tex, &m.normal_tex,
                       &m.transmission_tex, &m.clearcoat_tex,  &m.clearcoat_roughness_tex,
                       &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex,
-                      &m.anisotropy_tex, &m.diffuse_trans_tex, &m.diffuse_trans_color_tex};
+                      &m.anisotropy_tex, &m.diffuse_trans_tex, &m.diffuse_trans_color_tex,
+                      &m.iridescence_tex, &m.iridescence_thickness_tex};
     const size_t slots = sizeof slot / sizeof slot[0];
     for (size_t k = 0; k <= slots; k++) { /* k = slots: none textured */
         memset(&m, 0, sizeof m);
@@ -1710,6 +1766,7 @@ int main(void)
         cmocka_unit_test(sheen_is_imported),
         cmocka_unit_test(anisotropy_is_imported),
         cmocka_unit_test(diffuse_transmission_is_imported),
+        cmocka_unit_test(iridescence_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
         cmocka_unit_test(look_at_builds_the_view),
