@@ -135,6 +135,38 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
         ST_VSTORE(ST_W, st_rng_unit_lanes(key, dim + 4u), l->u[4]);
 }
 
+/* The material of triangle prim. */
+static __global const st_material *m_of(const st_scene_refs *s, st_u32 prim)
+{
+    return &s->materials[s->tri_material[prim]];
+}
+
+/* The key of the draw of a dispersive path's colour channel. */
+#define ST_DISPERSION_KEY 0xd15e0000u
+
+/* KHR_materials_dispersion at lane k's hit (path gp, its throughput beta
+ * gathered): an RGB renderer refracts one wavelength per channel, so a
+ * path that meets its first dispersive surface draws one channel c
+ * uniformly (from the counter hash of the sample, keyed by the depth) and
+ * carries 3 x that channel alone from then on (E[3 f_c e_c] = Σ_c f_c e_c);
+ * there and at every later dispersive surface the lane refracts with c's
+ * ior (st_dispersed_ior). Returns the throughput. */
+static float3 dispersed(const st_params *p, st_sample smp, __global st_path *gp, float dispersion,
+                        st_u32 depth, float3 beta, st_u32 k, st_vertex_in *l)
+{
+    st_u32 c = gp->channel;
+    if (c == 0u) {
+        float u = st_rng_unit(st_rng_key(p->seed ^ ST_DISPERSION_KEY, smp.pixel, smp.index), depth);
+        c = 1u + min((st_u32)(3.0f * u), 2u);
+        gp->channel = c;
+        beta = 3.0f * (float3)(c == 1u ? 1.0f : 0.0f, c == 2u ? 1.0f : 0.0f, c == 3u ? 1.0f : 0.0f) *
+               beta;
+        set_lane3(l->beta, k, beta);
+    }
+    l->ior[k] = st_dispersed_ior(l->ior[k], dispersion, c - 1u);
+    return beta;
+}
+
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
     st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened, aniso, dtrans, irid;
@@ -306,6 +338,8 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
         b->dtrans |= 1u << k;
     if (a.flags & ST_MAT_IRIDESCENT) /* irid_gather reads its thin film */
         b->irid |= 1u << k;
+    if (a.flags & ST_MAT_DISPERSIVE)
+        beta = dispersed(p, smp, gp, m_of(s, h.prim)->dispersion, depth, beta, k, l);
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
         if (a.flags & ST_MAT_THIN)

@@ -3,8 +3,8 @@
  * The core metallic-roughness material with its factors' defaults, and
  * KHR_materials_emissive_strength, _specular, _ior, _unlit, _transmission,
  * _volume (attenuation), _clearcoat, _sheen, _anisotropy,
- * _diffuse_transmission, _iridescence and _pbrSpecularGlossiness (converted
- * to metallic-roughness). */
+ * _diffuse_transmission, _iridescence, _dispersion and
+ * _pbrSpecularGlossiness (converted to metallic-roughness). */
 #include "gltf_int.h"
 
 #include <algorithm>
@@ -429,6 +429,15 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     read_anisotropy(m, i, table, warn, o);
     read_diffuse_transmission(m, i, table, warn, o);
     read_iridescence(m, i, table, warn, o);
+    o.dispersion = 0.0f; /* KHR_materials_dispersion: 20 / V_d, any value >= 0 */
+    auto disp = mat.extensions.find("KHR_materials_dispersion");
+    if (disp != mat.extensions.end()) {
+        char what[64];
+        snprintf(what, sizeof what, "material %zu: KHR_materials_dispersion", i);
+        o.dispersion = float(ext_number(disp->second, "dispersion", 0.0, what));
+        if (!(o.dispersion >= 0.0f) || !std::isfinite(o.dispersion))
+            fail("%s: dispersion %g is not a finite number >= 0", what, double(o.dispersion));
+    }
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;

@@ -86,6 +86,7 @@ typedef struct st_gltf_material {
     float iridescence[4];  /* KHR_materials_iridescence: factor (0), ior (1.3), thickness
                               minimum and maximum (100, 400 nm) */
     int iridescence_tex, iridescence_thickness_tex; /* their textures (R; G; linear) */
+    float dispersion;      /* KHR_materials_dispersion: 20 / Abbe number (0) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

@@ -538,6 +538,9 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->iridescence_thickness_tex = texture_index(in->iridescence_thickness_tex);
         if (in->iridescence[0] > 0.0f)
             m->flags |= ST_MAT_IRIDESCENT;
+        m->dispersion = in->dispersion;
+        if (in->dispersion > 0.0f && in->transmission > 0.0f && !in->thin_walled)
+            m->flags |= ST_MAT_DISPERSIVE;
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
         if (in->thin_walled && in->transmission > 0.0f)

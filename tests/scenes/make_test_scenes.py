@@ -183,6 +183,12 @@ irid_quad     sheen_quad's two tilted quads, smooth (roughness 0): left a black
               191, ior 1.3, thickness 200 .. 600 nm by texture G 128), right a
               metal of base colour (0.9, 0.6, 0.3) under a film of factor 0.5
               and ior 1.8 (thickness: the default maximum, 400 nm).
+dispersion_slab  a smooth glass slab (a solid: KHR_materials_volume) 1 thick,
+              turned 45 degrees about y, between an orthographic camera looking
+              down -z (view [-1, 1] x [-0.5, 0.5]) and a thin emissive line (0.06
+              wide, emission 10) at z = -4: KHR_materials_dispersion 5 (V_d 4);
+              dispersion_slab_zero with dispersion 0; clear_slab without the
+              extension.
 bad_*         malformed files, each wrong in one way (named by the file).
 markers       two small unlit cubes (half side 0.01), white at (1, 2, -3) and red
               at (1.5, 2.25, -3.5), no camera: --look-at puts them where the
@@ -1448,6 +1454,37 @@ def write_iridescence():
     write_json("irid_quad.gltf", g)
 
 
+def write_dispersion():
+    """dispersion_slab, _zero and clear_slab (see the top)."""
+    for name, dispersion in (("dispersion_slab", 5.0), ("dispersion_slab_zero", 0.0),
+                             ("clear_slab", None)):
+        b = Blob()
+        slab, line = cube_prim(b, 0.5), b.quad(0.0)
+        slab["material"], line["material"] = 0, 1
+        glass = glass_material()
+        if dispersion is not None:
+            glass["extensions"]["KHR_materials_dispersion"] = {"dispersion": dispersion}
+        lamp = {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                         "metallicFactor": 0.0},
+                "emissiveFactor": [1.0, 1.0, 1.0],
+                "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 10.0}}}
+        turn = [0.0, math.sin(math.radians(22.5)), 0.0, math.cos(math.radians(22.5))]
+        used = GLASS_EXTENSIONS + ["KHR_materials_emissive_strength"]
+        if dispersion is not None:
+            used.append("KHR_materials_dispersion")
+        g = doc([{"primitives": [slab]}, {"primitives": [line]}], b.accessors, b.views,
+                b.buffers(),
+                nodes=[{"mesh": 0, "rotation": turn, "scale": [1.0, 4.0, 4.0]},
+                       {"mesh": 1, "translation": [0.0, 0.0, -4.0], "scale": [0.03, 2.0, 1.0]},
+                       ortho_camera_node()],
+                scenes=[{"nodes": [0, 1, 2]}],
+                cameras=[{"type": "orthographic",
+                          "orthographic": {"xmag": 1.0, "ymag": 0.5, "zfar": 100.0,
+                                           "znear": 0.01}}],
+                materials=[glass, lamp], extensionsUsed=used)
+        write_json(name + ".gltf", g)
+
+
 def glass_scene(third, light, size=(16, 24), uv=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
     a smooth glass sphere, a rough one with absorption and `third` (of the
@@ -1865,6 +1902,7 @@ def main():
     write_anisotropy()
     write_diffuse_transmission()
     write_iridescence()
+    write_dispersion()
     write_dark_views()
     write_glass_panes()
     write_quantized()

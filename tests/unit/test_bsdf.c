@@ -855,6 +855,43 @@ static void diffuse_transmission_zero_changes_nothing(void **state)
     }
 }
 
+/* ---- dispersion (KHR_materials_dispersion, st_shared.h) ------------------ */
+
+/* st_dispersed_ior against Cauchy's n(λ) = A + B / λ² as the specification
+ * derives it, in double: B = (n_d - 1) / (V_d (λ_F^-2 - λ_C^-2)), A = n_d -
+ * B / λ_d², with V_d = 20 / dispersion and Fraunhofer's F, C and d lines
+ * (486.1, 656.3, 587.56 nm), at the channels' wavelengths (R the C line, G
+ * the d line, B the F line); to 2e-4 (n_d - 1) dispersion (the
+ * specification's constants 523655 and 1.5168 are rounded). The Abbe
+ * number's definition then holds: n_F - n_C = (n_d - 1) / V_d, to 0.1 %.
+ * Dispersion 0 leaves n_d exactly; the ior never falls below 1. */
+static void dispersed_ior_matches_cauchy(void **state)
+{
+    (void)state;
+    const double nds[] = {1.33, 1.5, 2.42}, disps[] = {0.36, 1.0, 2.04};
+    const double lf = 486.1, lc = 656.3, ld = 587.56, lambda[3] = {lc, 587.6, lf};
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            double nd = nds[a], v = 20.0 / disps[b];
+            double bb = (nd - 1.0) / (v * (1.0 / (lf * lf) - 1.0 / (lc * lc))), aa = nd - bb / (ld * ld);
+            float n[3];
+            for (int c = 0; c < 3; c++) {
+                n[c] = st_dispersed_ior((float)nd, (float)disps[b], (st_u32)c);
+                double want = aa + bb / (lambda[c] * lambda[c]);
+                if (fabs(n[c] - want) > 2e-4 * (nd - 1.0) * disps[b])
+                    fail_msg("n_d %g, dispersion %g, channel %d: %.6f, Cauchy %.6f", nd, disps[b],
+                             c, n[c], want);
+            }
+            double spread = n[2] - n[0], abbe = (nd - 1.0) / v;
+            if (fabs(spread - abbe) > 1e-3 * abbe)
+                fail_msg("n_F - n_C = %.6f, (n_d - 1) / V_d = %.6f", spread, abbe);
+        }
+    for (int c = 0; c < 3; c++) {
+        assert_true(st_dispersed_ior(1.5f, 0.0f, (st_u32)c) == 1.5f);
+        assert_true(st_dispersed_ior(1.01f, 50.0f, (st_u32)c) >= 1.0f);
+    }
+}
+
 /* A clear coat over white bases reflects at most what it receives: over a
  * Lambertian base, a white metal and smooth glass (R + T), from normal to
  * grazing; a full coat over a black Lambertian base reflects exactly its
@@ -1065,6 +1102,7 @@ int main(void)
         cmocka_unit_test(diffuse_transmission_furnace),
         cmocka_unit_test(diffuse_transmission_is_reciprocal),
         cmocka_unit_test(diffuse_transmission_zero_changes_nothing),
+        cmocka_unit_test(dispersed_ior_matches_cauchy),
         cmocka_unit_test(coat_furnace),
         cmocka_unit_test(sheen_distribution_is_normalised),
         cmocka_unit_test(sheen_table_matches_quadrature),

@@ -1140,6 +1140,52 @@ static void iridescence_is_imported(void **state)
     rmdir(dir);
 }
 
+/* KHR_materials_dispersion (tests/scenes/dispersion_slab.gltf and its
+ * variants): the value, ST_MAT_DISPERSIVE on a solid transmissive
+ * material with dispersion above 0 only (not at 0, not without the
+ * extension, not on a thin wall), no warning; a negative value or one that
+ * is no number is an error naming the material. */
+static void dispersion_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "dispersion_slab.gltf");
+    assert_false(has_warning(s, "KHR_materials_dispersion"));
+    near(s->materials[0].dispersion, 5.0, 0.0, "dispersion");
+    assert_true(s->materials[0].flags & ST_MAT_DISPERSIVE);
+    assert_false(s->materials[1].flags & ST_MAT_DISPERSIVE); /* the lamp */
+    st_scene_destroy(s);
+    const char *none[] = {SCENES "dispersion_slab_zero.gltf", SCENES "clear_slab.gltf"};
+    for (int k = 0; k < 2; k++) {
+        s = load_ok(none[k]);
+        assert_false(s->materials[0].flags & ST_MAT_DISPERSIVE);
+        near(s->materials[0].dispersion, 0.0, 0.0, "no dispersion");
+        st_scene_destroy(s);
+    }
+    static const struct {
+        const char *ext, *phrase;
+    } cases[] = {
+        {"{\"dispersion\": -1}",
+         "material 0: KHR_materials_dispersion: dispersion -1 is not a finite number >= 0"},
+        {"{\"dispersion\": \"much\"}", "dispersion is not a number"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        write_ext_variant(SCENES "dispersion_slab.gltf", 0, "KHR_materials_dispersion",
+                          cases[k].ext, dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, cases[k].phrase);
+    }
+    /* a thin wall (no KHR_materials_volume) bends no ray: no dispersion */
+    write_ext_variant(SCENES "dispersion_slab.gltf", 0, "KHR_materials_volume", "{}", dir, path,
+                      sizeof path);
+    s = load_ok(path);
+    assert_true(s->materials[0].flags & ST_MAT_THIN);
+    assert_false(s->materials[0].flags & ST_MAT_DISPERSIVE);
+    st_scene_destroy(s);
+    unlink(path);
+    rmdir(dir);
+}
+
 /* ST_MAT_TEXTURED, the one test material_at makes before its texture
  * lookups: set by each of the ten textured factors it reads alone, not by
  * the sheen's, the anisotropy's, the diffuse transmission's or the
@@ -1767,6 +1813,7 @@ int main(void)
         cmocka_unit_test(anisotropy_is_imported),
         cmocka_unit_test(diffuse_transmission_is_imported),
         cmocka_unit_test(iridescence_is_imported),
+        cmocka_unit_test(dispersion_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
         cmocka_unit_test(look_at_builds_the_view),
