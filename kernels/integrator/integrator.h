@@ -330,10 +330,9 @@ ST_COLD void aniso_gather(const st_scene_refs *s, const st_params *p, const st_s
             d = 2.0f * c.xy - 1.0f;
             strength *= c.z;
         }
-        float cr = m->anisotropy[1], sr = m->anisotropy[2], w;
+        float cr = m->anisotropy[1], sr = m->anisotropy[2], bu = l->bu[k], bv = l->bv[k], w;
         d = (float2)(cr * d.x - sr * d.y, sr * d.x + cr * d.y);
-        float3 tg = interpolated_tangent(s, t, l->bu[k], l->bv[k], &w);
-        float bu = l->bu[k], bv = l->bv[k];
+        float3 tg = interpolated_tangent(s, t, bu, bv, &w);
         float3 n = (1.0f - bu - bv) * lane3(l->n0, k) + bu * lane3(l->n1, k) + bv * lane3(l->n2, k);
         float3 dir = d.x * tg + d.y * w * cross(n, tg);
         if (w == 0.0f || !(dot(dir, dir) > 1e-12f))
