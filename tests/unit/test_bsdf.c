@@ -629,7 +629,8 @@ static double sphere_pdf(const st_brdf *b, const st_dielectric *d, const st_shee
 
 /* Chi-square of st_coated_sample against st_coated_pdf (bare, coated,
  * the coat about its own normal or not, sheened, with and without
- * transmission, solid or thin-walled) over the sphere: SZ x
+ * transmission, solid or thin-walled, with diffuse transmission, over an
+ * anisotropic lobe) over the sphere: SZ x
  * SPHI bins of equal solid angle in (cos θ in [-1, 1], φ), expected counts
  * from the pdf by SQ x SQ midpoint quadrature inside each bin (the refracted
  * peak is narrow), one more bin
@@ -644,8 +645,9 @@ static void transmission_sampler_passes_chi_square(void **state)
     (void)state;
     /* base, metallic, roughness, transmission, η, coat, its roughness, sheen colour, sheen
      * roughness, the coat's normal's z (tilted towards φ = 1: st_coat_tilt), thin-walled,
-     * diffuse transmission (KHR_materials_diffuse_transmission, colour (1, 0.6, 0.3)) */
-    const float params[][12] = {
+     * diffuse transmission (KHR_materials_diffuse_transmission, colour (1, 0.6, 0.3)),
+     * anisotropy strength (KHR_materials_anisotropy, along x) */
+    const float params[][13] = {
         {1.0f, 0.0f, 0.3f, 1.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
         {1.0f, 0.0f, 0.5f, 1.0f, 1.0f / 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
         {0.7f, 0.2f, 0.6f, 0.6f, 1.33f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f},
@@ -664,7 +666,9 @@ static void transmission_sampler_passes_chi_square(void **state)
         {0.8f, 0.0f, 0.5f, 0.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f},
         {0.2f, 0.0f, 0.6f, 0.0f, 1.5f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 1.0f},
         {0.9f, 0.3f, 0.4f, 0.5f, 1.5f, 0.5f, 0.3f, 0.0f, 0.0f, 1.0f, 0.0f, 0.7f},
-        {0.7f, 0.0f, 0.6f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.4f, 1.0f, 0.0f, 0.6f}};
+        {0.7f, 0.0f, 0.6f, 0.0f, 1.5f, 0.0f, 0.0f, 0.6f, 0.4f, 1.0f, 0.0f, 0.6f},
+        {0.6f, 1.0f, 0.3f, 0.0f, 1.5f, 0.7f, 0.4f, 0.0f, 0.0f, 0.9f, 0.0f, 0.0f, 0.8f},
+        {0.9f, 0.2f, 0.4f, 0.6f, 1.5f, 0.0f, 0.0f, 0.5f, 0.3f, 1.0f, 0.0f, 0.0f, 0.7f}};
     const int nmat = (int)(sizeof params / sizeof params[0]);
     const double zs[] = {0.9, 0.35};
     const int n = 1000000;
@@ -677,6 +681,7 @@ static void transmission_sampler_passes_chi_square(void **state)
             d.thin = params[p][10] > 0.0f; /* its η: the ior, from either side */
             const float dtc[3] = {1.0f, 0.6f, 0.3f};
             st_brdf_diffuse_transmission(&b, params[p][1], params[p][3], params[p][11], dtc);
+            st_brdf_anisotropic(&b, params[p][12]);
             st_coat cc = st_coat_make(params[p][5], params[p][6]);
             if (params[p][9] < 1.0f)
                 st_coat_tilt(&cc, dir_from(params[p][9], 1.0));
