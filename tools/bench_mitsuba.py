@@ -9,7 +9,8 @@ render reads the glTF scene with tools/gltf_scene.py and builds the same
 scene for Mitsuba (the glTF is not Mitsuba's format): each primitive a mesh
 with flat (face) normals and a `diffuse` BSDF of its base colour (the bench
 scene's materials are Lambertian: specularFactor 0, roughness 1; a
-transmissive one a dielectric: glass_dict), with the file's vertex normals
+transmissive one a dielectric: glass_dict; an anisotropic white metal a
+rough conductor: conductor_dict), with the file's vertex normals
 where it has them, an
 emissive one an `area` emitter of radiance emissiveFactor x emissiveStrength
 (one-sided, on the side the vertices run counter-clockwise, as glTF's and
@@ -59,15 +60,19 @@ import gltf_scene
 LIBLLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
 
 
-def write_ply(path, triangles, normals=None):
+def write_ply(path, triangles, normals=None, uvs=None):
     """Binary PLY of unshared vertices (3 per triangle), with their normals
-    where given, as Mitsuba reads it."""
+    and texture coordinates where given, as Mitsuba reads it (its tangent,
+    which an anisotropic BSDF follows, is dP/du, as strata's)."""
     n = len(triangles)
     props = "property float x\nproperty float y\nproperty float z\n"
     verts = triangles.reshape(-1, 3)
     if normals is not None:
         props += "property float nx\nproperty float ny\nproperty float nz\n"
         verts = np.concatenate([verts, normals.reshape(-1, 3)], axis=1)
+    if uvs is not None:
+        props += "property float u\nproperty float v\n"
+        verts = np.concatenate([verts, uvs.reshape(-1, 2)], axis=1)
     head = ("ply\nformat binary_little_endian 1.0\nelement vertex %d\n%s"
             "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (
                 3 * n, props, n))
@@ -117,12 +122,38 @@ def glass_dict(m, rgb):
     return shape
 
 
+def conductor_dict(m, rgb):
+    """A white metal (base colour 1, metallic 1: Fresnel 1) under
+    KHR_materials_anisotropy as Mitsuba's `roughconductor` with its
+    `none` material (Fresnel 1): GGX of alpha_u along the tangent and
+    alpha_v across it, alpha_t = mix(roughness², 1, strength²) and
+    alpha_b = roughness² (the extension's definition), swapped where
+    anisotropyRotation turns the direction by 90 degrees. No texture."""
+    ext = m["extensions"]["KHR_materials_anisotropy"]
+    pbr = m.get("pbrMetallicRoughness", {})
+    if rgb != [1, 1, 1] or pbr.get("metallicFactor", 1.0) != 1.0 or "anisotropyTexture" in ext:
+        sys.exit("bench_mitsuba: only a white metal without an anisotropyTexture has a "
+                 "Mitsuba match")
+    r, s = pbr.get("roughnessFactor", 1.0), ext.get("anisotropyStrength", 0.0)
+    ab = r * r
+    at = ab + (1.0 - ab) * s * s
+    quarter = ext.get("anisotropyRotation", 0.0) / (math.pi / 2)
+    if abs(quarter - round(quarter)) > 1e-6:
+        sys.exit("bench_mitsuba: only anisotropyRotation k x 90 degrees has a Mitsuba match")
+    if round(quarter) % 2:
+        at, ab = ab, at
+    return {"bsdf": {"type": "roughconductor", "material": "none", "distribution": "ggx",
+                     "alpha_u": at, "alpha_v": ab}}
+
+
 def material_dict(m):
     """A glTF material as Mitsuba's BSDF (and area emitter, if it emits)."""
     pbr = m.get("pbrMetallicRoughness", {})
     rgb = pbr.get("baseColorFactor", [1, 1, 1, 1])[:3]
     if "KHR_materials_transmission" in m.get("extensions", {}):
         return glass_dict(m, rgb)
+    if "KHR_materials_anisotropy" in m.get("extensions", {}):
+        return conductor_dict(m, rgb)
     shape = {"bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": rgb}}}
     strength = m.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get(
         "emissiveStrength", 1.0)
@@ -159,7 +190,7 @@ def scene_dict(mi, path, kind, folder, width, height, spp):
     media = False
     for k, p in enumerate(prims):
         ply = os.path.join(folder, "mesh%d.ply" % k)
-        write_ply(ply, p.triangles, p.normals)
+        write_ply(ply, p.triangles, p.normals, p.uvs)
         d["mesh%d" % k] = {"type": "ply", "filename": ply, "face_normals": p.normals is None,
                            **material_dict(p.material)}
         media = media or "interior" in d["mesh%d" % k]

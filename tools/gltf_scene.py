@@ -14,8 +14,9 @@ import numpy as np
 
 # triangles: float64, n x 3 x 3 (world space); material: the glTF material
 # object (a dict, {} when the primitive has none); normals: the NORMAL of
-# each triangle corner in world space (n x 3 x 3, unit), None without.
-Primitive = namedtuple("Primitive", "name triangles material normals", defaults=(None,))
+# each triangle corner in world space (n x 3 x 3, unit), None without;
+# uvs: the TEXCOORD_0 of each corner (n x 3 x 2), None without.
+Primitive = namedtuple("Primitive", "name triangles material normals uvs", defaults=(None, None))
 # matrix: the camera node's 4x4 world matrix (the camera looks down its -z);
 # yfov in radians.
 Camera = namedtuple("Camera", "matrix yfov")
@@ -51,7 +52,7 @@ def load(path):
         a = g["accessors"][i]
         v = g["bufferViews"][a["bufferView"]]
         dt = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
-        k = {"SCALAR": 1, "VEC3": 3}[a["type"]]
+        k = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}[a["type"]]
         off = v.get("byteOffset", 0) + a.get("byteOffset", 0)
         return np.frombuffer(bufs[v["buffer"]], dt, a["count"] * k, off).reshape(-1, k)
 
@@ -77,6 +78,10 @@ def load(path):
                 nrm = nrm @ np.linalg.inv(m[:3, :3])
                 nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
                 normals = nrm[idx].reshape(-1, 3, 3)
+            uvs = None
+            if "TEXCOORD_0" in p["attributes"]:
+                uvs = accessor(p["attributes"]["TEXCOORD_0"]).astype(np.float64)[idx]
+                uvs = uvs.reshape(-1, 3, 2)
             prims.append(Primitive(n.get("name", mesh.get("name", "mesh%d" % i)),
-                                   pos[idx].reshape(-1, 3, 3), material, normals))
+                                   pos[idx].reshape(-1, 3, 3), material, normals, uvs))
     return prims, camera

@@ -111,7 +111,7 @@ ST_FN st_lf st_coat_lobe_pdf(const st_coat *c, st_dir wo, st_dir wi)
 ST_FN st_dir st_coat_reflect(const st_coat *c, st_dir wo, st_lf u1, st_lf u2)
 {
     st_dir o = st_coat_in(c, wo);
-    st_dir h = st_ggx_visible_normal(c->alpha, o, u1, u2);
+    st_dir h = st_ggx_visible_normal(c->alpha, c->alpha, o, u1, u2);
     st_dir r = st_reflect(o, h), w = st_coat_out(c, r);
     st_li lost = r.z <= 0.0f || w.z <= 0.0f;
     return st_lv3_select(w, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), lost);

@@ -78,17 +78,7 @@ ST_FN st_dir st_mirror_z(st_dir w)
     return st_lv3_make(w.x, w.y, -w.z);
 }
 
-/* The unpolarised Fresnel reflectance of a dielectric interface at cos_i
- * (>= 0) on the incident side, η = η(transmitted side) / η(incident side);
- * 1 past the critical angle. */
-ST_FN st_lf st_fresnel_dielectric(st_lf cos_i, st_lf eta)
-{
-    st_lf sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-    st_lf cos_t = ST_SQRTF(ST_FMAXF(0.0f, 1.0f - sin2_t));
-    st_lf rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    st_lf rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    return ST_SELECT(ST_W, 0.5f * (rs * rs + rp * rp), ST_LF(1.0f), sin2_t >= 1.0f);
-}
+/* st_fresnel_dielectric: thin_film.h. */
 
 /* The half vector of a refraction from wo into wi: -(wo + η wi), turned
  * to wo's side (z > 0). */
@@ -177,7 +167,7 @@ ST_FN st_lf st_dielectric_pdf(const st_dielectric *d, st_lf alpha, st_dir wo, st
 ST_FN st_dir st_dielectric_sample(const st_dielectric *d, st_lf alpha, st_dir wo, st_lf u1,
                                   st_lf u2, st_lf u3)
 {
-    st_dir h = st_ggx_visible_normal(alpha, wo, u1, u2);
+    st_dir h = st_ggx_visible_normal(alpha, alpha, wo, u1, u2);
     st_lf oh = wo.x * h.x + wo.y * h.y + wo.z * h.z;
     st_lf fr = st_fresnel_dielectric(ST_FMAXF(oh, 0.0f), d->eta);
     fr = ST_SELECT(ST_W, fr, 2.0f * fr / (1.0f + fr), d->thin);
@@ -218,9 +208,11 @@ ST_FN st_dir st_bsdf_sample(const st_brdf *b, const st_dielectric *d, st_dir wo,
     st_lf w = d->weight;
     st_li lobe = u1 < w;
     st_dir wi = wo;
-    if (ST_ANY(ST_W, !lobe)) { /* the BRDF's below the surface are lost, as the lobe's */
+    if (ST_ANY(ST_W, !lobe)) { /* the BRDF's below the surface are lost, as the lobe's,
+                                  but where its Lambertian part transmits */
         wi = st_brdf_sample(b, wo, ST_FMINF((u1 - w) / (1.0f - w), 0.99999994f), u2);
-        wi = st_lv3_select(wi, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)), wi.z <= 0.0f);
+        wi = st_lv3_select(wi, st_lv3_make(ST_LF(0.0f), ST_LF(0.0f), ST_LF(0.0f)),
+                           wi.z <= 0.0f && !st_brdf_transmits(b));
     }
     if (ST_ANY(ST_W, lobe))
         wi = st_lv3_select(

@@ -36,14 +36,6 @@
 
 #include "sheen_table.h"
 
-#ifndef __OPENCL_VERSION__
-#define ST_POWF(x, y) powf(x, y)
-#define ST_EXPF(x) expf(x)
-#else
-#define ST_POWF(x, y) pow(x, y)
-#define ST_EXPF(x) exp(x)
-#endif
-
 /* The least α: D's exponent 1 / (2α) stays at 500 (sheen_table.h's rows
  * use the same). */
 #define ST_SHEEN_MIN_ALPHA 1e-3f

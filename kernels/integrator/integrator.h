@@ -69,6 +69,34 @@ typedef struct st_sheen_in {
     float colour[3][ST_W], rough[ST_W];
 } st_sheen_in;
 
+/* KHR_materials_anisotropy's direction in world space (not yet orthogonal
+ * to the shading normal) and strength per lane, apart for the same reason
+ * (aniso_gather clears them). */
+typedef struct st_aniso_in {
+    float dir[3][ST_W], strength[ST_W];
+} st_aniso_in;
+
+/* KHR_materials_diffuse_transmission's colour and share per lane, apart
+ * for the same reason (dtrans_gather clears them). */
+typedef struct st_dtrans_in {
+    float colour[3][ST_W], share[ST_W];
+} st_dtrans_in;
+
+/* KHR_materials_iridescence's film per lane: its weight, ior and thickness
+ * (nm), apart for the same reason (irid_gather clears them). */
+typedef struct st_irid_in {
+    float weight[ST_W], ior[ST_W], nm[ST_W];
+} st_irid_in;
+
+/* The extensions' inputs gathered out of line, with the lanes that have
+ * each (lane k bit k): only those lanes' rows are read. */
+typedef struct st_more_in {
+    st_u32 aniso_bits, dtrans_bits, irid_bits;
+    st_aniso_in aniso;
+    st_dtrans_in dtrans;
+    st_irid_in irid;
+} st_more_in;
+
 #define ST_LV(a) ST_VLOAD(ST_W, a)
 #define ST_LV3_OF(a) st_lv3_make(ST_VLOAD(ST_W, (a)[0]), ST_VLOAD(ST_W, (a)[1]), ST_VLOAD(ST_W, (a)[2]))
 
@@ -207,6 +235,125 @@ static int alpha_passes_keyed(const st_params *p, const st_material_at *a, st_sa
 /* The key of the rays a path follows (shadow rays: shadow.h). */
 #define ST_PATH_ALPHA_KEY 0xa1fa0000u
 
+/* Texture tex at lane k's hit, looked up with material_at's footprint
+ * from what vertex_gather left in l (white where tex is ST_NO_TEXTURE). */
+static float4 lane_texel(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                         const st_vertex_in *l, st_u32 k, st_u32 tex)
+{
+    float px = 2.0f * p->camera.origin[3] / (float)p->height; /* pixel width at distance 1 */
+    float width = p->camera.forward[3] > 0.5f ? px : px * l->travelled[k];
+    float cos_nd = -dot(lane3(l->ng, k), lane3(l->d, k));
+    return tex_lookup(tex_refs(s), tex, l->prim[k], l->bu[k], l->bv[k], width, cos_nd,
+                      sh->texture_filter);
+}
+
+/* The diffuse transmission (KHR_materials_diffuse_transmission) of the
+ * lanes in `bits`, whose materials have ST_MAT_DIFFUSE_TRANS, into dt (the
+ * other lanes' cleared): the share, diffuseTransmissionFactor x texture A,
+ * and the colour, diffuseTransmissionColorFactor x texture RGB. Out of
+ * line, as sheen_gather. */
+ST_COLD void dtrans_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                           const st_vertex_in *l, st_u32 bits, st_dtrans_in *dt)
+{
+    *dt = (st_dtrans_in){{{0.0f}}, {0.0f}};
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        __global const st_material *m = &s->materials[s->tri_material[l->prim[k]]];
+        float4 f = vload4(0, m->diffuse_trans);
+        if (m->diffuse_trans_tex != ST_NO_TEXTURE)
+            f.w *= lane_texel(s, p, sh, l, k, m->diffuse_trans_tex).w;
+        if (m->diffuse_trans_color_tex != ST_NO_TEXTURE)
+            f.xyz *= lane_texel(s, p, sh, l, k, m->diffuse_trans_color_tex).xyz;
+        set_lane3(dt->colour, k, f.xyz);
+        dt->share[k] = f.w;
+    }
+}
+
+/* The thin film (KHR_materials_iridescence) of the lanes in `bits`, whose
+ * materials have ST_MAT_IRIDESCENT, into ir (the other lanes' cleared):
+ * its weight, iridescenceFactor x texture R, its ior, and its thickness,
+ * mix(minimum, maximum, thickness texture G), the maximum without that
+ * texture. Out of line, as sheen_gather. */
+ST_COLD void irid_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                         const st_vertex_in *l, st_u32 bits, st_irid_in *ir)
+{
+    *ir = (st_irid_in){{0.0f}, {0.0f}, {0.0f}};
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        __global const st_material *m = &s->materials[s->tri_material[l->prim[k]]];
+        float4 f = vload4(0, m->iridescence);
+        float w = f.x, nm = f.w;
+        if (m->iridescence_tex != ST_NO_TEXTURE)
+            w *= lane_texel(s, p, sh, l, k, m->iridescence_tex).x;
+        if (m->iridescence_thickness_tex != ST_NO_TEXTURE)
+            nm = mix(f.z, f.w, lane_texel(s, p, sh, l, k, m->iridescence_thickness_tex).y);
+        ir->weight[k] = w;
+        ir->ior[k] = f.y;
+        ir->nm[k] = nm;
+    }
+}
+
+/* The tangent of triangle prim interpolated at (bu, bv), and in *w its
+ * handedness (0: the triangle has no tangents). */
+static float3 interpolated_tangent(const st_scene_refs *s, st_u32 prim, float bu, float bv,
+                                   float *w)
+{
+    __global const st_tri_tangents *tt = &s->tangents[prim];
+    *w = tt->t0[3];
+    return (1.0f - bu - bv) * vload4(0, tt->t0).xyz + bu * vload4(0, tt->t1).xyz +
+           bv * vload4(0, tt->t2).xyz;
+}
+
+/* The anisotropy (KHR_materials_anisotropy) of the lanes in `bits`, whose
+ * materials have ST_MAT_ANISO, into an (the other lanes' cleared): the
+ * strength, anisotropyStrength x texture B, and the direction, texture RG
+ * as 2 c - 1 ((1, 0) without a texture) turned counter-clockwise by
+ * anisotropyRotation in the frame of the tangent and the bitangent w x
+ * cross(n, tangent) (the normal map's frame), in world space. A triangle
+ * without tangents (no texture coordinates), or a texel of no direction,
+ * gets strength 0: the isotropic lobe. Out of line, as sheen_gather. */
+ST_COLD void aniso_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                          const st_vertex_in *l, st_u32 bits, st_aniso_in *an)
+{
+    *an = (st_aniso_in){{{0.0f}}, {0.0f}};
+    for (st_u32 k = 0; k < ST_W; k++) {
+        if (!((bits >> k) & 1u))
+            continue;
+        st_u32 t = l->prim[k];
+        __global const st_material *m = &s->materials[s->tri_material[t]];
+        float strength = m->anisotropy[0];
+        float2 d = (float2)(1.0f, 0.0f);
+        if (m->anisotropy_tex != ST_NO_TEXTURE) {
+            float3 c = lane_texel(s, p, sh, l, k, m->anisotropy_tex).xyz;
+            d = 2.0f * c.xy - 1.0f;
+            strength *= c.z;
+        }
+        float cr = m->anisotropy[1], sr = m->anisotropy[2], bu = l->bu[k], bv = l->bv[k], w;
+        d = (float2)(cr * d.x - sr * d.y, sr * d.x + cr * d.y);
+        float3 tg = interpolated_tangent(s, t, bu, bv, &w);
+        float3 n = (1.0f - bu - bv) * lane3(l->n0, k) + bu * lane3(l->n1, k) + bv * lane3(l->n2, k);
+        float3 dir = d.x * tg + d.y * w * cross(n, tg);
+        if (w == 0.0f || !(dot(dir, dir) > 1e-12f))
+            strength = 0.0f;
+        set_lane3(an->dir, k, dir);
+        an->strength[k] = strength;
+    }
+}
+
+/* The inputs of more->*_bits' lanes (the bits set by the caller). */
+ST_HOT void more_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
+                        const st_vertex_in *l, st_more_in *more)
+{
+    if (more->aniso_bits)
+        aniso_gather(s, p, sh, l, more->aniso_bits, &more->aniso);
+    if (more->dtrans_bits)
+        dtrans_gather(s, p, sh, l, more->dtrans_bits, &more->dtrans);
+    if (more->irid_bits)
+        irid_gather(s, p, sh, l, more->irid_bits, &more->irid);
+}
+
 /* The shading normal ns bent by a normal map's texel c (tangent-space
  * normal 2 c - 1, x and y times normalTexture.scale) in the frame of the
  * interpolated tangent, made orthogonal to ns, and the bitangent w x
@@ -216,10 +363,8 @@ static int alpha_passes_keyed(const st_params *p, const st_material_at *a, st_sa
 static float3 normal_mapped(const st_scene_refs *s, st_u32 prim, float bu, float bv, float3 ns,
                             float3 ng, float3 c, float scale)
 {
-    __global const st_tri_tangents *tt = &s->tangents[prim];
-    float3 tg = (1.0f - bu - bv) * vload4(0, tt->t0).xyz + bu * vload4(0, tt->t1).xyz +
-                bv * vload4(0, tt->t2).xyz;
-    float w = tt->t0[3];
+    float w;
+    float3 tg = interpolated_tangent(s, prim, bu, bv, &w);
     tg -= ns * dot(ns, tg);
     float len = length(tg);
     if (!(len > 1e-6f) || w == 0.0f)
@@ -446,6 +591,7 @@ typedef struct st_vertex {
     st_dir wo_local;    /* wo in the shading frame, where glossy */
     st_li glossy;       /* the lanes with a specular lobe (metallic, specular or transmission > 0) */
     st_u32 trans_bits;  /* the lanes with transmission > 0, lane k bit k (0: no work) */
+    st_u32 pass_bits;   /* those and the lanes with diffuse transmission: light passes */
     st_u32 layer_bits;  /* the lanes with transmission, a sheen or a clear coat (of glossy) */
     st_u32 sheen_bits;  /* the lanes with a sheen (of layer_bits) */
     st_lv3 beta, rad;   /* the paths' throughput and radiance */
@@ -564,18 +710,53 @@ ST_COLD void sheen_layer(const st_sheen_in *shn, st_layers *lay)
     lay->sheen = st_sheen_make(sc, ST_LV(shn->rough));
 }
 
+/* Where a lane is anisotropic (the lanes of aniso_bits, directions and
+ * strengths in an), the shading frame turned about ns so that tu runs
+ * along the anisotropy direction made orthogonal to ns; returns the
+ * strengths (0 where the direction lies along ns, whose lanes keep their
+ * frame, and in the other lanes). */
+ST_COLD st_lf aniso_frame(st_vertex *v, const st_aniso_in *an, st_u32 aniso_bits)
+{
+    st_lv3 d = ST_LV3_OF(an->dir), n = v->ns;
+    d = st_lv3_along(d, n, -st_lv3_dot(d, n));
+    st_lf len = sqrt(st_lv3_dot(d, d));
+    st_li on = ST_BITS_MASK(ST_W, aniso_bits) && len > 1e-6f;
+    st_lv3 t = st_lv3_div(d, ST_SELECT(ST_W, ST_LF(1.0f), len, on));
+    st_lv3 b = st_lv3_make(n.y * t.z - n.z * t.y, n.z * t.x - n.x * t.z, n.x * t.y - n.y * t.x);
+    v->tu = st_lv3_select(v->tu, t, on);
+    v->tv = st_lv3_select(v->tv, b, on);
+    return ST_SELECT(ST_W, ST_LF(0.0f), ST_LV(an->strength), on);
+}
+
+/* The Lambertian part's transmission where a lane has it (dtrans_gather's
+ * share 0 elsewhere, which changes nothing). */
+ST_COLD void dtrans_layer(const st_dtrans_in *dt, st_lf metallic, st_lf tr, st_brdf *b)
+{
+    st_lf c[3] = {ST_LV(dt->colour[0]), ST_LV(dt->colour[1]), ST_LV(dt->colour[2])};
+    st_brdf_diffuse_transmission(b, metallic, tr, ST_LV(dt->share), c);
+}
+
+/* The thin film where a lane has it (weight 0 elsewhere: no film). */
+ST_COLD void irid_layer(const st_irid_in *ir, st_brdf *b)
+{
+    st_brdf_iridescent(b, ST_LV(ir->weight), ST_LV(ir->ior), ST_LV(ir->nm));
+}
+
 /* The surface at each lane's hit: position, normals (turned to the side
  * the ray arrived on), the shading frame and the BRDF where glossy, with
  * the transmission lobe where bit k of trans_bits is set (lane k has
  * transmission > 0: vertex_gather; thin-walled where thin_bits' is), the
- * clear coat where coat_bits' is (about its own normal where cmapped's is)
- * and the sheen where sheen_bits' is. */
+ * clear coat where coat_bits' is (about its own normal where cmapped's is),
+ * the sheen where sheen_bits' is, and where more's bits say so the
+ * anisotropic specular lobe (in a frame along its direction), the diffuse
+ * transmission and the thin film. */
 ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 nmapped,
                                 st_u32 trans_bits, st_u32 thin_bits, st_u32 coat_bits,
                                 st_u32 cmapped, st_u32 sheen_bits,
-                                const st_sheen_in *shn, st_layers *lay, st_li miss,
-                                const st_shading *sh, st_lf *cos_o)
+                                const st_sheen_in *shn, const st_more_in *more,
+                                st_layers *lay, st_li miss, const st_shading *sh, st_lf *cos_o)
 {
+    st_u32 dtrans_bits = more->dtrans_bits, aniso_bits = more->aniso_bits;
     st_vertex v;
     st_lv3 d = ST_LV3_OF(l->d);
     v.wo = st_lv3_neg(d);
@@ -586,6 +767,7 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.beta = ST_LV3_OF(l->beta);
     v.lay = lay;
     v.trans_bits = trans_bits;
+    v.pass_bits = trans_bits | dtrans_bits;
     v.layer_bits = trans_bits | coat_bits | sheen_bits;
     v.sheen_bits = sheen_bits;
     st_lf tr = trans_bits ? ST_LV(l->transmission) : ST_LF(0.0f);
@@ -594,16 +776,23 @@ ST_HOT st_vertex vertex_surface(const st_scene_refs *s, st_vertex_in *l, st_u32 
     v.ns = st_lv3_select(v.ns, st_lv3_neg(v.ns), st_lv3_dot(v.ns, v.ng) < 0.0f);
     st_lf metallic = ST_LV(l->metallic), specular = ST_LV(l->spec[3]);
     v.glossy = (metallic > 0.0f || specular > 0.0f) && !miss;
-    if (v.layer_bits)
-        v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits);
+    if (v.layer_bits | dtrans_bits)
+        v.glossy = v.glossy || ST_BITS_MASK(ST_W, v.layer_bits | dtrans_bits);
     if (ST_ANY(ST_W, v.glossy))
-        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, trans_bits));
+        v.ns = adapted_normal(v.ns, v.ng, v.wo, v.glossy && !ST_BITS_MASK(ST_W, v.pass_bits));
     st_basis(v.ns, &v.tu, &v.tv);
+    st_lf strength = aniso_bits ? aniso_frame(&v, &more->aniso, aniso_bits) : ST_LF(0.0f);
     v.albedo = ST_LV3_OF(l->base);
     if (ST_ANY(ST_W, v.glossy)) {
         st_lf c[3] = {v.albedo.x, v.albedo.y, v.albedo.z};
         st_lf sc[3] = {ST_LV(l->spec[0]), ST_LV(l->spec[1]), ST_LV(l->spec[2])};
         v.brdf = st_brdf_make(c, metallic, ST_LV(l->roughness), specular, sc, ST_LV(l->ior), tr);
+        if (aniso_bits)
+            st_brdf_anisotropic(&v.brdf, strength);
+        if (dtrans_bits)
+            dtrans_layer(&more->dtrans, metallic, tr, &v.brdf);
+        if (more->irid_bits)
+            irid_layer(&more->irid, &v.brdf);
         if (v.layer_bits) { /* entering where the ray meets the front */
             lay->diel = st_dielectric_make(tr, metallic, c, ST_LV(l->ior), *cos_o >= 0.0f,
                                            ST_BITS_MASK(ST_W, thin_bits));
@@ -773,8 +962,8 @@ ST_HOT st_li vertex_bounce(st_vertex *v, st_lf u1, st_lf u2, st_lf u3, st_lv3 *w
     *cz = w.z;
     *wi = vertex_world(v, w);
     st_li ok = *cz > 0.0f && *pdf > 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
-    if (v->trans_bits) {
-        st_li trans = ST_BITS_MASK(ST_W, v->trans_bits) && *pdf > 0.0f;
+    if (v->pass_bits) {
+        st_li trans = ST_BITS_MASK(ST_W, v->pass_bits) && *pdf > 0.0f;
         st_li through = trans && st_lv3_dot(*wi, v->ng) < 0.0f; /* into the object */
         st_li back = trans && *cz < 0.0f && st_lv3_dot(*wi, v->ng) > 0.0f;
         ok = ok || through || back;

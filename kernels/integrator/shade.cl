@@ -135,9 +135,41 @@ ST_HOT void dims_random(st_vertex_in *l, int transmissive)
         ST_VSTORE(ST_W, st_rng_unit_lanes(key, dim + 4u), l->u[4]);
 }
 
+/* The material of triangle prim. */
+static __global const st_material *m_of(const st_scene_refs *s, st_u32 prim)
+{
+    return &s->materials[s->tri_material[prim]];
+}
+
+/* The key of the draw of a dispersive path's colour channel. */
+#define ST_DISPERSION_KEY 0xd15e0000u
+
+/* KHR_materials_dispersion at lane k's hit (path gp, its throughput beta
+ * gathered): an RGB renderer refracts one wavelength per channel, so a
+ * path that meets its first dispersive surface draws one channel c
+ * uniformly (from the counter hash of the sample, keyed by the depth) and
+ * carries 3 x that channel alone from then on (E[3 f_c e_c] = Σ_c f_c e_c);
+ * there and at every later dispersive surface the lane refracts with c's
+ * ior (st_dispersed_ior). Returns the throughput. */
+static float3 dispersed(const st_params *p, st_sample smp, __global st_path *gp, float dispersion,
+                        st_u32 depth, float3 beta, st_u32 k, st_vertex_in *l)
+{
+    st_u32 c = gp->channel;
+    if (c == 0u) {
+        float u = st_rng_unit(st_rng_key(p->seed ^ ST_DISPERSION_KEY, smp.pixel, smp.index), depth);
+        c = 1u + min((st_u32)(3.0f * u), 2u);
+        gp->channel = c;
+        beta = 3.0f * (float3)(c == 1u ? 1.0f : 0.0f, c == 2u ? 1.0f : 0.0f, c == 3u ? 1.0f : 0.0f) *
+               beta;
+        set_lane3(l->beta, k, beta);
+    }
+    l->ior[k] = st_dispersed_ior(l->ior[k], dispersion, c - 1u);
+    return beta;
+}
+
 /* The lanes' kinds, lane k bit k (vertex_gather sets them). */
 typedef struct st_lane_bits {
-    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened;
+    st_u32 miss, nmapped, trans, thin, coated, cmapped, sheened, aniso, dtrans, irid;
     st_u32 through; /* went on through a cut-out, not shaded */
 } st_lane_bits;
 
@@ -205,7 +237,10 @@ ST_HOT void vertex_clear_lane(st_vertex_in *l, st_u32 k, int path)
  * done here. Otherwise the lane's inputs are gathered (bit k of b->miss set
  * for a ray that left the scene, of b->nmapped for a normal-mapped surface,
  * of b->trans for a transmissive one, of b->coated for a clear-coated one,
- * of b->sheened for one with a sheen, which sheen_gather reads)
+ * of b->sheened for one with a sheen, which sheen_gather reads, of
+ * b->aniso for an anisotropic one, which aniso_gather reads, of b->dtrans
+ * for one with diffuse transmission, which dtrans_gather reads, of b->irid
+ * for an iridescent one, which irid_gather reads)
  * and it returns 1: the lanes do the rest. */
 ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_shading *sh,
                          st_u32 i, st_u32 k, __global const st_sample *sample,
@@ -297,6 +332,14 @@ ST_HOT int vertex_gather(const st_scene_refs *s, const st_params *p, const st_sh
     }
     if (a.flags & ST_MAT_SHEEN) /* sheen_gather reads its sheen */
         b->sheened |= 1u << k;
+    if (a.flags & ST_MAT_ANISO) /* aniso_gather reads its anisotropy */
+        b->aniso |= 1u << k;
+    if (a.flags & ST_MAT_DIFFUSE_TRANS) /* dtrans_gather reads its diffuse transmission */
+        b->dtrans |= 1u << k;
+    if (a.flags & ST_MAT_IRIDESCENT) /* irid_gather reads its thin film */
+        b->irid |= 1u << k;
+    if (a.flags & ST_MAT_DISPERSIVE)
+        beta = dispersed(p, smp, gp, m_of(s, h.prim)->dispersion, depth, beta, k, l);
     if (a.transmission > 0.0f) {
         b->trans |= 1u << k;
         if (a.flags & ST_MAT_THIN)
@@ -392,12 +435,16 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     st_sheen_in sn;
     if (b->sheened)
         sheen_gather(s, p, sh, l, b->sheened, &sn);
+    st_more_in more;
+    more.aniso_bits = b->aniso, more.dtrans_bits = b->dtrans, more.irid_bits = b->irid;
+    more_gather(s, p, sh, l, &more);
     if (p->sampler == ST_SAMPLER_RANDOM)
         dims_random(l, b->trans != 0u);
     st_lf cos_o;
     st_layers lay;
     st_vertex v = vertex_surface(s, l, b->nmapped, b->trans, b->thin, b->coated, b->cmapped,
-                                 b->sheened, &sn, &lay, ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
+                                 b->sheened, &sn, &more, &lay,
+                                 ST_BITS_MASK(ST_W, b->miss), sh, &cos_o);
     lv3_store(v.rad, o->rad);
     st_lv3 origin = st_lv3_along(v.pos, v.ng, ST_LF(p->ray_eps)), wi;
     lv3_store(origin, o->origin);
@@ -420,9 +467,10 @@ ST_HOT st_u32 vertex_scatter(const st_scene_refs *s, const st_params *p, const s
     ST_VSTORE(ST_W, cz / ST_PI_F, o->env_pdf);
     *refracted = 0u;
     st_lv3 from = origin;
-    if (b->trans) { /* a ray into the object goes on from the other side (the
-                     * geometry's, vertex_bounce), where no uniform
-                     * environment's light sample reaches (env_pdf 0) */
+    if (b->trans | b->dtrans) { /* a ray into the object, or through a diffusely
+                                 * transmitting surface, goes on from the other side
+                                 * (the geometry's, vertex_bounce), where no uniform
+                                 * environment's light sample reaches (env_pdf 0) */
         st_li below = st_lv3_dot(wi, v.ng) < 0.0f;
         *refracted = ST_MASK_BITS(ST_W, below) & goes;
         st_lv3 inside = st_lv3_along(v.pos, v.ng, ST_LF(-p->ray_eps));
@@ -450,7 +498,7 @@ ST_HOT st_u32 shade_lanes(const st_scene_refs *s, const st_params *p, const st_s
 {
     st_vertex_in l; /* cleared where no gather writes it: vertex_clear_some */
     st_u32 live = 0u, item[ST_W];
-    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
+    st_lane_bits b = {0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     /* two loops, not one select: vectorised, the select became a masked
      * load from the null list at vertex 0, which faults in every lane it
      * masks off, and the CPU's microcode repairs that at great cost (on

@@ -375,6 +375,8 @@ typedef ST_CAT(st_v3x, ST_W) st_lv3;
 #define ST_FMAXF(a, b) fmaxf(a, b)
 #define ST_FMINF(a, b) fminf(a, b)
 #define ST_FABSF(x) fabsf(x)
+#define ST_POWF(x, y) powf(x, y)
+#define ST_EXPF(x) expf(x)
 #else
 #define ST_SQRTF(x) sqrt(x)
 #define ST_COSF(x) cos(x)
@@ -382,6 +384,8 @@ typedef ST_CAT(st_v3x, ST_W) st_lv3;
 #define ST_FMAXF(a, b) fmax(a, b)
 #define ST_FMINF(a, b) fmin(a, b)
 #define ST_FABSF(x) fabs(x)
+#define ST_POWF(x, y) pow(x, y)
+#define ST_EXPF(x) exp(x)
 #endif
 
 /* Lanes of floats from unsigned ints, rounded to nearest (convert_float). */

@@ -277,6 +277,11 @@ typedef struct st_tri_normals {
 #define ST_MAT_SHEEN 8u        /* KHR_materials_sheen with a sheen colour other than black */
 #define ST_MAT_TEXTURED 16u    /* some factor that material_at reads has a texture */
 #define ST_MAT_THIN 32u        /* transmission without KHR_materials_volume: thin-walled */
+#define ST_MAT_ANISO 64u       /* KHR_materials_anisotropy with a strength above 0 */
+#define ST_MAT_DIFFUSE_TRANS 128u /* KHR_materials_diffuse_transmission, factor above 0 */
+#define ST_MAT_IRIDESCENT 256u /* KHR_materials_iridescence with a factor above 0 */
+#define ST_MAT_DISPERSIVE 512u /* KHR_materials_dispersion above 0 on a solid transmissive
+                                  material (a thin wall bends no ray) */
 
 /* A glTF metallic-roughness material (the BRDF: kernels/integrator/bsdf.h), emitting
  * on the side its shading normals face. Each factor is multiplied by its
@@ -291,7 +296,14 @@ typedef struct st_tri_normals {
  * clearcoatTexture, R, and clearcoatRoughnessTexture, G; linear;
  * clearcoat_normal_tex its clearcoatNormalTexture, read as normal_tex),
  * sheen_color_tex and sheen_roughness_tex (KHR_materials_sheen's
- * sheenColorTexture, sRGB RGB, and sheenRoughnessTexture, linear A). */
+ * sheenColorTexture, sRGB RGB, and sheenRoughnessTexture, linear A),
+ * anisotropy_tex (KHR_materials_anisotropy's anisotropyTexture, linear: RG
+ * the direction in the tangent frame as 2 c - 1, B the strength),
+ * diffuse_trans_tex and diffuse_trans_color_tex
+ * (KHR_materials_diffuse_transmission's diffuseTransmissionTexture, linear
+ * A, and diffuseTransmissionColorTexture, sRGB RGB), iridescence_tex and
+ * iridescence_thickness_tex (KHR_materials_iridescence's
+ * iridescenceTexture, R, and iridescenceThicknessTexture, G; linear). */
 typedef struct st_material {
     st_f32 base_color[4];  /* baseColorFactor: linear RGB and alpha */
     st_f32 emission[4];    /* emissiveFactor x emissiveStrength, RGB; [3] = 0 */
@@ -317,7 +329,35 @@ typedef struct st_material {
     st_f32 sheen_color[3];  /* KHR_materials_sheen's sheenColorFactor, 0 (no sheen) */
     st_f32 sheen_roughness; /* its sheenRoughnessFactor, 0 */
     st_u32 sheen_color_tex, sheen_roughness_tex;
+    st_f32 anisotropy[3];   /* KHR_materials_anisotropy: anisotropyStrength (0), and
+                               cos and sin of anisotropyRotation (0), which turns the
+                               direction counter-clockwise from the tangent */
+    st_u32 anisotropy_tex;
+    st_f32 diffuse_trans[4]; /* KHR_materials_diffuse_transmission: the colour
+                                (1, 1, 1) and the factor (0), the share of the
+                                Lambertian part that passes through */
+    st_u32 diffuse_trans_tex, diffuse_trans_color_tex;
+    st_f32 iridescence[4]; /* KHR_materials_iridescence: iridescenceFactor (0), the film's
+                              ior (1.3), its thickness's minimum and maximum (100,
+                              400 nm; without a thickness texture, the maximum) */
+    st_u32 iridescence_tex, iridescence_thickness_tex;
+    st_f32 dispersion; /* KHR_materials_dispersion: 20 / the Abbe number V_d (0: none) */
 } st_material;
+
+/* KHR_materials_dispersion's index of refraction for colour channel c (0 R,
+ * 1 G, 2 B) of a material of ior n_d and dispersion 20 / V_d: Cauchy's
+ * n(λ) = A + B / λ² through n_d at the d line with n_F - n_C = (n_d - 1) /
+ * V_d, which the specification writes n(λ) = max(n_d + (n_d - 1) / V_d
+ * (523655 / λ² - 1.5168), 1), λ in nm. An RGB renderer takes one
+ * wavelength per channel: Fraunhofer's C line (656.3 nm, red), d line
+ * (587.6 nm, yellow-green, as green) and F line (486.1 nm, blue), the
+ * three that define V_d. Tests: test_bsdf.c dispersed_ior_*. */
+ST_FN st_f32 st_dispersed_ior(st_f32 n_d, st_f32 dispersion, st_u32 c)
+{
+    st_f32 lambda = c == 0u ? 656.3f : c == 1u ? 587.6f : 486.1f;
+    st_f32 n = n_d + (n_d - 1.0f) * (dispersion / 20.0f) * (523655.0f / (lambda * lambda) - 1.5168f);
+    return n > 1.0f ? n : 1.0f;
+}
 
 /* Whether material m has a texture on a factor that the kernels'
  * material_at multiplies (the sheen's are read apart, by sheen_gather):
@@ -559,7 +599,8 @@ typedef struct st_path {
     st_u32 closest_rays, shadow_rays;
     st_f32 env_pdf; /* the pdf of next-event estimation's environment sample
                        (cos / π) for the current ray's direction, for MIS at a miss */
-    st_u32 pad;
+    st_u32 channel; /* 0, or 1 + the colour channel a dispersive surface chose for the
+                       path (KHR_materials_dispersion: shade.cl vertex_gather) */
 } st_path;
 
 /* A shadow ray and what it adds to its path's radiance when nothing blocks
@@ -816,7 +857,11 @@ static st_u32 st_live_count(const st_params *p)
     X(st_material, clearcoat_roughness_tex) X(st_material, clearcoat_normal_tex)            \
     X(st_material, clearcoat_normal_scale) X(st_material, sheen_color)                      \
     X(st_material, sheen_roughness) X(st_material, sheen_color_tex)                         \
-    X(st_material, sheen_roughness_tex)                                                     \
+    X(st_material, sheen_roughness_tex) X(st_material, anisotropy)                          \
+    X(st_material, anisotropy_tex) X(st_material, diffuse_trans)                            \
+    X(st_material, diffuse_trans_tex) X(st_material, diffuse_trans_color_tex)               \
+    X(st_material, iridescence) X(st_material, iridescence_tex)                             \
+    X(st_material, iridescence_thickness_tex) X(st_material, dispersion)                    \
     X(st_tri_tangents, t0) X(st_tri_tangents, t1) X(st_tri_tangents, t2)                    \
     X(st_tri_colors, c0) X(st_tri_colors, c1) X(st_tri_colors, c2)                          \
     X(st_texture, transform) X(st_texture, lod_bias) X(st_texture, offset)                  \
@@ -852,6 +897,7 @@ static st_u32 st_live_count(const st_params *p)
     X(st_hit, t) X(st_hit, u) X(st_hit, v) X(st_hit, prim)                                  \
     X(st_path, beta) X(st_path, bsdf_pdf) X(st_path, radiance) X(st_path, depth)            \
     X(st_path, closest_rays) X(st_path, shadow_rays) X(st_path, env_pdf)                    \
+    X(st_path, channel)                                                                     \
     X(st_shadow, ray) X(st_shadow, contribution)                                            \
     X(st_tally, splats) X(st_tally, closest_rays) X(st_tally, shadow_rays)                  \
     X(st_bin_tally, splats) X(st_bin_tally, closest_rays) X(st_bin_tally, shadow_rays)      \
@@ -876,7 +922,7 @@ ST_STATIC_ASSERT(ST_LEAF_LAST_READ(1u) <= ST_LEAF_UNITS(1u) * ST_LEAF_UNIT &&
                  "leaf block: st_leaf_row's loads inside the block");
 ST_STATIC_ASSERT(sizeof(st_triangle) == 48, "st_triangle: 48 bytes");
 ST_STATIC_ASSERT(sizeof(st_tri_normals) == 48, "st_tri_normals: 48 bytes");
-ST_STATIC_ASSERT(sizeof(st_material) == 168, "st_material: 168 bytes");
+ST_STATIC_ASSERT(sizeof(st_material) == 236, "st_material: 236 bytes");
 ST_STATIC_ASSERT(offsetof(st_material, base_color_tex) == 48, "st_material.base_color_tex moved");
 ST_STATIC_ASSERT(sizeof(st_texture) == 64, "st_texture: 64 bytes");
 ST_STATIC_ASSERT(offsetof(st_texture, offset) == 28, "st_texture.offset moved");

@@ -2,8 +2,9 @@
  *
  * The core metallic-roughness material with its factors' defaults, and
  * KHR_materials_emissive_strength, _specular, _ior, _unlit, _transmission,
- * _volume (attenuation), _clearcoat, _sheen and _pbrSpecularGlossiness
- * (converted to metallic-roughness). */
+ * _volume (attenuation), _clearcoat, _sheen, _anisotropy,
+ * _diffuse_transmission, _iridescence, _dispersion and
+ * _pbrSpecularGlossiness (converted to metallic-roughness). */
 #include "gltf_int.h"
 
 #include <algorithm>
@@ -202,6 +203,97 @@ static void read_sheen(const Model &m, size_t i, texture_table &table, notes &wa
                                         false, i, "sheenRoughnessTexture", table, warn);
 }
 
+/* KHR_materials_anisotropy of material i: anisotropyStrength (0, in
+ * [0, 1]), anisotropyRotation (0 radians, any finite angle) and
+ * anisotropyTexture (linear: RG the direction, B the strength). */
+static void read_anisotropy(const Model &m, size_t i, texture_table &table, notes &warn,
+                            st_gltf_material &o)
+{
+    o.anisotropy = o.anisotropy_rotation = 0.0f;
+    o.anisotropy_tex = -1;
+    auto an = m.materials[i].extensions.find("KHR_materials_anisotropy");
+    if (an == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = an->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_anisotropy", i);
+    o.anisotropy = float(ext_number(v, "anisotropyStrength", 0.0, what));
+    o.anisotropy_rotation = float(ext_number(v, "anisotropyRotation", 0.0, what));
+    if (!(o.anisotropy >= 0.0f && o.anisotropy <= 1.0f))
+        fail("%s: anisotropyStrength %g is not in [0, 1]", what, double(o.anisotropy));
+    if (!std::isfinite(o.anisotropy_rotation))
+        fail("%s: anisotropyRotation is not finite", what);
+    o.anisotropy_tex = texture_ref(m, ext_texture_info(v, "anisotropyTexture", what), false, i,
+                                   "anisotropyTexture", table, warn);
+}
+
+/* KHR_materials_diffuse_transmission of material i:
+ * diffuseTransmissionFactor (0) x diffuseTransmissionTexture's A (linear)
+ * and diffuseTransmissionColorFactor (1, 1, 1) x
+ * diffuseTransmissionColorTexture's RGB (sRGB), each in [0, 1]. */
+static void read_diffuse_transmission(const Model &m, size_t i, texture_table &table, notes &warn,
+                                      st_gltf_material &o)
+{
+    o.diffuse_trans[0] = o.diffuse_trans[1] = o.diffuse_trans[2] = 1.0f;
+    o.diffuse_trans[3] = 0.0f;
+    o.diffuse_trans_tex = o.diffuse_trans_color_tex = -1;
+    auto dt = m.materials[i].extensions.find("KHR_materials_diffuse_transmission");
+    if (dt == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = dt->second;
+    char what[72];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_diffuse_transmission", i);
+    o.diffuse_trans[3] = float(ext_number(v, "diffuseTransmissionFactor", 0.0, what));
+    ext_numbers(v, "diffuseTransmissionColorFactor", 3, o.diffuse_trans, what);
+    for (int k = 0; k < 4; k++)
+        if (!(o.diffuse_trans[k] >= 0.0f && o.diffuse_trans[k] <= 1.0f))
+            fail("%s: diffuseTransmissionFactor and diffuseTransmissionColorFactor must lie in "
+                 "[0, 1]",
+                 what);
+    o.diffuse_trans_tex = texture_ref(m, ext_texture_info(v, "diffuseTransmissionTexture", what),
+                                      false, i, "diffuseTransmissionTexture", table, warn);
+    o.diffuse_trans_color_tex =
+        texture_ref(m, ext_texture_info(v, "diffuseTransmissionColorTexture", what), true, i,
+                    "diffuseTransmissionColorTexture", table, warn);
+}
+
+/* KHR_materials_iridescence of material i: iridescenceFactor (0, in
+ * [0, 1]) x iridescenceTexture's R, iridescenceIor (1.3, >= 1) and the
+ * thickness, mix(iridescenceThicknessMinimum (100 nm), ..Maximum (400 nm),
+ * iridescenceThicknessTexture's G), the maximum without that texture
+ * (both >= 0; linear textures). */
+static void read_iridescence(const Model &m, size_t i, texture_table &table, notes &warn,
+                             st_gltf_material &o)
+{
+    o.iridescence[0] = 0.0f;
+    o.iridescence[1] = 1.3f;
+    o.iridescence[2] = 100.0f;
+    o.iridescence[3] = 400.0f;
+    o.iridescence_tex = o.iridescence_thickness_tex = -1;
+    auto ir = m.materials[i].extensions.find("KHR_materials_iridescence");
+    if (ir == m.materials[i].extensions.end())
+        return;
+    const tinygltf::Value &v = ir->second;
+    char what[64];
+    snprintf(what, sizeof what, "material %zu: KHR_materials_iridescence", i);
+    o.iridescence[0] = float(ext_number(v, "iridescenceFactor", 0.0, what));
+    o.iridescence[1] = float(ext_number(v, "iridescenceIor", 1.3, what));
+    o.iridescence[2] = float(ext_number(v, "iridescenceThicknessMinimum", 100.0, what));
+    o.iridescence[3] = float(ext_number(v, "iridescenceThicknessMaximum", 400.0, what));
+    if (!(o.iridescence[0] >= 0.0f && o.iridescence[0] <= 1.0f))
+        fail("%s: iridescenceFactor %g is not in [0, 1]", what, double(o.iridescence[0]));
+    if (!(o.iridescence[1] >= 1.0f) || !std::isfinite(o.iridescence[1]))
+        fail("%s: iridescenceIor %g is not a finite number >= 1", what, double(o.iridescence[1]));
+    for (int k = 2; k < 4; k++)
+        if (!(o.iridescence[k] >= 0.0f) || !std::isfinite(o.iridescence[k]))
+            fail("%s: iridescenceThicknessMinimum and ..Maximum must be finite and >= 0", what);
+    o.iridescence_tex = texture_ref(m, ext_texture_info(v, "iridescenceTexture", what), false, i,
+                                    "iridescenceTexture", table, warn);
+    o.iridescence_thickness_tex =
+        texture_ref(m, ext_texture_info(v, "iridescenceThicknessTexture", what), false, i,
+                    "iridescenceThicknessTexture", table, warn);
+}
+
 /* KHR_materials_pbrSpecularGlossiness as metallic-roughness, the way
  * Khronos' glTF-Transform converts it (its metalRough function): a
  * dielectric (metallic 0) whose base colour is the diffuse colour, whose
@@ -334,6 +426,18 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
     read_transmission_volume(m, i, table, warn, o);
     read_clearcoat(m, i, table, warn, o);
     read_sheen(m, i, table, warn, o);
+    read_anisotropy(m, i, table, warn, o);
+    read_diffuse_transmission(m, i, table, warn, o);
+    read_iridescence(m, i, table, warn, o);
+    o.dispersion = 0.0f; /* KHR_materials_dispersion: 20 / V_d, any value >= 0 */
+    auto disp = mat.extensions.find("KHR_materials_dispersion");
+    if (disp != mat.extensions.end()) {
+        char what[64];
+        snprintf(what, sizeof what, "material %zu: KHR_materials_dispersion", i);
+        o.dispersion = float(ext_number(disp->second, "dispersion", 0.0, what));
+        if (!(o.dispersion >= 0.0f) || !std::isfinite(o.dispersion))
+            fail("%s: dispersion %g is not a finite number >= 0", what, double(o.dispersion));
+    }
     tinygltf::TextureInfo normal; /* NormalTextureInfo less its scale */
     normal.index = mat.normalTexture.index;
     normal.texCoord = mat.normalTexture.texCoord;
@@ -349,7 +453,8 @@ st_gltf_material read_material(const Model &m, size_t i, texture_table &table, n
 /* What each slot makes of an image that could not be read (decode_images):
  * a normal map (the base's or the clear coat's) is left out, the geometric
  * and vertex normals kept, since its white texel is not neutral (the
- * normal (1, 1, 1), some 55 degrees off); every other slot keeps the white
+ * normal (1, 1, 1), some 55 degrees off), and so is an anisotropy texture
+ * (white turns the direction by 45 degrees); every other slot keeps the white
  * image, which leaves its factor alone. One warning per normal map left
  * out, one per image made white. */
 void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &table,
@@ -373,10 +478,17 @@ void note_unreadable(std::vector<st_gltf_material> &mats, const texture_table &t
                  i, why[size_t(table.refs[size_t(o.clearcoat_normal_tex)].image)].c_str());
             o.clearcoat_normal_tex = -1;
         }
+        if (unreadable(o.anisotropy_tex)) {
+            note(warn, "material %zu: anisotropyTexture: %s: left out (the factors kept)", i,
+                 why[size_t(table.refs[size_t(o.anisotropy_tex)].image)].c_str());
+            o.anisotropy_tex = -1;
+        }
         const int slots[] = {o.base_color_tex,   o.emission_tex,     o.metallic_roughness_tex,
                              o.specular_tex,     o.specular_color_tex, o.transmission_tex,
                              o.clearcoat_tex,    o.clearcoat_roughness_tex, o.sheen_color_tex,
-                             o.sheen_roughness_tex};
+                             o.sheen_roughness_tex, o.diffuse_trans_tex,
+                             o.diffuse_trans_color_tex, o.iridescence_tex,
+                             o.iridescence_thickness_tex};
         for (int t : slots)
             if (unreadable(t))
                 white[size_t(table.refs[size_t(t)].image)] = 1;

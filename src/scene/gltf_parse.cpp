@@ -229,7 +229,8 @@ const char *const supported_extensions[] = {
     "KHR_materials_unlit", "KHR_texture_transform", "KHR_mesh_quantization",
     "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_clearcoat",
-    "KHR_materials_sheen"};
+    "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_diffuse_transmission",
+    "KHR_materials_iridescence", "KHR_materials_dispersion"};
 
 static bool supported(const char *ext)
 {

@@ -184,16 +184,20 @@ static std::vector<uv_use> uv_uses(const std::vector<st_gltf_material> &mats,
         const st_gltf_material &o = mats[i];
         const int slots[] = {o.base_color_tex, o.emission_tex,       o.metallic_roughness_tex,
                              o.specular_tex,   o.specular_color_tex, o.normal_tex,
-                             o.clearcoat_normal_tex};
+                             o.clearcoat_normal_tex, o.anisotropy_tex, o.diffuse_trans_tex,
+                             o.diffuse_trans_color_tex, o.iridescence_tex,
+                             o.iridescence_thickness_tex};
         for (int t : slots)
             if (t >= 0)
                 use[i].sets |= 1u << table.refs[size_t(t)].tex_coord;
         /* one tangent frame per triangle: the base's normal map's set, else
-         * the clear coat's */
+         * the clear coat's, else the anisotropy texture's */
         if (o.normal_tex >= 0)
             use[i].normal_set = table.refs[size_t(o.normal_tex)].tex_coord;
         else if (o.clearcoat_normal_tex >= 0)
             use[i].normal_set = table.refs[size_t(o.clearcoat_normal_tex)].tex_coord;
+        else if (o.anisotropy_tex >= 0)
+            use[i].normal_set = table.refs[size_t(o.anisotropy_tex)].tex_coord;
     }
     return use;
 }

@@ -77,6 +77,16 @@ typedef struct st_gltf_material {
     float clearcoat_normal_scale; /* its scale, 1 by default */
     float sheen_color[3], sheen_roughness; /* KHR_materials_sheen's factors (0, 0) */
     int sheen_color_tex, sheen_roughness_tex; /* sheenColorTexture (sRGB RGB), ..RoughnessTexture (A) */
+    float anisotropy, anisotropy_rotation; /* KHR_materials_anisotropy's strength and
+                                              rotation (radians), 0 and 0 */
+    int anisotropy_tex;    /* its anisotropyTexture (RG direction, B strength; linear) */
+    float diffuse_trans[4]; /* KHR_materials_diffuse_transmission: colour (1, 1, 1) and
+                               factor (0) */
+    int diffuse_trans_tex, diffuse_trans_color_tex; /* their textures (A linear; sRGB RGB) */
+    float iridescence[4];  /* KHR_materials_iridescence: factor (0), ior (1.3), thickness
+                              minimum and maximum (100, 400 nm) */
+    int iridescence_tex, iridescence_thickness_tex; /* their textures (R; G; linear) */
+    float dispersion;      /* KHR_materials_dispersion: 20 / Abbe number (0) */
 } st_gltf_material;
 
 /* One texture reference as a material samples it (§3.8): an image, the

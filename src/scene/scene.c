@@ -501,8 +501,9 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         memcpy(m->specular, in->specular, sizeof m->specular);
         m->ior = in->ior;
         /* a transmissive surface is met from inside too, where the ray leaves */
+        int passes = in->transmission > 0.0f || in->diffuse_trans[3] > 0.0f;
         m->flags = (in->unlit ? ST_MAT_UNLIT : 0u) |
-                   (in->double_sided || in->transmission > 0.0f ? ST_MAT_DOUBLE_SIDED : 0u);
+                   (in->double_sided || passes ? ST_MAT_DOUBLE_SIDED : 0u);
         m->specular_tex = texture_index(in->specular_tex);
         m->specular_color_tex = texture_index(in->specular_color_tex);
         m->normal_tex = texture_index(in->normal_tex);
@@ -521,6 +522,25 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->sheen_roughness_tex = texture_index(in->sheen_roughness_tex);
         if (in->sheen_color[0] > 0.0f || in->sheen_color[1] > 0.0f || in->sheen_color[2] > 0.0f)
             m->flags |= ST_MAT_SHEEN; /* a black sheen colour turns the layer off */
+        m->anisotropy[0] = in->anisotropy;
+        m->anisotropy[1] = cosf(in->anisotropy_rotation);
+        m->anisotropy[2] = sinf(in->anisotropy_rotation);
+        m->anisotropy_tex = texture_index(in->anisotropy_tex);
+        if (in->anisotropy > 0.0f) /* strength 0 is the isotropic lobe */
+            m->flags |= ST_MAT_ANISO;
+        memcpy(m->diffuse_trans, in->diffuse_trans, sizeof m->diffuse_trans);
+        m->diffuse_trans_tex = texture_index(in->diffuse_trans_tex);
+        m->diffuse_trans_color_tex = texture_index(in->diffuse_trans_color_tex);
+        if (in->diffuse_trans[3] > 0.0f)
+            m->flags |= ST_MAT_DIFFUSE_TRANS;
+        memcpy(m->iridescence, in->iridescence, sizeof m->iridescence);
+        m->iridescence_tex = texture_index(in->iridescence_tex);
+        m->iridescence_thickness_tex = texture_index(in->iridescence_thickness_tex);
+        if (in->iridescence[0] > 0.0f)
+            m->flags |= ST_MAT_IRIDESCENT;
+        m->dispersion = in->dispersion;
+        if (in->dispersion > 0.0f && in->transmission > 0.0f && !in->thin_walled)
+            m->flags |= ST_MAT_DISPERSIVE;
         if (st_material_reads_textures(m))
             m->flags |= ST_MAT_TEXTURED;
         if (in->thin_walled && in->transmission > 0.0f)
@@ -545,6 +565,14 @@ static st_status take_materials(st_gltf_data *g, st_scene *s, const char *label,
         m->clearcoat_normal_tex = ST_NO_TEXTURE;
         m->clearcoat_normal_scale = 1.0f;
         m->sheen_color_tex = m->sheen_roughness_tex = ST_NO_TEXTURE;
+        m->anisotropy[1] = 1.0f;
+        m->anisotropy_tex = ST_NO_TEXTURE;
+        m->diffuse_trans[0] = m->diffuse_trans[1] = m->diffuse_trans[2] = 1.0f;
+        m->diffuse_trans_tex = m->diffuse_trans_color_tex = ST_NO_TEXTURE;
+        m->iridescence[1] = 1.3f;
+        m->iridescence[2] = 100.0f;
+        m->iridescence[3] = 400.0f;
+        m->iridescence_tex = m->iridescence_thickness_tex = ST_NO_TEXTURE;
         for (size_t i = 0; i < g->tri_count; i++)
             if (g->tri_material[i] == ST_GLTF_NO_MATERIAL)
                 g->tri_material[i] = (uint32_t)g->material_count;

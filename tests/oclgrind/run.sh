@@ -47,9 +47,16 @@ run "packets of 8 rays (camera, shadow), shade in 8 lanes, direct" render $D --s
 run "packets of 8 rays (every closest hit), path" render $D --spp 2 --max-depth 2 --packets all --lanes 8 -o "$T/l.exr"
 run "packets of 16 rays, shade in 16 lanes, path" render $D --spp 2 --max-depth 2 --packets all --lanes 16 -o "$T/l16.exr"
 run "packets of 1 ray (one lane), direct" render $D --spp 2 --integrator direct --packets all -o "$T/n.exr"
-# the layers' rows: a clear coat with its own normal map, thin-walled glass
+# the layers' rows: a clear coat with its own normal map, thin-walled glass,
+# a textured anisotropic metal beside an isotropic one (lanes of both), a
+# diffusely transmitting sheet with a lamp behind it, iridescent quads, a
+# dispersive slab
 run "clear coat's normal map, 8 lanes" render tests/scenes/coat_normal.gltf $D --spp 2 --max-depth 3 --env 1 --lanes 8 -o "$T/cn.exr"
 run "thin-walled glass, 8 lanes" render tests/scenes/thin_pane.gltf $D --spp 2 --max-depth 3 --lanes 8 -o "$T/tw.exr"
+run "anisotropic metal with its texture, 8 lanes" render tests/scenes/aniso_quad.gltf $D --spp 2 --max-depth 3 --env 1 --lanes 8 -o "$T/an.exr"
+run "diffuse transmission, 8 lanes" render tests/scenes/dtrans_lamp.gltf $D --spp 2 --max-depth 3 --env 0 --lanes 8 -o "$T/dt.exr"
+run "iridescence with its textures, 8 lanes" render tests/scenes/irid_quad.gltf $D --spp 2 --max-depth 3 --env 1 --lanes 8 -o "$T/ir.exr"
+run "dispersion through a slab, 8 lanes" render tests/scenes/dispersion_slab.gltf $D --spp 2 --max-depth 4 --env 0 --lanes 8 -o "$T/di.exr"
 # the splat's filter weights in lanes (kernels/filter_lanes.h), its tiles
 # shared by a work-group here: lanczos' turns in 8 lanes, catmull-rom's in
 # 4 with an adaptive render's weighted rounds

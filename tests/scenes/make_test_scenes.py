@@ -38,7 +38,7 @@ cutout        two quads seen by an orthographic camera: the front one red,
               (both Lambertian: specularFactor 0).
 image_*       textured_quad with an image that cannot be decoded or read: a
               warning, and a white texture in its place.
-uses_iridescence  textured_quad using (not requiring) KHR_materials_iridescence: a
+uses_variants textured_quad using (not requiring) KHR_materials_variants: a
               warning.
 quad_strip, quad_fan  the quad as a TRIANGLE_STRIP and as a TRIANGLE_FAN.
 quad_sparse   the quad with vertex 2 moved to (2, 3, 0) by a sparse accessor
@@ -161,6 +161,34 @@ sheen_quad    two Lambertian quads (specularFactor 0) side by side, turned 60
               sheen: glass's floor, wall and light with a red velvet sphere
               (sheen 0.9, roughness 0.3), a rough gold one under sheen and coat
               and glass under a sheen.
+aniso_mitsuba glass_mitsuba's floor and wall with three white metal spheres
+              (roughness 0.2; 32 rings and 48 segments with texture
+              coordinates, so tangents run along the latitudes) under
+              KHR_materials_anisotropy: strength 0, 0.5 along the tangent and
+              0.5 turned by 90 degrees (what Mitsuba's roughconductor with
+              alpha_u, alpha_v matches).
+aniso_quad    sheen_quad's two tilted quads (texture coordinates: u along x),
+              white metals: left of roughness 0.4 under anisotropy 0.8 turned
+              by 0.5 radians x an anisotropyTexture of direction (1, 1) and
+              strength 128 / 255 (texel (255, 255, 128)), right of roughness
+              0.3 with strength 0 (isotropic).
+dtrans_lamp   a white Lambertian sheet (specularFactor 0, [-1, 1]² at z = 0,
+              facing +Z, filling an orthographic view from z = 5) under
+              KHR_materials_diffuse_transmission: factor 0.75 x a texture of
+              A 204 (0.6), colour (1, 0.5, 1) x an sRGB texture (255, 255,
+              128); behind it, at z = -0.5, a lamp [-1.5, 1.5]² facing it
+              (emission 1, black).
+irid_quad     sheen_quad's two tilted quads, smooth (roughness 0): left a black
+              dielectric under KHR_materials_iridescence (factor 1 x texture R
+              191, ior 1.3, thickness 200 .. 600 nm by texture G 128), right a
+              metal of base colour (0.9, 0.6, 0.3) under a film of factor 0.5
+              and ior 1.8 (thickness: the default maximum, 400 nm).
+dispersion_slab  a smooth glass slab (a solid: KHR_materials_volume) 1 thick,
+              turned 45 degrees about y, between an orthographic camera looking
+              down -z (view [-1, 1] x [-0.5, 0.5]) and a thin emissive line (0.06
+              wide, emission 10) at z = -4: KHR_materials_dispersion 5 (V_d 4);
+              dispersion_slab_zero with dispersion 0; clear_slab without the
+              extension.
 bad_*         malformed files, each wrong in one way (named by the file).
 markers       two small unlit cubes (half side 0.01), white at (1, 2, -3) and red
               at (1.5, 2.25, -3.5), no camera: --look-at puts them where the
@@ -1097,9 +1125,11 @@ def cube_prim(b, half):
             "indices": b.accessor(struct.pack("<36H", *ind), 5123, 36, "SCALAR")}
 
 
-def sphere_prim(b, radius, rings=16, segments=24):
-    """A UV sphere with smooth normals, outwards."""
-    pos, nrm, ind = [], [], []
+def sphere_prim(b, radius, rings=16, segments=24, uv=False):
+    """A UV sphere with smooth normals, outwards; with `uv`, TEXCOORD_0 u
+    along the segments (east, about +y) and v along the rings (north to
+    south)."""
+    pos, nrm, ind, tex = [], [], [], []
     for i in range(rings + 1):
         th = math.pi * i / rings
         for j in range(segments + 1):
@@ -1107,6 +1137,7 @@ def sphere_prim(b, radius, rings=16, segments=24):
             n = [math.sin(th) * math.cos(ph), math.cos(th), -math.sin(th) * math.sin(ph)]
             nrm += n
             pos += [radius * c for c in n]
+            tex += [j / segments, i / rings]
     for i in range(rings):
         for j in range(segments):
             a, c = i * (segments + 1) + j, (i + 1) * (segments + 1) + j
@@ -1115,11 +1146,13 @@ def sphere_prim(b, radius, rings=16, segments=24):
             if i < rings - 1:
                 ind += [a + 1, c, c + 1]
     count = len(pos) // 3
-    return {"attributes": {"POSITION": b.accessor(f32(pos), 5126, count, "VEC3",
-                                                  min=[-radius] * 3, max=[radius] * 3),
-                           "NORMAL": b.accessor(f32(nrm), 5126, count, "VEC3")},
-            "indices": b.accessor(struct.pack("<%dH" % len(ind), *ind), 5123, len(ind),
-                                  "SCALAR")}
+    p = {"attributes": {"POSITION": b.accessor(f32(pos), 5126, count, "VEC3",
+                                               min=[-radius] * 3, max=[radius] * 3),
+                        "NORMAL": b.accessor(f32(nrm), 5126, count, "VEC3")},
+         "indices": b.accessor(struct.pack("<%dH" % len(ind), *ind), 5123, len(ind), "SCALAR")}
+    if uv:
+        p["attributes"]["TEXCOORD_0"] = b.accessor(f32(tex), 5126, count, "VEC2")
+    return p
 
 
 # KHR_materials_volume with a thickness: the mesh bounds a solid (without
@@ -1194,7 +1227,7 @@ def write_glass():
                               "KHR_materials_volume": SOLID,
                               "KHR_materials_ior": {"ior": 1.33}})
     write_json("glass_mitsuba.gltf", glass_scene(tinted, light=False))
-    write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, coarse=True))
+    write_json("glass_mitsuba_coarse.gltf", glass_scene(tinted, light=False, size=(6, 8)))
     # glass_mitsuba with its three spheres smooth and thin-walled (no
     # KHR_materials_volume): what Mitsuba's thindielectric matches
     g = glass_scene(tinted, light=False)
@@ -1321,15 +1354,146 @@ def write_sheen():
     write_json("sheen.gltf", g)
 
 
-def glass_scene(third, light, coarse=False):
+def anisotropic(strength, rotation=0.0, roughness=0.3, texture=None):
+    """A white metal (F = 1) of `roughness` under KHR_materials_anisotropy."""
+    ext = {"anisotropyStrength": strength, "anisotropyRotation": rotation}
+    if texture is not None:
+        ext["anisotropyTexture"] = {"index": texture}
+    return {"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                                     "metallicFactor": 1.0, "roughnessFactor": roughness},
+            "extensions": {"KHR_materials_anisotropy": ext}}
+
+
+def write_anisotropy():
+    """aniso_mitsuba and aniso_quad (see the top)."""
+    # fine spheres: where smooth normals stray from coarse facets at the
+    # outline, strata and Mitsuba treat a glossy lobe below the facet
+    # differently (integrator.h adapted_normal), which is not anisotropy
+    g = glass_scene(anisotropic(0.5, math.pi / 2, roughness=0.2), light=False, size=(32, 48),
+                    uv=True)
+    g["materials"][3] = anisotropic(0.0, roughness=0.2)
+    g["materials"][4] = anisotropic(0.5, roughness=0.2)
+    g["extensionsUsed"].append("KHR_materials_anisotropy")
+    write_json("aniso_mitsuba.gltf", g)
+    b = Blob()
+    left, right = b.quad(0.0, QUAD_UV), b.quad(0.0, QUAD_UV)
+    left["material"], right["material"] = 0, 1
+    tilt = [math.sin(math.radians(-30.0)), 0.0, 0.0, math.cos(math.radians(-30.0))]
+    # the texel: direction (1, 1) as RG (255, 255), strength 128 / 255 as B
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0], "rotation": tilt},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0], "rotation": tilt},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=[anisotropic(0.8, 0.5, roughness=0.4, texture=0), anisotropic(0.0)],
+            images=[{"uri": png_uri(constant_png((255, 255, 128)))}],
+            textures=[{"source": 0}], extensionsUsed=["KHR_materials_anisotropy"])
+    write_json("aniso_quad.gltf", g)
+
+
+def write_diffuse_transmission():
+    """dtrans_lamp (see the top)."""
+    b = Blob()
+    sheet, lamp = b.quad(0.0, QUAD_UV), b.quad(0.0)
+    sheet["material"], lamp["material"] = 0, 1
+    spec0 = {"KHR_materials_specular": {"specularFactor": 0.0}}
+    dt = {"diffuseTransmissionFactor": 0.75, "diffuseTransmissionTexture": {"index": 0},
+          "diffuseTransmissionColorFactor": [1.0, 0.5, 1.0],
+          "diffuseTransmissionColorTexture": {"index": 1}}
+    materials = [{"pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                                           "metallicFactor": 0.0},
+                  "extensions": dict(spec0, KHR_materials_diffuse_transmission=dt)},
+                 {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                           "metallicFactor": 0.0},
+                  "emissiveFactor": [1.0, 1.0, 1.0], "extensions": spec0}]
+    images = [{"uri": png_uri(png(4, 4, 4, [[255, 255, 255, 204] * 4] * 4))},
+              {"uri": png_uri(constant_png((255, 255, 128)))}]
+    g = doc([{"primitives": [sheet]}, {"primitives": [lamp]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0}, {"mesh": 1, "translation": [0.0, 0.0, -0.5],
+                                 "scale": [1.5, 1.5, 1.0]},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 1.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=materials, images=images, textures=[{"source": 0}, {"source": 1}],
+            extensionsUsed=["KHR_materials_diffuse_transmission", "KHR_materials_specular"])
+    write_json("dtrans_lamp.gltf", g)
+
+
+def write_iridescence():
+    """irid_quad (see the top)."""
+    b = Blob()
+    left, right = b.quad(0.0, QUAD_UV), b.quad(0.0, QUAD_UV)
+    left["material"], right["material"] = 0, 1
+    tilt = [math.sin(math.radians(-30.0)), 0.0, 0.0, math.cos(math.radians(-30.0))]
+    film = {"iridescenceFactor": 1.0, "iridescenceIor": 1.3, "iridescenceTexture": {"index": 0},
+            "iridescenceThicknessMinimum": 200.0, "iridescenceThicknessMaximum": 600.0,
+            "iridescenceThicknessTexture": {"index": 0}}
+    materials = [{"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                           "metallicFactor": 0.0, "roughnessFactor": 0.0},
+                  "extensions": {"KHR_materials_iridescence": film}},
+                 {"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.6, 0.3, 1.0],
+                                           "metallicFactor": 1.0, "roughnessFactor": 0.0},
+                  "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 0.5,
+                                                               "iridescenceIor": 1.8}}}]
+    g = doc([{"primitives": [left]}, {"primitives": [right]}], b.accessors, b.views,
+            b.buffers(),
+            nodes=[{"mesh": 0, "translation": [-1.0, 0.0, 0.0], "rotation": tilt},
+                   {"mesh": 1, "translation": [1.0, 0.0, 0.0], "rotation": tilt},
+                   ortho_camera_node()],
+            scenes=[{"nodes": [0, 1, 2]}],
+            cameras=[{"type": "orthographic", "orthographic": {"xmag": 2.0, "ymag": 1.0,
+                                                               "zfar": 100.0, "znear": 0.01}}],
+            materials=materials,
+            images=[{"uri": png_uri(png(4, 4, 4, [[191, 128, 0, 255] * 4] * 4))}],
+            textures=[{"source": 0}], extensionsUsed=["KHR_materials_iridescence"])
+    write_json("irid_quad.gltf", g)
+
+
+def write_dispersion():
+    """dispersion_slab, _zero and clear_slab (see the top)."""
+    for name, dispersion in (("dispersion_slab", 5.0), ("dispersion_slab_zero", 0.0),
+                             ("clear_slab", None)):
+        b = Blob()
+        slab, line = cube_prim(b, 0.5), b.quad(0.0)
+        slab["material"], line["material"] = 0, 1
+        glass = glass_material()
+        if dispersion is not None:
+            glass["extensions"]["KHR_materials_dispersion"] = {"dispersion": dispersion}
+        lamp = {"pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0],
+                                         "metallicFactor": 0.0},
+                "emissiveFactor": [1.0, 1.0, 1.0],
+                "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 10.0}}}
+        turn = [0.0, math.sin(math.radians(22.5)), 0.0, math.cos(math.radians(22.5))]
+        used = GLASS_EXTENSIONS + ["KHR_materials_emissive_strength"]
+        if dispersion is not None:
+            used.append("KHR_materials_dispersion")
+        g = doc([{"primitives": [slab]}, {"primitives": [line]}], b.accessors, b.views,
+                b.buffers(),
+                nodes=[{"mesh": 0, "rotation": turn, "scale": [1.0, 4.0, 4.0]},
+                       {"mesh": 1, "translation": [0.0, 0.0, -4.0], "scale": [0.03, 2.0, 1.0]},
+                       ortho_camera_node()],
+                scenes=[{"nodes": [0, 1, 2]}],
+                cameras=[{"type": "orthographic",
+                          "orthographic": {"xmag": 1.0, "ymag": 0.5, "zfar": 100.0,
+                                           "znear": 0.01}}],
+                materials=[glass, lamp], extensionsUsed=used)
+        write_json(name + ".gltf", g)
+
+
+def glass_scene(third, light, size=(16, 24), uv=False):
     """A Lambertian floor and back wall, a quad light above (where `light`),
-    a smooth glass sphere, a rough one with absorption and `third` (of 6
-    rings and 8 segments where `coarse`, with smooth normals)."""
+    a smooth glass sphere, a rough one with absorption and `third` (of the
+    rings and segments `size` gives, with smooth normals; with texture
+    coordinates where `uv`)."""
     b = Blob()
     lambert = {"KHR_materials_specular": {"specularFactor": 0.0}}
     floor, wall, lamp = b.quad(0.0), b.quad(0.0), b.quad(0.0)
-    size = (6, 8) if coarse else (16, 24)
-    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45, *size) for _ in range(3)]
+    prims = [floor, wall, lamp] + [sphere_prim(b, 0.45, *size, uv=uv) for _ in range(3)]
     for k, p in enumerate(prims):
         p["material"] = k
     materials = [
@@ -1536,8 +1700,8 @@ def write_bad():
     # occlusionTexture is not read: one warning
     variant("occlusion.gltf",
             lambda g: g["materials"][0].update(occlusionTexture={"index": 0}))
-    variant("uses_iridescence.gltf",
-            lambda g: g.update(extensionsUsed=["KHR_materials_iridescence"]))
+    variant("uses_variants.gltf",
+            lambda g: g.update(extensionsUsed=["KHR_materials_variants"]))
     variant("bad_texture_index.gltf", lambda g: g["materials"][0]["pbrMetallicRoughness"]
             ["baseColorTexture"].update(index=7))
     variant("bad_image_index.gltf", lambda g: g["textures"][1].update(source=9))
@@ -1735,6 +1899,10 @@ def main():
     write_glass()
     write_coat()
     write_sheen()
+    write_anisotropy()
+    write_diffuse_transmission()
+    write_iridescence()
+    write_dispersion()
     write_dark_views()
     write_glass_panes()
     write_quantized()

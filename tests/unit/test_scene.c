@@ -792,8 +792,8 @@ static void unreadable_images_and_unknown_extensions_warn(void **state)
     s = load_ok(SCENES "textured_quad.gltf"); /* none: no word */
     assert_false(has_warning(s, "occlusionTexture"));
     st_scene_destroy(s);
-    s = load_ok(SCENES "uses_iridescence.gltf");
-    assert_true(has_warning(s, "uses extension KHR_materials_iridescence, which strata ignores"));
+    s = load_ok(SCENES "uses_variants.gltf");
+    assert_true(has_warning(s, "uses extension KHR_materials_variants, which strata ignores"));
     st_scene_destroy(s);
 }
 
@@ -942,9 +942,255 @@ static void sheen_is_imported(void **state)
     st_scene_destroy(s);
 }
 
+/* A copy of file with material `mat`'s extension `name` replaced by the
+ * JSON object `ext`, written to dir/variant.gltf (its path in path). */
+static void write_ext_variant(const char *file, int mat, const char *name, const char *ext,
+                              const char *dir, char *path, size_t len)
+{
+    size_t size;
+    unsigned char *data = read_all(file, &size);
+    cJSON *doc = cJSON_ParseWithLength((const char *)data, size);
+    assert_non_null(doc);
+    cJSON *exts = cJSON_GetObjectItem(
+        cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "materials"), mat), "extensions");
+    cJSON *value = cJSON_Parse(ext);
+    assert_non_null(value);
+    cJSON_ReplaceItemInObject(exts, name, value);
+    char *text = cJSON_PrintUnformatted(doc);
+    snprintf(path, len, "%s/variant.gltf", dir);
+    write_all(path, (const unsigned char *)text, strlen(text));
+    cJSON_free(text);
+    cJSON_Delete(doc);
+    free(data);
+}
+
+/* KHR_materials_anisotropy as the specification names it
+ * (tests/scenes/aniso_quad.gltf): anisotropyStrength, anisotropyRotation
+ * as its cosine and sine, anisotropyTexture read linear, ST_MAT_ANISO where
+ * the strength is above 0, and no warning; the material without the
+ * extension gets strength 0 and rotation 0. A strength outside [0, 1], or a
+ * rotation or strength that is no number, is an error naming the material;
+ * an anisotropyTexture that cannot be read is left out, with a warning. */
+static void anisotropy_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "aniso_quad.gltf");
+    assert_false(has_warning(s, "KHR_materials_anisotropy"));
+    const st_material *m = &s->materials[0], *w = &s->materials[1];
+    near(m->anisotropy[0], 0.8, 1e-7, "anisotropyStrength");
+    near(m->anisotropy[1], cos(0.5), 1e-6, "cos anisotropyRotation");
+    near(m->anisotropy[2], sin(0.5), 1e-6, "sin anisotropyRotation");
+    assert_true(m->flags & ST_MAT_ANISO);
+    assert_int_not_equal(m->anisotropy_tex, ST_NO_TEXTURE);
+    assert_false(s->textures[m->anisotropy_tex].flags & ST_TEX_SRGB);
+    assert_false(m->flags & ST_MAT_TEXTURED); /* aniso_gather reads it, not material_at */
+    assert_false(w->flags & ST_MAT_ANISO);
+    near(w->anisotropy[0], 0.0, 0.0, "no strength");
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat.gltf"); /* no anisotropy: strength 0, rotation 0 */
+    for (st_u32 i = 0; i < s->material_count; i++) {
+        assert_false(s->materials[i].flags & ST_MAT_ANISO);
+        near3(s->materials[i].anisotropy, 0.0, 1.0, 0.0, 0.0, "no anisotropy");
+        assert_int_equal(s->materials[i].anisotropy_tex, ST_NO_TEXTURE);
+    }
+    st_scene_destroy(s);
+    static const struct {
+        const char *ext, *phrase;
+    } bad[] = {
+        {"{\"anisotropyStrength\": 1.5}",
+         "material 0: KHR_materials_anisotropy: anisotropyStrength 1.5 is not in [0, 1]"},
+        {"{\"anisotropyStrength\": -0.1}", "anisotropyStrength -0.1 is not in [0, 1]"},
+        {"{\"anisotropyStrength\": \"high\"}", "anisotropyStrength is not a number"},
+        {"{\"anisotropyRotation\": \"east\"}", "anisotropyRotation is not a number"},
+        {"{\"anisotropyTexture\": {\"index\": 9}}", "anisotropyTexture: texture 9 out of range"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_ext_variant(SCENES "aniso_quad.gltf", 0, "KHR_materials_anisotropy", bad[k].ext, dir,
+                          path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
+    }
+    /* an unreadable anisotropyTexture is left out (white would turn the
+     * direction by 45 degrees), the factors kept */
+    size_t size;
+    unsigned char *data = read_all(SCENES "aniso_quad.gltf", &size);
+    cJSON *doc = cJSON_ParseWithLength((const char *)data, size);
+    cJSON_ReplaceItemInObject(cJSON_GetArrayItem(cJSON_GetObjectItem(doc, "images"), 0), "uri",
+                              cJSON_CreateString("no_such_aniso_map.png"));
+    char *text = cJSON_PrintUnformatted(doc);
+    write_all(path, (const unsigned char *)text, strlen(text));
+    cJSON_free(text);
+    cJSON_Delete(doc);
+    free(data);
+    s = load_ok(path);
+    assert_int_equal(s->materials[0].anisotropy_tex, ST_NO_TEXTURE);
+    near(s->materials[0].anisotropy[0], 0.8, 1e-7, "anisotropyStrength kept");
+    assert_true(has_warning(s, "material 0: anisotropyTexture: image 0 (no_such_aniso_map.png): "
+                               "cannot read it: left out (the factors kept)"));
+    assert_false(has_warning(s, "replaced by a white"));
+    st_scene_destroy(s);
+    unlink(path);
+    rmdir(dir);
+}
+
+/* KHR_materials_diffuse_transmission as the specification names it
+ * (tests/scenes/dtrans_lamp.gltf): the factor and the colour factor, the
+ * texture read linear and the colour texture as sRGB, ST_MAT_DIFFUSE_TRANS
+ * where the factor is above 0 and a surface met from both sides
+ * (ST_MAT_DOUBLE_SIDED, as a transmissive one), and no warning; without
+ * the extension, factor 0 and colour 1. A factor outside [0, 1] or one that
+ * is no number is an error naming the material. */
+static void diffuse_transmission_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "dtrans_lamp.gltf");
+    assert_false(has_warning(s, "KHR_materials_diffuse_transmission"));
+    const st_material *m = &s->materials[0], *lamp = &s->materials[1];
+    near(m->diffuse_trans[3], 0.75, 0.0, "diffuseTransmissionFactor");
+    near3(m->diffuse_trans, 1.0, 0.5, 1.0, 0.0, "diffuseTransmissionColorFactor");
+    assert_true(m->flags & ST_MAT_DIFFUSE_TRANS);
+    assert_true(m->flags & ST_MAT_DOUBLE_SIDED);
+    assert_int_not_equal(m->diffuse_trans_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(m->diffuse_trans_color_tex, ST_NO_TEXTURE);
+    assert_false(s->textures[m->diffuse_trans_tex].flags & ST_TEX_SRGB);
+    assert_true(s->textures[m->diffuse_trans_color_tex].flags & ST_TEX_SRGB);
+    assert_false(m->flags & ST_MAT_TEXTURED); /* dtrans_gather reads them, not material_at */
+    assert_false(lamp->flags & (ST_MAT_DIFFUSE_TRANS | ST_MAT_DOUBLE_SIDED));
+    near(lamp->diffuse_trans[3], 0.0, 0.0, "no diffuse transmission");
+    near3(lamp->diffuse_trans, 1.0, 1.0, 1.0, 0.0, "its colour");
+    assert_int_equal(lamp->diffuse_trans_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+    static const struct {
+        const char *ext, *phrase;
+    } bad[] = {
+        {"{\"diffuseTransmissionFactor\": 1.5}", "material 0: KHR_materials_diffuse_transmission: "
+                                                 "diffuseTransmissionFactor and "
+                                                 "diffuseTransmissionColorFactor must lie in [0, 1]"},
+        {"{\"diffuseTransmissionColorFactor\": [1, -0.5, 1]}", "must lie in [0, 1]"},
+        {"{\"diffuseTransmissionColorFactor\": [1, 1]}",
+         "diffuseTransmissionColorFactor must be an array of 3 numbers"},
+        {"{\"diffuseTransmissionFactor\": \"half\"}", "diffuseTransmissionFactor is not a number"},
+        {"{\"diffuseTransmissionTexture\": {\"index\": 5}}",
+         "diffuseTransmissionTexture: texture 5 out of range"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_ext_variant(SCENES "dtrans_lamp.gltf", 0, "KHR_materials_diffuse_transmission",
+                          bad[k].ext, dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
+    }
+    unlink(path);
+    rmdir(dir);
+}
+
+/* KHR_materials_iridescence as the specification names it
+ * (tests/scenes/irid_quad.gltf): the factor, the film's ior and thickness
+ * range (100 and 400 nm by default), both textures read linear,
+ * ST_MAT_IRIDESCENT where the factor is above 0, and no warning; without
+ * the extension, factor 0. Out-of-range values are errors naming the
+ * material. */
+static void iridescence_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "irid_quad.gltf");
+    assert_false(has_warning(s, "KHR_materials_iridescence"));
+    const st_material *m = &s->materials[0], *w = &s->materials[1];
+    const float want_m[4] = {1.0f, 1.3f, 200.0f, 600.0f}, want_w[4] = {0.5f, 1.8f, 100.0f, 400.0f};
+    for (int k = 0; k < 4; k++) {
+        near(m->iridescence[k], want_m[k], 0.0, "iridescence (textured)");
+        near(w->iridescence[k], want_w[k], 0.0, "iridescence (defaults)");
+    }
+    assert_true((m->flags & ST_MAT_IRIDESCENT) && (w->flags & ST_MAT_IRIDESCENT));
+    assert_int_not_equal(m->iridescence_tex, ST_NO_TEXTURE);
+    assert_int_not_equal(m->iridescence_thickness_tex, ST_NO_TEXTURE);
+    assert_false(s->textures[m->iridescence_tex].flags & ST_TEX_SRGB);
+    assert_false(s->textures[m->iridescence_thickness_tex].flags & ST_TEX_SRGB);
+    assert_false(m->flags & ST_MAT_TEXTURED); /* irid_gather reads them, not material_at */
+    assert_int_equal(w->iridescence_tex, ST_NO_TEXTURE);
+    st_scene_destroy(s);
+    s = load_ok(SCENES "coat.gltf");
+    for (st_u32 i = 0; i < s->material_count; i++) {
+        assert_false(s->materials[i].flags & ST_MAT_IRIDESCENT);
+        near(s->materials[i].iridescence[0], 0.0, 0.0, "no iridescence");
+    }
+    st_scene_destroy(s);
+    static const struct {
+        const char *ext, *phrase;
+    } bad[] = {
+        {"{\"iridescenceFactor\": 2}",
+         "material 0: KHR_materials_iridescence: iridescenceFactor 2 is not in [0, 1]"},
+        {"{\"iridescenceFactor\": 1, \"iridescenceIor\": 0.5}",
+         "iridescenceIor 0.5 is not a finite number >= 1"},
+        {"{\"iridescenceFactor\": 1, \"iridescenceThicknessMinimum\": -10}",
+         "iridescenceThicknessMinimum and ..Maximum must be finite and >= 0"},
+        {"{\"iridescenceFactor\": \"all\"}", "iridescenceFactor is not a number"},
+        {"{\"iridescenceThicknessTexture\": {\"index\": 4}}",
+         "iridescenceThicknessTexture: texture 4 out of range"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_ext_variant(SCENES "irid_quad.gltf", 0, "KHR_materials_iridescence", bad[k].ext,
+                          dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, bad[k].phrase);
+    }
+    unlink(path);
+    rmdir(dir);
+}
+
+/* KHR_materials_dispersion (tests/scenes/dispersion_slab.gltf and its
+ * variants): the value, ST_MAT_DISPERSIVE on a solid transmissive
+ * material with dispersion above 0 only (not at 0, not without the
+ * extension, not on a thin wall), no warning; a negative value or one that
+ * is no number is an error naming the material. */
+static void dispersion_is_imported(void **state)
+{
+    (void)state;
+    st_scene *s = load_ok(SCENES "dispersion_slab.gltf");
+    assert_false(has_warning(s, "KHR_materials_dispersion"));
+    near(s->materials[0].dispersion, 5.0, 0.0, "dispersion");
+    assert_true(s->materials[0].flags & ST_MAT_DISPERSIVE);
+    assert_false(s->materials[1].flags & ST_MAT_DISPERSIVE); /* the lamp */
+    st_scene_destroy(s);
+    const char *none[] = {SCENES "dispersion_slab_zero.gltf", SCENES "clear_slab.gltf"};
+    for (int k = 0; k < 2; k++) {
+        s = load_ok(none[k]);
+        assert_false(s->materials[0].flags & ST_MAT_DISPERSIVE);
+        near(s->materials[0].dispersion, 0.0, 0.0, "no dispersion");
+        st_scene_destroy(s);
+    }
+    static const struct {
+        const char *ext, *phrase;
+    } cases[] = {
+        {"{\"dispersion\": -1}",
+         "material 0: KHR_materials_dispersion: dispersion -1 is not a finite number >= 0"},
+        {"{\"dispersion\": \"much\"}", "dispersion is not a number"},
+    };
+    char dir[64], path[128];
+    make_scratch(dir);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        write_ext_variant(SCENES "dispersion_slab.gltf", 0, "KHR_materials_dispersion",
+                          cases[k].ext, dir, path, sizeof path);
+        load_fails(path, ST_ERR_FORMAT, path, cases[k].phrase);
+    }
+    /* a thin wall (no KHR_materials_volume) bends no ray: no dispersion */
+    write_ext_variant(SCENES "dispersion_slab.gltf", 0, "KHR_materials_volume", "{}", dir, path,
+                      sizeof path);
+    s = load_ok(path);
+    assert_true(s->materials[0].flags & ST_MAT_THIN);
+    assert_false(s->materials[0].flags & ST_MAT_DISPERSIVE);
+    st_scene_destroy(s);
+    unlink(path);
+    rmdir(dir);
+}
+
 /* ST_MAT_TEXTURED, the one test material_at makes before its texture
  * lookups: set by each of the ten textured factors it reads alone, not by
- * the sheen's (sheen_gather reads those), and on the imported materials
+ * the sheen's, the anisotropy's, the diffuse transmission's or the
+ * film's (sheen_gather and the other gathers read those), and on the
+ * imported materials
  * exactly where one of the ten has a texture. */
 static void textured_flag_follows_the_factors(void **state)
 {
@@ -953,7 +1199,9 @@ static void textured_flag_follows_the_factors(void **state)
     st_u32 *slot[] = {&m.base_color_tex,   &m.emission_tex,   &m.metallic_roughness_tex,
                       &m.specular_tex,     &m.specular_color_tex, &m.normal_tex,
                       &m.transmission_tex, &m.clearcoat_tex,  &m.clearcoat_roughness_tex,
-                      &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex};
+                      &m.clearcoat_normal_tex, &m.sheen_color_tex, &m.sheen_roughness_tex,
+                      &m.anisotropy_tex, &m.diffuse_trans_tex, &m.diffuse_trans_color_tex,
+                      &m.iridescence_tex, &m.iridescence_thickness_tex};
     const size_t slots = sizeof slot / sizeof slot[0];
     for (size_t k = 0; k <= slots; k++) { /* k = slots: none textured */
         memset(&m, 0, sizeof m);
@@ -1562,6 +1810,10 @@ int main(void)
         cmocka_unit_test(unreadable_normal_map_is_left_out),
         cmocka_unit_test(transmission_without_volume_is_thin),
         cmocka_unit_test(sheen_is_imported),
+        cmocka_unit_test(anisotropy_is_imported),
+        cmocka_unit_test(diffuse_transmission_is_imported),
+        cmocka_unit_test(iridescence_is_imported),
+        cmocka_unit_test(dispersion_is_imported),
         cmocka_unit_test(textured_flag_follows_the_factors),
         cmocka_unit_test(auto_camera_sees_the_front),
         cmocka_unit_test(look_at_builds_the_view),
