@@ -58,8 +58,11 @@ typedef enum st_env_default {
     ST_ENV_DIM_EMITTERS,  /* on: its emitters are no brighter than white */
     ST_ENV_OWN_LIGHTS,    /* off: lamps and punctual lights carry most of the power */
     ST_ENV_ENCLOSED,      /* off: the default camera sits inside a closed model */
-    ST_ENV_DARK_VIEW      /* dim: own lights carry most of the power but leave most of the
+    ST_ENV_DARK_VIEW,     /* dim: own lights carry most of the power but leave most of the
                              default view dark */
+    ST_ENV_HEADLIGHT      /* off: nothing emits and the default camera sits inside a closed
+                             model, where no sky reaches; a point light at that camera, as a
+                             viewer's headlight, is added to the punctual lights */
 } st_env_default;
 
 /* A loaded scene; owns every array (st_scene_destroy frees them).

@@ -169,6 +169,9 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
                               "white one)",
         [ST_ENV_ENCLOSED] = "the camera is inside a closed model; no environment (--env 1 for "
                             "a white one)",
+        [ST_ENV_HEADLIGHT] = "nothing in it emits light and the camera is inside a closed "
+                             "model, where no sky reaches; a light at the default camera "
+                             "lights it (add lights to the scene to change)",
         [ST_ENV_DARK_VIEW] = "its own lights would leave most of the view black; the default "
                              "sky is kept, dimmed to 0.25 (--env 0 to turn it off)",
     };

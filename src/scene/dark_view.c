@@ -154,6 +154,47 @@ static int lit(const st_scene *s, const st_bvh *bvh, const st_u32 *emitters, st_
     return 0;
 }
 
+/* The scene's BVH as the kernels trace it (one-sided surfaces culled). */
+static st_status view_bvh(const st_scene *s, st_bvh **bvh, st_error *err)
+{
+    if (st_bvh_build(s->positions, s->tri_count, bvh, err) != ST_OK)
+        return err->status;
+    st_bvh_set_sides(*bvh, s->tri_material, s->materials);
+    return ST_OK;
+}
+
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+st_status st_scene_view_distance(const st_scene *s, double *distance, st_error *err)
+{
+    *distance = 0.0;
+    if (s->tri_count == 0)
+        return ST_OK;
+    st_bvh *bvh = NULL;
+    if (view_bvh(s, &bvh, err) != ST_OK)
+        return err->status;
+    double t[DARK_GRID * DARK_GRID];
+    int n = 0;
+    for (int j = 0; j < DARK_GRID; j++)
+        for (int i = 0; i < DARK_GRID; i++) {
+            st_ray ray;
+            st_hit hit;
+            grid_ray(&s->default_camera, i, j, &ray);
+            if (st_intersect_wide_closest(bvh->wide, &ray, &hit))
+                t[n++] = hit.t;
+        }
+    st_bvh_destroy(bvh);
+    if (n > 0) {
+        qsort(t, (size_t)n, sizeof t[0], by_value);
+        *distance = t[n / 10];
+    }
+    return ST_OK;
+}
+
 st_status st_scene_dark_fraction(const st_scene *s, double *fraction, st_error *err)
 {
     *fraction = 1.0;
@@ -166,11 +207,10 @@ st_status st_scene_dark_fraction(const st_scene *s, double *fraction, st_error *
     for (st_u32 t = 0; t < s->tri_count; t++)
         if (emits(&s->materials[s->tri_material[t]]))
             emitters[emitter_count++] = t;
-    if (st_bvh_build(s->positions, s->tri_count, &bvh, err) != ST_OK) {
+    if (view_bvh(s, &bvh, err) != ST_OK) {
         free(emitters);
         return err->status;
     }
-    st_bvh_set_sides(bvh, s->tri_material, s->materials);
     float extent = 0.0f; /* the renderer's ray offset (device_scene.c) */
     for (int a = 0; a < 3; a++)
         extent = fmaxf(extent, fmaxf(fabsf(s->bounds_min[a]), fabsf(s->bounds_max[a])));

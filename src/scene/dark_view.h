@@ -14,4 +14,9 @@
  * default camera. ST_ERR_NOMEM. */
 st_status st_scene_dark_fraction(const st_scene *s, double *fraction, st_error *err);
 
+/* The distance from the default camera within which the nearest tenth of
+ * what the same grid of its rays meets lies (the tenth percentile), in
+ * *distance; 0 where no ray meets anything. ST_ERR_NOMEM. */
+st_status st_scene_view_distance(const st_scene *s, double *distance, st_error *err);
+
 #endif

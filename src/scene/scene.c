@@ -644,8 +644,9 @@ static double ray_triangle(const st_scene *s, st_u32 t, const double o[3], const
 /* Does the default camera sit inside a closed model? Only a camera inside
  * the bounds can; then ENCLOSED_RAYS rays from it, spread evenly over the
  * sphere (a Fibonacci lattice), must each meet a triangle. Brute force
- * over the triangles: it runs only for scenes whose emitters are dim (see
- * choose_default_env) and stops at the first ray that escapes. */
+ * over the triangles: it runs only for scenes whose emitters are dim or
+ * that emit nothing (see choose_default_env) and stops at the first ray
+ * that escapes. */
 #define ENCLOSED_RAYS 64
 static int camera_enclosed(const st_scene *s)
 {
@@ -666,6 +667,44 @@ static int camera_enclosed(const st_scene *s)
     return 1;
 }
 
+/* The most radiant intensity a light may have per channel (colour x intensity, W/sr): each factor
+ * is bounded alike in the file, but their product, in float, may pass FLT_MAX and leave every
+ * sample it lights non-finite. Far above any physical lamp, far below the float range. */
+#define MAX_LIGHT_INTENSITY 1e30
+
+/* ST_ENV_HEADLIGHT's light: a white point light at the default camera of
+ * radiant intensity pi d^2, d the distance of the nearest tenth of the view
+ * (dark_view.h), so that a white Lambertian surface facing it there shows
+ * radiance 1, as under a white sky: the near part of the view looks as a
+ * sky would light it, and the light's fall-off darkens what lies farther
+ * (a median measured from the far walls of a city blew the near models out
+ * to white). Appended to the punctual lights, its power counted. */
+static st_status add_headlight(st_scene *s, st_error *err)
+{
+    double d = 0.0;
+    if (st_scene_view_distance(s, &d, err) != ST_OK)
+        return err->status;
+    if (!(d > 0.0))
+        d = st_scene_radius(s);
+    st_punctual *lights = realloc(s->punctual, (s->punctual_count + 1u) * sizeof *lights);
+    if (!lights)
+        return st_fail(err, ST_ERR_NOMEM, "out of memory adding a light at the camera");
+    s->punctual = lights;
+    st_punctual *l = &lights[s->punctual_count++];
+    double intensity = fmin(PI * d * d, MAX_LIGHT_INTENSITY);
+    for (int k = 0; k < 3; k++) {
+        l->pos[k] = s->default_camera.origin[k];
+        l->dir[k] = s->default_camera.forward[k];
+        l->intensity[k] = (float)intensity;
+    }
+    l->pos[3] = (float)ST_PUNCT_POINT;
+    l->dir[3] = l->intensity[3] = -1.0f;
+    double power = st_punctual_power(l, st_scene_radius(s));
+    s->punctual_power += power;
+    s->emitted_power += power;
+    return ST_OK;
+}
+
 /* The environment a render that names none gets (st_scene.h). White
  * radiance 1 unless the scene's own lights carry at least half of the
  * power it emits: lamps, emitters brighter than a white surface under that
@@ -674,7 +713,9 @@ static int camera_enclosed(const st_scene *s)
  * dimmer emitters (a screen, a label, a helmet's lights) glow in a lit
  * world; a scene without them would render black. Without lamps the
  * environment is still off when the camera sits inside a closed model,
- * which it could not reach anyway. Where the own lights would leave most
+ * which it could not reach anyway; where nothing emits there, the view
+ * would be black whatever the environment, and a headlight lights it
+ * (add_headlight). Where the own lights would leave most
  * of the default view black (more than DARK_VIEW_MAX of it unreached by
  * any light directly, dark_view.h: a lamp behind glass, a lone directional
  * light from behind, a small model in the dark), a dim environment of
@@ -685,7 +726,7 @@ static st_status choose_default_env(st_scene *s, double lamp_power, st_error *er
 {
     double lights = lamp_power + s->punctual_power, glow = s->emitted_power - lights, dark = 0.0;
     if (s->emitted_power <= 0.0)
-        s->env_default = ST_ENV_NOTHING_EMITS;
+        s->env_default = camera_enclosed(s) ? ST_ENV_HEADLIGHT : ST_ENV_NOTHING_EMITS;
     else if (lights >= glow)
         s->env_default = ST_ENV_OWN_LIGHTS;
     else if (camera_enclosed(s))
@@ -698,6 +739,8 @@ static st_status choose_default_env(st_scene *s, double lamp_power, st_error *er
         if (dark > DARK_VIEW_MAX)
             s->env_default = ST_ENV_DARK_VIEW;
     }
+    if (s->env_default == ST_ENV_HEADLIGHT && add_headlight(s, err) != ST_OK)
+        return err->status;
     float level = s->env_default == ST_ENV_NOTHING_EMITS || s->env_default == ST_ENV_DIM_EMITTERS
                       ? 1.0f
                   : s->env_default == ST_ENV_DARK_VIEW ? DIM_ENV
@@ -745,10 +788,6 @@ static st_status emitted_power(st_scene *s, st_error *err)
     return choose_default_env(s, lamp_power, err);
 }
 
-/* The most radiant intensity a light may have per channel (colour x intensity, W/sr): each factor
- * is bounded alike in the file, but their product, in float, may pass FLT_MAX and leave every
- * sample it lights non-finite. Far above any physical lamp, far below the float range. */
-#define MAX_LIGHT_INTENSITY 1e30
 
 /* A point of the scene, already in float: a coordinate finite as a double (1e39) may not be. */
 static int finite3(const float v[3])

@@ -36,6 +36,12 @@ check "and the environment lights it (against --env 0)" "[ -n '$rmse' ] && awk '
 check "a camera inside a closed model: one note, no environment, --env 1 to add one" \
     "[ \$(wc -l < '$T/err6') -eq 1 ] && grep -q '^strata: note: furnace: the camera is inside a closed model; no environment (--env 1 for a white one)' '$T/err6'"
 
+"$S" render tests/scenes/dark_box.gltf $R -o "$T/dark.exr" 2> "$T/err7"
+check "nothing emits and the camera is enclosed: one note naming the light at the camera" \
+    "[ \$(wc -l < '$T/err7') -eq 1 ] && grep -q '^strata: note: tests/scenes/dark_box.gltf: nothing in it emits light and the camera is inside a closed model, where no sky reaches; a light at the default camera lights it' '$T/err7'"
+rmse=$(mean_of "$T/dark.exr" "$T/black.exr")
+check "and that light lights the view" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
+
 "$S" render tests/scenes/black_emitter.gltf $R --env 0.5 -o "$T/e.exr" 2> "$T/err3"
 check "an --env given is no note" "! grep -q 'note:\|warning:' '$T/err3'"
 "$S" render tests/scenes/punctual.gltf $R -o "$T/p.exr" 2> "$T/err4"

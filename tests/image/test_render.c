@@ -91,6 +91,35 @@ static st_render_options small(st_u32 w, st_u32 h, st_u32 spp)
     return o;
 }
 
+/* tests/scenes/dark_box.gltf: a closed grey (0.5) cube, [-1, 1]^3, that
+ * emits nothing, its camera at the centre looking down -Z (yfov 0.5). No
+ * sky reaches inside, so the scene gains a point light at the camera
+ * (scene.c, add_headlight) of intensity pi d^2, d a distance of the view:
+ * the view's rays meet the -Z wall between 1 and sqrt(1 + 2 tan^2 0.25)
+ * away, so I lies in (pi, 1.129 pi). The centre pixels face the light at
+ * distance 1, and their direct radiance, (rho / pi) I cos / r^2 for a
+ * Lambertian wall, lies in (0.5, 0.565); glTF's dielectric base (F0 0.04,
+ * roughness 1: its diffuse part less what its specular lobe takes, plus that
+ * lobe) and the pixels' few degrees off the axis (cos^3 above 0.99) move it
+ * by a few percent, so 0.47 .. 0.6. Breaks with no light, or one elsewhere
+ * or of another strength. */
+static void enclosed_dark_scene_gets_a_headlight(void **state)
+{
+    (void)state;
+    st_render_options o = small(16, 16, 64);
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    o.integrator = ST_INTEGRATOR_DIRECT;
+    st_image img = render("tests/scenes/dark_box.gltf", &o, NULL);
+    for (st_u32 y = 7; y < 9; y++)
+        for (st_u32 x = 7; x < 9; x++)
+            for (int k = 0; k < 3; k++) {
+                float v = img.data[4 * (y * 16 + x) + k];
+                if (!(v > 0.47f && v < 0.6f))
+                    fail_msg("pixel (%u, %u) channel %d: %.4f, want 0.47 .. 0.6", x, y, k, v);
+            }
+    st_image_free(&img);
+}
+
 static float frand(uint64_t *s)
 {
     *s = *s * 6364136223846793005ull + 1442695040888963407ull;
@@ -1211,6 +1240,7 @@ int main(void)
         cmocka_unit_test(tile_splat_equals_per_sample),
         cmocka_unit_test(shadows_in_shade_equal_stage),
         cmocka_unit_test(golden_cornell_box),
+        cmocka_unit_test(enclosed_dark_scene_gets_a_headlight),
     };
     return cmocka_run_group_tests_name("render", tests, device_setup, device_teardown);
 }

@@ -114,7 +114,8 @@ glow_box      sided_one's closed cube, double-sided, its inside emitting
               radiance 1 (a dim emitter: emissiveFactor 1, no strength), camera 0
               at its centre; glow_box_open: the same without its +z face;
               glow_box_one_sided: one-sided, so the camera inside sees through
-              the backs of its outward-facing walls.
+              the backs of its outward-facing walls. dark_box: the same cube
+              grey (0.5) and emitting nothing: no sky reaches its camera.
 lamp_and_glow the quad emitting radiance 1 (power 4 pi: area 4) and, in front
               of it, the quad scaled by 0.25 (area 0.25) as a lamp of
               emissiveStrength 4 (power pi): the lamp carries less than half
@@ -928,6 +929,9 @@ def write_lighting_default():
                        "pbrMetallicRoughness": {"metallicFactor": 0.0}}]
     del g["extensionsUsed"]
     write_json("glow_box.gltf", g)
+    dark = dict(g, materials=[{"doubleSided": True, "pbrMetallicRoughness": {
+        "baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0}}])
+    write_json("dark_box.gltf", dark)
     g["materials"][0]["doubleSided"] = False
     write_json("glow_box_one_sided.gltf", g)
     g["materials"][0]["doubleSided"] = True

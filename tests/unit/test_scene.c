@@ -622,7 +622,10 @@ static void texture_references_follow_the_file(void **state)
  * inside); none where lamps or punctual lights carry at least half
  * (the Cornell box and soft-shadows, strengths 17 and 8; lamp_over_glow,
  * 8 pi of 12 pi; punctual; sun_front, its quad lit) or where the camera sits
- * inside a closed model (furnace, glow_box); dim (0.25) where those lights
+ * inside a closed model (furnace, glow_box), and there, where nothing emits
+ * (dark_box), a point light at the camera, of intensity pi d^2 with d a
+ * distance of the view (its rays meet the cube's -Z wall 1 to
+ * sqrt(1 + 2 tan^2 0.25) away); dim (0.25) where those lights
  * leave most of the view dark (sun_behind, lit from behind; lamp_in_glass,
  * a lamp inside a glass bulb). */
 static void default_environment_follows_the_lights(void **state)
@@ -644,6 +647,7 @@ static void default_environment_follows_the_lights(void **state)
                  {SCENES "lamp_over_glow.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
                  {SCENES "punctual.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
                  {SCENES "glow_box.gltf", 0.0f, ST_ENV_ENCLOSED},
+                 {SCENES "dark_box.gltf", 0.0f, ST_ENV_HEADLIGHT},
                  {SCENES "glow_box_open.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
                  {SCENES "glow_box_one_sided.gltf", 1.0f, ST_ENV_DIM_EMITTERS},
                  {SCENES "sun_front.gltf", 0.0f, ST_ENV_OWN_LIGHTS},
@@ -663,6 +667,19 @@ static void default_environment_follows_the_lights(void **state)
     st_scene_destroy(s);
     s = load_ok(SCENES "lamp_over_glow.gltf");
     near(s->emitted_power, 12.0 * 3.14159265358979, 1e-4, "lamp_over_glow: 4 pi glow + 8 pi lamp");
+    st_scene_destroy(s);
+    /* dark_box's light at its camera */
+    s = load_ok(SCENES "dark_box.gltf");
+    assert_int_equal(s->punctual_count, 1);
+    near3(s->punctual[0].pos, s->default_camera.origin[0], s->default_camera.origin[1],
+          s->default_camera.origin[2], 0, "dark_box: the light at the camera");
+    assert_int_equal((int)s->punctual[0].pos[3], ST_PUNCT_POINT);
+    double pi = 3.14159265358979, corner = 1.0 + 2.0 * tan(0.25) * tan(0.25);
+    for (int k = 0; k < 3; k++)
+        if (!(s->punctual[0].intensity[k] > pi && s->punctual[0].intensity[k] < pi * corner))
+            fail_msg("dark_box: intensity %g, want pi .. %g", s->punctual[0].intensity[k],
+                     pi * corner);
+    assert_true(s->emitted_power > 0.0);
     st_scene_destroy(s);
 }
 
