@@ -176,7 +176,8 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
                              "sky is kept, dimmed to 0.25 (--env 0 to turn it off)",
     };
     char line[1024]; /* the scene's name is a path: the user's bytes, escaped */
-    if (!o->env_given && !o->env_map) {
+    /* the headlight is the scene's, there whatever the environment */
+    if ((!o->env_given && !o->env_map) || scene->env_default == ST_ENV_HEADLIGHT) {
         snprintf(line, sizeof line, "%s: %s", scene->name, why[scene->env_default]);
         st_cli_put_line("strata: note: ", line);
     } else if (!has_env && scene->emitted_power <= 0.0) {

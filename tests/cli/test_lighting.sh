@@ -39,6 +39,9 @@ check "a camera inside a closed model: one note, no environment, --env 1 to add 
 "$S" render tests/scenes/dark_box.gltf $R -o "$T/dark.exr" 2> "$T/err7"
 check "nothing emits and the camera is enclosed: one note naming the light at the camera" \
     "[ \$(wc -l < '$T/err7') -eq 1 ] && grep -q '^strata: note: tests/scenes/dark_box.gltf: nothing in it emits light and the camera is inside a closed model, where no sky reaches; a light at the default camera lights it' '$T/err7'"
+"$S" render tests/scenes/dark_box.gltf $R --env 1 -o "$T/dark1.exr" 2> "$T/err8"
+check "... the same note with --env, the light being the scene's" \
+    "[ \$(wc -l < '$T/err8') -eq 1 ] && grep -q 'a light at the default camera lights it' '$T/err8'"
 rmse=$(mean_of "$T/dark.exr" "$T/black.exr")
 check "and that light lights the view" "[ -n '$rmse' ] && awk 'BEGIN { exit !($rmse > 0.1) }'" "(rmse $rmse)"
 
