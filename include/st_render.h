@@ -135,6 +135,8 @@ typedef struct st_render_stats {
     st_u64 samples, rays, closest_rays, shadow_rays, splats;
     st_u32 clamped, nonfinite, zero_weight;
     st_u32 *spp_map; /* adaptive only: samples per pixel, malloc'ed, the caller frees */
+    int adaptive_uniform; /* adaptive with a QMC sampler: adapting would not pay, rendered
+                             uniformly */
 } st_render_stats;
 
 typedef struct st_renderer st_renderer;
@@ -213,13 +215,19 @@ typedef void (*st_progress_fn)(void *ctx, double fraction);
 void st_render_region(const st_render_options *o, st_u32 region[4]);
 
 /* Whether an adaptive render of o is rendered uniformly instead: every
- * sampler but random spreads its samples across a pixel's sample indices
- * (strata, digits of a net, a sequence's prefixes), and giving pixels
- * different counts breaks that stratification between neighbours, which
- * measured worse than uniform at equal cost on landscape frames; random has
- * none to lose. Such a render is the uniform one at the mean spp, its spp
- * map spp everywhere. */
+ * sampler but random, sobol and halton spreads its samples across a pixel's
+ * sample indices in a way that depends on the render's spp (strata, index
+ * shuffles over spp, blocks of a global sequence), and giving pixels
+ * different counts breaks that stratification, which measured worse than
+ * uniform at equal cost on landscape frames. Such a render is the uniform
+ * one at the mean spp, its spp map spp everywhere. */
 int st_render_adaptive_falls_back(const st_render_options *o);
+
+/* Whether an adaptive render of o is a QMC sampler's (sobol, halton), whose
+ * pixels take 2^k prefixes of their sequences after a pilot of the uniform
+ * render's first st_render_adaptive_qmc_pilot samples (a power of two). */
+int st_render_adaptive_qmc(const st_render_options *o);
+st_u32 st_render_adaptive_qmc_pilot(const st_render_options *o);
 
 /* Renders into *out: channels R, G, B (resolved, linear) and W (Σ f); *sums,
  * when not NULL, receives the raw fixed-point film (an st_film_pixel per

@@ -217,10 +217,13 @@ int st_cli_render(int argc, char **argv)
         if (save_outputs(&a, &s, &st, &rgb, &exr, &err) != ST_OK ||
             (a.spp_map && save_spp_map(a.spp_map, &a.opt, &st, &err) != ST_OK))
             rc = st_cli_fail(&err);
-        else if (!a.quiet && !to_stdout(&a)) { /* standard output holds the image */
-            st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
-            if (a.aovs) /* passes of their own, after the image's */
-                printf("strata: AOVs rendered in %.3f s more\n", aov_seconds);
+        else {
+            st_cli_adaptive_no_gain_note(&a.opt, &st);
+            if (!a.quiet && !to_stdout(&a)) { /* standard output holds the image */
+                st_cli_print_summary("rendered", &a.opt, &st, s.build_seconds);
+                if (a.aovs) /* passes of their own, after the image's */
+                    printf("strata: AOVs rendered in %.3f s more\n", aov_seconds);
+            }
         }
     }
     if (opened && a.display_server)

@@ -150,8 +150,15 @@ void st_cli_adaptive_note(const st_render_options *o)
 {
     if (st_render_adaptive_falls_back(o))
         fprintf(stderr, "strata: note: --adaptive with sampler %s renders uniformly at %u spp: %s "
-                "(only random stays adaptive)\n", st_sampler_names[o->sampler], o->spp,
+                "(only random, sobol and halton adapt)\n", st_sampler_names[o->sampler], o->spp,
                 ST_CLI_ADAPTIVE_FALLBACK);
+}
+
+void st_cli_adaptive_no_gain_note(const st_render_options *o, const st_render_stats *st)
+{
+    if (o->adaptive && st->adaptive_uniform)
+        fprintf(stderr, "strata: note: --adaptive with sampler %s rendered uniformly at %u spp: "
+                "%s\n", st_sampler_names[o->sampler], o->spp, ST_CLI_ADAPTIVE_NO_GAIN);
 }
 
 void st_cli_light_notes(const st_scene *scene, const st_render_options *o)
@@ -274,6 +281,12 @@ int st_cli_render_attrs(const st_cli_render_args *a, const st_cli_session *s,
         if (st_render_adaptive_falls_back(o))
             ATTR("adaptive", "fallback: uniform at mean_spp %u (sampler %s: %s)", o->spp,
                  st_sampler_names[o->sampler], ST_CLI_ADAPTIVE_FALLBACK);
+        else if (st->adaptive_uniform)
+            ATTR("adaptive", "uniform at mean_spp %u (sampler %s: %s)", o->spp,
+                 st_sampler_names[o->sampler], ST_CLI_ADAPTIVE_NO_GAIN);
+        else if (st_render_adaptive_qmc(o))
+            ATTR("adaptive", "mean_spp %u, pilot %u, max_spp %u, noise_threshold %.9g", o->spp,
+                 st_render_adaptive_qmc_pilot(o), max_spp, (double)o->noise_threshold);
         else
             ATTR("adaptive", "mean_spp %u, min_spp %u, max_spp %u, noise_threshold %.9g",
                  o->spp, pilot, max_spp, (double)o->noise_threshold);
@@ -375,6 +388,8 @@ void st_cli_print_summary(const char *what, const st_render_options *o, const st
     if (o->adaptive) {
         st_u32 pilot, max_spp;
         st_render_adaptive_counts(o, &pilot, &max_spp);
+        if (st_render_adaptive_qmc(o))
+            pilot = st_render_adaptive_qmc_pilot(o);
         printf("; adaptive: %llu samples in all, %.2f per pixel (pilot %u, at most %u)",
                (unsigned long long)st->samples,
                (double)st->samples / ((double)o->width * o->height), pilot, max_spp);

@@ -38,8 +38,15 @@ void st_cli_light_notes(const st_scene *scene, const st_render_options *o);
 /* One `strata: note:` line when an adaptive request for o's sampler is
  * rendered uniformly instead (st_render_adaptive_falls_back says why). */
 void st_cli_adaptive_note(const st_render_options *o);
+/* One `strata: note:` line after a render whose QMC sampler's pilot
+ * predicted no gain from adapting, so that it went on uniformly
+ * (st_render_stats.adaptive_uniform). */
+void st_cli_adaptive_no_gain_note(const st_render_options *o, const st_render_stats *st);
 /* The words the note and the EXR header give for that fallback. */
 #define ST_CLI_ADAPTIVE_FALLBACK "its stratification across a pixel's samples is lost when pixels get different counts, so adaptive sampling would lose to uniform at equal cost"
+/* The words the note (after the render's summary) and the EXR header give
+ * when a QMC sampler's pilot predicts that adapting would not pay. */
+#define ST_CLI_ADAPTIVE_NO_GAIN "its pilot predicted adaptive counts no better than uniform ones here, so it went on uniformly"
 /* Prints the error (and a kernel build's compiler log); returns the exit status. */
 int st_cli_session_fail(const st_cli_session *s, const st_error *err);
 /* Rewrites an error of st_device_create in the CLI's words: the device

@@ -789,7 +789,7 @@ static void plan_items(const st_renderer *r, const st_render_options *o, st_para
 
 int st_render_adaptive_falls_back(const st_render_options *o)
 {
-    return o->adaptive && o->sampler != ST_SAMPLER_RANDOM;
+    return o->adaptive && o->sampler != ST_SAMPLER_RANDOM && !st_render_adaptive_qmc(o);
 }
 
 /* An adaptive request for a sampler it would lose with: the uniform render

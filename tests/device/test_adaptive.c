@@ -3,8 +3,10 @@
  * (exactly, on scenes whose estimate is known), the density-weighted splat
  * reconstructs the same image as a uniform render where the density
  * varies, adaptive beats uniform splatting at equal cost (the random
- * sampler: the others render uniformly, test_adaptive_cli.sh), the same command
- * gives the same image, and bad options are refused. */
+ * sampler; Sobol' and Halton, whose pixels take 2^k prefixes; the others
+ * render uniformly, test_adaptive_cli.sh), a QMC sampler goes on uniformly
+ * where its pilot predicts no gain, the same command gives the same image,
+ * and bad options are refused. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -228,6 +230,78 @@ static void adaptive_beats_uniform_at_equal_cost(void **state)
     st_image_free(&ref);
 }
 
+static void assert_same_image(const st_image *a, const st_image *b);
+
+/* A QMC sampler at equal cost: Sobol' and Halton on the 48 x 48 Cornell box,
+ * 16 spp, seeds 7..10, against the same 1024-spp reference as above. The
+ * counts are powers of two, not all equal, at most the budget; the RMSE is
+ * below 0.7x uniform's (measured: Sobol' 0.0149 against 0.0250, Halton
+ * 0.0173 against 0.0346). */
+static void adaptive_qmc_beats_uniform_at_equal_cost(void **state)
+{
+    (void)state;
+    static const st_u32 samplers[2] = {ST_SAMPLER_SOBOL, ST_SAMPLER_HALTON};
+    st_render_options o = adaptive(48, 48, 1024, 0);
+    o.adaptive = 0;
+    o.seed = 99;
+    st_image ref = render("cornell-box", &o, NULL);
+    for (int k = 0; k < 2; k++) {
+        double rmse[2] = {0, 0};
+        for (int adapt = 0; adapt < 2; adapt++)
+            for (st_u32 seed = 7; seed < 11; seed++) {
+                st_render_options t = adaptive(48, 48, 16, 0);
+                t.adaptive = adapt;
+                t.seed = seed;
+                t.sampler = samplers[k];
+                st_render_stats st;
+                st_image img = render("cornell-box", &t, &st);
+                assert_true(st.samples <= 16u * 48 * 48);
+                int unequal = 0;
+                for (size_t i = 0; adapt && i < 48u * 48; i++) {
+                    assert_int_equal(st.spp_map[i] & (st.spp_map[i] - 1), 0);
+                    unequal |= st.spp_map[i] != st.spp_map[0];
+                }
+                assert_int_equal(unequal, adapt);
+                assert_int_equal(st.adaptive_uniform, 0);
+                double e, q;
+                errors(&img, &ref, &e, &q);
+                rmse[adapt] += e / 4;
+                free(st.spp_map);
+                st_image_free(&img);
+            }
+        print_message("%s: RMSE adaptive %.4f uniform %.4f\n", st_sampler_names[samplers[k]],
+                      rmse[1], rmse[0]);
+        assert_true(rmse[1] < 0.7 * rmse[0]);
+    }
+    st_image_free(&ref);
+}
+
+/* Where the pilot predicts no gain, a QMC sampler's adaptive render is the
+ * uniform one: the furnace (every pixel equally noisy: its bounces), Sobol'
+ * and Halton, 40 x 30, 16 spp: the same image bit for bit, spp everywhere
+ * in the map, the uniform render's samples, and the stats say so. */
+static void adaptive_qmc_uniform_where_no_gain(void **state)
+{
+    (void)state;
+    static const st_u32 samplers[2] = {ST_SAMPLER_SOBOL, ST_SAMPLER_HALTON};
+    for (int k = 0; k < 2; k++) {
+        st_render_options o = adaptive(40, 30, 16, 0);
+        o.sampler = samplers[k];
+        st_render_stats st;
+        st_image a = render("furnace", &o, &st);
+        o.adaptive = 0;
+        st_image u = render("furnace", &o, NULL);
+        assert_int_equal(st.adaptive_uniform, 1);
+        assert_int_equal(st.samples, 16u * 40 * 30);
+        for (size_t i = 0; i < 40u * 30; i++)
+            assert_int_equal(st.spp_map[i], 16);
+        assert_same_image(&a, &u);
+        free(st.spp_map);
+        st_image_free(&a);
+        st_image_free(&u);
+    }
+}
+
 /* Column x's mean signed error over its rows and R, G, B. */
 static double column_error(const st_image *img, const st_image *ref, st_u32 x)
 {
@@ -322,9 +396,8 @@ static double masked_mean(const st_image *img, const unsigned char *mask)
  * (0.6 standard errors), uniform -7.1e-5 ± 5.0e-5 (1.4); with the pilot
  * kept in the estimate at a weight chosen from the pilot itself (Kirk and
  * Arvo 1991) adaptive was -3.7e-4 ± 5.1e-5 (7.3). */
-static void adaptive_unbiased_over_seeds(void **state)
+static void unbiased_over_seeds(st_u32 sampler)
 {
-    (void)state;
     enum { W = 32, H = 32, SEEDS = 96 };
     st_scene *scene = fixture_scene("cornell-box");
     st_renderer *r = NULL;
@@ -354,6 +427,7 @@ static void adaptive_unbiased_over_seeds(void **state)
             st_render_options t = adaptive(W, H, 16, 0);
             t.seed = seed;
             t.adaptive = adapt;
+            t.sampler = sampler;
             st_render_stats st;
             st_image img = {0};
             if (st_render(r, &t, &img, NULL, &st, NULL, NULL, &err))
@@ -370,13 +444,30 @@ static void adaptive_unbiased_over_seeds(void **state)
         double mean = sum[adapt] / SEEDS,
                var = (sum2[adapt] - sum[adapt] * sum[adapt] / SEEDS) / (SEEDS - 1),
                se = sqrt(var / SEEDS + se_ref2);
-        print_message("%s: mean error %.3g, standard error %.3g (%.1f)\n",
-                      adapt ? "adaptive" : "uniform", mean, se, mean / se);
+        print_message("%s, %s: mean error %.3g, standard error %.3g (%.1f)\n",
+                      st_sampler_names[sampler], adapt ? "adaptive" : "uniform", mean, se,
+                      mean / se);
         assert_true(fabs(mean) < 3 * se);
     }
     st_image_free(&ref);
     st_renderer_destroy(r);
     st_scene_destroy(scene);
+}
+
+static void adaptive_unbiased_over_seeds(void **state)
+{
+    (void)state;
+    unbiased_over_seeds(ST_SAMPLER_RANDOM);
+}
+
+/* The same with Sobol' (a QMC sampler's adaptive path: each pixel's mean of
+ * a 2^k prefix, k chosen from the pilot, samples 0 .. pilot - 1 of the
+ * same prefix). Measured: adaptive -2.9e-5 ± 4.4e-5 (0.7 standard errors),
+ * uniform Sobol' 4.0e-6 ± 3.6e-5 (0.1). */
+static void adaptive_qmc_unbiased_over_seeds(void **state)
+{
+    (void)state;
+    unbiased_over_seeds(ST_SAMPLER_SOBOL);
 }
 
 static void assert_same_image(const st_image *a, const st_image *b)
@@ -393,34 +484,37 @@ static void assert_same_image(const st_image *a, const st_image *b)
 static void adaptive_deterministic(void **state)
 {
     (void)state;
-    for (st_u32 recon = ST_RECON_SPLAT; recon <= ST_RECON_FIS; recon++) {
-        st_render_options o = adaptive(32, 32, 32, 0);
-        o.reconstruction = recon;
-        st_render_stats s1, s2;
-        st_image a = render("cornell-box", &o, &s1), b = render("cornell-box", &o, &s2);
-        assert_same_image(&a, &b);
-        assert_memory_equal(s1.spp_map, s2.spp_map, sizeof(st_u32) * 32 * 32);
-        assert_true(s1.samples <= 32u * 32 * 32 && s1.samples >= 0.95 * 32 * 32 * 32);
-        free(s1.spp_map);
-        free(s2.spp_map);
-        st_image_free(&a);
-        st_image_free(&b);
-    }
+    for (st_u32 recon = ST_RECON_SPLAT; recon <= ST_RECON_FIS; recon++)
+        for (int qmc = 0; qmc < 2; qmc++) {
+            st_render_options o = adaptive(32, 32, 32, 0);
+            o.reconstruction = recon;
+            o.sampler = qmc ? ST_SAMPLER_SOBOL : ST_SAMPLER_RANDOM;
+            st_render_stats s1, s2;
+            st_image a = render("cornell-box", &o, &s1), b = render("cornell-box", &o, &s2);
+            assert_same_image(&a, &b);
+            assert_memory_equal(s1.spp_map, s2.spp_map, sizeof(st_u32) * 32 * 32);
+            assert_true(s1.samples <= 32u * 32 * 32 && s1.samples >= 0.95 * 32 * 32 * 32);
+            free(s1.spp_map);
+            free(s2.spp_map);
+            st_image_free(&a);
+            st_image_free(&b);
+        }
 }
 
 /* The adaptive kernels take ST_W pixels a work-item: at lane widths 1, 4,
  * 8 and 16 the same command gives the same counts (the estimates, and so
  * the allocation) and the same image (the blend) bit for bit, with
- * splatting and with filter importance sampling, over an image of 851
- * pixels, which fills no last lane. */
+ * splatting and with filter importance sampling, random and Sobol', over
+ * an image of 851 pixels, which fills no last lane. */
 static void adaptive_at_every_width(void **state)
 {
     (void)state;
     static const unsigned widths[] = {1, 4, 8, 16};
     enum { W = 37, H = 23 };
-    for (st_u32 recon = ST_RECON_SPLAT; recon <= ST_RECON_FIS; recon++) {
+    for (st_u32 run = 0; run < 4; run++) {
         st_render_options o = adaptive(W, H, 12, 0);
-        o.reconstruction = recon;
+        o.reconstruction = run & 1 ? ST_RECON_FIS : ST_RECON_SPLAT;
+        o.sampler = run & 2 ? ST_SAMPLER_SOBOL : ST_SAMPLER_RANDOM;
         o.filter = st_filter_default(ST_FILTER_MITCHELL);
         st_image first = {0};
         st_u32 *first_map = NULL;
@@ -484,6 +578,9 @@ int main(void)
         cmocka_unit_test(adaptive_beats_uniform_at_equal_cost),
         cmocka_unit_test(adaptive_unbiased_at_the_cap),
         cmocka_unit_test(adaptive_unbiased_over_seeds),
+        cmocka_unit_test(adaptive_qmc_beats_uniform_at_equal_cost),
+        cmocka_unit_test(adaptive_qmc_uniform_where_no_gain),
+        cmocka_unit_test(adaptive_qmc_unbiased_over_seeds),
     };
     return cmocka_run_group_tests(tests, device_setup, device_teardown);
 }
