@@ -40,6 +40,9 @@ run "best-candidate (tiled), triangle" render $D --spp 2 --sampler best-candidat
 run "poisson (tiled), blackman-harris" render $D --spp 2 --sampler poisson --filter blackman-harris -o "$T/f.exr"
 run "filter importance sampling" render $D --spp 2 --sampler halton --reconstruction fis -o "$T/g.exr"
 run "adaptive sampling" render $D --adaptive --spp 3 --min-spp 2 --max-spp 4 --sampler random -o "$T/h.exr"
+# sobol's adaptive path (counts in powers of two, one round): 12 x 8 is the
+# least frame of the default scene where its pilot predicts a gain
+run "adaptive sampling, sobol" render --device 0:0 --width 12 --height 8 --quiet --adaptive --spp 8 --filter box --sampler sobol -o "$T/h2.exr"
 # oclgrind is a GPU-like device (one lane by default, where --packets auto is
 # none): --lanes builds the CPU's widths, so the packet and shade kernels'
 # lanes are checked too, at AVX2's 8 and AVX-512's 16
