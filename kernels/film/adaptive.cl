@@ -17,12 +17,7 @@
 #include "filters.h"
 #include "fixed.h"
 
-/* The criterion: per-sample standard deviation over (μ² + ε²)^(γ / 2).
- * γ = 0 would minimise the summed squared error, γ = 1 the relative squared
- * error (x − r)² / (r² + ε²); ¾ lies between and, measured against ½ and 1
- * on the Cornell box and two Khronos models, gained clearly by both. */
-#define ADAPTIVE_GAMMA 0.75f
-#define ADAPTIVE_EPS 0.1f
+/* The criterion: ST_ADAPTIVE_GAMMA, ST_ADAPTIVE_EPS (st_shared.h). */
 
 
 /* The pixels of this work-item: ST_W of them from ST_W times its id, fewer
@@ -140,7 +135,7 @@ __kernel void adaptive_estimate(ST_FILM_PARAMS)
     st_lf spread = ST_FMAXF(s2 / n - mean * mean, ST_LF(0.0f));
     st_lf var = ST_SELECT(ST_W, ST_LF(0.0f), spread, n > 1.0f);
     st_lf e = ST_SQRTF(var) /
-              pow(mean * mean + ADAPTIVE_EPS * ADAPTIVE_EPS, ST_LF(0.5f * ADAPTIVE_GAMMA));
+              pow(mean * mean + ST_ADAPTIVE_EPS * ST_ADAPTIVE_EPS, ST_LF(0.5f * ST_ADAPTIVE_GAMMA));
     float out[ST_W];
     ST_VSTORE(ST_W, e, out);
     for (st_u32 l = 0; l < count; l++) {

@@ -331,7 +331,8 @@ static st_status qmc_estimate(st_renderer *r, st_wave *w, const st_params *p, fl
                         s += q->rgb[0], s2 += q->rgb[1], k += q->weight;
                     }
             double mean = k > 0 ? s / k : 0, var = k > 1 ? fmax(s2 / k - mean * mean, 0) : 0;
-            e[(size_t)y * wd + x] = (float)(sqrt(var) / pow(mean * mean + 0.01, 0.375));
+            e[(size_t)y * wd + x] = (float)(sqrt(var) / pow(mean * mean + ST_ADAPTIVE_EPS * ST_ADAPTIVE_EPS,
+                                                              0.5 * ST_ADAPTIVE_GAMMA));
         }
     free(m);
     return rc;
@@ -404,10 +405,7 @@ static st_status qmc_adapt(st_renderer *r, st_params *p, st_wave *w, const st_re
                            st_error *err)
 {
     size_t n = w->pixels;
-    float *e = malloc(n * sizeof *e);
-    st_status rc = e ? estimate(r, p, w, e, err) /* moves the pilot's film aside */
-                     : st_fail(err, ST_ERR_NOMEM, "out of memory for the adaptive plan");
-    free(e);
+    st_status rc = launch(r, ST_K_ADAPTIVE_ESTIMATE, p, w, err); /* moves the pilot's film aside */
     for (size_t q = 0; q < n; q++) {
         pp[q].m = pp[q].taken = count[q];
         pp[q].scale = 1.0f / (float)count[q];
@@ -463,7 +461,9 @@ static st_status run_qmc(st_renderer *r, st_params *p, st_wave *w, const st_rend
     if (rc == ST_OK)
         rc = qmc_estimate(r, w, p, e, err);
     qmc_plan a = {e, n, pilot, cap, o->spp, o->noise_threshold};
-    if (rc == ST_OK && qmc_allocate(&a, count) < QMC_MARGIN)
+    /* with a threshold the counts stop where it is reached, cheaper than
+     * uniform by design: no choice to make */
+    if (rc == ST_OK && (qmc_allocate(&a, count) < QMC_MARGIN || a.x > 0))
         rc = qmc_adapt(r, p, w, o, count, pp, rk, pr, st, items, err);
     else if (rc == ST_OK)
         rc = qmc_uniform(r, p, w, o, pilot, pp, pr, st, items, err);

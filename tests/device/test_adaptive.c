@@ -302,6 +302,36 @@ static void adaptive_qmc_uniform_where_no_gain(void **state)
     }
 }
 
+/* A QMC sampler with a noise threshold always adapts (the threshold asks
+ * for fewer samples where it is reached): on the furnace, whose pilot
+ * alone predicts no gain, Sobol' at 16 spp with threshold 0.2 takes fewer
+ * samples than uniform, in powers of two; with a threshold so large that
+ * every pixel reaches it at once, one sample a pixel (and the pilot's 2,
+ * counted too). */
+static void adaptive_qmc_noise_threshold(void **state)
+{
+    (void)state;
+    st_render_options o = adaptive(40, 30, 16, 0);
+    o.sampler = ST_SAMPLER_SOBOL;
+    o.noise_threshold = 1e6f;
+    st_render_stats st;
+    st_image img = render("furnace", &o, &st);
+    assert_int_equal(st.adaptive_uniform, 0);
+    assert_int_equal(st.samples, (2u + 1u) * 40 * 30);
+    for (size_t i = 0; i < 40u * 30; i++)
+        assert_int_equal(st.spp_map[i], 1);
+    free(st.spp_map);
+    st_image_free(&img);
+    o.noise_threshold = 0.2f;
+    img = render("furnace", &o, &st);
+    assert_int_equal(st.adaptive_uniform, 0);
+    assert_true(st.samples < 16u * 40 * 30);
+    for (size_t i = 0; i < 40u * 30; i++)
+        assert_int_equal(st.spp_map[i] & (st.spp_map[i] - 1), 0);
+    free(st.spp_map);
+    st_image_free(&img);
+}
+
 /* Column x's mean signed error over its rows and R, G, B. */
 static double column_error(const st_image *img, const st_image *ref, st_u32 x)
 {
@@ -580,6 +610,7 @@ int main(void)
         cmocka_unit_test(adaptive_unbiased_over_seeds),
         cmocka_unit_test(adaptive_qmc_beats_uniform_at_equal_cost),
         cmocka_unit_test(adaptive_qmc_uniform_where_no_gain),
+        cmocka_unit_test(adaptive_qmc_noise_threshold),
         cmocka_unit_test(adaptive_qmc_unbiased_over_seeds),
     };
     return cmocka_run_group_tests(tests, device_setup, device_teardown);
