@@ -331,8 +331,9 @@ static st_status qmc_estimate(st_renderer *r, st_wave *w, const st_params *p, fl
                         s += q->rgb[0], s2 += q->rgb[1], k += q->weight;
                     }
             double mean = k > 0 ? s / k : 0, var = k > 1 ? fmax(s2 / k - mean * mean, 0) : 0;
-            e[(size_t)y * wd + x] = (float)(sqrt(var) / pow(mean * mean + ST_ADAPTIVE_EPS * ST_ADAPTIVE_EPS,
-                                                              0.5 * ST_ADAPTIVE_GAMMA));
+            double eps2 = ST_ADAPTIVE_EPS * ST_ADAPTIVE_EPS;
+            e[(size_t)y * wd + x] =
+                (float)(sqrt(var) / pow(mean * mean + eps2, 0.5 * ST_ADAPTIVE_GAMMA));
         }
     free(m);
     return rc;
