@@ -91,6 +91,18 @@ static st_render_options small(st_u32 w, st_u32 h, st_u32 spp)
     return o;
 }
 
+/* small()'s render by path tracing, box filter, in a uniform environment of
+ * radiance 1: the furnace-like setting of the material tests. */
+static st_render_options in_white_env(st_u32 w, st_u32 h, st_u32 spp)
+{
+    st_render_options o = small(w, h, spp);
+    o.filter = st_filter_default(ST_FILTER_BOX);
+    o.integrator = ST_INTEGRATOR_PATH;
+    o.env_given = 1;
+    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    return o;
+}
+
 /* tests/scenes/dark_box.gltf: a closed grey (0.5) cube, [-1, 1]^3, that
  * emits nothing, its camera at the centre looking down -Z (yfov 0.5). No
  * sky reaches inside, so the scene gains a point light at the camera
@@ -841,11 +853,7 @@ static void glass_furnace_coarse_keeps_the_outline(void **state)
 static void coat_matches_its_fresnel(void **state)
 {
     (void)state;
-    st_render_options o = small(32, 16, 256);
-    o.filter = st_filter_default(ST_FILTER_BOX);
-    o.integrator = ST_INTEGRATOR_PATH;
-    o.env_given = 1;
-    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    st_render_options o = in_white_env(32, 16, 256);
     st_image img = render("tests/scenes/coat_quad.gltf", &o, NULL);
     double black = 0.0, white = 0.0;
     for (st_u32 y = 2; y < 14; y++)
@@ -910,11 +918,7 @@ static double sheen_albedo(double mo, double a)
 static void sheen_matches_its_albedo(void **state)
 {
     (void)state;
-    st_render_options o = small(32, 16, 256);
-    o.filter = st_filter_default(ST_FILTER_BOX);
-    o.integrator = ST_INTEGRATOR_PATH;
-    o.env_given = 1;
-    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    st_render_options o = in_white_env(32, 16, 256);
     st_image img = render("tests/scenes/sheen_quad.gltf", &o, NULL);
     double left[3] = {0.0, 0.0, 0.0}, right = 0.0;
     for (st_u32 y = 5; y < 11; y++) /* the quads span rows 4 .. 11 */
@@ -986,11 +990,7 @@ static double aniso_albedo(double mo, double psi, double at, double ab)
 static void anisotropy_matches_its_albedo(void **state)
 {
     (void)state;
-    st_render_options o = small(32, 16, 256);
-    o.filter = st_filter_default(ST_FILTER_BOX);
-    o.integrator = ST_INTEGRATOR_PATH;
-    o.env_given = 1;
-    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    st_render_options o = in_white_env(32, 16, 256);
     st_image img = render("tests/scenes/aniso_quad.gltf", &o, NULL);
     double left = 0.0, right = 0.0;
     for (st_u32 y = 5; y < 11; y++) /* the quads span rows 4 .. 11 */
@@ -1078,11 +1078,7 @@ static void diffuse_transmission_lights_the_front(void **state)
 static void iridescence_matches_its_fresnel(void **state)
 {
     (void)state;
-    st_render_options o = small(32, 16, 256);
-    o.filter = st_filter_default(ST_FILTER_BOX);
-    o.integrator = ST_INTEGRATOR_PATH;
-    o.env_given = 1;
-    o.env[0] = o.env[1] = o.env[2] = 1.0f;
+    st_render_options o = in_white_env(32, 16, 256);
     st_image img = render("tests/scenes/irid_quad.gltf", &o, NULL);
     double left[3] = {0.0, 0.0, 0.0}, right[3] = {0.0, 0.0, 0.0};
     for (st_u32 y = 5; y < 11; y++) /* the quads span rows 4 .. 11 */
